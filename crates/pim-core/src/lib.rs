@@ -1,0 +1,99 @@
+//! # pim-core: Brach's Planar Impact Mechanics
+//!
+//! The forward (and backward) solver of the planar impact model of R. M. Brach (1983, 1984):
+//! six linear impulse-momentum equations relate the velocities of two vehicles at the start of
+//! contact to those at separation through three coefficients, restitution `e`, equivalent
+//! friction `mu` and moment restitution `em`.
+//!
+//! ## Units and symbols
+//! SI throughout: kg, kg m^2, m, m/s, rad/s. Angles in the input types ([`Vehicle`],
+//! [`Collision`]) are in **degrees**. Vehicle 1 is the papers' vehicle A, vehicle 2 is B. Lower
+//! case = contact (initial), upper case = separation (final).
+//!
+//! Geometry (names of the 1983 BASIC listing):
+//! ```text
+//! D1 = d2 sin(theta2 + phi2)     D2 = d2 cos(theta2 + phi2)
+//! D3 = d1 sin(theta1 + phi1)     D4 = d1 cos(theta1 + phi1)
+//! ```
+//! The impact centre C sits at `r1 = -(D4, D3)` from vehicle 1's CG and at `r2 = (D2, D1)` from
+//! vehicle 2's (the papers' convention, in which the published RICSAC angles are written).
+//! Velocities of the material points at C: vehicle 1 `(v1x + D3 w1, v1y - D4 w1)`, vehicle 2
+//! `(v2x - D1 w2, v2y + D2 w2)`. The crush surface has normal `n = (cos G, sin G)` and tangent
+//! `t = (-sin G, cos G)`; `vn`, `vt` are the relative velocity at C (vehicle 1 minus vehicle 2)
+//! along n and t, `Vn`, `Vt` the same at separation.
+//!
+//! ## The six equations
+//! ```text
+//! (1) m1 (V1x - v1x) + m2 (V2x - v2x) = 0
+//! (2) m1 (V1y - v1y) + m2 (V2y - v2y) = 0
+//! (3) I1 (W1 - w1) + I2 (W2 - w2) + m1 (D2 + D4)(V1y - v1y) + m2 (D1 + D3)(V2x - v2x) = 0
+//! (4) Vn = -e vn
+//! (5) m1 (V1y - v1y)(cos G - mu' sin G) + m2 (V2x - v2x)(sin G + mu' cos G) = 0,
+//!     mu' = mu sgn(vn) sgn(vt)                    (friction opposes the initial sliding)
+//! (5a) Vt = 0                                     (instead of 5: sliding ends before separation)
+//! (6) (W2 - W1)(1 - em) = em B                    (corrected form, Brach 1984; the default)
+//!     (W1 - W2)(1 - em) = em B                    (1983 listing, MomentForm::Brach1983)
+//!     B = (W1 - w1) - m1 D3 (V1x - v1x)/I1 + m1 D4 (V1y - v1y)/I1
+//!       - (W2 - w2) - m2 D1 (V2x - v2x)/I2 + m2 D2 (V2y - v2y)/I2
+//! ```
+//! `em = 1` means no moment impulse at C (M = 0), `em = 0` equal final yaw rates, `em = -1` a
+//! perfectly elastic angular impact. All six are homogeneous and linear in the twelve velocity
+//! components, `F X + G x = 0` ([`equations::assemble`]): forwards `X = -F^-1 G x`, backwards
+//! `x = -G^-1 F X`.
+//!
+//! ## Derived results ([`ImpactReport`])
+//! - impulse on vehicle 1 `P = m1 (V1 - v1)`, `Pn = P.n`, `Pt = P.t`, moment impulse
+//!   `M = I1 (W1 - w1) - r1 x P`;
+//! - delta-V `|V - v|` and its direction per vehicle; kinetic energy
+//!   `T = sum (m (vx^2 + vy^2) + I w^2) / 2` before and after and the loss in percent;
+//! - the signed critical impulse ratio `mu_max`: the mu of equation 5 at which `Vt = 0`, i.e.
+//!   `(Pt/Pn) sgn(vn) sgn(vt)` of the no-slip solution. It can be negative in near-collinear
+//!   impacts (Brach 1984 Table 1B, tests 3 and 4);
+//! - admissibility: mu between 0 and mu_max, and no kinetic energy created. Even inside the
+//!   friction domain the equations can return more kinetic energy than they were given (mostly
+//!   with `-1 < em < 0`), so the energy balance is always checked and reported.
+//!
+//! ## Example
+//! ```
+//! use pim_core::*;
+//! let v = |mass, yaw_inertia, heading, d, phi| Vehicle { mass, yaw_inertia, heading, d, phi };
+//! let impact = Impact::new(Collision {
+//!     vehicle1: v(1955.0, 4723.0, 0.0, 1.8, 0.0),
+//!     vehicle2: v(1197.0, 2279.0, 60.0, 0.9, -140.0),
+//!     crush_angle: -30.0,
+//! })?;
+//! let initial = Velocities {
+//!     vehicle1: VehicleVelocity { vx: -13.01, vy: 0.0, omega: 0.0 },
+//!     vehicle2: VehicleVelocity { vx: 6.505, vy: 11.267, omega: 0.0 },
+//! };
+//! let c = Coefficients { e: 0.015, mu: 0.968, em: -0.774 };
+//! let opts = SolveOptions { moment_form: MomentForm::Brach1983, ..Default::default() };
+//! let r = solve_forward(&impact, &c, &initial, &opts)?;
+//! // Brach 1983 Table 3: V1x = -7.33 m/s, energy loss 53.1 %
+//! assert!((r.separation.vehicle1.vx + 7.33).abs() < 0.05);
+//! assert!((r.energy.loss_percent - 53.1).abs() < 0.5);
+//! # Ok::<(), PimError>(())
+//! ```
+
+pub mod equations;
+mod error;
+mod model;
+pub mod point_mass;
+mod report;
+mod sensitivity;
+mod solve;
+
+pub use error::{Equation, PimError, Result, VehicleId};
+pub use model::{
+    Coefficients, Collision, Impact, MomentForm, SolveOptions, TangentialCondition, Vehicle,
+    VehicleVelocity, Velocities, EM_ONE_TOL,
+};
+pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
+pub use report::{
+    residuals, Admissibility, ContactPoints, DeltaV, Energy, ImpactReport, Impulse,
+    RelativeVelocity, Residuals, TangentialOutcome, REPORT_TOL,
+};
+pub use sensitivity::{
+    sensitivity, CoefficientName, Level, LevelAverage, SensitivityCase, SensitivityStudy,
+};
+pub use solve::{critical_friction, separation_velocities, solve_backward, solve_forward};

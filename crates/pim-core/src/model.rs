@@ -1,0 +1,401 @@
+//! The inputs of the model: vehicles, collision geometry, coefficients and velocity states.
+
+use crate::error::{PimError, Result, VehicleId};
+use nalgebra::Vector6;
+use serde::{Deserialize, Serialize};
+
+/// One vehicle: its inertial properties and where the impact centre C sits on it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Vehicle {
+    /// Mass m, kg (> 0).
+    pub mass: f64,
+    /// Yaw moment of inertia I about the vertical axis through the CG, kg m^2 (> 0).
+    pub yaw_inertia: f64,
+    /// Heading angle theta of the vehicle's length axis to the fixed x axis, degrees.
+    pub heading: f64,
+    /// Distance d from the CG to the impact centre C, m (>= 0).
+    pub d: f64,
+    /// Angle phi between the length axis and the line from the CG to C, degrees.
+    pub phi: f64,
+}
+
+/// A two-vehicle impact configuration: both vehicles and the crush surface.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Collision {
+    /// Vehicle 1 (the papers' vehicle A).
+    pub vehicle1: Vehicle,
+    /// Vehicle 2 (the papers' vehicle B).
+    pub vehicle2: Vehicle,
+    /// Angle Gamma of the crush surface to the fixed y axis, degrees.
+    pub crush_angle: f64,
+}
+
+/// A checked [`Collision`] with the geometric quantities of the equations precomputed.
+///
+/// Names follow the 1983 BASIC listing: `D1 = d2 sin(theta2 + phi2)`, `D2 = d2 cos(theta2 + phi2)`,
+/// `D3 = d1 sin(theta1 + phi1)`, `D4 = d1 cos(theta1 + phi1)`. The impact centre C sits at
+/// `r1 = -(D4, D3)` from the CG of vehicle 1 and at `r2 = (D2, D1)` from the CG of vehicle 2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impact {
+    collision: Collision,
+    /// `[D1, D2, D3, D4]`, m.
+    d: [f64; 4],
+    /// Unit normal of the crush surface, `(cos Gamma, sin Gamma)`.
+    n: [f64; 2],
+    /// Unit tangent of the crush surface, `(-sin Gamma, cos Gamma)`.
+    t: [f64; 2],
+    /// +1 when vehicle 1's CG lies on the +n side of vehicle 2's CG, -1 on the -n side, 0 if undecided.
+    side: f64,
+}
+
+fn check_vehicle(v: &Vehicle, id: VehicleId) -> Result<()> {
+    for (field, value) in [
+        ("mass", v.mass),
+        ("yaw_inertia", v.yaw_inertia),
+        ("heading", v.heading),
+        ("d", v.d),
+        ("phi", v.phi),
+    ] {
+        if !value.is_finite() {
+            return Err(PimError::NonFinite {
+                vehicle: id,
+                field,
+                value,
+            });
+        }
+    }
+    for (field, value) in [("mass", v.mass), ("yaw_inertia", v.yaw_inertia)] {
+        if value <= 0.0 {
+            return Err(PimError::NotPositive {
+                vehicle: id,
+                field,
+                value,
+            });
+        }
+    }
+    if v.d < 0.0 {
+        return Err(PimError::NegativeDistance {
+            vehicle: id,
+            value: v.d,
+        });
+    }
+    Ok(())
+}
+
+impl Impact {
+    /// Checks a collision (finite numbers, positive mass and inertia, non-negative d) and
+    /// precomputes its geometry.
+    pub fn new(collision: Collision) -> Result<Self> {
+        check_vehicle(&collision.vehicle1, VehicleId::One)?;
+        check_vehicle(&collision.vehicle2, VehicleId::Two)?;
+        if !collision.crush_angle.is_finite() {
+            return Err(PimError::NonFiniteValue {
+                field: "impact.crush_angle",
+                value: collision.crush_angle,
+            });
+        }
+        let v1 = &collision.vehicle1;
+        let v2 = &collision.vehicle2;
+        let a1 = (v1.heading + v1.phi).to_radians();
+        let a2 = (v2.heading + v2.phi).to_radians();
+        let d = [
+            v2.d * a2.sin(),
+            v2.d * a2.cos(),
+            v1.d * a1.sin(),
+            v1.d * a1.cos(),
+        ];
+        let g = collision.crush_angle.to_radians();
+        let (sg, cg) = g.sin_cos();
+        let n = [cg, sg];
+        let t = [-sg, cg];
+        // CG of vehicle 1 relative to C is -r1 = (D4, D3); CG of vehicle 2 is -r2 = -(D2, D1).
+        let sep = (d[3] + d[1]) * n[0] + (d[2] + d[0]) * n[1];
+        let scale = v1.d + v2.d;
+        let side = if scale > 0.0 && sep.abs() > 1e-9 * scale {
+            sep.signum()
+        } else {
+            0.0
+        };
+        Ok(Impact {
+            collision,
+            d,
+            n,
+            t,
+            side,
+        })
+    }
+
+    /// The collision this geometry was built from.
+    pub fn collision(&self) -> &Collision {
+        &self.collision
+    }
+
+    /// Masses `[m1, m2]`, kg.
+    pub fn masses(&self) -> [f64; 2] {
+        [self.collision.vehicle1.mass, self.collision.vehicle2.mass]
+    }
+
+    /// Yaw inertias `[I1, I2]`, kg m^2.
+    pub fn inertias(&self) -> [f64; 2] {
+        [
+            self.collision.vehicle1.yaw_inertia,
+            self.collision.vehicle2.yaw_inertia,
+        ]
+    }
+
+    /// The lever terms `[D1, D2, D3, D4]` of the 1983 listing, m.
+    pub fn levers(&self) -> [f64; 4] {
+        self.d
+    }
+
+    /// Unit normal n = (cos Gamma, sin Gamma) of the crush surface.
+    pub fn normal(&self) -> [f64; 2] {
+        self.n
+    }
+
+    /// Unit tangent t = (-sin Gamma, cos Gamma) of the crush surface.
+    pub fn tangent(&self) -> [f64; 2] {
+        self.t
+    }
+
+    /// Position of the impact centre relative to each vehicle's CG, m: `[r1, r2]`.
+    pub fn lever_arms(&self) -> [[f64; 2]; 2] {
+        let [d1, d2, d3, d4] = self.d;
+        [[-d4, -d3], [d2, d1]]
+    }
+
+    /// Which side of the crush surface vehicle 1 is on: +1 when its CG lies on the +n side of
+    /// vehicle 2's CG, -1 on the -n side, 0 when the geometry does not say (both CGs on the line).
+    ///
+    /// The vehicles approach at C when the normal relative velocity `vn` has the opposite sign.
+    pub fn side(&self) -> f64 {
+        self.side
+    }
+
+    /// Velocity of each vehicle's material point at C, m/s: `[(x, y) of vehicle 1, of vehicle 2]`.
+    pub fn contact_point_velocities(&self, v: &Velocities) -> [[f64; 2]; 2] {
+        let [d1, d2, d3, d4] = self.d;
+        let a = &v.vehicle1;
+        let b = &v.vehicle2;
+        [
+            [a.vx + d3 * a.omega, a.vy - d4 * a.omega],
+            [b.vx - d1 * b.omega, b.vy + d2 * b.omega],
+        ]
+    }
+
+    /// Relative velocity at C (vehicle 1 minus vehicle 2) along n and t: `(vn, vt)`, m/s.
+    pub fn relative_velocity(&self, v: &Velocities) -> (f64, f64) {
+        let [p1, p2] = self.contact_point_velocities(v);
+        let rx = p1[0] - p2[0];
+        let ry = p1[1] - p2[1];
+        (
+            rx * self.n[0] + ry * self.n[1],
+            rx * self.t[0] + ry * self.t[1],
+        )
+    }
+
+    /// Checks that the vehicles approach each other at C in the state `v` (contact velocities).
+    pub fn check_approach(&self, v: &Velocities) -> Result<()> {
+        let (vn, _) = self.relative_velocity(v);
+        let speed = v.max_speed().max(1e-9);
+        let closing = if self.side != 0.0 {
+            -vn * self.side
+        } else {
+            vn.abs()
+        };
+        if closing > 1e-12 * speed {
+            Ok(())
+        } else {
+            Err(PimError::NotApproaching {
+                normal_velocity: vn,
+                direction: if closing.abs() <= 1e-12 * speed {
+                    "they move parallel to the crush surface"
+                } else {
+                    "they move apart"
+                },
+            })
+        }
+    }
+
+    /// The sign factor `sgn(vn) sgn(vt)` of equation 5 for the contact state `v`: friction
+    /// opposes the initial sliding direction. `sgn(0)` is taken as +1.
+    pub fn friction_sign(&self, v: &Velocities) -> f64 {
+        let (vn, vt) = self.relative_velocity(v);
+        let s = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+        s(vn) * s(vt)
+    }
+}
+
+/// The three impact coefficients.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Coefficients {
+    /// Coefficient of restitution e (normal to the crush surface), in [0, 1].
+    pub e: f64,
+    /// Equivalent friction coefficient mu: tangential over normal impulse, signed (see the crate docs).
+    pub mu: f64,
+    /// Moment coefficient of restitution e_m, in [-1, 0] or exactly 1.
+    #[serde(rename = "em")]
+    pub em: f64,
+}
+
+/// Tolerance for "e_m is exactly 1".
+pub const EM_ONE_TOL: f64 = 1e-12;
+
+impl Coefficients {
+    /// Checks the domain: all finite, `0 <= e <= 1`, `-1 <= em <= 0` or `em = 1`.
+    pub fn validate(&self) -> Result<()> {
+        for (name, value) in [("e", self.e), ("mu", self.mu), ("em", self.em)] {
+            if !value.is_finite() {
+                return Err(PimError::NonFiniteValue { field: name, value });
+            }
+        }
+        if !(0.0..=1.0).contains(&self.e) {
+            return Err(PimError::CoefficientOutOfRange {
+                name: "e",
+                value: self.e,
+                domain: "0 <= e <= 1",
+            });
+        }
+        if !((-1.0..=0.0).contains(&self.em) || (self.em - 1.0).abs() <= EM_ONE_TOL) {
+            return Err(PimError::CoefficientOutOfRange {
+                name: "em",
+                value: self.em,
+                domain: "-1 <= em <= 0, or em = 1",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Velocity of one vehicle: CG velocity components and yaw rate.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct VehicleVelocity {
+    /// CG velocity along the fixed x axis, m/s.
+    pub vx: f64,
+    /// CG velocity along the fixed y axis, m/s.
+    pub vy: f64,
+    /// Yaw rate (angular velocity, counter-clockwise positive), rad/s.
+    pub omega: f64,
+}
+
+impl VehicleVelocity {
+    /// Speed of the CG, m/s.
+    pub fn speed(&self) -> f64 {
+        self.vx.hypot(self.vy)
+    }
+}
+
+/// The velocities of both vehicles at one instant (contact or separation).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Velocities {
+    /// Vehicle 1.
+    pub vehicle1: VehicleVelocity,
+    /// Vehicle 2.
+    pub vehicle2: VehicleVelocity,
+}
+
+impl Velocities {
+    /// The state as `(v1x, v1y, w1, v2x, v2y, w2)`.
+    pub fn to_vector(&self) -> Vector6<f64> {
+        Vector6::new(
+            self.vehicle1.vx,
+            self.vehicle1.vy,
+            self.vehicle1.omega,
+            self.vehicle2.vx,
+            self.vehicle2.vy,
+            self.vehicle2.omega,
+        )
+    }
+
+    /// The state from `(v1x, v1y, w1, v2x, v2y, w2)`.
+    pub fn from_vector(x: &Vector6<f64>) -> Self {
+        Velocities {
+            vehicle1: VehicleVelocity {
+                vx: x[0],
+                vy: x[1],
+                omega: x[2],
+            },
+            vehicle2: VehicleVelocity {
+                vx: x[3],
+                vy: x[4],
+                omega: x[5],
+            },
+        }
+    }
+
+    /// The vehicle's velocity by id.
+    pub fn vehicle(&self, id: VehicleId) -> &VehicleVelocity {
+        match id {
+            VehicleId::One => &self.vehicle1,
+            VehicleId::Two => &self.vehicle2,
+        }
+    }
+
+    /// Largest CG speed of the two vehicles, m/s (a scale for tolerances).
+    pub fn max_speed(&self) -> f64 {
+        self.vehicle1.speed().max(self.vehicle2.speed())
+    }
+
+    /// Checks that every component is finite; `which` is `initial` or `final` for the message.
+    pub fn validate(&self) -> Result<()> {
+        for (id, v) in [
+            (VehicleId::One, &self.vehicle1),
+            (VehicleId::Two, &self.vehicle2),
+        ] {
+            for (field, value) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
+                if !value.is_finite() {
+                    return Err(PimError::NonFinite {
+                        vehicle: id,
+                        field,
+                        value,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Total kinetic energy of both vehicles in this state, J.
+    pub fn kinetic_energy(&self, impact: &Impact) -> f64 {
+        let [m1, m2] = impact.masses();
+        let [i1, i2] = impact.inertias();
+        let a = &self.vehicle1;
+        let b = &self.vehicle2;
+        0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy)
+            + i1 * a.omega * a.omega
+            + m2 * (b.vx * b.vx + b.vy * b.vy)
+            + i2 * b.omega * b.omega)
+    }
+}
+
+/// Which form of the moment equation (6) to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MomentForm {
+    /// The corrected form of the 1984 appendix: `(W2 - W1)(1 - em) = em B`. The default.
+    #[default]
+    Corrected,
+    /// The form of the 1983 BASIC listing, `(W1 - W2)(1 - em) = em B`, which carries a sign
+    /// error; only for reproducing the 1983 tables.
+    Brach1983,
+}
+
+/// Which tangential condition closes the system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TangentialCondition {
+    /// Equation 5: the tangential impulse is mu' times the normal impulse. The default.
+    #[default]
+    Sliding,
+    /// Equation 5a: no relative tangential velocity at separation (sliding ended before it).
+    NoSlip,
+}
+
+/// Options of a solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct SolveOptions {
+    /// Form of the moment equation.
+    pub moment_form: MomentForm,
+    /// Sliding (equation 5) or no slip (equation 5a).
+    pub tangential: TangentialCondition,
+}

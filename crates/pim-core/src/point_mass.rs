@@ -1,0 +1,98 @@
+//! The closed-form point-mass impact (Brach 1983 Appendix A; Brach 1984 eq. 6-12).
+//!
+//! Two particles meet at one point; the crush surface has normal n = (cos Gamma, sin Gamma) and
+//! tangent t = (-sin Gamma, cos Gamma). With `mbar = m1 m2 / (m1 + m2)` and the normal impulse on
+//! vehicle 1 `Pn = mbar (1 + e)(v2n - v1n)`:
+//!
+//! ```text
+//! V1n = v1n + Pn / m1        V2n = v2n - Pn / m2
+//! V1t = v1t + mu' Pn / m1    V2t = v2t - mu' Pn / m2
+//! ```
+//!
+//! where `mu' = mu sgn(vn) sgn(vt)` as in equation 5, or `mu' = r / (1 + e)` with
+//! `r = (v2t - v1t)/(v2n - v1n)` under the no-slip condition. This is an independent cross-check of
+//! the 6x6 solve with `d1 = d2 = 0` and no rotation.
+
+use crate::error::{PimError, Result};
+use crate::model::{Coefficients, TangentialCondition};
+use serde::{Deserialize, Serialize};
+
+/// A point-mass impact: masses, crush angle and the two planar velocities at contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PointMassImpact {
+    /// Masses `[m1, m2]`, kg.
+    pub masses: [f64; 2],
+    /// Crush-surface angle Gamma to the y axis, degrees.
+    pub crush_angle: f64,
+    /// Velocities `[[v1x, v1y], [v2x, v2y]]` at contact, m/s.
+    pub initial: [[f64; 2]; 2],
+}
+
+/// The closed-form solution.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PointMassSolution {
+    /// Velocities `[[V1x, V1y], [V2x, V2y]]` at separation, m/s.
+    pub separation: [[f64; 2]; 2],
+    /// Normal impulse on vehicle 1, N s.
+    pub normal_impulse: f64,
+    /// The signed impulse ratio actually used (mu' of equation 5).
+    pub mu_effective: f64,
+    /// Critical ratio in the sign convention of equation 5: `|r| / (1 + e)`.
+    pub mu_max: f64,
+    /// Kinetic energy loss from Brach 1984 eq. 10, J.
+    pub energy_loss: f64,
+    /// Largest possible energy loss, Brach 1984 eq. 12, J.
+    pub max_energy_loss: f64,
+}
+
+/// Solves the point-mass impact in closed form.
+pub fn solve_point_mass(
+    impact: &PointMassImpact,
+    coefficients: &Coefficients,
+    tangential: TangentialCondition,
+) -> Result<PointMassSolution> {
+    coefficients.validate()?;
+    let [m1, m2] = impact.masses;
+    let g = impact.crush_angle.to_radians();
+    let (s, c) = g.sin_cos();
+    let n = [c, s];
+    let t = [-s, c];
+    let dot = |a: [f64; 2], b: [f64; 2]| a[0] * b[0] + a[1] * b[1];
+    let [v1, v2] = impact.initial;
+    let (v1n, v1t, v2n, v2t) = (dot(v1, n), dot(v1, t), dot(v2, n), dot(v2, t));
+    let vn = v1n - v2n;
+    let vt = v1t - v2t;
+    if vn == 0.0 || !vn.is_finite() {
+        return Err(PimError::NotApproaching {
+            normal_velocity: vn,
+            direction: "they move parallel to the crush surface",
+        });
+    }
+    let e = coefficients.e;
+    let mbar = m1 * m2 / (m1 + m2);
+    let pn = mbar * (1.0 + e) * (v2n - v1n);
+    let r = (v2t - v1t) / (v2n - v1n);
+    let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+    let mu_eff = match tangential {
+        TangentialCondition::Sliding => coefficients.mu * sign(vn) * sign(vt),
+        TangentialCondition::NoSlip => r / (1.0 + e),
+    };
+    let big_v1n = v1n + pn / m1;
+    let big_v2n = v2n - pn / m2;
+    let big_v1t = v1t + mu_eff * pn / m1;
+    let big_v2t = v2t - mu_eff * pn / m2;
+    let back = |vn: f64, vt: f64| [vn * n[0] + vt * t[0], vn * n[1] + vt * t[1]];
+    let dv2 = (v2n - v1n).powi(2);
+    Ok(PointMassSolution {
+        separation: [back(big_v1n, big_v1t), back(big_v2n, big_v2t)],
+        normal_impulse: pn,
+        mu_effective: mu_eff,
+        mu_max: r.abs() / (1.0 + e),
+        energy_loss: mbar
+            * dv2
+            * (1.0 + e)
+            * ((1.0 - e) + 2.0 * mu_eff * r - (1.0 + e) * mu_eff * mu_eff)
+            / 2.0,
+        max_energy_loss: 0.5 * mbar * dv2 * (1.0 - e * e + r * r),
+    })
+}

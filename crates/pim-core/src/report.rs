@@ -1,0 +1,331 @@
+//! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
+
+use crate::equations::assemble;
+use crate::error::Equation;
+use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
+use serde::{Deserialize, Serialize};
+
+/// Relative tolerance used to decide "mu equals mu_max" and "no energy created".
+pub const REPORT_TOL: f64 = 1e-9;
+
+/// Velocity of each vehicle's material point at the impact centre C, m/s.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactPoints {
+    /// `[x, y]` of vehicle 1's point at C, at contact.
+    pub vehicle1_initial: [f64; 2],
+    /// `[x, y]` of vehicle 2's point at C, at contact.
+    pub vehicle2_initial: [f64; 2],
+    /// `[x, y]` of vehicle 1's point at C, at separation.
+    pub vehicle1_final: [f64; 2],
+    /// `[x, y]` of vehicle 2's point at C, at separation.
+    pub vehicle2_final: [f64; 2],
+}
+
+/// Relative velocity at C (vehicle 1 minus vehicle 2) along the crush-surface normal n and tangent t, m/s.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RelativeVelocity {
+    /// vn at contact.
+    pub normal_initial: f64,
+    /// vt at contact.
+    pub tangential_initial: f64,
+    /// Vn at separation.
+    pub normal_final: f64,
+    /// Vt at separation.
+    pub tangential_final: f64,
+}
+
+/// The impulses acting on vehicle 1 (vehicle 2 receives the opposite).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Impulse {
+    /// Px = m1 (V1x - v1x), N s.
+    pub px: f64,
+    /// Py = m1 (V1y - v1y), N s.
+    pub py: f64,
+    /// Pn = P . n, N s.
+    pub normal: f64,
+    /// Pt = P . t, N s.
+    pub tangential: f64,
+    /// Moment impulse on vehicle 1 at C, M = I1 (W1 - w1) - r1 x P, N m s.
+    pub moment: f64,
+}
+
+/// Velocity change of one vehicle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DeltaV {
+    /// V x - v x, m/s.
+    pub dvx: f64,
+    /// V y - v y, m/s.
+    pub dvy: f64,
+    /// W - w, rad/s.
+    pub domega: f64,
+    /// |V - v|, m/s.
+    pub magnitude: f64,
+    /// Direction of V - v (the principal direction of force) to the fixed x axis, degrees in (-180, 180].
+    pub direction: f64,
+}
+
+/// Kinetic energy balance of the impact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Energy {
+    /// Total kinetic energy at contact, J.
+    pub initial: f64,
+    /// Total kinetic energy at separation, J.
+    #[serde(rename = "final")]
+    pub final_: f64,
+    /// initial - final, J (negative when the solution creates energy).
+    pub loss: f64,
+    /// 100 (initial - final) / initial, percent.
+    pub loss_percent: f64,
+}
+
+/// What happens along the crush surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TangentialOutcome {
+    /// The vehicles still slide at separation, in the initial direction (|mu| < |mu_max|).
+    Sliding,
+    /// Sliding ends at or before separation (mu = mu_max, or the no-slip form).
+    Sticking,
+    /// The tangential impulse overshoots and reverses the sliding (mu beyond mu_max): not physical.
+    Reversed,
+}
+
+/// Whether a solution is physically admissible, and why not.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Admissibility {
+    /// True when every condition below holds.
+    pub admissible: bool,
+    /// mu lies between 0 and mu_max (always true under the no-slip form).
+    pub friction_ok: bool,
+    /// The kinetic energy at separation does not exceed that at contact.
+    pub energy_ok: bool,
+    /// The failed conditions, in words.
+    pub reasons: Vec<String>,
+}
+
+/// Residual of each of the six equations, in the equation's own units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Residuals {
+    /// Which equation each value belongs to.
+    pub equations: [Equation; 6],
+    /// `F X + G x`, row by row.
+    pub values: [f64; 6],
+    /// Each residual divided by the size of its terms (`|F||X| + |G||x|`), dimensionless.
+    pub relative: [f64; 6],
+}
+
+impl Residuals {
+    /// The largest relative residual.
+    pub fn max_relative(&self) -> f64 {
+        self.relative.iter().fold(0.0, |a, &b| a.max(b.abs()))
+    }
+}
+
+/// Everything a solve produces.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ImpactReport {
+    /// The coefficients used.
+    pub coefficients: Coefficients,
+    /// The options used.
+    pub options: SolveOptions,
+    /// Velocities at contact.
+    pub initial: Velocities,
+    /// Velocities at separation.
+    #[serde(rename = "final")]
+    pub separation: Velocities,
+    /// Velocities of the material points at C.
+    pub contact_points: ContactPoints,
+    /// Normal and tangential relative velocities at C.
+    pub relative: RelativeVelocity,
+    /// Impulses on vehicle 1.
+    pub impulse: Impulse,
+    /// Velocity change of vehicle 1 and vehicle 2.
+    pub delta_v: [DeltaV; 2],
+    /// Kinetic energy balance.
+    pub energy: Energy,
+    /// `sgn(vn) sgn(vt)` at contact: mu' = mu times this in equation 5.
+    pub friction_sign: f64,
+    /// Signed critical impulse ratio: the mu at which Vt = 0 (None if the normal impulse vanishes).
+    pub mu_max: Option<f64>,
+    /// mu / mu_max (the effective ratio is 1 under the no-slip form).
+    pub mu_ratio: Option<f64>,
+    /// Sliding, sticking or reversed.
+    pub tangential: TangentialOutcome,
+    /// True when the vehicles still slide at separation.
+    pub sliding: bool,
+    /// Physical admissibility.
+    pub admissibility: Admissibility,
+    /// Equation residuals.
+    pub residuals: Residuals,
+}
+
+fn delta_v(before: &crate::VehicleVelocity, after: &crate::VehicleVelocity) -> DeltaV {
+    let dvx = after.vx - before.vx;
+    let dvy = after.vy - before.vy;
+    DeltaV {
+        dvx,
+        dvy,
+        domega: after.omega - before.omega,
+        magnitude: dvx.hypot(dvy),
+        direction: dvy.atan2(dvx).to_degrees(),
+    }
+}
+
+/// Residuals of the six equations for a pair of states.
+pub fn residuals(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    sign: f64,
+    options: &SolveOptions,
+    initial: &Velocities,
+    separation: &Velocities,
+) -> Residuals {
+    let system = assemble(impact, coefficients, sign, options);
+    let x = initial.to_vector();
+    let xf = separation.to_vector();
+    let r = system.f * xf + system.g * x;
+    let size = system.f.abs() * xf.abs() + system.g.abs() * x.abs();
+    let mut values = [0.0; 6];
+    let mut relative = [0.0; 6];
+    for i in 0..6 {
+        values[i] = r[i];
+        relative[i] = if size[i] > 0.0 { r[i] / size[i] } else { r[i] };
+    }
+    Residuals {
+        equations: system.equations,
+        values,
+        relative,
+    }
+}
+
+/// Computes every derived quantity of a solution `(initial, separation)`.
+pub(crate) fn build_report(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    options: &SolveOptions,
+    initial: &Velocities,
+    separation: &Velocities,
+    sign: f64,
+    mu_max: Option<f64>,
+) -> ImpactReport {
+    let [p1i, p2i] = impact.contact_point_velocities(initial);
+    let [p1f, p2f] = impact.contact_point_velocities(separation);
+    let (vn, vt) = impact.relative_velocity(initial);
+    let (vn_f, vt_f) = impact.relative_velocity(separation);
+    let [m1, _] = impact.masses();
+    let [i1, _] = impact.inertias();
+    let dv1 = delta_v(&initial.vehicle1, &separation.vehicle1);
+    let dv2 = delta_v(&initial.vehicle2, &separation.vehicle2);
+    let px = m1 * dv1.dvx;
+    let py = m1 * dv1.dvy;
+    let [n, t] = [impact.normal(), impact.tangent()];
+    let [r1, _] = impact.lever_arms();
+    let impulse = Impulse {
+        px,
+        py,
+        normal: px * n[0] + py * n[1],
+        tangential: px * t[0] + py * t[1],
+        moment: i1 * dv1.domega - (r1[0] * py - r1[1] * px),
+    };
+    let t0 = initial.kinetic_energy(impact);
+    let t1 = separation.kinetic_energy(impact);
+    let energy = Energy {
+        initial: t0,
+        final_: t1,
+        loss: t0 - t1,
+        loss_percent: if t0 > 0.0 {
+            100.0 * (t0 - t1) / t0
+        } else {
+            0.0
+        },
+    };
+
+    let mu = coefficients.mu;
+    let (tangential, mu_ratio, friction_ok) = match options.tangential {
+        TangentialCondition::NoSlip => (TangentialOutcome::Sticking, Some(1.0), true),
+        TangentialCondition::Sliding => match mu_max {
+            Some(m) if m.abs() > REPORT_TOL => {
+                let r = mu / m;
+                let outcome = if (r - 1.0).abs() <= REPORT_TOL * 10.0 {
+                    TangentialOutcome::Sticking
+                } else if r > 1.0 {
+                    TangentialOutcome::Reversed
+                } else {
+                    TangentialOutcome::Sliding
+                };
+                (
+                    outcome,
+                    Some(r),
+                    (-REPORT_TOL..=1.0 + 10.0 * REPORT_TOL).contains(&r),
+                )
+            }
+            Some(_) => {
+                // mu_max = 0: only mu = 0 is admissible, and then the vehicles stick.
+                let ok = mu.abs() <= REPORT_TOL;
+                let outcome = if ok {
+                    TangentialOutcome::Sticking
+                } else {
+                    TangentialOutcome::Reversed
+                };
+                (outcome, None, ok)
+            }
+            None => (TangentialOutcome::Sliding, None, mu.abs() <= REPORT_TOL),
+        },
+    };
+    let energy_ok = t1 <= t0 * (1.0 + REPORT_TOL);
+    let mut reasons = Vec::new();
+    if !friction_ok {
+        reasons.push(match mu_max {
+            Some(m) => format!(
+                "mu = {mu} is not between 0 and mu_max = {m:.6}: the tangential impulse \
+                 {}",
+                if mu * m < 0.0 {
+                    "pushes the vehicles along their sliding direction instead of against it"
+                } else {
+                    "is larger than sticking needs and reverses the sliding"
+                }
+            ),
+            None => format!("mu = {mu} but the normal impulse vanishes, so mu_max is undefined"),
+        });
+    }
+    if !energy_ok {
+        reasons.push(format!(
+            "the solution creates kinetic energy: {t1:.1} J at separation against {t0:.1} J at \
+             contact ({:.3} %)",
+            -energy.loss_percent
+        ));
+    }
+    ImpactReport {
+        coefficients: *coefficients,
+        options: *options,
+        initial: *initial,
+        separation: *separation,
+        contact_points: ContactPoints {
+            vehicle1_initial: p1i,
+            vehicle2_initial: p2i,
+            vehicle1_final: p1f,
+            vehicle2_final: p2f,
+        },
+        relative: RelativeVelocity {
+            normal_initial: vn,
+            tangential_initial: vt,
+            normal_final: vn_f,
+            tangential_final: vt_f,
+        },
+        impulse,
+        delta_v: [dv1, dv2],
+        energy,
+        friction_sign: sign,
+        mu_max,
+        mu_ratio,
+        tangential,
+        sliding: tangential == TangentialOutcome::Sliding,
+        admissibility: Admissibility {
+            admissible: friction_ok && energy_ok,
+            friction_ok,
+            energy_ok,
+            reasons,
+        },
+        residuals: residuals(impact, coefficients, sign, options, initial, separation),
+    }
+}

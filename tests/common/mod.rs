@@ -1,0 +1,106 @@
+//! Helpers shared by the reference-data tests.
+#![allow(dead_code)]
+
+use pim_core::{Collision, Vehicle, VehicleVelocity, Velocities};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Path of a file under the repository root.
+pub fn repo_path(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// A row of a reference CSV, by column name.
+pub struct Row(pub HashMap<String, String>);
+
+impl Row {
+    /// A numeric cell; `None` when the cell is empty (not legible in the source).
+    pub fn opt(&self, col: &str) -> Option<f64> {
+        let s = self.0.get(col).unwrap_or_else(|| panic!("no column {col}"));
+        if s.trim().is_empty() {
+            None
+        } else {
+            Some(s.trim().parse().unwrap_or_else(|_| panic!("{col}: {s}")))
+        }
+    }
+    /// A numeric cell that must be present.
+    pub fn num(&self, col: &str) -> f64 {
+        self.opt(col).unwrap_or_else(|| panic!("{col} is empty"))
+    }
+    /// A text cell.
+    pub fn text(&self, col: &str) -> &str {
+        self.0.get(col).map(String::as_str).unwrap_or("")
+    }
+}
+
+/// Reads a reference CSV (`#` comment lines, one header line).
+pub fn read_reference(rel: &str) -> Vec<Row> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_path(repo_path(rel))
+        .unwrap_or_else(|e| panic!("{rel}: {e}"));
+    let headers = rdr.headers().unwrap().clone();
+    rdr.records()
+        .map(|r| {
+            let r = r.unwrap();
+            Row(headers
+                .iter()
+                .zip(r.iter())
+                .map(|(h, v)| (h.to_string(), v.to_string()))
+                .collect())
+        })
+        .collect()
+}
+
+/// Shorthand for a vehicle.
+pub fn vehicle(mass: f64, yaw_inertia: f64, heading: f64, d: f64, phi: f64) -> Vehicle {
+    Vehicle {
+        mass,
+        yaw_inertia,
+        heading,
+        d,
+        phi,
+    }
+}
+
+/// Shorthand for a velocity state.
+pub fn state(v: [f64; 6]) -> Velocities {
+    Velocities {
+        vehicle1: VehicleVelocity {
+            vx: v[0],
+            vy: v[1],
+            omega: v[2],
+        },
+        vehicle2: VehicleVelocity {
+            vx: v[3],
+            vy: v[4],
+            omega: v[5],
+        },
+    }
+}
+
+/// RICSAC 7 as given in Brach 1983 Table 1 (crush angle -30 deg, see data/README.md).
+pub fn brach1983_ricsac7() -> (Collision, Velocities) {
+    let s = 13.01_f64;
+    let h2 = 60.0_f64.to_radians();
+    (
+        Collision {
+            vehicle1: vehicle(1955.0, 4723.0, 0.0, 1.8, 0.0),
+            vehicle2: vehicle(1197.0, 2279.0, 60.0, 0.9, -140.0),
+            crush_angle: -30.0,
+        },
+        state([-s, 0.0, 0.0, s * h2.cos(), s * h2.sin(), 0.0]),
+    )
+}
+
+/// RICSAC 9 as given in Brach 1983 Table 1.
+pub fn brach1983_ricsac9() -> (Collision, Velocities) {
+    (
+        Collision {
+            vehicle1: vehicle(1036.0, 1348.0, 0.0, 1.4, 0.0),
+            vehicle2: vehicle(2189.0, 5287.0, 90.0, 1.6, -30.0),
+            crush_angle: 0.0,
+        },
+        state([-9.48, 0.0, 0.0, 0.0, 9.48, 0.0]),
+    )
+}
