@@ -96,4 +96,7 @@ pub use report::{
 pub use sensitivity::{
     sensitivity, CoefficientName, Level, LevelAverage, SensitivityCase, SensitivityStudy,
 };
-pub use solve::{critical_friction, separation_velocities, solve_backward, solve_forward};
+pub use solve::{
+    critical_friction, separation_velocities, solve_backward, solve_backward_with_sign,
+    solve_forward,
+};

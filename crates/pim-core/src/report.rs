@@ -1,6 +1,6 @@
 //! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
 
-use crate::equations::assemble;
+use crate::equations::{assemble, LinearSystem};
 use crate::error::Equation;
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use serde::{Deserialize, Serialize};
@@ -90,8 +90,8 @@ pub enum TangentialOutcome {
     Reversed,
 }
 
-/// Whether a solution is physically admissible, and why not.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// Whether a solution is physically admissible.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Admissibility {
     /// True when every condition below holds.
     pub admissible: bool,
@@ -99,8 +99,6 @@ pub struct Admissibility {
     pub friction_ok: bool,
     /// The kinetic energy at separation does not exceed that at contact.
     pub energy_ok: bool,
-    /// The failed conditions, in words.
-    pub reasons: Vec<String>,
 }
 
 /// Residual of each of the six equations, in the equation's own units.
@@ -155,8 +153,6 @@ pub struct ImpactReport {
     pub sliding: bool,
     /// Physical admissibility.
     pub admissibility: Admissibility,
-    /// Equation residuals.
-    pub residuals: Residuals,
 }
 
 fn delta_v(before: &crate::VehicleVelocity, after: &crate::VehicleVelocity) -> DeltaV {
@@ -180,7 +176,15 @@ pub fn residuals(
     initial: &Velocities,
     separation: &Velocities,
 ) -> Residuals {
-    let system = assemble(impact, coefficients, sign, options);
+    residuals_of(
+        &assemble(impact, coefficients, sign, options),
+        initial,
+        separation,
+    )
+}
+
+/// Residuals of an assembled system for a pair of states.
+fn residuals_of(system: &LinearSystem, initial: &Velocities, separation: &Velocities) -> Residuals {
     let x = initial.to_vector();
     let xf = separation.to_vector();
     let r = system.f * xf + system.g * x;
@@ -195,6 +199,50 @@ pub fn residuals(
         equations: system.equations,
         values,
         relative,
+    }
+}
+
+impl ImpactReport {
+    /// Residuals of the six equations for this solution (computed on demand: a forward or
+    /// backward solve satisfies them to round-off by construction).
+    pub fn residuals(&self, impact: &Impact) -> Residuals {
+        residuals(
+            impact,
+            &self.coefficients,
+            self.friction_sign,
+            &self.options,
+            &self.initial,
+            &self.separation,
+        )
+    }
+
+    /// The failed admissibility conditions, in words (empty when admissible).
+    pub fn inadmissibility_reasons(&self) -> Vec<String> {
+        let mut reasons = Vec::new();
+        let mu = self.coefficients.mu;
+        if !self.admissibility.friction_ok {
+            reasons.push(match self.mu_max {
+                Some(m) => format!(
+                    "mu = {mu} is not between 0 and mu_max = {m:.6}: the tangential impulse {}",
+                    if mu * m < 0.0 {
+                        "pushes the vehicles along their sliding direction instead of against it"
+                    } else {
+                        "is larger than sticking needs and reverses the sliding"
+                    }
+                ),
+                None => {
+                    format!("mu = {mu} but the normal impulse vanishes, so mu_max is undefined")
+                }
+            });
+        }
+        if !self.admissibility.energy_ok {
+            reasons.push(format!(
+                "the solution creates kinetic energy: {:.1} J at separation against {:.1} J at \
+                 contact ({:.3} % more)",
+                self.energy.final_, self.energy.initial, -self.energy.loss_percent
+            ));
+        }
+        reasons
     }
 }
 
@@ -273,28 +321,6 @@ pub(crate) fn build_report(
         },
     };
     let energy_ok = t1 <= t0 * (1.0 + REPORT_TOL);
-    let mut reasons = Vec::new();
-    if !friction_ok {
-        reasons.push(match mu_max {
-            Some(m) => format!(
-                "mu = {mu} is not between 0 and mu_max = {m:.6}: the tangential impulse \
-                 {}",
-                if mu * m < 0.0 {
-                    "pushes the vehicles along their sliding direction instead of against it"
-                } else {
-                    "is larger than sticking needs and reverses the sliding"
-                }
-            ),
-            None => format!("mu = {mu} but the normal impulse vanishes, so mu_max is undefined"),
-        });
-    }
-    if !energy_ok {
-        reasons.push(format!(
-            "the solution creates kinetic energy: {t1:.1} J at separation against {t0:.1} J at \
-             contact ({:.3} %)",
-            -energy.loss_percent
-        ));
-    }
     ImpactReport {
         coefficients: *coefficients,
         options: *options,
@@ -324,8 +350,6 @@ pub(crate) fn build_report(
             admissible: friction_ok && energy_ok,
             friction_ok,
             energy_ok,
-            reasons,
         },
-        residuals: residuals(impact, coefficients, sign, options, initial, separation),
     }
 }

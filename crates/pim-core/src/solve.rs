@@ -226,7 +226,11 @@ pub fn solve_forward(
 /// solved for the other half of the unknowns), with every derived result.
 ///
 /// Under the sliding form the friction direction depends on the unknown contact state; both
-/// directions are tried and the one consistent with the recovered contact velocities is kept.
+/// directions are tried and a direction is kept when the recovered contact velocities approach at
+/// C and slide that way. When both directions pass, the physically admissible one is kept
+/// (0 <= mu <= mu_max, no energy created); when both or neither are admissible the problem has two
+/// answers and an [`PimError::InconsistentSliding`] error says so (use
+/// [`solve_backward_with_sign`] if the direction is known).
 /// Errors: as [`solve_forward`], plus a singular backward system (e = 0 or em = 0 leave the
 /// contact state undetermined) and data for which no friction direction is consistent.
 pub fn solve_backward(
@@ -237,73 +241,137 @@ pub fn solve_backward(
 ) -> Result<ImpactReport> {
     coefficients.validate()?;
     separation.validate()?;
-    let xf = separation.to_vector();
     let signs: &[f64] = match options.tangential {
         TangentialCondition::Sliding => &[1.0, -1.0],
         TangentialCondition::NoSlip => &[1.0],
     };
-    let mut consistent = Vec::new();
-    let mut first_error = None;
+    backward(impact, coefficients, separation, options, signs)
+}
+
+/// Solves backwards when the sliding direction at contact is known: `friction_sign` is
+/// `sgn(vn) sgn(vt)` of the contact state (+1 or -1). The recovered contact state must slide that
+/// way, or the result is an [`PimError::InconsistentSliding`] error.
+pub fn solve_backward_with_sign(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    separation: &Velocities,
+    options: &SolveOptions,
+    friction_sign: f64,
+) -> Result<ImpactReport> {
+    coefficients.validate()?;
+    separation.validate()?;
+    let s = if friction_sign < 0.0 { -1.0 } else { 1.0 };
+    backward(impact, coefficients, separation, options, &[s])
+}
+
+fn backward(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    separation: &Velocities,
+    options: &SolveOptions,
+    signs: &[f64],
+) -> Result<ImpactReport> {
+    let xf = separation.to_vector();
+    let no_slip = options.tangential == TangentialCondition::NoSlip;
+    // For each assumed sliding direction: the contact state, or why it does not fit.
+    let mut consistent: Vec<(f64, Velocities)> = Vec::new();
+    let mut rejected: Vec<(f64, PimError)> = Vec::new();
     for &s in signs {
         let system = assemble(impact, coefficients, s, options);
         let factor = match Factor::new(&system.g) {
             Ok(f) => f,
             Err(row) => {
-                first_error.get_or_insert(singular_error(&system, row, true, coefficients));
+                rejected.push((s, singular_error(&system, row, true, coefficients)));
                 continue;
             }
         };
         let x = Velocities::from_vector(&factor.solve(&-(system.f * xf)));
-        let actual = impact.friction_sign(&x);
-        if options.tangential == TangentialCondition::NoSlip || actual * s > 0.0 {
+        if let Err(e) = impact.check_approach(&x) {
+            rejected.push((s, e));
+        } else if no_slip || impact.friction_sign(&x) * s > 0.0 {
             consistent.push((s, x));
+        } else {
+            rejected.push((
+                s,
+                PimError::InconsistentSliding(
+                    "the recovered contact velocities slide the other way".to_string(),
+                ),
+            ));
         }
     }
-    let (sign, initial) = match consistent.as_slice() {
-        [one] => *one,
-        [] => {
-            if let Some(e) = first_error {
-                return Err(e);
-            }
-            return Err(PimError::InconsistentSliding(format!(
-                "no friction direction fits these separation velocities with mu = {}: assuming \
-                 either sliding direction, the recovered contact velocities slide the other way",
-                coefficients.mu
-            )));
+    if consistent.is_empty() {
+        // One assumption only, or the same failure for both: return it as it is.
+        if rejected.len() == 1
+            || rejected
+                .iter()
+                .all(|(_, e)| matches!(e, PimError::Singular { .. }))
+        {
+            return Err(rejected.swap_remove(0).1);
         }
-        [a, b] => {
-            // Both directions are self-consistent; with mu = 0 they coincide.
-            if coefficients.mu == 0.0 {
-                *a
-            } else {
-                return Err(PimError::InconsistentSliding(format!(
-                    "both friction directions fit these separation velocities with mu = {} \
-                     (contact states differ: vehicle1 vx {:.3} vs {:.3} m/s); the backward \
-                     problem has two answers, fix the sliding direction by solving forwards",
-                    coefficients.mu, a.1.vehicle1.vx, b.1.vehicle1.vx
-                )));
-            }
-        }
-        _ => unreachable!("at most two friction directions"),
-    };
-    impact.check_approach(&initial)?;
-    let x = initial.to_vector();
-    let no_slip = SolveOptions {
+        let parts: Vec<String> = rejected
+            .iter()
+            .map(|(s, e)| format!("assuming sgn(vn) sgn(vt) = {s:+}: {e}"))
+            .collect();
+        return Err(PimError::InconsistentSliding(format!(
+            "no contact state fits these separation velocities with mu = {}; {}",
+            coefficients.mu,
+            parts.join("; ")
+        )));
+    }
+    let no_slip_opts = SolveOptions {
         tangential: TangentialCondition::NoSlip,
         ..*options
     };
-    let mu_max = forward(impact, coefficients, &x, sign, &no_slip)
-        .ok()
-        .and_then(|s| s.mu_max);
-    Ok(build_report(
-        impact,
-        coefficients,
-        options,
-        &initial,
-        separation,
-        sign,
-        mu_max,
-    ))
+    let mut reports: Vec<ImpactReport> = consistent
+        .iter()
+        .map(|(sign, initial)| {
+            let mu_max = forward(
+                impact,
+                coefficients,
+                &initial.to_vector(),
+                *sign,
+                &no_slip_opts,
+            )
+            .ok()
+            .and_then(|s| s.mu_max);
+            build_report(
+                impact,
+                coefficients,
+                options,
+                initial,
+                separation,
+                *sign,
+                mu_max,
+            )
+        })
+        .collect();
+    if reports.len() == 2 && coefficients.mu != 0.0 {
+        // Both directions reproduce the data; a real contact state must also be admissible
+        // (0 <= mu <= mu_max, no energy created).
+        let admissible: Vec<bool> = reports.iter().map(|r| r.admissibility.admissible).collect();
+        match admissible.as_slice() {
+            [true, false] => reports.truncate(1),
+            [false, true] => {
+                reports.swap_remove(0);
+            }
+            _ => {
+                return Err(PimError::InconsistentSliding(format!(
+                    "both friction directions fit these separation velocities with mu = {} and \
+                     both are {} (contact states differ: vehicle1 vx {:.3} vs {:.3} m/s); the \
+                     backward problem has two answers, solve forwards from one of them",
+                    coefficients.mu,
+                    if admissible[0] {
+                        "admissible"
+                    } else {
+                        "inadmissible"
+                    },
+                    reports[0].initial.vehicle1.vx,
+                    reports[1].initial.vehicle1.vx
+                )));
+            }
+        }
+    }
+    Ok(reports.swap_remove(0))
 }
 
 /// The signed critical impulse ratio mu_max for a contact state: the mu of equation 5 at which

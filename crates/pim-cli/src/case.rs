@@ -1,0 +1,268 @@
+//! The TOML case file of `pim solve`, `pim sensitivity` and `pim fit`.
+
+use crate::error::Failure;
+use pim_core::{Coefficients, Collision, Vehicle, VehicleVelocity, Velocities};
+use serde::Deserialize;
+use std::path::Path;
+
+/// Largest case file accepted, bytes (a case is a few hundred bytes).
+pub const MAX_CASE_BYTES: u64 = 1 << 20;
+
+/// One vehicle as written in the case file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSection {
+    /// Free text (make, model).
+    #[serde(default)]
+    pub description: Option<String>,
+    /// kg.
+    pub mass: f64,
+    /// kg m^2.
+    pub yaw_inertia: f64,
+    /// Heading theta, degrees.
+    pub heading: f64,
+    /// CG to impact centre, m.
+    pub d: f64,
+    /// Angle phi, degrees.
+    pub phi: f64,
+}
+
+/// `[impact]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImpactSection {
+    /// Gamma, degrees.
+    pub crush_angle: f64,
+}
+
+/// `[coefficients]`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoefficientsSection {
+    /// Restitution.
+    pub e: f64,
+    /// Friction.
+    pub mu: f64,
+    /// Moment restitution.
+    pub em: f64,
+}
+
+/// One vehicle's velocity, `{ vx, vy, omega }`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VelocitySection {
+    /// m/s.
+    pub vx: f64,
+    /// m/s.
+    pub vy: f64,
+    /// rad/s.
+    pub omega: f64,
+}
+
+/// `[initial]` or `[final]`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StateSection {
+    /// Vehicle 1.
+    pub vehicle1: VelocitySection,
+    /// Vehicle 2.
+    pub vehicle2: VelocitySection,
+}
+
+impl StateSection {
+    /// As a pim-core state.
+    pub fn to_velocities(self) -> Velocities {
+        let v = |s: VelocitySection| VehicleVelocity {
+            vx: s.vx,
+            vy: s.vy,
+            omega: s.omega,
+        };
+        Velocities {
+            vehicle1: v(self.vehicle1),
+            vehicle2: v(self.vehicle2),
+        }
+    }
+}
+
+/// The whole case file. Unknown keys are rejected so that a typo cannot be silently ignored.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseFile {
+    /// Free text.
+    #[serde(default)]
+    pub title: Option<String>,
+    /// Vehicle 1.
+    pub vehicle1: VehicleSection,
+    /// Vehicle 2.
+    pub vehicle2: VehicleSection,
+    /// Crush surface.
+    pub impact: ImpactSection,
+    /// Coefficients (solve, sensitivity).
+    #[serde(default)]
+    pub coefficients: Option<CoefficientsSection>,
+    /// Velocities at contact.
+    #[serde(default)]
+    pub initial: Option<StateSection>,
+    /// Velocities at separation.
+    #[serde(default, rename = "final")]
+    pub final_: Option<StateSection>,
+}
+
+/// A loaded case: the file name (for messages) and its content.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// The path as given on the command line.
+    pub file: String,
+    /// The parsed content.
+    pub content: CaseFile,
+}
+
+/// Reads a file that must be a small regular text file, with messages naming it.
+pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, Failure> {
+    let name = path.display();
+    let meta = std::fs::metadata(path)
+        .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
+    if meta.is_dir() {
+        return Err(Failure::Input(format!(
+            "{name}: is a directory, expected a file"
+        )));
+    }
+    if meta.len() > max_bytes {
+        return Err(Failure::Input(format!(
+            "{name}: is {} bytes, larger than the {} bytes accepted for this kind of file",
+            meta.len(),
+            max_bytes
+        )));
+    }
+    let bytes = std::fs::read(path)
+        .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
+    String::from_utf8(bytes).map_err(|e| {
+        Failure::Input(format!(
+            "{name}: is not UTF-8 text (byte {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })
+}
+
+/// A short reason for an I/O error.
+pub fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+        _ => e.to_string(),
+    }
+}
+
+/// Line and column (1-based) of a byte offset.
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let upto = &text[..offset.min(text.len())];
+    let line = upto.matches('\n').count() + 1;
+    let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+/// Parses TOML into `T`, with errors as `file:line:col: message`.
+pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, Failure> {
+    if text.trim().is_empty() {
+        return Err(Failure::Input(format!("{file}: the file is empty")));
+    }
+    toml::from_str(text).map_err(|e| {
+        let msg = e.message().trim().to_string();
+        match e.span() {
+            Some(span) => {
+                let (line, col) = line_col(text, span.start);
+                Failure::Input(format!("{file}:{line}:{col}: {msg}"))
+            }
+            None => Failure::Input(format!("{file}: {msg}")),
+        }
+    })
+}
+
+fn finite(file: &str, path: &str, value: f64) -> Result<(), Failure> {
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(Failure::Input(format!(
+            "{file}: {path} must be a finite number, got {value}"
+        )))
+    }
+}
+
+impl Case {
+    /// Loads and parses a case file.
+    pub fn load(path: &Path) -> Result<Self, Failure> {
+        let file = path.display().to_string();
+        let text = read_text_file(path, MAX_CASE_BYTES)?;
+        let content: CaseFile = parse_toml(&file, &text)?;
+        let case = Case { file, content };
+        case.check_states()?;
+        Ok(case)
+    }
+
+    fn check_states(&self) -> Result<(), Failure> {
+        for (name, s) in [
+            ("initial", &self.content.initial),
+            ("final", &self.content.final_),
+        ] {
+            if let Some(s) = s {
+                for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", s.vehicle2)] {
+                    for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
+                        finite(&self.file, &format!("[{name}] {veh}.{field}"), x)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The collision, checked by pim-core (messages name the vehicle and field).
+    pub fn impact(&self) -> Result<pim_core::Impact, Failure> {
+        let v = |s: &VehicleSection| Vehicle {
+            mass: s.mass,
+            yaw_inertia: s.yaw_inertia,
+            heading: s.heading,
+            d: s.d,
+            phi: s.phi,
+        };
+        pim_core::Impact::new(Collision {
+            vehicle1: v(&self.content.vehicle1),
+            vehicle2: v(&self.content.vehicle2),
+            crush_angle: self.content.impact.crush_angle,
+        })
+        .map_err(|e| Failure::Input(format!("{}: {e}", self.file)))
+    }
+
+    /// The `[coefficients]` section, required and checked.
+    pub fn coefficients(&self) -> Result<Coefficients, Failure> {
+        let c = self.content.coefficients.ok_or_else(|| {
+            Failure::Input(format!(
+                "{}: missing section [coefficients] (e, mu, em)",
+                self.file
+            ))
+        })?;
+        let c = Coefficients {
+            e: c.e,
+            mu: c.mu,
+            em: c.em,
+        };
+        c.validate()
+            .map_err(|e| Failure::Input(format!("{}: [coefficients] {e}", self.file)))?;
+        Ok(c)
+    }
+
+    /// Exactly one of `[initial]` / `[final]`: `(state, true)` for initial.
+    pub fn known_state(&self) -> Result<(Velocities, bool), Failure> {
+        match (&self.content.initial, &self.content.final_) {
+            (Some(i), None) => Ok((i.to_velocities(), true)),
+            (None, Some(f)) => Ok((f.to_velocities(), false)),
+            (Some(_), Some(_)) => Err(Failure::Input(format!(
+                "{}: give either [initial] (solve forwards) or [final] (solve backwards), not both",
+                self.file
+            ))),
+            (None, None) => Err(Failure::Input(format!(
+                "{}: missing section [initial] (velocities at contact) or [final] (at separation)",
+                self.file
+            ))),
+        }
+    }
+}

@@ -1,0 +1,70 @@
+//! Failure categories of the command and their exit codes.
+
+use std::fmt;
+
+/// Exit status: success.
+pub const EXIT_OK: u8 = 0;
+/// Exit status: some records of a batch failed (infeasible, bad row); the others were written.
+#[allow(dead_code)] // returned by the batch command
+pub const EXIT_SOME_FAILED: u8 = 1;
+/// Exit status: bad input (command line, file, field, value); nothing was computed.
+pub const EXIT_BAD_INPUT: u8 = 2;
+/// Exit status: valid input for which the model has no answer (singular or inconsistent system).
+pub const EXIT_NO_ANSWER: u8 = 3;
+/// Exit status: an output file could not be written.
+pub const EXIT_IO: u8 = 4;
+
+/// The exit codes, as printed in `--help`.
+pub const EXIT_CODES_HELP: &str = "\
+EXIT STATUS:
+  0  success
+  1  batch only: some records failed (their rows say why); the others are complete
+  2  bad input: a command-line flag, a file that cannot be read, or a field with a bad value;
+     the message names the file, line and field
+  3  the input is valid but the model has no answer (singular or inconsistent equations)
+  4  an output file or directory could not be written
+
+ERRORS are printed once on stderr as `pim: <file>: <where>: <what>`.";
+
+/// A failure with its category.
+#[derive(Debug)]
+pub enum Failure {
+    /// Bad input: exit status 2.
+    Input(String),
+    /// The model cannot answer: exit status 3.
+    NoAnswer(String),
+    /// Writing output failed: exit status 4.
+    Output(String),
+}
+
+impl Failure {
+    /// The exit status of this failure.
+    pub fn code(&self) -> u8 {
+        match self {
+            Failure::Input(_) => EXIT_BAD_INPUT,
+            Failure::NoAnswer(_) => EXIT_NO_ANSWER,
+            Failure::Output(_) => EXIT_IO,
+        }
+    }
+
+    /// Classifies a pim-core error raised while solving the case in `file`.
+    pub fn from_core(file: &str, e: pim_core::PimError) -> Self {
+        use pim_core::PimError as E;
+        match e {
+            E::Singular { .. } | E::InconsistentSliding(_) => {
+                Failure::NoAnswer(format!("{file}: {e}"))
+            }
+            _ => Failure::Input(format!("{file}: {e}")),
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Input(m) | Failure::NoAnswer(m) | Failure::Output(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for Failure {}

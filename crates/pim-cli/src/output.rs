@@ -1,0 +1,319 @@
+//! Output records (JSON) and human-readable tables of `pim solve` and `pim sensitivity`.
+
+use pim_core::{ImpactReport, SensitivityStudy, Velocities};
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// One vehicle's velocity in the output.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct VelocityOut {
+    /// m/s.
+    pub vx: f64,
+    /// m/s.
+    pub vy: f64,
+    /// rad/s.
+    pub omega: f64,
+}
+
+/// Both vehicles' velocities.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct StateOut {
+    /// Vehicle 1.
+    pub vehicle1: VelocityOut,
+    /// Vehicle 2.
+    pub vehicle2: VelocityOut,
+}
+
+impl From<&Velocities> for StateOut {
+    fn from(v: &Velocities) -> Self {
+        let f = |x: &pim_core::VehicleVelocity| VelocityOut {
+            vx: x.vx,
+            vy: x.vy,
+            omega: x.omega,
+        };
+        StateOut {
+            vehicle1: f(&v.vehicle1),
+            vehicle2: f(&v.vehicle2),
+        }
+    }
+}
+
+/// Delta-V magnitudes, m/s.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct DeltaVOut {
+    /// |V1 - v1|.
+    pub vehicle1: f64,
+    /// |V2 - v2|.
+    pub vehicle2: f64,
+}
+
+/// Energy balance.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct EnergyOut {
+    /// J.
+    pub initial: f64,
+    /// J.
+    #[serde(rename = "final")]
+    pub final_: f64,
+    /// Percent.
+    pub loss_percent: f64,
+}
+
+/// The JSON record of one forward or backward solve.
+#[derive(Debug, Clone, Serialize)]
+pub struct SolveOut {
+    /// `forward` or `backward`.
+    pub direction: &'static str,
+    /// Coefficients used.
+    pub coefficients: pim_core::Coefficients,
+    /// Moment form and tangential condition.
+    pub options: pim_core::SolveOptions,
+    /// Velocities at contact.
+    pub initial: StateOut,
+    /// Velocities at separation.
+    #[serde(rename = "final")]
+    pub final_: StateOut,
+    /// Delta-V magnitudes.
+    pub delta_v: DeltaVOut,
+    /// Delta-V components and directions per vehicle.
+    pub delta_v_detail: [pim_core::DeltaV; 2],
+    /// Energy balance.
+    pub energy: EnergyOut,
+    /// Impulses on vehicle 1.
+    pub impulse: pim_core::Impulse,
+    /// Relative velocities at C.
+    pub relative_velocity: pim_core::RelativeVelocity,
+    /// Material-point velocities at C.
+    pub contact_points: pim_core::ContactPoints,
+    /// Signed critical impulse ratio (null when undefined).
+    pub mu_max: Option<f64>,
+    /// mu / mu_max.
+    pub mu_ratio: Option<f64>,
+    /// sliding, sticking or reversed.
+    pub tangential: pim_core::TangentialOutcome,
+    /// Still sliding at separation.
+    pub sliding: bool,
+    /// Physically admissible.
+    pub admissible: bool,
+    /// Why not, when not admissible.
+    pub reasons: Vec<String>,
+    /// Largest relative equation residual.
+    pub max_residual: f64,
+}
+
+impl SolveOut {
+    /// Builds the record from a pim-core report.
+    pub fn new(impact: &pim_core::Impact, r: &ImpactReport, forward: bool) -> Self {
+        SolveOut {
+            direction: if forward { "forward" } else { "backward" },
+            coefficients: r.coefficients,
+            options: r.options,
+            initial: (&r.initial).into(),
+            final_: (&r.separation).into(),
+            delta_v: DeltaVOut {
+                vehicle1: r.delta_v[0].magnitude,
+                vehicle2: r.delta_v[1].magnitude,
+            },
+            delta_v_detail: r.delta_v,
+            energy: EnergyOut {
+                initial: r.energy.initial,
+                final_: r.energy.final_,
+                loss_percent: r.energy.loss_percent,
+            },
+            impulse: r.impulse,
+            relative_velocity: r.relative,
+            contact_points: r.contact_points,
+            mu_max: r.mu_max,
+            mu_ratio: r.mu_ratio,
+            tangential: r.tangential,
+            sliding: r.sliding,
+            admissible: r.admissibility.admissible,
+            reasons: r.inadmissibility_reasons(),
+            max_residual: r.residuals(impact).max_relative(),
+        }
+    }
+}
+
+/// One combination of a sensitivity study.
+#[derive(Debug, Clone, Serialize)]
+pub struct SensitivityCaseOut {
+    /// Levels of e, mu, em (`low`, `high`, `nominal`).
+    pub levels: [pim_core::Level; 3],
+    /// The full solve record (its `coefficients` are this combination's).
+    #[serde(flatten)]
+    pub solve: SolveOut,
+}
+
+/// The JSON of `pim sensitivity`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SensitivityOut {
+    /// p, percent.
+    pub percent: f64,
+    /// The nominal solve.
+    pub nominal: SolveOut,
+    /// Every combination.
+    pub combinations: Vec<SensitivityCaseOut>,
+    /// Averages per coefficient level.
+    pub averages: Vec<pim_core::LevelAverage>,
+}
+
+impl SensitivityOut {
+    /// Builds the record.
+    pub fn new(impact: &pim_core::Impact, s: &SensitivityStudy) -> Self {
+        SensitivityOut {
+            percent: s.percent,
+            nominal: SolveOut::new(impact, &s.nominal, true),
+            combinations: s
+                .cases
+                .iter()
+                .map(|c| SensitivityCaseOut {
+                    levels: c.levels,
+                    solve: SolveOut::new(impact, &c.report, true),
+                })
+                .collect(),
+            averages: s.averages.clone(),
+        }
+    }
+}
+
+fn opt(x: Option<f64>, prec: usize) -> String {
+    x.map_or_else(|| "undefined".to_string(), |v| format!("{v:.prec$}"))
+}
+
+/// The human-readable table of one solve.
+pub fn solve_table(
+    title: &str,
+    impact: &pim_core::Impact,
+    r: &ImpactReport,
+    forward: bool,
+) -> String {
+    let mut s = String::new();
+    let c = &r.coefficients;
+    let _ = writeln!(s, "{title}");
+    let _ = writeln!(
+        s,
+        "solved {}: e = {}, mu = {}, em = {}; moment equation {:?}, tangential condition {:?}",
+        if forward { "forwards" } else { "backwards" },
+        c.e,
+        c.mu,
+        c.em,
+        r.options.moment_form,
+        r.options.tangential
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "                     vx [m/s]   vy [m/s]  omega [rad/s]   |dV| [m/s]  dir [deg]"
+    );
+    for (k, name) in ["vehicle1", "vehicle2"].iter().enumerate() {
+        let i = r.initial.vehicle(pim_core::VehicleId::from_index(k));
+        let f = r.separation.vehicle(pim_core::VehicleId::from_index(k));
+        let dv = &r.delta_v[k];
+        let _ = writeln!(
+            s,
+            "{name}  initial  {:>9.3}  {:>9.3}  {:>13.3}",
+            i.vx, i.vy, i.omega
+        );
+        let _ = writeln!(
+            s,
+            "{name}  final    {:>9.3}  {:>9.3}  {:>13.3}   {:>10.3}  {:>9.1}",
+            f.vx, f.vy, f.omega, dv.magnitude, dv.direction
+        );
+    }
+    let _ = writeln!(s);
+    let e = &r.energy;
+    let _ = writeln!(
+        s,
+        "kinetic energy      {:.0} J at contact, {:.0} J at separation: loss {:.2} %",
+        e.initial, e.final_, e.loss_percent
+    );
+    let p = &r.impulse;
+    let _ = writeln!(
+        s,
+        "impulse on veh. 1   Px {:.1}, Py {:.1}, Pn {:.1}, Pt {:.1} N s; moment M {:.1} N m s",
+        p.px, p.py, p.normal, p.tangential, p.moment
+    );
+    let rv = &r.relative;
+    let _ = writeln!(
+        s,
+        "relative vel. at C  vn {:.3} -> Vn {:.3} m/s, vt {:.3} -> Vt {:.3} m/s",
+        rv.normal_initial, rv.normal_final, rv.tangential_initial, rv.tangential_final
+    );
+    let _ = writeln!(
+        s,
+        "friction            mu_max {} (signed), mu/mu_max {}, {:?}",
+        opt(r.mu_max, 4),
+        opt(r.mu_ratio, 4),
+        r.tangential
+    );
+    let _ = writeln!(
+        s,
+        "equation residual   {:.1e} (largest, relative to the size of its terms)",
+        r.residuals(impact).max_relative()
+    );
+    if r.admissibility.admissible {
+        let _ = writeln!(s, "admissible          yes");
+    } else {
+        let _ = writeln!(s, "admissible          NO");
+        for reason in &r.inadmissibility_reasons() {
+            let _ = writeln!(s, "  - {reason}");
+        }
+    }
+    s
+}
+
+/// The human-readable table of a sensitivity study (as Brach 1983 Tables 4-6).
+pub fn sensitivity_table(title: &str, st: &SensitivityStudy) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{title}\nsensitivity: each coefficient x (1 -/+ {}%); em = 1 is not varied\n",
+        st.percent
+    );
+    let _ = writeln!(
+        s,
+        "      e       mu       em |  V1x     V1y     W1   |dV1| |  V2x     V2y     W2   |dV2| | loss % | adm."
+    );
+    for c in &st.cases {
+        let r = &c.report;
+        let a = &r.separation.vehicle1;
+        let b = &r.separation.vehicle2;
+        let _ = writeln!(
+            s,
+            "{:>7.4} {:>8.4} {:>8.4} | {:>6.2} {:>6.2} {:>6.2} {:>6.2} | {:>6.2} {:>6.2} {:>6.2} {:>6.2} | {:>6.2} | {}",
+            c.coefficients.e,
+            c.coefficients.mu,
+            c.coefficients.em,
+            a.vx,
+            a.vy,
+            a.omega,
+            r.delta_v[0].magnitude,
+            b.vx,
+            b.vy,
+            b.omega,
+            r.delta_v[1].magnitude,
+            r.energy.loss_percent,
+            if r.admissibility.admissible { "yes" } else { "NO" }
+        );
+    }
+    let _ = writeln!(s, "\naverage effect of each coefficient level");
+    let _ = writeln!(
+        s,
+        "coef  level      value | |dV1| m/s |dV2| m/s |dW1| rad/s |dW2| rad/s | loss %"
+    );
+    for a in &st.averages {
+        let _ = writeln!(
+            s,
+            "{:<5} {:<6} {:>9.4} | {:>9.3} {:>9.3} {:>11.3} {:>11.3} | {:>6.2}",
+            format!("{:?}", a.coefficient).to_lowercase(),
+            format!("{:?}", a.level).to_lowercase(),
+            a.value,
+            a.delta_v1,
+            a.delta_v2,
+            a.delta_omega1,
+            a.delta_omega2,
+            a.energy_loss_percent
+        );
+    }
+    s
+}

@@ -1,0 +1,281 @@
+//! End-to-end tests of `pim solve` and `pim sensitivity`: the real binary, its JSON and exit codes.
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn pim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .expect("run pim")
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn example() -> String {
+    std::fs::read_to_string(repo().join("examples/cases/ricsac7_brach1983.toml")).unwrap()
+}
+
+/// Writes a case file into the test's scratch directory.
+fn write_case(name: &str, text: &str) -> String {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_solve");
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+fn json_of(out: &Output) -> Value {
+    assert!(
+        out.status.success(),
+        "status {:?}, stderr {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("valid JSON")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).to_string()
+}
+
+#[test]
+fn solve_json_reproduces_brach1983_table3_ricsac7() {
+    let out = pim(&[
+        "solve",
+        "examples/cases/ricsac7_brach1983.toml",
+        "--format",
+        "json",
+        "--moment-form",
+        "brach1983",
+    ]);
+    let j = json_of(&out);
+    assert!(out.stderr.is_empty());
+    // Table 3: V1x -7.33, V1y 1.42, V2x -2.78, V2y 8.94 m/s; |dV| 5.86 / 9.57 m/s; loss 53.1 %.
+    // (Inputs as printed in Table 1: d rounded to 0.1 m, see tests/brach1983_tables.rs.)
+    let f = &j["final"];
+    for (v, want) in [
+        (&f["vehicle1"]["vx"], -7.33),
+        (&f["vehicle1"]["vy"], 1.42),
+        (&f["vehicle2"]["vx"], -2.78),
+        (&f["vehicle2"]["vy"], 8.94),
+        (&j["delta_v"]["vehicle1"], 5.86),
+        (&j["delta_v"]["vehicle2"], 9.57),
+    ] {
+        assert!((v.as_f64().unwrap() - want).abs() < 0.015, "{v} vs {want}");
+    }
+    assert!((j["energy"]["loss_percent"].as_f64().unwrap() - 53.1).abs() < 0.5);
+    assert!(j["energy"]["initial"].as_f64().unwrap() > j["energy"]["final"].as_f64().unwrap());
+    for k in ["px", "py", "normal", "tangential", "moment"] {
+        assert!(j["impulse"][k].is_f64(), "impulse.{k}");
+    }
+    assert!(j["mu_max"].as_f64().unwrap() > 0.968);
+    assert_eq!(j["sliding"], Value::Bool(true));
+    assert_eq!(j["admissible"], Value::Bool(true));
+    assert!(j["max_residual"].as_f64().unwrap() < 1e-12);
+}
+
+#[test]
+fn solve_backward_from_final_returns_the_contact_velocities() {
+    // The 1983 moment form, with which this case is admissible (mu < mu_max).
+    let fwd = json_of(&pim(&[
+        "solve",
+        "examples/cases/ricsac7_brach1983.toml",
+        "--format",
+        "json",
+        "--moment-form",
+        "brach1983",
+    ]));
+    assert_eq!(fwd["admissible"], Value::Bool(true));
+    let f = &fwd["final"];
+    let fmt = |v: &Value| {
+        format!(
+            "{{ vx = {}, vy = {}, omega = {} }}",
+            v["vx"], v["vy"], v["omega"]
+        )
+    };
+    let text = example().replace(
+        "[initial]              # or [final], to solve backwards from separation velocities\nvehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }\nvehicle2 = { vx = 6.505, vy = 11.267, omega = 0.0 }",
+        &format!(
+            "[final]\nvehicle1 = {}\nvehicle2 = {}",
+            fmt(&f["vehicle1"]),
+            fmt(&f["vehicle2"])
+        ),
+    );
+    assert!(text.contains("[final]"));
+    let path = write_case("backward.toml", &text);
+    let back = json_of(&pim(&[
+        "solve",
+        &path,
+        "--format",
+        "json",
+        "--moment-form",
+        "brach1983",
+    ]));
+    assert_eq!(back["direction"], "backward");
+    let i = &back["initial"];
+    for (v, want) in [
+        (&i["vehicle1"]["vx"], -13.01),
+        (&i["vehicle1"]["vy"], 0.0),
+        (&i["vehicle2"]["vx"], 6.505),
+        (&i["vehicle2"]["vy"], 11.267),
+        (&i["vehicle2"]["omega"], 0.0),
+    ] {
+        assert!((v.as_f64().unwrap() - want).abs() < 1e-9, "{v} vs {want}");
+    }
+}
+
+#[test]
+fn backward_with_zero_restitution_is_an_explained_no_answer() {
+    let text = example()
+        .replace("e = 0.015", "e = 0.0")
+        .replace("[initial]  ", "[final]  ");
+    let path = write_case("backward_e0.toml", &text);
+    let out = pim(&["solve", &path]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let msg = stderr(&out);
+    assert!(msg.contains(&path), "{msg}");
+    assert!(
+        msg.contains("equation 4 (restitution)") && msg.contains("e = 0"),
+        "{msg}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn no_slip_reports_sticking_and_the_implied_friction() {
+    let j = json_of(&pim(&[
+        "solve",
+        "examples/cases/ricsac7_brach1983.toml",
+        "--format",
+        "json",
+        "--no-slip",
+    ]));
+    assert_eq!(j["sliding"], Value::Bool(false));
+    assert_eq!(j["tangential"], "sticking");
+    assert!(
+        j["relative_velocity"]["tangential_final"]
+            .as_f64()
+            .unwrap()
+            .abs()
+            < 1e-9
+    );
+}
+
+#[test]
+fn sensitivity_json_lists_every_combination_and_level() {
+    let j = json_of(&pim(&[
+        "sensitivity",
+        "examples/cases/ricsac7_brach1983.toml",
+        "--percent",
+        "10",
+        "--format",
+        "json",
+        "--moment-form",
+        "brach1983",
+    ]));
+    let combos = j["combinations"].as_array().unwrap();
+    assert_eq!(combos.len(), 8);
+    assert_eq!(j["averages"].as_array().unwrap().len(), 6);
+    // First combination is (e low, mu low, em low) as in Brach 1983 Table 4 row 1.
+    let c0 = &combos[0];
+    assert!((c0["coefficients"]["e"].as_f64().unwrap() - 0.0135).abs() < 1e-12);
+    assert!((c0["coefficients"]["mu"].as_f64().unwrap() - 0.8712).abs() < 1e-12);
+    assert!((c0["coefficients"]["em"].as_f64().unwrap() + 0.8514).abs() < 1e-12);
+    assert!((c0["final"]["vehicle1"]["vx"].as_f64().unwrap() + 7.58).abs() < 0.015);
+    for c in combos {
+        assert!(c["energy"]["loss_percent"].is_f64());
+        assert!(c["admissible"].is_boolean());
+    }
+}
+
+#[test]
+fn sensitivity_rejects_a_level_outside_the_domain() {
+    let text = example().replace("em = -0.774", "em = -0.95");
+    let path = write_case("sens_em.toml", &text);
+    let out = pim(&["sensitivity", &path, "--percent", "10"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("em x 1.1"), "{}", stderr(&out));
+}
+
+#[test]
+fn bad_case_files_exit_2_naming_file_and_field() {
+    let cases: &[(&str, String, &str)] = &[
+        ("neg_mass.toml", example().replace("mass = 1955.0", "mass = -5.0"), "vehicle1.mass"),
+        ("zero_inertia.toml", example().replace("yaw_inertia = 2279.0", "yaw_inertia = 0.0"), "vehicle2.yaw_inertia"),
+        ("neg_d.toml", example().replace("d = 0.9", "d = -0.9"), "vehicle2.d"),
+        ("text_angle.toml", example().replace("heading = 60.0", "heading = \"sixty\""), ":17:"),
+        ("missing.toml", example().replace("yaw_inertia = 2279.0\n", ""), "missing field `yaw_inertia`"),
+        ("typo.toml", example().replace("crush_angle", "crush_angel"), "crush_angel"),
+        ("nan.toml", example().replace("vx = -13.01", "vx = nan"), "[initial] vehicle1.vx"),
+        ("inf.toml", example().replace("mass = 1197.0", "mass = inf"), "vehicle2.mass"),
+        ("e_range.toml", example().replace("e = 0.015", "e = 1.5"), "e = 1.5"),
+        ("em_range.toml", example().replace("em = -0.774", "em = 0.5"), "em = 0.5"),
+        ("no_coef.toml", example().replace("[coefficients]", "[coefficientz]"), "coefficientz"),
+        ("empty.toml", String::new(), "empty"),
+        ("apart.toml", example().replace("vx = -13.01", "vx = 30.0"), "do not approach"),
+        ("both.toml", format!("{}\n[final]\nvehicle1 = {{ vx = 1.0, vy = 0.0, omega = 0.0 }}\nvehicle2 = {{ vx = 1.0, vy = 0.0, omega = 0.0 }}\n", example()), "not both"),
+    ];
+    for (name, text, needle) in cases {
+        let path = write_case(name, text);
+        let out = pim(&["solve", &path, "--format", "json"]);
+        let msg = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{name}: {msg}");
+        assert!(
+            msg.contains(&path),
+            "{name}: message does not name the file: {msg}"
+        );
+        assert!(
+            msg.contains(needle),
+            "{name}: message does not name `{needle}`: {msg}"
+        );
+        assert_eq!(msg.lines().count(), 1, "{name}: one line expected: {msg}");
+        assert!(out.stdout.is_empty(), "{name}: printed a result");
+    }
+    for (args, needle) in [
+        (vec!["solve", "no/such/case.toml"], "no such file"),
+        (vec!["solve", "examples"], "is a directory"),
+        (
+            vec![
+                "solve",
+                "examples/cases/ricsac7_brach1983.toml",
+                "--format",
+                "xml",
+            ],
+            "xml",
+        ),
+        (
+            vec![
+                "sensitivity",
+                "examples/cases/ricsac7_brach1983.toml",
+                "--percent",
+                "abc",
+            ],
+            "abc",
+        ),
+    ] {
+        let out = pim(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).contains(needle), "{args:?}: {}", stderr(&out));
+    }
+}
+
+#[test]
+fn help_documents_the_case_file_and_exit_codes() {
+    let out = pim(&["solve", "--help"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "CASE FILE",
+        "yaw_inertia",
+        "crush_angle",
+        "EXIT STATUS",
+        "--moment-form",
+        "brach1983",
+    ] {
+        assert!(text.contains(needle), "help lacks {needle}");
+    }
+}

@@ -1,0 +1,61 @@
+//! A forward solve of RICSAC 9 (Brach 1983 Table 1, coefficients of its Table 3):
+//! `cargo run --example forward_solve`.
+use pim_core::*;
+
+fn main() -> Result<()> {
+    let impact = Impact::new(Collision {
+        vehicle1: Vehicle {
+            mass: 1036.0,
+            yaw_inertia: 1348.0,
+            heading: 0.0,
+            d: 1.4,
+            phi: 0.0,
+        },
+        vehicle2: Vehicle {
+            mass: 2189.0,
+            yaw_inertia: 5287.0,
+            heading: 90.0,
+            d: 1.6,
+            phi: -30.0,
+        },
+        crush_angle: 0.0,
+    })?;
+    let initial = Velocities {
+        vehicle1: VehicleVelocity {
+            vx: -9.48,
+            vy: 0.0,
+            omega: 0.0,
+        },
+        vehicle2: VehicleVelocity {
+            vx: 0.0,
+            vy: 9.48,
+            omega: 0.0,
+        },
+    };
+    let coefficients = Coefficients {
+        e: 0.467,
+        mu: 0.486,
+        em: 1.0,
+    };
+    let r = solve_forward(&impact, &coefficients, &initial, &SolveOptions::default())?;
+    for (k, v) in [r.separation.vehicle1, r.separation.vehicle2]
+        .iter()
+        .enumerate()
+    {
+        println!(
+            "vehicle {}: V = ({:.2}, {:.2}) m/s, W = {:.2} rad/s, |dV| = {:.2} m/s",
+            k + 1,
+            v.vx,
+            v.vy,
+            v.omega,
+            r.delta_v[k].magnitude
+        );
+    }
+    println!(
+        "energy loss {:.1} %, mu_max {:.3}, admissible: {}",
+        r.energy.loss_percent,
+        r.mu_max.unwrap_or(f64::NAN),
+        r.admissibility.admissible
+    );
+    Ok(())
+}
