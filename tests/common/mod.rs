@@ -1,7 +1,7 @@
 //! Helpers shared by the reference-data tests.
 #![allow(dead_code)]
 
-use pim_core::{Collision, Vehicle, VehicleVelocity, Velocities};
+use pim_core::{Collision, Vehicle, Velocities};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -63,20 +63,9 @@ pub fn vehicle(mass: f64, yaw_inertia: f64, heading: f64, d: f64, phi: f64) -> V
     }
 }
 
-/// Shorthand for a velocity state.
+/// Shorthand for a velocity state `(v1x, v1y, w1, v2x, v2y, w2)`.
 pub fn state(v: [f64; 6]) -> Velocities {
-    Velocities {
-        vehicle1: VehicleVelocity {
-            vx: v[0],
-            vy: v[1],
-            omega: v[2],
-        },
-        vehicle2: VehicleVelocity {
-            vx: v[3],
-            vy: v[4],
-            omega: v[5],
-        },
-    }
+    Velocities::from_vector(&nalgebra::Vector6::from(v))
 }
 
 /// RICSAC 7 as given in Brach 1983 Table 1 (crush angle -30 deg, see data/README.md).

@@ -1,6 +1,6 @@
 //! The TOML case file of `pim solve`, `pim sensitivity` and `pim fit`.
 
-use crate::error::Failure;
+pub use crate::error::Failure;
 use pim_core::{Coefficients, Collision, Vehicle, VehicleVelocity, Velocities};
 use serde::Deserialize;
 use std::path::Path;

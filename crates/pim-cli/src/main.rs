@@ -2,13 +2,10 @@
 //!
 //! `main` only maps the outcome of [`run`] to an exit status; every message is printed once.
 
-mod case;
-mod error;
-mod output;
-
 use anyhow::Result;
 use clap::{Parser, Subcommand, ValueEnum};
-use error::{Failure, EXIT_CODES_HELP, EXIT_OK};
+use pim_cli::error::{self, Failure, EXIT_CODES_HELP, EXIT_OK};
+use pim_cli::{case, output};
 use pim_core::{MomentForm, SolveOptions, TangentialCondition};
 use std::io::Write;
 use std::path::PathBuf;

@@ -78,6 +78,7 @@
 pub mod equations;
 mod error;
 mod model;
+pub mod outline;
 pub mod point_mass;
 mod report;
 mod sensitivity;

@@ -1,0 +1,354 @@
+//! The RICSAC data file (`data/ricsac.csv`): one row per staged collision.
+
+use crate::case::{read_text_file, Failure};
+use nalgebra::Vector6;
+use pim_core::{Collision, Impact, Vehicle, Velocities};
+use serde::Deserialize;
+use std::path::Path;
+
+/// Largest data file accepted, bytes.
+pub const MAX_DATA_BYTES: u64 = 16 << 20;
+
+/// The columns, in the required order.
+pub const COLUMNS: [&str; 31] = [
+    "test",
+    "configuration",
+    "vehicle1",
+    "vehicle2",
+    "mass1_kg",
+    "yaw_inertia1_kgm2",
+    "mass2_kg",
+    "yaw_inertia2_kgm2",
+    "heading1_deg",
+    "heading2_deg",
+    "d1_m",
+    "d2_m",
+    "d1_source",
+    "d2_source",
+    "phi1_deg",
+    "phi2_deg",
+    "crush_angle_deg",
+    "vi1x_mps",
+    "vi1y_mps",
+    "wi1_radps",
+    "vi2x_mps",
+    "vi2y_mps",
+    "wi2_radps",
+    "vf1x_mps",
+    "vf1y_mps",
+    "wf1_radps",
+    "vf2x_mps",
+    "vf2y_mps",
+    "wf2_radps",
+    "dv1_measured_mps",
+    "dv2_measured_mps",
+];
+
+/// One staged collision, as in the file (SI units, degrees).
+#[derive(Debug, Clone, Deserialize)]
+pub struct RicsacTest {
+    /// RICSAC test number.
+    pub test: u32,
+    /// Impact configuration in words.
+    pub configuration: String,
+    /// Vehicle 1 description.
+    pub vehicle1: String,
+    /// Vehicle 2 description.
+    pub vehicle2: String,
+    /// kg.
+    pub mass1_kg: f64,
+    /// kg m^2.
+    pub yaw_inertia1_kgm2: f64,
+    /// kg.
+    pub mass2_kg: f64,
+    /// kg m^2.
+    pub yaw_inertia2_kgm2: f64,
+    /// theta1, degrees.
+    pub heading1_deg: f64,
+    /// theta2, degrees.
+    pub heading2_deg: f64,
+    /// m.
+    pub d1_m: f64,
+    /// m.
+    pub d2_m: f64,
+    /// Where d1 comes from.
+    pub d1_source: String,
+    /// Where d2 comes from.
+    pub d2_source: String,
+    /// phi1, degrees.
+    pub phi1_deg: f64,
+    /// phi2, degrees.
+    pub phi2_deg: f64,
+    /// Gamma, degrees.
+    pub crush_angle_deg: f64,
+    /// Initial velocities (m/s, rad/s).
+    pub vi1x_mps: f64,
+    /// .
+    pub vi1y_mps: f64,
+    /// .
+    pub wi1_radps: f64,
+    /// .
+    pub vi2x_mps: f64,
+    /// .
+    pub vi2y_mps: f64,
+    /// .
+    pub wi2_radps: f64,
+    /// Separation velocities (m/s, rad/s).
+    pub vf1x_mps: f64,
+    /// .
+    pub vf1y_mps: f64,
+    /// .
+    pub wf1_radps: f64,
+    /// .
+    pub vf2x_mps: f64,
+    /// .
+    pub vf2y_mps: f64,
+    /// .
+    pub wf2_radps: f64,
+    /// Measured |delta-V| of vehicle 1, m/s.
+    pub dv1_measured_mps: f64,
+    /// Measured |delta-V| of vehicle 2, m/s.
+    pub dv2_measured_mps: f64,
+    /// Line of the file this row was read from (1-based).
+    #[serde(skip)]
+    pub line: u64,
+}
+
+impl RicsacTest {
+    /// The collision geometry and vehicles.
+    pub fn collision(&self) -> Collision {
+        Collision {
+            vehicle1: Vehicle {
+                mass: self.mass1_kg,
+                yaw_inertia: self.yaw_inertia1_kgm2,
+                heading: self.heading1_deg,
+                d: self.d1_m,
+                phi: self.phi1_deg,
+            },
+            vehicle2: Vehicle {
+                mass: self.mass2_kg,
+                yaw_inertia: self.yaw_inertia2_kgm2,
+                heading: self.heading2_deg,
+                d: self.d2_m,
+                phi: self.phi2_deg,
+            },
+            crush_angle: self.crush_angle_deg,
+        }
+    }
+
+    /// The checked impact.
+    pub fn impact(&self) -> Result<Impact, pim_core::PimError> {
+        Impact::new(self.collision())
+    }
+
+    /// Measured velocities at contact.
+    pub fn initial(&self) -> Velocities {
+        Velocities::from_vector(&Vector6::new(
+            self.vi1x_mps,
+            self.vi1y_mps,
+            self.wi1_radps,
+            self.vi2x_mps,
+            self.vi2y_mps,
+            self.wi2_radps,
+        ))
+    }
+
+    /// Measured velocities at separation.
+    pub fn separation(&self) -> Velocities {
+        Velocities::from_vector(&Vector6::new(
+            self.vf1x_mps,
+            self.vf1y_mps,
+            self.wf1_radps,
+            self.vf2x_mps,
+            self.vf2y_mps,
+            self.wf2_radps,
+        ))
+    }
+
+    /// Every numeric cell with its column name.
+    fn numeric(&self) -> [(&'static str, f64); 25] {
+        [
+            ("mass1_kg", self.mass1_kg),
+            ("yaw_inertia1_kgm2", self.yaw_inertia1_kgm2),
+            ("mass2_kg", self.mass2_kg),
+            ("yaw_inertia2_kgm2", self.yaw_inertia2_kgm2),
+            ("heading1_deg", self.heading1_deg),
+            ("heading2_deg", self.heading2_deg),
+            ("d1_m", self.d1_m),
+            ("d2_m", self.d2_m),
+            ("phi1_deg", self.phi1_deg),
+            ("phi2_deg", self.phi2_deg),
+            ("crush_angle_deg", self.crush_angle_deg),
+            ("vi1x_mps", self.vi1x_mps),
+            ("vi1y_mps", self.vi1y_mps),
+            ("wi1_radps", self.wi1_radps),
+            ("vi2x_mps", self.vi2x_mps),
+            ("vi2y_mps", self.vi2y_mps),
+            ("wi2_radps", self.wi2_radps),
+            ("vf1x_mps", self.vf1x_mps),
+            ("vf1y_mps", self.vf1y_mps),
+            ("wf1_radps", self.wf1_radps),
+            ("vf2x_mps", self.vf2x_mps),
+            ("vf2y_mps", self.vf2y_mps),
+            ("wf2_radps", self.wf2_radps),
+            ("dv1_measured_mps", self.dv1_measured_mps),
+            ("dv2_measured_mps", self.dv2_measured_mps),
+        ]
+    }
+}
+
+/// Maps a pim-core field name (`vehicle1.mass`) to the column of this file.
+fn column_of(field: &str) -> &'static str {
+    match field {
+        "vehicle1.mass" => "mass1_kg",
+        "vehicle2.mass" => "mass2_kg",
+        "vehicle1.yaw_inertia" => "yaw_inertia1_kgm2",
+        "vehicle2.yaw_inertia" => "yaw_inertia2_kgm2",
+        "vehicle1.d" => "d1_m",
+        "vehicle2.d" => "d2_m",
+        _ => "",
+    }
+}
+
+fn column_number(name: &str) -> usize {
+    COLUMNS.iter().position(|c| *c == name).map_or(0, |i| i + 1)
+}
+
+/// Parses the text of a RICSAC data file; `file` names it in messages.
+pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>, Failure> {
+    if text.trim().is_empty() {
+        return Err(Failure::Input(format!("{file}: the file is empty")));
+    }
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let headers = rdr
+        .headers()
+        .map_err(|e| Failure::Input(format!("{file}:1: cannot read the header: {e}")))?
+        .clone();
+    let got: Vec<&str> = headers.iter().collect();
+    for (i, want) in COLUMNS.iter().enumerate() {
+        match got.get(i) {
+            Some(g) if g == want => {}
+            Some(g) => {
+                return Err(Failure::Input(format!(
+                    "{file}:1: column {} is `{g}`, expected `{want}` (the columns must be, in \
+                     this order: {})",
+                    i + 1,
+                    COLUMNS.join(",")
+                )))
+            }
+            None => {
+                return Err(Failure::Input(format!(
+                    "{file}:1: missing column {} `{want}` (the header has {} columns, {} expected)",
+                    i + 1,
+                    got.len(),
+                    COLUMNS.len()
+                )))
+            }
+        }
+    }
+    if got.len() > COLUMNS.len() {
+        return Err(Failure::Input(format!(
+            "{file}:1: unexpected extra column {} `{}`",
+            COLUMNS.len() + 1,
+            got[COLUMNS.len()]
+        )));
+    }
+    let mut tests: Vec<RicsacTest> = Vec::new();
+    for result in rdr.records() {
+        let record = result.map_err(|e| csv_error(file, &e))?;
+        let line = record.position().map_or(0, |p| p.line());
+        let mut row: RicsacTest = record.deserialize(Some(&headers)).map_err(|e| {
+            let col = match e.kind() {
+                csv::ErrorKind::Deserialize { err, .. } => err.field().map(|f| f as usize),
+                _ => None,
+            };
+            match col {
+                Some(c) => Failure::Input(format!(
+                    "{file}:{line}: column {} `{}`: {} (got `{}`)",
+                    c + 1,
+                    COLUMNS.get(c).unwrap_or(&"?"),
+                    deserialize_reason(&e),
+                    record.get(c).unwrap_or("")
+                )),
+                None => csv_error(file, &e),
+            }
+        })?;
+        row.line = line;
+        for (name, value) in row.numeric() {
+            if !value.is_finite() {
+                return Err(Failure::Input(format!(
+                    "{file}:{line}: column {} `{name}`: must be a finite number, got {value}",
+                    column_number(name)
+                )));
+            }
+        }
+        if let Err(e) = row.impact() {
+            let field = match &e {
+                pim_core::PimError::NotPositive { vehicle, field, .. } => {
+                    column_of(&format!("{vehicle}.{field}"))
+                }
+                pim_core::PimError::NegativeDistance { vehicle, .. } => {
+                    column_of(&format!("{vehicle}.d"))
+                }
+                _ => "",
+            };
+            return Err(Failure::Input(format!(
+                "{file}:{line}: column {} `{field}`: {e}",
+                column_number(field)
+            )));
+        }
+        if let Some(first) = tests.iter().find(|t| t.test == row.test) {
+            return Err(Failure::Input(format!(
+                "{file}:{line}: column 1 `test`: test {} appears twice (lines {} and {line})",
+                row.test, first.line
+            )));
+        }
+        tests.push(row);
+    }
+    if tests.is_empty() {
+        return Err(Failure::Input(format!(
+            "{file}: the header is there but there are no data rows"
+        )));
+    }
+    Ok(tests)
+}
+
+fn deserialize_reason(e: &csv::Error) -> String {
+    match e.kind() {
+        csv::ErrorKind::Deserialize { err, .. } => match err.kind() {
+            csv::DeserializeErrorKind::ParseFloat(_) => "expected a number".to_string(),
+            csv::DeserializeErrorKind::ParseInt(_) => {
+                "expected a whole non-negative number".to_string()
+            }
+            other => other.to_string(),
+        },
+        _ => e.to_string(),
+    }
+}
+
+fn csv_error(file: &str, e: &csv::Error) -> Failure {
+    match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            pos,
+            expected_len,
+            len,
+        } => Failure::Input(format!(
+            "{file}:{}: the row has {len} fields, the header {expected_len}",
+            pos.as_ref().map_or(0, |p| p.line())
+        )),
+        csv::ErrorKind::Utf8 { pos, .. } => Failure::Input(format!(
+            "{file}:{}: the row is not UTF-8 text",
+            pos.as_ref().map_or(0, |p| p.line())
+        )),
+        _ => Failure::Input(format!("{file}: {e}")),
+    }
+}
+
+/// Reads and parses a RICSAC data file.
+pub fn load(path: &Path) -> Result<Vec<RicsacTest>, Failure> {
+    let text = read_text_file(path, MAX_DATA_BYTES)?;
+    parse(&path.display().to_string(), &text)
+}
