@@ -98,6 +98,6 @@ pub use sensitivity::{
     sensitivity, CoefficientName, Level, LevelAverage, SensitivityCase, SensitivityStudy,
 };
 pub use solve::{
-    critical_friction, separation_velocities, solve_backward, solve_backward_with_sign,
+    analyse, critical_friction, separation_velocities, solve_backward, solve_backward_with_sign,
     solve_forward,
 };

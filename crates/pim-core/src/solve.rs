@@ -393,3 +393,37 @@ pub fn critical_friction(
     };
     Ok(forward(impact, coefficients, &initial.to_vector(), sign, &opts)?.mu_max)
 }
+
+/// Derived results (impulses, delta-V, energy, mu_max, admissibility) for a given pair of
+/// states, for example a fitted one, with the friction sign `sgn(vn) sgn(vt)` it was computed
+/// with. The states are taken as they are; their equation residuals are in
+/// [`ImpactReport::residuals`].
+pub fn analyse(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    options: &SolveOptions,
+    initial: &Velocities,
+    separation: &Velocities,
+    friction_sign: f64,
+) -> Result<ImpactReport> {
+    coefficients.validate()?;
+    initial.validate()?;
+    separation.validate()?;
+    let sign = if friction_sign < 0.0 { -1.0 } else { 1.0 };
+    let no_slip = SolveOptions {
+        tangential: TangentialCondition::NoSlip,
+        ..*options
+    };
+    let mu_max = forward(impact, coefficients, &initial.to_vector(), sign, &no_slip)
+        .ok()
+        .and_then(|s| s.mu_max);
+    Ok(build_report(
+        impact,
+        coefficients,
+        options,
+        initial,
+        separation,
+        sign,
+        mu_max,
+    ))
+}

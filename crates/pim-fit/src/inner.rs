@@ -1,0 +1,839 @@
+//! The inner problem: for fixed coefficients, friction sign and tangential mode, the best U.
+//!
+//! With `F X + G x = 0` and F regular, `X = R x` with `R = -F^-1 G`, so `U = (x, R x)` and the
+//! cost `sum w (a.U - t)^2` is a convex quadratic in the six contact components x. Components held
+//! fixed are linear equalities `E x = f`; writing `x = x_p + Z y` with Z a basis of the null space
+//! of E leaves an unconstrained problem in y, solved in closed form. The linear inequalities
+//! (velocity bounds, approach at C, sliding direction, friction admissibility or the mu bounds of
+//! the sticking mode) are checked on that solution; when one is violated the problem is a convex
+//! QP, solved by clarabel. The condition "no kinetic energy created", `E(x) = x' Qe x <= 0`, is
+//! not convex; when the QP solution violates it, the Lagrangian `cost + lambda E` is minimised
+//! for the lambda at which `E = 0`, found by bisection while the Lagrangian stays convex. By
+//! weak duality that solution is then optimal for the energy-constrained problem.
+//!
+//! Two conditions are boundaries of other modes rather than constraints to push against. When
+//! the optimum without the friction condition ("mu between 0 and mu_max") violates it, the
+//! optimum with it has `Vt = 0` by convexity: a point of the sticking mode, which is searched
+//! exactly on its own, so the sliding candidate is dropped as dominated. Likewise, when the optimum
+//! without the sliding-direction condition violates it, the optimum with it has `vt = 0` at
+//! contact, where the friction sign of equation 5 is undefined; such candidates are not counted
+//! (the other friction sign is evaluated on its own).
+
+use crate::problem::{FitProblem, FitSettings, Knowledge, Vector12};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
+};
+use nalgebra::{DMatrix, DVector, Matrix6, RowVector6, SMatrix, Vector6};
+use pim_core::equations::{assemble, normal_velocity_row, tangential_velocity_row};
+use pim_core::{Coefficients, Impact, MomentForm, SolveOptions, TangentialCondition};
+
+/// Tangential mode of a candidate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum Mode {
+    /// Equation 5 with mu strictly inside [0, mu_max] (the boundary belongs to Sticking).
+    Sliding,
+    /// Equation 5a: mu = mu_max.
+    Sticking,
+}
+
+/// Coefficients of a candidate (mu is ignored in the sticking mode).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Theta {
+    pub e: f64,
+    pub mu: f64,
+    pub em: f64,
+}
+
+/// Why a candidate is not admissible.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub(crate) enum Violation {
+    /// A velocity component exceeds its bound (index into U).
+    Bound(usize),
+    /// The vehicles do not approach at C at contact.
+    NotApproaching,
+    /// The contact state slides the other way than the friction sign assumes.
+    SlidingDirection,
+    /// mu is not between 0 and mu_max (the tangential impulse reverses the sliding).
+    Friction,
+    /// Sticking needs a friction ratio outside the mu bounds.
+    MuBound,
+    /// The solution creates kinetic energy.
+    Energy,
+    /// The equations are singular for these coefficients.
+    Singular,
+    /// The constraints together admit no solution (found by the QP).
+    Infeasible,
+    /// The energy-constrained problem could not be solved exactly (lambda left the convex range).
+    EnergyUncertified,
+}
+
+/// A solved candidate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Candidate {
+    pub cost: f64,
+    pub x: Vector6<f64>,
+    pub xf: Vector6<f64>,
+    /// Friction ratio in the convention of equation 5 (mu itself, or mu_max when sticking).
+    pub mu_eff: f64,
+    /// True when the QP solver was needed.
+    pub qp: bool,
+    /// Lagrange multiplier of the energy constraint (0 when inactive).
+    pub lambda: f64,
+}
+
+/// Outcome of an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Eval {
+    Feasible(Candidate),
+    /// Only from a relaxed evaluation: the equality-only optimum `lower_bound` violates a
+    /// constraint; the exact value is at least that.
+    Pending {
+        lower_bound: f64,
+        violation: Violation,
+    },
+    Infeasible(Violation),
+}
+
+/// Everything about a problem that does not depend on the coefficients.
+pub(crate) struct Prepared {
+    pub impact: Impact,
+    pub form: MomentForm,
+    /// Objective over U: `U' hu U - 2 gu' U + c0`.
+    hu: SMatrix<f64, 12, 12>,
+    gu: Vector12,
+    c0: f64,
+    /// Fixed components (index into U, value).
+    pub fixed: Vec<(usize, f64)>,
+    vb: f64,
+    wb: f64,
+    mu_bounds: [f64; 2],
+    side: f64,
+    nrow: RowVector6<f64>,
+    trow: RowVector6<f64>,
+    mass: Vector6<f64>,
+    /// Friction sign when the contact state is fully known.
+    pub known_sign: Option<f64>,
+    /// Scale of velocities, for tolerances.
+    scale: f64,
+    fixed_kind: Fixed,
+}
+
+/// Per-coefficient data: R, the objective in x and the null-space form of the fixed components.
+struct Reduced {
+    r: Matrix6<f64>,
+    h: Matrix6<f64>,
+    g: Vector6<f64>,
+    /// `x = xp + Z y` spans the x that satisfy the fixed components.
+    xp: Vector6<f64>,
+    z: DMatrix<f64>,
+}
+
+impl Reduced {
+    /// The reduced Hessian and gradient: `y' hy y - 2 gy' y + const`.
+    fn reduced(&self) -> (DMatrix<f64>, DVector<f64>) {
+        let hd = DMatrix::from_iterator(6, 6, self.h.iter().copied());
+        let hy = self.z.transpose() * &hd * &self.z;
+        let gy = self.z.transpose() * to_d(&(self.g - self.h * self.xp));
+        (hy, gy)
+    }
+}
+
+/// Result of [`Prepared::quick_check`].
+struct Quick {
+    /// First violated linear condition other than friction.
+    linear: Option<Violation>,
+    /// Friction condition violated (sliding mode).
+    friction: bool,
+    /// Kinetic energy created.
+    energy: bool,
+    /// The sliding direction is the only violated linear condition.
+    only_direction: bool,
+}
+
+/// How the fixed components constrain x.
+enum Fixed {
+    /// Nothing fixed.
+    None,
+    /// Only contact components fixed: (indices, values) and the free indices.
+    Initial(Vec<(usize, f64)>, Vec<usize>),
+    /// All six separation components fixed.
+    AllFinal(Vector6<f64>),
+    /// Anything else.
+    General,
+}
+
+impl Prepared {
+    pub fn new(problem: &FitProblem, settings: &FitSettings) -> Self {
+        let impact = problem.impact;
+        let mut hu = SMatrix::<f64, 12, 12>::zeros();
+        let mut gu = Vector12::zeros();
+        let mut c0 = 0.0;
+        let mut fixed = Vec::new();
+        let mut scale: f64 = 1.0;
+        for (k, c) in problem.components.iter().enumerate() {
+            match *c {
+                Knowledge::Known { value } => {
+                    fixed.push((k, value));
+                    scale = scale.max(value.abs());
+                }
+                Knowledge::Estimated { value, weight } => {
+                    hu[(k, k)] += weight;
+                    gu[k] += weight * value;
+                    c0 += weight * value * value;
+                    scale = scale.max(value.abs());
+                }
+                Knowledge::Unknown => {}
+            }
+        }
+        for o in &problem.observations {
+            let a = o.row(&impact);
+            hu += a * a.transpose() * o.weight;
+            gu += a * (o.weight * o.value);
+            c0 += o.weight * o.value * o.value;
+            scale = scale.max(o.value.abs());
+        }
+        let [m1, m2] = impact.masses();
+        let [i1, i2] = impact.inertias();
+        let known_sign = if fixed.iter().filter(|(k, _)| *k < 6).count() == 6 {
+            let mut x = Vector6::zeros();
+            for &(k, v) in &fixed {
+                x[k] = v;
+            }
+            Some(impact.friction_sign(&pim_core::Velocities::from_vector(&x)))
+        } else {
+            None
+        };
+        Prepared {
+            impact,
+            form: settings.moment_form,
+            hu,
+            gu,
+            c0,
+            vb: settings.velocity_bound,
+            wb: settings.yaw_rate_bound,
+            mu_bounds: settings.mu,
+            side: if impact.side() == 0.0 {
+                1.0
+            } else {
+                impact.side()
+            },
+            nrow: normal_velocity_row(&impact),
+            trow: tangential_velocity_row(&impact),
+            mass: Vector6::new(m1, m1, i1, m2, m2, i2),
+            known_sign,
+            scale,
+            fixed_kind: classify(&fixed),
+            fixed,
+        }
+    }
+
+    /// The friction signs to try.
+    pub fn signs(&self) -> &'static [f64] {
+        match self.known_sign {
+            Some(s) if s > 0.0 => &[1.0],
+            Some(_) => &[-1.0],
+            None => &[1.0, -1.0],
+        }
+    }
+
+    fn reduce(&self, theta: &Theta, mode: Mode, sign: f64) -> Option<Reduced> {
+        let opts = SolveOptions {
+            moment_form: self.form,
+            tangential: match mode {
+                Mode::Sliding => TangentialCondition::Sliding,
+                Mode::Sticking => TangentialCondition::NoSlip,
+            },
+        };
+        let coef = Coefficients {
+            e: theta.e,
+            mu: theta.mu,
+            em: theta.em,
+        };
+        let sys = assemble(&self.impact, &coef, sign, &opts);
+        // Row-equilibrate F before factorising.
+        let mut f = sys.f;
+        let mut gm = sys.g;
+        for i in 0..6 {
+            let s = f.row(i).amax();
+            if s == 0.0 {
+                return None;
+            }
+            f.row_mut(i).scale_mut(1.0 / s);
+            gm.row_mut(i).scale_mut(1.0 / s);
+        }
+        let lu = f.lu();
+        let u = lu.u();
+        let min_pivot = (0..6)
+            .map(|i| u[(i, i)].abs())
+            .fold(f64::INFINITY, f64::min);
+        if min_pivot.is_nan() || min_pivot < 1e-11 {
+            return None;
+        }
+        let r = -lu.solve(&gm)?;
+        // Objective in x: T = [I; R].
+        let a = self.hu.fixed_view::<6, 6>(0, 0);
+        let b = self.hu.fixed_view::<6, 6>(0, 6);
+        let c = self.hu.fixed_view::<6, 6>(6, 6);
+        let br = b * r;
+        let h = a + br + br.transpose() + r.transpose() * c * r;
+        let g = self.gu.fixed_rows::<6>(0) + r.transpose() * self.gu.fixed_rows::<6>(6);
+        let (xp, z) = match &self.fixed_kind {
+            Fixed::None => (Vector6::zeros(), DMatrix::identity(6, 6)),
+            Fixed::Initial(known, free) => {
+                let mut xp = Vector6::zeros();
+                for &(k, v) in known {
+                    xp[k] = v;
+                }
+                let mut z = DMatrix::zeros(6, free.len());
+                for (c, &k) in free.iter().enumerate() {
+                    z[(k, c)] = 1.0;
+                }
+                (xp, z)
+            }
+            Fixed::AllFinal(xf) => {
+                // R x = X: solve G x = -F X on the equilibrated system.
+                let lu = gm.lu();
+                let x = lu.solve(&-(f * xf))?;
+                let back = r * x;
+                if (back - xf).amax() > 1e-8 * (1.0 + xf.amax()) {
+                    return None;
+                }
+                (x, DMatrix::zeros(6, 0))
+            }
+            Fixed::General => general_null_space(&self.fixed, &r)?,
+        };
+        Some(Reduced { r, h, g, xp, z })
+    }
+
+    /// Linear inequalities `rows x <= rhs` for a candidate.
+    fn inequalities(
+        &self,
+        red: &Reduced,
+        theta: &Theta,
+        mode: Mode,
+        sign: f64,
+    ) -> Vec<(RowVector6<f64>, f64, Violation)> {
+        let mut out = Vec::with_capacity(30);
+        for k in 0..12 {
+            let row: RowVector6<f64> = if k < 6 {
+                let mut rr = RowVector6::zeros();
+                rr[k] = 1.0;
+                rr
+            } else {
+                red.r.row(k - 6).into_owned()
+            };
+            let bound = if k % 3 == 2 { self.wb } else { self.vb };
+            out.push((row, bound, Violation::Bound(k)));
+            out.push((-row, bound, Violation::Bound(k)));
+        }
+        // Approach: side * vn < 0, with at least 1 mm/s of closing speed.
+        out.push((self.nrow * self.side, -1e-3, Violation::NotApproaching));
+        // Sliding direction: sgn(vt) = sign * sgn(vn) = -sign * side.
+        let sigma = -sign * self.side;
+        out.push((-self.trow * sigma, 0.0, Violation::SlidingDirection));
+        match mode {
+            Mode::Sliding => {
+                if theta.mu != 0.0 {
+                    let vt_final = self.trow * red.r;
+                    out.push((
+                        -vt_final * (theta.mu.signum() * sigma),
+                        0.0,
+                        Violation::Friction,
+                    ));
+                }
+            }
+            Mode::Sticking => {
+                let (pn, pt) = self.impulse_rows(&red.r);
+                let spn = pn * self.side; // |Pn|
+                let spt = pt * (sign * self.side);
+                let [lo, hi] = self.mu_bounds;
+                out.push((spn * lo - spt, 0.0, Violation::MuBound));
+                out.push((spt - spn * hi, 0.0, Violation::MuBound));
+            }
+        }
+        out
+    }
+
+    /// Normal and tangential impulse on vehicle 1 as rows over x.
+    fn impulse_rows(&self, r: &Matrix6<f64>) -> (RowVector6<f64>, RowVector6<f64>) {
+        let m1 = self.mass[0];
+        let mut px = r.row(0).into_owned();
+        px[0] -= 1.0;
+        let mut py = r.row(1).into_owned();
+        py[1] -= 1.0;
+        let [nx, ny] = self.impact.normal();
+        let [tx, ty] = self.impact.tangent();
+        ((px * nx + py * ny) * m1, (px * tx + py * ty) * m1)
+    }
+
+    fn energy_matrix(&self, r: &Matrix6<f64>) -> Matrix6<f64> {
+        let m = Matrix6::from_diagonal(&self.mass);
+        (r.transpose() * m * r - m) * 0.5
+    }
+
+    fn cost(&self, red: &Reduced, x: &Vector6<f64>) -> f64 {
+        ((x.transpose() * red.h * x)[0] - 2.0 * red.g.dot(x) + self.c0).max(0.0)
+    }
+
+    fn creates_energy(&self, qe: &Matrix6<f64>, x: &Vector6<f64>) -> bool {
+        let t0 = 0.5 * x.component_mul(x).dot(&self.mass);
+        (x.transpose() * qe * x)[0] > 1e-9 * t0.max(1.0)
+    }
+
+    /// Evaluates a candidate. `exact = false` stops at the equality-only optimum and returns
+    /// [`Eval::Pending`] with its cost, a lower bound of the exact value, when a constraint is
+    /// violated.
+    ///
+    /// Sliding mode: when the optimum without the friction condition violates it, the optimum
+    /// with it has `Vt = 0` (convexity), a point of the sticking mode, which is searched
+    /// exactly on its own; the sliding candidate is then dropped as dominated.
+    ///
+    /// `cutoff`: an exact solve is skipped (returning [`Eval::Pending`]) when the lower bound is
+    /// already at least this value (the incumbent of the search).
+    pub fn evaluate(&self, theta: &Theta, mode: Mode, sign: f64, exact: bool, cutoff: f64) -> Eval {
+        let Some(red) = self.reduce(theta, mode, sign) else {
+            return Eval::Infeasible(Violation::Singular);
+        };
+        let k = red.z.ncols();
+        let x = match self.equality_optimum(&red) {
+            Some(x) => x,
+            None => return Eval::Infeasible(Violation::Singular),
+        };
+        let quick = self.quick_check(&red, theta, mode, sign, &x);
+        let make = |x: Vector6<f64>, qp: bool, lambda: f64| Candidate {
+            cost: self.cost(&red, &x),
+            x,
+            xf: red.r * x,
+            mu_eff: match mode {
+                Mode::Sliding => theta.mu,
+                Mode::Sticking => self.sticking_ratio(&red.r, &x, sign),
+            },
+            qp,
+            lambda,
+        };
+        let (linear, friction, energy) = (quick.linear, quick.friction, quick.energy);
+        match (linear, friction, energy) {
+            (None, false, false) => return Eval::Feasible(make(x, false, 0.0)),
+            (None, true, _) => return Eval::Infeasible(Violation::Friction),
+            // Only the sliding direction fails: the optimum would have vt = 0 at contact, where
+            // the friction sign assumed by equation 5 is undefined (see `direction_active`).
+            (Some(Violation::SlidingDirection), _, _) if quick.only_direction => {
+                return Eval::Infeasible(Violation::SlidingDirection)
+            }
+            _ => {}
+        }
+        let first = linear.unwrap_or(if friction {
+            Violation::Friction
+        } else {
+            Violation::Energy
+        });
+        if k == 0 {
+            return Eval::Infeasible(first);
+        }
+        let lower_bound = self.cost(&red, &x);
+        if !exact || lower_bound >= cutoff {
+            return Eval::Pending {
+                lower_bound,
+                violation: first,
+            };
+        }
+        let ineq = self.inequalities(&red, theta, mode, sign);
+        let qe = self.energy_matrix(&red.r);
+        let (hy, gy) = red.reduced();
+        let zq = red.z.transpose() * DMatrix::from_iterator(6, 6, qe.iter().copied()) * &red.z;
+        let lq = red.z.transpose() * to_d(&(qe * red.xp));
+        let rows: Vec<(DVector<f64>, f64)> = ineq
+            .iter()
+            .filter(|(_, _, v)| *v != Violation::Friction)
+            .map(|(row, rhs, _)| {
+                (
+                    red.z.transpose() * to_d(&row.transpose()),
+                    rhs - (row * red.xp)[0],
+                )
+            })
+            .collect();
+        // Minimiser of cost + lambda E over the linear constraints (not friction).
+        let solve = |lambda: f64| -> Result<Vector6<f64>, Violation> {
+            let p = &hy + &zq * lambda;
+            let q = &gy - &lq * lambda;
+            if let Some(y) = solve_spd(&p, &q) {
+                let xl = red.xp + to6(&(&red.z * &y));
+                if self.split_violations(&ineq, &xl).0.is_none() {
+                    return Ok(xl);
+                }
+            }
+            match qp(&p, &q, &rows) {
+                QpOutcome::Solved(y) => Ok(red.xp + to6(&(&red.z * &y))),
+                QpOutcome::Infeasible => Err(Violation::Infeasible),
+                QpOutcome::Failed => Err(Violation::EnergyUncertified),
+            }
+        };
+        let x0 = match solve(0.0) {
+            Ok(x0) => x0,
+            Err(Violation::Infeasible) => return Eval::Infeasible(first),
+            Err(e) => return Eval::Infeasible(e),
+        };
+        if mode == Mode::Sliding && self.split_violations(&ineq, &x0).1 {
+            return Eval::Infeasible(Violation::Friction);
+        }
+        if self.direction_active(&ineq, &x0) {
+            return Eval::Infeasible(Violation::SlidingDirection);
+        }
+        let qp_used = linear.is_some();
+        if !self.creates_energy(&qe, &x0) {
+            return Eval::Feasible(make(x0, qp_used, 0.0));
+        }
+        // Energy condition active: bisection on lambda while the Lagrangian stays convex. Its
+        // minimiser with E = 0 is optimal for the energy-constrained problem (weak duality).
+        let energy_of = |x: &Vector6<f64>| (x.transpose() * qe * x)[0];
+        let convex = |lambda: f64| (&hy + &zq * lambda).cholesky().is_some();
+        let scale = hy.trace().abs() / zq.abs().max().max(1e-300);
+        let mut lo = 0.0;
+        let mut hi = 1e-6 * scale;
+        let mut best = None;
+        for _ in 0..60 {
+            if !convex(hi) {
+                return Eval::Infeasible(Violation::EnergyUncertified);
+            }
+            match solve(hi) {
+                Ok(xh) if energy_of(&xh) <= 0.0 => {
+                    best = Some(xh);
+                    break;
+                }
+                Ok(_) => {
+                    lo = hi;
+                    hi *= 2.0;
+                }
+                Err(_) => return Eval::Infeasible(Violation::EnergyUncertified),
+            }
+        }
+        let Some(mut best) = best else {
+            return Eval::Infeasible(Violation::EnergyUncertified);
+        };
+        for _ in 0..50 {
+            if hi - lo <= 1e-10 * hi {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            match solve(mid) {
+                Ok(xm) if energy_of(&xm) <= 0.0 => {
+                    hi = mid;
+                    best = xm;
+                }
+                Ok(_) => lo = mid,
+                Err(_) => break,
+            }
+        }
+        let (lin, fric) = self.split_violations(&ineq, &best);
+        if lin.is_some() || (mode == Mode::Sliding && fric) {
+            return Eval::Infeasible(Violation::EnergyUncertified);
+        }
+        Eval::Feasible(make(best, true, hi))
+    }
+
+    /// True when the contact state has vt = 0 (the sliding-direction constraint is active):
+    /// such a candidate is not counted, since equation 5's friction sign is then undefined; the
+    /// other sign is evaluated on its own.
+    fn direction_active(
+        &self,
+        ineq: &[(RowVector6<f64>, f64, Violation)],
+        x: &Vector6<f64>,
+    ) -> bool {
+        let tol = 1e-7 * self.scale.max(1.0);
+        ineq.iter()
+            .filter(|(_, _, v)| *v == Violation::SlidingDirection)
+            .any(|(row, rhs, _)| ((row * x)[0] - rhs).abs() <= tol)
+    }
+
+    /// Every condition checked directly on x and X = R x, without building constraint rows.
+    fn quick_check(
+        &self,
+        red: &Reduced,
+        theta: &Theta,
+        mode: Mode,
+        sign: f64,
+        x: &Vector6<f64>,
+    ) -> Quick {
+        let tol = 1e-9 * self.scale.max(1.0);
+        let xf = red.r * x;
+        let mut linear = None;
+        let note = |slot: &mut Option<Violation>, v: Violation, bad: bool| {
+            if bad && slot.is_none() {
+                *slot = Some(v);
+            }
+        };
+        for k in 0..12 {
+            let value = if k < 6 { x[k] } else { xf[k - 6] };
+            let bound = if k % 3 == 2 { self.wb } else { self.vb };
+            note(
+                &mut linear,
+                Violation::Bound(k),
+                value.abs() > bound + tol * 2.0,
+            );
+        }
+        let vn = (self.nrow * x)[0];
+        note(
+            &mut linear,
+            Violation::NotApproaching,
+            self.side * vn > -1e-3 + tol * 2.0,
+        );
+        let mut others_ok = linear.is_none();
+        let sigma = -sign * self.side;
+        let vt = (self.trow * x)[0];
+        let direction_bad = -sigma * vt > tol * 2.0;
+        let mut friction = false;
+        match mode {
+            Mode::Sliding => {
+                if theta.mu != 0.0 {
+                    let vt_final = (self.trow * xf)[0];
+                    friction = -vt_final * theta.mu.signum() * sigma > 0.0;
+                }
+            }
+            Mode::Sticking => {
+                let m1 = self.mass[0];
+                let [nx, ny] = self.impact.normal();
+                let [tx, ty] = self.impact.tangent();
+                let (dx, dy) = (xf[0] - x[0], xf[1] - x[1]);
+                let pn = m1 * (dx * nx + dy * ny) * self.side;
+                let pt = m1 * (dx * tx + dy * ty) * sign * self.side;
+                let [lo, hi] = self.mu_bounds;
+                let t = tol * 2.0 * m1;
+                let bad = lo * pn - pt > t || pt - hi * pn > t;
+                note(&mut linear, Violation::MuBound, bad);
+                others_ok &= !bad;
+            }
+        }
+        note(&mut linear, Violation::SlidingDirection, direction_bad);
+        let t0 = 0.5 * x.component_mul(x).dot(&self.mass);
+        let t1 = 0.5 * xf.component_mul(&xf).dot(&self.mass);
+        Quick {
+            linear,
+            friction,
+            energy: t1 - t0 > 1e-9 * t0.max(1.0),
+            only_direction: direction_bad && others_ok,
+        }
+    }
+
+    /// The first violated linear constraint other than friction, and whether friction is violated.
+    fn split_violations(
+        &self,
+        ineq: &[(RowVector6<f64>, f64, Violation)],
+        x: &Vector6<f64>,
+    ) -> (Option<Violation>, bool) {
+        let tol = 1e-9 * self.scale.max(1.0);
+        let mut first = None;
+        let mut friction = false;
+        for (row, rhs, v) in ineq {
+            let value = (row * x)[0];
+            if *v == Violation::Friction {
+                // No tolerance: mu = mu_max belongs to the sticking mode.
+                friction |= value > *rhs;
+            } else if first.is_none() && value > rhs + tol * (1.0 + row.amax()) {
+                first = Some(*v);
+            }
+        }
+        (first, friction)
+    }
+
+    /// The optimum subject to the fixed components only.
+    fn equality_optimum(&self, red: &Reduced) -> Option<Vector6<f64>> {
+        match &self.fixed_kind {
+            Fixed::None => {
+                let ch = red.h.cholesky().or_else(|| {
+                    let ridge = 1e-10 * (red.h.trace().abs() / 6.0).max(1e-12);
+                    (red.h + Matrix6::identity() * ridge).cholesky()
+                })?;
+                Some(ch.solve(&red.g))
+            }
+            _ if red.z.ncols() == 0 => Some(red.xp),
+            _ => {
+                let (hy, gy) = red.reduced();
+                let y = solve_spd(&hy, &gy)?;
+                Some(red.xp + to6(&(&red.z * &y)))
+            }
+        }
+    }
+
+    /// mu_max of a sticking solution: (Pt / Pn) * sign.
+    fn sticking_ratio(&self, r: &Matrix6<f64>, x: &Vector6<f64>, sign: f64) -> f64 {
+        let (pn, pt) = self.impulse_rows(r);
+        let pn = (pn * x)[0];
+        let pt = (pt * x)[0];
+        if pn == 0.0 {
+            0.0
+        } else {
+            pt / pn * sign
+        }
+    }
+
+    /// The inequality constraints active at a candidate, in words.
+    pub fn active_constraints(
+        &self,
+        theta: &Theta,
+        mode: Mode,
+        sign: f64,
+        c: &Candidate,
+    ) -> Vec<String> {
+        let Some(red) = self.reduce(theta, mode, sign) else {
+            return Vec::new();
+        };
+        let tol = 1e-6 * self.scale.max(1.0);
+        let mut out = Vec::new();
+        for (row, rhs, v) in self.inequalities(&red, theta, mode, sign) {
+            if ((row * c.x)[0] - rhs).abs() <= tol * (1.0 + row.amax()) {
+                let name = match v {
+                    Violation::Bound(k) => {
+                        format!("bound on {}", crate::problem::COMPONENT_NAMES[k])
+                    }
+                    Violation::NotApproaching => "minimum approach speed at C".to_string(),
+                    Violation::SlidingDirection => "sliding direction at contact (vt = 0)".into(),
+                    Violation::Friction => "mu = mu_max (sliding just stops)".into(),
+                    Violation::MuBound => "mu bound".into(),
+                    _ => continue,
+                };
+                if !out.contains(&name) {
+                    out.push(name);
+                }
+            }
+        }
+        if c.lambda > 0.0 {
+            out.push("no kinetic energy created (T1 = T0)".into());
+        }
+        out
+    }
+}
+
+fn classify(fixed: &[(usize, f64)]) -> Fixed {
+    if fixed.is_empty() {
+        Fixed::None
+    } else if fixed.iter().all(|(k, _)| *k < 6) {
+        let free = (0..6)
+            .filter(|k| fixed.iter().all(|(f, _)| f != k))
+            .collect();
+        Fixed::Initial(fixed.to_vec(), free)
+    } else if fixed.len() == 6 && fixed.iter().all(|(k, _)| *k >= 6) {
+        let mut xf = Vector6::zeros();
+        for &(k, v) in fixed {
+            xf[k - 6] = v;
+        }
+        Fixed::AllFinal(xf)
+    } else {
+        Fixed::General
+    }
+}
+
+/// `x = xp + Z y` for the fixed components in general position (SVD of their rows).
+fn general_null_space(
+    fixed: &[(usize, f64)],
+    r: &Matrix6<f64>,
+) -> Option<(Vector6<f64>, DMatrix<f64>)> {
+    let n_eq = fixed.len();
+    let mut e = DMatrix::zeros(n_eq, 6);
+    let mut fv = DVector::zeros(n_eq);
+    for (i, &(k, v)) in fixed.iter().enumerate() {
+        if k < 6 {
+            e[(i, k)] = 1.0;
+        } else {
+            for j in 0..6 {
+                e[(i, j)] = r[(k - 6, j)];
+            }
+        }
+        fv[i] = v;
+    }
+    let svd = e.clone().svd(true, true);
+    let smax = svd.singular_values.max().max(1e-300);
+    let rank = svd
+        .singular_values
+        .iter()
+        .filter(|&&s| s > 1e-10 * smax)
+        .count();
+    if rank < n_eq {
+        return None;
+    }
+    let xp = svd.solve(&fv, 1e-12 * smax).ok()?;
+    let eig = (e.transpose() * &e).symmetric_eigen();
+    let emax = eig.eigenvalues.amax().max(1e-300);
+    let cols: Vec<DVector<f64>> = (0..6)
+        .filter(|&i| eig.eigenvalues[i].abs() <= 1e-12 * emax)
+        .map(|i| eig.eigenvectors.column(i).into_owned())
+        .collect();
+    let z = if cols.is_empty() {
+        DMatrix::zeros(6, 0)
+    } else {
+        DMatrix::from_columns(&cols)
+    };
+    Some((Vector6::from_iterator(xp.iter().copied()), z))
+}
+
+fn to6(v: &DVector<f64>) -> Vector6<f64> {
+    Vector6::from_iterator(v.iter().copied())
+}
+
+fn to_d(v: &Vector6<f64>) -> DVector<f64> {
+    DVector::from_iterator(6, v.iter().copied())
+}
+
+/// Solves `h y = g` for symmetric positive (semi)definite h, with a tiny ridge when singular.
+fn solve_spd(h: &DMatrix<f64>, g: &DVector<f64>) -> Option<DVector<f64>> {
+    if let Some(ch) = h.clone().cholesky() {
+        return Some(ch.solve(g));
+    }
+    let n = h.nrows();
+    let ridge = 1e-10 * (h.trace().abs() / n as f64).max(1e-12);
+    let hr = h + DMatrix::identity(n, n) * ridge;
+    hr.cholesky().map(|c| c.solve(g))
+}
+
+enum QpOutcome {
+    Solved(DVector<f64>),
+    Infeasible,
+    Failed,
+}
+
+/// min y' p y - 2 q' y  s.t. rows: a' y <= b, by clarabel (private adaptor).
+fn qp(p: &DMatrix<f64>, q: &DVector<f64>, rows: &[(DVector<f64>, f64)]) -> QpOutcome {
+    let n = p.nrows();
+    if n == 0 {
+        return if rows.iter().all(|(_, b)| *b >= -1e-9) {
+            QpOutcome::Solved(DVector::zeros(0))
+        } else {
+            QpOutcome::Infeasible
+        };
+    }
+    // Scale the objective so that clarabel's tolerances are meaningful.
+    let s = p.amax().max(1e-300);
+    let mut pd: Vec<Vec<f64>> = vec![vec![0.0; n]; n];
+    for i in 0..n {
+        for j in i..n {
+            pd[i][j] = 2.0 * p[(i, j)] / s;
+        }
+    }
+    let pm = CscMatrix::from(&pd);
+    let qv: Vec<f64> = q.iter().map(|v| -2.0 * v / s).collect();
+    let ad: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|(a, _)| a.iter().copied().collect())
+        .collect();
+    let am = CscMatrix::from(&ad);
+    let b: Vec<f64> = rows.iter().map(|(_, b)| *b).collect();
+    let cones: Vec<SupportedConeT<f64>> = vec![NonnegativeConeT(rows.len())];
+    let settings = DefaultSettings {
+        verbose: false,
+        max_iter: 200,
+        ..DefaultSettings::default()
+    };
+    let Ok(mut solver) = DefaultSolver::new(&pm, &qv, &am, &b, &cones, settings) else {
+        return QpOutcome::Failed;
+    };
+    solver.solve();
+    match solver.solution.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => {
+            QpOutcome::Solved(DVector::from_vec(solver.solution.x.clone()))
+        }
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+            QpOutcome::Infeasible
+        }
+        _ => QpOutcome::Failed,
+    }
+}

@@ -1,0 +1,457 @@
+//! The outer search over the coefficient box and its certificate.
+//!
+//! For each moment branch and each tangential mode the coefficients live in a small box:
+//! sliding `(e, mu, em)` (em fixed at 1 in the zero branch) and sticking `(e, em)` (mu = mu_max).
+//! 1. Grid: every grid point is evaluated for each friction sign at its equality-only optimum,
+//!    a lower bound of the exact inner value. Points whose bound could still beat the best
+//!    feasible value are then solved exactly (QP, energy) in order of their bounds, so the grid
+//!    minimum is exact.
+//! 2. Refinement: Nelder-Mead (argmin) from the best grid points of distinct cells, on the exact
+//!    inner value.
+//! 3. Certificate: how many grid points, exact solves and refinements, and whether the
+//!    refinements from different starts agree.
+
+use crate::inner::{Candidate, Eval, Mode, Prepared, Theta, Violation};
+use crate::problem::{FitSettings, MomentBranch};
+use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use std::collections::BTreeMap;
+
+/// A coefficient dimension of a search space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Dim {
+    pub lo: f64,
+    pub hi: f64,
+    pub n: usize,
+}
+
+/// One search space: a branch and a mode.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Space {
+    pub branch: MomentBranch,
+    pub mode: Mode,
+    /// e, then mu (sliding only), then em (free branch only).
+    pub dims: Vec<Dim>,
+}
+
+impl Space {
+    /// Coefficients of a point (clamped onto the box, against round-off of the refinement).
+    pub fn theta(&self, p: &[f64]) -> Theta {
+        let c = |k: usize| p[k].clamp(self.dims[k].lo, self.dims[k].hi);
+        let p: Vec<f64> = (0..p.len()).map(c).collect();
+        let e = p[0];
+        let (mu, rest) = match self.mode {
+            Mode::Sliding => (p[1], &p[2..]),
+            Mode::Sticking => (0.0, &p[1..]),
+        };
+        let em = match self.branch {
+            MomentBranch::Zero => 1.0,
+            MomentBranch::Free => rest[0],
+        };
+        Theta { e, mu, em }
+    }
+
+    fn inside(&self, p: &[f64]) -> bool {
+        p.iter()
+            .zip(&self.dims)
+            .all(|(v, d)| *v >= d.lo - 1e-12 && *v <= d.hi + 1e-12)
+    }
+}
+
+/// The spaces of a branch.
+pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings) -> Vec<Space> {
+    let e = Dim {
+        lo: s.e[0],
+        hi: s.e[1],
+        n: if s.e[0] < s.e[1] { s.grid[0] } else { 1 },
+    };
+    let mu = Dim {
+        lo: s.mu[0],
+        hi: s.mu[1],
+        n: if s.mu[0] < s.mu[1] { s.grid[1] } else { 1 },
+    };
+    let em = Dim {
+        lo: -1.0,
+        hi: 0.0,
+        n: s.grid[2],
+    };
+    let fine_e = Dim {
+        n: if e.n > 1 { 2 * e.n + 1 } else { 1 },
+        ..e
+    };
+    match branch {
+        MomentBranch::Zero => vec![
+            Space {
+                branch,
+                mode: Mode::Sliding,
+                dims: vec![e, mu],
+            },
+            Space {
+                branch,
+                mode: Mode::Sticking,
+                dims: vec![fine_e],
+            },
+        ],
+        MomentBranch::Free => vec![
+            Space {
+                branch,
+                mode: Mode::Sliding,
+                dims: vec![e, mu, em],
+            },
+            Space {
+                branch,
+                mode: Mode::Sticking,
+                dims: vec![fine_e, em],
+            },
+        ],
+    }
+}
+
+/// A solved point of a search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Point {
+    pub mode: Mode,
+    pub theta: Theta,
+    pub sign: f64,
+    pub candidate: Candidate,
+}
+
+/// Everything the search found for one branch.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Outcome {
+    pub best: Option<Point>,
+    /// Every exactly solved feasible point: (e, mu_eff, em, cost).
+    pub samples: Vec<[f64; 4]>,
+    pub grid_points: usize,
+    pub evaluations: usize,
+    pub exact_solves: usize,
+    pub qp_solves: usize,
+    pub refinements: usize,
+    pub refinements_agreeing: usize,
+    /// A refinement that hit its iteration limit produced the optimum, and no other agrees.
+    pub limit_reached: bool,
+    /// Final cost of each refinement and whether it hit its iteration limit.
+    finals: Vec<(f64, bool)>,
+    pub uncertified: usize,
+    /// Violations met at infeasible grid points, counted.
+    pub violations: BTreeMap<Violation, usize>,
+}
+
+impl Outcome {
+    fn record(&mut self, p: Point) {
+        let c = p.candidate;
+        self.samples.push([p.theta.e, c.mu_eff, p.theta.em, c.cost]);
+        if c.qp {
+            self.qp_solves += 1;
+        }
+        if self.best.is_none_or(|b| c.cost < b.candidate.cost) {
+            self.best = Some(p);
+        }
+    }
+}
+
+fn grid_axis(d: &Dim) -> Vec<f64> {
+    if d.n <= 1 {
+        return vec![d.lo];
+    }
+    (0..d.n)
+        .map(|i| d.lo + (d.hi - d.lo) * i as f64 / (d.n - 1) as f64)
+        .collect()
+}
+
+fn grid(space: &Space) -> Vec<Vec<f64>> {
+    let mut pts: Vec<Vec<f64>> = vec![Vec::new()];
+    for d in &space.dims {
+        let axis = grid_axis(d);
+        pts = pts
+            .into_iter()
+            .flat_map(|p| {
+                axis.iter().map(move |&v| {
+                    let mut q = p.clone();
+                    q.push(v);
+                    q
+                })
+            })
+            .collect();
+    }
+    pts
+}
+
+/// Value of a point for the refinement: the exact value (best over friction signs), or a lower
+/// bound that already loses against the incumbent.
+fn value(prep: &Prepared, space: &Space, p: &[f64], out: &mut Outcome) -> f64 {
+    let theta = space.theta(p);
+    let incumbent = out.best.map_or(f64::INFINITY, |b| b.candidate.cost);
+    let mut v = f64::INFINITY;
+    for &sign in prep.signs() {
+        out.evaluations += 1;
+        match prep.evaluate(&theta, space.mode, sign, true, incumbent) {
+            Eval::Feasible(c) => {
+                out.exact_solves += 1;
+                out.record(Point {
+                    mode: space.mode,
+                    theta,
+                    sign,
+                    candidate: c,
+                });
+                v = v.min(c.cost);
+            }
+            Eval::Pending { lower_bound, .. } => v = v.min(lower_bound),
+            Eval::Infeasible(Violation::EnergyUncertified) => out.uncertified += 1,
+            Eval::Infeasible(_) => {}
+        }
+    }
+    v
+}
+
+/// Exact value of a point: the best over friction signs.
+fn exact(prep: &Prepared, space: &Space, p: &[f64], out: &mut Outcome) -> Option<Point> {
+    let theta = space.theta(p);
+    let mut best: Option<Point> = None;
+    for &sign in prep.signs() {
+        out.evaluations += 1;
+        out.exact_solves += 1;
+        match prep.evaluate(&theta, space.mode, sign, true, f64::INFINITY) {
+            Eval::Feasible(c) => {
+                let pt = Point {
+                    mode: space.mode,
+                    theta,
+                    sign,
+                    candidate: c,
+                };
+                out.record(pt);
+                if best.is_none_or(|b| c.cost < b.candidate.cost) {
+                    best = Some(pt);
+                }
+            }
+            Eval::Infeasible(Violation::EnergyUncertified) => out.uncertified += 1,
+            _ => {}
+        }
+    }
+    best
+}
+
+struct Objective<'a> {
+    prep: &'a Prepared,
+    space: &'a Space,
+    out: std::cell::RefCell<&'a mut Outcome>,
+}
+
+impl CostFunction for Objective<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, p: &Self::Param) -> Result<f64, ArgminError> {
+        if !self.space.inside(p) {
+            return Ok(f64::INFINITY);
+        }
+        let mut out = self.out.borrow_mut();
+        Ok(value(self.prep, self.space, p, &mut out))
+    }
+}
+
+/// Nelder-Mead from `start`; returns the best point and whether the iteration limit was hit.
+fn refine(
+    prep: &Prepared,
+    space: &Space,
+    start: &[f64],
+    out: &mut Outcome,
+) -> (Option<Vec<f64>>, bool) {
+    let dim = start.len();
+    let mut simplex = vec![start.to_vec()];
+    for (k, d) in space.dims.iter().enumerate() {
+        let step = if d.n > 1 {
+            (d.hi - d.lo) / (d.n - 1) as f64 * 0.5
+        } else {
+            0.0
+        };
+        let mut v = start.to_vec();
+        // Step inwards so that the simplex starts inside the box.
+        v[k] = if v[k] + step <= d.hi {
+            v[k] + step
+        } else {
+            v[k] - step
+        };
+        if step == 0.0 {
+            v[k] += 1e-6;
+        }
+        simplex.push(v);
+    }
+    let max_iters = 100 * dim as u64 + 100;
+    let solver = match NelderMead::new(simplex).with_sd_tolerance(1e-10) {
+        Ok(s) => s,
+        Err(_) => return (None, false),
+    };
+    let obj = Objective {
+        prep,
+        space,
+        out: std::cell::RefCell::new(out),
+    };
+    let res = Executor::new(obj, solver)
+        .configure(|s| s.max_iters(max_iters))
+        .timer(false)
+        .run();
+    match res {
+        Ok(r) => {
+            let st = r.state();
+            let hit = st.get_iter() >= max_iters;
+            (st.get_best_param().cloned(), hit)
+        }
+        Err(_) => (None, false),
+    }
+}
+
+/// Searches one branch.
+pub(crate) fn search_branch(
+    prep: &Prepared,
+    settings: &FitSettings,
+    branch: MomentBranch,
+) -> Outcome {
+    let mut out = Outcome::default();
+    for space in spaces(branch, settings) {
+        let pts = grid(&space);
+        out.grid_points += pts.len();
+        // 1. Relaxed grid.
+        let mut values: Vec<Option<f64>> = vec![None; pts.len()];
+        let mut pending: Vec<(f64, usize, f64)> = Vec::new();
+        for (i, p) in pts.iter().enumerate() {
+            let theta = space.theta(p);
+            for &sign in prep.signs() {
+                out.evaluations += 1;
+                match prep.evaluate(&theta, space.mode, sign, false, f64::INFINITY) {
+                    Eval::Feasible(c) => {
+                        out.record(Point {
+                            mode: space.mode,
+                            theta,
+                            sign,
+                            candidate: c,
+                        });
+                        if values[i].is_none_or(|v| c.cost < v) {
+                            values[i] = Some(c.cost);
+                        }
+                    }
+                    Eval::Pending {
+                        lower_bound,
+                        violation,
+                    } => {
+                        pending.push((lower_bound, i, sign));
+                        *out.violations.entry(violation).or_default() += 1;
+                    }
+                    Eval::Infeasible(v) => *out.violations.entry(v).or_default() += 1,
+                }
+            }
+        }
+        // 2. Exact solves where the lower bound could still win.
+        pending.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (lb, i, sign) in pending {
+            let best = out.best.map_or(f64::INFINITY, |b| b.candidate.cost);
+            if lb >= best {
+                continue;
+            }
+            let theta = space.theta(&pts[i]);
+            out.evaluations += 1;
+            out.exact_solves += 1;
+            match prep.evaluate(&theta, space.mode, sign, true, best) {
+                Eval::Feasible(c) => {
+                    out.record(Point {
+                        mode: space.mode,
+                        theta,
+                        sign,
+                        candidate: c,
+                    });
+                    if values[i].is_none_or(|v| c.cost < v) {
+                        values[i] = Some(c.cost);
+                    }
+                }
+                Eval::Infeasible(Violation::EnergyUncertified) => out.uncertified += 1,
+                Eval::Infeasible(_) | Eval::Pending { .. } => {}
+            }
+        }
+        // 3. Refine from the best grid points that are local minima of the grid.
+        let mut order: Vec<usize> = (0..pts.len()).filter(|&i| values[i].is_some()).collect();
+        order.sort_by(|&a, &b| values[a].unwrap().total_cmp(&values[b].unwrap()));
+        let spacing: Vec<f64> = space
+            .dims
+            .iter()
+            .map(|d| {
+                if d.n > 1 {
+                    (d.hi - d.lo) / (d.n - 1) as f64
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        let mut starts: Vec<usize> = Vec::new();
+        for &i in &order {
+            if starts.len() >= 2 {
+                break;
+            }
+            // Distinct from the starts already taken: more than one cell apart.
+            let far = starts.iter().all(|&j| {
+                pts[i]
+                    .iter()
+                    .zip(&pts[j])
+                    .zip(&spacing)
+                    .any(|((a, b), s)| (a - b).abs() > 1.5 * s)
+            });
+            if far {
+                starts.push(i);
+            }
+        }
+        for &i in &starts {
+            out.refinements += 1;
+            let (best, hit) = refine(prep, &space, &pts[i], &mut out);
+            if let Some(b) = best {
+                if let Some(p) = exact(prep, &space, &b, &mut out) {
+                    out.finals.push((p.candidate.cost, hit));
+                }
+            }
+        }
+    }
+    // Agreement of the refinements with the optimum.
+    if let Some(best) = out.best {
+        let m = best.candidate.cost;
+        let close = |f: f64| f <= m + 1e-6 * (1.0 + m);
+        out.refinements_agreeing = out.finals.iter().filter(|(f, _)| close(*f)).count();
+        out.limit_reached =
+            out.refinements_agreeing == 1 && out.finals.iter().any(|(f, hit)| close(*f) && *hit);
+    }
+    // 4. Scan each coefficient through the optimum (for the identifiability ranges).
+    if let Some(best) = out.best {
+        let space = spaces(branch, settings)
+            .into_iter()
+            .find(|s| s.mode == best.mode)
+            .expect("mode space");
+        let centre: Vec<f64> = match (best.mode, branch) {
+            (Mode::Sliding, MomentBranch::Free) => vec![best.theta.e, best.theta.mu, best.theta.em],
+            (Mode::Sliding, MomentBranch::Zero) => vec![best.theta.e, best.theta.mu],
+            (Mode::Sticking, MomentBranch::Free) => vec![best.theta.e, best.theta.em],
+            (Mode::Sticking, MomentBranch::Zero) => vec![best.theta.e],
+        };
+        for (k, d) in space.dims.iter().enumerate() {
+            for v in grid_axis(&Dim { n: 13, ..*d }) {
+                let mut p = centre.clone();
+                p[k] = v;
+                exact(prep, &space, &p, &mut out);
+            }
+        }
+        if best.mode == Mode::Sticking {
+            // mu away from mu_max: the sliding mode along mu at the optimal e and em.
+            if let Some(sl) = spaces(branch, settings)
+                .into_iter()
+                .find(|s| s.mode == Mode::Sliding)
+            {
+                for v in grid_axis(&Dim {
+                    n: 17,
+                    ..sl.dims[1]
+                }) {
+                    let mut p = vec![best.theta.e, v];
+                    if branch == MomentBranch::Free {
+                        p.push(best.theta.em);
+                    }
+                    exact(prep, &sl, &p, &mut out);
+                }
+            }
+        }
+    }
+    out
+}
