@@ -292,14 +292,15 @@ impl Prepared {
                 (xp, z)
             }
             Fixed::AllFinal(xf) => {
-                // R x = X: solve G x = -F X on the equilibrated system.
-                let lu = gm.lu();
-                let x = lu.solve(&-(f * xf))?;
-                let back = r * x;
-                if (back - xf).amax() > 1e-8 * (1.0 + xf.amax()) {
-                    return None;
+                // R x = X: solve G x = -F X on the equilibrated system. G is singular when a
+                // row has no contact terms (no slip, e = 0, em = 0): then x is a family, found
+                // by the general path (or none, when X does not satisfy that row).
+                match gm.lu().solve(&-(f * xf)) {
+                    Some(x) if (r * x - xf).amax() <= 1e-8 * (1.0 + xf.amax()) => {
+                        (x, DMatrix::zeros(6, 0))
+                    }
+                    _ => general_null_space(&self.fixed, &r)?,
                 }
-                (x, DMatrix::zeros(6, 0))
             }
             Fixed::General => general_null_space(&self.fixed, &r)?,
         };
@@ -743,19 +744,15 @@ fn general_null_space(
     }
     let svd = e.clone().svd(true, true);
     let smax = svd.singular_values.max().max(1e-300);
-    let rank = svd
-        .singular_values
-        .iter()
-        .filter(|&&s| s > 1e-10 * smax)
-        .count();
-    if rank < n_eq {
+    let xp = svd.solve(&fv, 1e-10 * smax).ok()?;
+    // Dependent rows must agree: otherwise no x meets the fixed components.
+    if (&e * &xp - &fv).amax() > 1e-8 * (1.0 + fv.amax()) {
         return None;
     }
-    let xp = svd.solve(&fv, 1e-12 * smax).ok()?;
     let eig = (e.transpose() * &e).symmetric_eigen();
     let emax = eig.eigenvalues.amax().max(1e-300);
     let cols: Vec<DVector<f64>> = (0..6)
-        .filter(|&i| eig.eigenvalues[i].abs() <= 1e-12 * emax)
+        .filter(|&i| eig.eigenvalues[i].abs() <= 1e-14 * emax)
         .map(|i| eig.eigenvectors.column(i).into_owned())
         .collect();
     let z = if cols.is_empty() {

@@ -96,7 +96,8 @@ fn certificate(out: &Outcome) -> Certificate {
     Certificate {
         method: "grid over the coefficient box per tangential mode (sliding; sticking at \
                  mu = mu_max), every grid point whose lower bound could beat the incumbent solved \
-                 exactly, then Nelder-Mead from the best grid points of distinct cells"
+                 exactly, then Nelder-Mead from the best grid points of distinct cells, each result \
+                 polished by a compass search"
             .to_string(),
         grid_points: out.grid_points,
         evaluations: out.evaluations,

@@ -300,6 +300,54 @@ fn refine(
     }
 }
 
+/// Compass (pattern) search with step halving, inside the box; returns the point and its cost.
+fn polish(
+    prep: &Prepared,
+    space: &Space,
+    mut p: Vec<f64>,
+    mut cost: f64,
+    out: &mut Outcome,
+) -> (Vec<f64>, f64) {
+    let mut step: Vec<f64> = space
+        .dims
+        .iter()
+        .map(|d| {
+            if d.n > 1 {
+                (d.hi - d.lo) / (d.n - 1) as f64 * 0.25
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let min_step: Vec<f64> = space.dims.iter().map(|d| (d.hi - d.lo) * 1e-9).collect();
+    for _ in 0..400 {
+        let mut improved = false;
+        for k in 0..p.len() {
+            if step[k] <= 0.0 {
+                continue;
+            }
+            for dir in [-1.0, 1.0] {
+                let mut q = p.clone();
+                q[k] = (q[k] + dir * step[k]).clamp(space.dims[k].lo, space.dims[k].hi);
+                if let Some(pt) = exact(prep, space, &q, out) {
+                    if pt.candidate.cost < cost {
+                        cost = pt.candidate.cost;
+                        p = q;
+                        improved = true;
+                    }
+                }
+            }
+        }
+        if !improved {
+            step.iter_mut().for_each(|s| *s *= 0.5);
+            if step.iter().zip(&min_step).all(|(s, m)| *s <= *m) {
+                break;
+            }
+        }
+    }
+    (p, cost)
+}
+
 /// Searches one branch.
 pub(crate) fn search_branch(
     prep: &Prepared,
@@ -397,14 +445,21 @@ pub(crate) fn search_branch(
                 starts.push(i);
             }
         }
+        let mut refined: Vec<(Vec<f64>, f64, bool)> = Vec::new();
         for &i in &starts {
             out.refinements += 1;
             let (best, hit) = refine(prep, &space, &pts[i], &mut out);
             if let Some(b) = best {
                 if let Some(p) = exact(prep, &space, &b, &mut out) {
-                    out.finals.push((p.candidate.cost, hit));
+                    refined.push((b, p.candidate.cost, hit));
                 }
             }
+        }
+        // Compass search from each refined point: robust where Nelder-Mead stalls on a kink
+        // or a face of the box.
+        for (p, cost, hit) in refined {
+            let (_, polished) = polish(prep, &space, p, cost, &mut out);
+            out.finals.push((polished, hit && polished >= cost));
         }
     }
     // Agreement of the refinements with the optimum.
