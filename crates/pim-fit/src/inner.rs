@@ -80,6 +80,9 @@ pub(crate) struct Candidate {
     pub qp: bool,
     /// Lagrange multiplier of the energy constraint (0 when inactive).
     pub lambda: f64,
+    /// The cost is flat along some direction of x at these coefficients: the data leave part
+    /// of the velocities undetermined (x is then the smallest-norm choice).
+    pub flat: bool,
 }
 
 /// Outcome of an evaluation.
@@ -226,6 +229,11 @@ impl Prepared {
             fixed_kind: classify(&fixed),
             fixed,
         }
+    }
+
+    /// Sum of weight x target^2 over the data.
+    pub fn data_scale(&self) -> f64 {
+        self.c0
     }
 
     /// The friction signs to try.
@@ -397,8 +405,8 @@ impl Prepared {
             return Eval::Infeasible(Violation::Singular);
         };
         let k = red.z.ncols();
-        let x = match self.equality_optimum(&red) {
-            Some(x) => x,
+        let (x, flat) = match self.equality_optimum(&red) {
+            Some(v) => v,
             None => return Eval::Infeasible(Violation::Singular),
         };
         let quick = self.quick_check(&red, theta, mode, sign, &x);
@@ -412,6 +420,7 @@ impl Prepared {
             },
             qp,
             lambda,
+            flat,
         };
         let (linear, friction, energy) = (quick.linear, quick.friction, quick.energy);
         match (linear, friction, energy) {
@@ -637,23 +646,71 @@ impl Prepared {
         (first, friction)
     }
 
-    /// The optimum subject to the fixed components only.
-    fn equality_optimum(&self, red: &Reduced) -> Option<Vector6<f64>> {
+    /// The optimum subject to the fixed components only, and whether the cost is flat along
+    /// some direction there.
+    fn equality_optimum(&self, red: &Reduced) -> Option<(Vector6<f64>, bool)> {
         match &self.fixed_kind {
-            Fixed::None => {
-                let ch = red.h.cholesky().or_else(|| {
-                    let ridge = 1e-10 * (red.h.trace().abs() / 6.0).max(1e-12);
-                    (red.h + Matrix6::identity() * ridge).cholesky()
-                })?;
-                Some(ch.solve(&red.g))
-            }
-            _ if red.z.ncols() == 0 => Some(red.xp),
+            Fixed::None => match red.h.cholesky() {
+                Some(ch)
+                    if !nearly_singular(
+                        ch.l_dirty().diagonal().iter(),
+                        red.h.diagonal().amax(),
+                    ) =>
+                {
+                    Some((ch.solve(&red.g), false))
+                }
+                _ => {
+                    let (hy, gy) = red.reduced();
+                    let y = solve_spd(&hy, &gy)?;
+                    Some((red.xp + to6(&(&red.z * &y)), true))
+                }
+            },
+            _ if red.z.ncols() == 0 => Some((red.xp, false)),
             _ => {
                 let (hy, gy) = red.reduced();
+                let flat = hy.clone().cholesky().is_none_or(|ch| {
+                    nearly_singular(ch.l_dirty().diagonal().iter(), hy.diagonal().amax())
+                });
                 let y = solve_spd(&hy, &gy)?;
-                Some(red.xp + to6(&(&red.z * &y)))
+                Some((red.xp + to6(&(&red.z * &y)), flat))
             }
         }
+    }
+
+    /// Velocity components that the data leave undetermined at these coefficients: directions in
+    /// which the reduced cost is flat (its Hessian is singular), as names of U's components.
+    pub fn undetermined_components(
+        &self,
+        theta: &Theta,
+        mode: Mode,
+        sign: f64,
+    ) -> Vec<&'static str> {
+        let Some(red) = self.reduce(theta, mode, sign) else {
+            return Vec::new();
+        };
+        if red.z.ncols() == 0 {
+            return Vec::new();
+        }
+        let (hy, _) = red.reduced();
+        let eig = hy.clone().symmetric_eigen();
+        let emax = eig.eigenvalues.amax().max(1e-300);
+        let mut names = Vec::new();
+        for i in 0..eig.eigenvalues.len() {
+            if eig.eigenvalues[i].abs() > 1e-9 * emax {
+                continue;
+            }
+            let dx = to6(&(&red.z * eig.eigenvectors.column(i)));
+            let dxf = red.r * dx;
+            let du: Vec<f64> = dx.iter().chain(dxf.iter()).copied().collect();
+            let big = du.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+            for (k, v) in du.iter().enumerate() {
+                let name = crate::problem::COMPONENT_NAMES[k];
+                if v.abs() > 0.05 * big && !names.contains(&name) {
+                    names.push(name);
+                }
+            }
+        }
+        names
     }
 
     /// mu_max of a sticking solution: (Pt / Pn) * sign.
@@ -771,15 +828,22 @@ fn to_d(v: &Vector6<f64>) -> DVector<f64> {
     DVector::from_iterator(6, v.iter().copied())
 }
 
-/// Solves `h y = g` for symmetric positive (semi)definite h, with a tiny ridge when singular.
+/// True when a Cholesky factor's diagonal shows a (numerically) singular matrix.
+fn nearly_singular<'a>(diag: impl Iterator<Item = &'a f64>, hmax: f64) -> bool {
+    diag.map(|d| d * d).fold(f64::INFINITY, f64::min) <= 1e-10 * hmax.max(1e-300)
+}
+
+/// Solves `h y = g` for symmetric positive (semi)definite h: on a singular h, the smallest-norm
+/// solution (pseudo-inverse).
 fn solve_spd(h: &DMatrix<f64>, g: &DVector<f64>) -> Option<DVector<f64>> {
     if let Some(ch) = h.clone().cholesky() {
-        return Some(ch.solve(g));
+        if !nearly_singular(ch.l_dirty().diagonal().iter(), h.diagonal().amax()) {
+            return Some(ch.solve(g));
+        }
     }
-    let n = h.nrows();
-    let ridge = 1e-10 * (h.trace().abs() / n as f64).max(1e-12);
-    let hr = h + DMatrix::identity(n, n) * ridge;
-    hr.cholesky().map(|c| c.solve(g))
+    let svd = h.clone().svd(true, true);
+    let smax = svd.singular_values.max().max(1e-300);
+    svd.solve(g, 1e-9 * smax).ok()
 }
 
 enum QpOutcome {

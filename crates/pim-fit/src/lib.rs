@@ -83,13 +83,36 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
         let out = search_branch(&prep, s, branch);
         branches.push(branch_report(&prep, problem, s, branch, &out)?);
     }
-    let best = branches
+    let solved: Vec<(MomentBranch, f64)> = branches
         .iter()
         .filter(|b| b.status != Status::Infeasible)
         .filter_map(|b| b.solution.as_ref().map(|sol| (b.moment, sol.cost)))
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(m, _)| m);
-    Ok(FitReport { branches, best })
+        .collect();
+    let mut notes = Vec::new();
+    let min = solved.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
+    let tied: Vec<MomentBranch> = solved
+        .iter()
+        .filter(|s| s.1 <= min + 1e-6 * (1.0 + min))
+        .map(|s| s.0)
+        .collect();
+    let best = if tied.contains(&MomentBranch::Zero) {
+        Some(MomentBranch::Zero)
+    } else {
+        tied.first().copied()
+    };
+    if tied.len() > 1 {
+        notes.push(format!(
+            "both moment branches fit the data equally well (cost {min:.3e}): the data do not \
+             decide whether a moment impulse acts, and the coefficients differ between the \
+             branches; the zero branch (no moment impulse, one coefficient fewer) is reported as \
+             best"
+        ));
+    }
+    Ok(FitReport {
+        branches,
+        best,
+        notes,
+    })
 }
 
 fn certificate(out: &Outcome) -> Certificate {
@@ -129,6 +152,14 @@ fn branch_report(
     };
     let solution = solution(prep, &best)?;
     let identifiability = identifiability(settings, branch, out, solution.cost);
+    let mut reason_note = None;
+    if !solution.undetermined.is_empty() {
+        reason_note = Some(format!(
+            "the data do not determine {}: equally good solutions differ along them, and the \
+             values shown are the smallest-norm choice",
+            solution.undetermined.join(", ")
+        ));
+    }
     let (status, reason) = if out.limit_reached {
         (
             Status::LimitReached,
@@ -139,7 +170,7 @@ fn branch_report(
             )),
         )
     } else {
-        (Status::Optimal, None)
+        (Status::Optimal, reason_note)
     };
     Ok(BranchReport {
         moment: branch,
@@ -194,6 +225,11 @@ fn solution(prep: &Prepared, best: &Point) -> Result<Solution> {
         delta_v: r.delta_v,
         impulse: r.impulse,
         admissible: r.admissibility.admissible,
+        undetermined: prep
+            .undetermined_components(&best.theta, best.mode, best.sign)
+            .into_iter()
+            .map(str::to_string)
+            .collect(),
     })
 }
 
@@ -204,30 +240,46 @@ fn identifiability(
     best: f64,
 ) -> Vec<Identifiability> {
     let tol = settings.identifiability_tolerance;
-    let limit = best * (1.0 + tol) + 1e-9;
-    let mut ranges = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
-    for s in out.samples.iter().filter(|s| s[3] <= limit) {
-        for k in 0..3 {
-            ranges[k][0] = ranges[k][0].min(s[k]);
-            ranges[k][1] = ranges[k][1].max(s[k]);
-        }
-    }
+    // Relative tolerance, with a floor for a (near) perfect fit: 1e-6 of the data's own size.
+    let limit = best * (1.0 + tol) + 1e-6 * (1.0 + out.data_scale);
+    let near: Vec<&[f64; 7]> = out.samples.iter().filter(|s| s[3] <= limit).collect();
+    let range = |k: usize| {
+        near.iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
+                [r[0].min(s[k]), r[1].max(s[k])]
+            })
+    };
+    let flat = near.iter().any(|s| s[6] > 0.5);
+    let mut list = Vec::new();
     let boxes = [
         settings.e[1] - settings.e[0],
         settings.mu[1] - settings.mu[0],
         1.0,
     ];
-    let names = ["e", "mu", "em"];
     let n = if branch == MomentBranch::Free { 3 } else { 2 };
-    (0..n)
-        .map(|k| Identifiability {
-            coefficient: names[k].to_string(),
-            low: ranges[k][0],
-            high: ranges[k][1],
+    for (k, name) in ["e", "mu", "em"].iter().enumerate().take(n) {
+        let [low, high] = range(k);
+        list.push(Identifiability {
+            coefficient: name.to_string(),
+            low,
+            high,
             tolerance: tol,
-            identifiable: boxes[k] <= 0.0 || ranges[k][1] - ranges[k][0] < 0.5 * boxes[k],
-        })
-        .collect()
+            identifiable: boxes[k] <= 0.0 || high - low < 0.5 * boxes[k],
+            open_ended: false,
+        });
+    }
+    for (k, name) in [(4, "speed1"), (5, "speed2")] {
+        let [low, high] = range(k);
+        list.push(Identifiability {
+            coefficient: name.to_string(),
+            low,
+            high,
+            tolerance: tol,
+            identifiable: !flat && high - low <= 0.1 * high.max(1.0),
+            open_ended: flat,
+        });
+    }
+    list
 }
 
 fn describe(v: Violation, settings: &FitSettings) -> String {

@@ -16,10 +16,10 @@ pub enum Status {
     LimitReached,
 }
 
-/// How well the data pin one coefficient down.
+/// How well the data pin one coefficient (or contact speed) down.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Identifiability {
-    /// `e`, `mu` or `em`.
+    /// `e`, `mu`, `em`, or `speed1` / `speed2` (speed of each vehicle at contact, m/s).
     pub coefficient: String,
     /// Smallest value seen whose cost is within the tolerance of the optimum.
     pub low: f64,
@@ -27,8 +27,12 @@ pub struct Identifiability {
     pub high: f64,
     /// The relative cost tolerance used.
     pub tolerance: f64,
-    /// False when that range covers half of the coefficient's box or more (flat cost).
+    /// False when that range covers half of the coefficient's box or more (flat cost); for a
+    /// speed, when it spans more than 10 % of the speed or the cost is flat along it.
     pub identifiable: bool,
+    /// The cost is exactly flat along a velocity direction near the optimum: the range seen is
+    /// only part of the set of equally good values (a speed is then at least `low`).
+    pub open_ended: bool,
 }
 
 /// How the optimum was established.
@@ -90,6 +94,10 @@ pub struct Solution {
     pub impulse: Impulse,
     /// Physically admissible by pim-core's own check (friction domain, energy).
     pub admissible: bool,
+    /// Velocity components the data leave undetermined (the cost is flat along a combination
+    /// of them); empty when the fitted velocities are unique. The values shown are then the
+    /// smallest-norm choice among equally good ones.
+    pub undetermined: Vec<String>,
 }
 
 /// The result of one moment branch.
@@ -99,7 +107,8 @@ pub struct BranchReport {
     pub moment: MomentBranch,
     /// Outcome.
     pub status: Status,
-    /// Why, in words, when not optimal.
+    /// Why, in words, when not optimal; for an optimal branch, a caveat (undetermined
+    /// velocities) when there is one.
     pub reason: Option<String>,
     /// The solution (none when infeasible).
     pub solution: Option<Solution>,
@@ -114,8 +123,11 @@ pub struct BranchReport {
 pub struct FitReport {
     /// One report per branch, in the order asked.
     pub branches: Vec<BranchReport>,
-    /// The optimal branch with the lower cost, if any.
+    /// The optimal branch with the lower cost, if any; on a tie (costs within 1e-6 relative)
+    /// the zero branch, which has one coefficient fewer.
     pub best: Option<MomentBranch>,
+    /// Remarks on the whole fit, for example that both branches fit equally well.
+    pub notes: Vec<String>,
 }
 
 impl FitReport {

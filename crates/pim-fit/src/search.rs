@@ -120,8 +120,8 @@ pub(crate) struct Point {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Outcome {
     pub best: Option<Point>,
-    /// Every exactly solved feasible point: (e, mu_eff, em, cost).
-    pub samples: Vec<[f64; 4]>,
+    /// Every exactly solved feasible point: (e, mu_eff, em, cost, speed1, speed2, flat).
+    pub samples: Vec<[f64; 7]>,
     pub grid_points: usize,
     pub evaluations: usize,
     pub exact_solves: usize,
@@ -135,12 +135,23 @@ pub(crate) struct Outcome {
     pub uncertified: usize,
     /// Violations met at infeasible grid points, counted.
     pub violations: BTreeMap<Violation, usize>,
+    /// Sum of weight x target^2 of the data (a scale for cost tolerances).
+    pub data_scale: f64,
 }
 
 impl Outcome {
     fn record(&mut self, p: Point) {
         let c = p.candidate;
-        self.samples.push([p.theta.e, c.mu_eff, p.theta.em, c.cost]);
+        let speed = |i: usize| c.x[i].hypot(c.x[i + 1]);
+        self.samples.push([
+            p.theta.e,
+            c.mu_eff,
+            p.theta.em,
+            c.cost,
+            speed(0),
+            speed(3),
+            if c.flat { 1.0 } else { 0.0 },
+        ]);
         if c.qp {
             self.qp_solves += 1;
         }
@@ -354,7 +365,10 @@ pub(crate) fn search_branch(
     settings: &FitSettings,
     branch: MomentBranch,
 ) -> Outcome {
-    let mut out = Outcome::default();
+    let mut out = Outcome {
+        data_scale: prep.data_scale(),
+        ..Outcome::default()
+    };
     for space in spaces(branch, settings) {
         let pts = grid(&space);
         out.grid_points += pts.len();
