@@ -106,6 +106,113 @@ pub struct CaseFile {
     /// Velocities at separation.
     #[serde(default, rename = "final")]
     pub final_: Option<StateSection>,
+    /// Estimates (fit): `[estimates.initial]`, `[estimates.final]`.
+    #[serde(default)]
+    pub estimates: Option<PartialStates>,
+    /// Weights of the estimates in (0, 1] (fit), same shape; default 1.
+    #[serde(default)]
+    pub weights: Option<PartialStates>,
+    /// Components known exactly (fit without `--cost`), same shape.
+    #[serde(default)]
+    pub known: Option<PartialStates>,
+    /// Bounds of the fit.
+    #[serde(default)]
+    pub bounds: Option<BoundsSection>,
+    /// Extra observations (fit), e.g. what an EDR recorded.
+    #[serde(default)]
+    pub observations: Vec<ObservationSection>,
+}
+
+/// A vehicle's velocity where every component is optional.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartialVelocity {
+    /// m/s.
+    pub vx: Option<f64>,
+    /// m/s.
+    pub vy: Option<f64>,
+    /// rad/s.
+    pub omega: Option<f64>,
+}
+
+/// Both vehicles, optional components.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartialState {
+    /// Vehicle 1.
+    #[serde(default)]
+    pub vehicle1: PartialVelocity,
+    /// Vehicle 2.
+    #[serde(default)]
+    pub vehicle2: PartialVelocity,
+}
+
+impl PartialState {
+    /// The six components (v1x, v1y, w1, v2x, v2y, w2), `None` where absent.
+    pub fn components(&self) -> [Option<f64>; 6] {
+        let a = &self.vehicle1;
+        let b = &self.vehicle2;
+        [a.vx, a.vy, a.omega, b.vx, b.vy, b.omega]
+    }
+}
+
+/// `initial` and `final`, each optional.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartialStates {
+    /// Contact state.
+    #[serde(default)]
+    pub initial: Option<PartialState>,
+    /// Separation state.
+    #[serde(default, rename = "final")]
+    pub final_: Option<PartialState>,
+}
+
+impl PartialStates {
+    /// The twelve components of U, `None` where absent.
+    pub fn components(&self) -> [Option<f64>; 12] {
+        let mut out = [None; 12];
+        if let Some(i) = &self.initial {
+            out[..6].copy_from_slice(&i.components());
+        }
+        if let Some(f) = &self.final_ {
+            out[6..].copy_from_slice(&f.components());
+        }
+        out
+    }
+}
+
+/// `[bounds]` of a fit.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundsSection {
+    /// [low, high] of e (default [0, 0.2]).
+    pub e: Option<[f64; 2]>,
+    /// [low, high] of mu (default [-1.2, 1.2]); mu is always also between 0 and mu_max.
+    pub mu: Option<[f64; 2]>,
+    /// Bound on each linear velocity component, m/s (default 20).
+    pub velocity: Option<f64>,
+    /// Bound on each yaw rate, rad/s (default 5).
+    pub yaw_rate: Option<f64>,
+}
+
+/// One `[[observations]]` entry.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObservationSection {
+    /// `delta_v_longitudinal`, `delta_v_lateral`, `speed_along_heading` or `lateral_velocity`.
+    pub kind: pim_fit::ObservationKind,
+    /// 1 or 2.
+    pub vehicle: u8,
+    /// m/s.
+    pub value: f64,
+    /// In (0, 1], default 1.
+    #[serde(default = "one")]
+    pub weight: f64,
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 /// A loaded case: the file name (for messages) and its content.

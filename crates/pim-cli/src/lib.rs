@@ -5,5 +5,6 @@
 
 pub mod case;
 pub mod error;
+pub mod fitcase;
 pub mod output;
 pub mod ricsac;

@@ -5,7 +5,7 @@
 use anyhow::Result;
 use clap::{Parser, Subcommand, ValueEnum};
 use pim_cli::error::{self, Failure, EXIT_CODES_HELP, EXIT_OK};
-use pim_cli::{case, output};
+use pim_cli::{case, fitcase, output};
 use pim_core::{MomentForm, SolveOptions, TangentialCondition};
 use std::io::Write;
 use std::path::PathBuf;
@@ -87,14 +87,152 @@ enum Command {
         #[arg(long, default_value_t = 10.0)]
         percent: f64,
     },
+    /// Fit e, mu, em and the twelve velocities to estimates and observations (weighted least
+    /// squares, global search), for both moment branches: em in [-1, 0] ("free") and em = 1
+    /// ("zero"). Infeasible data are reported with the reason.
+    #[command(after_help = format!("{FIT_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Fit(FitArgs),
+}
+
+const FIT_HELP: &str = "\
+CASE FILE: as for `pim solve` ([vehicle1], [vehicle2], [impact]), without [coefficients],
+[initial], [final], plus:
+  [estimates.initial]              # estimated velocities at contact (partial allowed)
+  vehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }
+  vehicle2 = { vx = 6.50, vy = 11.27, omega = 0.0 }
+  [estimates.final]                # estimated velocities at separation
+  vehicle1 = { vx = -7.74, vy = 1.48, omega = -0.52 }
+  vehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }
+  [weights.initial]                # optional, same shape, in (0, 1], default 1
+  vehicle1 = { omega = 0.5 }
+  [known.initial]                  # without --cost only: components held fixed
+  vehicle1 = { omega = 0.0 }
+  [bounds]                         # optional; these are the defaults
+  e = [0.0, 0.2]
+  mu = [-1.2, 1.2]                 # and always between 0 and mu_max
+  velocity = 20.0                  # m/s, every linear component
+  yaw_rate = 5.0                   # rad/s
+  [[observations]]                 # optional, e.g. what an event data recorder gave
+  kind = \"delta_v_longitudinal\"   # delta_v_lateral, speed_along_heading, lateral_velocity
+  vehicle = 1
+  value = -5.1                     # m/s, along the vehicle's own axes
+  weight = 1.0
+
+COST FUNCTIONS (--cost):
+  q1  separation velocities known exactly, contact velocities estimated
+  q2  contact velocities known exactly, separation velocities estimated (Brach's fits)
+  q3  all twelve estimated
+  (none) [known] held fixed, [estimates] estimated, everything else unknown";
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum CostArg {
+    /// Separation velocities known, contact velocities estimated.
+    Q1,
+    /// Contact velocities known, separation velocities estimated.
+    Q2,
+    /// All twelve estimated.
+    Q3,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum BranchArg {
+    /// em in [-1, 0].
+    Free,
+    /// em = 1 (no moment impulse).
+    Zero,
+}
+
+#[derive(clap::Args, Debug)]
+struct FitArgs {
+    /// The case file (TOML); see CASE FILE below.
+    case: PathBuf,
+    /// Cost function; without it the case's [known] and [estimates] define the problem.
+    #[arg(long, value_enum)]
+    cost: Option<CostArg>,
+    /// Moment branches to fit.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
+    branch: Vec<BranchArg>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+    /// Form of the moment equation (6).
+    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
+    moment_form: MomentArg,
+}
+
+fn moment_form(m: MomentArg) -> MomentForm {
+    match m {
+        MomentArg::Corrected => MomentForm::Corrected,
+        MomentArg::Brach1983 => MomentForm::Brach1983,
+    }
+}
+
+fn branches(b: &[BranchArg]) -> Vec<pim_fit::MomentBranch> {
+    let mut out = Vec::new();
+    for x in b {
+        let m = match x {
+            BranchArg::Free => pim_fit::MomentBranch::Free,
+            BranchArg::Zero => pim_fit::MomentBranch::Zero,
+        };
+        if !out.contains(&m) {
+            out.push(m);
+        }
+    }
+    out
+}
+
+fn cmd_fit(a: &FitArgs) -> Result<ExitCode> {
+    let case = case::Case::load(&a.case)?;
+    for (name, present) in [
+        ("[coefficients]", case.content.coefficients.is_some()),
+        ("[initial]", case.content.initial.is_some()),
+        ("[final]", case.content.final_.is_some()),
+    ] {
+        if present {
+            return Err(Failure::Input(format!(
+                "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / [estimates.final]",
+                case.file
+            ))
+            .into());
+        }
+    }
+    let (choice, name) = match a.cost {
+        Some(CostArg::Q1) => (fitcase::CostChoice::Preset(pim_fit::CostPreset::Q1), "q1"),
+        Some(CostArg::Q2) => (fitcase::CostChoice::Preset(pim_fit::CostPreset::Q2), "q2"),
+        Some(CostArg::Q3) => (fitcase::CostChoice::Preset(pim_fit::CostPreset::Q3), "q3"),
+        None => (fitcase::CostChoice::Custom, "custom"),
+    };
+    let problem = fitcase::problem(&case, choice)?;
+    let settings = fitcase::settings(&case, moment_form(a.moment_form), branches(&a.branch))?;
+    let report = pim_fit::fit(&problem, &settings)
+        .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
+    let text = match a.format {
+        Format::Json => json(&output::FitOut {
+            cost_function: name.to_string(),
+            branches: report
+                .branches
+                .iter()
+                .map(output::BranchRecord::new)
+                .collect(),
+            best: report.best,
+            notes: report.notes.clone(),
+        })?,
+        Format::Table => output::fit_table(&title_of(&case), name, &report),
+    };
+    print_out(&text)?;
+    if report.best.is_none() {
+        eprintln!(
+            "pim: {}: no branch has an admissible solution (the reasons are in the output)",
+            case.file
+        );
+        return Ok(ExitCode::from(error::EXIT_NO_ANSWER));
+    }
+    Ok(ExitCode::from(EXIT_OK))
 }
 
 fn options(a: &SolveArgs) -> SolveOptions {
     SolveOptions {
-        moment_form: match a.moment_form {
-            MomentArg::Corrected => MomentForm::Corrected,
-            MomentArg::Brach1983 => MomentForm::Brach1983,
-        },
+        moment_form: moment_form(a.moment_form),
         tangential: if a.no_slip {
             TangentialCondition::NoSlip
         } else {
@@ -177,6 +315,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
     match &cli.command {
         Command::Solve(a) => cmd_solve(a),
         Command::Sensitivity { solve, percent } => cmd_sensitivity(solve, *percent),
+        Command::Fit(a) => cmd_fit(a),
     }
 }
 

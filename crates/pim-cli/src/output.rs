@@ -317,3 +317,187 @@ pub fn sensitivity_table(title: &str, st: &SensitivityStudy) -> String {
     }
     s
 }
+
+/// One fitted branch as a flat record (the JSON of `pim fit` and of `pim batch`).
+#[derive(Debug, Clone, Serialize)]
+pub struct BranchRecord {
+    /// `free` (em in [-1, 0]) or `zero` (em = 1).
+    pub moment: pim_fit::MomentBranch,
+    /// `optimal`, `infeasible` or `limit_reached`.
+    pub status: pim_fit::Status,
+    /// Words: why not optimal, or a caveat.
+    pub reason: Option<String>,
+    /// Restitution.
+    pub e: Option<f64>,
+    /// Friction ratio of equation 5 (mu_max when sticking).
+    pub mu: Option<f64>,
+    /// Moment restitution.
+    pub em: Option<f64>,
+    /// Weighted sum of squares.
+    pub cost: Option<f64>,
+    /// Fitted contact velocities.
+    pub initial: Option<StateOut>,
+    /// Fitted separation velocities.
+    #[serde(rename = "final")]
+    pub final_: Option<StateOut>,
+    /// Largest relative residual of the six equations.
+    pub max_residual: Option<f64>,
+    /// Kinetic energy loss, percent.
+    pub energy_loss_percent: Option<f64>,
+    /// Signed critical friction of the fitted contact state.
+    pub mu_max: Option<f64>,
+    /// mu / mu_max.
+    pub mu_ratio: Option<f64>,
+    /// True when the vehicles stick (mu = mu_max).
+    pub sticking: Option<bool>,
+    /// Delta-V magnitudes, m/s.
+    pub delta_v: Option<DeltaVOut>,
+    /// Impulses on vehicle 1.
+    pub impulse: Option<pim_core::Impulse>,
+    /// Inequality constraints active at the optimum.
+    pub active_constraints: Vec<String>,
+    /// Velocity components the data leave undetermined.
+    pub undetermined: Vec<String>,
+    /// Physically admissible (pim-core's own check).
+    pub admissible: Option<bool>,
+    /// Identifiability ranges.
+    pub identifiability: Vec<pim_fit::Identifiability>,
+    /// How the optimum was established.
+    pub certificate: pim_fit::Certificate,
+}
+
+impl BranchRecord {
+    /// Flattens a branch report.
+    pub fn new(b: &pim_fit::BranchReport) -> Self {
+        let s = b.solution.as_ref();
+        BranchRecord {
+            moment: b.moment,
+            status: b.status,
+            reason: b.reason.clone(),
+            e: s.map(|s| s.e),
+            mu: s.map(|s| s.mu),
+            em: s.map(|s| s.em),
+            cost: s.map(|s| s.cost),
+            initial: s.map(|s| (&s.initial).into()),
+            final_: s.map(|s| (&s.separation).into()),
+            max_residual: s.map(|s| s.max_residual),
+            energy_loss_percent: s.map(|s| s.energy_loss_percent),
+            mu_max: s.and_then(|s| s.mu_max),
+            mu_ratio: s.and_then(|s| s.mu_ratio),
+            sticking: s.map(|s| s.sticking),
+            delta_v: s.map(|s| DeltaVOut {
+                vehicle1: s.delta_v[0].magnitude,
+                vehicle2: s.delta_v[1].magnitude,
+            }),
+            impulse: s.map(|s| s.impulse),
+            active_constraints: s.map_or_else(Vec::new, |s| s.active_constraints.clone()),
+            undetermined: s.map_or_else(Vec::new, |s| s.undetermined.clone()),
+            admissible: s.map(|s| s.admissible),
+            identifiability: b.identifiability.clone(),
+            certificate: b.certificate.clone(),
+        }
+    }
+}
+
+/// The JSON of `pim fit`.
+#[derive(Debug, Clone, Serialize)]
+pub struct FitOut {
+    /// `q1`, `q2`, `q3` or `custom`.
+    pub cost_function: String,
+    /// One record per branch.
+    pub branches: Vec<BranchRecord>,
+    /// The optimal branch with the lower cost.
+    pub best: Option<pim_fit::MomentBranch>,
+    /// Remarks on the whole fit.
+    pub notes: Vec<String>,
+}
+
+fn opt3(x: Option<f64>) -> String {
+    x.map_or_else(|| "-".to_string(), |v| format!("{v:.3}"))
+}
+
+/// The human-readable table of a fit.
+pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{title}\nfit with cost function {cost}\n");
+    for b in &r.branches {
+        let _ = writeln!(
+            s,
+            "branch {:<4} ({}): {:?}{}",
+            b.moment.name(),
+            if b.moment == pim_fit::MomentBranch::Zero {
+                "em = 1"
+            } else {
+                "em in [-1, 0]"
+            },
+            b.status,
+            if Some(b.moment) == r.best {
+                "   <- best"
+            } else {
+                ""
+            }
+        );
+        if let Some(reason) = &b.reason {
+            let _ = writeln!(s, "  {reason}");
+        }
+        if let Some(sol) = &b.solution {
+            let _ = writeln!(
+                s,
+                "  e = {:.4}   mu = {:+.4}   em = {:+.4}   mu/mu_max = {}   {}",
+                sol.e,
+                sol.mu,
+                sol.em,
+                opt3(sol.mu_ratio),
+                if sol.sticking { "sticking" } else { "sliding" }
+            );
+            let _ = writeln!(
+                s,
+                "  cost {:.5}   energy loss {:.2} %   |dV| {:.3} / {:.3} m/s   residual {:.1e}",
+                sol.cost,
+                sol.energy_loss_percent,
+                sol.delta_v[0].magnitude,
+                sol.delta_v[1].magnitude,
+                sol.max_residual
+            );
+            let _ = writeln!(s, "                 vx [m/s]   vy [m/s]  omega [rad/s]");
+            for (name, st) in [("initial", &sol.initial), ("final", &sol.separation)] {
+                for (k, v) in [&st.vehicle1, &st.vehicle2].iter().enumerate() {
+                    let _ = writeln!(
+                        s,
+                        "  {name:<7} veh{} {:>9.3}  {:>9.3}  {:>13.3}",
+                        k + 1,
+                        v.vx,
+                        v.vy,
+                        v.omega
+                    );
+                }
+            }
+            if !sol.active_constraints.is_empty() {
+                let _ = writeln!(s, "  active: {}", sol.active_constraints.join("; "));
+            }
+            for i in &b.identifiability {
+                if !i.identifiable {
+                    let _ = writeln!(
+                        s,
+                        "  not pinned down: {} within {:.0} % of the optimum for {:.3} .. {:.3}{}",
+                        i.coefficient,
+                        i.tolerance * 100.0,
+                        i.low,
+                        i.high,
+                        if i.open_ended { " and beyond" } else { "" }
+                    );
+                }
+            }
+        }
+        let c = &b.certificate;
+        let _ = writeln!(
+            s,
+            "  search: {} grid points, {} inner solves ({} exact, {} by QP), {}/{} refinements agree\n",
+            c.grid_points, c.evaluations, c.exact_solves, c.qp_solves, c.refinements_agreeing, c.refinements
+        );
+    }
+    for n in &r.notes {
+        let _ = writeln!(s, "note: {n}");
+    }
+    s
+}

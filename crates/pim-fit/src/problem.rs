@@ -217,9 +217,6 @@ impl FitProblem {
             check_weight(&what, o.weight)?;
             anything = true;
         }
-        if !anything {
-            return Err(FitError::NothingToFit);
-        }
         let fixed_initial = self.components[..6]
             .iter()
             .filter(|c| matches!(c, Knowledge::Known { .. }))
@@ -234,6 +231,9 @@ impl FitProblem {
                  the six equations leave only six degrees of freedom, so at most six components \
                  can be known exactly (make the others estimates)"
             )));
+        }
+        if !anything {
+            return Err(FitError::NothingToFit);
         }
         Ok(())
     }

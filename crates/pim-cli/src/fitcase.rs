@@ -1,0 +1,179 @@
+//! Building a fit problem from a case file (`pim fit`).
+
+use crate::case::{Case, Failure};
+use pim_core::VehicleId;
+use pim_fit::{
+    CostPreset, FitProblem, FitSettings, Knowledge, MomentBranch, Observation, COMPONENT_NAMES,
+};
+
+/// What `--cost` selects: a preset, or the case's own known / estimated components.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CostChoice {
+    /// Q1, Q2 or Q3 from `[estimates]`.
+    Preset(CostPreset),
+    /// `[known]` held fixed, `[estimates]` estimated, everything else unknown.
+    Custom,
+}
+
+fn input(case: &Case, what: String) -> Failure {
+    Failure::Input(format!("{}: {what}", case.file))
+}
+
+/// The fit problem of a case.
+pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem, Failure> {
+    let impact = case.impact()?;
+    let c = &case.content;
+    let est = c.estimates.unwrap_or_default().components();
+    let weights = c.weights.unwrap_or_default().components();
+    let known = c.known.unwrap_or_default().components();
+    for (k, w) in weights.iter().enumerate() {
+        if let Some(w) = w {
+            if !(w.is_finite() && *w > 0.0 && *w <= 1.0) {
+                return Err(input(
+                    case,
+                    format!(
+                        "[weights] {}: weight {w} must be in (0, 1]",
+                        COMPONENT_NAMES[k]
+                    ),
+                ));
+            }
+            if est[k].is_none() && !matches!(choice, CostChoice::Preset(_)) {
+                return Err(input(
+                    case,
+                    format!(
+                        "[weights] {}: a weight without an estimate",
+                        COMPONENT_NAMES[k]
+                    ),
+                ));
+            }
+        }
+    }
+    for (k, v) in est.iter().chain(known.iter()).enumerate() {
+        if let Some(v) = v {
+            if !v.is_finite() {
+                let sec = if k < 12 { "estimates" } else { "known" };
+                return Err(input(
+                    case,
+                    format!(
+                        "[{sec}] {}: must be a finite number, got {v}",
+                        COMPONENT_NAMES[k % 12]
+                    ),
+                ));
+            }
+        }
+    }
+    let mut components = [Knowledge::Unknown; 12];
+    match choice {
+        CostChoice::Preset(preset) => {
+            if known.iter().any(Option::is_some) {
+                return Err(input(case, format!(
+                    "[known] is for fits without --cost; with --cost {} the preset decides what is known",
+                    preset.name()
+                )));
+            }
+            let needed: Vec<usize> = match preset {
+                CostPreset::Q1 | CostPreset::Q2 | CostPreset::Q3 => (0..12).collect(),
+            };
+            for k in needed {
+                let Some(value) = est[k] else {
+                    return Err(input(case, format!(
+                        "--cost {} needs every component of [estimates.initial] and [estimates.final]; {} is missing",
+                        preset.name(),
+                        COMPONENT_NAMES[k]
+                    )));
+                };
+                let is_known = matches!(
+                    (preset, k < 6),
+                    (CostPreset::Q1, false) | (CostPreset::Q2, true)
+                );
+                components[k] = if is_known {
+                    Knowledge::Known { value }
+                } else {
+                    Knowledge::Estimated {
+                        value,
+                        weight: weights[k].unwrap_or(1.0),
+                    }
+                };
+            }
+        }
+        CostChoice::Custom => {
+            for k in 0..12 {
+                components[k] = match (known[k], est[k]) {
+                    (Some(_), Some(_)) => {
+                        return Err(input(
+                            case,
+                            format!(
+                                "{} is both in [known] and in [estimates]; it can only be one",
+                                COMPONENT_NAMES[k]
+                            ),
+                        ))
+                    }
+                    (Some(value), None) => Knowledge::Known { value },
+                    (None, Some(value)) => Knowledge::Estimated {
+                        value,
+                        weight: weights[k].unwrap_or(1.0),
+                    },
+                    (None, None) => Knowledge::Unknown,
+                };
+            }
+        }
+    }
+    let mut observations = Vec::new();
+    for (i, o) in c.observations.iter().enumerate() {
+        let vehicle = match o.vehicle {
+            1 => VehicleId::One,
+            2 => VehicleId::Two,
+            n => {
+                return Err(input(
+                    case,
+                    format!(
+                        "[[observations]] entry {}: vehicle = {n}, expected 1 or 2",
+                        i + 1
+                    ),
+                ))
+            }
+        };
+        observations.push(Observation {
+            kind: o.kind,
+            vehicle,
+            value: o.value,
+            weight: o.weight,
+        });
+    }
+    let problem = FitProblem {
+        impact,
+        components,
+        observations,
+    };
+    problem.check().map_err(|e| input(case, e.to_string()))?;
+    Ok(problem)
+}
+
+/// The settings of a case (`[bounds]`), with the command-line choices.
+pub fn settings(
+    case: &Case,
+    moment_form: pim_core::MomentForm,
+    branches: Vec<MomentBranch>,
+) -> Result<pim_fit::ValidSettings, Failure> {
+    let mut s = FitSettings {
+        moment_form,
+        branches,
+        ..Default::default()
+    };
+    if let Some(b) = case.content.bounds {
+        if let Some(e) = b.e {
+            s.e = e;
+        }
+        if let Some(mu) = b.mu {
+            s.mu = mu;
+        }
+        if let Some(v) = b.velocity {
+            s.velocity_bound = v;
+        }
+        if let Some(w) = b.yaw_rate {
+            s.yaw_rate_bound = w;
+        }
+    }
+    s.check()
+        .map_err(|e| input(case, e.to_string().replacen("bounds: ", "[bounds] ", 1)))
+}

@@ -1,0 +1,193 @@
+//! End-to-end tests of `pim fit`: the real binary, its JSON, exit codes and messages.
+use serde_json::Value;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn pim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(args)
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+        .output()
+        .expect("run pim")
+}
+
+fn case_text() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/cases/ricsac7_fit.toml"
+    ))
+    .unwrap()
+}
+
+fn write_case(name: &str, text: &str) -> String {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_fit");
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+#[test]
+fn fit_json_has_both_branches_and_the_best() {
+    for cost in ["q1", "q2", "q3"] {
+        let out = pim(&[
+            "fit",
+            "examples/cases/ricsac7_fit.toml",
+            "--cost",
+            cost,
+            "--format",
+            "json",
+        ]);
+        assert!(out.status.success(), "{cost}: {}", stderr(&out));
+        assert!(out.stderr.is_empty(), "json runs print nothing on stderr");
+        let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(j["cost_function"], cost);
+        let branches = j["branches"].as_array().unwrap();
+        assert_eq!(branches.len(), 2);
+        assert_eq!(branches[0]["moment"], "free");
+        assert_eq!(branches[1]["moment"], "zero");
+        for b in branches {
+            assert_eq!(b["status"], "optimal");
+            for k in [
+                "e",
+                "mu",
+                "em",
+                "cost",
+                "max_residual",
+                "energy_loss_percent",
+                "mu_max",
+            ] {
+                assert!(b[k].is_f64(), "{cost} {k}");
+            }
+            assert!(b["max_residual"].as_f64().unwrap() < 1e-10);
+            assert!((b["em"].as_f64().unwrap() - 1.0).abs() < 1e-12 || b["moment"] == "free");
+            for state in ["initial", "final"] {
+                for v in ["vehicle1", "vehicle2"] {
+                    for c in ["vx", "vy", "omega"] {
+                        assert!(b[state][v][c].is_f64());
+                    }
+                }
+            }
+        }
+        let best = j["best"].as_str().unwrap();
+        let costs: Vec<f64> = branches
+            .iter()
+            .map(|b| b["cost"].as_f64().unwrap())
+            .collect();
+        let best_cost = branches.iter().find(|b| b["moment"] == best).unwrap()["cost"]
+            .as_f64()
+            .unwrap();
+        assert!(costs.iter().all(|c| best_cost <= c + 1e-6 * (1.0 + c)));
+    }
+    // Q1 holds the separation velocities fixed.
+    let j: Value = serde_json::from_slice(
+        &pim(&[
+            "fit",
+            "examples/cases/ricsac7_fit.toml",
+            "--cost",
+            "q1",
+            "--format",
+            "json",
+        ])
+        .stdout,
+    )
+    .unwrap();
+    assert!(
+        (j["branches"][1]["final"]["vehicle1"]["vx"]
+            .as_f64()
+            .unwrap()
+            + 7.74)
+            .abs()
+            < 1e-9
+    );
+}
+
+#[test]
+fn infeasible_data_are_an_explained_outcome() {
+    // RICSAC 1 as in data/ricsac.csv: the measured separation velocities still approach at C.
+    let text = "\
+[vehicle1]
+mass = 2096.0
+yaw_inertia = 5054.0
+heading = 0.0
+d = 2.425
+phi = -19.8
+[vehicle2]
+mass = 1398.0
+yaw_inertia = 2659.0
+heading = 60.0
+d = 1.045
+phi = -38.7
+[impact]
+crush_angle = -30.0
+[estimates.initial]
+vehicle1 = { vx = -8.95, vy = 0.0, omega = 0.0 }
+vehicle2 = { vx = 4.43, vy = 7.67, omega = 0.0 }
+[estimates.final]
+vehicle1 = { vx = -3.76, vy = 2.41, omega = -1.57 }
+vehicle2 = { vx = -2.07, vy = 5.17, omega = 0.0 }
+";
+    let path = write_case("ricsac1.toml", text);
+    let out = pim(&["fit", &path, "--cost", "q1", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["best"], Value::Null);
+    for b in j["branches"].as_array().unwrap() {
+        assert_eq!(b["status"], "infeasible");
+        assert!(b["reason"]
+            .as_str()
+            .unwrap()
+            .contains("still approach at the impact centre"));
+        assert_eq!(b["e"], Value::Null);
+    }
+    assert!(stderr(&out).contains(&path) && stderr(&out).contains("no branch"));
+    // Q2 of the same data has an answer.
+    assert!(pim(&["fit", &path, "--cost", "q2"]).status.success());
+}
+
+#[test]
+fn bad_fit_cases_exit_2_naming_the_culprit() {
+    let base = case_text();
+    let cases: Vec<(&str, String, Vec<&str>, &str)> = vec![
+        ("missing.toml", base.replace("vehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }", "vehicle2 = { vx = -2.22, vy = 8.64 }"), vec!["--cost", "q2"], "final.vehicle2.omega is missing"),
+        ("weight.toml", format!("{base}\n[weights.final]\nvehicle1 = {{ vx = 1.5 }}\n"), vec!["--cost", "q2"], "[weights] final.vehicle1.vx: weight 1.5"),
+        ("obs.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_longitudinal\"\nvehicle = 3\nvalue = 1.0\n"), vec!["--cost", "q2"], "vehicle = 3"),
+        ("obskind.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_sideways\"\nvehicle = 1\nvalue = 1.0\n"), vec!["--cost", "q2"], "delta_v_sideways"),
+        ("both.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec![], "both in [known] and in [estimates]"),
+        ("known_with_cost.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec!["--cost", "q3"], "[known] is for fits without --cost"),
+        ("coef.toml", format!("{base}\n[coefficients]\ne = 0.1\nmu = 0.5\nem = 1.0\n"), vec!["--cost", "q2"], "[coefficients] is for `pim solve`"),
+        ("bounds.toml", base.replace("e = [0.0, 0.2]", "e = [0.3, 0.2]"), vec!["--cost", "q2"], "[bounds] e = [0.3, 0.2]"),
+        ("nan.toml", base.replace("vx = -7.74", "vx = nan"), vec!["--cost", "q2"], "final.vehicle1.vx"),
+        ("over.toml", format!("{}\n[known.final]\nvehicle1 = {{ vx = -7.74, vy = 1.48, omega = -0.52 }}\nvehicle2 = {{ vx = -2.22 }}\n", base.replace("[estimates.final]\nvehicle1 = { vx = -7.74, vy = 1.48, omega = -0.52 }\nvehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }", "").replace("[estimates.initial]", "[known.initial]")), vec![], "at most six components"),
+    ];
+    for (name, text, extra, needle) in cases {
+        let path = write_case(name, &text);
+        let mut args = vec!["fit", path.as_str()];
+        args.extend(extra);
+        let out = pim(&args);
+        let msg = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{name}: {msg}");
+        assert!(msg.contains(&path), "{name}: {msg}");
+        assert!(msg.contains(needle), "{name}: `{needle}` not in {msg}");
+        assert!(out.stdout.is_empty(), "{name}");
+    }
+}
+
+#[test]
+fn fit_help_documents_the_case_file() {
+    let out = pim(&["fit", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "[estimates.initial]",
+        "[[observations]]",
+        "delta_v_longitudinal",
+        "q2",
+        "EXIT STATUS",
+    ] {
+        assert!(text.contains(needle), "{needle}");
+    }
+}
