@@ -5,7 +5,6 @@ use std::fmt;
 /// Exit status: success.
 pub const EXIT_OK: u8 = 0;
 /// Exit status: some records of a batch failed (infeasible, bad row); the others were written.
-#[allow(dead_code)] // returned by the batch command
 pub const EXIT_SOME_FAILED: u8 = 1;
 /// Exit status: bad input (command line, file, field, value); nothing was computed.
 pub const EXIT_BAD_INPUT: u8 = 2;

@@ -5,7 +5,7 @@
 use anyhow::Result;
 use clap::{Parser, Subcommand, ValueEnum};
 use pim_cli::error::{self, Failure, EXIT_CODES_HELP, EXIT_OK};
-use pim_cli::{case, fitcase, output};
+use pim_cli::{batch, case, figures, fitcase, output, ricsac};
 use pim_core::{MomentForm, SolveOptions, TangentialCondition};
 use std::io::Write;
 use std::path::PathBuf;
@@ -92,6 +92,70 @@ enum Command {
     /// ("zero"). Infeasible data are reported with the reason.
     #[command(after_help = format!("{FIT_HELP}\n\n{EXIT_CODES_HELP}"))]
     Fit(FitArgs),
+    /// Refit every RICSAC test of a data file under each cost function and moment branch (the
+    /// main job): summary tables, the comparison with Brach 1984 Table 1, JSON or CSV records,
+    /// and with --out, CSV files and SVG figures.
+    #[command(after_help = format!("{BATCH_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Batch(BatchArgs),
+    /// Per test, the cost functions side by side and the error of every velocity component
+    /// against the measurement, the largest flagged (as Vossou & Koulocheris 2018 Tables 4-6).
+    #[command(after_help = format!("{BATCH_HELP}\n\n{EXIT_CODES_HELP}"))]
+    CompareCosts(BatchArgs),
+}
+
+const BATCH_HELP: &str = "\
+DATA FILE: a CSV with one row per test, columns as in data/ricsac.csv (see data/README.md);
+the file's header must match exactly. A row whose physics fails (the vehicles do not approach,
+a singular system) is reported in its records as `failed`; the other rows are still fitted.
+
+OUTPUT (--out DIR): records.csv (one row per test, cost function and branch), records.json,
+velocity_errors.csv (fitted minus measured per component), summary.txt, compare_costs.txt,
+brach1984.txt (when data/reference/brach1984_table1.csv is next to the data file), and the
+figures cost.svg, coefficients.svg, delta_v.svg, separation.svg.
+
+The records are identical for any --threads. Exit status 1 means some records are infeasible
+(an answer: the data admit no solution, the reason is in the record) or failed; for the RICSAC
+data, Q1 is infeasible for tests 1, 6, 7, 10 and 11.";
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum BatchFormat {
+    /// Human-readable tables.
+    Table,
+    /// One JSON document with every record.
+    Json,
+    /// One CSV row per record.
+    Csv,
+}
+
+#[derive(clap::Args, Debug)]
+struct BatchArgs {
+    /// The data file.
+    #[arg(default_value = "data/ricsac.csv")]
+    data: PathBuf,
+    /// Cost functions.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [CostArg::Q1, CostArg::Q2, CostArg::Q3])]
+    cost: Vec<CostArg>,
+    /// Moment branches.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
+    branch: Vec<BranchArg>,
+    /// Only these tests (numbers as in the data file), e.g. --tests 1,6,7.
+    #[arg(long, value_delimiter = ',')]
+    tests: Vec<u32>,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = BatchFormat::Table)]
+    format: BatchFormat,
+    /// Also write CSV tables and SVG figures into this directory (created if needed).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Upper bound of e (default 0.2; Brach 1984 needed up to 0.42).
+    #[arg(long, default_value_t = 0.2)]
+    e_max: f64,
+    /// Form of the moment equation (6).
+    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
+    moment_form: MomentArg,
 }
 
 const FIT_HELP: &str = "\
@@ -311,11 +375,168 @@ fn cmd_sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
     Ok(ExitCode::from(EXIT_OK))
 }
 
+fn presets(c: &[CostArg]) -> Vec<pim_fit::CostPreset> {
+    let mut out = Vec::new();
+    for x in c {
+        let p = match x {
+            CostArg::Q1 => pim_fit::CostPreset::Q1,
+            CostArg::Q2 => pim_fit::CostPreset::Q2,
+            CostArg::Q3 => pim_fit::CostPreset::Q3,
+        };
+        if !out.contains(&p) {
+            out.push(p);
+        }
+    }
+    out
+}
+
+fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| {
+        Failure::Output(format!(
+            "{}: cannot write: {}",
+            path.display(),
+            case::io_reason(&e)
+        ))
+        .into()
+    })
+}
+
+fn cmd_batch(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
+    let file = a.data.display().to_string();
+    let mut tests = ricsac::load(&a.data)?;
+    if !a.tests.is_empty() {
+        for t in &a.tests {
+            if !tests.iter().any(|r| r.test == *t) {
+                let have: Vec<String> = tests.iter().map(|r| r.test.to_string()).collect();
+                return Err(Failure::Input(format!(
+                    "--tests: test {t} is not in {file} (it has {})",
+                    have.join(", ")
+                ))
+                .into());
+            }
+        }
+        tests.retain(|r| a.tests.contains(&r.test));
+    }
+    if let Some(n) = a.threads {
+        if n == 0 {
+            return Err(Failure::Input("--threads must be at least 1".into()).into());
+        }
+    }
+    let settings = pim_fit::FitSettings {
+        e: [0.0, a.e_max],
+        moment_form: moment_form(a.moment_form),
+        ..Default::default()
+    };
+    // Check the shared settings once, so a bad flag is an input error, not 66 failed records.
+    settings
+        .clone()
+        .check()
+        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
+    let plan = batch::BatchPlan {
+        costs: presets(&a.cost),
+        branches: branches(&a.branch),
+        settings,
+    };
+    let n_jobs = (tests.len() * plan.costs.len()) as u64;
+    let show =
+        a.format != BatchFormat::Json && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = if show {
+        let b = indicatif::ProgressBar::new(n_jobs);
+        b.set_message("fitting");
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let tick = || bar.inc(1);
+    let records = match a.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| Failure::Input(format!("--threads {n}: {e}")))?
+            .install(|| batch::run(&tests, &plan, &tick)),
+        None => batch::run(&tests, &plan, &tick),
+    };
+    bar.finish_and_clear();
+    let brach = a
+        .data
+        .parent()
+        .map(|d| d.join("reference").join("brach1984_table1.csv"))
+        .filter(|p| p.is_file())
+        .and_then(|p| std::fs::read_to_string(p).ok())
+        .and_then(|t| batch::parse_brach(&t).ok());
+    let summary = batch::summary_table(&records, &plan.costs);
+    let compare_text = batch::compare_costs_table(&records, &plan.costs);
+    let brach_text = brach
+        .as_ref()
+        .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2))
+        .map(|b| batch::brach_table(&records, b));
+    let records_json = json(&serde_json::json!({ "data": file, "records": records }))?;
+    let text = match a.format {
+        BatchFormat::Json => records_json.clone(),
+        BatchFormat::Csv => batch::records_csv(&records).map_err(|e| Failure::Output(e))?,
+        BatchFormat::Table if compare => compare_text.clone(),
+        BatchFormat::Table => {
+            let mut t = format!("{file}: {} tests\n\n{summary}", tests.len());
+            if let Some(b) = &brach_text {
+                t.push_str(b);
+            }
+            t
+        }
+    };
+    print_out(&text)?;
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            Failure::Output(format!(
+                "{}: cannot create the directory: {}",
+                dir.display(),
+                case::io_reason(&e)
+            ))
+        })?;
+        write_file(
+            &dir.join("records.csv"),
+            &batch::records_csv(&records).map_err(|e| Failure::Output(e))?,
+        )?;
+        write_file(&dir.join("records.json"), &records_json)?;
+        write_file(
+            &dir.join("velocity_errors.csv"),
+            &batch::errors_csv(&records),
+        )?;
+        write_file(&dir.join("summary.txt"), &summary)?;
+        write_file(&dir.join("compare_costs.txt"), &compare_text)?;
+        if let Some(b) = &brach_text {
+            write_file(&dir.join("brach1984.txt"), b)?;
+        }
+        let figs = figures::write_all(&records, &plan.costs, dir)
+            .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
+        if a.format != BatchFormat::Json {
+            eprintln!(
+                "pim: wrote {} tables and {} figures to {}",
+                if brach_text.is_some() { 6 } else { 5 },
+                figs.len(),
+                dir.display()
+            );
+        }
+    }
+    let unsolved = records.iter().filter(|r| !r.solved()).count();
+    if unsolved > 0 {
+        if a.format != BatchFormat::Json {
+            eprintln!(
+                "pim: {unsolved} of {} records have no solution (infeasible or failed); their rows say why",
+                records.len()
+            );
+        }
+        return Ok(ExitCode::from(error::EXIT_SOME_FAILED));
+    }
+    Ok(ExitCode::from(EXIT_OK))
+}
+
 fn run(cli: Cli) -> Result<ExitCode> {
     match &cli.command {
         Command::Solve(a) => cmd_solve(a),
         Command::Sensitivity { solve, percent } => cmd_sensitivity(solve, *percent),
         Command::Fit(a) => cmd_fit(a),
+        Command::Batch(a) => cmd_batch(a, false),
+        Command::CompareCosts(a) => cmd_batch(a, true),
     }
 }
 

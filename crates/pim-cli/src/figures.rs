@@ -1,0 +1,284 @@
+//! SVG figures of a batch run (plotters): cost per test and cost function, the coefficients, the
+//! relative delta-V error per vehicle, and fitted against measured separation velocities.
+
+use crate::batch::BatchRecord;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+const COLORS: [RGBColor; 3] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+];
+
+/// One series of a grouped bar chart: its name and one value per test (`None`: no bar).
+struct Series {
+    name: String,
+    values: Vec<Option<f64>>,
+}
+
+/// Reads one value of a record.
+type Getter = dyn Fn(&BatchRecord) -> Option<f64>;
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
+
+fn err<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+fn grouped_bars(
+    area: &Area,
+    title: &str,
+    y_label: &str,
+    tests: &[u32],
+    series: &[Series],
+) -> Result<(), String> {
+    let vals: Vec<f64> = series
+        .iter()
+        .flat_map(|s| s.values.iter().flatten().copied())
+        .collect();
+    let lo = vals.iter().copied().fold(0.0_f64, f64::min);
+    let hi = vals.iter().copied().fold(0.0_f64, f64::max);
+    let pad = 0.08 * (hi - lo).max(1e-9);
+    let n = tests.len();
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), (lo - pad)..(hi + pad))
+        .map_err(err)?;
+    let labels: Vec<String> = tests.iter().map(|t| t.to_string()).collect();
+    chart
+        .configure_mesh()
+        .x_desc("RICSAC test")
+        .y_desc(y_label)
+        .x_labels(n)
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < labels.len() {
+                labels[i as usize].clone()
+            } else {
+                String::new()
+            }
+        })
+        .disable_x_mesh()
+        .draw()
+        .map_err(err)?;
+    let k = series.len().max(1) as f64;
+    let w = 0.8 / k;
+    for (j, s) in series.iter().enumerate() {
+        let color = COLORS[j % COLORS.len()];
+        let rects: Vec<Rectangle<(f64, f64)>> = s
+            .values
+            .iter()
+            .enumerate()
+            .filter_map(|(i, v)| {
+                v.map(|v| {
+                    let x0 = i as f64 - 0.4 + j as f64 * w;
+                    Rectangle::new([(x0, 0.0), (x0 + w * 0.9, v)], color.filled())
+                })
+            })
+            .collect();
+        chart
+            .draw_series(rects)
+            .map_err(err)?
+            .label(s.name.clone())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
+
+fn best_per_cost(
+    records: &[BatchRecord],
+    test: u32,
+    cost: pim_fit::CostPreset,
+) -> Option<&BatchRecord> {
+    records
+        .iter()
+        .find(|r| r.test == test && r.cost_function == cost && r.best && r.solved())
+}
+
+/// Writes the four figures into `dir`; returns their paths.
+pub fn write_all(
+    records: &[BatchRecord],
+    costs: &[pim_fit::CostPreset],
+    dir: &Path,
+) -> Result<Vec<PathBuf>, String> {
+    let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
+    tests.dedup();
+    let per_cost = |f: &dyn Fn(&BatchRecord) -> Option<f64>| -> Vec<Series> {
+        costs
+            .iter()
+            .map(|&c| Series {
+                name: c.name().to_uppercase(),
+                values: tests
+                    .iter()
+                    .map(|&t| best_per_cost(records, t, c).and_then(f))
+                    .collect(),
+            })
+            .collect()
+    };
+    let mut paths = Vec::new();
+
+    let p = dir.join("cost.svg");
+    {
+        let root = SVGBackend::new(&p, (900, 500)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        grouped_bars(
+            &root,
+            "Minimum cost per test and cost function (best branch; no bar: infeasible)",
+            "weighted sum of squares [(m/s)^2]",
+            &tests,
+            &per_cost(&|r| r.branch.as_ref().and_then(|b| b.cost)),
+        )?;
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+
+    let p = dir.join("coefficients.svg");
+    {
+        let root = SVGBackend::new(&p, (900, 1100)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let panels = root.split_evenly((3, 1));
+        let getters: [(&str, &str, &Getter); 3] = [
+            (
+                "Restitution e per test (best branch; no bar: 0 or infeasible)",
+                "e [-]",
+                &|r| r.branch.as_ref().and_then(|b| b.e),
+            ),
+            (
+                "Moment restitution em per test (no bar: 0 or infeasible)",
+                "em [-]",
+                &|r| r.branch.as_ref().and_then(|b| b.em),
+            ),
+            (
+                "Equivalent friction mu per test (no bar: 0 or infeasible)",
+                "mu [-]",
+                &|r| r.branch.as_ref().and_then(|b| b.mu),
+            ),
+        ];
+        for (panel, (title, label, f)) in panels.iter().zip(getters) {
+            grouped_bars(panel, title, label, &tests, &per_cost(f))?;
+        }
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+
+    let p = dir.join("delta_v.svg");
+    {
+        let root = SVGBackend::new(&p, (900, 800)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let panels = root.split_evenly((2, 1));
+        for (v, panel) in panels.iter().enumerate() {
+            grouped_bars(
+                panel,
+                &format!(
+                    "Relative delta-V error of vehicle {} ((fitted - measured) / measured)",
+                    v + 1
+                ),
+                "relative error [%]",
+                &tests,
+                &per_cost(&|r| r.delta_v_relative_error.map(|e| 100.0 * e[v])),
+            )?;
+        }
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+
+    let p = dir.join("separation.svg");
+    {
+        let root = SVGBackend::new(&p, (1000, 500)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let panels = root.split_evenly((1, 2));
+        for (panel, (title, unit, comps)) in panels.iter().zip([
+            (
+                "Separation velocities: fitted vs measured",
+                "m/s",
+                [6usize, 7, 9, 10].as_slice(),
+            ),
+            (
+                "Separation yaw rates: fitted vs measured",
+                "rad/s",
+                [8usize, 11].as_slice(),
+            ),
+        ]) {
+            let mut pts: Vec<(usize, f64, f64)> = Vec::new();
+            for (j, &c) in costs.iter().enumerate() {
+                for &t in &tests {
+                    if let Some(r) = best_per_cost(records, t, c) {
+                        if let (Some(e), Some(b)) = (r.velocity_error, r.branch.as_ref()) {
+                            let f = b.final_.as_ref().map(|s| {
+                                [
+                                    s.vehicle1.vx,
+                                    s.vehicle1.vy,
+                                    s.vehicle1.omega,
+                                    s.vehicle2.vx,
+                                    s.vehicle2.vy,
+                                    s.vehicle2.omega,
+                                ]
+                            });
+                            if let Some(f) = f {
+                                for &k in comps {
+                                    let fitted = f[k - 6];
+                                    pts.push((j, fitted - e[k], fitted));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            let lim = pts
+                .iter()
+                .flat_map(|p| [p.1.abs(), p.2.abs()])
+                .fold(1.0_f64, f64::max)
+                * 1.1;
+            let mut chart = ChartBuilder::on(panel)
+                .caption(title, ("sans-serif", 16))
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(50)
+                .build_cartesian_2d(-lim..lim, -lim..lim)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(format!("measured [{unit}]"))
+                .y_desc(format!("fitted [{unit}]"))
+                .draw()
+                .map_err(err)?;
+            chart
+                .draw_series(LineSeries::new([(-lim, -lim), (lim, lim)], BLACK.mix(0.4)))
+                .map_err(err)?
+                .label("fitted = measured")
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 12, y)], BLACK.mix(0.4)));
+            for (j, &c) in costs.iter().enumerate() {
+                let color = COLORS[j % COLORS.len()];
+                chart
+                    .draw_series(
+                        pts.iter()
+                            .filter(|p| p.0 == j)
+                            .map(|p| Circle::new((p.1, p.2), 3, color.filled())),
+                    )
+                    .map_err(err)?
+                    .label(c.name().to_uppercase())
+                    .legend(move |(x, y)| Circle::new((x + 5, y), 3, color.filled()));
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+    Ok(paths)
+}

@@ -1,0 +1,160 @@
+//! End-to-end tests of `pim batch` and `pim compare-costs` on data/ricsac.csv.
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn pim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .expect("run pim")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("cli_batch")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn full_batch_json_has_66_sound_records_and_writes_the_figures() {
+    let out_dir = scratch("full");
+    let out = pim(&[
+        "batch",
+        "data/ricsac.csv",
+        "--format",
+        "json",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    // Some Q1 fits are infeasible by the data, so the exit status is 1, and nothing is on stderr.
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let recs = j["records"].as_array().unwrap();
+    assert_eq!(recs.len(), 66);
+    let mut infeasible = Vec::new();
+    for r in recs {
+        let outcome = r["outcome"].as_str().unwrap();
+        match outcome {
+            "optimal" | "limit_reached" => {
+                assert!(r["max_residual"].as_f64().unwrap() < 1e-10, "{r}");
+                assert_eq!(r["admissible"], Value::Bool(true), "{r}");
+                assert!(r["energy_loss_percent"].as_f64().unwrap() >= 0.0);
+                assert!(r["velocity_error"].as_array().unwrap().len() == 12);
+            }
+            "infeasible" => {
+                assert!(!r["reason"].as_str().unwrap().is_empty());
+                infeasible.push((
+                    r["test"].as_u64().unwrap(),
+                    r["cost_function"].as_str().unwrap().to_string(),
+                ));
+            }
+            other => panic!("unexpected outcome {other}: {r}"),
+        }
+    }
+    // The infeasible records: Q1 of tests 1, 6, 7, 10, 11, both branches.
+    assert_eq!(infeasible.len(), 10);
+    assert!(infeasible
+        .iter()
+        .all(|(t, c)| c == "q1" && [1, 6, 7, 10, 11].contains(t)));
+    for f in [
+        "cost.svg",
+        "coefficients.svg",
+        "delta_v.svg",
+        "separation.svg",
+        "records.csv",
+        "records.json",
+        "velocity_errors.csv",
+        "summary.txt",
+        "compare_costs.txt",
+        "brach1984.txt",
+    ] {
+        let p = out_dir.join(f);
+        let len = std::fs::metadata(&p).map(|m| m.len()).unwrap_or(0);
+        assert!(len > 1000, "{f} missing or nearly empty ({len} bytes)");
+    }
+    let svg = std::fs::read_to_string(out_dir.join("cost.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("RICSAC test") && svg.contains("Q3"));
+    let csv = std::fs::read_to_string(out_dir.join("records.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 67);
+}
+
+#[test]
+fn output_is_identical_for_any_thread_count() {
+    let a = pim(&["batch", "--format", "json", "--threads", "1"]);
+    let b = pim(&["batch", "--format", "json", "--threads", "2"]);
+    let c = pim(&["batch", "--format", "csv", "--threads", "1"]);
+    let d = pim(&["batch", "--format", "csv", "--threads", "2"]);
+    assert!(!a.stdout.is_empty());
+    assert!(a.stdout == b.stdout, "JSON differs between 1 and 2 threads");
+    assert!(c.stdout == d.stdout, "CSV differs between 1 and 2 threads");
+}
+
+#[test]
+fn the_readme_main_command_works_as_written() {
+    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
+    let line = readme
+        .lines()
+        .find(|l| l.starts_with("cargo run --release -p pim-cli -- batch"))
+        .expect("README opens with the batch command");
+    let cmd = line.split('#').next().unwrap().trim();
+    // Run the same arguments on the built binary (cargo run would rebuild in release mode).
+    let args: Vec<&str> = cmd
+        .trim_start_matches("cargo run --release -p pim-cli --")
+        .split_whitespace()
+        .collect();
+    let out = pim(&args);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Q2: contact velocities known exactly"));
+    assert!(text.contains("Q2 against Brach 1984 Table 1"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("10 of 66 records have no solution"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn selections_and_views() {
+    let out = pim(&[
+        "batch", "--tests", "6,7", "--cost", "q2", "--branch", "zero", "--format", "json",
+    ]);
+    assert!(out.status.success());
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["records"].as_array().unwrap().len(), 2);
+    let out = pim(&["compare-costs", "--tests", "3"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    assert!(
+        text.contains("test  3") && text.contains("vf2y") && text.contains('*'),
+        "{text}"
+    );
+    // Unknown test and bad flags: exit 2 naming them.
+    let out = pim(&["batch", "--tests", "2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("test 2 is not in data/ricsac.csv"));
+    let out = pim(&["batch", "--threads", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = pim(&["batch", "no/such.csv"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such.csv: cannot read: no such file"));
+}
