@@ -471,9 +471,10 @@ fn cmd_batch(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2))
         .map(|b| batch::brach_table(&records, b));
     let records_json = json(&serde_json::json!({ "data": file, "records": records }))?;
+    let records_csv = batch::records_csv(&records).map_err(Failure::Output)?;
     let text = match a.format {
         BatchFormat::Json => records_json.clone(),
-        BatchFormat::Csv => batch::records_csv(&records).map_err(|e| Failure::Output(e))?,
+        BatchFormat::Csv => records_csv.clone(),
         BatchFormat::Table if compare => compare_text.clone(),
         BatchFormat::Table => {
             let mut t = format!("{file}: {} tests\n\n{summary}", tests.len());
@@ -492,10 +493,7 @@ fn cmd_batch(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
                 case::io_reason(&e)
             ))
         })?;
-        write_file(
-            &dir.join("records.csv"),
-            &batch::records_csv(&records).map_err(|e| Failure::Output(e))?,
-        )?;
+        write_file(&dir.join("records.csv"), &records_csv)?;
         write_file(&dir.join("records.json"), &records_json)?;
         write_file(
             &dir.join("velocity_errors.csv"),
