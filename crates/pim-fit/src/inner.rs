@@ -521,8 +521,8 @@ impl Prepared {
         let Some(mut best) = best else {
             return Eval::Infeasible(Violation::EnergyUncertified);
         };
-        for _ in 0..50 {
-            if hi - lo <= 1e-10 * hi {
+        for _ in 0..40 {
+            if hi - lo <= 1e-8 * hi {
                 break;
             }
             let mid = 0.5 * (lo + hi);

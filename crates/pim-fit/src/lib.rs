@@ -78,10 +78,20 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
     problem.check()?;
     let s = settings.get();
     let prep = Prepared::new(problem, s);
+    // The branches are independent searches: run them side by side.
+    let outcomes: Vec<Outcome> = match s.branches.as_slice() {
+        [a, b] => {
+            let (x, y) = rayon::join(
+                || search_branch(&prep, s, *a),
+                || search_branch(&prep, s, *b),
+            );
+            vec![x, y]
+        }
+        list => list.iter().map(|&b| search_branch(&prep, s, b)).collect(),
+    };
     let mut branches = Vec::with_capacity(s.branches.len());
-    for &branch in &s.branches {
-        let out = search_branch(&prep, s, branch);
-        branches.push(branch_report(&prep, problem, s, branch, &out)?);
+    for (&branch, out) in s.branches.iter().zip(&outcomes) {
+        branches.push(branch_report(&prep, problem, s, branch, out)?);
     }
     let solved: Vec<(MomentBranch, f64)> = branches
         .iter()

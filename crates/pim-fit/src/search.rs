@@ -330,7 +330,7 @@ fn polish(
             }
         })
         .collect();
-    let min_step: Vec<f64> = space.dims.iter().map(|d| (d.hi - d.lo) * 1e-9).collect();
+    let min_step: Vec<f64> = space.dims.iter().map(|d| (d.hi - d.lo) * 1e-7).collect();
     for _ in 0..400 {
         let mut improved = false;
         for k in 0..p.len() {
@@ -469,11 +469,16 @@ pub(crate) fn search_branch(
                 }
             }
         }
-        // Compass search from each refined point: robust where Nelder-Mead stalls on a kink
-        // or a face of the box.
-        for (p, cost, hit) in refined {
-            let (_, polished) = polish(prep, &space, p, cost, &mut out);
-            out.finals.push((polished, hit && polished >= cost));
+        // Compass search from the best refined point: robust where Nelder-Mead stalls on a
+        // kink or a face of the box.
+        refined.sort_by(|a, b| a.1.total_cmp(&b.1));
+        for (i, (p, cost, hit)) in refined.into_iter().enumerate() {
+            if i == 0 {
+                let (_, polished) = polish(prep, &space, p, cost, &mut out);
+                out.finals.push((polished, hit && polished >= cost));
+            } else {
+                out.finals.push((cost, hit));
+            }
         }
     }
     // Agreement of the refinements with the optimum.
