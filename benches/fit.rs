@@ -58,6 +58,7 @@ fn bench(c: &mut Criterion) {
         costs: CostPreset::ALL.to_vec(),
         branches: MomentBranch::ALL.to_vec(),
         settings: FitSettings::default(),
+        timing: false,
     };
     let mut g = c.benchmark_group("batch");
     g.sample_size(20);

@@ -17,6 +17,8 @@ pub struct BatchPlan {
     pub branches: Vec<MomentBranch>,
     /// Fit settings (bounds, moment form) shared by every fit.
     pub settings: FitSettings,
+    /// Record the wall time of each fit (makes the output differ from run to run).
+    pub timing: bool,
 }
 
 /// One record per (test, cost, branch).
@@ -49,6 +51,9 @@ pub struct BatchRecord {
     pub max_error_component: Option<String>,
     /// Its error.
     pub max_error: Option<f64>,
+    /// Wall time of the fit of this (test, cost function), all its branches, s (only with timing).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit_seconds: Option<f64>,
 }
 
 impl BatchRecord {
@@ -87,7 +92,12 @@ pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> 
     let results: Vec<Vec<BatchRecord>> = jobs
         .par_iter()
         .map(|&(t, cost)| {
-            let out = fit_one(t, cost, plan);
+            let start = std::time::Instant::now();
+            let mut out = fit_one(t, cost, plan);
+            if plan.timing {
+                let secs = start.elapsed().as_secs_f64();
+                out.iter_mut().for_each(|r| r.fit_seconds = Some(secs));
+            }
             tick();
             out
         })
@@ -114,6 +124,7 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
                 velocity_error: None,
                 max_error_component: None,
                 max_error: None,
+                fit_seconds: None,
             })
             .collect()
     };
@@ -187,6 +198,7 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
                 velocity_error: err,
                 max_error_component: max_c,
                 max_error: max_e,
+                fit_seconds: None,
             }
         })
         .collect()

@@ -156,6 +156,9 @@ struct BatchArgs {
     /// Form of the moment equation (6).
     #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
     moment_form: MomentArg,
+    /// Add each fit's wall time (`fit_seconds`) to the records (output then varies run to run).
+    #[arg(long)]
+    timing: bool,
 }
 
 const FIT_HELP: &str = "\
@@ -436,6 +439,7 @@ fn cmd_batch(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         costs: presets(&a.cost),
         branches: branches(&a.branch),
         settings,
+        timing: a.timing,
     };
     let n_jobs = (tests.len() * plan.costs.len()) as u64;
     let show =

@@ -66,6 +66,9 @@ pub(crate) enum Violation {
     Infeasible,
     /// The energy-constrained problem could not be solved exactly (lambda left the convex range).
     EnergyUncertified,
+    /// The known components contradict an equation that does not involve the unknown ones
+    /// (for example sticking needs Vt = 0 of fixed separation velocities).
+    Inconsistent,
 }
 
 /// A solved candidate.
@@ -401,6 +404,9 @@ impl Prepared {
     /// `cutoff`: an exact solve is skipped (returning [`Eval::Pending`]) when the lower bound is
     /// already at least this value (the incumbent of the search).
     pub fn evaluate(&self, theta: &Theta, mode: Mode, sign: f64, exact: bool, cutoff: f64) -> Eval {
+        if let Some(eval) = self.evaluate_determined(theta, mode, sign) {
+            return eval;
+        }
         let Some(red) = self.reduce(theta, mode, sign) else {
             return Eval::Infeasible(Violation::Singular);
         };
@@ -409,7 +415,7 @@ impl Prepared {
             Some(v) => v,
             None => return Eval::Infeasible(Violation::Singular),
         };
-        let quick = self.quick_check(&red, theta, mode, sign, &x);
+        let quick = self.quick_check(&(red.r * x), theta, mode, sign, &x);
         let make = |x: Vector6<f64>, qp: bool, lambda: f64| Candidate {
             cost: self.cost(&red, &x),
             x,
@@ -559,14 +565,13 @@ impl Prepared {
     /// Every condition checked directly on x and X = R x, without building constraint rows.
     fn quick_check(
         &self,
-        red: &Reduced,
+        xf: &Vector6<f64>,
         theta: &Theta,
         mode: Mode,
         sign: f64,
         x: &Vector6<f64>,
     ) -> Quick {
         let tol = 1e-9 * self.scale.max(1.0);
-        let xf = red.r * x;
         let mut linear = None;
         let note = |slot: &mut Option<Violation>, v: Violation, bad: bool| {
             if bad && slot.is_none() {
@@ -623,6 +628,111 @@ impl Prepared {
             energy: t1 - t0 > 1e-9 * t0.max(1.0),
             only_direction: direction_bad && others_ok,
         }
+    }
+
+    /// Fast path when one whole state is known (Q1, Q2): U follows from one solve of the six
+    /// equations, with no freedom left. `None` when the problem is not of that kind or the
+    /// system is singular for these coefficients (the general path then decides).
+    fn evaluate_determined(&self, theta: &Theta, mode: Mode, sign: f64) -> Option<Eval> {
+        let known = match &self.fixed_kind {
+            Fixed::Initial(known, free) if free.is_empty() => {
+                let mut x = Vector6::zeros();
+                for &(k, v) in known {
+                    x[k] = v;
+                }
+                (x, true)
+            }
+            Fixed::AllFinal(xf) => (*xf, false),
+            _ => return None,
+        };
+        let opts = SolveOptions {
+            moment_form: self.form,
+            tangential: match mode {
+                Mode::Sliding => TangentialCondition::Sliding,
+                Mode::Sticking => TangentialCondition::NoSlip,
+            },
+        };
+        let coef = Coefficients {
+            e: theta.e,
+            mu: theta.mu,
+            em: theta.em,
+        };
+        let sys = assemble(&self.impact, &coef, sign, &opts);
+        // Solve for the unknown state on the row-equilibrated system.
+        let (mut a, mut b) = if known.1 {
+            (sys.f, sys.g)
+        } else {
+            (sys.g, sys.f)
+        };
+        for i in 0..6 {
+            let s = a.row(i).amax();
+            if s == 0.0 {
+                // The equation has no terms in the unknown state (no slip, e = 0 or em = 0
+                // solving backwards): the known state must satisfy it on its own.
+                let value = (b.row(i) * known.0)[0];
+                let size = (b.row(i).abs() * known.0.abs())[0];
+                if value.abs() > 1e-9 * size.max(1e-300) {
+                    return Some(Eval::Infeasible(Violation::Inconsistent));
+                }
+                return None;
+            }
+            a.row_mut(i).scale_mut(1.0 / s);
+            b.row_mut(i).scale_mut(1.0 / s);
+        }
+        let lu = a.lu();
+        let u = lu.u();
+        let min_pivot = (0..6)
+            .map(|i| u[(i, i)].abs())
+            .fold(f64::INFINITY, f64::min);
+        if min_pivot.is_nan() || min_pivot < 1e-11 {
+            return None;
+        }
+        let other = lu.solve(&-(b * known.0))?;
+        let (x, xf) = if known.1 {
+            (known.0, other)
+        } else {
+            (other, known.0)
+        };
+        let quick = self.quick_check(&xf, theta, mode, sign, &x);
+        if let Some(v) = quick.linear {
+            return Some(Eval::Infeasible(v));
+        }
+        if quick.friction {
+            return Some(Eval::Infeasible(Violation::Friction));
+        }
+        if quick.energy {
+            return Some(Eval::Infeasible(Violation::Energy));
+        }
+        let mut uvec = crate::problem::Vector12::zeros();
+        uvec.fixed_rows_mut::<6>(0).copy_from(&x);
+        uvec.fixed_rows_mut::<6>(6).copy_from(&xf);
+        let cost =
+            ((uvec.transpose() * self.hu * uvec)[0] - 2.0 * self.gu.dot(&uvec) + self.c0).max(0.0);
+        let mu_eff = match mode {
+            Mode::Sliding => theta.mu,
+            Mode::Sticking => {
+                let m1 = self.mass[0];
+                let [nx, ny] = self.impact.normal();
+                let [tx, ty] = self.impact.tangent();
+                let (dx, dy) = (xf[0] - x[0], xf[1] - x[1]);
+                let pn = m1 * (dx * nx + dy * ny);
+                let pt = m1 * (dx * tx + dy * ty);
+                if pn == 0.0 {
+                    0.0
+                } else {
+                    pt / pn * sign
+                }
+            }
+        };
+        Some(Eval::Feasible(Candidate {
+            cost,
+            x,
+            xf,
+            mu_eff,
+            qp: false,
+            lambda: 0.0,
+            flat: false,
+        }))
     }
 
     /// The first violated linear constraint other than friction, and whether friction is violated.

@@ -318,6 +318,10 @@ fn describe(v: Violation, settings: &FitSettings) -> String {
         Violation::EnergyUncertified => {
             "the energy condition could not be enforced exactly".to_string()
         }
+        Violation::Inconsistent => "the components held fixed contradict an equation on their \
+             own (sticking needs no tangential relative velocity at separation, e = 0 no normal \
+             one, em = 0 equal yaw rates)"
+            .to_string(),
     }
 }
 
