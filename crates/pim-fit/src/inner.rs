@@ -621,7 +621,7 @@ impl Prepared {
         }
         note(&mut linear, Violation::SlidingDirection, direction_bad);
         let t0 = 0.5 * x.component_mul(x).dot(&self.mass);
-        let t1 = 0.5 * xf.component_mul(&xf).dot(&self.mass);
+        let t1 = 0.5 * xf.component_mul(xf).dot(&self.mass);
         Quick {
             linear,
             friction,
