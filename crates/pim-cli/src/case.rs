@@ -298,10 +298,17 @@ fn finite(file: &str, path: &str, value: f64) -> Result<(), Failure> {
 impl Case {
     /// Loads and parses a case file.
     pub fn load(path: &Path) -> Result<Self, Failure> {
-        let file = path.display().to_string();
         let text = read_text_file(path, MAX_CASE_BYTES)?;
-        let content: CaseFile = parse_toml(&file, &text)?;
-        let case = Case { file, content };
+        Self::from_text(&path.display().to_string(), &text)
+    }
+
+    /// Parses case-file text; `file` names it in messages.
+    pub fn from_text(file: &str, text: &str) -> Result<Self, Failure> {
+        let content: CaseFile = parse_toml(file, text)?;
+        let case = Case {
+            file: file.to_string(),
+            content,
+        };
         case.check_states()?;
         Ok(case)
     }

@@ -179,6 +179,18 @@ pub enum PimError {
         /// The admissible set, in words.
         domain: &'static str,
     },
+    /// A value is finite but beyond any plausible size (it would overflow the arithmetic).
+    #[error("{what} = {value} is beyond the plausible range (|value| <= {limit} {unit})")]
+    Implausible {
+        /// The field.
+        what: String,
+        /// The offending value.
+        value: f64,
+        /// The largest accepted magnitude.
+        limit: f64,
+        /// Its unit.
+        unit: &'static str,
+    },
     /// The sensitivity percentage is not a finite number in [0, 100).
     #[error("the sensitivity percentage must be a finite number in [0, 100) (got {0})")]
     BadPercentage(f64),

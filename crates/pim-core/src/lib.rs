@@ -87,7 +87,8 @@ mod solve;
 pub use error::{Equation, PimError, Result, VehicleId};
 pub use model::{
     Coefficients, Collision, Impact, MomentForm, SolveOptions, TangentialCondition, Vehicle,
-    VehicleVelocity, Velocities, EM_ONE_TOL,
+    VehicleVelocity, Velocities, EM_ONE_TOL, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,
+    MAX_SPEED, MAX_YAW_RATE,
 };
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
 pub use report::{

@@ -79,8 +79,37 @@ fn check_vehicle(v: &Vehicle, id: VehicleId) -> Result<()> {
             value: v.d,
         });
     }
+    for (field, value, limit, unit) in [
+        ("mass", v.mass, MAX_MASS, "kg"),
+        ("yaw_inertia", v.yaw_inertia, MAX_INERTIA, "kg m^2"),
+        ("d", v.d, MAX_DISTANCE, "m"),
+        ("heading", v.heading.abs(), MAX_ANGLE, "deg"),
+        ("phi", v.phi.abs(), MAX_ANGLE, "deg"),
+    ] {
+        if value > limit {
+            return Err(PimError::Implausible {
+                what: format!("{id}.{field}"),
+                value,
+                limit,
+                unit,
+            });
+        }
+    }
     Ok(())
 }
+
+/// Largest mass accepted, kg (far above any road vehicle; keeps the arithmetic finite).
+pub const MAX_MASS: f64 = 1e7;
+/// Largest yaw inertia accepted, kg m^2.
+pub const MAX_INERTIA: f64 = 1e10;
+/// Largest distance from the CG to the impact centre accepted, m.
+pub const MAX_DISTANCE: f64 = 1e3;
+/// Largest |angle| accepted, degrees.
+pub const MAX_ANGLE: f64 = 1e6;
+/// Largest |velocity component| accepted, m/s.
+pub const MAX_SPEED: f64 = 1e4;
+/// Largest |yaw rate| accepted, rad/s.
+pub const MAX_YAW_RATE: f64 = 1e4;
 
 impl Impact {
     /// Checks a collision (finite numbers, positive mass and inertia, non-negative d) and
@@ -92,6 +121,14 @@ impl Impact {
             return Err(PimError::NonFiniteValue {
                 field: "impact.crush_angle",
                 value: collision.crush_angle,
+            });
+        }
+        if collision.crush_angle.abs() > MAX_ANGLE {
+            return Err(PimError::Implausible {
+                what: "impact.crush_angle".to_string(),
+                value: collision.crush_angle,
+                limit: MAX_ANGLE,
+                unit: "deg",
             });
         }
         let v1 = &collision.vehicle1;
@@ -336,7 +373,7 @@ impl Velocities {
         self.vehicle1.speed().max(self.vehicle2.speed())
     }
 
-    /// Checks that every component is finite; `which` is `initial` or `final` for the message.
+    /// Checks that every component is finite and of plausible size.
     pub fn validate(&self) -> Result<()> {
         for (id, v) in [
             (VehicleId::One, &self.vehicle1),
@@ -348,6 +385,19 @@ impl Velocities {
                         vehicle: id,
                         field,
                         value,
+                    });
+                }
+                let (limit, unit) = if field == "omega" {
+                    (MAX_YAW_RATE, "rad/s")
+                } else {
+                    (MAX_SPEED, "m/s")
+                };
+                if value.abs() > limit {
+                    return Err(PimError::Implausible {
+                        what: format!("{id}.{field}"),
+                        value,
+                        limit,
+                        unit,
                     });
                 }
             }

@@ -60,7 +60,10 @@ impl Factor {
 
 /// The row with the largest weight in the left null vector of a singular matrix.
 fn dependent_row(m: &Matrix6<f64>) -> usize {
-    let svd = m.svd(true, false);
+    // Bounded iterations: nalgebra's plain `svd` never stops on NaN.
+    let Some(svd) = m.try_svd(true, false, f64::EPSILON, 500) else {
+        return 0;
+    };
     let Some(u) = svd.u else { return 0 };
     let k = svd.singular_values.imin();
     u.column(k).iamax()

@@ -15,8 +15,8 @@ pub enum FitError {
         /// The weight.
         value: f64,
     },
-    /// A target value is not finite.
-    #[error("{what}: value {value} is not a finite number")]
+    /// A target value is not finite, or beyond any plausible size (|value| > 1e4).
+    #[error("{what}: value {value} is not a finite number of plausible size (|value| <= 1e4)")]
     NonFinite {
         /// Which estimate or observation.
         what: String,

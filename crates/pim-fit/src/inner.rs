@@ -802,7 +802,9 @@ impl Prepared {
             return Vec::new();
         }
         let (hy, _) = red.reduced();
-        let eig = hy.clone().symmetric_eigen();
+        let Some(eig) = hy.clone().try_symmetric_eigen(f64::EPSILON, MAX_ITER) else {
+            return Vec::new();
+        };
         let emax = eig.eigenvalues.amax().max(1e-300);
         let mut names = Vec::new();
         for i in 0..eig.eigenvalues.len() {
@@ -909,14 +911,14 @@ fn general_null_space(
         }
         fv[i] = v;
     }
-    let svd = e.clone().svd(true, true);
+    let svd = e.clone().try_svd(true, true, f64::EPSILON, MAX_ITER)?;
     let smax = svd.singular_values.max().max(1e-300);
     let xp = svd.solve(&fv, 1e-10 * smax).ok()?;
     // Dependent rows must agree: otherwise no x meets the fixed components.
     if (&e * &xp - &fv).amax() > 1e-8 * (1.0 + fv.amax()) {
         return None;
     }
-    let eig = (e.transpose() * &e).symmetric_eigen();
+    let eig = (e.transpose() * &e).try_symmetric_eigen(f64::EPSILON, MAX_ITER)?;
     let emax = eig.eigenvalues.amax().max(1e-300);
     let cols: Vec<DVector<f64>> = (0..6)
         .filter(|&i| eig.eigenvalues[i].abs() <= 1e-14 * emax)
@@ -938,6 +940,10 @@ fn to_d(v: &Vector6<f64>) -> DVector<f64> {
     DVector::from_iterator(6, v.iter().copied())
 }
 
+/// Iteration limit of the SVD and eigen decompositions (the plain nalgebra calls never stop on
+/// NaN input).
+const MAX_ITER: usize = 500;
+
 /// True when a Cholesky factor's diagonal shows a (numerically) singular matrix.
 fn nearly_singular<'a>(diag: impl Iterator<Item = &'a f64>, hmax: f64) -> bool {
     diag.map(|d| d * d).fold(f64::INFINITY, f64::min) <= 1e-10 * hmax.max(1e-300)
@@ -951,7 +957,7 @@ fn solve_spd(h: &DMatrix<f64>, g: &DVector<f64>) -> Option<DVector<f64>> {
             return Some(ch.solve(g));
         }
     }
-    let svd = h.clone().svd(true, true);
+    let svd = h.clone().try_svd(true, true, f64::EPSILON, MAX_ITER)?;
     let smax = svd.singular_values.max().max(1e-300);
     svd.solve(g, 1e-9 * smax).ok()
 }

@@ -377,12 +377,18 @@ fn explain_infeasible(
             return format!("the fixed contact velocities admit no impact: {e}");
         }
     }
-    let total: usize = out.violations.values().sum();
-    if total == 0 {
+    if out.violations.is_empty() {
         return "no candidate in the coefficient box satisfies the constraints".to_string();
     }
-    let mut counts: Vec<(Violation, usize)> =
-        out.violations.iter().map(|(v, n)| (*v, *n)).collect();
+    // Sticking candidates against separation velocities that still slide are expected to fail;
+    // they say nothing about why the data cannot be fitted when other failures exist.
+    let mut counts: Vec<(Violation, usize)> = out
+        .violations
+        .iter()
+        .filter(|(v, _)| out.violations.len() == 1 || **v != Violation::Inconsistent)
+        .map(|(v, n)| (*v, *n))
+        .collect();
+    let total: usize = counts.iter().map(|c| c.1).sum();
     counts.sort_by_key(|c| std::cmp::Reverse(c.1));
     let pct = |n: usize| 100.0 * n as f64 / total as f64;
     let mut text = format!(

@@ -240,7 +240,7 @@ impl FitProblem {
 }
 
 fn finite(what: &str, value: f64) -> Result<()> {
-    if value.is_finite() {
+    if value.is_finite() && value.abs() <= pim_core::MAX_SPEED {
         Ok(())
     } else {
         Err(FitError::NonFinite {
@@ -341,17 +341,23 @@ impl FitSettings {
             )));
         }
         let [mlo, mhi] = self.mu;
-        if !(mlo.is_finite() && mhi.is_finite() && mlo <= mhi) {
+        if !(mlo.is_finite() && mhi.is_finite() && mlo <= mhi && mlo >= -100.0 && mhi <= 100.0) {
             return Err(FitError::BadBounds(format!(
-                "mu = [{mlo}, {mhi}] must be finite with low <= high"
+                "mu = [{mlo}, {mhi}] must satisfy -100 <= low <= high <= 100"
             )));
         }
-        for (name, b) in [
-            ("velocity_bound", self.velocity_bound),
-            ("yaw_rate_bound", self.yaw_rate_bound),
+        for (name, b, limit) in [
+            ("velocity_bound", self.velocity_bound, pim_core::MAX_SPEED),
+            (
+                "yaw_rate_bound",
+                self.yaw_rate_bound,
+                pim_core::MAX_YAW_RATE,
+            ),
         ] {
-            if !(b.is_finite() && b > 0.0) {
-                return Err(FitError::BadBounds(format!("{name} = {b} must be > 0")));
+            if !(b.is_finite() && b > 0.0 && b <= limit) {
+                return Err(FitError::BadBounds(format!(
+                    "{name} = {b} must be > 0 and <= {limit}"
+                )));
             }
         }
         if self.branches.is_empty() {
