@@ -25,7 +25,7 @@ use clarabel::solver::{
     DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
 };
 use nalgebra::{DMatrix, DVector, Matrix6, RowVector6, SMatrix, Vector6};
-use pim_core::equations::{assemble, normal_velocity_row, tangential_velocity_row};
+use pim_core::equations::{assemble, normal_velocity_row, tangential_velocity_row, LinearSystem};
 use pim_core::{Coefficients, Impact, MomentForm, SolveOptions, TangentialCondition};
 
 /// Tangential mode of a candidate.
@@ -248,7 +248,8 @@ impl Prepared {
         }
     }
 
-    fn reduce(&self, theta: &Theta, mode: Mode, sign: f64) -> Option<Reduced> {
+    /// The six equations `F X + G x = 0` of a candidate.
+    fn system(&self, theta: &Theta, mode: Mode, sign: f64) -> LinearSystem {
         let opts = SolveOptions {
             moment_form: self.form,
             tangential: match mode {
@@ -261,7 +262,11 @@ impl Prepared {
             mu: theta.mu,
             em: theta.em,
         };
-        let sys = assemble(&self.impact, &coef, sign, &opts);
+        assemble(&self.impact, &coef, sign, &opts)
+    }
+
+    fn reduce(&self, theta: &Theta, mode: Mode, sign: f64) -> Option<Reduced> {
+        let sys = self.system(theta, mode, sign);
         // Row-equilibrate F before factorising.
         let mut f = sys.f;
         let mut gm = sys.g;
@@ -645,19 +650,7 @@ impl Prepared {
             Fixed::AllFinal(xf) => (*xf, false),
             _ => return None,
         };
-        let opts = SolveOptions {
-            moment_form: self.form,
-            tangential: match mode {
-                Mode::Sliding => TangentialCondition::Sliding,
-                Mode::Sticking => TangentialCondition::NoSlip,
-            },
-        };
-        let coef = Coefficients {
-            e: theta.e,
-            mu: theta.mu,
-            em: theta.em,
-        };
-        let sys = assemble(&self.impact, &coef, sign, &opts);
+        let sys = self.system(theta, mode, sign);
         // Solve for the unknown state on the row-equilibrated system.
         let (mut a, mut b) = if known.1 {
             (sys.f, sys.g)

@@ -140,6 +140,26 @@ pub(crate) struct Outcome {
 }
 
 impl Outcome {
+    /// Records a feasible grid point and keeps the best value of its grid cell.
+    fn record_grid(
+        &mut self,
+        mode: Mode,
+        theta: Theta,
+        sign: f64,
+        c: Candidate,
+        value: &mut Option<f64>,
+    ) {
+        self.record(Point {
+            mode,
+            theta,
+            sign,
+            candidate: c,
+        });
+        if value.is_none_or(|v| c.cost < v) {
+            *value = Some(c.cost);
+        }
+    }
+
     fn record(&mut self, p: Point) {
         let c = p.candidate;
         let speed = |i: usize| c.x[i].hypot(c.x[i + 1]);
@@ -381,15 +401,7 @@ pub(crate) fn search_branch(
                 out.evaluations += 1;
                 match prep.evaluate(&theta, space.mode, sign, false, f64::INFINITY) {
                     Eval::Feasible(c) => {
-                        out.record(Point {
-                            mode: space.mode,
-                            theta,
-                            sign,
-                            candidate: c,
-                        });
-                        if values[i].is_none_or(|v| c.cost < v) {
-                            values[i] = Some(c.cost);
-                        }
+                        out.record_grid(space.mode, theta, sign, c, &mut values[i])
                     }
                     Eval::Pending {
                         lower_bound,
@@ -413,17 +425,7 @@ pub(crate) fn search_branch(
             out.evaluations += 1;
             out.exact_solves += 1;
             match prep.evaluate(&theta, space.mode, sign, true, best) {
-                Eval::Feasible(c) => {
-                    out.record(Point {
-                        mode: space.mode,
-                        theta,
-                        sign,
-                        candidate: c,
-                    });
-                    if values[i].is_none_or(|v| c.cost < v) {
-                        values[i] = Some(c.cost);
-                    }
-                }
+                Eval::Feasible(c) => out.record_grid(space.mode, theta, sign, c, &mut values[i]),
                 Eval::Infeasible(Violation::EnergyUncertified) => out.uncertified += 1,
                 Eval::Infeasible(_) | Eval::Pending { .. } => {}
             }
