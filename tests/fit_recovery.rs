@@ -104,13 +104,6 @@ fn recovers_known_coefficients_for_q1_q2_q3() {
         } else {
             MomentBranch::Free
         };
-        if std::env::var("PIM_DEBUG").is_ok() {
-            println!(
-                "truth {truth:?} stick {stick} x {:?} impact {:?}",
-                x.to_vector().as_slice(),
-                impact.collision()
-            );
-        }
         for preset in CostPreset::ALL {
             let problem = FitProblem::from_preset(impact, preset, &x, &sep, None);
             let report = fit(&problem, &settings).unwrap();

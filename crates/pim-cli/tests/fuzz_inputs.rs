@@ -31,6 +31,7 @@ fn repo(rel: &str) -> String {
 
 /// Runs everything a case file can drive; panics only on a bug.
 fn exercise_case(text: &str) {
+    // PIM_FUZZ_LOG=FILE keeps the input being exercised, to catch one that hangs.
     if let Ok(p) = std::env::var("PIM_FUZZ_LOG") {
         std::fs::write(p, text).unwrap();
     }
