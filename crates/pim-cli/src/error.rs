@@ -17,10 +17,12 @@ pub const EXIT_IO: u8 = 4;
 pub const EXIT_CODES_HELP: &str = "\
 EXIT STATUS:
   0  success
-  1  batch only: some records failed (their rows say why); the others are complete
+  1  batch and compare-costs: some records are infeasible or failed (their rows say why); the
+     others are complete
   2  bad input: a command-line flag, a file that cannot be read, or a field with a bad value;
      the message names the file, line and field
-  3  the input is valid but the model has no answer (singular or inconsistent equations)
+  3  the input is valid but the model has no answer: singular or inconsistent equations, or
+     (fit) no moment branch has an admissible solution; the output still says why
   4  an output file or directory could not be written
 
 ERRORS are printed once on stderr as `pim: <file>: <where>: <what>`.";
