@@ -1,5 +1,11 @@
 //! A forward solve of RICSAC 9 (Brach 1983 Table 1, coefficients of its Table 3):
 //! `cargo run --example forward_solve`.
+//!
+//! The solve reports the result as not admissible: Brach's 1983 least-squares mu = 0.486 exceeds
+//! the critical mu_max = 0.454 of this impact, so the tangential impulse overshoots and reverses
+//! the sliding. Brach 1984 (section 5) says exactly this of his earlier fits ("a value of mu
+//! higher than mu_m by a few percent") and refits with the constraint mu <= mu_m; `pim fit`
+//! always enforces it.
 use pim_core::*;
 
 fn main() -> Result<()> {
