@@ -1,7 +1,7 @@
 //! The RICSAC batch refit: every (test, cost function, moment branch) fitted, as flat records,
 //! tables and CSV.
 
-use crate::output::{BranchRecord, StateOut};
+use crate::output::BranchRecord;
 use crate::ricsac::RicsacTest;
 use pim_fit::{CostPreset, FitProblem, FitSettings, MomentBranch, COMPONENT_NAMES};
 use rayon::prelude::*;
@@ -69,17 +69,6 @@ fn status_name(s: pim_fit::Status) -> &'static str {
         pim_fit::Status::Infeasible => "infeasible",
         pim_fit::Status::LimitReached => "limit_reached",
     }
-}
-
-fn state_vec(s: &StateOut) -> [f64; 6] {
-    [
-        s.vehicle1.vx,
-        s.vehicle1.vy,
-        s.vehicle1.omega,
-        s.vehicle2.vx,
-        s.vehicle2.vy,
-        s.vehicle2.omega,
-    ]
 }
 
 /// Runs the plan over the tests, in parallel; the records come out in (test, cost, branch)
@@ -156,8 +145,8 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
             let fitted = match (&rec.initial, &rec.final_) {
                 (Some(i), Some(f)) => {
                     let mut u = [0.0; 12];
-                    u[..6].copy_from_slice(&state_vec(i));
-                    u[6..].copy_from_slice(&state_vec(f));
+                    u[..6].copy_from_slice(&i.to_array());
+                    u[6..].copy_from_slice(&f.to_array());
                     Some(u)
                 }
                 _ => None,

@@ -214,16 +214,7 @@ pub fn write_all(
                 for &t in &tests {
                     if let Some(r) = best_per_cost(records, t, c) {
                         if let (Some(e), Some(b)) = (r.velocity_error, r.branch.as_ref()) {
-                            let f = b.final_.as_ref().map(|s| {
-                                [
-                                    s.vehicle1.vx,
-                                    s.vehicle1.vy,
-                                    s.vehicle1.omega,
-                                    s.vehicle2.vx,
-                                    s.vehicle2.vy,
-                                    s.vehicle2.omega,
-                                ]
-                            });
+                            let f = b.final_.as_ref().map(|s| s.to_array());
                             if let Some(f) = f {
                                 for &k in comps {
                                     let fitted = f[k - 6];

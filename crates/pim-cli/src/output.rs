@@ -24,6 +24,14 @@ pub struct StateOut {
     pub vehicle2: VelocityOut,
 }
 
+impl StateOut {
+    /// `(v1x, v1y, w1, v2x, v2y, w2)`.
+    pub fn to_array(&self) -> [f64; 6] {
+        let (a, b) = (&self.vehicle1, &self.vehicle2);
+        [a.vx, a.vy, a.omega, b.vx, b.vy, b.omega]
+    }
+}
+
 impl From<&Velocities> for StateOut {
     fn from(v: &Velocities) -> Self {
         let f = |x: &pim_core::VehicleVelocity| VelocityOut {

@@ -24,7 +24,7 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
 };
-use nalgebra::{DMatrix, DVector, Matrix6, RowVector6, SMatrix, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, RowVector6, SMatrix, Vector6, LU, U6};
 use pim_core::equations::{assemble, normal_velocity_row, tangential_velocity_row, LinearSystem};
 use pim_core::{Coefficients, Impact, MomentForm, SolveOptions, TangentialCondition};
 
@@ -278,15 +278,7 @@ impl Prepared {
             f.row_mut(i).scale_mut(1.0 / s);
             gm.row_mut(i).scale_mut(1.0 / s);
         }
-        let lu = f.lu();
-        let u = lu.u();
-        let min_pivot = (0..6)
-            .map(|i| u[(i, i)].abs())
-            .fold(f64::INFINITY, f64::min);
-        if min_pivot.is_nan() || min_pivot < 1e-11 {
-            return None;
-        }
-        let r = -lu.solve(&gm)?;
+        let r = -regular_lu(f)?.solve(&gm)?;
         // Objective in x: T = [I; R].
         let a = self.hu.fixed_view::<6, 6>(0, 0);
         let b = self.hu.fixed_view::<6, 6>(0, 6);
@@ -672,15 +664,7 @@ impl Prepared {
             a.row_mut(i).scale_mut(1.0 / s);
             b.row_mut(i).scale_mut(1.0 / s);
         }
-        let lu = a.lu();
-        let u = lu.u();
-        let min_pivot = (0..6)
-            .map(|i| u[(i, i)].abs())
-            .fold(f64::INFINITY, f64::min);
-        if min_pivot.is_nan() || min_pivot < 1e-11 {
-            return None;
-        }
-        let other = lu.solve(&-(b * known.0))?;
+        let other = regular_lu(a)?.solve(&-(b * known.0))?;
         let (x, xf) = if known.1 {
             (known.0, other)
         } else {
@@ -931,6 +915,16 @@ fn to6(v: &DVector<f64>) -> Vector6<f64> {
 
 fn to_d(v: &Vector6<f64>) -> DVector<f64> {
     DVector::from_iterator(6, v.iter().copied())
+}
+
+/// LU of a row-equilibrated 6x6 matrix, or `None` when a pivot is (numerically) zero.
+fn regular_lu(a: Matrix6<f64>) -> Option<LU<f64, U6, U6>> {
+    let lu = a.lu();
+    let u = lu.u();
+    let min_pivot = (0..6)
+        .map(|i| u[(i, i)].abs())
+        .fold(f64::INFINITY, f64::min);
+    (min_pivot >= 1e-11).then_some(lu)
 }
 
 /// Iteration limit of the SVD and eigen decompositions (the plain nalgebra calls never stop on
