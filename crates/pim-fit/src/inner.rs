@@ -19,6 +19,7 @@
 //! contact, where the friction sign of equation 5 is undefined; such candidates are not counted
 //! (the other friction sign is evaluated on its own).
 
+use crate::determined::{Determined, Line, Reduced3};
 use crate::problem::{FitProblem, FitSettings, Knowledge, Vector12};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -123,6 +124,10 @@ pub(crate) struct Prepared {
     /// Scale of velocities, for tolerances.
     scale: f64,
     fixed_kind: Fixed,
+    /// The reduced three-unknown solve, when one whole state is known (Q1, Q2).
+    determined: Option<Determined>,
+    /// The objective over the unknown state of a determined problem: `u' h u - 2 g' u + c`.
+    det_cost: (Matrix6<f64>, Vector6<f64>, f64),
 }
 
 /// Per-coefficient data: R, the objective in x and the null-space form of the fixed components.
@@ -210,7 +215,35 @@ impl Prepared {
         } else {
             None
         };
+        let fixed_kind = classify(&fixed);
+        let determined = match &fixed_kind {
+            Fixed::Initial(known, free) if free.is_empty() => {
+                let mut x = Vector6::zeros();
+                for &(k, v) in known {
+                    x[k] = v;
+                }
+                Some(Determined::new(&impact, settings.moment_form, x, true))
+            }
+            Fixed::AllFinal(xf) => Some(Determined::new(&impact, settings.moment_form, *xf, false)),
+            _ => None,
+        };
+        let det_cost = match &determined {
+            Some(d) => {
+                // U = (k, u) or (u, k): the quadratic restricted to the unknown half.
+                let (ku, uu) = if d.forward() { (0, 6) } else { (6, 0) };
+                let k = d.known();
+                let h = hu.fixed_view::<6, 6>(uu, uu).into_owned();
+                let hk = hu.fixed_view::<6, 6>(uu, ku) * k;
+                let g = gu.fixed_rows::<6>(uu) - hk;
+                let c = c0 + (k.transpose() * hu.fixed_view::<6, 6>(ku, ku) * k)[0]
+                    - 2.0 * gu.fixed_rows::<6>(ku).dot(k);
+                (h, g, c)
+            }
+            None => (Matrix6::zeros(), Vector6::zeros(), 0.0),
+        };
         Prepared {
+            determined,
+            det_cost,
             impact,
             form: settings.moment_form,
             hu,
@@ -229,7 +262,7 @@ impl Prepared {
             mass: Vector6::new(m1, m1, i1, m2, m2, i2),
             known_sign,
             scale,
-            fixed_kind: classify(&fixed),
+            fixed_kind,
             fixed,
         }
     }
@@ -631,60 +664,38 @@ impl Prepared {
     /// equations, with no freedom left. `None` when the problem is not of that kind or the
     /// system is singular for these coefficients (the general path then decides).
     fn evaluate_determined(&self, theta: &Theta, mode: Mode, sign: f64) -> Option<Eval> {
-        let known = match &self.fixed_kind {
-            Fixed::Initial(known, free) if free.is_empty() => {
-                let mut x = Vector6::zeros();
-                for &(k, v) in known {
-                    x[k] = v;
-                }
-                (x, true)
-            }
-            Fixed::AllFinal(xf) => (*xf, false),
-            _ => return None,
+        let det = self.determined.as_ref()?;
+        let (x, xf) = match det.solve(theta.e, theta.mu, theta.em, mode, sign) {
+            Reduced3::States(x, xf) => (x, xf),
+            Reduced3::Inconsistent => return Some(Eval::Infeasible(Violation::Inconsistent)),
+            Reduced3::Singular => return None,
         };
-        let sys = self.system(theta, mode, sign);
-        // Solve for the unknown state on the row-equilibrated system.
-        let (mut a, mut b) = if known.1 {
-            (sys.f, sys.g)
-        } else {
-            (sys.g, sys.f)
-        };
-        for i in 0..6 {
-            let s = a.row(i).amax();
-            if s == 0.0 {
-                // The equation has no terms in the unknown state (no slip, e = 0 or em = 0
-                // solving backwards): the known state must satisfy it on its own.
-                let value = (b.row(i) * known.0)[0];
-                let size = (b.row(i).abs() * known.0.abs())[0];
-                if value.abs() > 1e-9 * size.max(1e-300) {
-                    return Some(Eval::Infeasible(Violation::Inconsistent));
-                }
-                return None;
-            }
-            a.row_mut(i).scale_mut(1.0 / s);
-            b.row_mut(i).scale_mut(1.0 / s);
-        }
-        let other = regular_lu(a)?.solve(&-(b * known.0))?;
-        let (x, xf) = if known.1 {
-            (known.0, other)
-        } else {
-            (other, known.0)
-        };
+        Some(self.determined_candidate(det, theta, mode, sign, x, xf))
+    }
+
+    /// The candidate of a determined problem at solved states: checks, cost and friction ratio.
+    fn determined_candidate(
+        &self,
+        det: &Determined,
+        theta: &Theta,
+        mode: Mode,
+        sign: f64,
+        x: Vector6<f64>,
+        xf: Vector6<f64>,
+    ) -> Eval {
         let quick = self.quick_check(&xf, theta, mode, sign, &x);
         if let Some(v) = quick.linear {
-            return Some(Eval::Infeasible(v));
+            return Eval::Infeasible(v);
         }
         if quick.friction {
-            return Some(Eval::Infeasible(Violation::Friction));
+            return Eval::Infeasible(Violation::Friction);
         }
         if quick.energy {
-            return Some(Eval::Infeasible(Violation::Energy));
+            return Eval::Infeasible(Violation::Energy);
         }
-        let mut uvec = crate::problem::Vector12::zeros();
-        uvec.fixed_rows_mut::<6>(0).copy_from(&x);
-        uvec.fixed_rows_mut::<6>(6).copy_from(&xf);
-        let cost =
-            ((uvec.transpose() * self.hu * uvec)[0] - 2.0 * self.gu.dot(&uvec) + self.c0).max(0.0);
+        let u = if det.forward() { &xf } else { &x };
+        let (h, g, c) = &self.det_cost;
+        let cost = ((u.transpose() * h * u)[0] - 2.0 * g.dot(u) + c).max(0.0);
         let mu_eff = match mode {
             Mode::Sliding => theta.mu,
             Mode::Sticking => {
@@ -701,7 +712,7 @@ impl Prepared {
                 }
             }
         };
-        Some(Eval::Feasible(Candidate {
+        Eval::Feasible(Candidate {
             cost,
             x,
             xf,
@@ -709,7 +720,184 @@ impl Prepared {
             qp: false,
             lambda: 0.0,
             flat: false,
-        }))
+        })
+    }
+
+    /// True when the search may profile e out (see [`Prepared::evaluate_profile`]).
+    pub fn profiles(&self) -> bool {
+        self.determined.as_ref().is_some_and(|d| d.profiles())
+    }
+
+    /// The best e in `e_range` for fixed `(mu, em)`, mode and friction sign, for a problem with
+    /// one whole state known (only when [`Prepared::profiles`]).
+    ///
+    /// Along e both states are affine in a parameter t (t = e or 1 + 1/e, see [`Line`]), so the
+    /// cost is a quadratic in t, every linear condition an interval of t and the energy
+    /// condition `T1 - T0 <= 0` a quadratic inequality: the admissible t form at most two
+    /// intervals, and the minimum over each is the clamped vertex of the quadratic. The chosen
+    /// point then passes exactly the checks of any other evaluation.
+    pub fn evaluate_profile(
+        &self,
+        e_range: [f64; 2],
+        mu: f64,
+        em: f64,
+        mode: Mode,
+        sign: f64,
+    ) -> (Theta, Eval) {
+        let det = self.determined.as_ref().expect("profiled problem");
+        let forward = det.forward();
+        let theta_at = |e: f64| Theta { e, mu, em };
+        let fallback = theta_at(e_range[0]);
+        let line = match det.line(mu, em, mode, sign) {
+            Ok(l) => l,
+            Err(Reduced3::Inconsistent) => {
+                return (fallback, Eval::Infeasible(Violation::Inconsistent))
+            }
+            Err(_) => return (fallback, Eval::Infeasible(Violation::Singular)),
+        };
+        // The t interval of the e range (e = 0 is t = infinity backwards).
+        let (mut lo, mut hi) = if forward {
+            (e_range[0], e_range[1])
+        } else {
+            let t = |e: f64| {
+                if e > 0.0 {
+                    Line::t_of_e(e, false)
+                } else {
+                    f64::INFINITY
+                }
+            };
+            (t(e_range[1]), t(e_range[0]))
+        };
+        if lo.is_nan() || hi.is_nan() || lo > hi {
+            return (fallback, Eval::Infeasible(Violation::Singular));
+        }
+        // Linear conditions g0 + t g1 <= limit, with half the tolerance of `quick_check` so
+        // that the chosen point passes it.
+        let tol = 1e-9 * self.scale.max(1.0);
+        let mut first: Option<Violation> = None;
+        let mut cut = |g0: f64, g1: f64, limit: f64, v: Violation| {
+            if g1 > 0.0 {
+                hi = hi.min((limit - g0) / g1);
+            } else if g1 < 0.0 {
+                lo = lo.max((limit - g0) / g1);
+            } else if g0 > limit {
+                lo = f64::INFINITY;
+            }
+            if lo > hi && first.is_none() {
+                first = Some(v);
+            }
+        };
+        for k in 0..12 {
+            let (a, b) = if k < 6 {
+                (line.x0[k], line.x1[k])
+            } else {
+                (line.xf0[k - 6], line.xf1[k - 6])
+            };
+            let bound = if k % 3 == 2 { self.wb } else { self.vb };
+            cut(a, b, bound + tol, Violation::Bound(k));
+            cut(-a, -b, bound + tol, Violation::Bound(k));
+        }
+        let dot = |row: &RowVector6<f64>, v: &Vector6<f64>| (row * v)[0];
+        cut(
+            self.side * dot(&self.nrow, &line.x0),
+            self.side * dot(&self.nrow, &line.x1),
+            -1e-3 + tol,
+            Violation::NotApproaching,
+        );
+        let sigma = -sign * self.side;
+        cut(
+            -sigma * dot(&self.trow, &line.x0),
+            -sigma * dot(&self.trow, &line.x1),
+            tol,
+            Violation::SlidingDirection,
+        );
+        match mode {
+            Mode::Sliding => {
+                if mu != 0.0 {
+                    let f = -mu.signum() * sigma;
+                    cut(
+                        f * dot(&self.trow, &line.xf0),
+                        f * dot(&self.trow, &line.xf1),
+                        -tol,
+                        Violation::Friction,
+                    );
+                }
+            }
+            Mode::Sticking => {
+                let m1 = self.mass[0];
+                let [nx, ny] = self.impact.normal();
+                let [tx, ty] = self.impact.tangent();
+                let imp = |a: &Vector6<f64>, b: &Vector6<f64>| {
+                    let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+                    (
+                        m1 * (dx * nx + dy * ny) * self.side,
+                        m1 * (dx * tx + dy * ty) * sign * self.side,
+                    )
+                };
+                let (pn0, pt0) = imp(&line.xf0, &line.x0);
+                let (pn1, pt1) = imp(&line.xf1, &line.x1);
+                let [mlo, mhi] = self.mu_bounds;
+                let t = tol * m1;
+                cut(mlo * pn0 - pt0, mlo * pn1 - pt1, t, Violation::MuBound);
+                cut(pt0 - mhi * pn0, pt1 - mhi * pn1, t, Violation::MuBound);
+            }
+        }
+        if lo > hi {
+            return (
+                fallback,
+                Eval::Infeasible(first.unwrap_or(Violation::Singular)),
+            );
+        }
+        // Energy: T1 - T0 = qa t^2 + qb t + qc <= 0.
+        let quad = |a: &Vector6<f64>, b: &Vector6<f64>| {
+            let m = &self.mass;
+            (
+                0.5 * b.component_mul(b).dot(m),
+                a.component_mul(b).dot(m),
+                0.5 * a.component_mul(a).dot(m),
+            )
+        };
+        let (a1, b1, c1) = quad(&line.xf0, &line.xf1);
+        let (a0, b0, c0) = quad(&line.x0, &line.x1);
+        let pieces = energy_pieces(a1 - a0, b1 - b0, c1 - c0, lo, hi);
+        if pieces.is_empty() {
+            return (fallback, Eval::Infeasible(Violation::Energy));
+        }
+        // Cost along t: ca t^2 + cb t + cc (u is the unknown state).
+        let (h, g, _) = &self.det_cost;
+        let (u0, u1) = if forward {
+            (line.xf0, line.xf1)
+        } else {
+            (line.x0, line.x1)
+        };
+        let ca = (u1.transpose() * h * u1)[0];
+        let cb = 2.0 * ((u0.transpose() * h * u1)[0] - g.dot(&u1));
+        let value = |t: f64| ca * t * t + cb * t;
+        let mut best: Option<(f64, f64)> = None;
+        for (plo, phi) in pieces {
+            let t = if ca > 0.0 {
+                (-cb / (2.0 * ca)).clamp(plo, phi)
+            } else if cb >= 0.0 || !phi.is_finite() {
+                plo
+            } else {
+                phi
+            };
+            if !t.is_finite() {
+                continue;
+            }
+            if best.is_none_or(|(_, v)| value(t) < v) {
+                best = Some((t, value(t)));
+            }
+        }
+        let Some((t, _)) = best else {
+            return (fallback, Eval::Infeasible(Violation::Energy));
+        };
+        let theta = theta_at(Line::e_of_t(t, forward).clamp(e_range[0], e_range[1]));
+        let (x, xf) = (line.x0 + line.x1 * t, line.xf0 + line.xf1 * t);
+        (
+            theta,
+            self.determined_candidate(det, &theta, mode, sign, x, xf),
+        )
     }
 
     /// The first violated linear constraint other than friction, and whether friction is violated.
@@ -1000,4 +1188,59 @@ fn qp(p: &DMatrix<f64>, q: &DVector<f64>, rows: &[(DVector<f64>, f64)]) -> QpOut
         }
         _ => QpOutcome::Failed,
     }
+}
+
+/// The parts of `[lo, hi]` where `a t^2 + b t + c <= 0`, each shrunk by a relative 1e-12 at an
+/// energy boundary so that round-off cannot put the chosen point outside.
+fn energy_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)> {
+    let f = |t: f64| a * t * t + b * t + c;
+    let inward = |r: f64, up: bool| {
+        let d = 1e-12 * (1.0 + r.abs());
+        if up {
+            r + d
+        } else {
+            r - d
+        }
+    };
+    let size = a.abs().max(b.abs()).max(c.abs());
+    if a.abs() <= 1e-14 * size {
+        // Linear (or constant).
+        if b == 0.0 {
+            return if c <= 0.0 { vec![(lo, hi)] } else { Vec::new() };
+        }
+        let r = -c / b;
+        let piece = if b > 0.0 {
+            (lo, hi.min(inward(r, false)))
+        } else {
+            (lo.max(inward(r, true)), hi)
+        };
+        return if piece.0 <= piece.1 {
+            vec![piece]
+        } else {
+            Vec::new()
+        };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        // No root: the sign of a everywhere.
+        return if a < 0.0 { vec![(lo, hi)] } else { Vec::new() };
+    }
+    // Stable roots.
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let (mut r1, mut r2) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
+    if r1 > r2 {
+        std::mem::swap(&mut r1, &mut r2);
+    }
+    let candidates = if a > 0.0 {
+        vec![(lo.max(inward(r1, true)), hi.min(inward(r2, false)))]
+    } else {
+        vec![
+            (lo, hi.min(inward(r1, false))),
+            (lo.max(inward(r2, true)), hi),
+        ]
+    };
+    candidates
+        .into_iter()
+        .filter(|(p, q)| p <= q && (f(*p) <= 0.0 || f(*q) <= 0.0 || f(0.5 * (p + q)) <= 0.0))
+        .collect()
 }

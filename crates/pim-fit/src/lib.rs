@@ -55,6 +55,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod determined;
 mod error;
 mod inner;
 mod problem;

@@ -30,8 +30,11 @@ pub(crate) struct Dim {
 pub(crate) struct Space {
     pub branch: MomentBranch,
     pub mode: Mode,
-    /// e, then mu (sliding only), then em (free branch only).
+    /// e (unless profiled), then mu (sliding only), then em (free branch only).
     pub dims: Vec<Dim>,
+    /// The e range when e is not a dimension but minimised exactly at every point
+    /// ([`Prepared::evaluate_profile`]).
+    pub profile_e: Option<[f64; 2]>,
 }
 
 impl Space {
@@ -39,10 +42,13 @@ impl Space {
     pub fn theta(&self, p: &[f64]) -> Theta {
         let c = |k: usize| p[k].clamp(self.dims[k].lo, self.dims[k].hi);
         let p: Vec<f64> = (0..p.len()).map(c).collect();
-        let e = p[0];
+        let (e, p) = match self.profile_e {
+            Some(range) => (range[0], &p[..]),
+            None => (p[0], &p[1..]),
+        };
         let (mu, rest) = match self.mode {
-            Mode::Sliding => (p[1], &p[2..]),
-            Mode::Sticking => (0.0, &p[1..]),
+            Mode::Sliding => (p[0], &p[1..]),
+            Mode::Sticking => (0.0, p),
         };
         let em = match self.branch {
             MomentBranch::Zero => 1.0,
@@ -56,10 +62,27 @@ impl Space {
             .zip(&self.dims)
             .all(|(v, d)| *v >= d.lo - 1e-12 && *v <= d.hi + 1e-12)
     }
+
+    /// Evaluates a point: its coefficients (with the best e when e is profiled) and result.
+    fn eval(
+        &self,
+        prep: &Prepared,
+        p: &[f64],
+        sign: f64,
+        exact: bool,
+        cutoff: f64,
+    ) -> (Theta, Eval) {
+        let theta = self.theta(p);
+        match self.profile_e {
+            Some(range) => prep.evaluate_profile(range, theta.mu, theta.em, self.mode, sign),
+            None => (theta, prep.evaluate(&theta, self.mode, sign, exact, cutoff)),
+        }
+    }
 }
 
-/// The spaces of a branch.
-pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings) -> Vec<Space> {
+/// The spaces of a branch; with `profile`, e is minimised exactly at every point instead of
+/// being a dimension.
+pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings, profile: bool) -> Vec<Space> {
     let e = Dim {
         lo: s.e[0],
         hi: s.e[1],
@@ -79,30 +102,25 @@ pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings) -> Vec<Space> {
         n: if e.n > 1 { 2 * e.n + 1 } else { 1 },
         ..e
     };
+    let space = |mode: Mode, mut dims: Vec<Dim>| {
+        if profile {
+            dims.remove(0);
+        }
+        Space {
+            branch,
+            mode,
+            dims,
+            profile_e: profile.then_some(s.e),
+        }
+    };
     match branch {
         MomentBranch::Zero => vec![
-            Space {
-                branch,
-                mode: Mode::Sliding,
-                dims: vec![e, mu],
-            },
-            Space {
-                branch,
-                mode: Mode::Sticking,
-                dims: vec![fine_e],
-            },
+            space(Mode::Sliding, vec![e, mu]),
+            space(Mode::Sticking, vec![fine_e]),
         ],
         MomentBranch::Free => vec![
-            Space {
-                branch,
-                mode: Mode::Sliding,
-                dims: vec![e, mu, em],
-            },
-            Space {
-                branch,
-                mode: Mode::Sticking,
-                dims: vec![fine_e, em],
-            },
+            space(Mode::Sliding, vec![e, mu, em]),
+            space(Mode::Sticking, vec![fine_e, em]),
         ],
     }
 }
@@ -211,12 +229,12 @@ fn grid(space: &Space) -> Vec<Vec<f64>> {
 /// Value of a point for the refinement: the exact value (best over friction signs), or a lower
 /// bound that already loses against the incumbent.
 fn value(prep: &Prepared, space: &Space, p: &[f64], out: &mut Outcome) -> f64 {
-    let theta = space.theta(p);
     let incumbent = out.best.map_or(f64::INFINITY, |b| b.candidate.cost);
     let mut v = f64::INFINITY;
     for &sign in prep.signs() {
         out.evaluations += 1;
-        match prep.evaluate(&theta, space.mode, sign, true, incumbent) {
+        let (theta, eval) = space.eval(prep, p, sign, true, incumbent);
+        match eval {
             Eval::Feasible(c) => {
                 out.exact_solves += 1;
                 out.record(Point {
@@ -237,12 +255,12 @@ fn value(prep: &Prepared, space: &Space, p: &[f64], out: &mut Outcome) -> f64 {
 
 /// Exact value of a point: the best over friction signs.
 fn exact(prep: &Prepared, space: &Space, p: &[f64], out: &mut Outcome) -> Option<Point> {
-    let theta = space.theta(p);
     let mut best: Option<Point> = None;
     for &sign in prep.signs() {
         out.evaluations += 1;
         out.exact_solves += 1;
-        match prep.evaluate(&theta, space.mode, sign, true, f64::INFINITY) {
+        let (theta, eval) = space.eval(prep, p, sign, true, f64::INFINITY);
+        match eval {
             Eval::Feasible(c) => {
                 let pt = Point {
                     mode: space.mode,
@@ -387,19 +405,20 @@ pub(crate) fn search_branch(
 ) -> Outcome {
     let mut out = Outcome {
         data_scale: prep.data_scale(),
+        samples: Vec::with_capacity(4096),
         ..Outcome::default()
     };
-    for space in spaces(branch, settings) {
+    for space in spaces(branch, settings, prep.profiles()) {
         let pts = grid(&space);
         out.grid_points += pts.len();
         // 1. Relaxed grid.
         let mut values: Vec<Option<f64>> = vec![None; pts.len()];
         let mut pending: Vec<(f64, usize, f64)> = Vec::new();
         for (i, p) in pts.iter().enumerate() {
-            let theta = space.theta(p);
             for &sign in prep.signs() {
                 out.evaluations += 1;
-                match prep.evaluate(&theta, space.mode, sign, false, f64::INFINITY) {
+                let (theta, eval) = space.eval(prep, p, sign, false, f64::INFINITY);
+                match eval {
                     Eval::Feasible(c) => {
                         out.record_grid(space.mode, theta, sign, c, &mut values[i])
                     }
@@ -421,10 +440,10 @@ pub(crate) fn search_branch(
             if lb >= best {
                 continue;
             }
-            let theta = space.theta(&pts[i]);
             out.evaluations += 1;
             out.exact_solves += 1;
-            match prep.evaluate(&theta, space.mode, sign, true, best) {
+            let (theta, eval) = space.eval(prep, &pts[i], sign, true, best);
+            match eval {
                 Eval::Feasible(c) => out.record_grid(space.mode, theta, sign, c, &mut values[i]),
                 Eval::Infeasible(Violation::EnergyUncertified) => out.uncertified += 1,
                 Eval::Infeasible(_) | Eval::Pending { .. } => {}
@@ -446,6 +465,10 @@ pub(crate) fn search_branch(
             .collect();
         let mut starts: Vec<usize> = Vec::new();
         for &i in &order {
+            if space.dims.is_empty() {
+                // A single point, solved exactly: nothing to refine.
+                break;
+            }
             if starts.len() >= 2 {
                 break;
             }
@@ -493,7 +516,7 @@ pub(crate) fn search_branch(
     }
     // 4. Scan each coefficient through the optimum (for the identifiability ranges).
     if let Some(best) = out.best {
-        let space = spaces(branch, settings)
+        let space = spaces(branch, settings, false)
             .into_iter()
             .find(|s| s.mode == best.mode)
             .expect("mode space");
@@ -512,7 +535,7 @@ pub(crate) fn search_branch(
         }
         if best.mode == Mode::Sticking {
             // mu away from mu_max: the sliding mode along mu at the optimal e and em.
-            if let Some(sl) = spaces(branch, settings)
+            if let Some(sl) = spaces(branch, settings, false)
                 .into_iter()
                 .find(|s| s.mode == Mode::Sliding)
             {
