@@ -119,7 +119,7 @@ fn with_restitution_free_the_trade_off_is_reported_not_hidden() {
     assert!(!sp.identifiable, "{sp:?}");
     assert!(sp.low - 0.2 <= s2 && s2 <= sp.high + 0.2, "{sp:?}");
     assert!(sp.high - sp.low > 2.0, "{sp:?}");
-    assert!(!ident(b, "e").identifiable);
+    assert!(!ident(b, "e").identifiable, "{:?} {:?}", ident(b, "e"), s);
     assert!(ident(b, "mu").identifiable && ident(b, "speed1").identifiable);
 }
 

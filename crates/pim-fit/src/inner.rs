@@ -1244,3 +1244,129 @@ fn energy_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)> {
         .filter(|(p, q)| p <= q && (f(*p) <= 0.0 || f(*q) <= 0.0 || f(0.5 * (p + q)) <= 0.0))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::CostPreset;
+    use pim_core::{Collision, Vehicle, Velocities};
+
+    fn problem(preset: CostPreset) -> FitProblem {
+        let v = |mass, yaw_inertia, heading, d, phi| Vehicle {
+            mass,
+            yaw_inertia,
+            heading,
+            d,
+            phi,
+        };
+        let impact = Impact::new(Collision {
+            vehicle1: v(1500.0, 2500.0, 0.0, 1.6, 10.0),
+            vehicle2: v(1200.0, 1900.0, 80.0, 1.3, -150.0),
+            crush_angle: 10.0,
+        })
+        .expect("valid impact");
+        // Separation states of the model, disturbed so that no coefficients reproduce them.
+        let initial = Velocities::from_vector(&Vector6::new(-12.0, 1.0, 0.2, 0.5, 8.0, -0.1));
+        let truth = pim_core::Coefficients {
+            e: 0.1,
+            mu: 0.3,
+            em: -0.5,
+        };
+        let sep = pim_core::solve_forward(&impact, &truth, &initial, &SolveOptions::default())
+            .expect("forward solve")
+            .separation
+            .to_vector()
+            + Vector6::new(0.3, -0.2, 0.1, -0.25, 0.15, -0.05);
+        let separation = Velocities::from_vector(&sep);
+        FitProblem::from_preset(impact, preset, &initial, &separation, None)
+    }
+
+    fn quadratic_roots_ok(a: f64, b: f64, c: f64, lo: f64, hi: f64) {
+        let pieces = energy_pieces(a, b, c, lo, hi);
+        let n = 20_000;
+        for i in 0..=n {
+            let t = lo + (hi - lo) * i as f64 / n as f64;
+            let inside = pieces.iter().any(|(p, q)| t >= *p && t <= *q);
+            let value = a * t * t + b * t + c;
+            if inside {
+                assert!(value <= 1e-9, "t = {t}: {value} in {pieces:?}");
+            } else {
+                // Outside the pieces only where the condition fails or within the margin.
+                let near = pieces
+                    .iter()
+                    .any(|(p, q)| (t - p).abs() < 1e-9 || (t - q).abs() < 1e-9);
+                assert!(value > 0.0 || near, "t = {t}: {value} outside {pieces:?}");
+            }
+        }
+    }
+
+    /// The energy pieces: convex, concave, linear, no root.
+    #[test]
+    fn energy_pieces_are_the_admissible_set() {
+        quadratic_roots_ok(1.0, 0.0, -0.25, -1.0, 1.0); // [-0.5, 0.5]
+        quadratic_roots_ok(-1.0, 0.0, 0.25, -1.0, 1.0); // two rays
+        quadratic_roots_ok(0.0, 2.0, -1.0, -1.0, 1.0); // t <= 0.5
+        quadratic_roots_ok(0.0, -2.0, -1.0, -1.0, 1.0); // t >= -0.5
+        quadratic_roots_ok(1.0, 0.0, 1.0, -1.0, 1.0); // never
+        quadratic_roots_ok(-1.0, 0.0, -1.0, -1.0, 1.0); // always
+        assert_eq!(energy_pieces(-1.0, 0.0, 0.25, -1.0, 1.0).len(), 2);
+        assert!(energy_pieces(1.0, 0.0, 1.0, -1.0, 1.0).is_empty());
+    }
+
+    /// For fixed (mu, em), the profiled e is the best e: no point of a dense scan over e with
+    /// the plain evaluation is lower, and the scan's best is within its spacing of it.
+    #[test]
+    fn profile_is_the_minimum_over_e() {
+        let settings = FitSettings {
+            e: [0.0, 0.4],
+            ..FitSettings::default()
+        };
+        let mut compared = 0;
+        for preset in [CostPreset::Q1, CostPreset::Q2] {
+            let prep = Prepared::new(&problem(preset), &settings);
+            assert!(prep.profiles());
+            for mode in [Mode::Sliding, Mode::Sticking] {
+                for &sign in prep.signs() {
+                    for mu in [0.0, 0.2, 0.5, 0.9] {
+                        for em in [-1.0, -0.6, -0.2, 0.0, 1.0] {
+                            let (theta, eval) =
+                                prep.evaluate_profile(settings.e, mu, em, mode, sign);
+                            let profiled = match eval {
+                                Eval::Feasible(c) => Some(c.cost),
+                                _ => None,
+                            };
+                            let mut scan: Option<f64> = None;
+                            for i in 0..=4000 {
+                                let e = 0.4 * i as f64 / 4000.0;
+                                let th = Theta { e, mu, em };
+                                if let Eval::Feasible(c) =
+                                    prep.evaluate(&th, mode, sign, true, f64::INFINITY)
+                                {
+                                    scan = Some(scan.map_or(c.cost, |s: f64| s.min(c.cost)));
+                                }
+                            }
+                            match (profiled, scan) {
+                                (Some(p), Some(s)) => {
+                                    compared += 1;
+                                    assert!(p <= s + 1e-9 * (1.0 + s), "{theta:?} {p} > {s}");
+                                    assert!(s - p <= 1e-4 * (1.0 + p), "{theta:?} {p} vs {s}");
+                                    // The profiled point is an ordinary feasible point.
+                                    let again =
+                                        prep.evaluate(&theta, mode, sign, true, f64::INFINITY);
+                                    assert!(
+                                        matches!(again, Eval::Feasible(c) if (c.cost - p).abs() <= 1e-9 * (1.0 + p))
+                                    );
+                                }
+                                (None, Some(s)) => {
+                                    panic!("{preset:?} {mode:?} {sign} mu {mu} em {em}: scan finds {s}, profile none")
+                                }
+                                _ => {}
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared >= 30, "only {compared} feasible lines compared");
+    }
+}

@@ -303,6 +303,7 @@ fn refine(
     prep: &Prepared,
     space: &Space,
     start: &[f64],
+    sd_tolerance: f64,
     out: &mut Outcome,
 ) -> (Option<Vec<f64>>, bool) {
     let dim = start.len();
@@ -326,7 +327,7 @@ fn refine(
         simplex.push(v);
     }
     let max_iters = 100 * dim as u64 + 100;
-    let solver = match NelderMead::new(simplex).with_sd_tolerance(1e-10) {
+    let solver = match NelderMead::new(simplex).with_sd_tolerance(sd_tolerance) {
         Ok(s) => s,
         Err(_) => return (None, false),
     };
@@ -362,7 +363,7 @@ fn polish(
         .iter()
         .map(|d| {
             if d.n > 1 {
-                (d.hi - d.lo) / (d.n - 1) as f64 * 0.25
+                (d.hi - d.lo) / (d.n - 1) as f64 / 16.0
             } else {
                 0.0
             }
@@ -380,9 +381,11 @@ fn polish(
                 q[k] = (q[k] + dir * step[k]).clamp(space.dims[k].lo, space.dims[k].hi);
                 if let Some(pt) = exact(prep, space, &q, out) {
                     if pt.candidate.cost < cost {
+                        // Moves that gain less than a relative 1e-10 (creeping along a
+                        // boundary) are taken but do not hold the step size.
+                        improved |= cost - pt.candidate.cost > 1e-10 * (1.0 + cost.abs());
                         cost = pt.candidate.cost;
                         p = q;
-                        improved = true;
                     }
                 }
             }
@@ -405,7 +408,6 @@ pub(crate) fn search_branch(
 ) -> Outcome {
     let mut out = Outcome {
         data_scale: prep.data_scale(),
-        samples: Vec::with_capacity(4096),
         ..Outcome::default()
     };
     for space in spaces(branch, settings, prep.profiles()) {
@@ -487,18 +489,24 @@ pub(crate) fn search_branch(
         let mut refined: Vec<(Vec<f64>, f64, bool)> = Vec::new();
         for &i in &starts {
             out.refinements += 1;
-            let (best, hit) = refine(prep, &space, &pts[i], &mut out);
+            // Stop when the simplex values agree to a relative 1e-6: the compass polish that
+            // follows takes the point to the optimum.
+            let tol = 1e-6 * (1.0 + values[i].unwrap_or(0.0));
+            let (best, hit) = refine(prep, &space, &pts[i], tol, &mut out);
             if let Some(b) = best {
                 if let Some(p) = exact(prep, &space, &b, &mut out) {
                     refined.push((b, p.candidate.cost, hit));
                 }
             }
         }
-        // Compass search from the best refined point: robust where Nelder-Mead stalls on a
-        // kink or a face of the box.
+        // Compass search from every refined point that ended near the best one (the others
+        // are distinct local minima): it finishes what Nelder-Mead, stopped at a loose
+        // tolerance, leaves, and is robust where Nelder-Mead stalls on a kink or a face of the
+        // box.
         refined.sort_by(|a, b| a.1.total_cmp(&b.1));
-        for (i, (p, cost, hit)) in refined.into_iter().enumerate() {
-            if i == 0 {
+        let lead = refined.first().map_or(f64::INFINITY, |r| r.1);
+        for (p, cost, hit) in refined {
+            if cost <= lead + 1e-3 * (1.0 + lead.abs()) {
                 let (_, polished) = polish(prep, &space, p, cost, &mut out);
                 out.finals.push((polished, hit && polished >= cost));
             } else {
@@ -534,20 +542,24 @@ pub(crate) fn search_branch(
             }
         }
         if best.mode == Mode::Sticking {
-            // mu away from mu_max: the sliding mode along mu at the optimal e and em.
+            // The sliding mode through the same point (mu = the optimum's mu_max): along mu
+            // (mu away from mu_max), and along e and em at that mu, where the data may trade
+            // restitution against approach speed just as well while sliding.
             if let Some(sl) = spaces(branch, settings, false)
                 .into_iter()
                 .find(|s| s.mode == Mode::Sliding)
             {
-                for v in grid_axis(&Dim {
-                    n: 17,
-                    ..sl.dims[1]
-                }) {
-                    let mut p = vec![best.theta.e, v];
-                    if branch == MomentBranch::Free {
-                        p.push(best.theta.em);
+                let mut centre = vec![best.theta.e, best.candidate.mu_eff];
+                if branch == MomentBranch::Free {
+                    centre.push(best.theta.em);
+                }
+                for (k, d) in sl.dims.iter().enumerate() {
+                    let n = if k == 1 { 17 } else { 13 };
+                    for v in grid_axis(&Dim { n, ..*d }) {
+                        let mut p = centre.clone();
+                        p[k] = v;
+                        exact(prep, &sl, &p, &mut out);
                     }
-                    exact(prep, &sl, &p, &mut out);
                 }
             }
         }
