@@ -29,8 +29,12 @@
 //! linear in U for a fixed sign of mu, and its boundary mu = mu_max is the sticking mode
 //! (equation 5a), searched on its own. The coefficients live in a small box, searched by a grid
 //! whose points are solved exactly wherever their lower bound could beat the best value, then
-//! refined by Nelder-Mead (argmin) from the best grid points of distinct cells. The
-//! [`Certificate`] of each branch records that search. Infeasible data are an
+//! refined by Nelder-Mead (argmin) from the best grid points of distinct cells and polished by a
+//! compass search. When one whole state is known (Q1, Q2) the six equations reduce to a 3x3
+//! system in the impulse, both states are affine in e (or in 1 + 1/e) at fixed `(mu, e_m)`, and
+//! e is minimised exactly at every point of the search (a quadratic over at most two intervals),
+//! which removes one dimension from the box. The [`Certificate`] of each branch records that
+//! search. Infeasible data are an
 //! [`Status::Infeasible`] outcome with the reason in words, never a solution that violates the
 //! equations.
 //!
@@ -127,12 +131,19 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
 }
 
 fn certificate(out: &Outcome) -> Certificate {
+    let profile = if out.profiled_e {
+        " (e minimised exactly at every point: with one state known, both states are affine in \
+         e or in 1 + 1/e)"
+    } else {
+        ""
+    };
     Certificate {
-        method: "grid over the coefficient box per tangential mode (sliding; sticking at \
-                 mu = mu_max), every grid point whose lower bound could beat the incumbent solved \
-                 exactly, then Nelder-Mead from the best grid points of distinct cells, each result \
-                 polished by a compass search"
-            .to_string(),
+        method: format!(
+            "grid over the coefficient box per tangential mode (sliding; sticking at \
+             mu = mu_max){profile}, every grid point whose lower bound could beat the incumbent \
+             solved exactly, then Nelder-Mead from the best grid points of distinct cells, the \
+             results near the best polished by a compass search"
+        ),
         grid_points: out.grid_points,
         evaluations: out.evaluations,
         exact_solves: out.exact_solves,

@@ -2,12 +2,17 @@
 //!
 //! For each moment branch and each tangential mode the coefficients live in a small box:
 //! sliding `(e, mu, em)` (em fixed at 1 in the zero branch) and sticking `(e, em)` (mu = mu_max).
+//! When one whole state is known, e is not a dimension: every point minimises over e exactly
+//! ([`Prepared::evaluate_profile`]), so the boxes are `(mu, em)` and `(em)` (one point for the
+//! sticking mode of the zero branch).
 //! 1. Grid: every grid point is evaluated for each friction sign at its equality-only optimum,
 //!    a lower bound of the exact inner value. Points whose bound could still beat the best
 //!    feasible value are then solved exactly (QP, energy) in order of their bounds, so the grid
 //!    minimum is exact.
 //! 2. Refinement: Nelder-Mead (argmin) from the best grid points of distinct cells, on the exact
-//!    inner value.
+//!    inner value, stopped when the simplex values agree to a relative 1e-6; then a compass
+//!    search from every result within a relative 1e-3 of the best, down to steps of 1e-7 of
+//!    the box.
 //! 3. Certificate: how many grid points, exact solves and refinements, and whether the
 //!    refinements from different starts agree.
 
@@ -155,6 +160,8 @@ pub(crate) struct Outcome {
     pub violations: BTreeMap<Violation, usize>,
     /// Sum of weight x target^2 of the data (a scale for cost tolerances).
     pub data_scale: f64,
+    /// e was minimised exactly at every point rather than searched.
+    pub profiled_e: bool,
 }
 
 impl Outcome {
@@ -410,7 +417,8 @@ pub(crate) fn search_branch(
         data_scale: prep.data_scale(),
         ..Outcome::default()
     };
-    for space in spaces(branch, settings, prep.profiles()) {
+    out.profiled_e = prep.profiles();
+    for space in spaces(branch, settings, out.profiled_e) {
         let pts = grid(&space);
         out.grid_points += pts.len();
         // 1. Relaxed grid.
