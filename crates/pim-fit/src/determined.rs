@@ -16,7 +16,7 @@
 //! coefficient points per problem.
 
 use crate::inner::Mode;
-use nalgebra::{Matrix3, RowVector3, RowVector6, SMatrix, Vector3, Vector6};
+use nalgebra::{Matrix3, Matrix6, RowVector3, RowVector6, SMatrix, Vector3, Vector6};
 use pim_core::equations::{moment_b_row, normal_velocity_row, tangential_velocity_row};
 use pim_core::{Impact, MomentForm};
 
@@ -32,13 +32,9 @@ pub(crate) enum Reduced3 {
     Singular,
 }
 
-/// The precomputed pieces of the reduced system of one problem.
+/// The coefficient-independent pieces of the reduced system of one impact.
 #[derive(Debug, Clone)]
-pub(crate) struct Determined {
-    /// The known state.
-    known: Vector6<f64>,
-    /// True when the contact state x is known (solve forwards), false when X is.
-    forward: bool,
+pub(crate) struct Pieces {
     /// `D = N p`.
     n: SMatrix<f64, 6, 3>,
     /// `n . D` as a row over p (normal relative velocity change).
@@ -51,15 +47,15 @@ pub(crate) struct Determined {
     /// The yaw-rate row of equation 6 over p, and `b . D` over p.
     wr: RowVector3<f64>,
     br: RowVector3<f64>,
-    /// The same rows applied to the known state: vn (or Vn), vt (or Vt), the yaw-rate term.
-    kn: f64,
-    kt: f64,
-    kw: f64,
+    /// vn, vt and the yaw-rate term of equation 6 as rows over a state.
+    nrow: RowVector6<f64>,
+    trow: RowVector6<f64>,
+    w: RowVector6<f64>,
 }
 
-impl Determined {
-    /// Pieces for a problem whose contact state (`forward`) or separation state is `known`.
-    pub fn new(impact: &Impact, form: MomentForm, known: Vector6<f64>, forward: bool) -> Self {
+impl Pieces {
+    /// The coefficient-independent pieces of an impact.
+    pub fn new(impact: &Impact, form: MomentForm) -> Self {
         let [m1, m2] = impact.masses();
         let [i1, i2] = impact.inertias();
         let [d1, d2, d3, d4] = impact.levers();
@@ -85,19 +81,72 @@ impl Determined {
         let w = RowVector6::new(0.0, 0.0, -sign, 0.0, 0.0, sign);
         let b = moment_b_row(impact);
         // Rows over p are scaled by m1 (equation 5) so that all rows are velocities.
-        Determined {
-            known,
-            forward,
+        Pieces {
             nr: nrow * n,
             tr: trow * n,
             fa: fa * n / m1,
             fb: fb * n / m1,
             wr: w * n,
             br: b * n,
-            kn: nrow.dot(&known.transpose()),
-            kt: trow.dot(&known.transpose()),
-            kw: w.dot(&known.transpose()),
+            nrow,
+            trow,
+            w,
             n,
+        }
+    }
+
+    /// The transfer matrix R of `X = R x` at coefficients `(e, mu, em)` (mu unused when
+    /// sticking) and friction sign: `R = I + N A^-1 K`, where `A p = K x` are equations 4, 5 (5a)
+    /// and 6 written for the change `D = N p`. `None` when A is (numerically) singular.
+    pub fn transfer(
+        &self,
+        e: f64,
+        mu: f64,
+        em: f64,
+        mode: Mode,
+        sign: f64,
+    ) -> Option<Matrix6<f64>> {
+        let (tangential, kt) = match mode {
+            Mode::Sliding => (self.fa + self.fb * (mu * sign), RowVector6::zeros()),
+            Mode::Sticking => (self.tr, -self.trow),
+        };
+        let rows = [self.nr, tangential, self.wr * (1.0 - em) - self.br * em];
+        let k = [self.nrow * -(1.0 + e), kt, self.w * -(1.0 - em)];
+        let (inv, scale) = inverse(&rows, &[0.0; 3], 1.0).ok()??;
+        let mut ks = SMatrix::<f64, 3, 6>::zeros();
+        for i in 0..3 {
+            ks.set_row(i, &(k[i] / scale[i]));
+        }
+        Some(Matrix6::identity() + self.n * (inv * ks))
+    }
+}
+
+/// The precomputed pieces of the reduced system of one problem with one whole state known.
+#[derive(Debug, Clone)]
+pub(crate) struct Determined {
+    p: Pieces,
+    /// The known state.
+    known: Vector6<f64>,
+    /// True when the contact state x is known (solve forwards), false when X is.
+    forward: bool,
+    /// The rows of [`Pieces`] applied to the known state: vn (or Vn), vt (or Vt), the yaw-rate
+    /// term.
+    kn: f64,
+    kt: f64,
+    kw: f64,
+}
+
+impl Determined {
+    /// Pieces for a problem whose contact state (`forward`) or separation state is `known`.
+    pub fn new(impact: &Impact, form: MomentForm, known: Vector6<f64>, forward: bool) -> Self {
+        let p = Pieces::new(impact, form);
+        Determined {
+            known,
+            forward,
+            kn: p.nrow.dot(&known.transpose()),
+            kt: p.trow.dot(&known.transpose()),
+            kw: p.w.dot(&known.transpose()),
+            p,
         }
     }
 
@@ -118,21 +167,25 @@ impl Determined {
         let (rows, rhs): ([RowVector3<f64>; 3], [f64; 3]) = if self.forward {
             // X = x + N p.
             let tangential = match mode {
-                Mode::Sliding => (self.fa + self.fb * (mu * sign), 0.0),
-                Mode::Sticking => (self.tr, -self.kt),
+                Mode::Sliding => (self.p.fa + self.p.fb * (mu * sign), 0.0),
+                Mode::Sticking => (self.p.tr, -self.kt),
             };
             (
-                [self.nr, tangential.0, self.wr * (1.0 - em) - self.br * em],
+                [
+                    self.p.nr,
+                    tangential.0,
+                    self.p.wr * (1.0 - em) - self.p.br * em,
+                ],
                 [-(1.0 + e) * self.kn, tangential.1, -(1.0 - em) * self.kw],
             )
         } else {
             // x = X - N p.
             let tangential = match mode {
-                Mode::Sliding => (self.fa + self.fb * (mu * sign), 0.0),
+                Mode::Sliding => (self.p.fa + self.p.fb * (mu * sign), 0.0),
                 Mode::Sticking => (RowVector3::zeros(), self.kt),
             };
             (
-                [self.nr * e, tangential.0, self.br * em],
+                [self.p.nr * e, tangential.0, self.p.br * em],
                 [(1.0 + e) * self.kn, tangential.1, (1.0 - em) * self.kw],
             )
         };
@@ -142,7 +195,7 @@ impl Determined {
             Err(r) => return r,
         };
         let p = inv * Vector3::from_iterator(rhs.iter().zip(&scale).map(|(r, s)| r / s));
-        let d = self.n * p;
+        let d = self.p.n * p;
         if self.forward {
             Reduced3::States(self.known, self.known + d)
         } else {
@@ -224,20 +277,24 @@ impl Determined {
     /// when [`Determined::profiles`] is true).
     pub fn line(&self, mu: f64, em: f64, mode: Mode, sign: f64) -> Result<Line, Reduced3> {
         let tangential = match mode {
-            Mode::Sliding => (self.fa + self.fb * (mu * sign), 0.0),
-            Mode::Sticking if self.forward => (self.tr, -self.kt),
+            Mode::Sliding => (self.p.fa + self.p.fb * (mu * sign), 0.0),
+            Mode::Sticking if self.forward => (self.p.tr, -self.kt),
             Mode::Sticking => (RowVector3::zeros(), self.kt),
         };
         // rhs = r0 + t r1.
         let (rows, r0, r1) = if self.forward {
             (
-                [self.nr, tangential.0, self.wr * (1.0 - em) - self.br * em],
+                [
+                    self.p.nr,
+                    tangential.0,
+                    self.p.wr * (1.0 - em) - self.p.br * em,
+                ],
                 [-self.kn, tangential.1, -(1.0 - em) * self.kw],
                 [-self.kn, 0.0, 0.0],
             )
         } else {
             (
-                [self.nr, tangential.0, self.br * em],
+                [self.p.nr, tangential.0, self.p.br * em],
                 [0.0, tangential.1, (1.0 - em) * self.kw],
                 [self.kn, 0.0, 0.0],
             )
@@ -248,8 +305,8 @@ impl Determined {
             Err(r) => return Err(r),
         };
         let scaled = |r: [f64; 3]| Vector3::new(r[0] / scale[0], r[1] / scale[1], r[2] / scale[2]);
-        let d0 = self.n * (inv * scaled(r0));
-        let d1 = self.n * (inv * scaled(r1));
+        let d0 = self.p.n * (inv * scaled(r0));
+        let d1 = self.p.n * (inv * scaled(r1));
         let z = Vector6::zeros();
         Ok(if self.forward {
             Line {
@@ -337,6 +394,37 @@ mod tests {
                                 }
                             }
                         }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The transfer matrix equals `-F^-1 G` of the six assembled equations.
+    #[test]
+    fn transfer_matrix_is_the_six_equation_solution() {
+        let imp = impact();
+        for form in [MomentForm::Corrected, MomentForm::Brach1983] {
+            let pieces = Pieces::new(&imp, form);
+            for (mode, tc) in [
+                (Mode::Sliding, TangentialCondition::Sliding),
+                (Mode::Sticking, TangentialCondition::NoSlip),
+            ] {
+                for (e, mu, em) in [(0.1, 0.4, -0.5), (0.0, 0.9, 0.3), (0.2, -0.1, 1.0)] {
+                    for sign in [1.0, -1.0] {
+                        let sys = assemble(
+                            &imp,
+                            &Coefficients { e, mu, em },
+                            sign,
+                            &SolveOptions {
+                                moment_form: form,
+                                tangential: tc,
+                            },
+                        );
+                        let expected = -sys.f.lu().solve(&sys.g).expect("regular F");
+                        let r = pieces.transfer(e, mu, em, mode, sign).expect("regular A");
+                        let diff = (r - expected).amax();
+                        assert!(diff < 1e-10 * (1.0 + expected.amax()), "{diff}");
                     }
                 }
             }

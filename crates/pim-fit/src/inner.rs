@@ -19,13 +19,13 @@
 //! contact, where the friction sign of equation 5 is undefined; such candidates are not counted
 //! (the other friction sign is evaluated on its own).
 
-use crate::determined::{Determined, Line, Reduced3};
+use crate::determined::{Determined, Line, Pieces, Reduced3};
 use crate::problem::{FitProblem, FitSettings, Knowledge, Vector12};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
 };
-use nalgebra::{DMatrix, DVector, Matrix6, RowVector6, SMatrix, Vector6, LU, U6};
+use nalgebra::{DMatrix, DVector, Matrix6, RowVector6, SMatrix, Vector6};
 use pim_core::equations::{assemble, normal_velocity_row, tangential_velocity_row, LinearSystem};
 use pim_core::{Coefficients, Impact, MomentForm, SolveOptions, TangentialCondition};
 
@@ -124,6 +124,11 @@ pub(crate) struct Prepared {
     /// Scale of velocities, for tolerances.
     scale: f64,
     fixed_kind: Fixed,
+    /// The coefficient-independent pieces of the three-unknown reduction.
+    pieces: Pieces,
+    /// When the objective couples no two components (no observations): the square roots of
+    /// the separation-state weights.
+    hu_split: Option<Vector6<f64>>,
     /// The reduced three-unknown solve, when one whole state is known (Q1, Q2).
     determined: Option<Determined>,
     /// The objective over the unknown state of a determined problem: `u' h u - 2 g' u + c`.
@@ -241,7 +246,12 @@ impl Prepared {
             }
             None => (Matrix6::zeros(), Vector6::zeros(), 0.0),
         };
+        let diagonal = (0..12).all(|i| (0..12).all(|j| i == j || hu[(i, j)] == 0.0));
+        let hu_split =
+            diagonal.then(|| Vector6::from_iterator((6..12).map(|k| hu[(k, k)].max(0.0).sqrt())));
         Prepared {
+            pieces: Pieces::new(&impact, settings.moment_form),
+            hu_split,
             determined,
             det_cost,
             impact,
@@ -299,25 +309,24 @@ impl Prepared {
     }
 
     fn reduce(&self, theta: &Theta, mode: Mode, sign: f64) -> Option<Reduced> {
-        let sys = self.system(theta, mode, sign);
-        // Row-equilibrate F before factorising.
-        let mut f = sys.f;
-        let mut gm = sys.g;
-        for i in 0..6 {
-            let s = f.row(i).amax();
-            if s == 0.0 {
-                return None;
-            }
-            f.row_mut(i).scale_mut(1.0 / s);
-            gm.row_mut(i).scale_mut(1.0 / s);
-        }
-        let r = -regular_lu(f)?.solve(&gm)?;
+        let r = self
+            .pieces
+            .transfer(theta.e, theta.mu, theta.em, mode, sign)?;
         // Objective in x: T = [I; R].
         let a = self.hu.fixed_view::<6, 6>(0, 0);
-        let b = self.hu.fixed_view::<6, 6>(0, 6);
-        let c = self.hu.fixed_view::<6, 6>(6, 6);
-        let br = b * r;
-        let h = a + br + br.transpose() + r.transpose() * c * r;
+        let h = match &self.hu_split {
+            // Weights on separate components only: R' C R = (S R)' (S R), S = sqrt(C).
+            Some(sqrt_c) => {
+                let sr = Matrix6::from_diagonal(sqrt_c) * r;
+                a + sr.transpose() * sr
+            }
+            None => {
+                let b = self.hu.fixed_view::<6, 6>(0, 6);
+                let c = self.hu.fixed_view::<6, 6>(6, 6);
+                let br = b * r;
+                a + br + br.transpose() + r.transpose() * c * r
+            }
+        };
         let g = self.gu.fixed_rows::<6>(0) + r.transpose() * self.gu.fixed_rows::<6>(6);
         let (xp, z) = match &self.fixed_kind {
             Fixed::None => (Vector6::zeros(), DMatrix::identity(6, 6)),
@@ -333,9 +342,19 @@ impl Prepared {
                 (xp, z)
             }
             Fixed::AllFinal(xf) => {
-                // R x = X: solve G x = -F X on the equilibrated system. G is singular when a
-                // row has no contact terms (no slip, e = 0, em = 0): then x is a family, found
+                // R x = X: solve G x = -F X on the row-equilibrated system. G is singular when
+                // a row has no contact terms (no slip, e = 0, em = 0): then x is a family, found
                 // by the general path (or none, when X does not satisfy that row).
+                let sys = self.system(theta, mode, sign);
+                let (mut f, mut gm) = (sys.f, sys.g);
+                for i in 0..6 {
+                    let s = f.row(i).amax();
+                    if s == 0.0 {
+                        return None;
+                    }
+                    f.row_mut(i).scale_mut(1.0 / s);
+                    gm.row_mut(i).scale_mut(1.0 / s);
+                }
                 match gm.lu().solve(&-(f * xf)) {
                     Some(x) if (r * x - xf).amax() <= 1e-8 * (1.0 + xf.amax()) => {
                         (x, DMatrix::zeros(6, 0))
@@ -1103,16 +1122,6 @@ fn to6(v: &DVector<f64>) -> Vector6<f64> {
 
 fn to_d(v: &Vector6<f64>) -> DVector<f64> {
     DVector::from_iterator(6, v.iter().copied())
-}
-
-/// LU of a row-equilibrated 6x6 matrix, or `None` when a pivot is (numerically) zero.
-fn regular_lu(a: Matrix6<f64>) -> Option<LU<f64, U6, U6>> {
-    let lu = a.lu();
-    let u = lu.u();
-    let min_pivot = (0..6)
-        .map(|i| u[(i, i)].abs())
-        .fold(f64::INFINITY, f64::min);
-    (min_pivot >= 1e-11).then_some(lu)
 }
 
 /// Iteration limit of the SVD and eigen decompositions (the plain nalgebra calls never stop on
