@@ -338,7 +338,7 @@ impl Determined {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pim_core::equations::assemble;
+    use pim_core::equations::{assemble, LinearSystem};
     use pim_core::{Coefficients, SolveOptions, TangentialCondition};
 
     fn impact() -> Impact {
@@ -357,13 +357,10 @@ mod tests {
         .expect("valid impact")
     }
 
-    /// The reduced solve satisfies all six equations, forwards and backwards, in both modes and
-    /// both moment forms.
-    #[test]
-    fn reduced_solve_satisfies_the_six_equations() {
+    /// Every combination of moment form, mode, coefficients and friction sign, with the six
+    /// assembled equations.
+    fn cases(mut check: impl FnMut(MomentForm, Mode, [f64; 3], f64, LinearSystem)) {
         let imp = impact();
-        let x = Vector6::new(14.0, 1.0, 0.3, -2.0, 9.0, -0.2);
-        let xf = Vector6::new(7.5, 4.0, -1.1, 5.8, 6.1, 0.9);
         for form in [MomentForm::Corrected, MomentForm::Brach1983] {
             for (mode, tc) in [
                 (Mode::Sliding, TangentialCondition::Sliding),
@@ -371,63 +368,52 @@ mod tests {
             ] {
                 for (e, mu, em) in [(0.1, 0.4, -0.5), (0.0, 0.9, 0.3), (0.2, -0.1, 1.0)] {
                     for sign in [1.0, -1.0] {
-                        let sys = assemble(
-                            &imp,
-                            &Coefficients { e, mu, em },
-                            sign,
-                            &SolveOptions {
-                                moment_form: form,
-                                tangential: tc,
-                            },
-                        );
-                        for (known, forward) in [(x, true), (xf, false)] {
-                            let det = Determined::new(&imp, form, known, forward);
-                            match det.solve(e, mu, em, mode, sign) {
-                                Reduced3::States(a, b) => {
-                                    let res = sys.f * b + sys.g * a;
-                                    assert!(res.amax() < 1e-9 * 1e4, "{res}");
-                                }
-                                other => {
-                                    // Backwards with e = 0 or sticking: rows without unknowns.
-                                    assert!(!forward, "{other:?}");
-                                    assert!(e == 0.0 || mode == Mode::Sticking, "{other:?}");
-                                }
-                            }
-                        }
+                        let opts = SolveOptions {
+                            moment_form: form,
+                            tangential: tc,
+                        };
+                        let sys = assemble(&imp, &Coefficients { e, mu, em }, sign, &opts);
+                        check(form, mode, [e, mu, em], sign, sys);
                     }
                 }
             }
         }
     }
 
-    /// The transfer matrix equals `-F^-1 G` of the six assembled equations.
+    /// The reduced solve satisfies all six equations, forwards and backwards, in both modes and
+    /// both moment forms.
     #[test]
-    fn transfer_matrix_is_the_six_equation_solution() {
-        let imp = impact();
-        for form in [MomentForm::Corrected, MomentForm::Brach1983] {
-            let pieces = Pieces::new(&imp, form);
-            for (mode, tc) in [
-                (Mode::Sliding, TangentialCondition::Sliding),
-                (Mode::Sticking, TangentialCondition::NoSlip),
-            ] {
-                for (e, mu, em) in [(0.1, 0.4, -0.5), (0.0, 0.9, 0.3), (0.2, -0.1, 1.0)] {
-                    for sign in [1.0, -1.0] {
-                        let sys = assemble(
-                            &imp,
-                            &Coefficients { e, mu, em },
-                            sign,
-                            &SolveOptions {
-                                moment_form: form,
-                                tangential: tc,
-                            },
-                        );
-                        let expected = -sys.f.lu().solve(&sys.g).expect("regular F");
-                        let r = pieces.transfer(e, mu, em, mode, sign).expect("regular A");
-                        let diff = (r - expected).amax();
-                        assert!(diff < 1e-10 * (1.0 + expected.amax()), "{diff}");
+    fn reduced_solve_satisfies_the_six_equations() {
+        let x = Vector6::new(14.0, 1.0, 0.3, -2.0, 9.0, -0.2);
+        let xf = Vector6::new(7.5, 4.0, -1.1, 5.8, 6.1, 0.9);
+        cases(|form, mode, [e, mu, em], sign, sys| {
+            for (known, forward) in [(x, true), (xf, false)] {
+                let det = Determined::new(&impact(), form, known, forward);
+                match det.solve(e, mu, em, mode, sign) {
+                    Reduced3::States(a, b) => {
+                        let res = sys.f * b + sys.g * a;
+                        assert!(res.amax() < 1e-9 * 1e4, "{res}");
+                    }
+                    other => {
+                        // Backwards with e = 0 or sticking: rows without unknowns.
+                        assert!(!forward, "{other:?}");
+                        assert!(e == 0.0 || mode == Mode::Sticking, "{other:?}");
                     }
                 }
             }
-        }
+        });
+    }
+
+    /// The transfer matrix equals `-F^-1 G` of the six assembled equations.
+    #[test]
+    fn transfer_matrix_is_the_six_equation_solution() {
+        cases(|form, mode, [e, mu, em], sign, sys| {
+            let expected = -sys.f.lu().solve(&sys.g).expect("regular F");
+            let r = Pieces::new(&impact(), form)
+                .transfer(e, mu, em, mode, sign)
+                .expect("regular A");
+            let diff = (r - expected).amax();
+            assert!(diff < 1e-10 * (1.0 + expected.amax()), "{diff}");
+        });
     }
 }
