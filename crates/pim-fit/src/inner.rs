@@ -774,6 +774,11 @@ impl Prepared {
             }
             Err(_) => return (fallback, Eval::Infeasible(Violation::Singular)),
         };
+        if !forward && e_range[1] <= 0.0 {
+            // e = 0 backwards asks Vn = 0 of the known separation state, which it is not
+            // (otherwise e would not be profiled).
+            return (fallback, Eval::Infeasible(Violation::Inconsistent));
+        }
         // The t interval of the e range (e = 0 is t = infinity backwards).
         let (mut lo, mut hi) = if forward {
             (e_range[0], e_range[1])
@@ -1320,6 +1325,21 @@ mod tests {
         quadratic_roots_ok(-1.0, 0.0, -1.0, -1.0, 1.0); // always
         assert_eq!(energy_pieces(-1.0, 0.0, 0.25, -1.0, 1.0).len(), 2);
         assert!(energy_pieces(1.0, 0.0, 1.0, -1.0, 1.0).is_empty());
+    }
+
+    /// With e fixed at 0, separation velocities that still approach at C admit no contact state:
+    /// the profile says so instead of reporting a bound.
+    #[test]
+    fn profile_with_e_zero_backwards_is_inconsistent() {
+        let settings = FitSettings {
+            e: [0.0, 0.0],
+            ..FitSettings::default()
+        };
+        let prep = Prepared::new(&problem(CostPreset::Q1), &settings);
+        for &sign in prep.signs() {
+            let (_, eval) = prep.evaluate_profile(settings.e, 0.3, -0.5, Mode::Sliding, sign);
+            assert_eq!(eval, Eval::Infeasible(Violation::Inconsistent));
+        }
     }
 
     /// For fixed (mu, em), the profiled e is the best e: no point of a dense scan over e with
