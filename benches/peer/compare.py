@@ -94,6 +94,17 @@ def main(argv):
           f"(ratio {med('slsqp_multi_seconds') / med('pim_seconds'):.0f})")
     print(f"total: pim {sum(r['pim_seconds'] for r in rows):.3f} s, SLSQP single starts {sum(r['slsqp_single_seconds'] for r in rows):.3f} s, "
           f"SLSQP all starts {sum(r['slsqp_multi_seconds'] for r in rows):.1f} s; wall time of this comparison {time.time() - t0:.0f} s")
+    ratios = [r["slsqp_single_seconds"] / r["pim_seconds"] for r in rows if r["pim_seconds"] > 0]
+    print(f"per problem, SLSQP single start / pim: median {statistics.median(ratios):.1f}; "
+          f"at least 10 in {sum(q >= 10 for q in ratios)} of {len(ratios)}; "
+          f"pim slower in {sum(q < 1 for q in ratios)}")
+    for cost in sorted({r["cost_function"] for r in rows}):
+        sub = [r for r in rows if r["cost_function"] == cost]
+        m = lambda k: statistics.median(r[k] for r in sub)
+        multi = [r["slsqp_multi_seconds"] / r["pim_seconds"] for r in sub if r["pim_seconds"] > 0]
+        print(f"  {cost} ({len(sub)} problems): median pim {m('pim_seconds') * 1e3:.3f} ms, "
+              f"SLSQP single start {m('slsqp_single_seconds') * 1e3:.2f} ms, "
+              f"multi-start / pim median {statistics.median(multi):.0f} (least {min(multi):.1f})")
     if json_out:
         with open(json_out, "w") as f:
             json.dump(rows, f, indent=1)
