@@ -155,6 +155,25 @@ impl Reduced {
     }
 }
 
+/// Where a profile line lies: the e range, mu and em, the tangential mode and the friction sign.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LineAt {
+    pub e_range: [f64; 2],
+    pub mu: f64,
+    pub em: f64,
+    pub mode: Mode,
+    pub sign: f64,
+}
+
+/// A profile line: states along t, the admissible pieces of t and the cost along t
+/// (`cost[0] t^2 + cost[1] t + cost[2]`).
+struct ProfileLine<'a> {
+    det: &'a Determined,
+    line: Line,
+    pieces: Vec<(f64, f64)>,
+    cost: [f64; 3],
+}
+
 /// Result of [`Prepared::quick_check`].
 struct Quick {
     /// First violated linear condition other than friction.
@@ -747,37 +766,27 @@ impl Prepared {
         self.determined.as_ref().is_some_and(|d| d.profiles())
     }
 
-    /// The best e in `e_range` for fixed `(mu, em)`, mode and friction sign, for a problem with
-    /// one whole state known (only when [`Prepared::profiles`]).
-    ///
-    /// Along e both states are affine in a parameter t (t = e or 1 + 1/e, see [`Line`]), so the
-    /// cost is a quadratic in t, every linear condition an interval of t and the energy
-    /// condition `T1 - T0 <= 0` a quadratic inequality: the admissible t form at most two
-    /// intervals, and the minimum over each is the clamped vertex of the quadratic. The chosen
-    /// point then passes exactly the checks of any other evaluation.
-    pub fn evaluate_profile(
-        &self,
-        e_range: [f64; 2],
-        mu: f64,
-        em: f64,
-        mode: Mode,
-        sign: f64,
-    ) -> (Theta, Eval) {
+    /// The line of e at fixed `(mu, em)`, mode and sign, with its admissible pieces of t and the
+    /// cost along it; `Err` with the coefficients to report and why no e is admissible.
+    fn profile_line(&self, at: &LineAt) -> Result<ProfileLine<'_>, Violation> {
+        let LineAt {
+            e_range,
+            mu,
+            em,
+            mode,
+            sign,
+        } = *at;
         let det = self.determined.as_ref().expect("profiled problem");
         let forward = det.forward();
-        let theta_at = |e: f64| Theta { e, mu, em };
-        let fallback = theta_at(e_range[0]);
         let line = match det.line(mu, em, mode, sign) {
             Ok(l) => l,
-            Err(Reduced3::Inconsistent) => {
-                return (fallback, Eval::Infeasible(Violation::Inconsistent))
-            }
-            Err(_) => return (fallback, Eval::Infeasible(Violation::Singular)),
+            Err(Reduced3::Inconsistent) => return Err(Violation::Inconsistent),
+            Err(_) => return Err(Violation::Singular),
         };
         if !forward && e_range[1] <= 0.0 {
             // e = 0 backwards asks Vn = 0 of the known separation state, which it is not
             // (otherwise e would not be profiled).
-            return (fallback, Eval::Infeasible(Violation::Inconsistent));
+            return Err(Violation::Inconsistent);
         }
         // The t interval of the e range (e = 0 is t = infinity backwards).
         let (mut lo, mut hi) = if forward {
@@ -793,7 +802,7 @@ impl Prepared {
             (t(e_range[1]), t(e_range[0]))
         };
         if lo.is_nan() || hi.is_nan() || lo > hi {
-            return (fallback, Eval::Infeasible(Violation::Singular));
+            return Err(Violation::Singular);
         }
         // Linear conditions g0 + t g1 <= limit, with half the tolerance of `quick_check` so
         // that the chosen point passes it.
@@ -867,10 +876,7 @@ impl Prepared {
             }
         }
         if lo > hi {
-            return (
-                fallback,
-                Eval::Infeasible(first.unwrap_or(Violation::Singular)),
-            );
+            return Err(first.unwrap_or(Violation::Singular));
         }
         // Energy: T1 - T0 = qa t^2 + qb t + qc <= 0.
         let quad = |a: &Vector6<f64>, b: &Vector6<f64>| {
@@ -885,20 +891,50 @@ impl Prepared {
         let (a0, b0, c0) = quad(&line.x0, &line.x1);
         let pieces = energy_pieces(a1 - a0, b1 - b0, c1 - c0, lo, hi);
         if pieces.is_empty() {
-            return (fallback, Eval::Infeasible(Violation::Energy));
+            return Err(Violation::Energy);
         }
         // Cost along t: ca t^2 + cb t + cc (u is the unknown state).
-        let (h, g, _) = &self.det_cost;
+        let (h, g, c) = &self.det_cost;
         let (u0, u1) = if forward {
             (line.xf0, line.xf1)
         } else {
             (line.x0, line.x1)
         };
-        let ca = (u1.transpose() * h * u1)[0];
-        let cb = 2.0 * ((u0.transpose() * h * u1)[0] - g.dot(&u1));
+        let hu1 = h * u1;
+        Ok(ProfileLine {
+            det,
+            line,
+            pieces,
+            cost: [
+                u1.dot(&hu1),
+                2.0 * (u0.dot(&hu1) - g.dot(&u1)),
+                (u0.transpose() * h * u0)[0] - 2.0 * g.dot(&u0) + c,
+            ],
+        })
+    }
+
+    /// The best e in `e_range` for fixed `(mu, em)`, mode and friction sign, for a problem with
+    /// one whole state known (only when [`Prepared::profiles`]).
+    ///
+    /// Along e both states are affine in a parameter t (t = e or 1 + 1/e, see [`Line`]), so the
+    /// cost is a quadratic in t, every linear condition an interval of t and the energy
+    /// condition `T1 - T0 <= 0` a quadratic inequality: the admissible t form at most two
+    /// intervals, and the minimum over each is the clamped vertex of the quadratic. The chosen
+    /// point then passes exactly the checks of any other evaluation.
+    pub fn evaluate_profile(&self, at: &LineAt) -> (Theta, Eval) {
+        let fallback = Theta {
+            e: at.e_range[0],
+            mu: at.mu,
+            em: at.em,
+        };
+        let pl = match self.profile_line(at) {
+            Ok(pl) => pl,
+            Err(v) => return (fallback, Eval::Infeasible(v)),
+        };
+        let [ca, cb, _] = pl.cost;
         let value = |t: f64| ca * t * t + cb * t;
         let mut best: Option<(f64, f64)> = None;
-        for (plo, phi) in pieces {
+        for &(plo, phi) in &pl.pieces {
             let t = if ca > 0.0 {
                 (-cb / (2.0 * ca)).clamp(plo, phi)
             } else if cb >= 0.0 || !phi.is_finite() {
@@ -916,12 +952,48 @@ impl Prepared {
         let Some((t, _)) = best else {
             return (fallback, Eval::Infeasible(Violation::Energy));
         };
-        let theta = theta_at(Line::e_of_t(t, forward).clamp(e_range[0], e_range[1]));
-        let (x, xf) = (line.x0 + line.x1 * t, line.xf0 + line.xf1 * t);
+        self.profile_point(&pl, at, t)
+    }
+
+    /// The candidate at parameter t of a profile line.
+    fn profile_point(&self, pl: &ProfileLine<'_>, at: &LineAt, t: f64) -> (Theta, Eval) {
+        let forward = pl.det.forward();
+        let e = Line::e_of_t(t, forward).clamp(at.e_range[0], at.e_range[1]);
+        let theta = Theta {
+            e,
+            mu: at.mu,
+            em: at.em,
+        };
+        let (x, xf) = (pl.line.x0 + pl.line.x1 * t, pl.line.xf0 + pl.line.xf1 * t);
         (
             theta,
-            self.determined_candidate(det, &theta, mode, sign, x, xf),
+            self.determined_candidate(pl.det, &theta, at.mode, at.sign, x, xf),
         )
+    }
+
+    /// The admissible points at the ends of the e intervals, at fixed `(mu, em)`, where the cost
+    /// is at most `limit` (profiled problems): the extremes of e and of the speeds over the
+    /// near-optimal set along that line, exactly.
+    pub fn profile_level_ends(&self, at: &LineAt, limit: f64) -> Vec<(Theta, Candidate)> {
+        let Ok(pl) = self.profile_line(at) else {
+            return Vec::new();
+        };
+        let [ca, cb, cc] = pl.cost;
+        // cost(t) - limit = ca t^2 + cb t + (cc - limit) <= 0, inside each admissible piece.
+        let mut out = Vec::new();
+        for &(plo, phi) in &pl.pieces {
+            for (a, b) in energy_pieces(ca, cb, cc - limit, plo, phi) {
+                for t in [a, b] {
+                    if !t.is_finite() {
+                        continue;
+                    }
+                    if let (theta, Eval::Feasible(c)) = self.profile_point(&pl, at, t) {
+                        out.push((theta, c));
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// The first violated linear constraint other than friction, and whether friction is violated.
@@ -1337,9 +1409,71 @@ mod tests {
         };
         let prep = Prepared::new(&problem(CostPreset::Q1), &settings);
         for &sign in prep.signs() {
-            let (_, eval) = prep.evaluate_profile(settings.e, 0.3, -0.5, Mode::Sliding, sign);
+            let at = LineAt {
+                e_range: settings.e,
+                mu: 0.3,
+                em: -0.5,
+                mode: Mode::Sliding,
+                sign,
+            };
+            let (_, eval) = prep.evaluate_profile(&at);
             assert_eq!(eval, Eval::Infeasible(Violation::Inconsistent));
         }
+    }
+
+    /// The level-set ends along e bracket every point of a dense scan whose cost is within the
+    /// limit, and lie within it themselves.
+    #[test]
+    fn level_ends_bracket_the_near_optimal_e() {
+        let settings = FitSettings {
+            e: [0.0, 0.4],
+            ..FitSettings::default()
+        };
+        let mut checked = 0;
+        for preset in [CostPreset::Q1, CostPreset::Q2] {
+            let prep = Prepared::new(&problem(preset), &settings);
+            for &sign in prep.signs() {
+                for (mu, em) in [(0.2, -0.6), (0.5, -0.2), (0.3, 1.0)] {
+                    let at = LineAt {
+                        e_range: settings.e,
+                        mu,
+                        em,
+                        mode: Mode::Sliding,
+                        sign,
+                    };
+                    let Eval::Feasible(best) = prep.evaluate_profile(&at).1 else {
+                        continue;
+                    };
+                    let limit = best.cost * 1.05 + 1e-6;
+                    let ends = prep.profile_level_ends(&at, limit);
+                    assert!(!ends.is_empty());
+                    let lo = ends.iter().map(|(t, _)| t.e).fold(f64::INFINITY, f64::min);
+                    let hi = ends
+                        .iter()
+                        .map(|(t, _)| t.e)
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    for (_, c) in &ends {
+                        assert!(c.cost <= limit * (1.0 + 1e-9), "{} > {limit}", c.cost);
+                    }
+                    for i in 0..=4000 {
+                        let e = 0.4 * i as f64 / 4000.0;
+                        let th = Theta { e, mu, em };
+                        if let Eval::Feasible(c) =
+                            prep.evaluate(&th, Mode::Sliding, sign, true, f64::INFINITY)
+                        {
+                            if c.cost <= limit {
+                                assert!(
+                                    e >= lo - 1e-4 && e <= hi + 1e-4,
+                                    "{e} outside [{lo}, {hi}]"
+                                );
+                            }
+                        }
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked >= 3, "only {checked} lines checked");
     }
 
     /// For fixed (mu, em), the profiled e is the best e: no point of a dense scan over e with
@@ -1358,8 +1492,14 @@ mod tests {
                 for &sign in prep.signs() {
                     for mu in [0.0, 0.2, 0.5, 0.9] {
                         for em in [-1.0, -0.6, -0.2, 0.0, 1.0] {
-                            let (theta, eval) =
-                                prep.evaluate_profile(settings.e, mu, em, mode, sign);
+                            let at = LineAt {
+                                e_range: settings.e,
+                                mu,
+                                em,
+                                mode,
+                                sign,
+                            };
+                            let (theta, eval) = prep.evaluate_profile(&at);
                             let profiled = match eval {
                                 Eval::Feasible(c) => Some(c.cost),
                                 _ => None,

@@ -262,8 +262,7 @@ fn identifiability(
     best: f64,
 ) -> Vec<Identifiability> {
     let tol = settings.identifiability_tolerance;
-    // Relative tolerance, with a floor for a (near) perfect fit: 1e-6 of the data's own size.
-    let limit = best * (1.0 + tol) + 1e-6 * (1.0 + out.data_scale);
+    let limit = search::near_limit(best, tol, out.data_scale);
     let near: Vec<&[f64; 7]> = out.samples.iter().filter(|s| s[3] <= limit).collect();
     let range = |k: usize| {
         near.iter()

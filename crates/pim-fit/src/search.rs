@@ -16,7 +16,7 @@
 //! 3. Certificate: how many grid points, exact solves and refinements, and whether the
 //!    refinements from different starts agree.
 
-use crate::inner::{Candidate, Eval, Mode, Prepared, Theta, Violation};
+use crate::inner::{Candidate, Eval, LineAt, Mode, Prepared, Theta, Violation};
 use crate::problem::{FitSettings, MomentBranch};
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
@@ -79,7 +79,13 @@ impl Space {
     ) -> (Theta, Eval) {
         let theta = self.theta(p);
         match self.profile_e {
-            Some(range) => prep.evaluate_profile(range, theta.mu, theta.em, self.mode, sign),
+            Some(e_range) => prep.evaluate_profile(&LineAt {
+                e_range,
+                mu: theta.mu,
+                em: theta.em,
+                mode: self.mode,
+                sign,
+            }),
             None => (theta, prep.evaluate(&theta, self.mode, sign, exact, cutoff)),
         }
     }
@@ -407,6 +413,12 @@ fn polish(
     (p, cost)
 }
 
+/// The largest cost counted as near the optimum `best` for the identifiability ranges: the
+/// relative tolerance, with a floor for a (near) perfect fit of 1e-6 of the data's own size.
+pub(crate) fn near_limit(best: f64, tolerance: f64, data_scale: f64) -> f64 {
+    best * (1.0 + tolerance) + 1e-6 * (1.0 + data_scale)
+}
+
 /// Searches one branch.
 pub(crate) fn search_branch(
     prep: &Prepared,
@@ -531,7 +543,63 @@ pub(crate) fn search_branch(
             out.refinements_agreeing == 1 && out.finals.iter().any(|(f, hit)| close(*f) && *hit);
     }
     // 4. Scan each coefficient through the optimum (for the identifiability ranges).
-    if let Some(best) = out.best {
+    if let (Some(best), true) = (out.best, out.profiled_e) {
+        // Profiled: along (mu, em) through the optimum, each point at its best e, and at each of
+        // them the exact ends of the e interval where the cost stays near the optimum.
+        let limit = near_limit(
+            best.candidate.cost,
+            settings.identifiability_tolerance,
+            out.data_scale,
+        );
+        // A sticking optimum is also scanned in the sliding mode through mu = its mu_max.
+        let mut modes = vec![best.mode];
+        if best.mode == Mode::Sticking {
+            modes.push(Mode::Sliding);
+        }
+        for space in spaces(branch, settings, true)
+            .into_iter()
+            .filter(|s| modes.contains(&s.mode))
+        {
+            let mu = best.candidate.mu_eff;
+            let centre: Vec<f64> = match (space.mode, branch) {
+                (Mode::Sliding, MomentBranch::Free) => vec![mu, best.theta.em],
+                (Mode::Sliding, MomentBranch::Zero) => vec![mu],
+                (Mode::Sticking, MomentBranch::Free) => vec![best.theta.em],
+                (Mode::Sticking, MomentBranch::Zero) => vec![],
+            };
+            let mut points = vec![centre.clone()];
+            for (k, d) in space.dims.iter().enumerate() {
+                for v in grid_axis(&Dim { n: 13, ..*d }) {
+                    let mut p = centre.clone();
+                    p[k] = v;
+                    exact(prep, &space, &p, &mut out);
+                    points.push(p);
+                }
+            }
+            for p in points {
+                let theta = space.theta(&p);
+                for &sign in prep.signs() {
+                    let at = LineAt {
+                        e_range: settings.e,
+                        mu: theta.mu,
+                        em: theta.em,
+                        mode: space.mode,
+                        sign,
+                    };
+                    let ends = prep.profile_level_ends(&at, limit);
+                    for (theta, candidate) in ends {
+                        out.record(Point {
+                            mode: space.mode,
+                            theta,
+                            sign,
+                            candidate,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    if let (Some(best), false) = (out.best, out.profiled_e) {
         let space = spaces(branch, settings, false)
             .into_iter()
             .find(|s| s.mode == best.mode)
