@@ -572,13 +572,27 @@ pub(crate) fn search_branch(
                 for v in grid_axis(&Dim { n: 13, ..*d }) {
                     let mut p = centre.clone();
                     p[k] = v;
-                    exact(prep, &space, &p, &mut out);
                     points.push(p);
                 }
             }
             for p in points {
-                let theta = space.theta(&p);
                 for &sign in prep.signs() {
+                    out.evaluations += 1;
+                    out.exact_solves += 1;
+                    let (theta, eval) = space.eval(prep, &p, sign, true, f64::INFINITY);
+                    let Eval::Feasible(candidate) = eval else {
+                        continue;
+                    };
+                    out.record(Point {
+                        mode: space.mode,
+                        theta,
+                        sign,
+                        candidate,
+                    });
+                    if candidate.cost > limit {
+                        // Even the best e of this line is not near the optimum.
+                        continue;
+                    }
                     let at = LineAt {
                         e_range: settings.e,
                         mu: theta.mu,
@@ -586,8 +600,7 @@ pub(crate) fn search_branch(
                         mode: space.mode,
                         sign,
                     };
-                    let ends = prep.profile_level_ends(&at, limit);
-                    for (theta, candidate) in ends {
+                    for (theta, candidate) in prep.profile_level_ends(&at, limit) {
                         out.record(Point {
                             mode: space.mode,
                             theta,
