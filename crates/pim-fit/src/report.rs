@@ -17,6 +17,11 @@ pub enum Status {
 }
 
 /// How well the data pin one coefficient (or contact speed) down.
+///
+/// The range is that of the points seen by the search and by scans through the optimum along
+/// each coefficient. When one whole state is known (Q1, Q2) those scans run along mu and em with
+/// e at its best, and on each scanned line the ends of the e interval whose cost is within the
+/// tolerance are computed exactly (the cost is a quadratic along e there).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Identifiability {
     /// `e`, `mu`, `em`, or `speed1` / `speed2` (speed of each vehicle at contact, m/s).
