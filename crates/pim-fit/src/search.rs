@@ -544,18 +544,14 @@ pub(crate) fn search_branch(
     }
     // 4. Scan each coefficient through the optimum (for the identifiability ranges).
     if let (Some(best), true) = (out.best, out.profiled_e) {
-        // Profiled: along (mu, em) through the optimum, each point at its best e, and at each of
-        // them the exact ends of the e interval where the cost stays near the optimum.
-        let limit = near_limit(
-            best.candidate.cost,
-            settings.identifiability_tolerance,
-            out.data_scale,
-        );
+        // Profiled: along (mu, em) through the optimum, each point at its best e, and on each of
+        // those lines the exact ends of the e interval where the cost stays near the optimum.
         // A sticking optimum is also scanned in the sliding mode through mu = its mu_max.
         let mut modes = vec![best.mode];
         if best.mode == Mode::Sticking {
             modes.push(Mode::Sliding);
         }
+        let mut lines: Vec<(LineAt, f64)> = Vec::new();
         for space in spaces(branch, settings, true)
             .into_iter()
             .filter(|s| modes.contains(&s.mode))
@@ -589,10 +585,6 @@ pub(crate) fn search_branch(
                         sign,
                         candidate,
                     });
-                    if candidate.cost > limit {
-                        // Even the best e of this line is not near the optimum.
-                        continue;
-                    }
                     let at = LineAt {
                         e_range: settings.e,
                         mu: theta.mu,
@@ -600,15 +592,30 @@ pub(crate) fn search_branch(
                         mode: space.mode,
                         sign,
                     };
-                    for (theta, candidate) in prep.profile_level_ends(&at, limit) {
-                        out.record(Point {
-                            mode: space.mode,
-                            theta,
-                            sign,
-                            candidate,
-                        });
-                    }
+                    lines.push((at, candidate.cost));
                 }
+            }
+        }
+        // The limit of the final optimum (a scan point may have improved it a little), pulled
+        // in by a relative 1e-12 so that the ends stay inside it after round-off.
+        let best_cost = out.best.map_or(best.candidate.cost, |b| b.candidate.cost);
+        let limit = near_limit(
+            best_cost,
+            settings.identifiability_tolerance,
+            out.data_scale,
+        ) * (1.0 - 1e-12);
+        for (at, line_best) in lines {
+            if line_best > limit {
+                // Even the best e of this line is not near the optimum.
+                continue;
+            }
+            for (theta, candidate) in prep.profile_level_ends(&at, limit) {
+                out.record(Point {
+                    mode: at.mode,
+                    theta,
+                    sign: at.sign,
+                    candidate,
+                });
             }
         }
     }
