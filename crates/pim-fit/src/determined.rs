@@ -1,4 +1,4 @@
-//! The six equations reduced to three unknowns, for problems with one whole state known.
+//! The six equations reduced to three unknowns.
 //!
 //! Equations 1-3 (linear and angular momentum) and the sliding equation 5 only involve the
 //! change `D = X - x`. Equations 1-3 do not depend on the coefficients, so the changes that
@@ -13,7 +13,8 @@
 //! With x (or X) known, equations 4, 5 (or 5a) and 6 become a 3x3 linear system in p whose rows
 //! are affine in e, mu and em; its pieces are computed once per problem. The result is the same
 //! as a solve of the six equations, at a fraction of the cost: the fit evaluates thousands of
-//! coefficient points per problem.
+//! coefficient points per problem. With neither state known, the same reduction gives the
+//! transfer matrix of `X = R x` ([`Pieces::transfer`]).
 
 use crate::inner::Mode;
 use nalgebra::{Matrix3, Matrix6, RowVector3, RowVector6, SMatrix, Vector3, Vector6};

@@ -889,7 +889,7 @@ impl Prepared {
         };
         let (a1, b1, c1) = quad(&line.xf0, &line.xf1);
         let (a0, b0, c0) = quad(&line.x0, &line.x1);
-        let pieces = energy_pieces(a1 - a0, b1 - b0, c1 - c0, lo, hi);
+        let pieces = quadratic_pieces(a1 - a0, b1 - b0, c1 - c0, lo, hi);
         if pieces.is_empty() {
             return Err(Violation::Energy);
         }
@@ -982,7 +982,7 @@ impl Prepared {
         // cost(t) - limit = ca t^2 + cb t + (cc - limit) <= 0, inside each admissible piece.
         let mut out = Vec::new();
         for &(plo, phi) in &pl.pieces {
-            for (a, b) in energy_pieces(ca, cb, cc - limit, plo, phi) {
+            for (a, b) in quadratic_pieces(ca, cb, cc - limit, plo, phi) {
                 for t in [a, b] {
                     if !t.is_finite() {
                         continue;
@@ -1276,9 +1276,9 @@ fn qp(p: &DMatrix<f64>, q: &DVector<f64>, rows: &[(DVector<f64>, f64)]) -> QpOut
     }
 }
 
-/// The parts of `[lo, hi]` where `a t^2 + b t + c <= 0`, each shrunk by a relative 1e-12 at an
-/// energy boundary so that round-off cannot put the chosen point outside.
-fn energy_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)> {
+/// The parts of `[lo, hi]` where `a t^2 + b t + c <= 0` (the energy condition, or a cost level),
+/// each shrunk by a relative 1e-12 at a root so that round-off cannot put a chosen point outside.
+fn quadratic_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)> {
     let f = |t: f64| a * t * t + b * t + c;
     let inward = |r: f64, up: bool| {
         let d = 1e-12 * (1.0 + r.abs());
@@ -1368,7 +1368,7 @@ mod tests {
     }
 
     fn quadratic_roots_ok(a: f64, b: f64, c: f64, lo: f64, hi: f64) {
-        let pieces = energy_pieces(a, b, c, lo, hi);
+        let pieces = quadratic_pieces(a, b, c, lo, hi);
         let n = 20_000;
         for i in 0..=n {
             let t = lo + (hi - lo) * i as f64 / n as f64;
@@ -1386,17 +1386,17 @@ mod tests {
         }
     }
 
-    /// The energy pieces: convex, concave, linear, no root.
+    /// The pieces of a quadratic condition: convex, concave, linear, no root.
     #[test]
-    fn energy_pieces_are_the_admissible_set() {
+    fn quadratic_pieces_are_the_admissible_set() {
         quadratic_roots_ok(1.0, 0.0, -0.25, -1.0, 1.0); // [-0.5, 0.5]
         quadratic_roots_ok(-1.0, 0.0, 0.25, -1.0, 1.0); // two rays
         quadratic_roots_ok(0.0, 2.0, -1.0, -1.0, 1.0); // t <= 0.5
         quadratic_roots_ok(0.0, -2.0, -1.0, -1.0, 1.0); // t >= -0.5
         quadratic_roots_ok(1.0, 0.0, 1.0, -1.0, 1.0); // never
         quadratic_roots_ok(-1.0, 0.0, -1.0, -1.0, 1.0); // always
-        assert_eq!(energy_pieces(-1.0, 0.0, 0.25, -1.0, 1.0).len(), 2);
-        assert!(energy_pieces(1.0, 0.0, 1.0, -1.0, 1.0).is_empty());
+        assert_eq!(quadratic_pieces(-1.0, 0.0, 0.25, -1.0, 1.0).len(), 2);
+        assert!(quadratic_pieces(1.0, 0.0, 1.0, -1.0, 1.0).is_empty());
     }
 
     /// With e fixed at 0, separation velocities that still approach at C admit no contact state:
