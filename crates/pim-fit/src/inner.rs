@@ -170,7 +170,7 @@ pub(crate) struct LineAt {
 struct ProfileLine<'a> {
     det: &'a Determined,
     line: Line,
-    pieces: Vec<(f64, f64)>,
+    pieces: [Option<(f64, f64)>; 2],
     cost: [f64; 3],
 }
 
@@ -890,7 +890,7 @@ impl Prepared {
         let (a1, b1, c1) = quad(&line.xf0, &line.xf1);
         let (a0, b0, c0) = quad(&line.x0, &line.x1);
         let pieces = quadratic_pieces(a1 - a0, b1 - b0, c1 - c0, lo, hi);
-        if pieces.is_empty() {
+        if pieces.iter().all(Option::is_none) {
             return Err(Violation::Energy);
         }
         // Cost along t: ca t^2 + cb t + cc (u is the unknown state).
@@ -934,7 +934,7 @@ impl Prepared {
         let [ca, cb, _] = pl.cost;
         let value = |t: f64| ca * t * t + cb * t;
         let mut best: Option<(f64, f64)> = None;
-        for &(plo, phi) in &pl.pieces {
+        for &(plo, phi) in pl.pieces.iter().flatten() {
             let t = if ca > 0.0 {
                 (-cb / (2.0 * ca)).clamp(plo, phi)
             } else if cb >= 0.0 || !phi.is_finite() {
@@ -981,8 +981,11 @@ impl Prepared {
         let [ca, cb, cc] = pl.cost;
         // cost(t) - limit = ca t^2 + cb t + (cc - limit) <= 0, inside each admissible piece.
         let mut out = Vec::new();
-        for &(plo, phi) in &pl.pieces {
-            for (a, b) in quadratic_pieces(ca, cb, cc - limit, plo, phi) {
+        for &(plo, phi) in pl.pieces.iter().flatten() {
+            for (a, b) in quadratic_pieces(ca, cb, cc - limit, plo, phi)
+                .into_iter()
+                .flatten()
+            {
                 for t in [a, b] {
                     if !t.is_finite() {
                         continue;
@@ -1278,7 +1281,7 @@ fn qp(p: &DMatrix<f64>, q: &DVector<f64>, rows: &[(DVector<f64>, f64)]) -> QpOut
 
 /// The parts of `[lo, hi]` where `a t^2 + b t + c <= 0` (the energy condition, or a cost level),
 /// each shrunk by a relative 1e-12 at a root so that round-off cannot put a chosen point outside.
-fn quadratic_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)> {
+fn quadratic_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> [Option<(f64, f64)>; 2] {
     let f = |t: f64| a * t * t + b * t + c;
     let inward = |r: f64, up: bool| {
         let d = 1e-12 * (1.0 + r.abs());
@@ -1288,11 +1291,14 @@ fn quadratic_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)>
             r - d
         }
     };
+    let keep = |(p, q): (f64, f64)| {
+        (p <= q && (f(p) <= 0.0 || f(q) <= 0.0 || f(0.5 * (p + q)) <= 0.0)).then_some((p, q))
+    };
     let size = a.abs().max(b.abs()).max(c.abs());
     if a.abs() <= 1e-14 * size {
         // Linear (or constant).
         if b == 0.0 {
-            return if c <= 0.0 { vec![(lo, hi)] } else { Vec::new() };
+            return [(c <= 0.0).then_some((lo, hi)), None];
         }
         let r = -c / b;
         let piece = if b > 0.0 {
@@ -1300,16 +1306,12 @@ fn quadratic_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)>
         } else {
             (lo.max(inward(r, true)), hi)
         };
-        return if piece.0 <= piece.1 {
-            vec![piece]
-        } else {
-            Vec::new()
-        };
+        return [(piece.0 <= piece.1).then_some(piece), None];
     }
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {
         // No root: the sign of a everywhere.
-        return if a < 0.0 { vec![(lo, hi)] } else { Vec::new() };
+        return [(a < 0.0).then_some((lo, hi)), None];
     }
     // Stable roots.
     let q = -0.5 * (b + b.signum() * disc.sqrt());
@@ -1317,18 +1319,17 @@ fn quadratic_pieces(a: f64, b: f64, c: f64, lo: f64, hi: f64) -> Vec<(f64, f64)>
     if r1 > r2 {
         std::mem::swap(&mut r1, &mut r2);
     }
-    let candidates = if a > 0.0 {
-        vec![(lo.max(inward(r1, true)), hi.min(inward(r2, false)))]
-    } else {
-        vec![
-            (lo, hi.min(inward(r1, false))),
-            (lo.max(inward(r2, true)), hi),
+    if a > 0.0 {
+        [
+            keep((lo.max(inward(r1, true)), hi.min(inward(r2, false)))),
+            None,
         ]
-    };
-    candidates
-        .into_iter()
-        .filter(|(p, q)| p <= q && (f(*p) <= 0.0 || f(*q) <= 0.0 || f(0.5 * (p + q)) <= 0.0))
-        .collect()
+    } else {
+        [
+            keep((lo, hi.min(inward(r1, false)))),
+            keep((lo.max(inward(r2, true)), hi)),
+        ]
+    }
 }
 
 #[cfg(test)]
@@ -1372,7 +1373,7 @@ mod tests {
         let n = 20_000;
         for i in 0..=n {
             let t = lo + (hi - lo) * i as f64 / n as f64;
-            let inside = pieces.iter().any(|(p, q)| t >= *p && t <= *q);
+            let inside = pieces.iter().flatten().any(|(p, q)| t >= *p && t <= *q);
             let value = a * t * t + b * t + c;
             if inside {
                 assert!(value <= 1e-9, "t = {t}: {value} in {pieces:?}");
@@ -1380,6 +1381,7 @@ mod tests {
                 // Outside the pieces only where the condition fails or within the margin.
                 let near = pieces
                     .iter()
+                    .flatten()
                     .any(|(p, q)| (t - p).abs() < 1e-9 || (t - q).abs() < 1e-9);
                 assert!(value > 0.0 || near, "t = {t}: {value} outside {pieces:?}");
             }
@@ -1395,8 +1397,16 @@ mod tests {
         quadratic_roots_ok(0.0, -2.0, -1.0, -1.0, 1.0); // t >= -0.5
         quadratic_roots_ok(1.0, 0.0, 1.0, -1.0, 1.0); // never
         quadratic_roots_ok(-1.0, 0.0, -1.0, -1.0, 1.0); // always
-        assert_eq!(quadratic_pieces(-1.0, 0.0, 0.25, -1.0, 1.0).len(), 2);
-        assert!(quadratic_pieces(1.0, 0.0, 1.0, -1.0, 1.0).is_empty());
+        assert_eq!(
+            quadratic_pieces(-1.0, 0.0, 0.25, -1.0, 1.0)
+                .iter()
+                .flatten()
+                .count(),
+            2
+        );
+        assert!(quadratic_pieces(1.0, 0.0, 1.0, -1.0, 1.0)
+            .iter()
+            .all(Option::is_none));
     }
 
     /// With e fixed at 0, separation velocities that still approach at C admit no contact state:
