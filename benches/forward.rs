@@ -45,7 +45,7 @@ fn ricsac7() -> (Impact, Velocities, Coefficients) {
 fn bench(c: &mut Criterion) {
     let (impact, x, coef) = ricsac7();
     let opts = SolveOptions::default();
-    let sys = equations::assemble(&impact, &coef, 1.0, &opts);
+    let sys = equations::assemble(&impact, &coef, FrictionSign::Positive, &opts);
     let f: Matrix6<f64> = sys.f;
     let rhs: Vector6<f64> = -(sys.g * x.to_vector());
     let mut g = c.benchmark_group("forward");

@@ -76,7 +76,7 @@ fn scenario(crush_angle: f64) -> (FitProblem, [f64; 2]) {
 fn ident<'a>(b: &'a BranchReport, name: &str) -> &'a Identifiability {
     b.identifiability
         .iter()
-        .find(|i| i.coefficient == name)
+        .find(|i| i.coefficient.to_string() == name)
         .unwrap()
 }
 

@@ -22,7 +22,7 @@ fn check(test: u32, preset: CostPreset, branch: MomentBranch) -> usize {
     let range = b
         .identifiability
         .iter()
-        .find(|i| i.coefficient == "e")
+        .find(|i| i.coefficient == Quantity::E)
         .unwrap();
     let limit = s.cost * (1.0 + settings.identifiability_tolerance);
     let (measured, fixed) = match preset {

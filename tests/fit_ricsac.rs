@@ -88,7 +88,7 @@ fn ricsac_refit_table_and_consistency() {
                     run.preset.name(),
                     b.moment.name(),
                     b.status,
-                    b.reason.as_deref().unwrap_or("")
+                    b.reason.as_ref().map(|r| r.to_string()).unwrap_or_default()
                 ),
             }
             // Every solution satisfies the equations and is physically admissible.
@@ -115,7 +115,7 @@ fn ricsac_refit_table_and_consistency() {
                     assert!(v.abs() <= 20.0 + 1e-9);
                 }
             } else {
-                assert!(b.reason.as_deref().is_some_and(|r| !r.is_empty()));
+                assert!(b.reason.as_ref().is_some_and(|r| !r.to_string().is_empty()));
             }
         }
     }
@@ -142,7 +142,7 @@ fn ricsac_refit_table_and_consistency() {
             if approaching {
                 assert_eq!(b.status, Status::Infeasible, "test {}", t.test);
                 assert!(
-                    b.reason.as_deref().unwrap().contains("still approach"),
+                    b.reason.as_ref().unwrap().to_string().contains("still approach"),
                     "test {}",
                     t.test
                 );
@@ -178,8 +178,9 @@ fn ricsac_refit_table_and_consistency() {
     assert_eq!(infeasible_q1, vec![1, 6, 7, 10, 11]);
     assert!(branch(&get(10, CostPreset::Q1).report, MomentBranch::Zero)
         .reason
-        .as_deref()
+        .as_ref()
         .unwrap()
+        .to_string()
         .contains("bound"));
 }
 

@@ -1,6 +1,8 @@
 //! Helpers shared by the reference-data tests.
 #![allow(dead_code)]
 
+pub mod reference;
+
 use pim_core::{Collision, Vehicle, Velocities};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

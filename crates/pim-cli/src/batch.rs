@@ -63,12 +63,8 @@ impl BatchRecord {
     }
 }
 
-fn status_name(s: pim_fit::Status) -> &'static str {
-    match s {
-        pim_fit::Status::Optimal => "optimal",
-        pim_fit::Status::Infeasible => "infeasible",
-        pim_fit::Status::LimitReached => "limit_reached",
-    }
+fn status_name(s: pim_fit::Status) -> String {
+    s.to_string()
 }
 
 /// Runs the plan over the tests, in parallel; the records come out in (test, cost, branch)
@@ -176,7 +172,7 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
             BatchRecord {
                 test: t.test,
                 cost_function: cost,
-                outcome: status_name(b.status).to_string(),
+                outcome: status_name(b.status),
                 line: t.line,
                 best: report.best == Some(b.moment),
                 moment_branch: b.moment,
@@ -243,7 +239,7 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
                     let why = r
                         .error
                         .clone()
-                        .or_else(|| r.branch.as_ref().and_then(|b| b.reason.clone()))
+                        .or_else(|| r.branch.as_ref().and_then(|b| b.reason.as_ref().map(|x| x.to_string())))
                         .unwrap_or_default();
                     let _ = writeln!(
                         s,
@@ -446,7 +442,7 @@ pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
             branch: r.moment_branch.name(),
             best: r.best,
             outcome: r.outcome.clone(),
-            reason: r.error.clone().or_else(|| b.and_then(|b| b.reason.clone())),
+            reason: r.error.clone().or_else(|| b.and_then(|b| b.reason.as_ref().map(|x| x.to_string()))),
             e: b.and_then(|b| b.e),
             mu: b.and_then(|b| b.mu),
             em: b.and_then(|b| b.em),

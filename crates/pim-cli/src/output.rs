@@ -334,7 +334,7 @@ pub struct BranchRecord {
     /// `optimal`, `infeasible` or `limit_reached`.
     pub status: pim_fit::Status,
     /// Words: why not optimal, or a caveat.
-    pub reason: Option<String>,
+    pub reason: Option<pim_fit::Reason>,
     /// Restitution.
     pub e: Option<f64>,
     /// Friction ratio of equation 5 (mu_max when sticking).
@@ -362,10 +362,10 @@ pub struct BranchRecord {
     pub delta_v: Option<DeltaVOut>,
     /// Impulses on vehicle 1.
     pub impulse: Option<pim_core::Impulse>,
-    /// Inequality constraints active at the optimum.
-    pub active_constraints: Vec<String>,
+    /// Constraints active at the optimum.
+    pub active_constraints: Vec<pim_fit::ActiveConstraint>,
     /// Velocity components the data leave undetermined.
-    pub undetermined: Vec<String>,
+    pub undetermined: Vec<pim_fit::Component>,
     /// Physically admissible (pim-core's own check).
     pub admissible: Option<bool>,
     /// Identifiability ranges.
@@ -481,7 +481,9 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport) -> String {
                 }
             }
             if !sol.active_constraints.is_empty() {
-                let _ = writeln!(s, "  active: {}", sol.active_constraints.join("; "));
+                let active: Vec<String> =
+                    sol.active_constraints.iter().map(|a| a.to_string()).collect();
+                let _ = writeln!(s, "  active: {}", active.join("; "));
             }
             for i in &b.identifiability {
                 if !i.identifiable {

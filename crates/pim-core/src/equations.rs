@@ -6,6 +6,7 @@
 //! `(f, g)` of row vectors of one equation.
 
 use crate::error::Equation;
+use crate::friction::FrictionSign;
 use crate::model::{Coefficients, Impact, MomentForm, SolveOptions, TangentialCondition};
 use nalgebra::{Matrix6, RowVector6};
 
@@ -76,10 +77,10 @@ pub fn restitution(impact: &Impact, e: f64) -> Row {
 
 /// Equation 5: `m1 (V1y - v1y)(cos G - mu' sin G) + m2 (V2x - v2x)(sin G + mu' cos G) = 0`, with
 /// `mu' = mu * friction_sign` (friction opposes the initial sliding direction).
-pub fn friction(impact: &Impact, mu: f64, friction_sign: f64) -> Row {
+pub fn friction(impact: &Impact, mu: f64, friction_sign: FrictionSign) -> Row {
     let [m1, m2] = impact.masses();
     let [c, s] = impact.normal();
-    let mu_s = mu * friction_sign;
+    let mu_s = mu * friction_sign.value();
     momentum(RowVector6::new(
         0.0,
         m1 * (c - mu_s * s),
@@ -88,6 +89,19 @@ pub fn friction(impact: &Impact, mu: f64, friction_sign: f64) -> Row {
         0.0,
         0.0,
     ))
+}
+
+/// The normal and tangential impulse on vehicle 1 as rows over the velocity change
+/// `D = X - x`: `Pn = pn . D`, `Pt = pt . D`, with `P = m1 (V1 - v1)` (vehicle 2 receives `-P`).
+/// Every projection of the impulse onto the crush surface goes through these rows.
+pub fn impulse_rows(impact: &Impact) -> (RowVector6<f64>, RowVector6<f64>) {
+    let [m1, _] = impact.masses();
+    let [nx, ny] = impact.normal();
+    let [tx, ty] = impact.tangent();
+    (
+        RowVector6::new(m1 * nx, m1 * ny, 0.0, 0.0, 0.0, 0.0),
+        RowVector6::new(m1 * tx, m1 * ty, 0.0, 0.0, 0.0, 0.0),
+    )
 }
 
 /// Equation 5a: `Vt = 0`.
@@ -129,7 +143,7 @@ pub fn moment_restitution(impact: &Impact, em: f64, form: MomentForm) -> Row {
 pub fn assemble(
     impact: &Impact,
     coefficients: &Coefficients,
-    friction_sign: f64,
+    friction_sign: FrictionSign,
     options: &SolveOptions,
 ) -> LinearSystem {
     let (tangential, eq5) = match options.tangential {

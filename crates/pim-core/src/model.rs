@@ -1,6 +1,7 @@
 //! The inputs of the model: vehicles, collision geometry, coefficients and velocity states.
 
 use crate::error::{PimError, Result, VehicleId};
+use crate::friction::FrictionSign;
 use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
@@ -256,10 +257,9 @@ impl Impact {
 
     /// The sign factor `sgn(vn) sgn(vt)` of equation 5 for the contact state `v`: friction
     /// opposes the initial sliding direction. `sgn(0)` is taken as +1.
-    pub fn friction_sign(&self, v: &Velocities) -> f64 {
+    pub fn friction_sign(&self, v: &Velocities) -> FrictionSign {
         let (vn, vt) = self.relative_velocity(v);
-        let s = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
-        s(vn) * s(vt)
+        FrictionSign::of(vn, vt)
     }
 }
 

@@ -1,6 +1,7 @@
 //! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
 
-use crate::equations::{assemble, LinearSystem};
+use crate::equations::{assemble, impulse_rows, LinearSystem};
+use crate::friction::{classify_friction, creates_energy, FrictionSign};
 use crate::error::Equation;
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use serde::{Deserialize, Serialize};
@@ -141,8 +142,8 @@ pub struct ImpactReport {
     pub delta_v: [DeltaV; 2],
     /// Kinetic energy balance.
     pub energy: Energy,
-    /// `sgn(vn) sgn(vt)` at contact: mu' = mu times this in equation 5.
-    pub friction_sign: f64,
+    /// `sgn(vn) sgn(vt)` at contact: mu' = mu times this in equation 5 (`1` or `-1` in JSON).
+    pub friction_sign: FrictionSign,
     /// Signed critical impulse ratio: the mu at which Vt = 0 (None if the normal impulse vanishes).
     pub mu_max: Option<f64>,
     /// mu / mu_max (the effective ratio is 1 under the no-slip form).
@@ -171,7 +172,7 @@ fn delta_v(before: &crate::VehicleVelocity, after: &crate::VehicleVelocity) -> D
 pub fn residuals(
     impact: &Impact,
     coefficients: &Coefficients,
-    sign: f64,
+    sign: FrictionSign,
     options: &SolveOptions,
     initial: &Velocities,
     separation: &Velocities,
@@ -253,7 +254,7 @@ pub(crate) fn build_report(
     options: &SolveOptions,
     initial: &Velocities,
     separation: &Velocities,
-    sign: f64,
+    sign: FrictionSign,
     mu_max: Option<f64>,
 ) -> ImpactReport {
     let [p1i, p2i] = impact.contact_point_velocities(initial);
@@ -266,13 +267,14 @@ pub(crate) fn build_report(
     let dv2 = delta_v(&initial.vehicle2, &separation.vehicle2);
     let px = m1 * dv1.dvx;
     let py = m1 * dv1.dvy;
-    let [n, t] = [impact.normal(), impact.tangent()];
+    let change = separation.to_vector() - initial.to_vector();
+    let (pn_row, pt_row) = impulse_rows(impact);
     let [r1, _] = impact.lever_arms();
     let impulse = Impulse {
         px,
         py,
-        normal: px * n[0] + py * n[1],
-        tangential: px * t[0] + py * t[1],
+        normal: (pn_row * change)[0],
+        tangential: (pt_row * change)[0],
         moment: i1 * dv1.domega - (r1[0] * py - r1[1] * px),
     };
     let t0 = initial.kinetic_energy(impact);
@@ -288,39 +290,14 @@ pub(crate) fn build_report(
         },
     };
 
-    let mu = coefficients.mu;
     let (tangential, mu_ratio, friction_ok) = match options.tangential {
         TangentialCondition::NoSlip => (TangentialOutcome::Sticking, Some(1.0), true),
-        TangentialCondition::Sliding => match mu_max {
-            Some(m) if m.abs() > REPORT_TOL => {
-                let r = mu / m;
-                let outcome = if (r - 1.0).abs() <= REPORT_TOL * 10.0 {
-                    TangentialOutcome::Sticking
-                } else if r > 1.0 {
-                    TangentialOutcome::Reversed
-                } else {
-                    TangentialOutcome::Sliding
-                };
-                (
-                    outcome,
-                    Some(r),
-                    (-REPORT_TOL..=1.0 + 10.0 * REPORT_TOL).contains(&r),
-                )
-            }
-            Some(_) => {
-                // mu_max = 0: only mu = 0 is admissible, and then the vehicles stick.
-                let ok = mu.abs() <= REPORT_TOL;
-                let outcome = if ok {
-                    TangentialOutcome::Sticking
-                } else {
-                    TangentialOutcome::Reversed
-                };
-                (outcome, None, ok)
-            }
-            None => (TangentialOutcome::Sliding, None, mu.abs() <= REPORT_TOL),
-        },
+        TangentialCondition::Sliding => {
+            let v = classify_friction(coefficients.mu, mu_max);
+            (v.outcome, v.ratio, v.admissible)
+        }
     };
-    let energy_ok = t1 <= t0 * (1.0 + REPORT_TOL);
+    let energy_ok = !creates_energy(t0, t1);
     ImpactReport {
         coefficients: *coefficients,
         options: *options,

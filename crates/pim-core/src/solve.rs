@@ -1,7 +1,8 @@
 //! Forward and backward solution of the six equations.
 
-use crate::equations::{assemble, tangential_velocity_row, LinearSystem};
+use crate::equations::{assemble, impulse_rows, tangential_velocity_row, LinearSystem};
 use crate::error::{Equation, PimError, Result};
+use crate::friction::{CriticalImpulse, FrictionSign};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use crate::report::{build_report, ImpactReport};
 use nalgebra::{Matrix6, Vector6, LU, U6};
@@ -105,7 +106,7 @@ fn forward(
     impact: &Impact,
     coefficients: &Coefficients,
     x: &Vector6<f64>,
-    sign: f64,
+    sign: FrictionSign,
     options: &SolveOptions,
 ) -> Result<ForwardSolution> {
     let system = assemble(impact, coefficients, sign, options);
@@ -141,21 +142,15 @@ fn critical_ratio(
     impact: &Impact,
     x: &Vector6<f64>,
     no_slip_sep: &Vector6<f64>,
-    sign: f64,
+    sign: FrictionSign,
 ) -> Option<f64> {
-    let [m1, _] = impact.masses();
-    let px = m1 * (no_slip_sep[0] - x[0]);
-    let py = m1 * (no_slip_sep[1] - x[1]);
-    let [nx, ny] = impact.normal();
-    let [tx, ty] = impact.tangent();
-    let pn = px * nx + py * ny;
-    let pt = px * tx + py * ty;
-    let scale = px.hypot(py);
-    if pn.is_nan() || pn.abs() <= 1e-12 * scale {
-        return None;
+    let (pn, pt) = impulse_rows(impact);
+    let change = no_slip_sep - x;
+    CriticalImpulse {
+        normal: (pn * change)[0],
+        tangential: (pt * change)[0],
     }
-    let r = pt / pn * sign;
-    r.is_finite().then_some(r)
+    .mu_max(sign)
 }
 
 /// The separation velocities for given contact velocities, without the derived quantities.
@@ -244,9 +239,9 @@ pub fn solve_backward(
 ) -> Result<ImpactReport> {
     coefficients.validate()?;
     separation.validate()?;
-    let signs: &[f64] = match options.tangential {
-        TangentialCondition::Sliding => &[1.0, -1.0],
-        TangentialCondition::NoSlip => &[1.0],
+    let signs: &[FrictionSign] = match options.tangential {
+        TangentialCondition::Sliding => &FrictionSign::BOTH,
+        TangentialCondition::NoSlip => &[FrictionSign::Positive],
     };
     backward(impact, coefficients, separation, options, signs)
 }
@@ -259,12 +254,11 @@ pub fn solve_backward_with_sign(
     coefficients: &Coefficients,
     separation: &Velocities,
     options: &SolveOptions,
-    friction_sign: f64,
+    friction_sign: FrictionSign,
 ) -> Result<ImpactReport> {
     coefficients.validate()?;
     separation.validate()?;
-    let s = if friction_sign < 0.0 { -1.0 } else { 1.0 };
-    backward(impact, coefficients, separation, options, &[s])
+    backward(impact, coefficients, separation, options, &[friction_sign])
 }
 
 fn backward(
@@ -272,13 +266,13 @@ fn backward(
     coefficients: &Coefficients,
     separation: &Velocities,
     options: &SolveOptions,
-    signs: &[f64],
+    signs: &[FrictionSign],
 ) -> Result<ImpactReport> {
     let xf = separation.to_vector();
     let no_slip = options.tangential == TangentialCondition::NoSlip;
     // For each assumed sliding direction: the contact state, or why it does not fit.
-    let mut consistent: Vec<(f64, Velocities)> = Vec::new();
-    let mut rejected: Vec<(f64, PimError)> = Vec::new();
+    let mut consistent: Vec<(FrictionSign, Velocities)> = Vec::new();
+    let mut rejected: Vec<(FrictionSign, PimError)> = Vec::new();
     for &s in signs {
         let system = assemble(impact, coefficients, s, options);
         let factor = match Factor::new(&system.g) {
@@ -291,7 +285,7 @@ fn backward(
         let x = Velocities::from_vector(&factor.solve(&-(system.f * xf)));
         if let Err(e) = impact.check_approach(&x) {
             rejected.push((s, e));
-        } else if no_slip || impact.friction_sign(&x) * s > 0.0 {
+        } else if no_slip || impact.friction_sign(&x) == s {
             consistent.push((s, x));
         } else {
             rejected.push((
@@ -313,7 +307,7 @@ fn backward(
         }
         let parts: Vec<String> = rejected
             .iter()
-            .map(|(s, e)| format!("assuming sgn(vn) sgn(vt) = {s:+}: {e}"))
+            .map(|(s, e)| format!("assuming sgn(vn) sgn(vt) = {:+}: {e}", s.value()))
             .collect();
         return Err(PimError::InconsistentSliding(format!(
             "no contact state fits these separation velocities with mu = {}; {}",
@@ -407,12 +401,12 @@ pub fn analyse(
     options: &SolveOptions,
     initial: &Velocities,
     separation: &Velocities,
-    friction_sign: f64,
+    friction_sign: FrictionSign,
 ) -> Result<ImpactReport> {
     coefficients.validate()?;
     initial.validate()?;
     separation.validate()?;
-    let sign = if friction_sign < 0.0 { -1.0 } else { 1.0 };
+    let sign = friction_sign;
     let no_slip = SolveOptions {
         tangential: TangentialCondition::NoSlip,
         ..*options

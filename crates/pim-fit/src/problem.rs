@@ -2,7 +2,8 @@
 
 use crate::error::{FitError, Result};
 use nalgebra::SVector;
-use pim_core::{Impact, MomentForm, VehicleId, Velocities};
+use pim_core::{Impact, VehicleId, Velocities};
+use std::fmt;
 use serde::{Deserialize, Serialize};
 
 /// A vector over the twelve velocity components
@@ -24,6 +25,40 @@ pub const COMPONENT_NAMES: [&str; 12] = [
     "final.vehicle2.vy",
     "final.vehicle2.omega",
 ];
+
+/// One of the twelve components of U, by index (0..12). Displayed and serialised by its name
+/// (`initial.vehicle1.vx`, ...).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Component(pub usize);
+
+impl Component {
+    /// The component's name.
+    pub fn name(self) -> &'static str {
+        COMPONENT_NAMES[self.0]
+    }
+
+    /// True for a yaw rate (rad/s), false for a linear velocity (m/s).
+    pub fn is_yaw_rate(self) -> bool {
+        self.0 % 3 == 2
+    }
+
+    /// True for a component of the contact state, false for the separation state.
+    pub fn is_initial(self) -> bool {
+        self.0 < 6
+    }
+}
+
+impl fmt::Display for Component {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl Serialize for Component {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
 
 /// What is known about one velocity component.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -70,6 +105,16 @@ impl CostPreset {
         }
     }
 
+    /// Whether the preset holds component k of U fixed at its estimate (the one place this rule
+    /// is written): Q1 the separation state, Q2 the contact state, Q3 nothing.
+    pub fn holds_fixed(self, k: usize) -> bool {
+        match self {
+            CostPreset::Q1 => k >= 6,
+            CostPreset::Q2 => k < 6,
+            CostPreset::Q3 => false,
+        }
+    }
+
     /// Builds the component knowledge from estimates of both states and weights (1 when `None`).
     pub fn knowledge(
         self,
@@ -78,20 +123,16 @@ impl CostPreset {
         weights: Option<&[f64; 12]>,
     ) -> [Knowledge; 12] {
         let u = state_vector(initial, separation);
-        let mut out = [Knowledge::Unknown; 12];
-        for (k, slot) in out.iter_mut().enumerate() {
-            let weight = weights.map_or(1.0, |w| w[k]);
-            let estimated = Knowledge::Estimated {
-                value: u[k],
-                weight,
-            };
-            let known = Knowledge::Known { value: u[k] };
-            *slot = match (self, k < 6) {
-                (CostPreset::Q1, true) | (CostPreset::Q2, false) | (CostPreset::Q3, _) => estimated,
-                (CostPreset::Q1, false) | (CostPreset::Q2, true) => known,
-            };
-        }
-        out
+        std::array::from_fn(|k| {
+            if self.holds_fixed(k) {
+                Knowledge::Known { value: u[k] }
+            } else {
+                Knowledge::Estimated {
+                    value: u[k],
+                    weight: weights.map_or(1.0, |w| w[k]),
+                }
+            }
+        })
     }
 }
 
@@ -281,100 +322,5 @@ impl MomentBranch {
             MomentBranch::Free => "free",
             MomentBranch::Zero => "zero",
         }
-    }
-}
-
-/// Settings of a fit, before checking.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FitSettings {
-    /// Range of e (default [0, 0.2]).
-    pub e: [f64; 2],
-    /// Range of mu (default [-1.2, 1.2]); mu must also lie between 0 and mu_max.
-    pub mu: [f64; 2],
-    /// Bound on every linear velocity component, m/s (default 20).
-    pub velocity_bound: f64,
-    /// Bound on every yaw rate, rad/s (default 5).
-    pub yaw_rate_bound: f64,
-    /// Form of the moment equation (default corrected).
-    pub moment_form: MomentForm,
-    /// Branches to fit (default both).
-    pub branches: Vec<MomentBranch>,
-    /// Grid resolution of the global search: points along e, mu and em.
-    pub grid: [usize; 3],
-    /// Relative cost tolerance of the identifiability ranges (default 0.01 = 1 %).
-    pub identifiability_tolerance: f64,
-}
-
-impl Default for FitSettings {
-    fn default() -> Self {
-        FitSettings {
-            e: [0.0, 0.2],
-            mu: [-1.2, 1.2],
-            velocity_bound: 20.0,
-            yaw_rate_bound: 5.0,
-            moment_form: MomentForm::Corrected,
-            branches: MomentBranch::ALL.to_vec(),
-            grid: [5, 17, 6],
-            identifiability_tolerance: 0.01,
-        }
-    }
-}
-
-/// Settings that passed [`FitSettings::check`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ValidSettings(pub(crate) FitSettings);
-
-impl ValidSettings {
-    /// The settings.
-    pub fn get(&self) -> &FitSettings {
-        &self.0
-    }
-}
-
-impl FitSettings {
-    /// Checks the settings once, so that a fit only runs on valid ones.
-    pub fn check(self) -> Result<ValidSettings> {
-        let [elo, ehi] = self.e;
-        if !(elo.is_finite() && ehi.is_finite() && 0.0 <= elo && elo <= ehi && ehi <= 1.0) {
-            return Err(FitError::BadBounds(format!(
-                "e = [{elo}, {ehi}] must satisfy 0 <= low <= high <= 1"
-            )));
-        }
-        let [mlo, mhi] = self.mu;
-        if !(mlo.is_finite() && mhi.is_finite() && mlo <= mhi && mlo >= -100.0 && mhi <= 100.0) {
-            return Err(FitError::BadBounds(format!(
-                "mu = [{mlo}, {mhi}] must satisfy -100 <= low <= high <= 100"
-            )));
-        }
-        for (name, b, limit) in [
-            ("velocity_bound", self.velocity_bound, pim_core::MAX_SPEED),
-            (
-                "yaw_rate_bound",
-                self.yaw_rate_bound,
-                pim_core::MAX_YAW_RATE,
-            ),
-        ] {
-            if !(b.is_finite() && b > 0.0 && b <= limit) {
-                return Err(FitError::BadBounds(format!(
-                    "{name} = {b} must be > 0 and <= {limit}"
-                )));
-            }
-        }
-        if self.branches.is_empty() {
-            return Err(FitError::BadBounds("no moment branch selected".into()));
-        }
-        if self.grid.iter().any(|&n| !(2..=400).contains(&n)) {
-            return Err(FitError::BadBounds(format!(
-                "grid {:?}: each count must be between 2 and 400",
-                self.grid
-            )));
-        }
-        let t = self.identifiability_tolerance;
-        if !(t.is_finite() && t > 0.0) {
-            return Err(FitError::BadBounds(format!(
-                "identifiability_tolerance = {t} must be > 0"
-            )));
-        }
-        Ok(ValidSettings(self))
     }
 }

@@ -1,8 +1,15 @@
-//! The fit report.
+//! The fit report: statuses, reasons and active constraints are types; their words are made by
+//! `Display` (and serialised as those words) at the edge.
 
-use crate::problem::MomentBranch;
-use pim_core::{DeltaV, Impulse, Residuals, Velocities};
-use serde::{Deserialize, Serialize};
+use crate::problem::{Component, MomentBranch};
+use pim_core::{DeltaV, FrictionSign, Impulse, PimError, Residuals, Velocities};
+use serde::{Deserialize, Serialize, Serializer};
+use std::fmt;
+
+/// Serialises a value by its `Display` words.
+fn as_words<T: fmt::Display, S: Serializer>(v: &T, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&v.to_string())
+}
 
 /// Outcome of a branch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -14,6 +21,295 @@ pub enum Status {
     Infeasible,
     /// A solution was found but a local refinement hit its iteration limit.
     LimitReached,
+    /// The best point found failed pim-core's own check of the equations and admissibility;
+    /// a defect of the search, reported instead of a wrong optimum.
+    CheckFailed,
+}
+
+impl fmt::Display for Status {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Status::Optimal => "optimal",
+            Status::Infeasible => "infeasible",
+            Status::LimitReached => "limit_reached",
+            Status::CheckFailed => "check_failed",
+        })
+    }
+}
+
+/// Why a candidate point of the search is not admissible.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Violation {
+    /// A velocity component exceeds its bound.
+    Bound(Component),
+    /// The vehicles do not approach at C at contact (by the minimum closing speed).
+    NotApproaching,
+    /// The contact state slides the other way than the friction sign assumes.
+    SlidingDirection,
+    /// mu is not between 0 and mu_max.
+    Friction,
+    /// Sticking needs a friction ratio outside the mu bounds.
+    MuBound,
+    /// The solution creates kinetic energy.
+    Energy,
+    /// The equations are singular for these coefficients.
+    Singular,
+    /// The constraints together admit no solution (found by the QP).
+    Infeasible,
+    /// The energy-constrained problem could not be solved exactly.
+    EnergyUncertified,
+    /// The known components contradict an equation that does not involve the unknown ones.
+    Inconsistent,
+}
+
+/// The bounds a reason refers to (for its words).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// |v| bound, m/s.
+    pub velocity: f64,
+    /// |omega| bound, rad/s.
+    pub yaw_rate: f64,
+    /// mu range.
+    pub mu: [f64; 2],
+    /// e range.
+    pub e: [f64; 2],
+}
+
+impl Violation {
+    /// The violation in words.
+    pub fn describe(self, limits: &Limits) -> String {
+        match self {
+            Violation::Bound(k) => format!(
+                "the velocities would exceed the bound on {k} (|v| <= {} m/s, |omega| <= {} rad/s)",
+                limits.velocity, limits.yaw_rate
+            ),
+            Violation::NotApproaching => {
+                "the contact velocities would not approach at the impact centre".to_string()
+            }
+            Violation::SlidingDirection | Violation::Friction => "the tangential impulse would \
+                reverse the sliding direction, so no mu between 0 and mu_max fits"
+                .to_string(),
+            Violation::MuBound => format!(
+                "stopping the sliding would need a friction ratio outside [{}, {}]",
+                limits.mu[0], limits.mu[1]
+            ),
+            Violation::Energy => "the solution would create kinetic energy".to_string(),
+            Violation::Singular => "the impact equations are singular".to_string(),
+            Violation::Infeasible => {
+                "the bounds, approach and sliding conditions admit no velocities together"
+                    .to_string()
+            }
+            Violation::EnergyUncertified => {
+                "the energy condition could not be enforced exactly".to_string()
+            }
+            Violation::Inconsistent => "the components held fixed contradict an equation on \
+                their own (sticking needs no tangential relative velocity at separation, e = 0 \
+                no normal one, em = 0 equal yaw rates)"
+                .to_string(),
+        }
+    }
+}
+
+/// Why a branch is not optimal, or a caveat on an optimal one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Reason {
+    /// The fixed separation velocities still approach at C: a negative restitution.
+    SeparationApproaches {
+        /// Normal relative velocity at separation, m/s.
+        normal_velocity: f64,
+        /// The e range searched.
+        e_range: [f64; 2],
+    },
+    /// The fixed separation velocities slide the other way than at contact.
+    SeparationReversesSliding {
+        /// Tangential relative velocity at separation, m/s.
+        tangential_velocity: f64,
+    },
+    /// The fixed contact velocities do not approach at C.
+    ContactNotApproaching(PimError),
+    /// No candidate of the box satisfied the constraints, and none was even evaluated.
+    NoCandidate,
+    /// No candidate of the box satisfies every constraint: the most frequent violations with
+    /// their share of the candidates, percent.
+    Constraints {
+        /// The most frequent violation and its share.
+        main: (Violation, f64),
+        /// The second, if any.
+        second: Option<(Violation, f64)>,
+        /// The bounds the words refer to.
+        limits: Limits,
+    },
+    /// The data leave these velocity components undetermined (the values shown are the
+    /// smallest-norm choice).
+    Undetermined(Vec<Component>),
+    /// The refinement that found the point hit its iteration limit and no other agrees.
+    LimitReached {
+        /// Refinements other than the one that found the point.
+        other_refinements: usize,
+    },
+    /// pim-core's check of the answer failed, with its words.
+    CheckFailed(Vec<String>),
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Reason::SeparationApproaches {
+                normal_velocity,
+                e_range,
+            } => write!(
+                f,
+                "the fixed separation velocities still approach at the impact centre (normal \
+                 relative velocity {normal_velocity:.3} m/s towards each other), which would need \
+                 a negative restitution; no e in [{}, {}] fits them",
+                e_range[0], e_range[1]
+            ),
+            Reason::SeparationReversesSliding {
+                tangential_velocity,
+            } => write!(
+                f,
+                "the fixed separation velocities reverse the sliding direction (tangential \
+                 relative velocity at separation {tangential_velocity:.3} m/s), so no mu <= mu_max \
+                 fits them"
+            ),
+            Reason::ContactNotApproaching(e) => {
+                write!(f, "the fixed contact velocities admit no impact: {e}")
+            }
+            Reason::NoCandidate => {
+                f.write_str("no candidate in the coefficient box satisfies the constraints")
+            }
+            Reason::Constraints {
+                main,
+                second,
+                limits,
+            } => {
+                write!(
+                    f,
+                    "no coefficients in the box satisfy every constraint: {} ({:.0} % of the \
+                     candidates)",
+                    main.0.describe(limits),
+                    main.1
+                )?;
+                if let Some((v, pct)) = second {
+                    write!(f, "; {} ({pct:.0} %)", v.describe(limits))?;
+                }
+                Ok(())
+            }
+            Reason::Undetermined(list) => {
+                let names: Vec<&str> = list.iter().map(|c| c.name()).collect();
+                write!(
+                    f,
+                    "the data do not determine {}: equally good solutions differ along them, and \
+                     the values shown are the smallest-norm choice",
+                    names.join(", ")
+                )
+            }
+            Reason::LimitReached { other_refinements } => write!(
+                f,
+                "the refinement that found this point reached its iteration limit and none of \
+                 the other {other_refinements} refinements reached the same cost; it is the best \
+                 point found"
+            ),
+            Reason::CheckFailed(words) => write!(
+                f,
+                "the best point found fails pim-core's check: {}",
+                words.join("; ")
+            ),
+        }
+    }
+}
+
+impl Serialize for Reason {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        as_words(self, s)
+    }
+}
+
+/// A constraint that holds with equality at a fitted solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ActiveConstraint {
+    /// A velocity component is at its bound.
+    VelocityBound(Component),
+    /// The closing speed at C is at its minimum.
+    MinimumApproach,
+    /// No sliding at contact (vt = 0).
+    SlidingDirection,
+    /// mu = mu_max: sliding just stops at separation.
+    MuMax,
+    /// The friction ratio of a sticking solution is at a mu bound.
+    StickingMuBound,
+    /// No kinetic energy created: T1 = T0.
+    Energy,
+    /// e at the lower end of its range.
+    ELow,
+    /// e at the upper end of its range.
+    EHigh,
+    /// e_m = -1.
+    EmLow,
+    /// e_m = 0.
+    EmHigh,
+    /// mu at the lower end of its range.
+    MuLow,
+    /// mu at the upper end of its range.
+    MuHigh,
+    /// mu = 0.
+    MuZero,
+}
+
+impl fmt::Display for ActiveConstraint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ActiveConstraint::VelocityBound(k) => write!(f, "bound on {k}"),
+            ActiveConstraint::MinimumApproach => f.write_str("minimum approach speed at C"),
+            ActiveConstraint::SlidingDirection => {
+                f.write_str("sliding direction at contact (vt = 0)")
+            }
+            ActiveConstraint::MuMax => f.write_str("mu = mu_max (sliding just stops)"),
+            ActiveConstraint::StickingMuBound => f.write_str("mu bound"),
+            ActiveConstraint::Energy => f.write_str("no kinetic energy created (T1 = T0)"),
+            ActiveConstraint::ELow => f.write_str("e at its lower bound"),
+            ActiveConstraint::EHigh => f.write_str("e at its upper bound"),
+            ActiveConstraint::EmLow => f.write_str("em = -1"),
+            ActiveConstraint::EmHigh => f.write_str("em = 0"),
+            ActiveConstraint::MuLow => f.write_str("mu at its lower bound"),
+            ActiveConstraint::MuHigh => f.write_str("mu at its upper bound"),
+            ActiveConstraint::MuZero => f.write_str("mu = 0"),
+        }
+    }
+}
+
+impl Serialize for ActiveConstraint {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        as_words(self, s)
+    }
+}
+
+/// A quantity whose identifiability is reported.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Restitution.
+    E,
+    /// Friction ratio.
+    Mu,
+    /// Moment restitution.
+    Em,
+    /// Speed of vehicle 1 at contact, m/s.
+    Speed1,
+    /// Speed of vehicle 2 at contact, m/s.
+    Speed2,
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Quantity::E => "e",
+            Quantity::Mu => "mu",
+            Quantity::Em => "em",
+            Quantity::Speed1 => "speed1",
+            Quantity::Speed2 => "speed2",
+        })
+    }
 }
 
 /// How well the data pin one coefficient (or contact speed) down.
@@ -22,10 +318,10 @@ pub enum Status {
 /// each coefficient. When one whole state is known (Q1, Q2) those scans run along mu and em with
 /// e at its best, and on each scanned line the ends of the e interval whose cost is within the
 /// tolerance are computed exactly (the cost is a quadratic along e there).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Identifiability {
     /// `e`, `mu`, `em`, or `speed1` / `speed2` (speed of each vehicle at contact, m/s).
-    pub coefficient: String,
+    pub coefficient: Quantity,
     /// Smallest value seen whose cost is within the tolerance of the optimum.
     pub low: f64,
     /// Largest such value.
@@ -62,7 +358,7 @@ pub struct Certificate {
 }
 
 /// The fitted solution of one moment branch.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Solution {
     /// Restitution.
     pub e: f64,
@@ -79,14 +375,15 @@ pub struct Solution {
     pub separation: Velocities,
     /// True when the optimum sticks (mu = mu_max, equation 5a).
     pub sticking: bool,
-    /// Friction sign sgn(vn) sgn(vt) at contact.
-    pub friction_sign: f64,
+    /// Friction sign sgn(vn) sgn(vt) at contact (`1` or `-1` in JSON).
+    pub friction_sign: FrictionSign,
     /// Residuals of the six equations.
     pub residuals: Residuals,
     /// Largest relative residual.
     pub max_residual: f64,
-    /// Inequality constraints active at the optimum, in words.
-    pub active_constraints: Vec<String>,
+    /// Constraints active at the optimum: velocity bounds, approach, sliding direction,
+    /// mu = mu_max, energy, and coefficients on the ends of their ranges.
+    pub active_constraints: Vec<ActiveConstraint>,
     /// Kinetic energy loss, percent.
     pub energy_loss_percent: f64,
     /// Signed critical friction of the fitted contact state.
@@ -102,11 +399,11 @@ pub struct Solution {
     /// Velocity components the data leave undetermined (the cost is flat along a combination
     /// of them); empty when the fitted velocities are unique. The values shown are then the
     /// smallest-norm choice among equally good ones.
-    pub undetermined: Vec<String>,
+    pub undetermined: Vec<Component>,
 }
 
 /// The result of one moment branch.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BranchReport {
     /// The branch.
     pub moment: MomentBranch,
@@ -114,7 +411,7 @@ pub struct BranchReport {
     pub status: Status,
     /// Why, in words, when not optimal; for an optimal branch, a caveat (undetermined
     /// velocities) when there is one.
-    pub reason: Option<String>,
+    pub reason: Option<Reason>,
     /// The solution (none when infeasible).
     pub solution: Option<Solution>,
     /// Identifiability of each coefficient (empty when infeasible).
@@ -124,7 +421,7 @@ pub struct BranchReport {
 }
 
 /// The result of a fit.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitReport {
     /// One report per branch, in the order asked.
     pub branches: Vec<BranchReport>,

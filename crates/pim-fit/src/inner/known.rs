@@ -1,0 +1,47 @@
+//! One whole state known (Q1, Q2): the six equations fix U through pim-core's reduced solve,
+//! and the candidate is checked against the constraint set.
+
+use super::{At, Candidate, Eval, Inner};
+use crate::report::Violation;
+use nalgebra::Vector6;
+use pim_core::reduction::Reduced;
+
+impl Inner {
+    /// The candidate of a problem with one state known. `None` when the problem is not of that
+    /// kind or the reduced system is singular for these coefficients (the general path then
+    /// decides).
+    pub(super) fn evaluate_known(&self, at: &At) -> Option<Eval> {
+        let known = self.known.as_ref()?;
+        match known.solve(&at.c, at.mode, at.sign) {
+            Reduced::States(x, xf) => Some(self.checked(at, x, xf)),
+            Reduced::Inconsistent => Some(Eval::Infeasible(Violation::Inconsistent)),
+            Reduced::Singular => None,
+        }
+    }
+
+    /// A fully determined candidate `(x, X)`: checked, with its cost and friction ratio.
+    pub(super) fn checked(&self, at: &At, x: Vector6<f64>, xf: Vector6<f64>) -> Eval {
+        let check = self.constraints(at).check(at.c.e, &x, &xf);
+        if let Some(v) = check.linear {
+            return Eval::Infeasible(v);
+        }
+        if !check.ratio_ok {
+            return Eval::Infeasible(match at.mode {
+                pim_core::TangentialCondition::Sliding => Violation::Friction,
+                pim_core::TangentialCondition::NoSlip => Violation::MuBound,
+            });
+        }
+        if !check.energy_ok {
+            return Eval::Infeasible(Violation::Energy);
+        }
+        Eval::Feasible(Candidate {
+            cost: self.objective.cost(&x, &xf),
+            mu_eff: self.mu_eff(at, &x, &xf),
+            x,
+            xf,
+            qp: false,
+            lambda: 0.0,
+            flat: false,
+        })
+    }
+}

@@ -1,0 +1,253 @@
+//! The inner problem: for fixed coefficients, friction sign and tangential condition, the best U.
+//!
+//! With `F X + G x = 0` and F regular, `X = R x` (pim-core's reduction), so the cost is a convex
+//! quadratic in the contact state x ([`objective`]). Its conditions are one constraint set
+//! ([`constraints`]): linear bounds, approach and sliding direction, the exact friction
+//! condition (a union of two polyhedra), and no energy created. Two paths solve it:
+//! - one whole state known (Q1, Q2): the six equations fix U; it is checked ([`known`]), and
+//!   along e both states are affine, so e is minimised exactly ([`profile`]);
+//! - otherwise: the equality-only optimum, then QPs on the linear rows and on each wedge of the
+//!   friction condition, and the energy condition through its Lagrangian ([`general`]).
+//!
+//! [`diagnosis`] explains what a solution leaves undetermined and which constraints are active.
+
+mod constraints;
+mod diagnosis;
+mod general;
+mod known;
+mod objective;
+mod profile;
+mod qp;
+
+pub(crate) use constraints::{ConstraintSet, Impulses, Linear, Ratio};
+pub(crate) use diagnosis::explain_infeasible;
+pub(crate) use profile::LineAt;
+
+use crate::report::Violation;
+use crate::settings::{FitSettings, SearchSettings};
+use crate::problem::FitProblem;
+use nalgebra::{RowVector6, Vector6};
+use objective::Objective;
+use pim_core::equations::{impulse_rows, normal_velocity_row, tangential_velocity_row};
+use pim_core::reduction::{KnownState, Reduction};
+use pim_core::{Coefficients, CriticalImpulse, FrictionSign, Impact, TangentialCondition};
+
+/// Where a candidate is evaluated: coefficients (mu unused when sticking), tangential condition
+/// and friction sign.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct At {
+    pub c: Coefficients,
+    pub mode: TangentialCondition,
+    pub sign: FrictionSign,
+}
+
+/// A solved candidate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Candidate {
+    pub cost: f64,
+    pub x: Vector6<f64>,
+    pub xf: Vector6<f64>,
+    /// Friction ratio in the convention of equation 5 (mu itself, or mu_max when sticking).
+    pub mu_eff: f64,
+    /// True when the QP solver was needed.
+    pub qp: bool,
+    /// Lagrange multiplier of the energy constraint (0 when inactive).
+    pub lambda: f64,
+    /// The cost is flat along some direction of x at these coefficients: the data leave part
+    /// of the velocities undetermined (x is then the smallest-norm choice).
+    pub flat: bool,
+}
+
+/// Outcome of an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Eval {
+    Feasible(Candidate),
+    /// Only from a relaxed evaluation: the equality-only optimum `lower_bound` violates a
+    /// constraint; the exact value is at least that.
+    Pending {
+        lower_bound: f64,
+        violation: Violation,
+    },
+    Infeasible(Violation),
+}
+
+/// Everything about a problem that does not depend on the coefficients.
+pub(crate) struct Inner {
+    pub impact: Impact,
+    reduction: Reduction,
+    pub objective: Objective,
+    /// The reduced solve, when one whole state is known (Q1, Q2).
+    known: Option<KnownState>,
+    /// Friction sign when the contact state is fully known.
+    known_sign: Option<FrictionSign>,
+    /// The linear conditions for each friction sign (positive, negative).
+    linear: [Vec<Linear>; 2],
+    impulse: (RowVector6<f64>, RowVector6<f64>),
+    mass: Vector6<f64>,
+    pub mu_bounds: [f64; 2],
+    pub e_range: [f64; 2],
+    pub settings: SearchSettings,
+    /// Feasibility tolerance, m/s.
+    tol: f64,
+}
+
+fn sign_index(s: FrictionSign) -> usize {
+    match s {
+        FrictionSign::Positive => 0,
+        FrictionSign::Negative => 1,
+    }
+}
+
+impl Inner {
+    pub fn new(problem: &FitProblem, settings: &FitSettings) -> Self {
+        let impact = problem.impact;
+        let objective = Objective::new(problem);
+        let known = objective
+            .known_state()
+            .map(|(v, forward)| KnownState::new(&impact, settings.moment_form, v, forward));
+        let known_sign = objective
+            .fixed_contact()
+            .map(|x| impact.friction_sign(&pim_core::Velocities::from_vector(&x)));
+        let side = if impact.side() == 0.0 { 1.0 } else { impact.side() };
+        let nrow = normal_velocity_row(&impact);
+        let trow = tangential_velocity_row(&impact);
+        let linear_for = |sign: FrictionSign| {
+            let mut v: Vec<Linear> = (0..12)
+                .map(|k| Linear::Bound {
+                    k,
+                    limit: if k % 3 == 2 {
+                        settings.yaw_rate_bound
+                    } else {
+                        settings.velocity_bound
+                    },
+                })
+                .collect();
+            // Approach: side * vn <= -min_approach_speed.
+            v.push(Linear::Contact {
+                row: nrow * side,
+                rhs: -settings.search.min_approach_speed,
+                kind: Violation::NotApproaching,
+            });
+            // Sliding direction: sgn(vt) = sign sgn(vn) = -sign side.
+            let sigma = -sign.value() * side;
+            v.push(Linear::Contact {
+                row: -trow * sigma,
+                rhs: 0.0,
+                kind: Violation::SlidingDirection,
+            });
+            v
+        };
+        let [m1, m2] = impact.masses();
+        let [i1, i2] = impact.inertias();
+        let tol = settings.search.feasibility_tolerance * objective.scale;
+        Inner {
+            reduction: Reduction::new(&impact, settings.moment_form),
+            known,
+            known_sign,
+            linear: [
+                linear_for(FrictionSign::Positive),
+                linear_for(FrictionSign::Negative),
+            ],
+            impulse: impulse_rows(&impact),
+            mass: Vector6::new(m1, m1, i1, m2, m2, i2),
+            mu_bounds: settings.mu,
+            e_range: settings.e,
+            settings: settings.search,
+            tol,
+            objective,
+            impact,
+        }
+    }
+
+    /// Sum of weight x target^2 over the data.
+    pub fn data_scale(&self) -> f64 {
+        self.objective.data_scale()
+    }
+
+    /// The friction signs to try.
+    pub fn signs(&self) -> &'static [FrictionSign] {
+        match self.known_sign {
+            Some(FrictionSign::Positive) => &[FrictionSign::Positive],
+            Some(FrictionSign::Negative) => &[FrictionSign::Negative],
+            None => &FrictionSign::BOTH,
+        }
+    }
+
+    /// The constraint set of a candidate point.
+    pub fn constraints(&self, at: &At) -> ConstraintSet<'_> {
+        let ratio = match at.mode {
+            TangentialCondition::NoSlip => Some(Ratio {
+                source: Impulses::Actual,
+                lo: self.mu_bounds[0],
+                hi: self.mu_bounds[1],
+                kind: Violation::MuBound,
+                mu: 0.0,
+            }),
+            TangentialCondition::Sliding if at.c.mu == 0.0 => None,
+            TangentialCondition::Sliding => {
+                let source = match self.reduction.critical_rows(at.c.em) {
+                    Some(rows) => Impulses::Critical(rows),
+                    None => Impulses::Undefined,
+                };
+                let mu = at.c.mu;
+                let (lo, hi) = if mu > 0.0 {
+                    (mu, f64::INFINITY)
+                } else {
+                    (f64::NEG_INFINITY, mu)
+                };
+                Some(Ratio {
+                    source,
+                    lo,
+                    hi,
+                    kind: Violation::Friction,
+                    mu,
+                })
+            }
+        };
+        let m1 = self.mass[0];
+        ConstraintSet {
+            linear: &self.linear[sign_index(at.sign)],
+            ratio,
+            sign: at.sign,
+            impulse: self.impulse,
+            mass: self.mass,
+            tol: self.tol,
+            pn_floor: 1e-9 * m1 * self.objective.scale,
+        }
+    }
+
+    /// The friction ratio of a candidate in the convention of equation 5: mu itself, or the
+    /// ratio of its impulse (mu_max) when it sticks.
+    fn mu_eff(&self, at: &At, x: &Vector6<f64>, xf: &Vector6<f64>) -> f64 {
+        match at.mode {
+            TangentialCondition::Sliding => at.c.mu,
+            TangentialCondition::NoSlip => {
+                let d = xf - x;
+                CriticalImpulse {
+                    normal: (self.impulse.0 * d)[0],
+                    tangential: (self.impulse.1 * d)[0],
+                }
+                .mu_max(at.sign)
+                .unwrap_or(0.0)
+            }
+        }
+    }
+
+    /// Evaluates a candidate. `exact = false` stops at the equality-only optimum and returns
+    /// [`Eval::Pending`] with its cost, a lower bound of the exact value, when a constraint is
+    /// violated; so does a lower bound at or above `cutoff` (the incumbent of the search).
+    pub fn evaluate(&self, at: &At, exact: bool, cutoff: f64) -> Eval {
+        if let Some(eval) = self.evaluate_known(at) {
+            return eval;
+        }
+        self.evaluate_general(at, exact, cutoff)
+    }
+
+    /// True when the search may profile e out (see [`Inner::evaluate_profile`]).
+    pub fn profiles(&self) -> bool {
+        self.known.as_ref().is_some_and(|d| d.profiles())
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,132 @@
+//! What the search of one branch found: the best point, every solved sample, the counts of the
+//! certificate and the violations met.
+
+use crate::inner::{At, Candidate, Eval, Inner};
+use crate::report::Violation;
+use super::space::Space;
+use std::collections::BTreeMap;
+
+/// A solved point of a search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Point {
+    pub at: At,
+    pub candidate: Candidate,
+}
+
+/// One exactly solved feasible point, as the identifiability ranges read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Sample {
+    pub e: f64,
+    /// mu, or mu_max when sticking.
+    pub mu: f64,
+    pub em: f64,
+    pub cost: f64,
+    /// Speed of vehicle 1 at contact, m/s.
+    pub speed1: f64,
+    /// Speed of vehicle 2 at contact, m/s.
+    pub speed2: f64,
+    /// The cost is flat along some velocity direction at this point.
+    pub flat: bool,
+}
+
+/// Everything the search found for one branch.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Outcome {
+    pub best: Option<Point>,
+    pub samples: Vec<Sample>,
+    pub grid_points: usize,
+    pub evaluations: usize,
+    pub exact_solves: usize,
+    pub qp_solves: usize,
+    pub refinements: usize,
+    pub refinements_agreeing: usize,
+    /// A refinement that hit its iteration limit produced the optimum, and no other agrees.
+    pub limit_reached: bool,
+    /// Final cost of each refinement and whether it hit its iteration limit.
+    pub finals: Vec<(f64, bool)>,
+    pub uncertified: usize,
+    /// Violations met at infeasible grid points, counted.
+    pub violations: BTreeMap<Violation, usize>,
+    /// Sum of weight x target^2 of the data (a scale for cost tolerances).
+    pub data_scale: f64,
+    /// e was minimised exactly at every point rather than searched.
+    pub profiled_e: bool,
+}
+
+impl Outcome {
+    /// Records a solved feasible point.
+    pub fn record(&mut self, p: Point) {
+        let c = p.candidate;
+        let speed = |i: usize| c.x[i].hypot(c.x[i + 1]);
+        self.samples.push(Sample {
+            e: p.at.c.e,
+            mu: c.mu_eff,
+            em: p.at.c.em,
+            cost: c.cost,
+            speed1: speed(0),
+            speed2: speed(3),
+            flat: c.flat,
+        });
+        if c.qp {
+            self.qp_solves += 1;
+        }
+        if self.best.is_none_or(|b| c.cost < b.candidate.cost) {
+            self.best = Some(p);
+        }
+    }
+
+    /// The incumbent cost (infinite before the first feasible point).
+    pub fn incumbent(&self) -> f64 {
+        self.best.map_or(f64::INFINITY, |b| b.candidate.cost)
+    }
+
+    /// Exact value of a point: the best over friction signs, every feasible one recorded.
+    pub fn exact(&mut self, inner: &Inner, space: &Space, p: &[f64]) -> Option<Point> {
+        let mut best: Option<Point> = None;
+        for &sign in inner.signs() {
+            self.evaluations += 1;
+            self.exact_solves += 1;
+            let (at, eval) = space.eval(inner, p, sign, true, f64::INFINITY);
+            match eval {
+                Eval::Feasible(candidate) => {
+                    let pt = Point { at, candidate };
+                    self.record(pt);
+                    if best.is_none_or(|b| candidate.cost < b.candidate.cost) {
+                        best = Some(pt);
+                    }
+                }
+                Eval::Infeasible(Violation::EnergyUncertified) => self.uncertified += 1,
+                _ => {}
+            }
+        }
+        best
+    }
+
+    /// Value of a point for the refinement: the exact value (best over friction signs), or a
+    /// lower bound that already loses against the incumbent.
+    pub fn value(&mut self, inner: &Inner, space: &Space, p: &[f64]) -> f64 {
+        let incumbent = self.incumbent();
+        let mut v = f64::INFINITY;
+        for &sign in inner.signs() {
+            self.evaluations += 1;
+            let (at, eval) = space.eval(inner, p, sign, true, incumbent);
+            match eval {
+                Eval::Feasible(candidate) => {
+                    self.exact_solves += 1;
+                    self.record(Point { at, candidate });
+                    v = v.min(candidate.cost);
+                }
+                Eval::Pending { lower_bound, .. } => v = v.min(lower_bound),
+                Eval::Infeasible(Violation::EnergyUncertified) => self.uncertified += 1,
+                Eval::Infeasible(_) => {}
+            }
+        }
+        v
+    }
+}
+
+/// The largest cost counted as near the optimum `best` for the identifiability ranges: the
+/// relative tolerance, with a floor for a (near) perfect fit of 1e-6 of the data's own size.
+pub(crate) fn near_limit(best: f64, tolerance: f64, data_scale: f64) -> f64 {
+    best * (1.0 + tolerance) + 1e-6 * (1.0 + data_scale)
+}

@@ -1,0 +1,193 @@
+//! The search spaces of a branch: the coefficient boxes, per tangential condition, and their grids.
+//!
+//! Sliding `(e, mu, em)` (em fixed at 1 in the zero branch) and sticking `(e, em)`
+//! (mu = mu_max). When one whole state is known, e is not a dimension: every point minimises
+//! over e exactly, so the boxes are `(mu, em)` and `(em)` (one point for the sticking mode of the
+//! zero branch).
+
+use crate::inner::{At, Eval, Inner, LineAt};
+use crate::problem::MomentBranch;
+use crate::settings::FitSettings;
+use pim_core::{Coefficients, FrictionSign, TangentialCondition};
+
+/// A coefficient dimension of a search space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Dim {
+    pub lo: f64,
+    pub hi: f64,
+    pub n: usize,
+}
+
+impl Dim {
+    /// Grid spacing (1 for a single point).
+    pub fn spacing(&self) -> f64 {
+        if self.n > 1 {
+            (self.hi - self.lo) / (self.n - 1) as f64
+        } else {
+            1.0
+        }
+    }
+
+    /// The grid points along this dimension.
+    pub fn axis(&self) -> Vec<f64> {
+        if self.n <= 1 {
+            return vec![self.lo];
+        }
+        (0..self.n)
+            .map(|i| self.lo + (self.hi - self.lo) * i as f64 / (self.n - 1) as f64)
+            .collect()
+    }
+}
+
+/// One search space: a branch and a tangential condition.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Space {
+    pub branch: MomentBranch,
+    pub mode: TangentialCondition,
+    /// e (unless profiled), then mu (sliding only), then em (free branch only).
+    pub dims: Vec<Dim>,
+    /// The e range when e is not a dimension but minimised exactly at every point.
+    pub profile_e: Option<[f64; 2]>,
+}
+
+impl Space {
+    /// Coefficients of a point (clamped onto the box, against round-off of the refinement).
+    pub fn coefficients(&self, p: &[f64]) -> Coefficients {
+        let c = |k: usize| p[k].clamp(self.dims[k].lo, self.dims[k].hi);
+        let p: Vec<f64> = (0..p.len()).map(c).collect();
+        let (e, p) = match self.profile_e {
+            Some(range) => (range[0], &p[..]),
+            None => (p[0], &p[1..]),
+        };
+        let (mu, rest) = match self.mode {
+            TangentialCondition::Sliding => (p[0], &p[1..]),
+            TangentialCondition::NoSlip => (0.0, p),
+        };
+        let em = match self.branch {
+            MomentBranch::Zero => 1.0,
+            MomentBranch::Free => rest[0],
+        };
+        Coefficients { e, mu, em }
+    }
+
+    /// The point of a coefficient triple (mu_eff for the sliding mode's mu).
+    pub fn point_of(&self, c: &Coefficients) -> Vec<f64> {
+        let mut p = Vec::new();
+        if self.profile_e.is_none() {
+            p.push(c.e);
+        }
+        if self.mode == TangentialCondition::Sliding {
+            p.push(c.mu);
+        }
+        if self.branch == MomentBranch::Free {
+            p.push(c.em);
+        }
+        p
+    }
+
+    /// True when p lies in the box (to round-off).
+    pub fn inside(&self, p: &[f64]) -> bool {
+        p.iter()
+            .zip(&self.dims)
+            .all(|(v, d)| *v >= d.lo - 1e-12 && *v <= d.hi + 1e-12)
+    }
+
+    /// Evaluates a point: its coefficients (with the best e when e is profiled) and result.
+    pub fn eval(
+        &self,
+        inner: &Inner,
+        p: &[f64],
+        sign: FrictionSign,
+        exact: bool,
+        cutoff: f64,
+    ) -> (At, Eval) {
+        let c = self.coefficients(p);
+        let (c, eval) = match self.profile_e {
+            Some(e_range) => inner.evaluate_profile(&LineAt {
+                e_range,
+                mu: c.mu,
+                em: c.em,
+                mode: self.mode,
+                sign,
+            }),
+            None => {
+                let at = At {
+                    c,
+                    mode: self.mode,
+                    sign,
+                };
+                (c, inner.evaluate(&at, exact, cutoff))
+            }
+        };
+        (
+            At {
+                c,
+                mode: self.mode,
+                sign,
+            },
+            eval,
+        )
+    }
+
+    /// Every point of the grid.
+    pub fn grid(&self) -> Vec<Vec<f64>> {
+        let mut pts: Vec<Vec<f64>> = vec![Vec::new()];
+        for d in &self.dims {
+            let axis = d.axis();
+            pts = pts
+                .into_iter()
+                .flat_map(|p| {
+                    axis.iter().map(move |&v| {
+                        let mut q = p.clone();
+                        q.push(v);
+                        q
+                    })
+                })
+                .collect();
+        }
+        pts
+    }
+}
+
+/// The spaces of a branch; with `profile`, e is minimised exactly at every point instead of
+/// being a dimension. The sticking mode searches e on a finer grid (2n + 1 points).
+pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings, profile: bool) -> Vec<Space> {
+    let e = Dim {
+        lo: s.e[0],
+        hi: s.e[1],
+        n: if s.e[0] < s.e[1] { s.grid[0] } else { 1 },
+    };
+    let mu = Dim {
+        lo: s.mu[0],
+        hi: s.mu[1],
+        n: if s.mu[0] < s.mu[1] { s.grid[1] } else { 1 },
+    };
+    let em = Dim {
+        lo: -1.0,
+        hi: 0.0,
+        n: s.grid[2],
+    };
+    let fine_e = Dim {
+        n: if e.n > 1 { 2 * e.n + 1 } else { 1 },
+        ..e
+    };
+    let space = |mode: TangentialCondition, mut dims: Vec<Dim>| {
+        if profile {
+            dims.remove(0);
+        }
+        Space {
+            branch,
+            mode,
+            dims,
+            profile_e: profile.then_some(s.e),
+        }
+    };
+    let (sliding, sticking) = match branch {
+        MomentBranch::Zero => (vec![e, mu], vec![fine_e]),
+        MomentBranch::Free => (vec![e, mu, em], vec![fine_e, em]),
+    };
+    vec![
+        space(TangentialCondition::Sliding, sliding),
+        space(TangentialCondition::NoSlip, sticking),
+    ]
+}

@@ -1,0 +1,197 @@
+//! Settings of a fit: the coefficient box and bounds a user sets, and every tolerance, grid size
+//! and iteration limit of the search, each with its default.
+
+use crate::error::{FitError, Result};
+use crate::problem::MomentBranch;
+use pim_core::MomentForm;
+use serde::{Deserialize, Serialize};
+
+/// Settings of a fit, before checking ([`FitSettings::check`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitSettings {
+    /// Range of e (default [0, 0.2]).
+    pub e: [f64; 2],
+    /// Range of mu (default [-1.2, 1.2]); mu must also lie between 0 and mu_max.
+    pub mu: [f64; 2],
+    /// Bound on every linear velocity component, m/s (default 20).
+    pub velocity_bound: f64,
+    /// Bound on every yaw rate, rad/s (default 5).
+    pub yaw_rate_bound: f64,
+    /// Form of the moment equation (default corrected).
+    pub moment_form: MomentForm,
+    /// Branches to fit (default both).
+    pub branches: Vec<MomentBranch>,
+    /// Grid resolution of the global search: points along e, mu and em (default 5, 17, 6).
+    pub grid: [usize; 3],
+    /// Relative cost tolerance of the identifiability ranges (default 0.01 = 1 %).
+    pub identifiability_tolerance: f64,
+    /// Tolerances and limits of the search itself.
+    #[serde(default)]
+    pub search: SearchSettings,
+}
+
+impl Default for FitSettings {
+    fn default() -> Self {
+        FitSettings {
+            e: [0.0, 0.2],
+            mu: [-1.2, 1.2],
+            velocity_bound: 20.0,
+            yaw_rate_bound: 5.0,
+            moment_form: MomentForm::Corrected,
+            branches: MomentBranch::ALL.to_vec(),
+            grid: [5, 17, 6],
+            identifiability_tolerance: 0.01,
+            search: SearchSettings::default(),
+        }
+    }
+}
+
+/// Tolerances, grid sizes and iteration limits of the search (the defaults are what the
+/// benchmarks and the RICSAC results were measured with).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SearchSettings {
+    /// Smallest closing speed at the impact centre at contact, m/s (default 1e-3).
+    pub min_approach_speed: f64,
+    /// Feasibility tolerance of every linear condition, relative to the largest velocity in the
+    /// data (default 1e-9). Constructions aim at half of it, so what they build passes the check.
+    pub feasibility_tolerance: f64,
+    /// Distance to a bound, relative to the velocity scale (or to the coefficient box), within
+    /// which a constraint is listed as active (default 1e-6).
+    pub active_tolerance: f64,
+    /// Nelder-Mead refinements started per search space from distinct grid cells (default 2).
+    pub refinement_starts: usize,
+    /// Nelder-Mead stops when its simplex values agree to this relative spread (default 1e-6).
+    pub nelder_mead_tolerance: f64,
+    /// Nelder-Mead iteration limit per dimension (default 100; plus 100).
+    pub nelder_mead_iterations_per_dimension: u64,
+    /// Refinements ending within this relative cost of the best are polished (default 1e-3).
+    pub polish_within: f64,
+    /// First compass step, as a fraction of the grid spacing (default 1/16).
+    pub polish_first_step: f64,
+    /// Smallest compass step, as a fraction of the box (default 1e-7).
+    pub polish_last_step: f64,
+    /// Compass rounds at most (default 400).
+    pub polish_rounds: usize,
+    /// A compass move gaining less than this relative cost keeps the step size (default 1e-10).
+    pub polish_creep: f64,
+    /// Refinements agree when their costs are within this relative distance (default 1e-6);
+    /// the same tolerance decides ties between the moment branches.
+    pub agreement_tolerance: f64,
+    /// Points per coefficient of the scans through the optimum for the identifiability ranges
+    /// (default 13; 17 along mu in the sliding mode through a sticking optimum).
+    pub scan_points: usize,
+    /// Points along mu of the sliding scan through a sticking optimum (default 17).
+    pub scan_points_mu: usize,
+    /// Doublings of the energy multiplier before giving up (default 60).
+    pub energy_doublings: usize,
+    /// Bisection steps of the energy multiplier (default 40), stopped at a relative width of
+    /// 1e-8.
+    pub energy_bisections: usize,
+    /// Iteration limit of the QP solver (default 200).
+    pub qp_iterations: u32,
+}
+
+impl Default for SearchSettings {
+    fn default() -> Self {
+        SearchSettings {
+            min_approach_speed: 1e-3,
+            feasibility_tolerance: 1e-9,
+            active_tolerance: 1e-6,
+            refinement_starts: 2,
+            nelder_mead_tolerance: 1e-6,
+            nelder_mead_iterations_per_dimension: 100,
+            polish_within: 1e-3,
+            polish_first_step: 1.0 / 16.0,
+            polish_last_step: 1e-7,
+            polish_rounds: 400,
+            polish_creep: 1e-10,
+            agreement_tolerance: 1e-6,
+            scan_points: 13,
+            scan_points_mu: 17,
+            energy_doublings: 60,
+            energy_bisections: 40,
+            qp_iterations: 200,
+        }
+    }
+}
+
+/// Settings that passed [`FitSettings::check`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidSettings(pub(crate) FitSettings);
+
+impl ValidSettings {
+    /// The settings.
+    pub fn get(&self) -> &FitSettings {
+        &self.0
+    }
+}
+
+impl FitSettings {
+    /// Checks the settings once, so that a fit only runs on valid ones.
+    pub fn check(self) -> Result<ValidSettings> {
+        let [elo, ehi] = self.e;
+        if !(elo.is_finite() && ehi.is_finite() && 0.0 <= elo && elo <= ehi && ehi <= 1.0) {
+            return Err(FitError::BadBounds(format!(
+                "e = [{elo}, {ehi}] must satisfy 0 <= low <= high <= 1"
+            )));
+        }
+        let [mlo, mhi] = self.mu;
+        if !(mlo.is_finite() && mhi.is_finite() && mlo <= mhi && mlo >= -100.0 && mhi <= 100.0) {
+            return Err(FitError::BadBounds(format!(
+                "mu = [{mlo}, {mhi}] must satisfy -100 <= low <= high <= 100"
+            )));
+        }
+        for (name, b, limit) in [
+            ("velocity_bound", self.velocity_bound, pim_core::MAX_SPEED),
+            (
+                "yaw_rate_bound",
+                self.yaw_rate_bound,
+                pim_core::MAX_YAW_RATE,
+            ),
+        ] {
+            if !(b.is_finite() && b > 0.0 && b <= limit) {
+                return Err(FitError::BadBounds(format!(
+                    "{name} = {b} must be > 0 and <= {limit}"
+                )));
+            }
+        }
+        if self.branches.is_empty() {
+            return Err(FitError::BadBounds("no moment branch selected".into()));
+        }
+        if self.grid.iter().any(|&n| !(2..=400).contains(&n)) {
+            return Err(FitError::BadBounds(format!(
+                "grid {:?}: each count must be between 2 and 400",
+                self.grid
+            )));
+        }
+        let t = self.identifiability_tolerance;
+        if !(t.is_finite() && t > 0.0) {
+            return Err(FitError::BadBounds(format!(
+                "identifiability_tolerance = {t} must be > 0"
+            )));
+        }
+        let s = &self.search;
+        let positive = [
+            ("min_approach_speed", s.min_approach_speed),
+            ("feasibility_tolerance", s.feasibility_tolerance),
+            ("active_tolerance", s.active_tolerance),
+            ("nelder_mead_tolerance", s.nelder_mead_tolerance),
+            ("polish_within", s.polish_within),
+            ("polish_first_step", s.polish_first_step),
+            ("polish_last_step", s.polish_last_step),
+            ("agreement_tolerance", s.agreement_tolerance),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(FitError::BadBounds(format!("search.{name} = {v} must be > 0")));
+            }
+        }
+        if s.refinement_starts == 0 || s.scan_points < 2 || s.scan_points_mu < 2 {
+            return Err(FitError::BadBounds(
+                "search: refinement_starts must be >= 1 and scan points >= 2".into(),
+            ));
+        }
+        Ok(ValidSettings(self))
+    }
+}

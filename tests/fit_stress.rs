@@ -1,0 +1,315 @@
+//! The stress corpus: random realistic collisions (both sides of the crush surface, mu_max of
+//! both signs, both moment branches, sliding and sticking truths, all three cost functions, noisy
+//! estimates), each fit checked against pim-core and against an independent reference search
+//! written with pim-core only (`common/reference.rs`).
+//!
+//! For every moment branch of every case:
+//! - an `optimal` branch passes pim-core's own checks: a forward solve from the fitted contact
+//!   state with the fitted coefficients reproduces the fitted separation state, and is admissible
+//!   (mu between 0 and mu_max, no kinetic energy created);
+//! - its cost is never above the reference search's best by more than 1e-6 relative;
+//! - an infeasible branch has no admissible reference point either.
+//!
+//! `cargo test --release --test fit_stress` runs 300 cases; the 3,000-case run is
+//! `cargo test --release --test fit_stress -- --ignored`.
+mod common;
+use common::reference::{Box3, RefProblem};
+use pim_core::*;
+use pim_fit::*;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use rayon::prelude::*;
+
+/// One generated collision with noisy estimates of both states.
+#[derive(Debug, Clone)]
+struct StressCase {
+    seed: u64,
+    impact: Impact,
+    preset: CostPreset,
+    x_est: Velocities,
+    xf_est: Velocities,
+    truth: Coefficients,
+    stick: bool,
+    mu_max: f64,
+}
+
+fn normal(rng: &mut StdRng) -> f64 {
+    // Box-Muller from two uniforms in (0, 1].
+    let u1: f64 = 1.0 - rng.random::<f64>();
+    let u2: f64 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// A random realistic collision from a seed, or `None` when the draw is not an admissible impact
+/// within the bounds (the caller draws again).
+fn draw(seed: u64) -> Option<StressCase> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let vehicle = |rng: &mut StdRng| {
+        let mass = rng.random_range(800.0..2600.0);
+        let k = rng.random_range(1.1..1.6f64); // radius of gyration, m
+        Vehicle {
+            mass,
+            yaw_inertia: mass * k * k,
+            heading: rng.random_range(-180.0..180.0),
+            d: rng.random_range(0.4..2.6),
+            phi: rng.random_range(-180.0..180.0),
+        }
+    };
+    let v1 = vehicle(&mut rng);
+    let v2 = vehicle(&mut rng);
+    let impact = Impact::new(Collision {
+        vehicle1: v1,
+        vehicle2: v2,
+        crush_angle: rng.random_range(-90.0..90.0),
+    })
+    .ok()?;
+    // Travel directions: vehicle 1 forward is its heading + 180 deg in the papers' geometry.
+    let motion = |heading: f64, rng: &mut StdRng| {
+        let speed: f64 = rng.random_range(4.0..18.0);
+        let dir = (heading + rng.random_range(-12.0..12.0)).to_radians();
+        VehicleVelocity {
+            vx: speed * dir.cos(),
+            vy: speed * dir.sin(),
+            omega: rng.random_range(-0.4..0.4),
+        }
+    };
+    let x = Velocities {
+        vehicle1: motion(v1.heading + 180.0, &mut rng),
+        vehicle2: motion(v2.heading, &mut rng),
+    };
+    impact.check_approach(&x).ok()?;
+    let (_, vt) = impact.relative_velocity(&x);
+    if vt.abs() < 0.3 {
+        return None;
+    }
+    let em = if rng.random_bool(0.5) {
+        1.0
+    } else {
+        rng.random_range(-1.0..0.0)
+    };
+    let mut truth = Coefficients {
+        e: rng.random_range(0.0..0.2),
+        mu: 0.0,
+        em,
+    };
+    let mu_max = critical_friction(&impact, &truth, &x, &SolveOptions::default()).ok()??;
+    if !(0.02..1.15).contains(&mu_max.abs()) {
+        return None;
+    }
+    let stick = rng.random_bool(0.25);
+    truth.mu = if stick {
+        mu_max
+    } else {
+        mu_max * rng.random_range(0.05..0.95)
+    };
+    let opts = SolveOptions {
+        tangential: if stick {
+            TangentialCondition::NoSlip
+        } else {
+            TangentialCondition::Sliding
+        },
+        ..Default::default()
+    };
+    let r = solve_forward(&impact, &truth, &x, &opts).ok()?;
+    let inside = |v: &Velocities, margin: f64| {
+        v.to_vector()
+            .iter()
+            .enumerate()
+            .all(|(k, c)| c.abs() < if k % 3 == 2 { 5.0 - margin } else { 20.0 - margin })
+    };
+    if !r.admissibility.admissible || !inside(&r.separation, 0.5) {
+        return None;
+    }
+    let noisy = |v: &Velocities, rng: &mut StdRng| {
+        let mut u = v.to_vector();
+        for k in 0..6 {
+            u[k] += normal(rng) * if k % 3 == 2 { 0.08 } else { 0.25 };
+        }
+        Velocities::from_vector(&u)
+    };
+    let x_est = noisy(&x, &mut rng);
+    let xf_est = noisy(&r.separation, &mut rng);
+    if !inside(&x_est, 0.0) || !inside(&xf_est, 0.0) {
+        return None;
+    }
+    let preset = CostPreset::ALL[rng.random_range(0..3)];
+    Some(StressCase {
+        seed,
+        impact,
+        preset,
+        x_est,
+        xf_est,
+        truth,
+        stick,
+        mu_max,
+    })
+}
+
+/// `n` cases from consecutive seeds starting at `first`.
+fn corpus(first: u64, n: usize) -> Vec<StressCase> {
+    (first..).filter_map(draw).take(n).collect()
+}
+
+/// What one case showed.
+#[derive(Debug, Default, Clone)]
+struct Verdict {
+    failures: Vec<String>,
+    optimal: usize,
+    infeasible: usize,
+    compared: usize,
+}
+
+/// pim-core's independent check of a fitted solution: the equations from scratch and
+/// admissibility.
+fn core_check(impact: &Impact, s: &Solution) -> std::result::Result<(), String> {
+    let c = Coefficients {
+        e: s.e,
+        mu: s.mu,
+        em: s.em,
+    };
+    let opts = SolveOptions {
+        tangential: if s.sticking {
+            TangentialCondition::NoSlip
+        } else {
+            TangentialCondition::Sliding
+        },
+        ..Default::default()
+    };
+    let r = solve_forward(impact, &c, &s.initial, &opts).map_err(|e| e.to_string())?;
+    let diff = (r.separation.to_vector() - s.separation.to_vector()).amax();
+    let size = 1.0 + s.separation.to_vector().amax();
+    if diff > 1e-7 * size {
+        return Err(format!("forward solve differs from the fit by {diff:.3e}"));
+    }
+    if !r.admissibility.admissible {
+        return Err(format!(
+            "inadmissible: {}",
+            r.inadmissibility_reasons().join("; ")
+        ));
+    }
+    // Sliding: the same point with the sliding equation must agree too (mu = mu_max if sticking).
+    if s.sticking {
+        let m = r.mu_max.ok_or("sticking without mu_max")?;
+        if (m - s.mu).abs() > 1e-6 * (1.0 + m.abs()) {
+            return Err(format!("sticking mu {} but mu_max {m}", s.mu));
+        }
+    }
+    Ok(())
+}
+
+fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
+    let mut v = Verdict::default();
+    let problem = FitProblem::from_preset(case.impact, case.preset, &case.x_est, &case.xf_est, None);
+    let report = match fit(&problem, settings) {
+        Ok(r) => r,
+        Err(e) => {
+            v.failures.push(format!("fit error: {e}"));
+            return v;
+        }
+    };
+    let reference = RefProblem {
+        impact: &case.impact,
+        preset: case.preset,
+        x: case.x_est,
+        xf: case.xf_est,
+        bounds: Box3::default(),
+    };
+    for b in &report.branches {
+        let ours = match (&b.status, &b.solution) {
+            (Status::Optimal, Some(s)) => {
+                v.optimal += 1;
+                if let Err(e) = core_check(&case.impact, s) {
+                    v.failures.push(format!("{}: optimal but {e}", b.moment.name()));
+                }
+                s.cost
+            }
+            (Status::Infeasible, _) => {
+                v.infeasible += 1;
+                f64::INFINITY
+            }
+            (st, s) => s.as_ref().map_or(f64::INFINITY, |s| {
+                v.failures.push(format!("{}: status {st:?}", b.moment.name()));
+                s.cost
+            }),
+        };
+        let best = reference.search(b.moment);
+        if best.is_finite() {
+            v.compared += 1;
+            if ours > best * (1.0 + 1e-6) + 1e-9 {
+                v.failures.push(format!(
+                    "{}: fit {ours} > reference {best} ({:?})",
+                    b.moment.name(),
+                    b.status
+                ));
+            }
+        }
+    }
+    v
+}
+
+fn run(first: u64, n: usize) {
+    let settings = FitSettings::default().check().unwrap();
+    let cases = corpus(first, n);
+    let verdicts: Vec<(StressCase, Verdict)> = cases
+        .par_iter()
+        .map(|c| (c.clone(), check(c, &settings)))
+        .collect();
+    let count = |f: &dyn Fn(&StressCase) -> bool| cases.iter().filter(|c| f(c)).count();
+    let sides = [
+        count(&|c| c.impact.side() > 0.0),
+        count(&|c| c.impact.side() < 0.0),
+    ];
+    let signs = [count(&|c| c.mu_max > 0.0), count(&|c| c.mu_max < 0.0)];
+    let branches = [count(&|c| c.truth.em < 0.5), count(&|c| c.truth.em > 0.5)];
+    let presets: Vec<usize> = CostPreset::ALL
+        .iter()
+        .map(|p| count(&|c| c.preset == *p))
+        .collect();
+    let sticking = count(&|c| c.stick);
+    let (optimal, infeasible, compared) = verdicts.iter().fold((0, 0, 0), |a, (_, v)| {
+        (a.0 + v.optimal, a.1 + v.infeasible, a.2 + v.compared)
+    });
+    println!(
+        "{n} cases: side +/- {sides:?}, mu_max +/- {signs:?}, em free/one {branches:?}, \
+         Q1/Q2/Q3 {presets:?}, sticking truths {sticking}; branches optimal {optimal}, \
+         infeasible {infeasible}, compared with the reference {compared}"
+    );
+    let failed: Vec<String> = verdicts
+        .iter()
+        .filter(|(_, v)| !v.failures.is_empty())
+        .map(|(c, v)| {
+            format!(
+                "seed {} {:?} truth {:?} stick {} mu_max {:.3}: {}",
+                c.seed,
+                c.preset,
+                c.truth,
+                c.stick,
+                c.mu_max,
+                v.failures.join("; ")
+            )
+        })
+        .collect();
+    // The corpus must cover what it claims to.
+    assert!(sides.iter().all(|&s| s >= n / 10), "sides {sides:?}");
+    assert!(signs.iter().all(|&s| s >= n / 20), "mu_max signs {signs:?}");
+    assert!(branches.iter().all(|&s| s >= n / 5), "branches {branches:?}");
+    assert!(presets.iter().all(|&s| s >= n / 5), "presets {presets:?}");
+    assert!(compared >= n, "only {compared} branches had a reference point");
+    assert!(
+        failed.is_empty(),
+        "{} of {n} cases fail:\n{}",
+        failed.len(),
+        failed.join("\n")
+    );
+}
+
+#[test]
+fn stress_corpus_300() {
+    run(1, 300);
+}
+
+#[test]
+#[ignore = "about 10 minutes on two cores; run with --ignored"]
+fn stress_corpus_3000() {
+    run(100_000, 3000);
+}
