@@ -142,7 +142,11 @@ fn ricsac_refit_table_and_consistency() {
             if approaching {
                 assert_eq!(b.status, Status::Infeasible, "test {}", t.test);
                 assert!(
-                    b.reason.as_ref().unwrap().to_string().contains("still approach"),
+                    b.reason
+                        .as_ref()
+                        .unwrap()
+                        .to_string()
+                        .contains("still approach"),
                     "test {}",
                     t.test
                 );

@@ -112,10 +112,14 @@ fn draw(seed: u64) -> Option<StressCase> {
     };
     let r = solve_forward(&impact, &truth, &x, &opts).ok()?;
     let inside = |v: &Velocities, margin: f64| {
-        v.to_vector()
-            .iter()
-            .enumerate()
-            .all(|(k, c)| c.abs() < if k % 3 == 2 { 5.0 - margin } else { 20.0 - margin })
+        v.to_vector().iter().enumerate().all(|(k, c)| {
+            c.abs()
+                < if k % 3 == 2 {
+                    5.0 - margin
+                } else {
+                    20.0 - margin
+                }
+        })
     };
     if !r.admissibility.admissible || !inside(&r.separation, 0.5) {
         return None;
@@ -199,7 +203,8 @@ fn core_check(impact: &Impact, s: &Solution) -> std::result::Result<(), String> 
 
 fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
     let mut v = Verdict::default();
-    let problem = FitProblem::from_preset(case.impact, case.preset, &case.x_est, &case.xf_est, None);
+    let problem =
+        FitProblem::from_preset(case.impact, case.preset, &case.x_est, &case.xf_est, None);
     let report = match fit(&problem, settings) {
         Ok(r) => r,
         Err(e) => {
@@ -219,7 +224,8 @@ fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
             (Status::Optimal, Some(s)) => {
                 v.optimal += 1;
                 if let Err(e) = core_check(&case.impact, s) {
-                    v.failures.push(format!("{}: optimal but {e}", b.moment.name()));
+                    v.failures
+                        .push(format!("{}: optimal but {e}", b.moment.name()));
                 }
                 s.cost
             }
@@ -228,7 +234,8 @@ fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
                 f64::INFINITY
             }
             (st, s) => s.as_ref().map_or(f64::INFINITY, |s| {
-                v.failures.push(format!("{}: status {st:?}", b.moment.name()));
+                v.failures
+                    .push(format!("{}: status {st:?}", b.moment.name()));
                 s.cost
             }),
         };
@@ -292,9 +299,15 @@ fn run(first: u64, n: usize) {
     // The corpus must cover what it claims to.
     assert!(sides.iter().all(|&s| s >= n / 10), "sides {sides:?}");
     assert!(signs.iter().all(|&s| s >= n / 20), "mu_max signs {signs:?}");
-    assert!(branches.iter().all(|&s| s >= n / 5), "branches {branches:?}");
+    assert!(
+        branches.iter().all(|&s| s >= n / 5),
+        "branches {branches:?}"
+    );
     assert!(presets.iter().all(|&s| s >= n / 5), "presets {presets:?}");
-    assert!(compared >= n, "only {compared} branches had a reference point");
+    assert!(
+        compared >= n,
+        "only {compared} branches had a reference point"
+    );
     assert!(
         failed.is_empty(),
         "{} of {n} cases fail:\n{}",

@@ -80,7 +80,12 @@ fn options(stick: bool) -> SolveOptions {
 
 impl RefProblem<'_> {
     /// pim-core's verdict on a contact state: the separation state when admissible.
-    pub fn admissible_forward(&self, c: Coefficients, stick: bool, x: &Velocities) -> Option<Velocities> {
+    pub fn admissible_forward(
+        &self,
+        c: Coefficients,
+        stick: bool,
+        x: &Velocities,
+    ) -> Option<Velocities> {
         if !within(x, &self.bounds) || self.impact.check_approach(x).is_err() {
             return None;
         }
@@ -88,7 +93,8 @@ impl RefProblem<'_> {
         let ok = r.admissibility.admissible
             && within(&r.separation, &self.bounds)
             && (!stick
-                || r.mu_max.is_some_and(|m| m >= self.bounds.mu[0] && m <= self.bounds.mu[1]))
+                || r.mu_max
+                    .is_some_and(|m| m >= self.bounds.mu[0] && m <= self.bounds.mu[1]))
             && (stick || (c.mu >= self.bounds.mu[0] && c.mu <= self.bounds.mu[1]));
         ok.then_some(r.separation)
     }
@@ -123,8 +129,7 @@ impl RefProblem<'_> {
                     let sys = equations::assemble(self.impact, &c, s, &options(stick));
                     let r: Matrix6<f64> = -sys.f.lu().solve(&sys.g)?;
                     let h = Matrix6::identity() + r.transpose() * r;
-                    let g: Vector6<f64> =
-                        self.x.to_vector() + r.transpose() * self.xf.to_vector();
+                    let g: Vector6<f64> = self.x.to_vector() + r.transpose() * self.xf.to_vector();
                     let x = Velocities::from_vector(&h.cholesky()?.solve(&g));
                     (self.impact.friction_sign(&x) == s).then_some(x)
                 })
@@ -143,6 +148,12 @@ impl RefProblem<'_> {
 
     /// The best cost found for a moment branch (infinite when no admissible point was found).
     pub fn search(&self, branch: MomentBranch) -> f64 {
+        self.search_point(branch).0
+    }
+
+    /// The best cost found for a moment branch, its coefficients `[e, mu, em]` and whether it
+    /// sticks.
+    pub fn search_point(&self, branch: MomentBranch) -> (f64, [f64; 3], bool) {
         let axis = |lo: f64, hi: f64, n: usize| -> Vec<f64> {
             if hi <= lo {
                 return vec![lo];
@@ -159,7 +170,11 @@ impl RefProblem<'_> {
         // (cost, [e, mu, em], stick, contact state)
         let mut pts: Vec<(f64, [f64; 3], bool, Velocities)> = Vec::new();
         for stick in [false, true] {
-            let mus = if stick { vec![0.0] } else { axis(b.mu[0], b.mu[1], 49) };
+            let mus = if stick {
+                vec![0.0]
+            } else {
+                axis(b.mu[0], b.mu[1], 49)
+            };
             for &e in &axis(b.e[0], b.e[1], 21) {
                 for &mu in &mus {
                     for &em in &ems {
@@ -172,16 +187,26 @@ impl RefProblem<'_> {
             }
         }
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut best = f64::INFINITY;
+        let mut best = (f64::INFINITY, [0.0; 3], false);
         for &(v, p, stick, x) in pts.iter().take(4) {
-            best = best.min(self.polish(branch, v, p, stick, x));
+            let (c, q) = self.polish(branch, v, p, stick, x);
+            if c < best.0 {
+                best = (c, q, stick);
+            }
         }
         best
     }
 
     /// Compass search from a grid point: over the coefficients (Q1, Q2), and over the
     /// coefficients and the contact state together (Q3).
-    fn polish(&self, branch: MomentBranch, cost: f64, p: [f64; 3], stick: bool, x: Velocities) -> f64 {
+    fn polish(
+        &self,
+        branch: MomentBranch,
+        cost: f64,
+        p: [f64; 3],
+        stick: bool,
+        x: Velocities,
+    ) -> (f64, [f64; 3]) {
         let b = &self.bounds;
         let q3 = self.preset == CostPreset::Q3;
         let mut z: Vec<f64> = p.to_vec();
@@ -195,7 +220,9 @@ impl RefProblem<'_> {
             step.extend([0.2, 0.2, 0.05, 0.2, 0.2, 0.05]);
         }
         let active = |k: usize| {
-            !((k == 1 && stick) || (k == 2 && branch == MomentBranch::Zero) || (k == 0 && b.e[1] <= b.e[0]))
+            !((k == 1 && stick)
+                || (k == 2 && branch == MomentBranch::Zero)
+                || (k == 0 && b.e[1] <= b.e[0]))
         };
         let value = |z: &[f64]| {
             let c = Coefficients {
@@ -239,6 +266,6 @@ impl RefProblem<'_> {
                 }
             }
         }
-        cost
+        (cost, [z[0], z[1], z[2]])
     }
 }

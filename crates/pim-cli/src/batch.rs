@@ -239,7 +239,11 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
                     let why = r
                         .error
                         .clone()
-                        .or_else(|| r.branch.as_ref().and_then(|b| b.reason.as_ref().map(|x| x.to_string())))
+                        .or_else(|| {
+                            r.branch
+                                .as_ref()
+                                .and_then(|b| b.reason.as_ref().map(|x| x.to_string()))
+                        })
                         .unwrap_or_default();
                     let _ = writeln!(
                         s,
@@ -442,7 +446,10 @@ pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
             branch: r.moment_branch.name(),
             best: r.best,
             outcome: r.outcome.clone(),
-            reason: r.error.clone().or_else(|| b.and_then(|b| b.reason.as_ref().map(|x| x.to_string()))),
+            reason: r
+                .error
+                .clone()
+                .or_else(|| b.and_then(|b| b.reason.as_ref().map(|x| x.to_string()))),
             e: b.and_then(|b| b.e),
             mu: b.and_then(|b| b.mu),
             em: b.and_then(|b| b.em),

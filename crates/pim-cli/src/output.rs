@@ -481,8 +481,11 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport) -> String {
                 }
             }
             if !sol.active_constraints.is_empty() {
-                let active: Vec<String> =
-                    sol.active_constraints.iter().map(|a| a.to_string()).collect();
+                let active: Vec<String> = sol
+                    .active_constraints
+                    .iter()
+                    .map(|a| a.to_string())
+                    .collect();
                 let _ = writeln!(s, "  active: {}", active.join("; "));
             }
             for i in &b.identifiability {

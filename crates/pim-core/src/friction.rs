@@ -104,9 +104,13 @@ pub struct FrictionVerdict {
 
 /// The exact friction condition: is `mu` between 0 and `mu_max` (signed)?
 ///
-/// `mu / mu_max` must lie in `[0, 1]` (to a relative `REPORT_TOL` below 0 and `10 REPORT_TOL`
-/// above 1). When mu_max is zero only `mu = 0` is admissible, and the vehicles then stick; when
-/// it is undefined (no normal impulse), only `mu = 0`.
+/// `mu = 0` (to `REPORT_TOL`) is always admissible; otherwise mu and mu_max must have the same
+/// sign and `|mu| <= |mu_max|` (to a relative `10 REPORT_TOL`). A tolerance on the ratio
+/// `mu / mu_max` at its zero end would let through a mu of the wrong sign whenever mu_max is
+/// huge (near a vanishing no-slip normal impulse, where mu_max jumps from +infinity to
+/// -infinity); the zero end is therefore a tolerance on mu itself. When mu_max is zero only
+/// `mu = 0` is admissible, and the vehicles then stick; when it is undefined (no normal
+/// impulse), only `mu = 0`.
 pub fn classify_friction(mu: f64, mu_max: Option<f64>) -> FrictionVerdict {
     match mu_max {
         Some(m) if m.abs() > REPORT_TOL => {
@@ -121,7 +125,7 @@ pub fn classify_friction(mu: f64, mu_max: Option<f64>) -> FrictionVerdict {
             FrictionVerdict {
                 outcome,
                 ratio: Some(r),
-                admissible: (-REPORT_TOL..=1.0 + 10.0 * REPORT_TOL).contains(&r),
+                admissible: mu.abs() <= REPORT_TOL || (r > 0.0 && r <= 1.0 + 10.0 * REPORT_TOL),
             }
         }
         Some(_) => {
@@ -164,6 +168,9 @@ mod tests {
         let at = classify_friction(0.6, Some(0.6));
         assert!(at.admissible && at.outcome == TangentialOutcome::Sticking);
         assert!(classify_friction(0.0, None).admissible);
+        // A huge mu_max of the other sign is not "between 0 and mu_max".
+        assert!(!classify_friction(0.4, Some(-4.1e8)).admissible);
+        assert!(classify_friction(-1e-12, Some(0.5)).admissible);
         assert!(!classify_friction(0.1, None).admissible);
     }
 

@@ -87,7 +87,9 @@ mod sensitivity;
 mod solve;
 
 pub use error::{Equation, PimError, Result, VehicleId};
-pub use friction::{classify_friction, creates_energy, CriticalImpulse, FrictionSign, FrictionVerdict};
+pub use friction::{
+    classify_friction, creates_energy, CriticalImpulse, FrictionSign, FrictionVerdict,
+};
 pub use model::{
     Coefficients, Collision, Impact, MomentForm, SolveOptions, TangentialCondition, Vehicle,
     VehicleVelocity, Velocities, EM_ONE_TOL, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,

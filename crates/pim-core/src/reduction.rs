@@ -14,12 +14,14 @@
 //! whose ratio is mu_max, is linear in that state ([`Reduction::critical_rows`]).
 
 use crate::equations::{
-    angular_momentum, friction, impulse_rows, moment_restitution, momentum_x, momentum_y,
-    no_slip, restitution, Row,
+    angular_momentum, friction, impulse_rows, moment_restitution, momentum_x, momentum_y, no_slip,
+    restitution, Row,
 };
 use crate::friction::{CriticalImpulse, FrictionSign};
 use crate::model::{Coefficients, Impact, MomentForm, TangentialCondition};
-use nalgebra::{Matrix2x3, Matrix2x6, Matrix3, Matrix6, RowVector3, RowVector6, SMatrix, Vector3, Vector6};
+use nalgebra::{
+    Matrix2x3, Matrix2x6, Matrix3, Matrix6, RowVector3, RowVector6, SMatrix, Vector3, Vector6,
+};
 
 /// Result of a reduced solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -115,7 +117,11 @@ impl Reduction {
     pub fn new(impact: &Impact, form: MomentForm) -> Self {
         // Momentum rows over D = (D_1, D_2) (vehicle 1's, vehicle 2's changes): M1 D_1 + M2 D_2 = 0,
         // so D_2 = -M2^-1 M1 D_1 and N = [I; -M2^-1 M1].
-        let momentum = [momentum_x(impact), momentum_y(impact), angular_momentum(impact)];
+        let momentum = [
+            momentum_x(impact),
+            momentum_y(impact),
+            angular_momentum(impact),
+        ];
         let mut m1 = Matrix3::zeros();
         let mut m2 = Matrix3::zeros();
         for (i, (f, _)) in momentum.iter().enumerate() {
@@ -124,7 +130,8 @@ impl Reduction {
         }
         let lower = -m2.try_inverse().expect("positive masses and inertias") * m1;
         let mut n = SMatrix::<f64, 6, 3>::zeros();
-        n.fixed_view_mut::<3, 3>(0, 0).copy_from(&Matrix3::identity());
+        n.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&Matrix3::identity());
         n.fixed_view_mut::<3, 3>(3, 0).copy_from(&lower);
         let (pn, pt) = impulse_rows(impact);
         let mut impulse = Matrix2x3::zeros();
@@ -178,7 +185,11 @@ impl Reduction {
     /// no-slip system is singular for this em.
     pub fn critical_rows(&self, em: f64) -> Option<CriticalRows> {
         // Equation 4's row over p does not depend on e (only its contact-state part does).
-        let c = Coefficients { e: 0.0, mu: 0.0, em };
+        let c = Coefficients {
+            e: 0.0,
+            mu: 0.0,
+            em,
+        };
         let rows = self.rows(&c, TangentialCondition::NoSlip, FrictionSign::Positive);
         let a = rows.map(|(r, v)| r.over_p(v, true));
         let (inv, scale) = inverse(&a, &[0.0; 3], 1.0).ok()??;
@@ -334,10 +345,38 @@ impl KnownState {
     /// the box (Vn, Vt and the final relative yaw rate all nonzero), since there the contact
     /// state would be a family rather than a point.
     pub fn profiles(&self) -> bool {
-        let tiny = 1e-9 * self.known.amax().max(1e-300);
-        let k = |r: &AffineRow| self.rhs(r, 0.0).abs() > tiny;
-        self.forward || (k(&self.red.restitution) && k(&self.red.no_slip) && k(&self.red.moment))
+        self.forward
+            || self.singular_faces() == SingularFaces::default() && {
+                let tiny = 1e-9 * self.known.amax().max(1e-300);
+                self.rhs(&self.red.no_slip, 0.0).abs() > tiny
+            }
     }
+
+    /// The coefficient values at which the known separation state satisfies an equation on its
+    /// own, so that the contact state there is a family rather than a point: e = 0 when its
+    /// normal relative velocity at C is zero, e_m = 0 when its yaw rates are equal (corrected
+    /// form). The cost can drop discontinuously onto such a face, so a search must visit it on
+    /// its own. Always empty when the contact state is the known one.
+    pub fn singular_faces(&self) -> SingularFaces {
+        if self.forward {
+            return SingularFaces::default();
+        }
+        let tiny = 1e-9 * self.known.amax().max(1e-300);
+        SingularFaces {
+            e_zero: self.rhs(&self.red.restitution, 0.0).abs() <= tiny,
+            em_zero: self.rhs(&self.red.moment, 0.0).abs() <= tiny,
+        }
+    }
+}
+
+/// Faces of the coefficient box on which a known separation state leaves the contact state
+/// undetermined ([`KnownState::singular_faces`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SingularFaces {
+    /// e = 0 is such a face.
+    pub e_zero: bool,
+    /// e_m = 0 is such a face.
+    pub em_zero: bool,
 }
 
 /// The inverse of the row-equilibrated matrix of `rows` and the row scales. `Err` when a row has
@@ -440,7 +479,9 @@ mod tests {
 
     /// Every combination of moment form, mode, coefficients and friction sign, with the six
     /// assembled equations.
-    fn cases(mut check: impl FnMut(MomentForm, TangentialCondition, [f64; 3], FrictionSign, LinearSystem)) {
+    fn cases(
+        mut check: impl FnMut(MomentForm, TangentialCondition, [f64; 3], FrictionSign, LinearSystem),
+    ) {
         let imp = impact();
         for form in [MomentForm::Corrected, MomentForm::Brach1983] {
             for tc in [TangentialCondition::Sliding, TangentialCondition::NoSlip] {

@@ -1,8 +1,8 @@
 //! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
 
 use crate::equations::{assemble, impulse_rows, LinearSystem};
-use crate::friction::{classify_friction, creates_energy, FrictionSign};
 use crate::error::Equation;
+use crate::friction::{classify_friction, creates_energy, FrictionSign};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use serde::{Deserialize, Serialize};
 

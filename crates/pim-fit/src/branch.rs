@@ -162,9 +162,10 @@ fn identifiability(
     let limit = near_limit(best, tol, out.data_scale);
     let near: Vec<&Sample> = out.samples.iter().filter(|s| s.cost <= limit).collect();
     let range = |f: fn(&Sample) -> f64| {
-        near.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
-            [r[0].min(f(s)), r[1].max(f(s))]
-        })
+        near.iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
+                [r[0].min(f(s)), r[1].max(f(s))]
+            })
     };
     let flat = near.iter().any(|s| s.flat);
     let mut list = Vec::new();
@@ -185,8 +186,10 @@ fn identifiability(
             open_ended: false,
         });
     }
-    let speeds: [(Quantity, fn(&Sample) -> f64); 2] =
-        [(Quantity::Speed1, |s| s.speed1), (Quantity::Speed2, |s| s.speed2)];
+    let speeds: [(Quantity, fn(&Sample) -> f64); 2] = [
+        (Quantity::Speed1, |s| s.speed1),
+        (Quantity::Speed2, |s| s.speed2),
+    ];
     for (q, f) in speeds {
         let [low, high] = range(f);
         list.push(Identifiability {

@@ -3,8 +3,8 @@
 use crate::error::{FitError, Result};
 use nalgebra::SVector;
 use pim_core::{Impact, VehicleId, Velocities};
-use std::fmt;
 use serde::{Deserialize, Serialize};
+use std::fmt;
 
 /// A vector over the twelve velocity components
 /// `U = (v1x, v1y, w1, v2x, v2y, w2, V1x, V1y, W1, V2x, V2y, W2)`.

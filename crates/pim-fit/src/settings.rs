@@ -59,7 +59,7 @@ pub struct SearchSettings {
     /// Distance to a bound, relative to the velocity scale (or to the coefficient box), within
     /// which a constraint is listed as active (default 1e-6).
     pub active_tolerance: f64,
-    /// Nelder-Mead refinements started per search space from distinct grid cells (default 2).
+    /// Nelder-Mead refinements started per search space from distinct grid cells (default 3).
     pub refinement_starts: usize,
     /// Nelder-Mead stops when its simplex values agree to this relative spread (default 1e-6).
     pub nelder_mead_tolerance: f64,
@@ -75,6 +75,8 @@ pub struct SearchSettings {
     pub polish_rounds: usize,
     /// A compass move gaining less than this relative cost keeps the step size (default 1e-10).
     pub polish_creep: f64,
+    /// The compass search also moves along the diagonals of the box (default true).
+    pub polish_diagonals: bool,
     /// Refinements agree when their costs are within this relative distance (default 1e-6);
     /// the same tolerance decides ties between the moment branches.
     pub agreement_tolerance: f64,
@@ -98,7 +100,7 @@ impl Default for SearchSettings {
             min_approach_speed: 1e-3,
             feasibility_tolerance: 1e-9,
             active_tolerance: 1e-6,
-            refinement_starts: 2,
+            refinement_starts: 3,
             nelder_mead_tolerance: 1e-6,
             nelder_mead_iterations_per_dimension: 100,
             polish_within: 1e-3,
@@ -106,6 +108,7 @@ impl Default for SearchSettings {
             polish_last_step: 1e-7,
             polish_rounds: 400,
             polish_creep: 1e-10,
+            polish_diagonals: true,
             agreement_tolerance: 1e-6,
             scan_points: 13,
             scan_points_mu: 17,
@@ -184,7 +187,9 @@ impl FitSettings {
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(FitError::BadBounds(format!("search.{name} = {v} must be > 0")));
+                return Err(FitError::BadBounds(format!(
+                    "search.{name} = {v} must be > 0"
+                )));
             }
         }
         if s.refinement_starts == 0 || s.scan_points < 2 || s.scan_points_mu < 2 {

@@ -14,8 +14,8 @@
 //!   is the union of two polyhedra ("wedges"), one for each sign of Pn, each linear.
 //! - No kinetic energy created, decided by pim-core's [`creates_energy`].
 
-use crate::report::{ActiveConstraint, Violation};
 use crate::problem::Component;
+use crate::report::{ActiveConstraint, Violation};
 use nalgebra::{Matrix6, RowVector6, Vector6};
 use pim_core::reduction::{CriticalRows, Line};
 use pim_core::{classify_friction, creates_energy, CriticalImpulse, FrictionSign};
@@ -96,7 +96,13 @@ pub(crate) struct ConstraintSet<'a> {
 pub(crate) type RowX = (RowVector6<f64>, f64, Violation);
 
 impl ConstraintSet<'_> {
-    fn impulses(&self, source: &Impulses, e: f64, x: &Vector6<f64>, xf: &Vector6<f64>) -> Option<CriticalImpulse> {
+    fn impulses(
+        &self,
+        source: &Impulses,
+        e: f64,
+        x: &Vector6<f64>,
+        xf: &Vector6<f64>,
+    ) -> Option<CriticalImpulse> {
         match source {
             Impulses::Actual => {
                 let d = xf - x;
@@ -188,7 +194,12 @@ impl ConstraintSet<'_> {
     }
 
     /// `(Pn, sign Pt)` of the ratio condition as rows over x, for `X = R x` at restitution e.
-    fn ratio_rows(&self, r: &Ratio, rt: &Matrix6<f64>, e: f64) -> Option<(RowVector6<f64>, RowVector6<f64>)> {
+    fn ratio_rows(
+        &self,
+        r: &Ratio,
+        rt: &Matrix6<f64>,
+        e: f64,
+    ) -> Option<(RowVector6<f64>, RowVector6<f64>)> {
         let s = self.sign.value();
         match &r.source {
             Impulses::Actual => {
@@ -223,7 +234,13 @@ impl ConstraintSet<'_> {
     /// The pieces of a profile line (`t` in `[lo, hi]`) where every linear condition and the
     /// ratio condition hold, by the same point tests as [`ConstraintSet::check`] between the
     /// roots of their forms along the line.
-    pub fn along(&self, line: &Line, forward: bool, lo: f64, hi: f64) -> (Intervals, Option<Violation>) {
+    pub fn along(
+        &self,
+        line: &Line,
+        forward: bool,
+        lo: f64,
+        hi: f64,
+    ) -> (Intervals, Option<Violation>) {
         let mut set = Intervals::single(lo, hi);
         let u = |t: f64| line.at(t);
         for c in self.linear {
@@ -258,7 +275,13 @@ impl ConstraintSet<'_> {
             let (pn, pt) = self.ratio_polynomials(&r, line, forward);
             let mut roots = Vec::new();
             roots.extend(quadratic_roots(pn));
-            let combo = |a: f64, p: [f64; 3], b: f64, q: [f64; 3]| [a * p[0] + b * q[0], a * p[1] + b * q[1], a * p[2] + b * q[2]];
+            let combo = |a: f64, p: [f64; 3], b: f64, q: [f64; 3]| {
+                [
+                    a * p[0] + b * q[0],
+                    a * p[1] + b * q[1],
+                    a * p[2] + b * q[2],
+                ]
+            };
             let s = self.sign.value();
             if r.lo.is_finite() {
                 roots.extend(quadratic_roots(combo(s, pt, -r.lo, pn)));
@@ -283,12 +306,17 @@ impl ConstraintSet<'_> {
     /// `(Pn, Pt)` of the ratio condition along a line as quadratics in t (coefficients of
     /// 1, t, t^2), up to a common positive factor.
     fn ratio_polynomials(&self, r: &Ratio, line: &Line, forward: bool) -> ([f64; 3], [f64; 3]) {
-        let lin = |row: &RowVector6<f64>, a: &Vector6<f64>, b: &Vector6<f64>| [(row * a)[0], (row * b)[0], 0.0];
+        let lin = |row: &RowVector6<f64>, a: &Vector6<f64>, b: &Vector6<f64>| {
+            [(row * a)[0], (row * b)[0], 0.0]
+        };
         match &r.source {
             Impulses::Actual => {
                 let d0 = line.xf0 - line.x0;
                 let d1 = line.xf1 - line.x1;
-                (lin(&self.impulse.0, &d0, &d1), lin(&self.impulse.1, &d0, &d1))
+                (
+                    lin(&self.impulse.0, &d0, &d1),
+                    lin(&self.impulse.1, &d0, &d1),
+                )
             }
             Impulses::Critical(rows) => {
                 let (l0, l1) = (rows.l0, rows.l1);
@@ -312,19 +340,27 @@ impl ConstraintSet<'_> {
 
     /// The constraints that hold with equality at a candidate (within `tol_active`, relative to
     /// the velocity scale `scale`).
-    pub fn active(&self, e: f64, x: &Vector6<f64>, xf: &Vector6<f64>, tol_active: f64) -> Vec<ActiveConstraint> {
+    pub fn active(
+        &self,
+        e: f64,
+        x: &Vector6<f64>,
+        xf: &Vector6<f64>,
+        tol_active: f64,
+    ) -> Vec<ActiveConstraint> {
         let mut out = Vec::new();
         for c in self.linear {
             let item = match *c {
                 Linear::Bound { k, limit } => {
                     let v = if k < 6 { x[k] } else { xf[k - 6] };
-                    ((v.abs() - limit).abs() <= tol_active).then_some(ActiveConstraint::VelocityBound(Component(k)))
+                    ((v.abs() - limit).abs() <= tol_active)
+                        .then_some(ActiveConstraint::VelocityBound(Component(k)))
                 }
-                Linear::Contact { row, rhs, kind } => ((((row * x)[0] - rhs).abs() <= tol_active * (1.0 + row.amax())))
-                    .then_some(match kind {
-                        Violation::NotApproaching => ActiveConstraint::MinimumApproach,
-                        _ => ActiveConstraint::SlidingDirection,
-                    }),
+                Linear::Contact { row, rhs, kind } => (((row * x)[0] - rhs).abs()
+                    <= tol_active * (1.0 + row.amax()))
+                .then_some(match kind {
+                    Violation::NotApproaching => ActiveConstraint::MinimumApproach,
+                    _ => ActiveConstraint::SlidingDirection,
+                }),
             };
             if let Some(a) = item {
                 if !out.contains(&a) {
@@ -333,12 +369,16 @@ impl ConstraintSet<'_> {
             }
         }
         if let Some(r) = self.ratio {
-            let m = self.impulses(&r.source, e, x, xf).and_then(|p| p.mu_max(self.sign));
+            let m = self
+                .impulses(&r.source, e, x, xf)
+                .and_then(|p| p.mu_max(self.sign));
             if let Some(m) = m {
                 let near = |b: f64| b.is_finite() && (m - b).abs() <= 1e-6 * (1.0 + b.abs());
                 match r.kind {
                     Violation::Friction if near(r.mu) => out.push(ActiveConstraint::MuMax),
-                    Violation::MuBound if near(r.lo) || near(r.hi) => out.push(ActiveConstraint::StickingMuBound),
+                    Violation::MuBound if near(r.lo) || near(r.hi) => {
+                        out.push(ActiveConstraint::StickingMuBound)
+                    }
                     _ => {}
                 }
             }
@@ -359,7 +399,11 @@ pub(crate) fn quadratic_roots(c: [f64; 3]) -> Vec<f64> {
         return Vec::new();
     }
     if c2.abs() <= 1e-14 * size {
-        return if c1 == 0.0 { Vec::new() } else { vec![-c0 / c1] };
+        return if c1 == 0.0 {
+            Vec::new()
+        } else {
+            vec![-c0 / c1]
+        };
     }
     let disc = c1 * c1 - 4.0 * c2 * c0;
     if disc < 0.0 {
@@ -404,7 +448,22 @@ impl Intervals {
         let mut ends = vec![lo];
         ends.extend(cuts);
         ends.push(hi);
-        let shift = |r: f64| 1e-12 * (1.0 + r.abs());
+        // An end at a breakpoint moves inwards until the test holds there too: first by a
+        // relative 1e-12 (so that round-off cannot put a chosen point outside), then by growing
+        // steps up to the middle of its piece.
+        let end = |b: f64, mid: f64| -> f64 {
+            let mut d = 1e-12 * (1.0 + b.abs());
+            loop {
+                let t = if mid > b { b + d } else { b - d };
+                if (mid - t) * (mid - b) <= 0.0 {
+                    return mid;
+                }
+                if test(t) {
+                    return t;
+                }
+                d *= 8.0;
+            }
+        };
         let mut out: Vec<(f64, f64)> = Vec::new();
         let mut previous_kept = false;
         for (i, w) in ends.windows(2).enumerate() {
@@ -416,11 +475,11 @@ impl Intervals {
             };
             let kept = test(mid);
             if kept {
-                let b2 = if i + 2 == ends.len() { b } else { b - shift(b) };
+                let b2 = if i + 2 == ends.len() { b } else { end(b, mid) };
                 match out.last_mut() {
                     // A breakpoint where the condition does not change: one piece.
                     Some(last) if previous_kept => last.1 = b2,
-                    _ => out.push((if i == 0 { a } else { a + shift(a) }, b2)),
+                    _ => out.push((if i == 0 { a } else { end(a, mid) }, b2)),
                 }
             }
             previous_kept = kept;

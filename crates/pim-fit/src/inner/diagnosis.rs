@@ -47,7 +47,12 @@ impl Inner {
 
     /// The constraints active at a candidate, including coefficients at the ends of their
     /// ranges. `free_em`: e_m is a coefficient of the fit (not fixed at 1).
-    pub fn active_constraints(&self, at: &At, c: &Candidate, free_em: bool) -> Vec<ActiveConstraint> {
+    pub fn active_constraints(
+        &self,
+        at: &At,
+        c: &Candidate,
+        free_em: bool,
+    ) -> Vec<ActiveConstraint> {
         let tol = self.settings.active_tolerance;
         let mut out = self
             .constraints(at)

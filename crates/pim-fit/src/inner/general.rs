@@ -92,7 +92,8 @@ impl Inner {
                 let rows: Vec<RowX> = base.iter().copied().chain(wedge).collect();
                 if let Ok(a) = self.solve_rows(&ox, &cs, &rows) {
                     let better = best.as_ref().is_none_or(|b| {
-                        self.objective.cost(&a.x, &(r * a.x)) < self.objective.cost(&b.x, &(r * b.x))
+                        self.objective.cost(&a.x, &(r * a.x))
+                            < self.objective.cost(&b.x, &(r * b.x))
                     });
                     if cs.check(at.c.e, &a.x, &(r * a.x)).ok() && better {
                         best = Some(a);
@@ -123,9 +124,10 @@ impl Inner {
             return Some((ox.xp, false));
         }
         let (hy, gy) = ox.reduced();
-        let flat = hy.clone().cholesky().is_none_or(|ch| {
-            nearly_singular(ch.l_dirty().diagonal().iter(), hy.diagonal().amax())
-        });
+        let flat = hy
+            .clone()
+            .cholesky()
+            .is_none_or(|ch| nearly_singular(ch.l_dirty().diagonal().iter(), hy.diagonal().amax()));
         let y = solve_spd(&hy, &gy)?;
         Some((ox.xp + to6(&(&ox.z * &y)), flat))
     }

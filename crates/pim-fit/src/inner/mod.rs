@@ -23,9 +23,9 @@ pub(crate) use constraints::{ConstraintSet, Impulses, Linear, Ratio};
 pub(crate) use diagnosis::explain_infeasible;
 pub(crate) use profile::LineAt;
 
+use crate::problem::FitProblem;
 use crate::report::Violation;
 use crate::settings::{FitSettings, SearchSettings};
-use crate::problem::FitProblem;
 use nalgebra::{RowVector6, Vector6};
 use objective::Objective;
 use pim_core::equations::{impulse_rows, normal_velocity_row, tangential_velocity_row};
@@ -108,7 +108,11 @@ impl Inner {
         let known_sign = objective
             .fixed_contact()
             .map(|x| impact.friction_sign(&pim_core::Velocities::from_vector(&x)));
-        let side = if impact.side() == 0.0 { 1.0 } else { impact.side() };
+        let side = if impact.side() == 0.0 {
+            1.0
+        } else {
+            impact.side()
+        };
         let nrow = normal_velocity_row(&impact);
         let trow = tangential_velocity_row(&impact);
         let linear_for = |sign: FrictionSign| {
@@ -241,6 +245,14 @@ impl Inner {
             return eval;
         }
         self.evaluate_general(at, exact, cutoff)
+    }
+
+    /// The faces of the box where a known separation state leaves the contact state a family.
+    pub fn singular_faces(&self) -> pim_core::reduction::SingularFaces {
+        self.known
+            .as_ref()
+            .map(|k| k.singular_faces())
+            .unwrap_or_default()
     }
 
     /// True when the search may profile e out (see [`Inner::evaluate_profile`]).

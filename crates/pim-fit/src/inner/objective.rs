@@ -134,7 +134,9 @@ impl Objective {
 
     /// Whether nothing but the contact state is fixed (then the friction sign is known).
     pub fn fixed_contact(&self) -> Option<Vector6<f64>> {
-        self.known_state().filter(|(_, initial)| *initial).map(|(v, _)| v)
+        self.known_state()
+            .filter(|(_, initial)| *initial)
+            .map(|(v, _)| v)
     }
 
     /// The cost of a state pair.

@@ -134,13 +134,9 @@ fn level_ends_bracket_the_near_optimal_e() {
                         mode: TangentialCondition::Sliding,
                         sign,
                     };
-                    if let Eval::Feasible(c) = prep.evaluate(&th, true, f64::INFINITY)
-                    {
+                    if let Eval::Feasible(c) = prep.evaluate(&th, true, f64::INFINITY) {
                         if c.cost <= limit {
-                            assert!(
-                                e >= lo - 1e-4 && e <= hi + 1e-4,
-                                "{e} outside [{lo}, {hi}]"
-                            );
+                            assert!(e >= lo - 1e-4 && e <= hi + 1e-4, "{e} outside [{lo}, {hi}]");
                         }
                     }
                 }
@@ -187,8 +183,7 @@ fn profile_is_the_minimum_over_e() {
                                 mode,
                                 sign,
                             };
-                            if let Eval::Feasible(c) = prep.evaluate(&th, true, f64::INFINITY)
-                            {
+                            if let Eval::Feasible(c) = prep.evaluate(&th, true, f64::INFINITY) {
                                 scan = Some(scan.map_or(c.cost, |s: f64| s.min(c.cost)));
                             }
                         }

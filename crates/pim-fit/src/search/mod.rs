@@ -24,13 +24,17 @@ use crate::settings::FitSettings;
 use space::{spaces, Space};
 
 /// Searches one branch.
-pub(crate) fn search_branch(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Outcome {
+pub(crate) fn search_branch(
+    inner: &Inner,
+    settings: &FitSettings,
+    branch: MomentBranch,
+) -> Outcome {
     let mut out = Outcome {
         data_scale: inner.data_scale(),
         profiled_e: inner.profiles(),
         ..Outcome::default()
     };
-    for space in spaces(branch, settings, out.profiled_e) {
+    for space in spaces(branch, settings, out.profiled_e, inner.singular_faces()) {
         let (pts, values) = grid(inner, &space, &mut out);
         refine_from_grid(inner, settings, &space, &pts, &values, &mut out);
     }
@@ -111,7 +115,11 @@ fn refine_from_grid(
     }
     let s = &settings.search;
     let mut order: Vec<usize> = (0..pts.len()).filter(|&i| values[i].is_some()).collect();
-    order.sort_by(|&a, &b| values[a].unwrap_or(f64::INFINITY).total_cmp(&values[b].unwrap_or(f64::INFINITY)));
+    order.sort_by(|&a, &b| {
+        values[a]
+            .unwrap_or(f64::INFINITY)
+            .total_cmp(&values[b].unwrap_or(f64::INFINITY))
+    });
     let spacing: Vec<f64> = space.dims.iter().map(|d| d.spacing()).collect();
     let mut starts: Vec<usize> = Vec::new();
     for &i in &order {

@@ -1,9 +1,9 @@
 //! What the search of one branch found: the best point, every solved sample, the counts of the
 //! certificate and the violations met.
 
+use super::space::Space;
 use crate::inner::{At, Candidate, Eval, Inner};
 use crate::report::Violation;
-use super::space::Space;
 use std::collections::BTreeMap;
 
 /// A solved point of a search.

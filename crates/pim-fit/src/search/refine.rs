@@ -100,24 +100,42 @@ pub(crate) fn compass(
         .iter()
         .map(|d| (d.hi - d.lo) * settings.polish_last_step)
         .collect();
+    // The axes, then the diagonals (every combination of signs of the active axes): the
+    // admissible set can be a thin curved sliver along which no axis move improves.
+    let axes: Vec<usize> = (0..p.len()).filter(|&k| step[k] > 0.0).collect();
+    let mut directions: Vec<Vec<f64>> = Vec::new();
+    for &k in &axes {
+        for dir in [-1.0, 1.0] {
+            let mut d = vec![0.0; p.len()];
+            d[k] = dir;
+            directions.push(d);
+        }
+    }
+    if settings.polish_diagonals && axes.len() > 1 {
+        for bits in 0..(1usize << axes.len()) {
+            let mut d = vec![0.0; p.len()];
+            for (i, &k) in axes.iter().enumerate() {
+                d[k] = if bits >> i & 1 == 1 { 1.0 } else { -1.0 };
+            }
+            directions.push(d);
+        }
+    }
     for _ in 0..settings.polish_rounds {
         let mut improved = false;
-        for k in 0..p.len() {
-            if step[k] <= 0.0 {
-                continue;
-            }
-            for dir in [-1.0, 1.0] {
-                let mut q = p.clone();
-                q[k] = (q[k] + dir * step[k]).clamp(space.dims[k].lo, space.dims[k].hi);
-                if let Some(pt) = out.exact(inner, space, &q) {
-                    if pt.candidate.cost < cost {
-                        // Moves that gain less than the creep tolerance (creeping along a
-                        // boundary) are taken but do not hold the step size.
-                        improved |=
-                            cost - pt.candidate.cost > settings.polish_creep * (1.0 + cost.abs());
-                        cost = pt.candidate.cost;
-                        p = q;
-                    }
+        for d in &directions {
+            let q: Vec<f64> = p
+                .iter()
+                .enumerate()
+                .map(|(k, v)| (v + d[k] * step[k]).clamp(space.dims[k].lo, space.dims[k].hi))
+                .collect();
+            if let Some(pt) = out.exact(inner, space, &q) {
+                if pt.candidate.cost < cost {
+                    // Moves that gain less than the creep tolerance (creeping along a
+                    // boundary) are taken but do not hold the step size.
+                    improved |=
+                        cost - pt.candidate.cost > settings.polish_creep * (1.0 + cost.abs());
+                    cost = pt.candidate.cost;
+                    p = q;
                 }
             }
         }

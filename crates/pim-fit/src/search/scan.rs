@@ -27,8 +27,13 @@ fn through(space: &Space, centre: &[f64], n: impl Fn(usize) -> usize) -> Vec<Vec
 }
 
 /// The spaces to scan for an optimum: its own, and the sliding one through a sticking optimum.
-fn scanned(branch: MomentBranch, settings: &FitSettings, profile: bool, best: &Point) -> Vec<Space> {
-    spaces(branch, settings, profile)
+fn scanned(
+    branch: MomentBranch,
+    settings: &FitSettings,
+    profile: bool,
+    best: &Point,
+) -> Vec<Space> {
+    spaces(branch, settings, profile, Default::default())
         .into_iter()
         .filter(|s| s.mode == best.at.mode || best.at.mode == TangentialCondition::NoSlip)
         .collect()
@@ -51,8 +56,18 @@ pub(crate) fn scan(inner: &Inner, settings: &FitSettings, branch: MomentBranch, 
     if !out.profiled_e {
         for space in scanned(branch, settings, false, &best) {
             // Along mu in the sliding space through a sticking optimum: a finer scan.
-            let mu_axis = if space.mode != best.at.mode { 1 } else { usize::MAX };
-            let n = |k: usize| if k == mu_axis { s.scan_points_mu } else { s.scan_points };
+            let mu_axis = if space.mode != best.at.mode {
+                1
+            } else {
+                usize::MAX
+            };
+            let n = |k: usize| {
+                if k == mu_axis {
+                    s.scan_points_mu
+                } else {
+                    s.scan_points
+                }
+            };
             for p in through(&space, &centre(&space, &best), n) {
                 out.exact(inner, &space, &p);
             }

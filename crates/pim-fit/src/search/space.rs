@@ -8,6 +8,7 @@
 use crate::inner::{At, Eval, Inner, LineAt};
 use crate::problem::MomentBranch;
 use crate::settings::FitSettings;
+use pim_core::reduction::SingularFaces;
 use pim_core::{Coefficients, FrictionSign, TangentialCondition};
 
 /// A coefficient dimension of a search space.
@@ -48,6 +49,10 @@ pub(crate) struct Space {
     pub dims: Vec<Dim>,
     /// The e range when e is not a dimension but minimised exactly at every point.
     pub profile_e: Option<[f64; 2]>,
+    /// e fixed on a face of the box (not a dimension).
+    pub e_fixed: Option<f64>,
+    /// em fixed on a face of the box (not a dimension).
+    pub em_fixed: Option<f64>,
 }
 
 impl Space {
@@ -55,17 +60,19 @@ impl Space {
     pub fn coefficients(&self, p: &[f64]) -> Coefficients {
         let c = |k: usize| p[k].clamp(self.dims[k].lo, self.dims[k].hi);
         let p: Vec<f64> = (0..p.len()).map(c).collect();
-        let (e, p) = match self.profile_e {
-            Some(range) => (range[0], &p[..]),
-            None => (p[0], &p[1..]),
+        let (e, p) = match (self.profile_e, self.e_fixed) {
+            (Some(range), _) => (range[0], &p[..]),
+            (None, Some(e)) => (e, &p[..]),
+            (None, None) => (p[0], &p[1..]),
         };
         let (mu, rest) = match self.mode {
             TangentialCondition::Sliding => (p[0], &p[1..]),
             TangentialCondition::NoSlip => (0.0, p),
         };
-        let em = match self.branch {
-            MomentBranch::Zero => 1.0,
-            MomentBranch::Free => rest[0],
+        let em = match (self.branch, self.em_fixed) {
+            (MomentBranch::Zero, _) => 1.0,
+            (MomentBranch::Free, Some(em)) => em,
+            (MomentBranch::Free, None) => rest[0],
         };
         Coefficients { e, mu, em }
     }
@@ -73,13 +80,13 @@ impl Space {
     /// The point of a coefficient triple (mu_eff for the sliding mode's mu).
     pub fn point_of(&self, c: &Coefficients) -> Vec<f64> {
         let mut p = Vec::new();
-        if self.profile_e.is_none() {
+        if self.profile_e.is_none() && self.e_fixed.is_none() {
             p.push(c.e);
         }
         if self.mode == TangentialCondition::Sliding {
             p.push(c.mu);
         }
-        if self.branch == MomentBranch::Free {
+        if self.branch == MomentBranch::Free && self.em_fixed.is_none() {
             p.push(c.em);
         }
         p
@@ -150,8 +157,15 @@ impl Space {
 }
 
 /// The spaces of a branch; with `profile`, e is minimised exactly at every point instead of
-/// being a dimension. The sticking mode searches e on a finer grid (2n + 1 points).
-pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings, profile: bool) -> Vec<Space> {
+/// being a dimension. The sticking mode searches e on a finer grid (2n + 1 points). Singular
+/// faces of the box (pim-core's `KnownState::singular_faces`: e = 0 or em = 0, where a known
+/// separation state leaves the contact state a family) are searched as spaces of their own.
+pub(crate) fn spaces(
+    branch: MomentBranch,
+    s: &FitSettings,
+    profile: bool,
+    faces: SingularFaces,
+) -> Vec<Space> {
     let e = Dim {
         lo: s.e[0],
         hi: s.e[1],
@@ -171,23 +185,40 @@ pub(crate) fn spaces(branch: MomentBranch, s: &FitSettings, profile: bool) -> Ve
         n: if e.n > 1 { 2 * e.n + 1 } else { 1 },
         ..e
     };
-    let space = |mode: TangentialCondition, mut dims: Vec<Dim>| {
-        if profile {
-            dims.remove(0);
+    let free = branch == MomentBranch::Free;
+    let mut faces_at: Vec<(Option<f64>, Option<f64>)> = vec![(None, None)];
+    if faces.e_zero && s.e[0] == 0.0 && s.e[1] > 0.0 {
+        faces_at.push((Some(0.0), None));
+    }
+    if faces.em_zero && free {
+        faces_at.push((None, Some(0.0)));
+    }
+    let mut out = Vec::new();
+    for (e_fixed, em_fixed) in faces_at {
+        for mode in [TangentialCondition::Sliding, TangentialCondition::NoSlip] {
+            let mut dims = Vec::new();
+            if !profile && e_fixed.is_none() {
+                dims.push(if mode == TangentialCondition::Sliding {
+                    e
+                } else {
+                    fine_e
+                });
+            }
+            if mode == TangentialCondition::Sliding {
+                dims.push(mu);
+            }
+            if free && em_fixed.is_none() {
+                dims.push(em);
+            }
+            out.push(Space {
+                branch,
+                mode,
+                dims,
+                profile_e: profile.then_some(s.e),
+                e_fixed,
+                em_fixed,
+            });
         }
-        Space {
-            branch,
-            mode,
-            dims,
-            profile_e: profile.then_some(s.e),
-        }
-    };
-    let (sliding, sticking) = match branch {
-        MomentBranch::Zero => (vec![e, mu], vec![fine_e]),
-        MomentBranch::Free => (vec![e, mu, em], vec![fine_e, em]),
-    };
-    vec![
-        space(TangentialCondition::Sliding, sliding),
-        space(TangentialCondition::NoSlip, sticking),
-    ]
+    }
+    out
 }
