@@ -6,7 +6,11 @@ use std::hint::black_box;
 
 fn problems() -> Vec<(u32, CostPreset, FitProblem)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
-    let tests = pim_cli::ricsac::load(&path).expect("data/ricsac.csv");
+    let tests = pim_data::ricsac::parse(
+        "data/ricsac.csv",
+        &std::fs::read_to_string(&path).expect("data/ricsac.csv"),
+    )
+    .expect("valid data");
     let mut out = Vec::new();
     for t in &tests {
         for c in CostPreset::ALL {
@@ -53,8 +57,10 @@ fn bench(c: &mut Criterion) {
     g.finish();
 
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
-    let tests = pim_cli::ricsac::load(&path).unwrap();
-    let plan = pim_cli::batch::BatchPlan {
+    let tests =
+        pim_data::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(&path).unwrap())
+            .unwrap();
+    let plan = pim_data::batch::BatchPlan {
         costs: CostPreset::ALL.to_vec(),
         branches: MomentBranch::ALL.to_vec(),
         settings: FitSettings::default(),
@@ -63,7 +69,7 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("batch");
     g.sample_size(20);
     g.bench_function("ricsac_66_records_all_threads", |b| {
-        b.iter(|| black_box(pim_cli::batch::run(&tests, &plan, &|| {})))
+        b.iter(|| black_box(pim_data::batch::run(&tests, &plan, &|| {})))
     });
     g.finish();
 }

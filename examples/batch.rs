@@ -3,14 +3,28 @@ use pim_fit::{CostPreset, FitSettings, MomentBranch};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
-    let tests = pim_cli::ricsac::load(&path)?;
-    let plan = pim_cli::batch::BatchPlan {
+    let tests = pim_data::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(path)?)?;
+    let plan = pim_data::batch::BatchPlan {
         costs: vec![CostPreset::Q2],
         branches: vec![MomentBranch::Zero],
         settings: FitSettings::default(),
         timing: false,
     };
-    let records = pim_cli::batch::run(&tests, &plan, &|| {});
-    println!("{}", pim_cli::batch::summary_table(&records, &plan.costs));
+    let records = pim_data::batch::run(&tests, &plan, &|| {});
+    println!("test  outcome        e      mu     cost  loss %");
+    for r in &records {
+        match (&r.branch, r.solved()) {
+            (Some(b), true) => println!(
+                "{:>4}  {:<10} {:.3}  {:+.3}  {:>7.3}  {:>6.1}",
+                r.test,
+                r.outcome,
+                b.e.unwrap_or(f64::NAN),
+                b.mu.unwrap_or(f64::NAN),
+                b.cost.unwrap_or(f64::NAN),
+                b.energy_loss_percent.unwrap_or(f64::NAN)
+            ),
+            _ => println!("{:>4}  {}", r.test, r.outcome),
+        }
+    }
     Ok(())
 }

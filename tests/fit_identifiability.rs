@@ -7,7 +7,7 @@ use pim_core::{solve_backward_with_sign, solve_forward, Coefficients, SolveOptio
 use pim_fit::*;
 
 fn check(test: u32, preset: CostPreset, branch: MomentBranch) -> usize {
-    let tests = pim_cli::ricsac::load(&repo_path("data/ricsac.csv")).unwrap();
+    let tests = ricsac_tests();
     let t = tests.iter().find(|t| t.test == test).unwrap();
     let impact = t.impact().unwrap();
     let problem = FitProblem::from_preset(impact, preset, &t.initial(), &t.separation(), None);

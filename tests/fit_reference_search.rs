@@ -25,7 +25,7 @@ fn reference_search(
 
 #[test]
 fn fit_is_never_worse_than_the_reference_search_on_ricsac() {
-    let tests = pim_cli::ricsac::load(&repo_path("data/ricsac.csv")).unwrap();
+    let tests = ricsac_tests();
     let settings = FitSettings::default().check().unwrap();
     let mut compared = 0;
     let mut lines = Vec::new();

@@ -12,7 +12,7 @@ struct Run {
 }
 
 fn run_all(settings: &ValidSettings) -> Vec<Run> {
-    let tests = pim_cli::ricsac::load(&repo_path("data/ricsac.csv")).unwrap();
+    let tests = ricsac_tests();
     let mut out = Vec::new();
     for t in &tests {
         for preset in CostPreset::ALL {
@@ -55,7 +55,7 @@ fn vossou_cost(file: &str) -> HashMap<u32, f64> {
 #[test]
 fn ricsac_refit_table_and_consistency() {
     let runs = run_all(&FitSettings::default().check().unwrap());
-    let tests = pim_cli::ricsac::load(&repo_path("data/ricsac.csv")).unwrap();
+    let tests = ricsac_tests();
     let v18 = [
         (
             CostPreset::Q1,
@@ -200,7 +200,7 @@ fn q2_zero_branch_against_brach1984_table1b() {
     }
     .check()
     .unwrap();
-    let tests = pim_cli::ricsac::load(&repo_path("data/ricsac.csv")).unwrap();
+    let tests = ricsac_tests();
     let table = read_reference("data/reference/brach1984_table1.csv");
     println!("test |    e   Brach |    mu   Brach | mu/mu_max | loss %  Brach");
     for t in &tests {

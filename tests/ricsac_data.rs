@@ -2,12 +2,12 @@
 //! recomputed, and each test solved forwards with Brach 1984 Table 1B.
 mod common;
 use common::*;
-use pim_cli::ricsac::{self, RicsacTest};
 use pim_core::outline::{impact_centre_distance, Outline};
 use pim_core::*;
+use pim_data::ricsac::RicsacTest;
 
 fn tests() -> Vec<RicsacTest> {
-    ricsac::load(&repo_path("data/ricsac.csv")).expect("data/ricsac.csv loads")
+    ricsac_tests()
 }
 
 fn by_test(rows: &[Row], t: u32) -> &Row {

@@ -7,6 +7,13 @@ use pim_core::{Collision, Vehicle, Velocities};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// The RICSAC tests of `data/ricsac.csv`.
+pub fn ricsac_tests() -> Vec<pim_data::ricsac::RicsacTest> {
+    let path = repo_path("data/ricsac.csv");
+    let text = std::fs::read_to_string(&path).expect("data/ricsac.csv");
+    pim_data::ricsac::parse("data/ricsac.csv", &text).expect("valid data file")
+}
+
 /// Path of a file under the repository root.
 pub fn repo_path(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)

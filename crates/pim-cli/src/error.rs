@@ -48,7 +48,8 @@ impl Failure {
         }
     }
 
-    /// Classifies a pim-core error raised while solving the case in `file`.
+    /// Classifies a pim-core error raised while solving the case in `file`: singular or
+    /// inconsistent equations are "no answer" (3), anything else bad input (2).
     pub fn from_core(file: &str, e: pim_core::PimError) -> Self {
         use pim_core::PimError as E;
         match e {
@@ -69,3 +70,9 @@ impl fmt::Display for Failure {
 }
 
 impl std::error::Error for Failure {}
+
+impl From<pim_data::InputError> for Failure {
+    fn from(e: pim_data::InputError) -> Self {
+        Failure::Input(e.message)
+    }
+}

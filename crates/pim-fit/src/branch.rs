@@ -161,22 +161,21 @@ fn identifiability(
     let tol = settings.identifiability_tolerance;
     let limit = near_limit(best, tol, out.data_scale);
     let near: Vec<&Sample> = out.samples.iter().filter(|s| s.cost <= limit).collect();
-    let range = |f: fn(&Sample) -> f64| {
-        near.iter()
-            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
-                [r[0].min(f(s)), r[1].max(f(s))]
-            })
+    let range = |q: Quantity| {
+        near.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
+            [r[0].min(s.get(q)), r[1].max(s.get(q))]
+        })
     };
     let flat = near.iter().any(|s| s.flat);
     let mut list = Vec::new();
-    let coefficients: [(Quantity, fn(&Sample) -> f64, f64); 3] = [
-        (Quantity::E, |s| s.e, settings.e[1] - settings.e[0]),
-        (Quantity::Mu, |s| s.mu, settings.mu[1] - settings.mu[0]),
-        (Quantity::Em, |s| s.em, 1.0),
+    let coefficients = [
+        (Quantity::E, settings.e[1] - settings.e[0]),
+        (Quantity::Mu, settings.mu[1] - settings.mu[0]),
+        (Quantity::Em, 1.0),
     ];
     let n = if branch == MomentBranch::Free { 3 } else { 2 };
-    for &(q, f, size) in coefficients.iter().take(n) {
-        let [low, high] = range(f);
+    for &(q, size) in coefficients.iter().take(n) {
+        let [low, high] = range(q);
         list.push(Identifiability {
             coefficient: q,
             low,
@@ -186,12 +185,8 @@ fn identifiability(
             open_ended: false,
         });
     }
-    let speeds: [(Quantity, fn(&Sample) -> f64); 2] = [
-        (Quantity::Speed1, |s| s.speed1),
-        (Quantity::Speed2, |s| s.speed2),
-    ];
-    for (q, f) in speeds {
-        let [low, high] = range(f);
+    for q in [Quantity::Speed1, Quantity::Speed2] {
+        let [low, high] = range(q);
         list.push(Identifiability {
             coefficient: q,
             low,

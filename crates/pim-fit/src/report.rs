@@ -28,7 +28,7 @@ pub enum Status {
 
 impl fmt::Display for Status {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
+        f.pad(match self {
             Status::Optimal => "optimal",
             Status::Infeasible => "infeasible",
             Status::LimitReached => "limit_reached",

@@ -3,7 +3,7 @@
 
 use super::space::Space;
 use crate::inner::{At, Candidate, Eval, Inner};
-use crate::report::Violation;
+use crate::report::{Quantity, Violation};
 use std::collections::BTreeMap;
 
 /// A solved point of a search.
@@ -27,6 +27,19 @@ pub(crate) struct Sample {
     pub speed2: f64,
     /// The cost is flat along some velocity direction at this point.
     pub flat: bool,
+}
+
+impl Sample {
+    /// The value of a reported quantity at this sample.
+    pub fn get(&self, q: Quantity) -> f64 {
+        match q {
+            Quantity::E => self.e,
+            Quantity::Mu => self.mu,
+            Quantity::Em => self.em,
+            Quantity::Speed1 => self.speed1,
+            Quantity::Speed2 => self.speed2,
+        }
+    }
 }
 
 /// Everything the search found for one branch.

@@ -1,6 +1,7 @@
 //! Building a fit problem from a case file (`pim fit`).
 
-use crate::case::{Case, Failure};
+use crate::case::Case;
+use crate::error::{InputError, Result};
 use pim_core::VehicleId;
 use pim_fit::{
     CostPreset, FitProblem, FitSettings, Knowledge, MomentBranch, Observation, COMPONENT_NAMES,
@@ -15,12 +16,12 @@ pub enum CostChoice {
     Custom,
 }
 
-fn input(case: &Case, what: String) -> Failure {
-    Failure::Input(format!("{}: {what}", case.file))
+fn input(case: &Case, what: String) -> InputError {
+    InputError::new(&case.file, what)
 }
 
 /// The fit problem of a case.
-pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem, Failure> {
+pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
     let impact = case.impact()?;
     let c = &case.content;
     let est = c.estimates.unwrap_or_default().components();
@@ -82,11 +83,7 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem, Failure> {
                         COMPONENT_NAMES[k]
                     )));
                 };
-                let is_known = matches!(
-                    (preset, k < 6),
-                    (CostPreset::Q1, false) | (CostPreset::Q2, true)
-                );
-                components[k] = if is_known {
+                components[k] = if preset.holds_fixed(k) {
                     Knowledge::Known { value }
                 } else {
                     Knowledge::Estimated {
@@ -154,7 +151,7 @@ pub fn settings(
     case: &Case,
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
-) -> Result<pim_fit::ValidSettings, Failure> {
+) -> Result<pim_fit::ValidSettings> {
     let mut s = FitSettings {
         moment_form,
         branches,

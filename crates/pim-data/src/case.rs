@@ -1,9 +1,8 @@
-//! The TOML case file of `pim solve`, `pim sensitivity` and `pim fit`.
+//! The TOML case file of a solve, a sensitivity study and a fit.
 
-pub use crate::error::Failure;
+use crate::error::{InputError, Result};
 use pim_core::{Coefficients, Collision, Vehicle, VehicleVelocity, Velocities};
 use serde::Deserialize;
-use std::path::Path;
 
 /// Largest case file accepted, bytes (a case is a few hundred bytes).
 pub const MAX_CASE_BYTES: u64 = 1 << 20;
@@ -224,42 +223,6 @@ pub struct Case {
     pub content: CaseFile,
 }
 
-/// Reads a file that must be a small regular text file, with messages naming it.
-pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, Failure> {
-    let name = path.display();
-    let meta = std::fs::metadata(path)
-        .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    if meta.is_dir() {
-        return Err(Failure::Input(format!(
-            "{name}: is a directory, expected a file"
-        )));
-    }
-    if meta.len() > max_bytes {
-        return Err(Failure::Input(format!(
-            "{name}: is {} bytes, larger than the {} bytes accepted for this kind of file",
-            meta.len(),
-            max_bytes
-        )));
-    }
-    let bytes = std::fs::read(path)
-        .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    String::from_utf8(bytes).map_err(|e| {
-        Failure::Input(format!(
-            "{name}: is not UTF-8 text (byte {})",
-            e.utf8_error().valid_up_to()
-        ))
-    })
-}
-
-/// A short reason for an I/O error.
-pub fn io_reason(e: &std::io::Error) -> String {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => "no such file".to_string(),
-        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
-        _ => e.to_string(),
-    }
-}
-
 /// Line and column (1-based) of a byte offset.
 pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let upto = &text[..offset.min(text.len())];
@@ -268,42 +231,80 @@ pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
-/// Parses TOML into `T`, with errors as `file:line:col: message`.
-pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, Failure> {
+/// Parses TOML into `T`, with errors as `file:line:col: field: message` (the field as its
+/// dotted path, e.g. `vehicle1.mass`).
+pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
     if text.trim().is_empty() {
-        return Err(Failure::Input(format!("{file}: the file is empty")));
+        return Err(InputError::new(file, "the file is empty"));
     }
-    toml::from_str(text).map_err(|e| {
-        let msg = e.message().trim().to_string();
+    let located = |e: &toml::de::Error, field: Option<String>| {
+        let msg = plain_words(e.message().trim());
+        let what = match field {
+            Some(f) if !f.is_empty() && f != "." => format!("{f}: {msg}"),
+            _ => msg,
+        };
         match e.span() {
             Some(span) => {
                 let (line, col) = line_col(text, span.start);
-                Failure::Input(format!("{file}:{line}:{col}: {msg}"))
+                InputError::located(file, format!("{file}:{line}:{col}: {what}"))
             }
-            None => Failure::Input(format!("{file}: {msg}")),
+            None => InputError::new(file, what),
         }
+    };
+    let de = toml::Deserializer::parse(text).map_err(|e| located(&e, None))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let field = e.path().to_string();
+        located(e.inner(), Some(field))
     })
 }
 
-fn finite(file: &str, path: &str, value: f64) -> Result<(), Failure> {
+/// serde's type messages in the words of a case file: `invalid type: string "heavy", expected
+/// f64` becomes `expected a number, got the text "heavy"`.
+fn plain_words(msg: &str) -> String {
+    let Some(rest) = msg.strip_prefix("invalid type: ") else {
+        return msg.to_string();
+    };
+    let Some((got, want)) = rest.split_once(", expected ") else {
+        return msg.to_string();
+    };
+    let got = if let Some(t) = got.strip_prefix("string ") {
+        format!("the text {t}")
+    } else if let Some(t) = got.strip_prefix("integer ") {
+        format!("the whole number {}", t.trim_matches('`'))
+    } else if let Some(t) = got.strip_prefix("floating point ") {
+        format!("the number {}", t.trim_matches('`'))
+    } else if let Some(t) = got.strip_prefix("boolean ") {
+        t.trim_matches('`').to_string()
+    } else if got == "sequence" {
+        "a list".to_string()
+    } else if got == "map" {
+        "a table".to_string()
+    } else {
+        got.to_string()
+    };
+    let want = match want {
+        "f64" | "f32" => "a number".to_string(),
+        "u8" | "u16" | "u32" | "u64" | "usize" | "i32" | "i64" => "a whole number".to_string(),
+        "a string" => "text in quotes".to_string(),
+        w => w.to_string(),
+    };
+    format!("expected {want}, got {got}")
+}
+
+fn finite(file: &str, path: &str, value: f64) -> Result<()> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(Failure::Input(format!(
-            "{file}: {path} must be a finite number, got {value}"
-        )))
+        Err(InputError::new(
+            file,
+            format!("{path} must be a finite number, got {value}"),
+        ))
     }
 }
 
 impl Case {
-    /// Loads and parses a case file.
-    pub fn load(path: &Path) -> Result<Self, Failure> {
-        let text = read_text_file(path, MAX_CASE_BYTES)?;
-        Self::from_text(&path.display().to_string(), &text)
-    }
-
     /// Parses case-file text; `file` names it in messages.
-    pub fn from_text(file: &str, text: &str) -> Result<Self, Failure> {
+    pub fn from_text(file: &str, text: &str) -> Result<Self> {
         let content: CaseFile = parse_toml(file, text)?;
         let case = Case {
             file: file.to_string(),
@@ -313,7 +314,7 @@ impl Case {
         Ok(case)
     }
 
-    fn check_states(&self) -> Result<(), Failure> {
+    fn check_states(&self) -> Result<()> {
         for (name, s) in [
             ("initial", &self.content.initial),
             ("final", &self.content.final_),
@@ -330,7 +331,7 @@ impl Case {
     }
 
     /// The collision, checked by pim-core (messages name the vehicle and field).
-    pub fn impact(&self) -> Result<pim_core::Impact, Failure> {
+    pub fn impact(&self) -> Result<pim_core::Impact> {
         let v = |s: &VehicleSection| Vehicle {
             mass: s.mass,
             yaw_inertia: s.yaw_inertia,
@@ -343,16 +344,13 @@ impl Case {
             vehicle2: v(&self.content.vehicle2),
             crush_angle: self.content.impact.crush_angle,
         })
-        .map_err(|e| Failure::Input(format!("{}: {e}", self.file)))
+        .map_err(|e| InputError::new(&self.file, e))
     }
 
     /// The `[coefficients]` section, required and checked.
-    pub fn coefficients(&self) -> Result<Coefficients, Failure> {
+    pub fn coefficients(&self) -> Result<Coefficients> {
         let c = self.content.coefficients.ok_or_else(|| {
-            Failure::Input(format!(
-                "{}: missing section [coefficients] (e, mu, em)",
-                self.file
-            ))
+            InputError::new(&self.file, "missing section [coefficients] (e, mu, em)")
         })?;
         let c = Coefficients {
             e: c.e,
@@ -360,23 +358,23 @@ impl Case {
             em: c.em,
         };
         c.validate()
-            .map_err(|e| Failure::Input(format!("{}: [coefficients] {e}", self.file)))?;
+            .map_err(|e| InputError::new(&self.file, format!("[coefficients] {e}")))?;
         Ok(c)
     }
 
     /// Exactly one of `[initial]` / `[final]`: `(state, true)` for initial.
-    pub fn known_state(&self) -> Result<(Velocities, bool), Failure> {
+    pub fn known_state(&self) -> Result<(Velocities, bool)> {
         match (&self.content.initial, &self.content.final_) {
             (Some(i), None) => Ok((i.to_velocities(), true)),
             (None, Some(f)) => Ok((f.to_velocities(), false)),
-            (Some(_), Some(_)) => Err(Failure::Input(format!(
-                "{}: give either [initial] (solve forwards) or [final] (solve backwards), not both",
-                self.file
-            ))),
-            (None, None) => Err(Failure::Input(format!(
-                "{}: missing section [initial] (velocities at contact) or [final] (at separation)",
-                self.file
-            ))),
+            (Some(_), Some(_)) => Err(InputError::new(
+                &self.file,
+                "give either [initial] (solve forwards) or [final] (solve backwards), not both",
+            )),
+            (None, None) => Err(InputError::new(
+                &self.file,
+                "missing section [initial] (velocities at contact) or [final] (at separation)",
+            )),
         }
     }
 }

@@ -1,7 +1,7 @@
 //! SVG figures of a batch run (plotters): cost per test and cost function, the coefficients, the
 //! relative delta-V error per vehicle, and fitted against measured separation velocities.
 
-use crate::batch::BatchRecord;
+use pim_data::batch::BatchRecord;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 

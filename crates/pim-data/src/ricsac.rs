@@ -1,12 +1,11 @@
 //! The RICSAC data file (`data/ricsac.csv`): one row per staged collision.
 
-use crate::case::{read_text_file, Failure};
+use crate::error::{InputError, Result};
 use nalgebra::Vector6;
 use pim_core::{Collision, Impact, Vehicle, Velocities};
 use serde::Deserialize;
-use std::path::Path;
 
-/// Largest data file accepted, bytes.
+/// Largest data file accepted, bytes (for callers that read it).
 pub const MAX_DATA_BYTES: u64 = 16 << 20;
 
 /// The columns, in the required order.
@@ -137,7 +136,7 @@ impl RicsacTest {
     }
 
     /// The checked impact.
-    pub fn impact(&self) -> Result<Impact, pim_core::PimError> {
+    pub fn impact(&self) -> std::result::Result<Impact, pim_core::PimError> {
         Impact::new(self.collision())
     }
 
@@ -215,9 +214,12 @@ fn column_number(name: &str) -> usize {
 }
 
 /// Parses the text of a RICSAC data file; `file` names it in messages.
-pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>, Failure> {
+pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>> {
     if text.trim().is_empty() {
-        return Err(Failure::Input(format!("{file}: the file is empty")));
+        return Err(InputError::located(
+            file,
+            format!("{file}: the file is empty"),
+        ));
     }
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
@@ -225,36 +227,43 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>, Failure> {
         .from_reader(text.as_bytes());
     let headers = rdr
         .headers()
-        .map_err(|e| Failure::Input(format!("{file}:1: cannot read the header: {e}")))?
+        .map_err(|e| InputError::located(file, format!("{file}:1: cannot read the header: {e}")))?
         .clone();
     let got: Vec<&str> = headers.iter().collect();
     for (i, want) in COLUMNS.iter().enumerate() {
         match got.get(i) {
             Some(g) if g == want => {}
             Some(g) => {
-                return Err(Failure::Input(format!(
-                    "{file}:1: column {} is `{g}`, expected `{want}` (the columns must be, in \
+                return Err(InputError::located(
+                    file,
+                    format!(
+                        "{file}:1: column {} is `{g}`, expected `{want}` (the columns must be, in \
                      this order: {})",
-                    i + 1,
-                    COLUMNS.join(",")
-                )))
+                        i + 1,
+                        COLUMNS.join(",")
+                    ),
+                ))
             }
-            None => {
-                return Err(Failure::Input(format!(
+            None => return Err(InputError::located(
+                file,
+                format!(
                     "{file}:1: missing column {} `{want}` (the header has {} columns, {} expected)",
                     i + 1,
                     got.len(),
                     COLUMNS.len()
-                )))
-            }
+                ),
+            )),
         }
     }
     if got.len() > COLUMNS.len() {
-        return Err(Failure::Input(format!(
-            "{file}:1: unexpected extra column {} `{}`",
-            COLUMNS.len() + 1,
-            got[COLUMNS.len()]
-        )));
+        return Err(InputError::located(
+            file,
+            format!(
+                "{file}:1: unexpected extra column {} `{}`",
+                COLUMNS.len() + 1,
+                got[COLUMNS.len()]
+            ),
+        ));
     }
     let mut tests: Vec<RicsacTest> = Vec::new();
     for result in rdr.records() {
@@ -266,23 +275,29 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>, Failure> {
                 _ => None,
             };
             match col {
-                Some(c) => Failure::Input(format!(
-                    "{file}:{line}: column {} `{}`: {} (got `{}`)",
-                    c + 1,
-                    COLUMNS.get(c).unwrap_or(&"?"),
-                    deserialize_reason(&e),
-                    record.get(c).unwrap_or("")
-                )),
+                Some(c) => InputError::located(
+                    file,
+                    format!(
+                        "{file}:{line}: column {} `{}`: {} (got `{}`)",
+                        c + 1,
+                        COLUMNS.get(c).unwrap_or(&"?"),
+                        deserialize_reason(&e),
+                        record.get(c).unwrap_or("")
+                    ),
+                ),
                 None => csv_error(file, &e),
             }
         })?;
         row.line = line;
         for (name, value) in row.numeric() {
             if !value.is_finite() {
-                return Err(Failure::Input(format!(
-                    "{file}:{line}: column {} `{name}`: must be a finite number, got {value}",
-                    column_number(name)
-                )));
+                return Err(InputError::located(
+                    file,
+                    format!(
+                        "{file}:{line}: column {} `{name}`: must be a finite number, got {value}",
+                        column_number(name)
+                    ),
+                ));
             }
         }
         if let Err(e) = row.impact() {
@@ -295,23 +310,30 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>, Failure> {
                 }
                 _ => "",
             };
-            return Err(Failure::Input(format!(
-                "{file}:{line}: column {} `{field}`: {e}",
-                column_number(field)
-            )));
+            return Err(InputError::located(
+                file,
+                format!(
+                    "{file}:{line}: column {} `{field}`: {e}",
+                    column_number(field)
+                ),
+            ));
         }
         if let Some(first) = tests.iter().find(|t| t.test == row.test) {
-            return Err(Failure::Input(format!(
-                "{file}:{line}: column 1 `test`: test {} appears twice (lines {} and {line})",
-                row.test, first.line
-            )));
+            return Err(InputError::located(
+                file,
+                format!(
+                    "{file}:{line}: column 1 `test`: test {} appears twice (lines {} and {line})",
+                    row.test, first.line
+                ),
+            ));
         }
         tests.push(row);
     }
     if tests.is_empty() {
-        return Err(Failure::Input(format!(
-            "{file}: the header is there but there are no data rows"
-        )));
+        return Err(InputError::located(
+            file,
+            format!("{file}: the header is there but there are no data rows"),
+        ));
     }
     Ok(tests)
 }
@@ -329,26 +351,26 @@ fn deserialize_reason(e: &csv::Error) -> String {
     }
 }
 
-fn csv_error(file: &str, e: &csv::Error) -> Failure {
+fn csv_error(file: &str, e: &csv::Error) -> InputError {
     match e.kind() {
         csv::ErrorKind::UnequalLengths {
             pos,
             expected_len,
             len,
-        } => Failure::Input(format!(
-            "{file}:{}: the row has {len} fields, the header {expected_len}",
-            pos.as_ref().map_or(0, |p| p.line())
-        )),
-        csv::ErrorKind::Utf8 { pos, .. } => Failure::Input(format!(
-            "{file}:{}: the row is not UTF-8 text",
-            pos.as_ref().map_or(0, |p| p.line())
-        )),
-        _ => Failure::Input(format!("{file}: {e}")),
+        } => InputError::located(
+            file,
+            format!(
+                "{file}:{}: the row has {len} fields, the header {expected_len}",
+                pos.as_ref().map_or(0, |p| p.line())
+            ),
+        ),
+        csv::ErrorKind::Utf8 { pos, .. } => InputError::located(
+            file,
+            format!(
+                "{file}:{}: the row is not UTF-8 text",
+                pos.as_ref().map_or(0, |p| p.line())
+            ),
+        ),
+        _ => InputError::located(file, format!("{file}: {e}")),
     }
-}
-
-/// Reads and parses a RICSAC data file.
-pub fn load(path: &Path) -> Result<Vec<RicsacTest>, Failure> {
-    let text = read_text_file(path, MAX_DATA_BYTES)?;
-    parse(&path.display().to_string(), &text)
 }

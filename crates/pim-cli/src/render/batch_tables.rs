@@ -1,193 +1,11 @@
-//! The RICSAC batch refit: every (test, cost function, moment branch) fitted, as flat records,
-//! tables and CSV.
+//! Tables, CSV files and the Brach 1984 comparison of a batch run.
 
-use crate::output::BranchRecord;
-use crate::ricsac::RicsacTest;
-use pim_fit::{CostPreset, FitProblem, FitSettings, MomentBranch, COMPONENT_NAMES};
-use rayon::prelude::*;
+use pim_data::batch::{BatchRecord, Outcome};
+use pim_data::records::BranchRecord;
+use pim_data::reference::BrachRow;
+use pim_fit::{CostPreset, MomentBranch, COMPONENT_NAMES};
 use serde::Serialize;
 use std::fmt::Write as _;
-
-/// What to run.
-#[derive(Debug, Clone)]
-pub struct BatchPlan {
-    /// Cost functions, in order.
-    pub costs: Vec<CostPreset>,
-    /// Moment branches, in order.
-    pub branches: Vec<MomentBranch>,
-    /// Fit settings (bounds, moment form) shared by every fit.
-    pub settings: FitSettings,
-    /// Record the wall time of each fit (makes the output differ from run to run).
-    pub timing: bool,
-}
-
-/// One record per (test, cost, branch).
-#[derive(Debug, Clone, Serialize)]
-pub struct BatchRecord {
-    /// RICSAC test number.
-    pub test: u32,
-    /// Cost function.
-    pub cost_function: CostPreset,
-    /// `optimal`, `infeasible`, `limit_reached` or `failed` (the row could not be fitted).
-    pub outcome: String,
-    /// Line of the data file.
-    pub line: u64,
-    /// The fitted branch (absent when the row failed).
-    #[serde(flatten)]
-    pub branch: Option<BranchRecord>,
-    /// Why the row failed.
-    pub error: Option<String>,
-    /// The branch of this record (also when failed).
-    pub moment_branch: MomentBranch,
-    /// True for the best branch of this (test, cost).
-    pub best: bool,
-    /// Measured |delta-V| of vehicle 1 and 2 (data file), m/s.
-    pub delta_v_measured: [f64; 2],
-    /// (fitted - measured) / measured |delta-V| per vehicle.
-    pub delta_v_relative_error: Option<[f64; 2]>,
-    /// Fitted minus measured, per component of U (m/s, rad/s), in the order of `components`.
-    pub velocity_error: Option<[f64; 12]>,
-    /// The component with the largest absolute error.
-    pub max_error_component: Option<String>,
-    /// Its error.
-    pub max_error: Option<f64>,
-    /// Wall time of the fit of this (test, cost function), all its branches, s (only with timing).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub fit_seconds: Option<f64>,
-}
-
-impl BatchRecord {
-    /// True when the record has an answer (optimal or limit reached).
-    pub fn solved(&self) -> bool {
-        self.outcome == "optimal" || self.outcome == "limit_reached"
-    }
-}
-
-fn status_name(s: pim_fit::Status) -> String {
-    s.to_string()
-}
-
-/// Runs the plan over the tests, in parallel; the records come out in (test, cost, branch)
-/// order whatever the thread count. `tick` is called once per finished fit.
-pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> Vec<BatchRecord> {
-    let jobs: Vec<(&RicsacTest, CostPreset)> = tests
-        .iter()
-        .flat_map(|t| plan.costs.iter().map(move |&c| (t, c)))
-        .collect();
-    let results: Vec<Vec<BatchRecord>> = jobs
-        .par_iter()
-        .map(|&(t, cost)| {
-            let start = std::time::Instant::now();
-            let mut out = fit_one(t, cost, plan);
-            if plan.timing {
-                let secs = start.elapsed().as_secs_f64();
-                out.iter_mut().for_each(|r| r.fit_seconds = Some(secs));
-            }
-            tick();
-            out
-        })
-        .collect();
-    results.into_iter().flatten().collect()
-}
-
-fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecord> {
-    let measured = [t.dv1_measured_mps, t.dv2_measured_mps];
-    let failed = |msg: String| -> Vec<BatchRecord> {
-        plan.branches
-            .iter()
-            .map(|&m| BatchRecord {
-                test: t.test,
-                cost_function: cost,
-                outcome: "failed".to_string(),
-                line: t.line,
-                branch: None,
-                error: Some(msg.clone()),
-                moment_branch: m,
-                best: false,
-                delta_v_measured: measured,
-                delta_v_relative_error: None,
-                velocity_error: None,
-                max_error_component: None,
-                max_error: None,
-                fit_seconds: None,
-            })
-            .collect()
-    };
-    let impact = match t.impact() {
-        Ok(i) => i,
-        Err(e) => return failed(e.to_string()),
-    };
-    let settings = FitSettings {
-        branches: plan.branches.clone(),
-        ..plan.settings.clone()
-    };
-    let settings = match settings.check() {
-        Ok(s) => s,
-        Err(e) => return failed(e.to_string()),
-    };
-    let problem = FitProblem::from_preset(impact, cost, &t.initial(), &t.separation(), None);
-    let report = match pim_fit::fit(&problem, &settings) {
-        Ok(r) => r,
-        Err(e) => return failed(e.to_string()),
-    };
-    let mut meas = [0.0; 12];
-    meas[..6].copy_from_slice(t.initial().to_vector().as_slice());
-    meas[6..].copy_from_slice(t.separation().to_vector().as_slice());
-    report
-        .branches
-        .iter()
-        .map(|b| {
-            let rec = BranchRecord::new(b);
-            let fitted = match (&rec.initial, &rec.final_) {
-                (Some(i), Some(f)) => {
-                    let mut u = [0.0; 12];
-                    u[..6].copy_from_slice(&i.to_array());
-                    u[6..].copy_from_slice(&f.to_array());
-                    Some(u)
-                }
-                _ => None,
-            };
-            let err = fitted.map(|u| {
-                let mut e = [0.0; 12];
-                for k in 0..12 {
-                    e[k] = u[k] - meas[k];
-                }
-                e
-            });
-            let (max_c, max_e) = match err {
-                Some(e) => {
-                    let k = (0..12)
-                        .max_by(|&a, &b| e[a].abs().total_cmp(&e[b].abs()))
-                        .unwrap_or(0);
-                    (Some(COMPONENT_NAMES[k].to_string()), Some(e[k]))
-                }
-                None => (None, None),
-            };
-            let rel = rec.delta_v.as_ref().map(|dv| {
-                [
-                    (dv.vehicle1 - measured[0]) / measured[0],
-                    (dv.vehicle2 - measured[1]) / measured[1],
-                ]
-            });
-            BatchRecord {
-                test: t.test,
-                cost_function: cost,
-                outcome: status_name(b.status),
-                line: t.line,
-                best: report.best == Some(b.moment),
-                moment_branch: b.moment,
-                branch: Some(rec),
-                error: None,
-                delta_v_measured: measured,
-                delta_v_relative_error: rel,
-                velocity_error: err,
-                max_error_component: max_c,
-                max_error: max_e,
-                fit_seconds: None,
-            }
-        })
-        .collect()
-}
 
 fn cost_title(c: CostPreset) -> &'static str {
     match c {
@@ -297,7 +115,7 @@ pub fn compare_costs_table(records: &[BatchRecord], costs: &[CostPreset]) -> Str
         for k in 0..12 {
             let _ = write!(s, "  {:<8}", SHORT[k]);
             for (c, r) in costs.iter().zip(&cols) {
-                let fixed = matches!((c, k < 6), (CostPreset::Q1, false) | (CostPreset::Q2, true));
+                let fixed = c.holds_fixed(k);
                 let cell = match r.and_then(|r| r.velocity_error.map(|e| (e, r))) {
                     Some((e, r)) => {
                         let star = if r.max_error_component.as_deref() == Some(COMPONENT_NAMES[k]) {
@@ -329,35 +147,6 @@ pub fn compare_costs_table(records: &[BatchRecord], costs: &[CostPreset]) -> Str
         let _ = writeln!(s, "\n");
     }
     s
-}
-
-/// One row of Brach 1984 Table 1 (`data/reference/brach1984_table1.csv`).
-#[derive(Debug, Clone, serde::Deserialize)]
-pub struct BrachRow {
-    /// A (em free) or B (em = 1).
-    pub branch: String,
-    /// Test number.
-    pub test: u32,
-    /// Brach's sum of squares (his units and weights).
-    pub sum_of_squares: f64,
-    /// Energy loss, percent.
-    pub energy_loss_percent: f64,
-    /// Restitution.
-    pub e: f64,
-    /// Moment restitution.
-    pub em: f64,
-    /// Friction.
-    pub mu: f64,
-}
-
-/// Parses the Brach 1984 Table 1 reference file.
-pub fn parse_brach(text: &str) -> Result<Vec<BrachRow>, String> {
-    let mut rdr = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_reader(text.as_bytes());
-    rdr.deserialize()
-        .collect::<Result<Vec<BrachRow>, _>>()
-        .map_err(|e| e.to_string())
 }
 
 /// Our Q2 fits beside Brach 1984 Table 1 (branch free vs A, zero vs B).
@@ -415,7 +204,7 @@ struct CsvRow {
     cost_function: &'static str,
     branch: &'static str,
     best: bool,
-    outcome: String,
+    outcome: Outcome,
     reason: Option<String>,
     e: Option<f64>,
     mu: Option<f64>,
@@ -445,7 +234,7 @@ pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
             cost_function: r.cost_function.name(),
             branch: r.moment_branch.name(),
             best: r.best,
-            outcome: r.outcome.clone(),
+            outcome: r.outcome,
             reason: r
                 .error
                 .clone()

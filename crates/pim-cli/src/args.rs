@@ -1,0 +1,262 @@
+//! The command line: subcommands, their arguments and the help texts that teach the file formats.
+
+use crate::error::EXIT_CODES_HELP;
+use clap::{Parser, Subcommand, ValueEnum};
+use pim_core::MomentForm;
+use std::path::PathBuf;
+
+const ABOUT: &str = "Planar Impact Mechanics (Brach) for two-vehicle collisions: solve the six \
+impulse-momentum equations, study coefficient sensitivity, and fit coefficients to crash data.";
+
+const CASE_HELP: &str = "\
+CASE FILE (TOML, SI units, angles in degrees):
+  [vehicle1]                       # vehicle2 likewise
+  mass = 1955.0                    # kg
+  yaw_inertia = 4723.0             # kg m^2
+  heading = 0.0                    # deg, theta: length axis to the x axis
+  d = 1.8                          # m, CG to impact centre C
+  phi = 0.0                        # deg, CG-to-C line to the length axis
+  [impact]
+  crush_angle = -30.0              # deg, Gamma: crush surface to the y axis
+  [coefficients]
+  e = 0.015                        # restitution, 0..1
+  mu = 0.968                       # equivalent friction (signed impulse ratio)
+  em = -0.774                      # moment restitution, -1..0 or exactly 1
+  [initial]                        # velocities at contact; or [final] to solve backwards
+  vehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }      # m/s, m/s, rad/s
+  vehicle2 = { vx = 6.505, vy = 11.267, omega = 0.0 }";
+
+#[derive(Parser, Debug)]
+#[command(name = "pim", version, about = ABOUT, after_help = EXIT_CODES_HELP)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Human-readable table.
+    Table,
+    /// One JSON document on stdout.
+    Json,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MomentArg {
+    /// The corrected moment equation of Brach 1984 (default).
+    Corrected,
+    /// The 1983 BASIC listing's form, with its sign error; to reproduce the 1983 tables.
+    Brach1983,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct SolveArgs {
+    /// The case file (TOML); see CASE FILE below.
+    pub case: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Form of the moment equation (6).
+    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
+    pub moment_form: MomentArg,
+    /// Use the no-slip condition (5a, Vt = 0 at separation) instead of friction (5); mu is then
+    /// ignored and the friction it implies is reported as mu_max.
+    #[arg(long)]
+    pub no_slip: bool,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Solve the impact equations: separation velocities from [initial], or contact velocities
+    /// from [final] (backwards), with delta-V, impulses, energy loss, mu_max and admissibility.
+    #[command(after_help = format!("{CASE_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Solve(SolveArgs),
+    /// Vary each coefficient by -/+ P percent, solve every combination and average the effect of
+    /// each level (Brach 1983 Tables 4-6). Needs [initial].
+    #[command(after_help = format!("{CASE_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Sensitivity {
+        #[command(flatten)]
+        solve: SolveArgs,
+        /// The variation P in percent (0 <= P < 100).
+        #[arg(long, default_value_t = 10.0)]
+        percent: f64,
+    },
+    /// Fit e, mu, em and the twelve velocities to estimates and observations (weighted least
+    /// squares, global search), for both moment branches: em in [-1, 0] ("free") and em = 1
+    /// ("zero"). Infeasible data are reported with the reason.
+    #[command(after_help = format!("{FIT_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Fit(FitArgs),
+    /// Refit every RICSAC test of a data file under each cost function and moment branch (the
+    /// main job): summary tables, the comparison with Brach 1984 Table 1, JSON or CSV records,
+    /// and with --out, CSV files and SVG figures.
+    #[command(after_help = format!("{BATCH_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Batch(BatchArgs),
+    /// Per test, the cost functions side by side and the error of every velocity component
+    /// against the measurement, the largest flagged (as Vossou & Koulocheris 2018 Tables 4-6).
+    #[command(after_help = format!("{BATCH_HELP}\n\n{EXIT_CODES_HELP}"))]
+    CompareCosts(BatchArgs),
+}
+
+const BATCH_HELP: &str = "\
+DATA FILE: a CSV with one row per test, columns as in data/ricsac.csv (see data/README.md);
+the file's header must match exactly. A row whose physics fails (the vehicles do not approach,
+a singular system) is reported in its records as `failed`; the other rows are still fitted.
+
+OUTPUT (--out DIR): records.csv (one row per test, cost function and branch), records.json,
+velocity_errors.csv (fitted minus measured per component), summary.txt, compare_costs.txt,
+brach1984.txt (when data/reference/brach1984_table1.csv is next to the data file), and the
+figures cost.svg, coefficients.svg, delta_v.svg, separation.svg.
+
+The records are identical for any --threads. Exit status 1 means some records are infeasible
+(an answer: the data admit no solution, the reason is in the record) or failed; for the RICSAC
+data, Q1 is infeasible for tests 1, 6, 7, 10 and 11.";
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BatchFormat {
+    /// Human-readable tables.
+    Table,
+    /// One JSON document with every record.
+    Json,
+    /// One CSV row per record.
+    Csv,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct BatchArgs {
+    /// The data file.
+    #[arg(default_value = "data/ricsac.csv")]
+    pub data: PathBuf,
+    /// Cost functions.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [CostArg::Q1, CostArg::Q2, CostArg::Q3])]
+    pub cost: Vec<CostArg>,
+    /// Moment branches.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
+    pub branch: Vec<BranchArg>,
+    /// Only these tests (numbers as in the data file), e.g. --tests 1,6,7.
+    #[arg(long, value_delimiter = ',')]
+    pub tests: Vec<u32>,
+    /// Output format on stdout.
+    #[arg(long, value_enum, default_value_t = BatchFormat::Table)]
+    pub format: BatchFormat,
+    /// Also write CSV tables and SVG figures into this directory (created if needed).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Upper bound of e (default 0.2; Brach 1984 needed up to 0.42).
+    #[arg(long, default_value_t = 0.2)]
+    pub e_max: f64,
+    /// Form of the moment equation (6).
+    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
+    pub moment_form: MomentArg,
+    /// Add each fit's wall time (`fit_seconds`) to the records (output then varies run to run).
+    #[arg(long)]
+    pub timing: bool,
+}
+
+const FIT_HELP: &str = "\
+CASE FILE: as for `pim solve` ([vehicle1], [vehicle2], [impact]), without [coefficients],
+[initial], [final], plus:
+  [estimates.initial]              # estimated velocities at contact (partial allowed)
+  vehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }
+  vehicle2 = { vx = 6.50, vy = 11.27, omega = 0.0 }
+  [estimates.final]                # estimated velocities at separation
+  vehicle1 = { vx = -7.74, vy = 1.48, omega = -0.52 }
+  vehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }
+  [weights.initial]                # optional, same shape, in (0, 1], default 1
+  vehicle1 = { omega = 0.5 }
+  [known.initial]                  # without --cost only: components held fixed
+  vehicle1 = { omega = 0.0 }
+  [bounds]                         # optional; these are the defaults
+  e = [0.0, 0.2]
+  mu = [-1.2, 1.2]                 # and always between 0 and mu_max
+  velocity = 20.0                  # m/s, every linear component
+  yaw_rate = 5.0                   # rad/s
+  [[observations]]                 # optional, e.g. what an event data recorder gave
+  kind = \"delta_v_longitudinal\"   # delta_v_lateral, speed_along_heading, lateral_velocity
+  vehicle = 1
+  value = -5.1                     # m/s, along the vehicle's own axes
+  weight = 1.0
+
+COST FUNCTIONS (--cost):
+  q1  separation velocities known exactly, contact velocities estimated
+  q2  contact velocities known exactly, separation velocities estimated (Brach's fits)
+  q3  all twelve estimated
+  (none) [known] held fixed, [estimates] estimated, everything else unknown";
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CostArg {
+    /// Separation velocities known, contact velocities estimated.
+    Q1,
+    /// Contact velocities known, separation velocities estimated.
+    Q2,
+    /// All twelve estimated.
+    Q3,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BranchArg {
+    /// em in [-1, 0].
+    Free,
+    /// em = 1 (no moment impulse).
+    Zero,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct FitArgs {
+    /// The case file (TOML); see CASE FILE below.
+    pub case: PathBuf,
+    /// Cost function; without it the case's [known] and [estimates] define the problem.
+    #[arg(long, value_enum)]
+    pub cost: Option<CostArg>,
+    /// Moment branches to fit.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
+    pub branch: Vec<BranchArg>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Form of the moment equation (6).
+    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
+    pub moment_form: MomentArg,
+}
+
+impl From<MomentArg> for MomentForm {
+    fn from(m: MomentArg) -> Self {
+        match m {
+            MomentArg::Corrected => MomentForm::Corrected,
+            MomentArg::Brach1983 => MomentForm::Brach1983,
+        }
+    }
+}
+
+impl From<BranchArg> for pim_fit::MomentBranch {
+    fn from(b: BranchArg) -> Self {
+        match b {
+            BranchArg::Free => pim_fit::MomentBranch::Free,
+            BranchArg::Zero => pim_fit::MomentBranch::Zero,
+        }
+    }
+}
+
+impl From<CostArg> for pim_fit::CostPreset {
+    fn from(c: CostArg) -> Self {
+        match c {
+            CostArg::Q1 => pim_fit::CostPreset::Q1,
+            CostArg::Q2 => pim_fit::CostPreset::Q2,
+            CostArg::Q3 => pim_fit::CostPreset::Q3,
+        }
+    }
+}
+
+/// The distinct values of a list of arguments, converted, in their first order.
+pub fn unique<A: Copy, T: From<A> + PartialEq>(list: &[A]) -> Vec<T> {
+    let mut out: Vec<T> = Vec::new();
+    for &a in list {
+        let t = T::from(a);
+        if !out.contains(&t) {
+            out.push(t);
+        }
+    }
+    out
+}

@@ -1,0 +1,141 @@
+//! `pim batch` and `pim compare-costs`: the refit of a data file.
+
+use super::{json, print_out, write_file};
+use crate::args::{unique, BatchArgs, BatchFormat};
+use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
+use crate::inputs::{io_reason, load_ricsac};
+use crate::render::{batch_tables, figures};
+use anyhow::Result;
+use pim_data::batch;
+use pim_data::reference::parse_brach;
+use std::process::ExitCode;
+
+/// `pim batch` and (`compare`) `pim compare-costs`.
+pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
+    let file = a.data.display().to_string();
+    let mut tests = load_ricsac(&a.data)?;
+    if !a.tests.is_empty() {
+        for t in &a.tests {
+            if !tests.iter().any(|r| r.test == *t) {
+                let have: Vec<String> = tests.iter().map(|r| r.test.to_string()).collect();
+                return Err(Failure::Input(format!(
+                    "--tests: test {t} is not in {file} (it has {})",
+                    have.join(", ")
+                ))
+                .into());
+            }
+        }
+        tests.retain(|r| a.tests.contains(&r.test));
+    }
+    if let Some(n) = a.threads {
+        if n == 0 {
+            return Err(Failure::Input("--threads must be at least 1".into()).into());
+        }
+    }
+    let settings = pim_fit::FitSettings {
+        e: [0.0, a.e_max],
+        moment_form: a.moment_form.into(),
+        ..Default::default()
+    };
+    // Check the shared settings once, so a bad flag is an input error, not 66 failed records.
+    settings
+        .clone()
+        .check()
+        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
+    let plan = batch::BatchPlan {
+        costs: unique(&a.cost),
+        branches: unique(&a.branch),
+        settings,
+        timing: a.timing,
+    };
+    let n_jobs = (tests.len() * plan.costs.len()) as u64;
+    let show =
+        a.format != BatchFormat::Json && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = if show {
+        let b = indicatif::ProgressBar::new(n_jobs);
+        b.set_message("fitting");
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let tick = || bar.inc(1);
+    let records = match a.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| Failure::Input(format!("--threads {n}: {e}")))?
+            .install(|| batch::run(&tests, &plan, &tick)),
+        None => batch::run(&tests, &plan, &tick),
+    };
+    bar.finish_and_clear();
+    let brach = a
+        .data
+        .parent()
+        .map(|d| d.join("reference").join("brach1984_table1.csv"))
+        .filter(|p| p.is_file())
+        .and_then(|p| std::fs::read_to_string(p).ok())
+        .and_then(|t| parse_brach(&t).ok());
+    let summary = batch_tables::summary_table(&records, &plan.costs);
+    let compare_text = batch_tables::compare_costs_table(&records, &plan.costs);
+    let brach_text = brach
+        .as_ref()
+        .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2))
+        .map(|b| batch_tables::brach_table(&records, b));
+    let records_json = json(&serde_json::json!({ "data": file, "records": records }))?;
+    let records_csv =
+        batch_tables::records_csv(&records).map_err(|e| Failure::Output(e.to_string()))?;
+    let text = match a.format {
+        BatchFormat::Json => records_json.clone(),
+        BatchFormat::Csv => records_csv.clone(),
+        BatchFormat::Table if compare => compare_text.clone(),
+        BatchFormat::Table => {
+            let mut t = format!("{file}: {} tests\n\n{summary}", tests.len());
+            if let Some(b) = &brach_text {
+                t.push_str(b);
+            }
+            t
+        }
+    };
+    print_out(&text)?;
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            Failure::Output(format!(
+                "{}: cannot create the directory: {}",
+                dir.display(),
+                io_reason(&e)
+            ))
+        })?;
+        write_file(&dir.join("records.csv"), &records_csv)?;
+        write_file(&dir.join("records.json"), &records_json)?;
+        write_file(
+            &dir.join("velocity_errors.csv"),
+            &batch_tables::errors_csv(&records),
+        )?;
+        write_file(&dir.join("summary.txt"), &summary)?;
+        write_file(&dir.join("compare_costs.txt"), &compare_text)?;
+        if let Some(b) = &brach_text {
+            write_file(&dir.join("brach1984.txt"), b)?;
+        }
+        let figs = figures::write_all(&records, &plan.costs, dir)
+            .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
+        if a.format != BatchFormat::Json {
+            eprintln!(
+                "pim: wrote {} tables and {} figures to {}",
+                if brach_text.is_some() { 6 } else { 5 },
+                figs.len(),
+                dir.display()
+            );
+        }
+    }
+    let unsolved = records.iter().filter(|r| !r.solved()).count();
+    if unsolved > 0 {
+        if a.format != BatchFormat::Json {
+            eprintln!(
+                "pim: {unsolved} of {} records have no solution (infeasible or failed); their rows say why",
+                records.len()
+            );
+        }
+        return Ok(ExitCode::from(EXIT_SOME_FAILED));
+    }
+    Ok(ExitCode::from(EXIT_OK))
+}

@@ -1,0 +1,61 @@
+//! `pim fit`: one case file, both moment branches.
+
+use super::{json, print_out, title_of};
+use crate::args::{unique, FitArgs, Format};
+use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
+use crate::inputs::load_case;
+use crate::render::tables;
+use anyhow::Result;
+use pim_data::{fitcase, records};
+use std::process::ExitCode;
+
+/// `pim fit`.
+pub fn run(a: &FitArgs) -> Result<ExitCode> {
+    let case = load_case(&a.case)?;
+    for (name, present) in [
+        ("[coefficients]", case.content.coefficients.is_some()),
+        ("[initial]", case.content.initial.is_some()),
+        ("[final]", case.content.final_.is_some()),
+    ] {
+        if present {
+            return Err(Failure::Input(format!(
+                "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / [estimates.final]",
+                case.file
+            ))
+            .into());
+        }
+    }
+    let (choice, name) = match a.cost {
+        Some(c) => {
+            let p = pim_fit::CostPreset::from(c);
+            (fitcase::CostChoice::Preset(p), p.name())
+        }
+        None => (fitcase::CostChoice::Custom, "custom"),
+    };
+    let problem = fitcase::problem(&case, choice)?;
+    let settings = fitcase::settings(&case, a.moment_form.into(), unique(&a.branch))?;
+    let report = pim_fit::fit(&problem, &settings)
+        .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
+    let text = match a.format {
+        Format::Json => json(&records::FitOut {
+            cost_function: name.to_string(),
+            branches: report
+                .branches
+                .iter()
+                .map(records::BranchRecord::new)
+                .collect(),
+            best: report.best,
+            notes: report.notes.clone(),
+        })?,
+        Format::Table => tables::fit_table(&title_of(&case), name, &report),
+    };
+    print_out(&text)?;
+    if report.best.is_none() {
+        eprintln!(
+            "pim: {}: no branch has an admissible solution (the reasons are in the output)",
+            case.file
+        );
+        return Ok(ExitCode::from(EXIT_NO_ANSWER));
+    }
+    Ok(ExitCode::from(EXIT_OK))
+}

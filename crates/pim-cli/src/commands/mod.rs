@@ -1,0 +1,54 @@
+//! The subcommands, one module each, and what they share: writing to stdout and files.
+
+pub mod batch;
+pub mod fit;
+pub mod solve;
+
+use crate::error::Failure;
+use crate::inputs::io_reason;
+use anyhow::Result;
+use pim_data::case::Case;
+use std::io::Write;
+
+/// Writes the command's output to stdout (a closed pipe is not an error).
+pub fn print_out(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Ok(()) => Ok(()),
+        // A closed pipe (`pim ... | head`) is not an error of ours.
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(Failure::Output(format!("cannot write to stdout: {e}")).into()),
+    }
+}
+
+/// Pretty JSON with a final newline.
+pub fn json<T: serde::Serialize>(value: &T) -> Result<String> {
+    let mut s = serde_json::to_string_pretty(value)?;
+    s.push('\n');
+    Ok(s)
+}
+
+/// The title of a case: its file, its title and the vehicles' descriptions.
+pub fn title_of(case: &Case) -> String {
+    let mut t = match &case.content.title {
+        Some(t) => format!("{} ({})", case.file, t),
+        None => case.file.clone(),
+    };
+    let c = &case.content;
+    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
+        t.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
+    }
+    t
+}
+
+/// Writes an output file; failures are exit status 4.
+pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).map_err(|e| {
+        Failure::Output(format!(
+            "{}: cannot write: {}",
+            path.display(),
+            io_reason(&e)
+        ))
+        .into()
+    })
+}

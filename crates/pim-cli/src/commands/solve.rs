@@ -1,0 +1,66 @@
+//! `pim solve` and `pim sensitivity`: one case file, forwards or backwards.
+
+use super::{json, print_out, title_of};
+use crate::args::{Format, SolveArgs};
+use crate::error::{Failure, EXIT_OK};
+use crate::inputs::load_case;
+use crate::render::tables;
+use anyhow::Result;
+use pim_core::{SolveOptions, TangentialCondition};
+use pim_data::records;
+use std::process::ExitCode;
+
+fn options(a: &SolveArgs) -> SolveOptions {
+    SolveOptions {
+        moment_form: a.moment_form.into(),
+        tangential: if a.no_slip {
+            TangentialCondition::NoSlip
+        } else {
+            TangentialCondition::Sliding
+        },
+    }
+}
+
+/// `pim solve`.
+pub fn run(a: &SolveArgs) -> Result<ExitCode> {
+    let case = load_case(&a.case)?;
+    let impact = case.impact()?;
+    let coefficients = case.coefficients()?;
+    let (state, forward) = case.known_state()?;
+    let opts = options(a);
+    let report = if forward {
+        pim_core::solve_forward(&impact, &coefficients, &state, &opts)
+    } else {
+        pim_core::solve_backward(&impact, &coefficients, &state, &opts)
+    }
+    .map_err(|e| Failure::from_core(&case.file, e))?;
+    let text = match a.format {
+        Format::Json => json(&records::SolveOut::new(&impact, &report, forward))?,
+        Format::Table => tables::solve_table(&title_of(&case), &impact, &report, forward),
+    };
+    print_out(&text)?;
+    Ok(ExitCode::from(EXIT_OK))
+}
+
+/// `pim sensitivity`.
+pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
+    let case = load_case(&a.case)?;
+    let impact = case.impact()?;
+    let coefficients = case.coefficients()?;
+    let (state, forward) = case.known_state()?;
+    if !forward {
+        return Err(Failure::Input(format!(
+            "{}: the sensitivity study solves forwards and needs [initial], not [final]",
+            case.file
+        ))
+        .into());
+    }
+    let study = pim_core::sensitivity(&impact, &coefficients, &state, &options(a), percent)
+        .map_err(|e| Failure::from_core(&case.file, e))?;
+    let text = match a.format {
+        Format::Json => json(&records::SensitivityOut::new(&impact, &study))?,
+        Format::Table => tables::sensitivity_table(&title_of(&case), &study),
+    };
+    print_out(&text)?;
+    Ok(ExitCode::from(EXIT_OK))
+}

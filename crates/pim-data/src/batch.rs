@@ -1,0 +1,232 @@
+//! The RICSAC batch refit: every (test, cost function, moment branch) fitted, as flat, typed
+//! records.
+
+use crate::records::BranchRecord;
+use crate::ricsac::RicsacTest;
+use pim_fit::{CostPreset, FitProblem, FitSettings, MomentBranch, Status, COMPONENT_NAMES};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::fmt;
+
+/// The outcome of one record: the fit's status, or `failed` when the row could not be fitted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// The global optimum was found.
+    Optimal,
+    /// The data admit no solution (the reason is in the record).
+    Infeasible,
+    /// A solution was found but a refinement hit its iteration limit.
+    LimitReached,
+    /// The best point failed pim-core's check (a defect, reported).
+    CheckFailed,
+    /// The row could not be fitted (its physics or settings are invalid).
+    Failed,
+}
+
+impl From<Status> for Outcome {
+    fn from(s: Status) -> Self {
+        match s {
+            Status::Optimal => Outcome::Optimal,
+            Status::Infeasible => Outcome::Infeasible,
+            Status::LimitReached => Outcome::LimitReached,
+            Status::CheckFailed => Outcome::CheckFailed,
+        }
+    }
+}
+
+impl Outcome {
+    /// True when the record has an answer (optimal or limit reached).
+    pub fn solved(self) -> bool {
+        matches!(self, Outcome::Optimal | Outcome::LimitReached)
+    }
+}
+
+impl fmt::Display for Outcome {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(match self {
+            Outcome::Optimal => "optimal",
+            Outcome::Infeasible => "infeasible",
+            Outcome::LimitReached => "limit_reached",
+            Outcome::CheckFailed => "check_failed",
+            Outcome::Failed => "failed",
+        })
+    }
+}
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct BatchPlan {
+    /// Cost functions, in order.
+    pub costs: Vec<CostPreset>,
+    /// Moment branches, in order.
+    pub branches: Vec<MomentBranch>,
+    /// Fit settings (bounds, moment form) shared by every fit.
+    pub settings: FitSettings,
+    /// Record the wall time of each fit (makes the output differ from run to run).
+    pub timing: bool,
+}
+
+/// One record per (test, cost, branch).
+#[derive(Debug, Clone, Serialize)]
+pub struct BatchRecord {
+    /// RICSAC test number.
+    pub test: u32,
+    /// Cost function.
+    pub cost_function: CostPreset,
+    /// `optimal`, `infeasible`, `limit_reached`, `check_failed` or `failed`.
+    pub outcome: Outcome,
+    /// Line of the data file.
+    pub line: u64,
+    /// The fitted branch (absent when the row failed).
+    #[serde(flatten)]
+    pub branch: Option<BranchRecord>,
+    /// Why the row failed.
+    pub error: Option<String>,
+    /// The branch of this record (also when failed).
+    pub moment_branch: MomentBranch,
+    /// True for the best branch of this (test, cost).
+    pub best: bool,
+    /// Measured |delta-V| of vehicle 1 and 2 (data file), m/s.
+    pub delta_v_measured: [f64; 2],
+    /// (fitted - measured) / measured |delta-V| per vehicle.
+    pub delta_v_relative_error: Option<[f64; 2]>,
+    /// Fitted minus measured, per component of U (m/s, rad/s), in the order of `components`.
+    pub velocity_error: Option<[f64; 12]>,
+    /// The component with the largest absolute error.
+    pub max_error_component: Option<String>,
+    /// Its error.
+    pub max_error: Option<f64>,
+    /// Wall time of the fit of this (test, cost function), all its branches, s (only with timing).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit_seconds: Option<f64>,
+}
+
+impl BatchRecord {
+    /// True when the record has an answer (optimal or limit reached).
+    pub fn solved(&self) -> bool {
+        self.outcome.solved()
+    }
+}
+
+/// Runs the plan over the tests, in parallel; the records come out in (test, cost, branch)
+/// order whatever the thread count. `tick` is called once per finished fit.
+pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> Vec<BatchRecord> {
+    let jobs: Vec<(&RicsacTest, CostPreset)> = tests
+        .iter()
+        .flat_map(|t| plan.costs.iter().map(move |&c| (t, c)))
+        .collect();
+    let results: Vec<Vec<BatchRecord>> = jobs
+        .par_iter()
+        .map(|&(t, cost)| {
+            let start = std::time::Instant::now();
+            let mut out = fit_one(t, cost, plan);
+            if plan.timing {
+                let secs = start.elapsed().as_secs_f64();
+                out.iter_mut().for_each(|r| r.fit_seconds = Some(secs));
+            }
+            tick();
+            out
+        })
+        .collect();
+    results.into_iter().flatten().collect()
+}
+
+fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecord> {
+    let measured = [t.dv1_measured_mps, t.dv2_measured_mps];
+    let failed = |msg: String| -> Vec<BatchRecord> {
+        plan.branches
+            .iter()
+            .map(|&m| BatchRecord {
+                test: t.test,
+                cost_function: cost,
+                outcome: Outcome::Failed,
+                line: t.line,
+                branch: None,
+                error: Some(msg.clone()),
+                moment_branch: m,
+                best: false,
+                delta_v_measured: measured,
+                delta_v_relative_error: None,
+                velocity_error: None,
+                max_error_component: None,
+                max_error: None,
+                fit_seconds: None,
+            })
+            .collect()
+    };
+    let impact = match t.impact() {
+        Ok(i) => i,
+        Err(e) => return failed(e.to_string()),
+    };
+    let settings = FitSettings {
+        branches: plan.branches.clone(),
+        ..plan.settings.clone()
+    };
+    let settings = match settings.check() {
+        Ok(s) => s,
+        Err(e) => return failed(e.to_string()),
+    };
+    let problem = FitProblem::from_preset(impact, cost, &t.initial(), &t.separation(), None);
+    let report = match pim_fit::fit(&problem, &settings) {
+        Ok(r) => r,
+        Err(e) => return failed(e.to_string()),
+    };
+    let mut meas = [0.0; 12];
+    meas[..6].copy_from_slice(t.initial().to_vector().as_slice());
+    meas[6..].copy_from_slice(t.separation().to_vector().as_slice());
+    report
+        .branches
+        .iter()
+        .map(|b| {
+            let rec = BranchRecord::new(b);
+            let fitted = match (&rec.initial, &rec.final_) {
+                (Some(i), Some(f)) => {
+                    let mut u = [0.0; 12];
+                    u[..6].copy_from_slice(&i.to_array());
+                    u[6..].copy_from_slice(&f.to_array());
+                    Some(u)
+                }
+                _ => None,
+            };
+            let err = fitted.map(|u| {
+                let mut e = [0.0; 12];
+                for k in 0..12 {
+                    e[k] = u[k] - meas[k];
+                }
+                e
+            });
+            let (max_c, max_e) = match err {
+                Some(e) => {
+                    let k = (0..12)
+                        .max_by(|&a, &b| e[a].abs().total_cmp(&e[b].abs()))
+                        .unwrap_or(0);
+                    (Some(COMPONENT_NAMES[k].to_string()), Some(e[k]))
+                }
+                None => (None, None),
+            };
+            let rel = rec.delta_v.as_ref().map(|dv| {
+                [
+                    (dv.vehicle1 - measured[0]) / measured[0],
+                    (dv.vehicle2 - measured[1]) / measured[1],
+                ]
+            });
+            BatchRecord {
+                test: t.test,
+                cost_function: cost,
+                outcome: b.status.into(),
+                line: t.line,
+                best: report.best == Some(b.moment),
+                moment_branch: b.moment,
+                branch: Some(rec),
+                error: None,
+                delta_v_measured: measured,
+                delta_v_relative_error: rel,
+                velocity_error: err,
+                max_error_component: max_c,
+                max_error: max_e,
+                fit_seconds: None,
+            }
+        })
+        .collect()
+}

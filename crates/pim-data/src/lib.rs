@@ -1,0 +1,25 @@
+//! # pim-data: the PIM toolkit's inputs and records
+//!
+//! What every front end of the toolkit shares (the `pim` command, the tests, benchmarks and
+//! examples, language bindings), with no file or terminal I/O of its own: callers read the text
+//! and pass it in.
+//!
+//! - [`case`]: the TOML case file of a solve, a sensitivity study or a fit ([`case::Case`]),
+//!   and [`fitcase`], the fit problem and settings it describes;
+//! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
+//!   collision, in the papers' geometry;
+//! - [`reference`]: the paper tables shipped under `data/reference/`;
+//! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
+//! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit.
+//!
+//! Bad input is an [`InputError`] whose message names the file, line and field.
+
+pub mod batch;
+pub mod case;
+mod error;
+pub mod fitcase;
+pub mod records;
+pub mod reference;
+pub mod ricsac;
+
+pub use error::{InputError, Result};
