@@ -49,9 +49,20 @@
 //! - the signed critical impulse ratio `mu_max`: the mu of equation 5 at which `Vt = 0`, i.e.
 //!   `(Pt/Pn) sgn(vn) sgn(vt)` of the no-slip solution. It can be negative in near-collinear
 //!   impacts (Brach 1984 Table 1B, tests 3 and 4);
-//! - admissibility: mu between 0 and mu_max, and no kinetic energy created. Even inside the
-//!   friction domain the equations can return more kinetic energy than they were given (mostly
-//!   with `-1 < em < 0`), so the energy balance is always checked and reported.
+//! - admissibility: mu between 0 and mu_max ([`classify_friction`]: mu = 0, or mu of the sign
+//!   of mu_max and no larger in size), and no kinetic energy created ([`creates_energy`]). Even
+//!   inside the friction domain the equations can return more kinetic energy than they were
+//!   given (mostly with `-1 < em < 0`), so the energy balance is always checked and reported.
+//!   The no-slip impulse, and so mu_max, is a ratio of two linear forms of the contact state
+//!   ([`reduction::Reduction::critical_rows`]); near a vanishing no-slip normal impulse mu_max
+//!   jumps from plus to minus infinity, and there only the sign decides.
+//!
+//! ## Reduction to three unknowns ([`reduction`])
+//! Equations 1-3 fix the velocity change to a three-dimensional space `X - x = N p`; with one
+//! state known the other follows from a 3x3 solve in p, along e both states are affine (in e,
+//! or in 1 + 1/e when the separation state is known), and with neither known the same rows give
+//! the transfer matrix of `X = R x`. The rows are those of [`equations`], evaluated once per
+//! impact. The friction sign of equation 5 is the type [`FrictionSign`].
 //!
 //! ## Example
 //! ```

@@ -8,7 +8,7 @@
 //!   and [`fitcase`], the fit problem and settings it describes;
 //! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
 //!   collision, in the papers' geometry;
-//! - [`reference`]: the paper tables shipped under `data/reference/`;
+//! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`;
 //! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
 //! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit.
 //!

@@ -244,15 +244,17 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>> {
                     ),
                 ))
             }
-            None => return Err(InputError::located(
-                file,
-                format!(
+            None => {
+                return Err(InputError::located(
+                    file,
+                    format!(
                     "{file}:1: missing column {} `{want}` (the header has {} columns, {} expected)",
                     i + 1,
                     got.len(),
                     COLUMNS.len()
                 ),
-            )),
+                ))
+            }
         }
     }
     if got.len() > COLUMNS.len() {

@@ -162,9 +162,10 @@ fn identifiability(
     let limit = near_limit(best, tol, out.data_scale);
     let near: Vec<&Sample> = out.samples.iter().filter(|s| s.cost <= limit).collect();
     let range = |q: Quantity| {
-        near.iter().fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
-            [r[0].min(s.get(q)), r[1].max(s.get(q))]
-        })
+        near.iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
+                [r[0].min(s.get(q)), r[1].max(s.get(q))]
+            })
     };
     let flat = near.iter().any(|s| s.flat);
     let mut list = Vec::new();

@@ -278,6 +278,31 @@ impl fmt::Display for ActiveConstraint {
     }
 }
 
+impl ActiveConstraint {
+    /// A compact label for tables (`e=max`, `em=-1`, `vt=0`, `|vf1x|=bound`, ...).
+    pub fn short(&self) -> String {
+        const SHORT: [&str; 12] = [
+            "vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2", "vf1x", "vf1y", "wf1", "vf2x", "vf2y",
+            "wf2",
+        ];
+        match self {
+            ActiveConstraint::VelocityBound(k) => format!("|{}|=bound", SHORT[k.0]),
+            ActiveConstraint::MinimumApproach => "approach".into(),
+            ActiveConstraint::SlidingDirection => "vt=0".into(),
+            ActiveConstraint::MuMax => "mu=mu_max".into(),
+            ActiveConstraint::StickingMuBound => "mu_max=bound".into(),
+            ActiveConstraint::Energy => "T1=T0".into(),
+            ActiveConstraint::ELow => "e=min".into(),
+            ActiveConstraint::EHigh => "e=max".into(),
+            ActiveConstraint::EmLow => "em=-1".into(),
+            ActiveConstraint::EmHigh => "em=0".into(),
+            ActiveConstraint::MuLow => "mu=min".into(),
+            ActiveConstraint::MuHigh => "mu=max".into(),
+            ActiveConstraint::MuZero => "mu=0".into(),
+        }
+    }
+}
+
 impl Serialize for ActiveConstraint {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         as_words(self, s)

@@ -59,8 +59,15 @@ pub struct SearchSettings {
     /// Distance to a bound, relative to the velocity scale (or to the coefficient box), within
     /// which a constraint is listed as active (default 1e-6).
     pub active_tolerance: f64,
-    /// Nelder-Mead refinements started per search space from distinct grid cells (default 3).
+    /// Nelder-Mead refinements started per search space from the best grid points of distinct
+    /// cells (default 3).
     pub refinement_starts: usize,
+    /// Further refinements from the other local minima of the grid (points no worse than any
+    /// grid neighbour), best first, up to this many starts in all (default 8).
+    pub max_refinement_starts: usize,
+    /// Before a branch is reported infeasible, its grids are refined this many times, each
+    /// doubling the points per dimension (default 2).
+    pub infeasible_refinements: usize,
     /// Nelder-Mead stops when its simplex values agree to this relative spread (default 1e-6).
     pub nelder_mead_tolerance: f64,
     /// Nelder-Mead iteration limit per dimension (default 100; plus 100).
@@ -101,6 +108,8 @@ impl Default for SearchSettings {
             feasibility_tolerance: 1e-9,
             active_tolerance: 1e-6,
             refinement_starts: 3,
+            max_refinement_starts: 8,
+            infeasible_refinements: 2,
             nelder_mead_tolerance: 1e-6,
             nelder_mead_iterations_per_dimension: 100,
             polish_within: 1e-3,

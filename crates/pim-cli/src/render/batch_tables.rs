@@ -18,7 +18,11 @@ fn cost_title(c: CostPreset) -> &'static str {
 }
 
 fn f3(x: Option<f64>) -> String {
-    x.map_or_else(|| "-".into(), |v| format!("{v:.3}"))
+    // No "-0.000" for a value that rounds to zero.
+    x.map_or_else(
+        || "-".into(),
+        |v| format!("{:.3}", if v.abs() < 5e-4 { 0.0 } else { v }),
+    )
 }
 
 /// The summary table: one block per cost function (like Brach 1984 Table 1 and Vossou Table 3).
@@ -28,7 +32,7 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
         let _ = writeln!(s, "{}", cost_title(c));
         let _ = writeln!(
             s,
-            "test branch status           e      em      mu  mu/mu_max     cost  loss %   |dV1| fit / meas   |dV2| fit / meas"
+            "test branch status           e      em      mu  mu/mu_max     cost  loss %   |dV1| fit / meas   |dV2| fit / meas  active"
         );
         for r in records.iter().filter(|r| r.cost_function == c) {
             let best = if r.best { "*" } else { " " };
@@ -37,7 +41,7 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
                     let dv = b.delta_v.as_ref();
                     let _ = writeln!(
                         s,
-                        "{:>4} {:<5}{best} {:<13} {:.3}  {:+.3}  {:+.3}  {:>9}  {:>7.3}  {:>6.1}   {:>6.2} / {:>5.2}    {:>6.2} / {:>5.2}",
+                        "{:>4} {:<5}{best} {:<13} {:.3}  {:+.3}  {:+.3}  {:>9}  {:>7.3}  {:>6.1}   {:>6.2} / {:>5.2}    {:>6.2} / {:>5.2}  {}",
                         r.test,
                         r.moment_branch.name(),
                         r.outcome,
@@ -51,6 +55,11 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
                         r.delta_v_measured[0],
                         dv.map_or(f64::NAN, |d| d.vehicle2),
                         r.delta_v_measured[1],
+                        b.active_constraints
+                            .iter()
+                            .map(|a| a.short())
+                            .collect::<Vec<_>>()
+                            .join(" "),
                     );
                 }
                 _ => {
@@ -73,7 +82,11 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
                 }
             }
         }
-        let _ = writeln!(s, "(* = the branch with the lower cost)\n");
+        let _ = writeln!(
+            s,
+            "(* = the branch with the lower cost; active: constraints and coefficient bounds that \
+             hold with equality at the optimum)\n"
+        );
     }
     s
 }

@@ -143,6 +143,11 @@ impl ConstraintSet<'_> {
                     let v = if k < 6 { x[k] } else { xf[k - 6] };
                     (v.abs() > limit + slack, Violation::Bound(Component(k)))
                 }
+                // The sliding direction is strict: a contact state must slide the way its
+                // friction sign says, or pim-core would read the other sign from it.
+                Linear::Contact { row, rhs, kind } if kind == Violation::SlidingDirection => {
+                    ((row * x)[0] > rhs, kind)
+                }
                 Linear::Contact { row, rhs, kind } => ((row * x)[0] > rhs + slack, kind),
             };
             if !bad {
@@ -263,8 +268,13 @@ impl ConstraintSet<'_> {
                     (kind, a, b)
                 }
             };
-            if let Linear::Contact { .. } = c {
-                let test = |t: f64| a + b * t <= self.tol;
+            if let Linear::Contact { kind, .. } = c {
+                let slack = if *kind == Violation::SlidingDirection {
+                    0.0
+                } else {
+                    self.tol
+                };
+                let test = |t: f64| a + b * t <= slack;
                 set = set.intersect(&Intervals::where_holds(lo, hi, &[-a / b], test));
             }
             if set.is_empty() {

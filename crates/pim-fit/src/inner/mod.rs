@@ -237,6 +237,14 @@ impl Inner {
         }
     }
 
+    /// mu_max of a candidate's contact state at its e and em (`None` when undefined).
+    pub fn mu_max(&self, at: &At, c: &Candidate) -> Option<f64> {
+        self.reduction
+            .critical_rows(at.c.em)?
+            .at(at.c.e, &c.x)
+            .mu_max(at.sign)
+    }
+
     /// Evaluates a candidate. `exact = false` stops at the equality-only optimum and returns
     /// [`Eval::Pending`] with its cost, a lower bound of the exact value, when a constraint is
     /// violated; so does a lower bound at or above `cutoff` (the incumbent of the search).

@@ -34,9 +34,25 @@ pub(crate) fn search_branch(
         profiled_e: inner.profiles(),
         ..Outcome::default()
     };
-    for space in spaces(branch, settings, out.profiled_e, inner.singular_faces()) {
+    let faces = inner.singular_faces();
+    for space in spaces(branch, settings, out.profiled_e, faces) {
         let (pts, values) = grid(inner, &space, &mut out);
-        refine_from_grid(inner, settings, &space, &pts, &values, &mut out);
+        let n_grid = space.grid_len();
+        refine_from_grid(inner, settings, &space, &pts[..], &values, n_grid, &mut out);
+    }
+    // An infeasible verdict is a strong statement: a feasible set thinner than the grid spacing
+    // is looked for on finer grids first.
+    let mut finer = settings.clone();
+    for _ in 0..settings.search.infeasible_refinements {
+        if out.best.is_some() {
+            break;
+        }
+        finer.grid = finer.grid.map(|n| 2 * n - 1);
+        for space in spaces(branch, &finer, out.profiled_e, faces) {
+            let (pts, values) = grid(inner, &space, &mut out);
+            let n_grid = space.grid_len();
+            refine_from_grid(inner, &finer, &space, &pts, &values, n_grid, &mut out);
+        }
     }
     // Agreement of the refinements with the optimum.
     if let Some(best) = out.best {
@@ -53,22 +69,17 @@ pub(crate) fn search_branch(
 /// The grid of a space: relaxed evaluations, then exact solves where the lower bound could still
 /// win. Returns the points and the best exact value of each (`None`: no feasible sign).
 fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> (Vec<Vec<f64>>, Vec<Option<f64>>) {
-    let pts = space.grid();
+    let mut pts = space.grid();
     out.grid_points += pts.len();
     let mut values: Vec<Option<f64>> = vec![None; pts.len()];
-    let mut keep = |out: &mut Outcome, i: usize, p: Point| {
-        out.record(p);
-        if values[i].is_none_or(|v| p.candidate.cost < v) {
-            values[i] = Some(p.candidate.cost);
-        }
-    };
+    let mut found: Vec<(usize, Point)> = Vec::new();
     let mut pending: Vec<(f64, usize, pim_core::FrictionSign)> = Vec::new();
     for (i, p) in pts.iter().enumerate() {
         for &sign in inner.signs() {
             out.evaluations += 1;
             let (at, eval) = space.eval(inner, p, sign, false, f64::INFINITY);
             match eval {
-                Eval::Feasible(candidate) => keep(out, i, Point { at, candidate }),
+                Eval::Feasible(candidate) => found.push((i, Point { at, candidate })),
                 Eval::Pending {
                     lower_bound,
                     violation,
@@ -80,6 +91,9 @@ fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> (Vec<Vec<f64>>, Vec<
             }
         }
     }
+    for &(i, p) in &found {
+        keep(out, &mut values, i, p);
+    }
     pending.sort_by(|a, b| a.0.total_cmp(&b.0));
     for (lb, i, sign) in pending {
         let best = out.incumbent();
@@ -90,12 +104,65 @@ fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> (Vec<Vec<f64>>, Vec<
         out.exact_solves += 1;
         let (at, eval) = space.eval(inner, &pts[i], sign, true, best);
         match eval {
-            Eval::Feasible(candidate) => keep(out, i, Point { at, candidate }),
+            Eval::Feasible(candidate) => {
+                let p = Point { at, candidate };
+                found.push((i, p));
+                keep(out, &mut values, i, p);
+            }
             Eval::Infeasible(Violation::EnergyUncertified) => out.uncertified += 1,
             Eval::Infeasible(_) | Eval::Pending { .. } => {}
         }
     }
+    // Friction bands: mu is admissible between 0 and mu_max, which depends on the point. A band
+    // that holds fewer than two grid values of mu is sampled at its middle as well, so that a
+    // narrow admissible band (a small or negative mu_max) is not stepped over.
+    if let Some(k) = space.mu_axis() {
+        let spacing = space.dims[k].spacing();
+        let mut extra: Vec<Vec<f64>> = Vec::new();
+        for (i, p) in &found {
+            let Some(m) = inner.mu_max(&p.at, &p.candidate) else {
+                continue;
+            };
+            // The band of this point's friction sign, [0, m], and that of the other sign,
+            // [0, -m] (mu_max changes sign with it, and near mu = 0 the contact state, and so
+            // the consistent sign, can change).
+            for band in [m, -m] {
+                let (lo, hi) = (band.min(0.0), band.max(0.0));
+                let inside = space.dims[k]
+                    .axis()
+                    .iter()
+                    .filter(|&&v| v > lo && v < hi)
+                    .count();
+                let mid = (0.5 * band).clamp(space.dims[k].lo, space.dims[k].hi);
+                if inside >= 2 || (hi - lo) >= 2.0 * spacing || mid == 0.0 {
+                    continue;
+                }
+                let mut q = pts[*i].clone();
+                q[k] = mid;
+                if !extra.iter().chain(pts.iter()).any(|e| e == &q) {
+                    extra.push(q);
+                }
+            }
+        }
+        for q in extra {
+            let i = pts.len();
+            pts.push(q);
+            values.push(None);
+            out.grid_points += 1;
+            if let Some(p) = out.exact(inner, space, &pts[i]) {
+                values[i] = Some(p.candidate.cost);
+            }
+        }
+    }
     (pts, values)
+}
+
+/// Records a feasible grid point and keeps the best value of its point.
+fn keep(out: &mut Outcome, values: &mut [Option<f64>], i: usize, p: Point) {
+    out.record(p);
+    if values[i].is_none_or(|v| p.candidate.cost < v) {
+        values[i] = Some(p.candidate.cost);
+    }
 }
 
 /// Nelder-Mead from the best grid points of distinct cells (more than one cell apart), then the
@@ -107,6 +174,7 @@ fn refine_from_grid(
     space: &Space,
     pts: &[Vec<f64>],
     values: &[Option<f64>],
+    n_grid: usize,
     out: &mut Outcome,
 ) {
     if space.dims.is_empty() {
@@ -134,6 +202,31 @@ fn refine_from_grid(
                 .any(|((a, b), sp)| (a - b).abs() > 1.5 * sp)
         });
         if far {
+            starts.push(i);
+        }
+    }
+    // The other local minima of the grid: no grid neighbour (one step along any set of axes)
+    // is better.
+    let value = |i: usize| values[i].unwrap_or(f64::INFINITY);
+    let neighbours = |i: usize, j: usize| {
+        i != j
+            && pts[i]
+                .iter()
+                .zip(&pts[j])
+                .zip(&spacing)
+                .all(|((a, b), sp)| (a - b).abs() <= 1.01 * sp)
+    };
+    for &i in &order {
+        if starts.len() >= s.max_refinement_starts.max(s.refinement_starts) {
+            break;
+        }
+        if starts.contains(&i) {
+            continue;
+        }
+        // Band samples (after the regular grid) are starts of their own: their band is
+        // narrower than the grid, so its neighbours say little about it.
+        let band_sample = i >= n_grid;
+        if band_sample || (0..n_grid).all(|j| !neighbours(i, j) || value(j) >= value(i)) {
             starts.push(i);
         }
     }

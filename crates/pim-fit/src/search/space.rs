@@ -92,6 +92,15 @@ impl Space {
         p
     }
 
+    /// The index of mu among the dimensions (sliding spaces only).
+    pub fn mu_axis(&self) -> Option<usize> {
+        (self.mode == TangentialCondition::Sliding)
+            .then_some(usize::from(
+                self.profile_e.is_none() && self.e_fixed.is_none(),
+            ))
+            .filter(|&k| self.dims.get(k).is_some_and(|d| d.n > 1))
+    }
+
     /// True when p lies in the box (to round-off).
     pub fn inside(&self, p: &[f64]) -> bool {
         p.iter()
@@ -134,6 +143,11 @@ impl Space {
             },
             eval,
         )
+    }
+
+    /// The number of grid points.
+    pub fn grid_len(&self) -> usize {
+        self.dims.iter().map(|d| d.n.max(1)).product()
     }
 
     /// Every point of the grid.
