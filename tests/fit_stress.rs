@@ -161,6 +161,10 @@ struct Verdict {
     optimal: usize,
     infeasible: usize,
     compared: usize,
+    /// Optimal Q3 branches with the energy condition active (T1 = T0).
+    q3_energy_active: usize,
+    /// Of those, with a negative mu_max.
+    q3_energy_negative_mu_max: usize,
 }
 
 /// pim-core's independent check of a fitted solution: the equations from scratch and
@@ -223,6 +227,14 @@ fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
         let ours = match (&b.status, &b.solution) {
             (Status::Optimal, Some(s)) => {
                 v.optimal += 1;
+                if case.preset == CostPreset::Q3
+                    && s.active_constraints.contains(&ActiveConstraint::Energy)
+                {
+                    v.q3_energy_active += 1;
+                    if s.mu_max.is_some_and(|m| m < 0.0) {
+                        v.q3_energy_negative_mu_max += 1;
+                    }
+                }
                 if let Err(e) = core_check(&case.impact, s) {
                     v.failures
                         .push(format!("{}: optimal but {e}", b.moment.name()));
@@ -276,10 +288,13 @@ fn run(first: u64, n: usize) {
     let (optimal, infeasible, compared) = verdicts.iter().fold((0, 0, 0), |a, (_, v)| {
         (a.0 + v.optimal, a.1 + v.infeasible, a.2 + v.compared)
     });
+    let energy: usize = verdicts.iter().map(|(_, v)| v.q3_energy_active).sum();
+    let energy_negative: usize = verdicts.iter().map(|(_, v)| v.q3_energy_negative_mu_max).sum();
     println!(
         "{n} cases: side +/- {sides:?}, mu_max +/- {signs:?}, em free/one {branches:?}, \
          Q1/Q2/Q3 {presets:?}, sticking truths {sticking}; branches optimal {optimal}, \
-         infeasible {infeasible}, compared with the reference {compared}"
+         infeasible {infeasible}, compared with the reference {compared}; Q3 optima with the \
+         energy condition active {energy}, of which with negative mu_max {energy_negative}"
     );
     let failed: Vec<String> = verdicts
         .iter()

@@ -168,34 +168,38 @@ fn identifiability(
             })
     };
     let flat = near.iter().any(|s| s.flat);
-    let mut list = Vec::new();
-    let coefficients = [
-        (Quantity::E, settings.e[1] - settings.e[0]),
-        (Quantity::Mu, settings.mu[1] - settings.mu[0]),
-        (Quantity::Em, 1.0),
-    ];
-    let n = if branch == MomentBranch::Free { 3 } else { 2 };
-    for &(q, size) in coefficients.iter().take(n) {
-        let [low, high] = range(q);
-        list.push(Identifiability {
-            coefficient: q,
-            low,
-            high,
-            tolerance: tol,
-            identifiable: size <= 0.0 || high - low < 0.5 * size,
-            open_ended: false,
-        });
+    let mut quantities = vec![Quantity::E, Quantity::Mu];
+    if branch == MomentBranch::Free {
+        quantities.push(Quantity::Em);
     }
-    for q in [Quantity::Speed1, Quantity::Speed2] {
-        let [low, high] = range(q);
-        list.push(Identifiability {
-            coefficient: q,
-            low,
-            high,
-            tolerance: tol,
-            identifiable: !flat && high - low <= 0.1 * high.max(1.0),
-            open_ended: flat,
-        });
-    }
-    list
+    quantities.extend([Quantity::Speed1, Quantity::Speed2]);
+    quantities
+        .into_iter()
+        .map(|q| {
+            let [low, high] = range(q);
+            // A coefficient is pinned down when its range covers less than half its box; a
+            // speed when it spans at most 10 % of itself and the cost is not flat.
+            let (identifiable, open_ended) = match q {
+                Quantity::Speed1 | Quantity::Speed2 => {
+                    (!flat && high - low <= 0.1 * high.max(1.0), flat)
+                }
+                _ => {
+                    let size = match q {
+                        Quantity::E => settings.e[1] - settings.e[0],
+                        Quantity::Mu => settings.mu[1] - settings.mu[0],
+                        _ => 1.0,
+                    };
+                    (size <= 0.0 || high - low < 0.5 * size, false)
+                }
+            };
+            Identifiability {
+                coefficient: q,
+                low,
+                high,
+                tolerance: tol,
+                identifiable,
+                open_ended,
+            }
+        })
+        .collect()
 }

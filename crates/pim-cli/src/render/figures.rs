@@ -40,13 +40,15 @@ fn grouped_bars(
     let lo = vals.iter().copied().fold(0.0_f64, f64::min);
     let hi = vals.iter().copied().fold(0.0_f64, f64::max);
     let pad = 0.08 * (hi - lo).max(1e-9);
+    // Headroom above the tallest bar for the legend, which sits in the upper right corner.
+    let top = 0.3 * (hi - lo).max(1e-9);
     let n = tests.len();
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(60)
-        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), (lo - pad)..(hi + pad))
+        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), (lo - pad)..(hi + top))
         .map_err(err)?;
     let labels: Vec<String> = tests.iter().map(|t| t.to_string()).collect();
     chart
@@ -88,6 +90,7 @@ fn grouped_bars(
     }
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
