@@ -289,7 +289,10 @@ fn run(first: u64, n: usize) {
         (a.0 + v.optimal, a.1 + v.infeasible, a.2 + v.compared)
     });
     let energy: usize = verdicts.iter().map(|(_, v)| v.q3_energy_active).sum();
-    let energy_negative: usize = verdicts.iter().map(|(_, v)| v.q3_energy_negative_mu_max).sum();
+    let energy_negative: usize = verdicts
+        .iter()
+        .map(|(_, v)| v.q3_energy_negative_mu_max)
+        .sum();
     println!(
         "{n} cases: side +/- {sides:?}, mu_max +/- {signs:?}, em free/one {branches:?}, \
          Q1/Q2/Q3 {presets:?}, sticking truths {sticking}; branches optimal {optimal}, \
@@ -340,93 +343,4 @@ fn stress_corpus_300() {
 #[ignore = "about 10 minutes on two cores; run with --ignored"]
 fn stress_corpus_3000() {
     run(100_000, 3000);
-}
-
-#[test]
-#[ignore]
-fn debug_one() {
-    let seed: u64 = std::env::var("SEED").unwrap().parse().unwrap();
-    let c = draw(seed).unwrap();
-    let settings = FitSettings::default().check().unwrap();
-    let problem = FitProblem::from_preset(c.impact, c.preset, &c.x_est, &c.xf_est, None);
-    let report = fit(&problem, &settings).unwrap();
-    let reference = RefProblem {
-        impact: &c.impact,
-        preset: c.preset,
-        x: c.x_est,
-        xf: c.xf_est,
-        bounds: Box3::default(),
-    };
-    for b in &report.branches {
-        match b.solution.as_ref() {
-            Some(s) => println!(
-                "{:?} {:?} cost {} e {} mu {} em {} stick {} sign {:?} mu_max {:?} active {:?}",
-                b.moment,
-                b.status,
-                s.cost,
-                s.e,
-                s.mu,
-                s.em,
-                s.sticking,
-                s.friction_sign,
-                s.mu_max,
-                s.active_constraints
-            ),
-            None => println!(
-                "{:?} {:?} {}",
-                b.moment,
-                b.status,
-                b.reason.as_ref().unwrap()
-            ),
-        }
-        let (rc, q, st) = reference.search_point(b.moment);
-        println!("  ref {:?}", (rc, q, st));
-        let fs = FitSettings {
-            e: [q[0], q[0]],
-            mu: [q[1], q[1]],
-            branches: vec![b.moment],
-            ..FitSettings::default()
-        };
-        let r = fit(&problem, &fs.check().unwrap()).unwrap();
-        let bb = &r.branches[0];
-        println!(
-            "  fit at ref e, mu: {:?} {:?} {:?}",
-            bb.status,
-            bb.solution
-                .as_ref()
-                .map(|s| (s.cost, s.em, s.friction_sign, s.sticking)),
-            bb.reason.as_ref().map(|r| r.to_string())
-        );
-        let cc = Coefficients {
-            e: q[0],
-            mu: q[1],
-            em: q[2],
-        };
-        for sg in FrictionSign::BOTH {
-            let opts = SolveOptions {
-                tangential: if st {
-                    TangentialCondition::NoSlip
-                } else {
-                    TangentialCondition::Sliding
-                },
-                ..Default::default()
-            };
-            if let Ok(r) = solve_backward_with_sign(&c.impact, &cc, &c.xf_est, &opts, sg) {
-                println!(
-                    "  backward {sg:?}: adm {} mu_max {:?} vt {} vn {} cost {}",
-                    r.admissibility.admissible,
-                    r.mu_max,
-                    r.relative.tangential_initial,
-                    r.relative.normal_initial,
-                    (r.initial.to_vector() - c.x_est.to_vector()).norm_squared()
-                );
-            }
-        }
-    }
-    println!(
-        "truth {:?} stick {} side {}",
-        c.truth,
-        c.stick,
-        c.impact.side()
-    );
 }
