@@ -246,7 +246,12 @@ impl ConstraintSet<'_> {
         lo: f64,
         hi: f64,
     ) -> (Intervals, Option<Violation>) {
-        let mut set = Intervals::single(lo, hi);
+        // The linear conditions are convex along the line: their common set is one interval.
+        let mut range = Some((lo, hi));
+        let meet = |range: Option<(f64, f64)>, piece: Option<(f64, f64)>| match (range, piece) {
+            (Some((a, b)), Some((c, d))) if a.max(c) <= b.min(d) => Some((a.max(c), b.min(d))),
+            _ => None,
+        };
         let u = |t: f64| line.at(t);
         for c in self.linear {
             let (kind, a, b) = match *c {
@@ -259,7 +264,7 @@ impl ConstraintSet<'_> {
                     // |v0 + t v1| <= limit + tol.
                     let roots = [(limit - v0) / v1, (-limit - v0) / v1];
                     let test = |t: f64| (v0 + t * v1).abs() <= limit + self.tol;
-                    set = set.intersect(&Intervals::where_holds(lo, hi, &roots, test));
+                    range = meet(range, Intervals::convex_where_holds(lo, hi, &roots, test));
                     (Violation::Bound(Component(k)), 0.0, 0.0)
                 }
                 Linear::Contact { row, rhs, kind } => {
@@ -275,12 +280,19 @@ impl ConstraintSet<'_> {
                     self.tol
                 };
                 let test = |t: f64| a + b * t <= slack;
-                set = set.intersect(&Intervals::where_holds(lo, hi, &[-a / b], test));
+                range = meet(
+                    range,
+                    Intervals::convex_where_holds(lo, hi, &[-a / b], test),
+                );
             }
-            if set.is_empty() {
-                return (set, Some(kind));
+            if range.is_none() {
+                return (Intervals(Vec::new()), Some(kind));
             }
         }
+        let Some((a, b)) = range else {
+            return (Intervals(Vec::new()), None);
+        };
+        let mut set = Intervals::single(a, b);
         if let Some(r) = self.ratio {
             let (pn, pt) = self.ratio_polynomials(&r, line, forward);
             let mut roots = Vec::new();
@@ -446,56 +458,24 @@ impl Intervals {
     /// middle; ends at breakpoints are moved inwards by a relative 1e-12 (so that round-off
     /// cannot put a chosen point outside) and kept only where `test` holds there too.
     pub fn where_holds(lo: f64, hi: f64, breakpoints: &[f64], test: impl Fn(f64) -> bool) -> Self {
-        if lo > hi {
-            return Intervals(Vec::new());
-        }
-        let mut cuts: Vec<f64> = breakpoints
-            .iter()
-            .copied()
-            .filter(|b| b.is_finite() && *b > lo && *b < hi)
-            .collect();
-        cuts.sort_by(f64::total_cmp);
-        let mut ends = vec![lo];
-        ends.extend(cuts);
-        ends.push(hi);
-        // An end at a breakpoint moves inwards until the test holds there too: first by a
-        // relative 1e-12 (so that round-off cannot put a chosen point outside), then by growing
-        // steps up to the middle of its piece.
-        let end = |b: f64, mid: f64| -> f64 {
-            let mut d = 1e-12 * (1.0 + b.abs());
-            loop {
-                let t = if mid > b { b + d } else { b - d };
-                if (mid - t) * (mid - b) <= 0.0 {
-                    return mid;
-                }
-                if test(t) {
-                    return t;
-                }
-                d *= 8.0;
-            }
-        };
-        let mut out: Vec<(f64, f64)> = Vec::new();
-        let mut previous_kept = false;
-        for (i, w) in ends.windows(2).enumerate() {
-            let (a, b) = (w[0], w[1]);
-            let mid = if b.is_finite() {
-                0.5 * (a + b)
-            } else {
-                a + 1.0 + a.abs()
-            };
-            let kept = test(mid);
-            if kept {
-                let b2 = if i + 2 == ends.len() { b } else { end(b, mid) };
-                match out.last_mut() {
-                    // A breakpoint where the condition does not change: one piece.
-                    Some(last) if previous_kept => last.1 = b2,
-                    _ => out.push((if i == 0 { a } else { end(a, mid) }, b2)),
-                }
-            }
-            previous_kept = kept;
-        }
-        out.retain(|(a, b)| a <= b);
+        let mut out = Vec::new();
+        pieces(lo, hi, breakpoints, test, |a, b| out.push((a, b)));
         Intervals(out)
+    }
+
+    /// [`Intervals::where_holds`] for a condition whose set is one interval (a convex condition
+    /// such as a linear or an absolute-value bound), without allocating.
+    pub fn convex_where_holds(
+        lo: f64,
+        hi: f64,
+        breakpoints: &[f64],
+        test: impl Fn(f64) -> bool,
+    ) -> Option<(f64, f64)> {
+        let mut hull: Option<(f64, f64)> = None;
+        pieces(lo, hi, breakpoints, test, |a, b| {
+            hull = Some(hull.map_or((a, b), |(c, _)| (c, b)));
+        });
+        hull
     }
 
     /// The intersection of two sets.
@@ -524,4 +504,86 @@ impl Intervals {
         }
         out
     }
+}
+
+/// The pieces of [`Intervals::where_holds`], in order, handed to `emit`.
+fn pieces(
+    lo: f64,
+    hi: f64,
+    breakpoints: &[f64],
+    test: impl Fn(f64) -> bool,
+    mut emit: impl FnMut(f64, f64),
+) {
+    if lo > hi {
+        return;
+    }
+    // Sorted breakpoints inside (lo, hi), then the ends: on the stack for the usual few.
+    let mut buffer = [0.0; 10];
+    let mut heap = Vec::new();
+    let ends: &mut [f64] = if breakpoints.len() <= 8 {
+        &mut buffer[..]
+    } else {
+        heap.resize(breakpoints.len() + 2, 0.0);
+        &mut heap[..]
+    };
+    let mut n = 0;
+    ends[n] = lo;
+    n += 1;
+    for &b in breakpoints {
+        if b.is_finite() && b > lo && b < hi {
+            ends[n] = b;
+            n += 1;
+        }
+    }
+    ends[1..n].sort_by(f64::total_cmp);
+    ends[n] = hi;
+    n += 1;
+    let ends = &ends[..n];
+    // An end at a breakpoint moves inwards until the test holds there too: first by a
+    // relative 1e-12 (so that round-off cannot put a chosen point outside), then by growing
+    // steps up to the middle of its piece.
+    let end = |b: f64, mid: f64| -> f64 {
+        let mut d = 1e-12 * (1.0 + b.abs());
+        loop {
+            let t = if mid > b { b + d } else { b - d };
+            if (mid - t) * (mid - b) <= 0.0 {
+                return mid;
+            }
+            if test(t) {
+                return t;
+            }
+            d *= 8.0;
+        }
+    };
+    let mut current: Option<(f64, f64)> = None;
+    let mut flush = |piece: Option<(f64, f64)>| {
+        if let Some((a, b)) = piece {
+            if a <= b {
+                emit(a, b);
+            }
+        }
+    };
+    let mut previous_kept = false;
+    for (i, w) in ends.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1]);
+        let mid = if b.is_finite() {
+            0.5 * (a + b)
+        } else {
+            a + 1.0 + a.abs()
+        };
+        let kept = test(mid);
+        if kept {
+            let b2 = if i + 2 == ends.len() { b } else { end(b, mid) };
+            match current.as_mut() {
+                // A breakpoint where the condition does not change: one piece.
+                Some(last) if previous_kept => last.1 = b2,
+                _ => {
+                    flush(current.take());
+                    current = Some((if i == 0 { a } else { end(a, mid) }, b2));
+                }
+            }
+        }
+        previous_kept = kept;
+    }
+    flush(current);
 }

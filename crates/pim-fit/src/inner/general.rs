@@ -16,7 +16,7 @@
 
 use super::constraints::{ConstraintSet, RowX};
 use super::objective::OverX;
-use super::qp::{nearly_singular, qp, solve_spd, to6, to_d, QpOutcome};
+use super::qp::{certainly_infeasible, nearly_singular, qp, solve_spd, to6, to_d, QpOutcome};
 use super::{At, Candidate, Eval, Inner};
 use crate::report::Violation;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
@@ -81,7 +81,17 @@ impl Inner {
         let mut why = first;
         match linear_only {
             Ok(a) if cs.check(at.c.e, &a.x, &(r * a.x)).ok() => best = Some(a),
-            Ok(_) => why = ratio_kind,
+            Ok(a) => {
+                // The wedges lie inside the linear rows: this is a lower bound of their value.
+                let lower_bound = self.objective.cost(&a.x, &(r * a.x));
+                if lower_bound >= cutoff {
+                    return Eval::Pending {
+                        lower_bound,
+                        violation: ratio_kind,
+                    };
+                }
+                why = ratio_kind
+            }
             Err(v) => why = v,
         }
         if best.is_none() && why == ratio_kind && cs.ratio.is_some() {
@@ -153,11 +163,21 @@ impl Inner {
                 )
             })
             .collect();
+        // A polyhedron that its non-bound rows already make empty needs no QP solver.
+        let contact: Vec<usize> = (0..rows.len())
+            .filter(|&i| !matches!(rows[i].2, Violation::Bound(_)))
+            .collect();
+        let radius = self.radius(rows, &ox.xp);
+        let empty = std::cell::OnceCell::new();
+        let proven_empty =
+            || *empty.get_or_init(|| certainly_infeasible(&over_y, &contact, cs.tol, radius));
         let inside = |x: &Vector6<f64>| {
             rows.iter()
                 .all(|(row, rhs, _)| (row * x)[0] <= rhs + cs.tol)
         };
-        // Minimiser of cost + lambda E over the rows.
+        // Minimiser of cost + lambda E over the rows; the active set of one solve starts the
+        // next.
+        let active = std::cell::RefCell::new(Vec::new());
         let solve = |lambda: f64| -> Result<Vector6<f64>, Violation> {
             let p = &hy + &zq * lambda;
             let q = &gy - &lq * lambda;
@@ -167,7 +187,16 @@ impl Inner {
                     return Ok(xl);
                 }
             }
-            match qp(&p, &q, &over_y, self.settings.qp_iterations) {
+            let mut active = active.borrow_mut();
+            match qp(
+                &p,
+                &q,
+                &over_y,
+                cs.tol,
+                self.settings.qp_iterations,
+                &mut active,
+                &proven_empty,
+            ) {
                 QpOutcome::Solved(y) => Ok(ox.xp + to6(&(&ox.z * &y))),
                 QpOutcome::Infeasible => Err(Violation::Infeasible),
                 QpOutcome::Failed => Err(Violation::EnergyUncertified),
@@ -181,42 +210,60 @@ impl Inner {
         if !pim_core::creates_energy(cs.energy(&x0), cs.energy(&(ox.r * x0))) {
             return Ok(Answer { x: x0, lambda: 0.0 });
         }
-        // Energy condition active: bisection on lambda while the Lagrangian stays convex.
+        // Energy condition active: the multiplier lambda with E = 0, while the Lagrangian stays
+        // convex. E falls as lambda grows; a bracket is found by doubling, then narrowed by the
+        // Illinois variant of regula falsi (superlinear on a smooth piece, never leaving the
+        // bracket) until E = 0 to a relative 1e-12 of the kinetic energy, or the bracket is
+        // narrower than a relative 1e-8.
         let convex = |lambda: f64| (&hy + &zq * lambda).cholesky().is_some();
         let scale = hy.trace().abs() / zq.abs().max().max(1e-300);
-        let mut lo = 0.0;
+        let (mut lo, mut e_lo) = (0.0, energy_of(&x0));
         let mut hi = 1e-6 * scale;
-        let mut best = None;
+        let mut bracket = None;
         for _ in 0..self.settings.energy_doublings {
             if !convex(hi) {
                 return Err(Violation::EnergyUncertified);
             }
             match solve(hi) {
                 Ok(xh) if energy_of(&xh) <= 0.0 => {
-                    best = Some(xh);
+                    bracket = Some((xh, energy_of(&xh)));
                     break;
                 }
-                Ok(_) => {
-                    lo = hi;
+                Ok(xh) => {
+                    (lo, e_lo) = (hi, energy_of(&xh));
                     hi *= 2.0;
                 }
                 Err(_) => return Err(Violation::EnergyUncertified),
             }
         }
-        let Some(mut best) = best else {
+        let Some((mut best, mut e_hi)) = bracket else {
             return Err(Violation::EnergyUncertified);
         };
+        let done = |x: &Vector6<f64>, e: f64| e >= -1e-12 * cs.energy(x).max(1e-300);
+        let mut side = 0i8;
         for _ in 0..self.settings.energy_bisections {
-            if hi - lo <= 1e-8 * hi {
+            if hi - lo <= 1e-8 * hi || done(&best, e_hi) {
                 break;
             }
-            let mid = 0.5 * (lo + hi);
+            let mut mid = (lo * e_hi - hi * e_lo) / (e_hi - e_lo);
+            if !(mid > lo && mid < hi) {
+                mid = 0.5 * (lo + hi);
+            }
             match solve(mid) {
                 Ok(xm) if energy_of(&xm) <= 0.0 => {
-                    hi = mid;
-                    best = xm;
+                    (hi, e_hi, best) = (mid, energy_of(&xm), xm);
+                    if side == 1 {
+                        e_lo *= 0.5;
+                    }
+                    side = 1;
                 }
-                Ok(_) => lo = mid,
+                Ok(xm) => {
+                    (lo, e_lo) = (mid, energy_of(&xm));
+                    if side == -1 {
+                        e_hi *= 0.5;
+                    }
+                    side = -1;
+                }
                 Err(_) => break,
             }
         }
@@ -224,6 +271,21 @@ impl Inner {
             x: best,
             lambda: hi,
         })
+    }
+
+    /// A bound on `|y|` over the rows, where `x = xp + Z y` (Z orthonormal): from the bounds of
+    /// the six contact-state components (infinite when one is missing).
+    fn radius(&self, rows: &[RowX], xp: &Vector6<f64>) -> f64 {
+        let mut limit = [f64::INFINITY; 6];
+        for (row, rhs, kind) in rows {
+            if let Violation::Bound(c) = kind {
+                let k = c.0;
+                if k < 6 && (row[k].abs() - 1.0).abs() <= f64::EPSILON {
+                    limit[k] = rhs.abs() + 2.0 * self.tol;
+                }
+            }
+        }
+        limit.iter().map(|l| l * l).sum::<f64>().sqrt() + xp.norm()
     }
 
     /// True when the contact state has vt = 0 (the sliding-direction row is active).

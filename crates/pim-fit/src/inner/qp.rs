@@ -1,5 +1,13 @@
 //! Linear algebra of the inner problem: the null space of the fixed components, a symmetric
-//! solve that falls back to the pseudo-inverse, and the QP adaptor (clarabel stays behind it).
+//! solve that falls back to the pseudo-inverse, and the QP adaptor.
+//!
+//! The QPs here are tiny (at most six variables, about sixteen rows) and come in runs that
+//! differ only slightly (the bisection on the energy multiplier, the two friction wedges), so
+//! the adaptor first tries a dense active-set iteration started from the previous run's active
+//! set. Its answer is returned only when it satisfies every Karush-Kuhn-Tucker condition
+//! (stationarity by construction, primal feasibility, non-negative multipliers), which for a
+//! convex QP makes it the exact optimum. Otherwise clarabel (an interior-point solver) decides,
+//! including every infeasibility verdict.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -82,8 +90,178 @@ pub(crate) enum QpOutcome {
     Failed,
 }
 
-/// min y' p y - 2 q' y  s.t. rows: a' y <= b, by clarabel (private adaptor).
+/// min y' p y - 2 q' y  s.t. rows: a' y <= b + tol. `active` is the warm start: the rows
+/// believed to hold with equality; it is updated with the active set of the answer.
+/// `proven_empty` is asked before clarabel runs (a cheap certificate of an empty polyhedron).
 pub(crate) fn qp(
+    p: &DMatrix<f64>,
+    q: &DVector<f64>,
+    rows: &[(DVector<f64>, f64)],
+    tol: f64,
+    max_iter: u32,
+    active: &mut Vec<usize>,
+    proven_empty: &dyn Fn() -> bool,
+) -> QpOutcome {
+    if let Some(y) = active_set(p, q, rows, tol, active) {
+        return QpOutcome::Solved(y);
+    }
+    if proven_empty() {
+        return QpOutcome::Infeasible;
+    }
+    let out = clarabel_qp(p, q, rows, max_iter);
+    if let QpOutcome::Solved(y) = &out {
+        active.clear();
+        active.extend(
+            rows.iter()
+                .enumerate()
+                .filter(|(_, (a, b))| a.dot(y) >= b - 1e-6 * (tol + b.abs()))
+                .map(|(i, _)| i),
+        );
+    }
+    out
+}
+
+/// Active-set iterations allowed per row before giving the problem to clarabel.
+const ACTIVE_SET_STEPS_PER_ROW: usize = 2;
+
+/// A dense active-set iteration from the working set `w`: solve the equality-constrained
+/// problem on `w`, drop the row with the most negative multiplier, else add the most violated
+/// row, until the KKT conditions hold (`Some`, with `w` the final active set) or the step limit
+/// or a degenerate working set ends it (`None`).
+fn active_set(
+    p: &DMatrix<f64>,
+    q: &DVector<f64>,
+    rows: &[(DVector<f64>, f64)],
+    tol: f64,
+    w: &mut Vec<usize>,
+) -> Option<DVector<f64>> {
+    let n = p.nrows();
+    if n == 0 {
+        return None;
+    }
+    w.retain(|&i| i < rows.len());
+    let pmax = p.amax().max(1e-300);
+    for _ in 0..ACTIVE_SET_STEPS_PER_ROW * rows.len() + 4 {
+        let k = w.len();
+        if k > n {
+            return None;
+        }
+        // [p a_w'; a_w 0] [y; nu] = [q; b_w]; nu is half the multiplier of y'py - 2q'y.
+        let mut kkt = DMatrix::zeros(n + k, n + k);
+        let mut rhs = DVector::zeros(n + k);
+        kkt.view_mut((0, 0), (n, n)).copy_from(p);
+        rhs.rows_mut(0, n).copy_from(q);
+        for (j, &i) in w.iter().enumerate() {
+            let (a, b) = &rows[i];
+            let scale = a.amax().max(1e-300);
+            for c in 0..n {
+                kkt[(n + j, c)] = a[c] / scale * pmax;
+                kkt[(c, n + j)] = a[c] / scale * pmax;
+            }
+            rhs[n + j] = b / scale * pmax;
+        }
+        // Stationarity and the active rows hold by construction, when the solve succeeds: with
+        // dependent active rows (singular KKT matrix) by the smallest-norm solution.
+        let residual_ok = |sol: &DVector<f64>| {
+            let y = sol.rows(0, n);
+            sol.iter().all(|v| v.is_finite())
+                && (&kkt * sol - &rhs).amax() <= 1e-9 * (rhs.amax() + pmax * y.amax()).max(1e-300)
+        };
+        let sol = match kkt.clone().lu().solve(&rhs) {
+            Some(sol) if residual_ok(&sol) => sol,
+            _ => {
+                let svd = kkt.clone().try_svd(true, true, f64::EPSILON, MAX_ITER)?;
+                let smax = svd.singular_values.max().max(1e-300);
+                let sol = svd.solve(&rhs, 1e-12 * smax).ok()?;
+                if !residual_ok(&sol) {
+                    return None;
+                }
+                sol
+            }
+        };
+        let y = sol.rows(0, n).into_owned();
+        let nu = sol.rows(n, k);
+        let numax = nu.amax();
+        if let Some((j, _)) = nu
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v < -1e-12 * numax.max(1e-300))
+            .min_by(|a, b| a.1.total_cmp(b.1))
+        {
+            w.remove(j);
+            continue;
+        }
+        let worst = rows
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !w.contains(i))
+            .map(|(i, (a, b))| (i, a.dot(&y) - b))
+            .filter(|(_, excess)| *excess > 0.5 * tol)
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match worst {
+            Some((i, _)) => w.push(i),
+            None => return Some(y),
+        }
+    }
+    None
+}
+
+/// True when a Farkas certificate proves that no y with `|y| <= radius` satisfies
+/// `a' y <= b + tol` for the rows `subset` (at most six are looked at): weights `u >= 0` with
+/// `sum u (b + tol) < -|sum u a| radius`, the weights taken from the near-null vector of each
+/// small group of rows. A `false` proves nothing.
+pub(crate) fn certainly_infeasible(
+    rows: &[(DVector<f64>, f64)],
+    subset: &[usize],
+    tol: f64,
+    radius: f64,
+) -> bool {
+    if !radius.is_finite() {
+        return false;
+    }
+    let rows: Vec<(DVector<f64>, f64)> = subset
+        .iter()
+        .take(6)
+        .filter_map(|&i| {
+            let (a, b) = &rows[i];
+            let norm = a.norm();
+            (norm > 0.0).then(|| (a / norm, (b + tol) / norm))
+        })
+        .collect();
+    let k = rows.len();
+    let n = rows.first().map_or(0, |r| r.0.len());
+    // Gram matrix of the unit rows: a group's certificate is a near-null vector of its block.
+    let gram = DMatrix::from_fn(k, k, |i, j| rows[i].0.dot(&rows[j].0));
+    for mask in 1usize..(1 << k) {
+        let size = mask.count_ones() as usize;
+        if size < 2 || size > n + 1 {
+            continue;
+        }
+        let idx: Vec<usize> = (0..k).filter(|i| mask >> i & 1 == 1).collect();
+        let block = DMatrix::from_fn(size, size, |i, j| gram[(idx[i], idx[j])]);
+        let Some(eig) = block.try_symmetric_eigen(f64::EPSILON, MAX_ITER) else {
+            continue;
+        };
+        let j = eig.eigenvalues.imin();
+        let mut u = eig.eigenvectors.column(j).into_owned();
+        if u.sum() < 0.0 {
+            u = -u;
+        }
+        if u.iter().any(|&w| w < 0.0) {
+            continue;
+        }
+        let slack: f64 = idx.iter().zip(u.iter()).map(|(&i, w)| w * rows[i].1).sum();
+        // |sum u a|^2 = u' G u (clamped at round-off below zero).
+        let residual = eig.eigenvalues[j].max(0.0).sqrt() * u.norm();
+        if slack + residual * radius < 0.0 {
+            return true;
+        }
+    }
+    false
+}
+
+/// min y' p y - 2 q' y  s.t. rows: a' y <= b, by clarabel.
+fn clarabel_qp(
     p: &DMatrix<f64>,
     q: &DVector<f64>,
     rows: &[(DVector<f64>, f64)],

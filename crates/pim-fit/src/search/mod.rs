@@ -243,10 +243,25 @@ fn refine_from_grid(
     }
     refined.sort_by(|a, b| a.1.total_cmp(&b.1));
     let lead = refined.first().map_or(f64::INFINITY, |r| r.1);
+    // A refinement that ended where one already polished started (within a thousandth of the
+    // grid spacing) shares its polish: the compass would retrace it.
+    let twin = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .zip(&spacing)
+            .all(|((x, y), sp)| (x - y).abs() <= 1e-3 * sp)
+    };
+    let mut polished: Vec<(Vec<f64>, f64)> = Vec::new();
     for (p, cost, hit) in refined {
         if cost <= lead + s.polish_within * (1.0 + lead.abs()) {
-            let (_, polished) = refine::compass(inner, space, p, cost, s, out);
-            out.finals.push((polished, hit && polished >= cost));
+            if let Some((_, value)) = polished.iter().find(|(q, _)| twin(&p, q)) {
+                let value = value.min(cost);
+                out.finals.push((value, hit && value >= cost));
+                continue;
+            }
+            let (_, value) = refine::compass(inner, space, p.clone(), cost, s, out);
+            out.finals.push((value, hit && value >= cost));
+            polished.push((p, value));
         } else {
             out.finals.push((cost, hit));
         }

@@ -95,11 +95,23 @@ impl Outcome {
 
     /// Exact value of a point: the best over friction signs, every feasible one recorded.
     pub fn exact(&mut self, inner: &Inner, space: &Space, p: &[f64]) -> Option<Point> {
+        self.exact_below(inner, space, p, f64::INFINITY)
+    }
+
+    /// As [`Outcome::exact`], for a caller that only needs the point when its cost is below
+    /// `cutoff`: a friction sign whose lower bound reaches the cutoff is not solved exactly.
+    pub fn exact_below(
+        &mut self,
+        inner: &Inner,
+        space: &Space,
+        p: &[f64],
+        cutoff: f64,
+    ) -> Option<Point> {
         let mut best: Option<Point> = None;
         for &sign in inner.signs() {
             self.evaluations += 1;
             self.exact_solves += 1;
-            let (at, eval) = space.eval(inner, p, sign, true, f64::INFINITY);
+            let (at, eval) = space.eval(inner, p, sign, true, cutoff);
             match eval {
                 Eval::Feasible(candidate) => {
                     let pt = Point { at, candidate };

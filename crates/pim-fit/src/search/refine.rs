@@ -101,41 +101,70 @@ pub(crate) fn compass(
         .map(|d| (d.hi - d.lo) * settings.polish_last_step)
         .collect();
     // The axes, then the diagonals (every combination of signs of the active axes): the
-    // admissible set can be a thin curved sliver along which no axis move improves.
+    // admissible set can be a thin curved sliver along which no axis move improves. The
+    // diagonals are tried only in rounds where no axis move gains.
     let axes: Vec<usize> = (0..p.len()).filter(|&k| step[k] > 0.0).collect();
-    let mut directions: Vec<Vec<f64>> = Vec::new();
+    let mut along_axes: Vec<Vec<f64>> = Vec::new();
     for &k in &axes {
         for dir in [-1.0, 1.0] {
             let mut d = vec![0.0; p.len()];
             d[k] = dir;
-            directions.push(d);
+            along_axes.push(d);
         }
     }
+    let mut diagonals: Vec<Vec<f64>> = Vec::new();
     if settings.polish_diagonals && axes.len() > 1 {
         for bits in 0..(1usize << axes.len()) {
             let mut d = vec![0.0; p.len()];
             for (i, &k) in axes.iter().enumerate() {
                 d[k] = if bits >> i & 1 == 1 { 1.0 } else { -1.0 };
             }
-            directions.push(d);
+            diagonals.push(d);
         }
     }
     for _ in 0..settings.polish_rounds {
         let mut improved = false;
-        for d in &directions {
-            let q: Vec<f64> = p
-                .iter()
-                .enumerate()
-                .map(|(k, v)| (v + d[k] * step[k]).clamp(space.dims[k].lo, space.dims[k].hi))
-                .collect();
-            if let Some(pt) = out.exact(inner, space, &q) {
-                if pt.candidate.cost < cost {
-                    // Moves that gain less than the creep tolerance (creeping along a
-                    // boundary) are taken but do not hold the step size.
-                    improved |=
-                        cost - pt.candidate.cost > settings.polish_creep * (1.0 + cost.abs());
-                    cost = pt.candidate.cost;
-                    p = q;
+        let base = p.clone();
+        for directions in [&along_axes, &diagonals] {
+            for d in directions {
+                let q: Vec<f64> = p
+                    .iter()
+                    .enumerate()
+                    .map(|(k, v)| (v + d[k] * step[k]).clamp(space.dims[k].lo, space.dims[k].hi))
+                    .collect();
+                if let Some(pt) = out.exact_below(inner, space, &q, cost) {
+                    if pt.candidate.cost < cost {
+                        // Moves that gain less than the creep tolerance (creeping along a
+                        // boundary) are taken but do not hold the step size.
+                        improved |=
+                            cost - pt.candidate.cost > settings.polish_creep * (1.0 + cost.abs());
+                        cost = pt.candidate.cost;
+                        p = q;
+                    }
+                }
+            }
+            if improved {
+                break;
+            }
+        }
+        if improved {
+            // Hooke-Jeeves pattern moves: repeat the round's displacement, doubling it, while
+            // that gains (a ridge is followed in a few moves, not one step per round).
+            let mut m: Vec<f64> = p.iter().zip(&base).map(|(a, b)| a - b).collect();
+            loop {
+                let q: Vec<f64> = p
+                    .iter()
+                    .zip(&m)
+                    .enumerate()
+                    .map(|(k, (v, d))| (v + d).clamp(space.dims[k].lo, space.dims[k].hi))
+                    .collect();
+                match out.exact_below(inner, space, &q, cost) {
+                    Some(pt) if pt.candidate.cost < cost => {
+                        cost = pt.candidate.cost;
+                        p = q;
+                        m.iter_mut().for_each(|d| *d *= 2.0);
+                    }
+                    _ => break,
                 }
             }
         }

@@ -53,6 +53,13 @@ pub(crate) fn scan(inner: &Inner, settings: &FitSettings, branch: MomentBranch, 
         return;
     };
     let s = &settings.search;
+    // Points above the near-optimal limit add nothing to the ranges: they are not solved
+    // exactly once their lower bound exceeds it.
+    let cutoff = near_limit(
+        out.incumbent(),
+        settings.identifiability_tolerance,
+        out.data_scale,
+    );
     if !out.profiled_e {
         for space in scanned(branch, settings, false, &best) {
             // Along mu in the sliding space through a sticking optimum: a finer scan.
@@ -69,7 +76,7 @@ pub(crate) fn scan(inner: &Inner, settings: &FitSettings, branch: MomentBranch, 
                 }
             };
             for p in through(&space, &centre(&space, &best), n) {
-                out.exact(inner, &space, &p);
+                out.exact_below(inner, &space, &p, cutoff);
             }
         }
         return;
@@ -80,7 +87,7 @@ pub(crate) fn scan(inner: &Inner, settings: &FitSettings, branch: MomentBranch, 
             for &sign in inner.signs() {
                 out.evaluations += 1;
                 out.exact_solves += 1;
-                let (at, eval) = space.eval(inner, &p, sign, true, f64::INFINITY);
+                let (at, eval) = space.eval(inner, &p, sign, true, cutoff);
                 let Eval::Feasible(candidate) = eval else {
                     continue;
                 };
