@@ -27,6 +27,28 @@ struct Answer {
     lambda: f64,
 }
 
+/// The pieces of `cost + lambda E` over y, shared by the polyhedra of one evaluation:
+/// `y' (hy + lambda zq) y - 2 (gy - lambda lq)' y`, and `E(x) = x' qe x`.
+struct Lagrangian {
+    hy: DMatrix<f64>,
+    gy: DVector<f64>,
+    qe: Matrix6<f64>,
+    zq: DMatrix<f64>,
+    lq: DVector<f64>,
+}
+
+impl Lagrangian {
+    fn new(ox: &OverX, cs: &ConstraintSet<'_>) -> Self {
+        let (hy, gy) = ox.reduced();
+        let m = Matrix6::from_diagonal(&cs.mass);
+        let qe = (ox.r.transpose() * m * ox.r - m) * 0.5;
+        let zq =
+            ox.z.tr_mul(&(DMatrix::from_iterator(6, 6, qe.iter().copied()) * &ox.z));
+        let lq = ox.z.tr_mul(&to_d(&(qe * ox.xp)));
+        Lagrangian { hy, gy, qe, zq, lq }
+    }
+}
+
 impl Inner {
     pub(super) fn evaluate_general(&self, at: &At, exact: bool, cutoff: f64) -> Eval {
         let Some(r) = self.reduction.transfer(&at.c, at.mode, at.sign) else {
@@ -76,7 +98,8 @@ impl Inner {
             };
         }
         let base = cs.rows_over_x(&r);
-        let linear_only = self.solve_rows(&ox, &cs, &base);
+        let lag = Lagrangian::new(&ox, &cs);
+        let linear_only = self.solve_rows(&ox, &lag, &cs, &base);
         let mut best: Option<Answer> = None;
         let mut why = first;
         match linear_only {
@@ -100,7 +123,7 @@ impl Inner {
                     continue;
                 };
                 let rows: Vec<RowX> = base.iter().copied().chain(wedge).collect();
-                if let Ok(a) = self.solve_rows(&ox, &cs, &rows) {
+                if let Ok(a) = self.solve_rows(&ox, &lag, &cs, &rows) {
                     let better = best.as_ref().is_none_or(|b| {
                         self.objective.cost(&a.x, &(r * a.x))
                             < self.objective.cost(&b.x, &(r * b.x))
@@ -146,22 +169,14 @@ impl Inner {
     fn solve_rows(
         &self,
         ox: &OverX,
+        lag: &Lagrangian,
         cs: &ConstraintSet<'_>,
         rows: &[RowX],
     ) -> Result<Answer, Violation> {
-        let (hy, gy) = ox.reduced();
-        let m = Matrix6::from_diagonal(&cs.mass);
-        let qe = (ox.r.transpose() * m * ox.r - m) * 0.5;
-        let zq = ox.z.transpose() * DMatrix::from_iterator(6, 6, qe.iter().copied()) * &ox.z;
-        let lq = ox.z.transpose() * to_d(&(qe * ox.xp));
+        let (hy, gy, qe, zq, lq) = (&lag.hy, &lag.gy, lag.qe, &lag.zq, &lag.lq);
         let over_y: Vec<(DVector<f64>, f64)> = rows
             .iter()
-            .map(|(row, rhs, _)| {
-                (
-                    ox.z.transpose() * to_d(&row.transpose()),
-                    rhs - (row * ox.xp)[0],
-                )
-            })
+            .map(|(row, rhs, _)| (ox.z.tr_mul(&to_d(&row.transpose())), rhs - (row * ox.xp)[0]))
             .collect();
         // A polyhedron that its non-bound rows already make empty needs no QP solver.
         let contact: Vec<usize> = (0..rows.len())
@@ -179,8 +194,8 @@ impl Inner {
         // next.
         let active = std::cell::RefCell::new(Vec::new());
         let solve = |lambda: f64| -> Result<Vector6<f64>, Violation> {
-            let p = &hy + &zq * lambda;
-            let q = &gy - &lq * lambda;
+            let p = hy + zq * lambda;
+            let q = gy - lq * lambda;
             if let Some(y) = solve_spd(&p, &q) {
                 let xl = ox.xp + to6(&(&ox.z * &y));
                 if inside(&xl) {
@@ -215,7 +230,7 @@ impl Inner {
         // Illinois variant of regula falsi (superlinear on a smooth piece, never leaving the
         // bracket) until E = 0 to a relative 1e-12 of the kinetic energy, or the bracket is
         // narrower than a relative 1e-8.
-        let convex = |lambda: f64| (&hy + &zq * lambda).cholesky().is_some();
+        let convex = |lambda: f64| (hy + zq * lambda).cholesky().is_some();
         let scale = hy.trace().abs() / zq.abs().max().max(1e-300);
         let (mut lo, mut e_lo) = (0.0, energy_of(&x0));
         let mut hi = 1e-6 * scale;

@@ -198,10 +198,36 @@ fn active_set(
             .map(|(i, (a, b))| (i, a.dot(&y) - b))
             .filter(|(_, excess)| *excess > 0.5 * tol)
             .max_by(|a, b| a.1.total_cmp(&b.1));
-        match worst {
-            Some((i, _)) => w.push(i),
-            None => return Some(y),
+        let Some((i, _)) = worst else {
+            return Some(y);
+        };
+        // A violated row in the span of the working set, a_i = sum c_j a_j, would make the
+        // working set dependent: as in Goldfarb and Idnani's dual method, the row j with
+        // c_j > 0 whose multiplier runs out first (least nu_j / c_j) leaves for it. With no
+        // c_j > 0 the rows cannot all hold: clarabel decides.
+        if k > 0 {
+            let aw = DMatrix::from_fn(n, k, |r, c| rows[w[c]].0[r]);
+            let a = &rows[i].0;
+            if let Some(c) = aw
+                .clone()
+                .svd(true, true)
+                .solve(a, 1e-12 * a.norm())
+                .ok()
+                .filter(|c| (&aw * c - a).norm() <= 1e-9 * a.norm())
+            {
+                // The multiplier of row j itself (the KKT rows are scaled by pmax / amax(a_j)).
+                let mult = |j: usize| nu[j] * pmax / rows[w[j]].0.amax().max(1e-300);
+                let leave = (0..k)
+                    .filter(|&j| c[j] > 1e-12 * c.amax())
+                    .min_by(|&x, &z| (mult(x) / c[x]).total_cmp(&(mult(z) / c[z])));
+                match leave {
+                    Some(j) => w[j] = i,
+                    None => return None,
+                }
+                continue;
+            }
         }
+        w.push(i);
     }
     None
 }
@@ -309,5 +335,122 @@ fn clarabel_qp(
             QpOutcome::Infeasible
         }
         _ => QpOutcome::Failed,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Rows `a' y <= b`.
+    type Rows = Vec<(DVector<f64>, f64)>;
+
+    /// A strictly convex QP in n variables with m rows, from flat random numbers.
+    fn problem(n: usize, m: usize, raw: &[f64]) -> (DMatrix<f64>, DVector<f64>, Rows) {
+        let mut it = raw.iter().copied().cycle();
+        let l = DMatrix::from_fn(n, n, |_, _| it.next().unwrap_or(0.0));
+        let p = &l * l.transpose() + DMatrix::identity(n, n) * 0.5;
+        let q = DVector::from_fn(n, |_, _| 4.0 * it.next().unwrap_or(0.0));
+        let rows = (0..m)
+            .map(|_| {
+                let a = DVector::from_fn(n, |_, _| it.next().unwrap_or(0.0));
+                (a, 0.5 + it.next().unwrap_or(0.0))
+            })
+            .collect();
+        (p, q, rows)
+    }
+
+    fn objective(p: &DMatrix<f64>, q: &DVector<f64>, y: &DVector<f64>) -> f64 {
+        (y.transpose() * p * y)[0] - 2.0 * q.dot(y)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// Whenever the active-set path answers, its answer is feasible and no worse than
+        /// clarabel's (both solve the same convex QP; clarabel stops at its tolerance).
+        #[test]
+        fn active_set_agrees_with_clarabel(
+            n in 1usize..=6,
+            m in 1usize..=12,
+            raw in prop::collection::vec(-1.0f64..1.0, 120),
+        ) {
+            let (p, q, rows) = problem(n, m, &raw);
+            let tol = 1e-9;
+            let mut w = Vec::new();
+            if let Some(y) = active_set(&p, &q, &rows, tol, &mut w) {
+                for (a, b) in &rows {
+                    prop_assert!(a.dot(&y) <= b + tol);
+                }
+                if let QpOutcome::Solved(z) = clarabel_qp(&p, &q, &rows, 200) {
+                    let (fy, fz) = (objective(&p, &q, &y), objective(&p, &q, &z));
+                    prop_assert!(fy <= fz + 1e-6 * (1.0 + fz.abs()), "{fy} > {fz}");
+                } else {
+                    prop_assert!(false, "clarabel finds no solution where the active set does");
+                }
+            }
+        }
+
+        /// The Farkas test never calls a polyhedron with a known interior point empty.
+        #[test]
+        fn certificate_never_rejects_a_feasible_polyhedron(
+            n in 1usize..=6,
+            m in 1usize..=6,
+            raw in prop::collection::vec(-1.0f64..1.0, 60),
+            point in prop::collection::vec(-1.0f64..1.0, 6),
+        ) {
+            let mut it = raw.iter().copied().cycle();
+            let y0 = DVector::from_fn(n, |i, _| point[i]);
+            let rows: Vec<(DVector<f64>, f64)> = (0..m)
+                .map(|_| {
+                    let a = DVector::from_fn(n, |_, _| it.next().unwrap_or(0.0));
+                    let b = a.dot(&y0) + it.next().unwrap_or(0.0).abs();
+                    (a, b)
+                })
+                .collect();
+            let all: Vec<usize> = (0..m).collect();
+            prop_assert!(!certainly_infeasible(&rows, &all, 0.0, 10.0));
+        }
+    }
+
+    /// The active-set path answers most small problems (so that the property above is not
+    /// vacuous) and matches clarabel's optimum on each.
+    #[test]
+    fn active_set_answers_most_problems() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let (mut answered, total) = (0, 200);
+        for k in 0..total {
+            let raw: Vec<f64> = (0..120).map(|_| next()).collect();
+            let (p, q, rows) = problem(1 + k % 6, 1 + k % 12, &raw);
+            let mut w = Vec::new();
+            if let Some(y) = active_set(&p, &q, &rows, 1e-9, &mut w) {
+                answered += 1;
+                let QpOutcome::Solved(z) = clarabel_qp(&p, &q, &rows, 200) else {
+                    panic!("clarabel disagrees on feasibility");
+                };
+                let (fy, fz) = (objective(&p, &q, &y), objective(&p, &q, &z));
+                assert!((fy - fz).abs() <= 1e-6 * (1.0 + fz.abs()), "{fy} vs {fz}");
+            }
+        }
+        assert!(answered >= total * 3 / 4, "answered {answered} of {total}");
+    }
+
+    /// Rows that contradict each other are proven empty: y <= -1 and -y <= -1 (y >= 1).
+    #[test]
+    fn certificate_proves_contradictory_rows_empty() {
+        let a = DVector::from_vec(vec![1.0, 0.0]);
+        let rows = vec![(a.clone(), -1.0), (-a, -1.0)];
+        assert!(certainly_infeasible(&rows, &[0, 1], 1e-9, 100.0));
+        // Relaxed enough to overlap: no certificate.
+        let b = DVector::from_vec(vec![1.0, 0.0]);
+        let rows = vec![(b.clone(), 1.0), (-b, -0.5)];
+        assert!(!certainly_infeasible(&rows, &[0, 1], 1e-9, 100.0));
     }
 }
