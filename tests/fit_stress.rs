@@ -340,7 +340,7 @@ fn stress_corpus_300() {
 }
 
 #[test]
-#[ignore = "about 10 minutes on two cores; run with --ignored"]
+#[ignore = "about 80 s on two cores; run with --ignored"]
 fn stress_corpus_3000() {
     run(100_000, 3000);
 }
