@@ -4,8 +4,10 @@
 //!    equality-only optimum, a lower bound of the exact inner value. Points whose bound could
 //!    still beat the best feasible value are then solved exactly, in order of their bounds, so
 //!    the grid minimum is exact.
-//! 2. Refinement ([`refine`]): Nelder-Mead from the best grid points of distinct cells, then a
-//!    compass search from every result near the best.
+//! 2. Refinement ([`refine`]): Nelder-Mead from the best grid points of distinct cells, from the
+//!    other local minima of the grid and from the samples of narrow friction bands (up to
+//!    `max_refinement_starts`), then a compass search with Hooke-Jeeves pattern moves from
+//!    every result near the best; grids are refined before an infeasible verdict.
 //! 3. Scans ([`scan`]) through the optimum for the identifiability ranges.
 //! 4. The [`Outcome`] counts what was done, for the certificate, and whether the refinements
 //!    from different starts agree.
