@@ -233,9 +233,9 @@ fn at_mu_max_the_tangential_velocity_at_separation_vanishes() {
         .unwrap();
 }
 
-/// PIM-EQUATIONS.md: inside the friction domain the corrected moment equation still creates
-/// kinetic energy in a sizeable share of random impacts with -1 < em < 0 (about 28 % in the check
-/// recorded there), less often with em = 1 or em = 0. The solver must flag every such case.
+/// Inside the friction domain the corrected moment equation still creates
+/// kinetic energy in a sizeable share of random impacts with -1 < em < 0 (about 28 % of such
+/// random impacts), less often with em = 1 or em = 0. The solver must flag every such case.
 #[test]
 fn energy_creation_inside_the_friction_domain_is_detected() {
     let mut rng = runner(1);

@@ -2,7 +2,7 @@
 """The RICSAC refit with SciPy's SLSQP, the published way (a local SQP solver, as MATLAB fmincon in
 Vossou & Koulocheris 2018), on exactly the problems `pim batch` solves.
 
-Same data (data/ricsac.csv), same equations (the corrected moment form; PIM-EQUATIONS.md), same cost
+Same data (data/ricsac.csv), same equations (the corrected moment form, as documented in the pim-core crate), same cost
 functions Q1, Q2, Q3 (unit weights), same bounds (e in [0, 0.2], mu in [-1.2, 1.2], em in [-1, 0]
 or em = 1, |v| <= 20 m/s, |omega| <= 5 rad/s) and the same admissibility conditions:
   - the vehicles approach at the impact centre (at least 1 mm/s),

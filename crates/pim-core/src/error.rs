@@ -39,7 +39,7 @@ impl fmt::Display for VehicleId {
     }
 }
 
-/// One of the six impact equations (numbered as in Brach 1983 and `PIM-EQUATIONS.md`).
+/// One of the six impact equations (numbered as in Brach 1983 and in this crate's documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Equation {
