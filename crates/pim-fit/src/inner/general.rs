@@ -178,14 +178,17 @@ impl Inner {
             .iter()
             .map(|(row, rhs, _)| (ox.z.tr_mul(&to_d(&row.transpose())), rhs - (row * ox.xp)[0]))
             .collect();
-        // A polyhedron that its non-bound rows already make empty needs no QP solver.
-        let contact: Vec<usize> = (0..rows.len())
-            .filter(|&i| !matches!(rows[i].2, Violation::Bound(_)))
-            .collect();
-        let radius = self.radius(rows, &ox.xp);
+        // A polyhedron that its non-bound rows already make empty needs no QP solver; the test
+        // runs (once) only when the active-set path has failed.
         let empty = std::cell::OnceCell::new();
-        let proven_empty =
-            || *empty.get_or_init(|| certainly_infeasible(&over_y, &contact, cs.tol, radius));
+        let proven_empty = || {
+            *empty.get_or_init(|| {
+                let contact: Vec<usize> = (0..rows.len())
+                    .filter(|&i| !matches!(rows[i].2, Violation::Bound(_)))
+                    .collect();
+                certainly_infeasible(&over_y, &contact, cs.tol, self.radius(rows, &ox.xp))
+            })
+        };
         let inside = |x: &Vector6<f64>| {
             rows.iter()
                 .all(|(row, rhs, _)| (row * x)[0] <= rhs + cs.tol)
