@@ -152,3 +152,45 @@ fn recovers_known_coefficients_for_q1_q2_q3() {
     }
     println!("30 cases x 3 presets: worst |de| {worst_e:.2e}, |dmu| {worst_mu:.2e}, |dem| {worst_em:.2e}");
 }
+
+#[test]
+fn a_known_contact_state_without_sliding_holds_mu_at_zero() {
+    // The natural side impact (car 1 at 15 m/s into the middle of car 2's left side): vt = 0 at
+    // contact, so no tangential impulse acts and mu has no effect. Q2 with the separation
+    // velocities of e = 0.1 recovers e, reports mu = 0 and says why.
+    let impact = Impact::new(Collision {
+        vehicle1: vehicle(1500.0, 2500.0, 180.0, 2.0, 0.0),
+        vehicle2: vehicle(1500.0, 2500.0, 90.0, 0.9, 90.0),
+        crush_angle: 0.0,
+    })
+    .unwrap();
+    let x = Velocities::from_vector(&nalgebra::Vector6::new(15.0, 0.0, 0.0, 0.0, 0.0, 0.0));
+    let truth = Coefficients {
+        e: 0.1,
+        mu: 0.7,
+        em: 1.0,
+    };
+    let sep = solve_forward(&impact, &truth, &x, &SolveOptions::default())
+        .unwrap()
+        .separation;
+    assert!((sep.vehicle2.vx - 8.25).abs() < 1e-12 && sep.vehicle2.vy.abs() < 1e-12);
+    let problem = FitProblem::from_preset(impact, CostPreset::Q2, &x, &sep, None);
+    let report = fit(&problem, &FitSettings::default().check().unwrap()).unwrap();
+    assert!(
+        report.notes.iter().any(|n| n.contains("mu is held at 0")),
+        "{:?}",
+        report.notes
+    );
+    for b in &report.branches {
+        let s = b.solution.as_ref().unwrap();
+        assert_eq!(b.status, Status::Optimal);
+        assert!(s.cost < 1e-12, "{}", s.cost);
+        assert!(
+            (s.e - 0.1).abs() < 1e-6 && s.mu == 0.0,
+            "e {} mu {}",
+            s.e,
+            s.mu
+        );
+        assert!(s.impulse.tangential.abs() < 1e-6);
+    }
+}

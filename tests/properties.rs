@@ -325,3 +325,54 @@ fn friction_beyond_mu_max_is_flagged_as_reversed_and_inadmissible() {
     // The tangential relative velocity has changed sign.
     assert!(r.relative.tangential_final * r.relative.tangential_initial < 0.0);
 }
+
+#[test]
+fn without_sliding_at_contact_no_tangential_impulse_acts() {
+    // Any geometry and contact state, with vehicle 2's velocity shifted along the crush surface
+    // so that the vehicles do not slide at C (vt = 0): friction has no direction, so the
+    // tangential impulse is zero whatever mu is, and mu cannot make the answer inadmissible.
+    let strat = (
+        arb_collision(),
+        arb_state(),
+        0.0..1.0f64,
+        -1.5..1.5f64,
+        arb_em(),
+    );
+    runner(1000)
+        .run(&strat, |(col, mut x, e, mu, em)| {
+            let Ok(impact) = Impact::new(col) else {
+                return Ok(());
+            };
+            let (_, vt) = impact.relative_velocity(&x);
+            let t = impact.tangent();
+            x.vehicle2.vx += vt * t[0];
+            x.vehicle2.vy += vt * t[1];
+            if impact.check_approach(&x).is_err() {
+                return Ok(());
+            }
+            prop_assert_eq!(impact.friction_sign(&x), FrictionSign::NoSliding);
+            let c = Coefficients { e, mu, em };
+            let Ok(r) = solve_forward(&impact, &c, &x, &SolveOptions::default()) else {
+                return Ok(());
+            };
+            let p = &r.impulse;
+            prop_assert!(
+                p.tangential.abs() <= 1e-9 * p.normal.abs().max(1.0),
+                "{p:?}"
+            );
+            prop_assert_eq!(r.tangential, TangentialOutcome::NotSliding);
+            prop_assert!(r.admissibility.friction_ok);
+            // The same answer as mu = 0.
+            let zero = solve_forward(
+                &impact,
+                &Coefficients { mu: 0.0, ..c },
+                &x,
+                &SolveOptions::default(),
+            )
+            .unwrap();
+            let d = (zero.separation.to_vector() - r.separation.to_vector()).amax();
+            prop_assert!(d <= 1e-12 * (1.0 + x.to_vector().amax()), "{d}");
+            Ok(())
+        })
+        .unwrap();
+}

@@ -42,6 +42,26 @@ pub enum Format {
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum UnitsArg {
+    /// m/s, m, kg, rad/s.
+    Si,
+    /// mph, ft, lb, deg/s.
+    Us,
+    /// km/h, m, kg, deg/s.
+    Kmh,
+}
+
+impl From<UnitsArg> for pim_data::units::UnitSystem {
+    fn from(u: UnitsArg) -> Self {
+        match u {
+            UnitsArg::Si => Self::Si,
+            UnitsArg::Us => Self::Us,
+            UnitsArg::Kmh => Self::Kmh,
+        }
+    }
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MomentArg {
     /// The corrected moment equation of Brach 1984 (default).
     Corrected,
@@ -63,6 +83,13 @@ pub struct SolveArgs {
     /// ignored and the friction it implies is reported as mu_max.
     #[arg(long)]
     pub no_slip: bool,
+    /// Units of the table (JSON is always SI).
+    #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
+    pub units: UnitsArg,
+    /// Also write into this directory (created if needed): result.json, report.md and the
+    /// scale diagram diagram.svg.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -219,6 +246,13 @@ pub struct FitArgs {
     /// Form of the moment equation (6).
     #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
     pub moment_form: MomentArg,
+    /// Units of the table (JSON is always SI).
+    #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
+    pub units: UnitsArg,
+    /// Also write into this directory (created if needed): result.json, report.md and the
+    /// scale diagram diagram.svg of the best branch.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 impl From<MomentArg> for MomentForm {

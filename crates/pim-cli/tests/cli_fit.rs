@@ -110,6 +110,7 @@ fn fit_json_has_both_branches_and_the_best() {
 fn infeasible_data_are_an_explained_outcome() {
     // RICSAC 1 as in data/ricsac.csv: the measured separation velocities still approach at C.
     let text = "\
+convention = \"brach\"
 [vehicle1]
 mass = 2096.0
 yaw_inertia = 5054.0

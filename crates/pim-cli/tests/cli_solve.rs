@@ -207,7 +207,7 @@ fn bad_case_files_exit_2_naming_file_and_field() {
         ("neg_mass.toml", example().replace("mass = 1955.0", "mass = -5.0"), "vehicle1.mass"),
         ("zero_inertia.toml", example().replace("yaw_inertia = 2279.0", "yaw_inertia = 0.0"), "vehicle2.yaw_inertia"),
         ("neg_d.toml", example().replace("d = 0.9", "d = -0.9"), "vehicle2.d"),
-        ("text_angle.toml", example().replace("heading = 60.0", "heading = \"sixty\""), ":17:"),
+        ("text_angle.toml", example().replace("heading = 60.0", "heading = \"sixty\""), ":21:"),
         ("missing.toml", example().replace("yaw_inertia = 2279.0\n", ""), "missing field `yaw_inertia`"),
         ("typo.toml", example().replace("crush_angle", "crush_angel"), "crush_angel"),
         ("nan.toml", example().replace("vx = -13.01", "vx = nan"), "[initial] vehicle1.vx"),
@@ -217,6 +217,9 @@ fn bad_case_files_exit_2_naming_file_and_field() {
         ("no_coef.toml", example().replace("[coefficients]", "[coefficientz]"), "coefficientz"),
         ("empty.toml", String::new(), "empty"),
         ("apart.toml", example().replace("vx = -13.01", "vx = 30.0"), "do not approach"),
+        ("twice.toml", example().replace("d = 0.9", "impact_point = { x = 0.1, y = 0.2 }\nd = 0.9"), "[vehicle2] gives the impact centre twice"),
+        ("no_phi.toml", example().replace("phi = -140.0", ""), "[vehicle2] phi: missing"),
+        ("bad_unit.toml", format!("{}\n[units]\nspeed = \"knots\"\n", example()), "units.speed"),
         ("both.toml", format!("{}\n[final]\nvehicle1 = {{ vx = 1.0, vy = 0.0, omega = 0.0 }}\nvehicle2 = {{ vx = 1.0, vy = 0.0, omega = 0.0 }}\n", example()), "not both"),
     ];
     for (name, text, needle) in cases {
@@ -278,4 +281,80 @@ fn help_documents_the_case_file_and_exit_codes() {
     ] {
         assert!(text.contains(needle), "help lacks {needle}");
     }
+}
+
+#[test]
+fn natural_side_impact_gives_the_physics_in_si_and_us_units() {
+    // Car 1 (nose along +x, 15 m/s) hits the middle of the left side of car 2 (standing, nose
+    // along +y); equal masses, e = 0.1: momentum and restitution give V1 = 15 (1 - 1.1 / 2) =
+    // 6.75 and V2 = 15 x 1.1 / 2 = 8.25 m/s. vt = 0 at contact: no tangential impulse, no yaw.
+    // The US file holds the same numbers rounded to its printed digits (1e-8 relative).
+    for (file, tol) in [
+        ("examples/cases/side_impact.toml", 1e-12),
+        ("examples/cases/side_impact_us.toml", 1e-6),
+    ] {
+        let j = json_of(&pim(&["solve", file, "--format", "json"]));
+        let f = |path: &str| j.pointer(path).and_then(Value::as_f64).unwrap();
+        assert!(
+            (f("/final/vehicle1/vx") - 6.75).abs() < tol * 10.0,
+            "{file}"
+        );
+        assert!(
+            (f("/final/vehicle2/vx") - 8.25).abs() < tol * 10.0,
+            "{file}"
+        );
+        for p in [
+            "/final/vehicle1/vy",
+            "/final/vehicle2/vy",
+            "/final/vehicle1/omega",
+            "/final/vehicle2/omega",
+            "/impulse/tangential",
+        ] {
+            assert!(f(p).abs() < 1e-9, "{file} {p} = {}", f(p));
+        }
+        assert_eq!(j["tangential"], "not_sliding", "{file}");
+        // Car 1 is slowed along its axis: PDOF 0 deg, 12 o'clock; car 2 is struck on its left
+        // side: pushed to its right, PDOF -90 deg, 9 o'clock.
+        assert!((f("/vehicles/0/delta_v_longitudinal") + 8.25).abs() < tol * 10.0);
+        assert!((f("/vehicles/1/delta_v_lateral") + 8.25).abs() < tol * 10.0);
+        assert!(f("/vehicles/0/pdof").abs() < 1e-9);
+        assert!((f("/vehicles/1/pdof") + 90.0).abs() < 1e-9);
+        assert_eq!(j["vehicles"][0]["clock"], 12);
+        assert_eq!(j["vehicles"][1]["clock"], 9);
+        assert!((f("/energy/loss_percent") - 49.5).abs() < 1e-6, "{file}");
+    }
+    // The table in US units prints mph.
+    let out = pim(&[
+        "solve",
+        "examples/cases/side_impact_us.toml",
+        "--units",
+        "us",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("speed at contact [mph]") && text.contains("33.55"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_case_written_in_the_other_convention_says_where_everything_is() {
+    // The side impact with vehicle 1's heading written as its tail (the papers' form) but read
+    // in the natural form: the bodies move apart, and the message says why.
+    let text = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml"))
+        .unwrap()
+        .replace("heading = 0.0 ", "heading = 180.0 ");
+    let path = write_case("side_apart.toml", &text);
+    let out = pim(&["solve", &path]);
+    assert_eq!(out.status.code(), Some(2));
+    let msg = stderr(&out);
+    assert!(msg.contains("vehicle 1's CG at (2.00, 0.00) m"), "{msg}");
+    assert!(msg.contains("vehicle 2's CG at (0.90, 0.00) m"), "{msg}");
+    assert!(msg.contains("with convention = \"brach\""), "{msg}");
+    assert!(msg.contains("would make an impact"), "{msg}");
+    // With convention = "brach" the same file is the impact of the example.
+    let brach = format!("convention = \"brach\"\n{text}");
+    let path = write_case("side_brach.toml", &brach);
+    let j = json_of(&pim(&["solve", &path, "--format", "json"]));
+    assert!((j["final"]["vehicle2"]["vx"].as_f64().unwrap() - 8.25).abs() < 1e-9);
 }

@@ -12,24 +12,32 @@ use crate::report::{TangentialOutcome, REPORT_TOL};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// The sign factor `sgn(vn) sgn(vt)` of equation 5: friction opposes the initial sliding
-/// direction, `mu' = mu * sign`. Serialised as the number `1` or `-1`.
+/// direction, `mu' = mu * sign`. Serialised as the number `1`, `-1` or `0`.
+///
+/// When the vehicles do not slide along the crush surface at contact (`vt = 0`), friction has
+/// no direction to oppose: the sign is [`FrictionSign::NoSliding`], `mu' = 0` and the
+/// tangential impulse is zero whatever mu is (a perpendicular central hit gets no sideways
+/// impulse and no yaw).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum FrictionSign {
     /// `sgn(vn) sgn(vt) = +1`.
     Positive,
     /// `sgn(vn) sgn(vt) = -1`.
     Negative,
+    /// `vt = 0` at contact: no sliding, no tangential impulse (`mu' = 0`).
+    NoSliding,
 }
 
 impl FrictionSign {
     /// Both signs, positive first.
     pub const BOTH: [FrictionSign; 2] = [FrictionSign::Positive, FrictionSign::Negative];
 
-    /// `+1.0` or `-1.0`.
+    /// `+1.0`, `-1.0` or `0.0`.
     pub fn value(self) -> f64 {
         match self {
             FrictionSign::Positive => 1.0,
             FrictionSign::Negative => -1.0,
+            FrictionSign::NoSliding => 0.0,
         }
     }
 
@@ -42,16 +50,22 @@ impl FrictionSign {
         }
     }
 
-    /// `sgn(vn) sgn(vt)` of a contact state's relative velocity at C (`sgn(0)` taken as +1).
+    /// `sgn(vn) sgn(vt)` of a contact state's relative velocity at C; [`FrictionSign::NoSliding`]
+    /// when `vt` is zero (callers decide what counts as zero: [`crate::Impact::friction_sign`]
+    /// uses a round-off tolerance).
     pub fn of(vn: f64, vt: f64) -> Self {
+        if vt == 0.0 {
+            return FrictionSign::NoSliding;
+        }
         Self::of_value(Self::of_value(vn).value() * Self::of_value(vt).value())
     }
 
-    /// The other sign.
+    /// The other sign (`NoSliding` stays as it is).
     pub fn flipped(self) -> Self {
         match self {
             FrictionSign::Positive => FrictionSign::Negative,
             FrictionSign::Negative => FrictionSign::Positive,
+            FrictionSign::NoSliding => FrictionSign::NoSliding,
         }
     }
 }
@@ -64,7 +78,12 @@ impl Serialize for FrictionSign {
 
 impl<'de> Deserialize<'de> for FrictionSign {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        Ok(FrictionSign::of_value(f64::deserialize(d)?))
+        let x = f64::deserialize(d)?;
+        Ok(if x == 0.0 {
+            FrictionSign::NoSliding
+        } else {
+            FrictionSign::of_value(x)
+        })
     }
 }
 
@@ -79,8 +98,12 @@ pub struct CriticalImpulse {
 
 impl CriticalImpulse {
     /// The signed critical impulse ratio `mu_max = (Pt / Pn) sign`; `None` when the normal
-    /// impulse vanishes (relative to the whole impulse) or the ratio is not finite.
+    /// impulse vanishes (relative to the whole impulse), the ratio is not finite, or there is
+    /// no sliding at contact (no sign convention, no friction limit).
     pub fn mu_max(&self, sign: FrictionSign) -> Option<f64> {
+        if sign == FrictionSign::NoSliding {
+            return None;
+        }
         let (pn, pt) = (self.normal, self.tangential);
         let scale = pn.hypot(pt);
         if pn.is_nan() || pn.abs() <= 1e-12 * scale {
@@ -178,7 +201,9 @@ mod tests {
     fn sign_of_relative_velocity() {
         assert_eq!(FrictionSign::of(-1.0, 2.0), FrictionSign::Negative);
         assert_eq!(FrictionSign::of(-1.0, -2.0), FrictionSign::Positive);
-        assert_eq!(FrictionSign::of(0.0, 0.0), FrictionSign::Positive);
+        assert_eq!(FrictionSign::of(0.0, 0.0), FrictionSign::NoSliding);
+        assert_eq!(FrictionSign::of(-3.0, 0.0), FrictionSign::NoSliding);
+        assert!(FrictionSign::NoSliding.value().abs() < f64::MIN_POSITIVE);
         let m = CriticalImpulse {
             normal: 2.0,
             tangential: -1.0,

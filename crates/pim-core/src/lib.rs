@@ -102,14 +102,14 @@ pub use friction::{
     classify_friction, creates_energy, CriticalImpulse, FrictionSign, FrictionVerdict,
 };
 pub use model::{
-    Coefficients, Collision, Impact, MomentForm, SolveOptions, TangentialCondition, Vehicle,
-    VehicleVelocity, Velocities, EM_ONE_TOL, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,
-    MAX_SPEED, MAX_YAW_RATE,
+    impact_point_polar, wrap_degrees, Coefficients, Collision, Convention, Impact, MomentForm,
+    SolveOptions, TangentialCondition, Vehicle, VehicleVelocity, Velocities, EM_ONE_TOL, MAX_ANGLE,
+    MAX_DISTANCE, MAX_INERTIA, MAX_MASS, MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
 };
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
 pub use report::{
-    residuals, Admissibility, ContactPoints, DeltaV, Energy, ImpactReport, Impulse,
-    RelativeVelocity, Residuals, TangentialOutcome, REPORT_TOL,
+    pdof, residuals, vehicle_results, Admissibility, ContactPoints, DeltaV, Energy, ImpactReport,
+    Impulse, RelativeVelocity, Residuals, TangentialOutcome, VehicleResult, REPORT_TOL,
 };
 pub use sensitivity::{
     sensitivity, CoefficientName, Level, LevelAverage, SensitivityCase, SensitivityStudy,

@@ -99,6 +99,67 @@ fn check_vehicle(v: &Vehicle, id: VehicleId) -> Result<()> {
     Ok(())
 }
 
+/// An angle in degrees brought into (-180, 180].
+pub fn wrap_degrees(a: f64) -> f64 {
+    let r = a.rem_euclid(360.0);
+    if r > 180.0 {
+        r - 360.0
+    } else {
+        r
+    }
+}
+
+/// How a case gives the vehicles' headings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Convention {
+    /// Both headings are the direction the nose points (counter-clockwise from +x, degrees),
+    /// as in scene diagrams and simulation programs. The default.
+    #[default]
+    Natural,
+    /// The papers' form (Brach 1983, 1984; the RICSAC tables): vehicle 1's heading theta1 is the
+    /// direction of its tail, its nose points along theta1 + 180 deg; vehicle 2's heading is its
+    /// nose.
+    Brach,
+}
+
+impl Convention {
+    /// The heading theta of [`Vehicle::heading`] (the papers' form) for a heading written in
+    /// this convention.
+    pub fn theta(self, id: VehicleId, heading: f64) -> f64 {
+        match (self, id) {
+            (Convention::Natural, VehicleId::One) => wrap_degrees(heading + 180.0),
+            _ => heading,
+        }
+    }
+
+    /// The other convention.
+    pub fn other(self) -> Self {
+        match self {
+            Convention::Natural => Convention::Brach,
+            Convention::Brach => Convention::Natural,
+        }
+    }
+
+    /// The name used in case files: `natural` or `brach`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Convention::Natural => "natural",
+            Convention::Brach => "brach",
+        }
+    }
+}
+
+/// The polar form `(d, phi)` (m, degrees) of an impact centre given in the vehicle's own frame
+/// (`x` forward, `y` to the left, m from the CG).
+pub fn impact_point_polar(x: f64, y: f64) -> (f64, f64) {
+    (x.hypot(y), y.atan2(x).to_degrees())
+}
+
+/// Relative size of the tangential relative velocity at contact below which the vehicles are
+/// taken not to slide (round-off of the contact-point speeds, e.g. `cos 90 deg` = 6e-17).
+pub const NO_SLIDING_TOL: f64 = 1e-9;
+
 /// Largest mass accepted, kg (far above any road vehicle; keeps the arithmetic finite).
 pub const MAX_MASS: f64 = 1e7;
 /// Largest yaw inertia accepted, kg m^2.
@@ -202,6 +263,41 @@ impl Impact {
         [[-d4, -d3], [d2, d1]]
     }
 
+    /// The direction the vehicle's nose points, degrees counter-clockwise from the fixed x axis,
+    /// in (-180, 180]. In the papers' convention of [`Vehicle::heading`] vehicle 2's nose points
+    /// along theta2 and vehicle 1's along theta1 + 180 deg (theta1 is the direction of its tail).
+    pub fn nose_heading(&self, id: VehicleId) -> f64 {
+        let c = &self.collision;
+        match id {
+            VehicleId::One => wrap_degrees(c.vehicle1.heading + 180.0),
+            VehicleId::Two => wrap_degrees(c.vehicle2.heading),
+        }
+    }
+
+    /// Unit vector of the vehicle's forward (nose) direction in the fixed frame.
+    pub fn forward_axis(&self, id: VehicleId) -> [f64; 2] {
+        let c = &self.collision;
+        let (theta, flip) = match id {
+            VehicleId::One => (c.vehicle1.heading, -1.0),
+            VehicleId::Two => (c.vehicle2.heading, 1.0),
+        };
+        let (s, co) = theta.to_radians().sin_cos();
+        [flip * co, flip * s]
+    }
+
+    /// A fixed-frame vector in the vehicle's own axes: `(forward, left)` components.
+    pub fn to_body(&self, id: VehicleId, v: [f64; 2]) -> [f64; 2] {
+        let f = self.forward_axis(id);
+        [v[0] * f[0] + v[1] * f[1], -v[0] * f[1] + v[1] * f[0]]
+    }
+
+    /// Positions of the two CGs in the fixed frame with the impact centre C at the origin, m:
+    /// `[-r1, -r2]`.
+    pub fn cg_positions(&self) -> [[f64; 2]; 2] {
+        let [r1, r2] = self.lever_arms();
+        [[-r1[0], -r1[1]], [-r2[0], -r2[1]]]
+    }
+
     /// Which side of the crush surface vehicle 1 is on: +1 when its CG lies on the +n side of
     /// vehicle 2's CG, -1 on the -n side, 0 when the geometry does not say (both CGs on the line).
     ///
@@ -256,10 +352,18 @@ impl Impact {
     }
 
     /// The sign factor `sgn(vn) sgn(vt)` of equation 5 for the contact state `v`: friction
-    /// opposes the initial sliding direction. `sgn(0)` is taken as +1.
+    /// opposes the initial sliding direction. When `|vt|` is round-off of the contact-point
+    /// speeds (at most [`NO_SLIDING_TOL`] of the larger one), the vehicles do not slide at
+    /// contact and the sign is [`FrictionSign::NoSliding`]: no tangential impulse.
     pub fn friction_sign(&self, v: &Velocities) -> FrictionSign {
         let (vn, vt) = self.relative_velocity(v);
-        FrictionSign::of(vn, vt)
+        let [p1, p2] = self.contact_point_velocities(v);
+        let scale = p1[0].hypot(p1[1]).max(p2[0].hypot(p2[1]));
+        if vt.abs() <= NO_SLIDING_TOL * scale {
+            FrictionSign::NoSliding
+        } else {
+            FrictionSign::of(vn, vt)
+        }
     }
 }
 

@@ -72,9 +72,16 @@ pub fn solve_point_mass(
     let mbar = m1 * m2 / (m1 + m2);
     let pn = mbar * (1.0 + e) * (v2n - v1n);
     let r = (v2t - v1t) / (v2n - v1n);
-    let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+    // No sliding at contact (vt is round-off of the speeds): no tangential impulse, as in the
+    // rigid-body solve (`Impact::friction_sign`).
+    let scale = dot(v1, v1).sqrt().max(dot(v2, v2).sqrt());
+    let sign = if vt.abs() <= crate::model::NO_SLIDING_TOL * scale {
+        crate::FrictionSign::NoSliding
+    } else {
+        crate::FrictionSign::of(vn, vt)
+    };
     let mu_eff = match tangential {
-        TangentialCondition::Sliding => coefficients.mu * sign(vn) * sign(vt),
+        TangentialCondition::Sliding => coefficients.mu * sign.value(),
         TangentialCondition::NoSlip => r / (1.0 + e),
     };
     let big_v1n = v1n + pn / m1;

@@ -65,6 +65,76 @@ pub struct DeltaV {
     pub direction: f64,
 }
 
+/// What a reconstructionist reads for one vehicle: speeds, delta-V in the vehicle's own axes,
+/// the principal direction of force and the yaw-rate change.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct VehicleResult {
+    /// Direction the nose points, degrees counter-clockwise from the fixed x axis, (-180, 180].
+    pub heading: f64,
+    /// CG speed at contact, m/s.
+    pub speed_initial: f64,
+    /// CG speed at separation, m/s.
+    pub speed_final: f64,
+    /// |V - v|, m/s.
+    pub delta_v: f64,
+    /// Delta-V along the vehicle's forward axis (what an EDR's longitudinal channel records),
+    /// m/s; negative when the vehicle is slowed, as in a frontal impact.
+    pub delta_v_longitudinal: f64,
+    /// Delta-V along the vehicle's left axis, m/s (positive to the left; an EDR's lateral
+    /// channel in SAE J211 axes, positive to the right, reads the opposite sign).
+    pub delta_v_lateral: f64,
+    /// Principal direction of force: where the impulse on the vehicle comes from, degrees
+    /// clockwise from the nose (SAE), in (-180, 180]: 0 frontal, 90 from the right, -90 from the
+    /// left, 180 from behind. Opposite to the delta-V direction.
+    pub pdof: f64,
+    /// The PDOF as a clock direction, 1..=12 (12 frontal, 3 right side, 9 left side).
+    pub clock: u8,
+    /// W - w, rad/s (counter-clockwise positive).
+    pub yaw_rate_change: f64,
+}
+
+/// The principal direction of force (degrees clockwise from the nose) of a delta-V given in
+/// the vehicle's own axes `(forward, left)`, and its clock direction.
+pub fn pdof(delta_v_body: [f64; 2]) -> (f64, u8) {
+    let [fwd, left] = delta_v_body;
+    if fwd == 0.0 && left == 0.0 {
+        return (0.0, 12);
+    }
+    // The force comes from -delta-V; clockwise from the nose is the negative of the
+    // counter-clockwise angle of -delta-V.
+    let angle = crate::model::wrap_degrees(-(-left).atan2(-fwd).to_degrees());
+    let hours = (angle / 30.0).round().rem_euclid(12.0) as u8;
+    (angle, if hours == 0 { 12 } else { hours })
+}
+
+/// The reconstructionist's results of both vehicles for a pair of states.
+pub fn vehicle_results(
+    impact: &Impact,
+    initial: &Velocities,
+    separation: &Velocities,
+) -> [VehicleResult; 2] {
+    use crate::error::VehicleId;
+    let one = |id: VehicleId| {
+        let a = initial.vehicle(id);
+        let b = separation.vehicle(id);
+        let dv = [b.vx - a.vx, b.vy - a.vy];
+        let body = impact.to_body(id, dv);
+        let (angle, clock) = pdof(body);
+        VehicleResult {
+            heading: impact.nose_heading(id),
+            speed_initial: a.speed(),
+            speed_final: b.speed(),
+            delta_v: dv[0].hypot(dv[1]),
+            delta_v_longitudinal: body[0],
+            delta_v_lateral: body[1],
+            pdof: angle,
+            clock,
+            yaw_rate_change: b.omega - a.omega,
+        }
+    };
+    [one(VehicleId::One), one(VehicleId::Two)]
+}
+
 /// Kinetic energy balance of the impact.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Energy {
@@ -89,6 +159,9 @@ pub enum TangentialOutcome {
     Sticking,
     /// The tangential impulse overshoots and reverses the sliding (mu beyond mu_max): not physical.
     Reversed,
+    /// No sliding at contact (`vt = 0`): friction has no direction and the tangential impulse
+    /// is zero, whatever mu is.
+    NotSliding,
 }
 
 /// Whether a solution is physically admissible.
@@ -140,6 +213,8 @@ pub struct ImpactReport {
     pub impulse: Impulse,
     /// Velocity change of vehicle 1 and vehicle 2.
     pub delta_v: [DeltaV; 2],
+    /// Speeds, delta-V in each vehicle's axes, PDOF and yaw-rate change, per vehicle.
+    pub vehicles: [VehicleResult; 2],
     /// Kinetic energy balance.
     pub energy: Energy,
     /// `sgn(vn) sgn(vt)` at contact: mu' = mu times this in equation 5 (`1` or `-1` in JSON).
@@ -292,6 +367,9 @@ pub(crate) fn build_report(
 
     let (tangential, mu_ratio, friction_ok) = match options.tangential {
         TangentialCondition::NoSlip => (TangentialOutcome::Sticking, Some(1.0), true),
+        TangentialCondition::Sliding if sign == FrictionSign::NoSliding => {
+            (TangentialOutcome::NotSliding, None, true)
+        }
         TangentialCondition::Sliding => {
             let v = classify_friction(coefficients.mu, mu_max);
             (v.outcome, v.ratio, v.admissible)
@@ -317,6 +395,7 @@ pub(crate) fn build_report(
         },
         impulse,
         delta_v: [dv1, dv2],
+        vehicles: vehicle_results(impact, initial, separation),
         energy,
         friction_sign: sign,
         mu_max,
@@ -328,5 +407,28 @@ pub(crate) fn build_report(
             friction_ok,
             energy_ok,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pdof;
+
+    #[test]
+    fn principal_direction_of_force() {
+        // Frontal: slowed along the forward axis.
+        assert_eq!(pdof([-5.0, 0.0]), (0.0, 12));
+        // Struck on the left side: pushed to the right (negative left component).
+        let (a, c) = pdof([0.0, -4.0]);
+        assert!((a + 90.0).abs() < 1e-12 && c == 9);
+        // Struck on the right side.
+        let (a, c) = pdof([0.0, 4.0]);
+        assert!((a - 90.0).abs() < 1e-12 && c == 3);
+        // Rear impact: pushed forward.
+        let (a, c) = pdof([3.0, 0.0]);
+        assert!((a - 180.0).abs() < 1e-12 && c == 6);
+        // Front right at 30 deg.
+        let (a, c) = pdof([-(30f64.to_radians().cos()), 30f64.to_radians().sin()]);
+        assert!((a - 30.0).abs() < 1e-9 && c == 1);
     }
 }

@@ -240,7 +240,11 @@ pub fn solve_backward(
     coefficients.validate()?;
     separation.validate()?;
     let signs: &[FrictionSign] = match options.tangential {
-        TangentialCondition::Sliding => &FrictionSign::BOTH,
+        TangentialCondition::Sliding => &[
+            FrictionSign::Positive,
+            FrictionSign::Negative,
+            FrictionSign::NoSliding,
+        ],
         TangentialCondition::NoSlip => &[FrictionSign::Positive],
     };
     backward(impact, coefficients, separation, options, signs)
@@ -283,6 +287,10 @@ fn backward(
             }
         };
         let x = Velocities::from_vector(&factor.solve(&-(system.f * xf)));
+        if s == FrictionSign::NoSliding && impact.friction_sign(&x) != s {
+            // The exceptional hypothesis "no sliding at contact" is kept only when it holds.
+            continue;
+        }
         if let Err(e) = impact.check_approach(&x) {
             rejected.push((s, e));
         } else if no_slip || impact.friction_sign(&x) == s {

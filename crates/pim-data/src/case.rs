@@ -1,29 +1,70 @@
 //! The TOML case file of a solve, a sensitivity study and a fit.
 
 use crate::error::{InputError, Result};
-use pim_core::{Coefficients, Collision, Vehicle, VehicleVelocity, Velocities};
+use crate::units::UnitsSection;
+use pim_core::{
+    Coefficients, Collision, Convention, Vehicle, VehicleId, VehicleVelocity, Velocities,
+};
 use serde::Deserialize;
 
 /// Largest case file accepted, bytes (a case is a few hundred bytes).
 pub const MAX_CASE_BYTES: u64 = 1 << 20;
 
-/// One vehicle as written in the case file.
+/// A point in a vehicle's own frame: `x` forward, `y` to the left, from the CG.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSection {
+    /// Forward of the CG (length unit).
+    pub x: f64,
+    /// Left of the CG (length unit).
+    pub y: f64,
+}
+
+/// One vehicle as written in the case file. After loading ([`Case::from_text`]) every number
+/// is SI and `d`, `phi` are set whichever form the file used.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleSection {
     /// Free text (make, model).
     #[serde(default)]
     pub description: Option<String>,
-    /// kg.
+    /// Mass (mass unit; kg after loading).
     pub mass: f64,
-    /// kg m^2.
+    /// Yaw moment of inertia (kg m^2 after loading).
     pub yaw_inertia: f64,
-    /// Heading theta, degrees.
+    /// Heading, degrees counter-clockwise from +x: where the nose points (natural convention),
+    /// or the papers' theta (`convention = "brach"`: vehicle 1's tail).
     pub heading: f64,
-    /// CG to impact centre, m.
-    pub d: f64,
-    /// Angle phi, degrees.
-    pub phi: f64,
+    /// CG to impact centre (polar form; m after loading).
+    #[serde(default)]
+    pub d: Option<f64>,
+    /// Angle from the nose to the CG-to-C line, degrees counter-clockwise (polar form).
+    #[serde(default)]
+    pub phi: Option<f64>,
+    /// The impact centre in the vehicle's frame (x forward, y left), instead of `d`, `phi`.
+    #[serde(default)]
+    pub impact_point: Option<PointSection>,
+    /// Overall length, for drawings (m after loading).
+    #[serde(default)]
+    pub length: Option<f64>,
+    /// Overall width, for drawings (m after loading).
+    #[serde(default)]
+    pub width: Option<f64>,
+    /// CG to the front face, for drawings (default half the length; m after loading).
+    #[serde(default)]
+    pub cg_to_front: Option<f64>,
+}
+
+impl VehicleSection {
+    /// CG to impact centre, m (set after loading).
+    pub fn d(&self) -> f64 {
+        self.d.unwrap_or(0.0)
+    }
+
+    /// Angle phi, degrees (set after loading).
+    pub fn phi(&self) -> f64 {
+        self.phi.unwrap_or(0.0)
+    }
 }
 
 /// `[impact]`.
@@ -90,6 +131,12 @@ pub struct CaseFile {
     /// Free text.
     #[serde(default)]
     pub title: Option<String>,
+    /// How headings are given: `natural` (default, the nose) or `brach` (the papers' form).
+    #[serde(default)]
+    pub convention: Convention,
+    /// Units of the file's numbers (default SI).
+    #[serde(default)]
+    pub units: UnitsSection,
     /// Vehicle 1.
     pub vehicle1: VehicleSection,
     /// Vehicle 2.
@@ -303,15 +350,126 @@ fn finite(file: &str, path: &str, value: f64) -> Result<()> {
 }
 
 impl Case {
-    /// Parses case-file text; `file` names it in messages.
+    /// Parses case-file text; `file` names it in messages. The content is returned in SI with
+    /// the impact centres in polar form (`d`, `phi`), whatever units and form the file used.
     pub fn from_text(file: &str, text: &str) -> Result<Self> {
         let content: CaseFile = parse_toml(file, text)?;
-        let case = Case {
+        let mut case = Case {
             file: file.to_string(),
             content,
         };
         case.check_states()?;
+        case.resolve_impact_points()?;
+        case.convert_to_si();
         Ok(case)
+    }
+
+    /// Checks that each vehicle gives its impact centre in exactly one form and writes the
+    /// polar form (`impact_point` is converted, in the file's length unit).
+    fn resolve_impact_points(&mut self) -> Result<()> {
+        let file = self.file.clone();
+        for (name, v) in [
+            ("vehicle1", &mut self.content.vehicle1),
+            ("vehicle2", &mut self.content.vehicle2),
+        ] {
+            match (v.impact_point, v.d, v.phi) {
+                (Some(p), None, None) => {
+                    finite(&file, &format!("[{name}] impact_point.x"), p.x)?;
+                    finite(&file, &format!("[{name}] impact_point.y"), p.y)?;
+                    let (d, phi) = pim_core::impact_point_polar(p.x, p.y);
+                    v.d = Some(d);
+                    v.phi = Some(phi);
+                }
+                (None, Some(_), Some(_)) => {}
+                (Some(_), _, _) => {
+                    return Err(InputError::new(
+                        &file,
+                        format!(
+                            "[{name}] gives the impact centre twice: use either impact_point = \
+                             {{ x = .., y = .. }} or d and phi, not both"
+                        ),
+                    ))
+                }
+                (None, d, _) => {
+                    let missing = if d.is_none() { "d" } else { "phi" };
+                    return Err(InputError::new(
+                        &file,
+                        format!(
+                            "[{name}] {missing}: missing; give the impact centre as impact_point = \
+                             {{ x = .., y = .. }} (from the CG, x forward, y to the left) or as d \
+                             (CG to impact centre) and phi (degrees counter-clockwise from the nose)"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Converts every number with a unit to SI (`[units]`).
+    fn convert_to_si(&mut self) {
+        let u = self.content.units;
+        let (speed, length, mass, inertia, rate) = (
+            u.speed.to_si(),
+            u.length.to_si(),
+            u.mass.to_si(),
+            u.yaw_inertia.to_si(),
+            u.yaw_rate.to_si(),
+        );
+        let c = &mut self.content;
+        for v in [&mut c.vehicle1, &mut c.vehicle2] {
+            v.mass *= mass;
+            v.yaw_inertia *= inertia;
+            for x in [&mut v.d, &mut v.length, &mut v.width, &mut v.cg_to_front]
+                .into_iter()
+                .flatten()
+            {
+                *x *= length;
+            }
+            if let Some(p) = &mut v.impact_point {
+                p.x *= length;
+                p.y *= length;
+            }
+        }
+        let velocity = |v: &mut VelocitySection| {
+            v.vx *= speed;
+            v.vy *= speed;
+            v.omega *= rate;
+        };
+        for s in [&mut c.initial, &mut c.final_].into_iter().flatten() {
+            velocity(&mut s.vehicle1);
+            velocity(&mut s.vehicle2);
+        }
+        let partial = |v: &mut PartialVelocity| {
+            for x in [&mut v.vx, &mut v.vy].into_iter().flatten() {
+                *x *= speed;
+            }
+            if let Some(w) = &mut v.omega {
+                *w *= rate;
+            }
+        };
+        for states in [&mut c.estimates, &mut c.known].into_iter().flatten() {
+            for s in [&mut states.initial, &mut states.final_]
+                .into_iter()
+                .flatten()
+            {
+                partial(&mut s.vehicle1);
+                partial(&mut s.vehicle2);
+            }
+        }
+        if let Some(b) = &mut c.bounds {
+            if let Some(v) = &mut b.velocity {
+                *v *= speed;
+            }
+            if let Some(w) = &mut b.yaw_rate {
+                *w *= rate;
+            }
+        }
+        for o in &mut c.observations {
+            o.value *= speed;
+        }
+        // Converted once: the content is SI from here on.
+        c.units = UnitsSection::default();
     }
 
     fn check_states(&self) -> Result<()> {
@@ -330,21 +488,77 @@ impl Case {
         Ok(())
     }
 
-    /// The collision, checked by pim-core (messages name the vehicle and field).
-    pub fn impact(&self) -> Result<pim_core::Impact> {
-        let v = |s: &VehicleSection| Vehicle {
+    /// The collision in the papers' form (pim-core's [`Vehicle`]) for a given convention.
+    fn collision(&self, convention: Convention) -> Collision {
+        let v = |s: &VehicleSection, id: VehicleId| Vehicle {
             mass: s.mass,
             yaw_inertia: s.yaw_inertia,
-            heading: s.heading,
-            d: s.d,
-            phi: s.phi,
+            heading: convention.theta(id, s.heading),
+            d: s.d(),
+            phi: s.phi(),
         };
-        pim_core::Impact::new(Collision {
-            vehicle1: v(&self.content.vehicle1),
-            vehicle2: v(&self.content.vehicle2),
+        Collision {
+            vehicle1: v(&self.content.vehicle1, VehicleId::One),
+            vehicle2: v(&self.content.vehicle2, VehicleId::Two),
             crush_angle: self.content.impact.crush_angle,
-        })
-        .map_err(|e| InputError::new(&self.file, e))
+        }
+    }
+
+    /// The collision, checked by pim-core (messages name the vehicle and field).
+    pub fn impact(&self) -> Result<pim_core::Impact> {
+        pim_core::Impact::new(self.collision(self.content.convention))
+            .map_err(|e| InputError::new(&self.file, e))
+    }
+
+    /// Why the vehicles of this case do not approach each other at the impact centre in the
+    /// contact state `v`, in words: where the case put the centres of mass and the impact
+    /// centre, and whether the other heading convention would make it an impact. `None` when
+    /// they do approach.
+    pub fn explain_not_approaching(&self, v: &Velocities) -> Option<String> {
+        let impact = self.impact().ok()?;
+        impact.check_approach(v).err()?;
+        let [g1, g2] = impact.cg_positions();
+        let n = impact.normal();
+        let (vn, _) = impact.relative_velocity(v);
+        let conv = self.content.convention;
+        let z = |x: f64| if x.abs() < 5e-3 { 0.0 } else { x };
+        let mut text = format!(
+            "with convention = \"{}\" ({}) the case puts, in the fixed frame with the impact \
+             centre C at (0, 0) m: vehicle 1's CG at ({:.2}, {:.2}) m, nose towards {:.1} deg; \
+             vehicle 2's CG at ({:.2}, {:.2}) m, nose towards {:.1} deg; crush-surface normal \
+             ({:.3}, {:.3}); the velocity of vehicle 1's point at C relative to vehicle 2's along \
+             that normal is {:.3} m/s, away from vehicle 2's side of the crush surface",
+            conv.name(),
+            match conv {
+                Convention::Natural => "headings are where the noses point",
+                Convention::Brach => "vehicle 1's heading is the direction of its tail",
+            },
+            z(g1[0]),
+            z(g1[1]),
+            impact.nose_heading(VehicleId::One),
+            z(g2[0]),
+            z(g2[1]),
+            impact.nose_heading(VehicleId::Two),
+            z(n[0]),
+            z(n[1]),
+            vn,
+        );
+        let other = conv.other();
+        if let Ok(alt) = pim_core::Impact::new(self.collision(other)) {
+            if alt.check_approach(v).is_ok() {
+                text.push_str(&format!(
+                    "; with convention = \"{}\" ({}) these velocities would make an impact: \
+                     check which form the headings were written in",
+                    other.name(),
+                    match other {
+                        Convention::Natural => "vehicle 1's heading is where its nose points",
+                        Convention::Brach =>
+                            "vehicle 1's heading is its tail, as in Brach's papers and the RICSAC tables",
+                    }
+                ));
+            }
+        }
+        Some(text)
     }
 
     /// The `[coefficients]` section, required and checked.

@@ -10,7 +10,8 @@
 //!   collision, in the papers' geometry;
 //! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`;
 //! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
-//! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit.
+//! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit;
+//! - [`units`]: the `[units]` of a case file and the unit systems of printed tables.
 //!
 //! Bad input is an [`InputError`] whose message names the file, line and field.
 
@@ -21,5 +22,6 @@ pub mod fitcase;
 pub mod records;
 pub mod reference;
 pub mod ricsac;
+pub mod units;
 
 pub use error::{InputError, Result};

@@ -62,6 +62,8 @@ pub struct EnergyOut {
     /// J.
     #[serde(rename = "final")]
     pub final_: f64,
+    /// initial - final, J.
+    pub loss: f64,
     /// Percent.
     pub loss_percent: f64,
 }
@@ -82,8 +84,12 @@ pub struct SolveOut {
     pub final_: StateOut,
     /// Delta-V magnitudes.
     pub delta_v: DeltaVOut,
-    /// Delta-V components and directions per vehicle.
+    /// Delta-V components and directions per vehicle (fixed frame).
     pub delta_v_detail: [pim_core::DeltaV; 2],
+    /// Per vehicle: nose heading (deg), speeds at contact and separation (m/s), delta-V and its
+    /// components along the vehicle's forward and left axes (m/s), PDOF (deg clockwise from
+    /// the nose) and clock direction, yaw-rate change (rad/s).
+    pub vehicles: [pim_core::VehicleResult; 2],
     /// Energy balance.
     pub energy: EnergyOut,
     /// Impulses on vehicle 1.
@@ -122,9 +128,11 @@ impl SolveOut {
                 vehicle2: r.delta_v[1].magnitude,
             },
             delta_v_detail: r.delta_v,
+            vehicles: r.vehicles,
             energy: EnergyOut {
                 initial: r.energy.initial,
                 final_: r.energy.final_,
+                loss: r.energy.loss,
                 loss_percent: r.energy.loss_percent,
             },
             impulse: r.impulse,
@@ -209,10 +217,14 @@ pub struct BranchRecord {
     pub max_residual: Option<f64>,
     /// Kinetic energy loss, percent.
     pub energy_loss_percent: Option<f64>,
+    /// Kinetic energy loss, J.
+    pub energy_loss: Option<f64>,
     /// Signed critical friction of the fitted contact state.
     pub mu_max: Option<f64>,
     /// mu / mu_max.
     pub mu_ratio: Option<f64>,
+    /// Per vehicle: speeds, delta-V in the vehicle's axes, PDOF, yaw-rate change (SI).
+    pub vehicles: Option<[pim_core::VehicleResult; 2]>,
     /// True when the vehicles stick (mu = mu_max).
     pub sticking: Option<bool>,
     /// Delta-V magnitudes, m/s.
@@ -247,6 +259,8 @@ impl BranchRecord {
             final_: s.map(|s| (&s.separation).into()),
             max_residual: s.map(|s| s.max_residual),
             energy_loss_percent: s.map(|s| s.energy_loss_percent),
+            energy_loss: s.map(|s| s.energy_loss),
+            vehicles: s.map(|s| s.vehicles),
             mu_max: s.and_then(|s| s.mu_max),
             mu_ratio: s.and_then(|s| s.mu_ratio),
             sticking: s.map(|s| s.sticking),

@@ -145,6 +145,8 @@ fn solution(
         mu_max: r.mu_max,
         mu_ratio: r.mu_ratio,
         delta_v: r.delta_v,
+        vehicles: r.vehicles,
+        energy_loss: r.energy.loss,
         impulse: r.impulse,
         admissible: r.admissibility.admissible,
         undetermined: inner.undetermined_components(&best.at),

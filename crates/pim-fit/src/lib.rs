@@ -96,8 +96,25 @@ use search::{search_branch, Outcome};
 /// data give a report whose branches say so.
 pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> {
     problem.check()?;
-    let s = settings.get();
-    let inner = Inner::new(problem, s);
+    let mut s = settings.get();
+    let mut inner = Inner::new(problem, s);
+    let mut notes = Vec::new();
+    let held;
+    if inner.no_sliding_at_contact() {
+        // No sliding at contact: friction has no direction and no tangential impulse acts, so
+        // mu has no effect on the equations; it is held at 0.
+        held = FitSettings {
+            mu: [0.0, 0.0],
+            ..s.clone()
+        };
+        s = &held;
+        inner = Inner::new(problem, s);
+        notes.push(
+            "the known contact velocities do not slide along the crush surface (vt = 0): no \
+             tangential impulse acts and mu is held at 0"
+                .to_string(),
+        );
+    }
     // The branches are independent searches: run them side by side.
     let outcomes: Vec<Outcome> = match s.branches.as_slice() {
         [a, b] => {
@@ -118,7 +135,6 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
         .filter(|b| matches!(b.status, Status::Optimal | Status::LimitReached))
         .filter_map(|b| b.solution.as_ref().map(|sol| (b.moment, sol.cost)))
         .collect();
-    let mut notes = Vec::new();
     let min = solved.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
     let tie = s.search.agreement_tolerance;
     let tied: Vec<MomentBranch> = solved

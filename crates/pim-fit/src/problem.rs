@@ -175,13 +175,7 @@ pub struct Observation {
 /// convention (impact centre at `r1 = -(D4, D3)`) vehicle 1's forward direction is theta1 + 180 deg,
 /// as every RICSAC vehicle 1 confirms by moving along it.
 pub fn forward_axis(impact: &Impact, vehicle: VehicleId) -> [f64; 2] {
-    let c = impact.collision();
-    let (theta, flip) = match vehicle {
-        VehicleId::One => (c.vehicle1.heading, -1.0),
-        VehicleId::Two => (c.vehicle2.heading, 1.0),
-    };
-    let (s, co) = theta.to_radians().sin_cos();
-    [flip * co, flip * s]
+    impact.forward_axis(vehicle)
 }
 
 impl Observation {

@@ -417,6 +417,10 @@ pub struct Solution {
     pub mu_ratio: Option<f64>,
     /// Delta-V of both vehicles.
     pub delta_v: [DeltaV; 2],
+    /// Speeds, delta-V in each vehicle's axes, PDOF and yaw-rate change, per vehicle.
+    pub vehicles: [pim_core::VehicleResult; 2],
+    /// Kinetic energy loss, J.
+    pub energy_loss: f64,
     /// Impulses on vehicle 1.
     pub impulse: Impulse,
     /// Physically admissible by pim-core's own check (friction domain, energy).

@@ -47,7 +47,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             best: report.best,
             notes: report.notes.clone(),
         })?,
-        Format::Table => tables::fit_table(&title_of(&case), name, &report),
+        Format::Table => tables::fit_table(&title_of(&case), name, &report, a.units.into()),
     };
     print_out(&text)?;
     if report.best.is_none() {

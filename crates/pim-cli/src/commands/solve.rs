@@ -33,10 +33,20 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     } else {
         pim_core::solve_backward(&impact, &coefficients, &state, &opts)
     }
-    .map_err(|e| Failure::from_core(&case.file, e))?;
+    .map_err(|e| match (&e, forward) {
+        (pim_core::PimError::NotApproaching { .. }, true) => {
+            match case.explain_not_approaching(&state) {
+                Some(why) => Failure::Input(format!("{}: {e}; {why}", case.file)),
+                None => Failure::from_core(&case.file, e),
+            }
+        }
+        _ => Failure::from_core(&case.file, e),
+    })?;
     let text = match a.format {
         Format::Json => json(&records::SolveOut::new(&impact, &report, forward))?,
-        Format::Table => tables::solve_table(&title_of(&case), &impact, &report, forward),
+        Format::Table => {
+            tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into())
+        }
     };
     print_out(&text)?;
     Ok(ExitCode::from(EXIT_OK))

@@ -2,77 +2,156 @@
 
 use pim_core::ImpactReport;
 use pim_core::SensitivityStudy;
+use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
+
+/// `x` to `prec` decimals, without a minus sign on a value that rounds to zero.
+pub fn num(x: f64, prec: usize) -> String {
+    let half = 0.5 * 10f64.powi(-(prec as i32));
+    let x = if x.abs() < half { 0.0 } else { x };
+    format!("{x:.prec$}")
+}
 
 fn opt(x: Option<f64>, prec: usize) -> String {
     x.map_or_else(|| "undefined".to_string(), |v| format!("{v:.prec$}"))
 }
 
-/// The human-readable table of one solve.
+/// Words for what happens along the crush surface.
+pub fn tangential_words(t: pim_core::TangentialOutcome) -> &'static str {
+    match t {
+        pim_core::TangentialOutcome::Sliding => "still sliding at separation (|mu| < |mu_max|)",
+        pim_core::TangentialOutcome::Sticking => "sliding ends by separation (mu = mu_max)",
+        pim_core::TangentialOutcome::Reversed => {
+            "sliding reversed (mu beyond mu_max: not physical)"
+        }
+        pim_core::TangentialOutcome::NotSliding => {
+            "no sliding at contact (vt = 0): no tangential impulse, mu has no effect"
+        }
+    }
+}
+
+/// The reconstructionist's block: speeds, delta-V in the vehicles' axes, PDOF, yaw-rate change.
+pub fn vehicle_block(s: &mut String, v: &[pim_core::VehicleResult; 2], u: UnitSystem) {
+    let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
+    let row = |s: &mut String, label: String, f: &dyn Fn(&pim_core::VehicleResult) -> String| {
+        let _ = writeln!(s, "{label:<34} {:>12} {:>12}", f(&v[0]), f(&v[1]));
+    };
+    let _ = writeln!(s, "{:<34} {:>12} {:>12}", "", "vehicle1", "vehicle2");
+    row(s, "heading of the nose [deg]".into(), &|r| {
+        num(r.heading, 1)
+    });
+    row(s, format!("speed at contact [{sp}]"), &|r| {
+        num(u.speed(r.speed_initial), 2)
+    });
+    row(s, format!("speed at separation [{sp}]"), &|r| {
+        num(u.speed(r.speed_final), 2)
+    });
+    row(s, format!("delta-V [{sp}]"), &|r| {
+        num(u.speed(r.delta_v), 2)
+    });
+    row(s, format!("  longitudinal, forward + [{sp}]"), &|r| {
+        num(u.speed(r.delta_v_longitudinal), 2)
+    });
+    row(s, format!("  lateral, left + [{sp}]"), &|r| {
+        num(u.speed(r.delta_v_lateral), 2)
+    });
+    row(s, "PDOF, clockwise from nose [deg]".into(), &|r| {
+        num(r.pdof, 0)
+    });
+    row(s, "PDOF as a clock direction".into(), &|r| {
+        format!("{} o'clock", r.clock)
+    });
+    row(s, format!("yaw-rate change [{yr}]"), &|r| {
+        num(u.yaw_rate(r.yaw_rate_change), 3)
+    });
+}
+
+/// The human-readable table of one solve, in the unit system `u`.
 pub fn solve_table(
     title: &str,
     impact: &pim_core::Impact,
     r: &ImpactReport,
     forward: bool,
+    u: UnitSystem,
 ) -> String {
     let mut s = String::new();
     let c = &r.coefficients;
     let _ = writeln!(s, "{title}");
     let _ = writeln!(
         s,
-        "solved {}: e = {}, mu = {}, em = {}; moment equation {:?}, tangential condition {:?}",
+        "solved {}: e = {}, mu = {}, em = {} ({} moment equation, {})",
         if forward { "forwards" } else { "backwards" },
         c.e,
         c.mu,
         c.em,
-        r.options.moment_form,
-        r.options.tangential
+        match r.options.moment_form {
+            pim_core::MomentForm::Corrected => "corrected",
+            pim_core::MomentForm::Brach1983 => "1983",
+        },
+        match r.options.tangential {
+            pim_core::TangentialCondition::Sliding => "friction ratio mu (equation 5)",
+            pim_core::TangentialCondition::NoSlip => "no slip at separation (equation 5a)",
+        }
     );
     let _ = writeln!(s);
+    let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
     let _ = writeln!(
         s,
-        "                     vx [m/s]   vy [m/s]  omega [rad/s]   |dV| [m/s]  dir [deg]"
+        "{:<21}{:>10}  {:>9}  {:>13}",
+        "",
+        format!("vx [{sp}]"),
+        format!("vy [{sp}]"),
+        format!("omega [{yr}]")
     );
     for (k, name) in ["vehicle1", "vehicle2"].iter().enumerate() {
-        let i = r.initial.vehicle(pim_core::VehicleId::from_index(k));
-        let f = r.separation.vehicle(pim_core::VehicleId::from_index(k));
-        let dv = &r.delta_v[k];
-        let _ = writeln!(
-            s,
-            "{name}  initial  {:>9.3}  {:>9.3}  {:>13.3}",
-            i.vx, i.vy, i.omega
-        );
-        let _ = writeln!(
-            s,
-            "{name}  final    {:>9.3}  {:>9.3}  {:>13.3}   {:>10.3}  {:>9.1}",
-            f.vx, f.vy, f.omega, dv.magnitude, dv.direction
-        );
+        let id = pim_core::VehicleId::from_index(k);
+        for (when, v) in [
+            ("contact   ", r.initial.vehicle(id)),
+            ("separation", r.separation.vehicle(id)),
+        ] {
+            let _ = writeln!(
+                s,
+                "{name}  {when} {:>9}  {:>9}  {:>13}",
+                num(u.speed(v.vx), 3),
+                num(u.speed(v.vy), 3),
+                num(u.yaw_rate(v.omega), 3)
+            );
+        }
     }
+    let _ = writeln!(s);
+    vehicle_block(&mut s, &r.vehicles, u);
     let _ = writeln!(s);
     let e = &r.energy;
     let _ = writeln!(
         s,
-        "kinetic energy      {:.0} J at contact, {:.0} J at separation: loss {:.2} %",
-        e.initial, e.final_, e.loss_percent
+        "kinetic energy      {:.0} J at contact, {:.0} J at separation: loss {:.0} J ({:.2} %)",
+        e.initial, e.final_, e.loss, e.loss_percent
     );
     let p = &r.impulse;
     let _ = writeln!(
         s,
-        "impulse on veh. 1   Px {:.1}, Py {:.1}, Pn {:.1}, Pt {:.1} N s; moment M {:.1} N m s",
-        p.px, p.py, p.normal, p.tangential, p.moment
+        "impulse on veh. 1   Px {}, Py {}, Pn {}, Pt {} N s; moment M {} N m s",
+        num(p.px, 1),
+        num(p.py, 1),
+        num(p.normal, 1),
+        num(p.tangential, 1),
+        num(p.moment, 1)
     );
     let rv = &r.relative;
     let _ = writeln!(
         s,
-        "relative vel. at C  vn {:.3} -> Vn {:.3} m/s, vt {:.3} -> Vt {:.3} m/s",
-        rv.normal_initial, rv.normal_final, rv.tangential_initial, rv.tangential_final
+        "relative vel. at C  vn {} -> Vn {} {sp}, vt {} -> Vt {} {sp}",
+        num(u.speed(rv.normal_initial), 3),
+        num(u.speed(rv.normal_final), 3),
+        num(u.speed(rv.tangential_initial), 3),
+        num(u.speed(rv.tangential_final), 3)
     );
     let _ = writeln!(
         s,
-        "friction            mu_max {} (signed), mu/mu_max {}, {:?}",
+        "friction            mu_max {} (signed), mu/mu_max {}: {}",
         opt(r.mu_max, 4),
         opt(r.mu_ratio, 4),
-        r.tangential
+        tangential_words(r.tangential)
     );
     let _ = writeln!(
         s,
@@ -151,7 +230,7 @@ fn opt3(x: Option<f64>) -> String {
 }
 
 /// The human-readable table of a fit.
-pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport) -> String {
+pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "{title}\nfit with cost function {cost}\n");
     for b in &r.branches {
@@ -186,25 +265,34 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport) -> String {
             );
             let _ = writeln!(
                 s,
-                "  cost {:.5}   energy loss {:.2} %   |dV| {:.3} / {:.3} m/s   residual {:.1e}",
-                sol.cost,
-                sol.energy_loss_percent,
-                sol.delta_v[0].magnitude,
-                sol.delta_v[1].magnitude,
-                sol.max_residual
+                "  cost {:.5}   energy loss {:.0} J ({:.2} %)   residual {:.1e}",
+                sol.cost, sol.energy_loss, sol.energy_loss_percent, sol.max_residual
             );
-            let _ = writeln!(s, "                 vx [m/s]   vy [m/s]  omega [rad/s]");
-            for (name, st) in [("initial", &sol.initial), ("final", &sol.separation)] {
+            let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
+            let _ = writeln!(
+                s,
+                "{:<19}{:>10}  {:>9}  {:>13}",
+                "",
+                format!("vx [{sp}]"),
+                format!("vy [{sp}]"),
+                format!("omega [{yr}]")
+            );
+            for (name, st) in [("contact", &sol.initial), ("separation", &sol.separation)] {
                 for (k, v) in [&st.vehicle1, &st.vehicle2].iter().enumerate() {
                     let _ = writeln!(
                         s,
-                        "  {name:<7} veh{} {:>9.3}  {:>9.3}  {:>13.3}",
+                        "  {name:<10} veh{} {:>9}  {:>9}  {:>13}",
                         k + 1,
-                        v.vx,
-                        v.vy,
-                        v.omega
+                        num(u.speed(v.vx), 3),
+                        num(u.speed(v.vy), 3),
+                        num(u.yaw_rate(v.omega), 3)
                     );
                 }
+            }
+            let mut block = String::new();
+            vehicle_block(&mut block, &sol.vehicles, u);
+            for line in block.lines() {
+                let _ = writeln!(s, "  {line}");
             }
             if !sol.active_constraints.is_empty() {
                 let active: Vec<String> = sol

@@ -91,9 +91,11 @@ pub(crate) struct Inner {
     tol: f64,
 }
 
+/// The linear constraint set of a sign. `NoSliding` never reaches a search point (a known contact
+/// state without sliding is searched with sign +1 and mu = 0, see [`Inner::signs`]).
 fn sign_index(s: FrictionSign) -> usize {
     match s {
-        FrictionSign::Positive => 0,
+        FrictionSign::Positive | FrictionSign::NoSliding => 0,
         FrictionSign::Negative => 1,
     }
 }
@@ -168,10 +170,17 @@ impl Inner {
         self.objective.data_scale()
     }
 
-    /// The friction signs to try.
+    /// True when the contact state is known and does not slide at C (`vt = 0`): there is no
+    /// tangential impulse, and the fit must hold mu at 0.
+    pub fn no_sliding_at_contact(&self) -> bool {
+        self.known_sign == Some(FrictionSign::NoSliding)
+    }
+
+    /// The friction signs to try (with no sliding at contact, mu = 0 and either sign is the
+    /// same system: +1 is used).
     pub fn signs(&self) -> &'static [FrictionSign] {
         match self.known_sign {
-            Some(FrictionSign::Positive) => &[FrictionSign::Positive],
+            Some(FrictionSign::Positive | FrictionSign::NoSliding) => &[FrictionSign::Positive],
             Some(FrictionSign::Negative) => &[FrictionSign::Negative],
             None => &FrictionSign::BOTH,
         }
