@@ -9,22 +9,37 @@ const ABOUT: &str = "Planar Impact Mechanics (Brach) for two-vehicle collisions:
 impulse-momentum equations, study coefficient sensitivity, and fit coefficients to crash data.";
 
 const CASE_HELP: &str = "\
-CASE FILE (TOML, SI units, angles in degrees):
+CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, counter-clockwise):
+  title = \"side impact\"             # optional; top-level keys go before the first [section]
+  # convention = \"brach\"           # only for the papers' form: vehicle 1's heading is its tail
   [vehicle1]                       # vehicle2 likewise
-  mass = 1955.0                    # kg
-  yaw_inertia = 4723.0             # kg m^2
-  heading = 0.0                    # deg, theta: length axis to the x axis
-  d = 1.8                          # m, CG to impact centre C
-  phi = 0.0                        # deg, CG-to-C line to the length axis
+  mass = 1500.0                    # kg
+  yaw_inertia = 2500.0             # kg m^2, about the vertical axis through the CG
+  heading = 0.0                    # deg: direction the nose points, from the +x axis
+  impact_point = { x = 2.0, y = 0.0 }  # m from the CG, x forward, y to the left: impact centre C
+  # or: d = 2.0 and phi = 0.0      # polar form: distance CG to C, angle from the nose
+  length = 4.5                     # optional, for `pim draw` (also width, cg_to_front)
+  [vehicle2]
+  mass = 1500.0
+  yaw_inertia = 2500.0
+  heading = 90.0
+  impact_point = { x = 0.0, y = 0.9 }  # the middle of its left side
   [impact]
-  crush_angle = -30.0              # deg, Gamma: crush surface to the y axis
+  crush_angle = 0.0                # deg: direction of the crush-surface normal (either sense)
   [coefficients]
-  e = 0.015                        # restitution, 0..1
-  mu = 0.968                       # equivalent friction (signed impulse ratio)
-  em = -0.774                      # moment restitution, -1..0 or exactly 1
+  e = 0.1                          # restitution, 0..1
+  mu = 0.5                         # equivalent friction (impulse ratio; no effect if vt = 0)
+  em = 1.0                         # moment restitution, -1..0 or exactly 1 (no moment impulse)
   [initial]                        # velocities at contact; or [final] to solve backwards
-  vehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }      # m/s, m/s, rad/s
-  vehicle2 = { vx = 6.505, vy = 11.267, omega = 0.0 }";
+  vehicle1 = { vx = 15.0, vy = 0.0, omega = 0.0 }      # m/s, m/s, rad/s (fixed frame)
+  vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }
+  # [units]                        # optional, each defaults to SI:
+  # speed = \"mph\"                # m/s, km/h, mph
+  # length = \"ft\"                # m, ft
+  # mass = \"lb\"                  # kg, lb
+  # yaw_inertia = \"slug ft^2\"    # kg m^2, slug ft^2
+  # yaw_rate = \"deg/s\"           # rad/s, deg/s
+This example is examples/cases/side_impact.toml (and side_impact_us.toml in US units).";
 
 #[derive(Parser, Debug)]
 #[command(name = "pim", version, about = ABOUT, after_help = EXIT_CODES_HELP)]
@@ -92,6 +107,21 @@ pub struct SolveArgs {
     pub out: Option<PathBuf>,
 }
 
+#[derive(clap::Args, Debug)]
+pub struct DrawArgs {
+    /// The case file (TOML); see CASE FILE below.
+    pub case: PathBuf,
+    /// The SVG file to write.
+    #[arg(long, short = 'o')]
+    pub output: PathBuf,
+    /// Form of the moment equation (6), when the case is solved.
+    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
+    pub moment_form: MomentArg,
+    /// Solve with the no-slip condition (5a) instead of friction (5).
+    #[arg(long)]
+    pub no_slip: bool,
+}
+
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Solve the impact equations: separation velocities from [initial], or contact velocities
@@ -113,6 +143,11 @@ pub enum Command {
     /// ("zero"). Infeasible data are reported with the reason.
     #[command(after_help = format!("{FIT_HELP}\n\n{EXIT_CODES_HELP}"))]
     Fit(FitArgs),
+    /// Draw a case to scale at contact (plan view, SVG): outlines, CGs, noses, the impact
+    /// centre, the crush surface with n and t, the velocities at contact, and when the case has
+    /// [coefficients] and a state, the velocities at separation, the impulses and the PDOF.
+    #[command(after_help = format!("{CASE_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Draw(DrawArgs),
     /// Refit every RICSAC test of a data file under each cost function and moment branch (the
     /// main job): summary tables, the comparison with Brach 1984 Table 1, JSON or CSV records,
     /// and with --out, CSV files and SVG figures.
@@ -183,8 +218,8 @@ pub struct BatchArgs {
 }
 
 const FIT_HELP: &str = "\
-CASE FILE: as for `pim solve` ([vehicle1], [vehicle2], [impact]), without [coefficients],
-[initial], [final], plus:
+CASE FILE: as for `pim solve` ([vehicle1], [vehicle2], [impact], optional [units] and
+convention), without [coefficients], [initial], [final], plus:
   [estimates.initial]              # estimated velocities at contact (partial allowed)
   vehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }
   vehicle2 = { vx = 6.50, vy = 11.27, omega = 0.0 }

@@ -358,3 +358,22 @@ fn a_case_written_in_the_other_convention_says_where_everything_is() {
     let j = json_of(&pim(&["solve", &path, "--format", "json"]));
     assert!((j["final"]["vehicle2"]["vx"].as_f64().unwrap() - 8.25).abs() < 1e-9);
 }
+
+#[test]
+fn the_case_file_of_the_help_text_solves_as_written() {
+    // A user who copies the example of `pim solve --help` gets the side impact's physics.
+    let out = pim(&["solve", "--help"]);
+    let help = String::from_utf8_lossy(&out.stdout);
+    let start = help.find("CASE FILE (TOML").expect("CASE FILE in the help");
+    let body: String = help[start..]
+        .lines()
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .map(|l| format!("{}\n", &l[2..]))
+        .collect();
+    let path = write_case("from_help.toml", &body);
+    let j = json_of(&pim(&["solve", &path, "--format", "json"]));
+    assert!((j["final"]["vehicle1"]["vx"].as_f64().unwrap() - 6.75).abs() < 1e-9, "{body}");
+    assert!((j["final"]["vehicle2"]["vx"].as_f64().unwrap() - 8.25).abs() < 1e-9);
+    assert!(j["final"]["vehicle2"]["omega"].as_f64().unwrap().abs() < 1e-12);
+}

@@ -4,7 +4,7 @@ use super::{json, print_out, title_of};
 use crate::args::{unique, FitArgs, Format};
 use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
 use crate::inputs::load_case;
-use crate::render::tables;
+use crate::render::{markdown, tables};
 use anyhow::Result;
 use pim_data::{fitcase, records};
 use std::process::ExitCode;
@@ -36,8 +36,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let settings = fitcase::settings(&case, a.moment_form.into(), unique(&a.branch))?;
     let report = pim_fit::fit(&problem, &settings)
         .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
-    let text = match a.format {
-        Format::Json => json(&records::FitOut {
+    let record = json(&records::FitOut {
             cost_function: name.to_string(),
             branches: report
                 .branches
@@ -46,10 +45,39 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
                 .collect(),
             best: report.best,
             notes: report.notes.clone(),
-        })?,
-        Format::Table => tables::fit_table(&title_of(&case), name, &report, a.units.into()),
-    };
-    print_out(&text)?;
+        })?;
+    let table = tables::fit_table(&title_of(&case), name, &report, a.units.into());
+    if let Some(dir) = &a.out {
+        let impact = case.impact()?;
+        let contact = super::draw::estimated_contact(&case);
+        // The diagram shows the best branch solved again by pim-core from its fitted states.
+        let solved = report.best_branch().and_then(|b| b.solution.as_ref());
+        let analysed = solved.and_then(|s| {
+            pim_core::analyse(
+                &impact,
+                &pim_core::Coefficients { e: s.e, mu: s.mu, em: s.em },
+                &pim_core::SolveOptions {
+                    moment_form: a.moment_form.into(),
+                    tangential: if s.sticking {
+                        pim_core::TangentialCondition::NoSlip
+                    } else {
+                        pim_core::TangentialCondition::Sliding
+                    },
+                },
+                &s.initial,
+                &s.separation,
+                s.friction_sign,
+            )
+            .ok()
+        });
+        let d = super::draw::diagram(&case, &impact, contact.as_ref(), analysed.as_ref());
+        let md = markdown::fit(&title_of(&case), name, &report, a.units.into());
+        super::draw::write_result_dir(dir, &record, &md, &d)?;
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &table,
+    })?;
     if report.best.is_none() {
         eprintln!(
             "pim: {}: no branch has an admissible solution (the reasons are in the output)",

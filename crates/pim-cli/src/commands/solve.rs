@@ -1,24 +1,29 @@
 //! `pim solve` and `pim sensitivity`: one case file, forwards or backwards.
 
 use super::{json, print_out, title_of};
-use crate::args::{Format, SolveArgs};
+use crate::args::{Format, MomentArg, SolveArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_case;
-use crate::render::tables;
+use crate::render::{markdown, tables};
 use anyhow::Result;
 use pim_core::{SolveOptions, TangentialCondition};
 use pim_data::records;
 use std::process::ExitCode;
 
-fn options(a: &SolveArgs) -> SolveOptions {
+/// The solve options of the command line.
+pub fn options_of(moment_form: MomentArg, no_slip: bool) -> SolveOptions {
     SolveOptions {
-        moment_form: a.moment_form.into(),
-        tangential: if a.no_slip {
+        moment_form: moment_form.into(),
+        tangential: if no_slip {
             TangentialCondition::NoSlip
         } else {
             TangentialCondition::Sliding
         },
     }
+}
+
+fn options(a: &SolveArgs) -> SolveOptions {
+    options_of(a.moment_form, a.no_slip)
 }
 
 /// `pim solve`.
@@ -42,13 +47,18 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         }
         _ => Failure::from_core(&case.file, e),
     })?;
-    let text = match a.format {
-        Format::Json => json(&records::SolveOut::new(&impact, &report, forward))?,
-        Format::Table => {
-            tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into())
-        }
-    };
-    print_out(&text)?;
+    let record = json(&records::SolveOut::new(&impact, &report, forward))?;
+    let table = tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into());
+    if let Some(dir) = &a.out {
+        let contact = super::draw::estimated_contact(&case);
+        let d = super::draw::diagram(&case, &impact, contact.as_ref(), Some(&report));
+        let md = markdown::solve(&title_of(&case), &report, forward, a.units.into());
+        super::draw::write_result_dir(dir, &record, &md, &d)?;
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &table,
+    })?;
     Ok(ExitCode::from(EXIT_OK))
 }
 

@@ -1,0 +1,124 @@
+//! The short Markdown reports of `pim solve --out` and `pim fit --out`.
+
+use crate::render::tables::{num, tangential_words};
+use pim_core::{ImpactReport, VehicleResult};
+use pim_data::units::UnitSystem;
+use std::fmt::Write as _;
+
+/// The per-vehicle table (speeds, delta-V, PDOF, yaw-rate change).
+fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem) {
+    let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
+    let _ = writeln!(s, "| | vehicle 1 | vehicle 2 |\n|---|---:|---:|");
+    let rows: [(String, &dyn Fn(&VehicleResult) -> String); 9] = [
+        ("nose heading [deg]".into(), &|r| num(r.heading, 1)),
+        (format!("speed at contact [{sp}]"), &|r| num(u.speed(r.speed_initial), 2)),
+        (format!("speed at separation [{sp}]"), &|r| num(u.speed(r.speed_final), 2)),
+        (format!("delta-V [{sp}]"), &|r| num(u.speed(r.delta_v), 2)),
+        (format!("delta-V longitudinal, forward + [{sp}]"), &|r| {
+            num(u.speed(r.delta_v_longitudinal), 2)
+        }),
+        (format!("delta-V lateral, left + [{sp}]"), &|r| {
+            num(u.speed(r.delta_v_lateral), 2)
+        }),
+        ("PDOF, clockwise from the nose [deg]".into(), &|r| num(r.pdof, 0)),
+        ("PDOF clock direction".into(), &|r| format!("{} o'clock", r.clock)),
+        (format!("yaw-rate change [{yr}]"), &|r| num(u.yaw_rate(r.yaw_rate_change), 3)),
+    ];
+    for (label, f) in rows {
+        let _ = writeln!(s, "| {label} | {} | {} |", f(&v[0]), f(&v[1]));
+    }
+}
+
+/// The report of a solve.
+pub fn solve(title: &str, r: &ImpactReport, forward: bool, u: UnitSystem) -> String {
+    let mut s = String::new();
+    let c = &r.coefficients;
+    let _ = writeln!(s, "# {}\n", title.lines().next().unwrap_or(title));
+    for line in title.lines().skip(1) {
+        let _ = writeln!(s, "{line}\n");
+    }
+    let _ = writeln!(
+        s,
+        "Solved {} with e = {}, mu = {}, em = {}.\n\n![plan view at contact](diagram.svg)\n",
+        if forward { "forwards" } else { "backwards" },
+        c.e,
+        c.mu,
+        c.em
+    );
+    vehicles(&mut s, &r.vehicles, u);
+    let e = &r.energy;
+    let _ = writeln!(
+        s,
+        "\nKinetic energy: {:.0} J at contact, {:.0} J at separation; loss {:.0} J ({:.2} %).\n",
+        e.initial, e.final_, e.loss, e.loss_percent
+    );
+    let _ = writeln!(
+        s,
+        "Along the crush surface: {}.\n",
+        tangential_words(r.tangential)
+    );
+    if r.admissibility.admissible {
+        let _ = writeln!(s, "The solution is physically admissible.");
+    } else {
+        let _ = writeln!(s, "**The solution is not physically admissible:**\n");
+        for reason in r.inadmissibility_reasons() {
+            let _ = writeln!(s, "- {reason}");
+        }
+    }
+    let _ = writeln!(s, "\nEvery number, in SI, is in result.json.");
+    s
+}
+
+/// The report of a fit.
+pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# {}\n", title.lines().next().unwrap_or(title));
+    let _ = writeln!(s, "Fit with cost function {cost}.\n");
+    let _ = writeln!(s, "| branch | status | e | mu | em | cost | energy loss [%] |");
+    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|");
+    for b in &r.branches {
+        let best = if Some(b.moment) == r.best { " (best)" } else { "" };
+        match &b.solution {
+            Some(x) => {
+                let _ = writeln!(
+                    s,
+                    "| {}{best} | {} | {:.4} | {:.4} | {:.4} | {:.5} | {:.2} |",
+                    b.moment.name(),
+                    b.status,
+                    x.e,
+                    x.mu,
+                    x.em,
+                    x.cost,
+                    x.energy_loss_percent
+                );
+            }
+            None => {
+                let _ = writeln!(s, "| {} | {} | | | | | |", b.moment.name(), b.status);
+            }
+        }
+    }
+    for b in &r.branches {
+        if let Some(reason) = &b.reason {
+            let _ = writeln!(s, "\nBranch {}: {reason}", b.moment.name());
+        }
+    }
+    for n in &r.notes {
+        let _ = writeln!(s, "\nNote: {n}");
+    }
+    if let Some(sol) = r.best_branch().and_then(|b| b.solution.as_ref()) {
+        let _ = writeln!(
+            s,
+            "\n## Best branch\n\n![plan view at contact, fitted velocities](diagram.svg)\n"
+        );
+        vehicles(&mut s, &sol.vehicles, u);
+        let _ = writeln!(
+            s,
+            "\nKinetic energy loss {:.0} J ({:.2} %).",
+            sol.energy_loss, sol.energy_loss_percent
+        );
+    } else {
+        let _ = writeln!(s, "\nNo branch has an admissible solution.");
+    }
+    let _ = writeln!(s, "\nEvery number, in SI, is in result.json.");
+    s
+}
