@@ -164,14 +164,22 @@ DATA FILE: a CSV with one row per test, columns as in data/ricsac.csv (see data/
 the file's header must match exactly. A row whose physics fails (the vehicles do not approach,
 a singular system) is reported in its records as `failed`; the other rows are still fitted.
 
+CASE FILES: `pim batch cases/*.toml` or `pim batch cases/` fits every case file (as `pim fit
+--cost`, with each file's [bounds]) under each --cost and branch. Records stream to the output
+as they finish, so memory does not grow with the number of files: --format csv or json (one
+JSON record per line) on stdout, and with --out DIR records.csv, records.jsonl and summary.txt.
+A file that cannot be read or fitted is a `failed` record naming the file and field; the
+others complete.
+
 OUTPUT (--out DIR): records.csv (one row per test, cost function and branch), records.json,
 velocity_errors.csv (fitted minus measured per component), summary.txt, compare_costs.txt,
 brach1984.txt (when data/reference/brach1984_table1.csv is next to the data file), and the
 figures cost.svg, coefficients.svg, delta_v.svg, separation.svg.
 
-The records are identical for any --threads. Exit status 1 means some records are infeasible
-(an answer: the data admit no solution, the reason is in the record) or failed; for the RICSAC
-data, Q1 is infeasible for tests 1, 6, 7, 10 and 11.";
+The records are identical for any --threads. Infeasible records are answers (the data admit
+no solution; the reason is in the record) and are counted in the summary; the exit status is 0
+when the batch ran and wrote its results, or with --strict 1 when any record is infeasible or
+failed. For the RICSAC data, Q1 is infeasible for tests 1, 6, 7, 10 and 11.";
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BatchFormat {
@@ -185,9 +193,9 @@ pub enum BatchFormat {
 
 #[derive(clap::Args, Debug)]
 pub struct BatchArgs {
-    /// The data file.
-    #[arg(default_value = "data/ricsac.csv")]
-    pub data: PathBuf,
+    /// A RICSAC-style data file (CSV), or case files (TOML) and directories of case files.
+    #[arg(default_value = "data/ricsac.csv", num_args = 1..)]
+    pub inputs: Vec<PathBuf>,
     /// Cost functions.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [CostArg::Q1, CostArg::Q2, CostArg::Q3])]
     pub cost: Vec<CostArg>,
@@ -215,6 +223,9 @@ pub struct BatchArgs {
     /// Add each fit's wall time (`fit_seconds`) to the records (output then varies run to run).
     #[arg(long)]
     pub timing: bool,
+    /// Exit with status 1 when any record is infeasible or failed (for scripts).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 const FIT_HELP: &str = "\

@@ -4,7 +4,8 @@ use std::fmt;
 
 /// Exit status: success.
 pub const EXIT_OK: u8 = 0;
-/// Exit status: some records of a batch failed (infeasible, bad row); the others were written.
+/// Exit status (batch with --strict): some records are infeasible or failed; the others were
+/// written.
 pub const EXIT_SOME_FAILED: u8 = 1;
 /// Exit status: bad input (command line, file, field, value); nothing was computed.
 pub const EXIT_BAD_INPUT: u8 = 2;
@@ -17,8 +18,8 @@ pub const EXIT_IO: u8 = 4;
 pub const EXIT_CODES_HELP: &str = "\
 EXIT STATUS:
   0  success
-  1  batch and compare-costs: some records are infeasible or failed (their rows say why); the
-     others are complete
+  1  batch and compare-costs with --strict: some records are infeasible or failed (their rows
+     say why); the others are complete
   2  bad input: a command-line flag, a file that cannot be read, or a field with a bad value;
      the message names the file, line and field
   3  the input is valid but the model has no answer: singular or inconsistent equations, or

@@ -100,7 +100,8 @@ fn batch_data_file_problems_name_file_line_and_column() {
     }
     let out = pim(&["batch", "data"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(err(&out).contains("data: is a directory"));
+    // A directory is a directory of case files; this one has none.
+    assert!(err(&out).contains("data: no .toml case files in this directory"));
 }
 
 #[test]

@@ -373,7 +373,10 @@ fn the_case_file_of_the_help_text_solves_as_written() {
         .collect();
     let path = write_case("from_help.toml", &body);
     let j = json_of(&pim(&["solve", &path, "--format", "json"]));
-    assert!((j["final"]["vehicle1"]["vx"].as_f64().unwrap() - 6.75).abs() < 1e-9, "{body}");
+    assert!(
+        (j["final"]["vehicle1"]["vx"].as_f64().unwrap() - 6.75).abs() < 1e-9,
+        "{body}"
+    );
     assert!((j["final"]["vehicle2"]["vx"].as_f64().unwrap() - 8.25).abs() < 1e-9);
     assert!(j["final"]["vehicle2"]["omega"].as_f64().unwrap().abs() < 1e-12);
 }

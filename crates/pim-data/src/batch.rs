@@ -230,3 +230,149 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
         })
         .collect()
 }
+
+/// One record of a batch over case files: one per (file, cost function, moment branch).
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseRecord {
+    /// The case file.
+    pub file: String,
+    /// Cost function.
+    pub cost_function: CostPreset,
+    /// `optimal`, `infeasible`, `limit_reached`, `check_failed` or `failed`.
+    pub outcome: Outcome,
+    /// The branch of this record.
+    pub moment_branch: MomentBranch,
+    /// True for the best branch of this (file, cost).
+    pub best: bool,
+    /// Why the file could not be fitted (it names the file and the field).
+    pub error: Option<String>,
+    /// The fitted branch (absent when the file failed).
+    #[serde(flatten)]
+    pub branch: Option<BranchRecord>,
+}
+
+impl CaseRecord {
+    /// The column names of [`CaseRecord::csv_row`].
+    pub const CSV_HEADER: [&'static str; 22] = [
+        "file",
+        "cost_function",
+        "branch",
+        "best",
+        "outcome",
+        "reason",
+        "e",
+        "mu",
+        "em",
+        "mu_max",
+        "cost",
+        "energy_loss_j",
+        "energy_loss_percent",
+        "speed1_mps",
+        "speed2_mps",
+        "delta_v1_mps",
+        "delta_v2_mps",
+        "pdof1_deg",
+        "pdof2_deg",
+        "yaw_rate_change1_radps",
+        "yaw_rate_change2_radps",
+        "admissible",
+    ];
+
+    /// One flat CSV row (SI), in the order of [`CaseRecord::CSV_HEADER`].
+    pub fn csv_row(&self) -> Vec<String> {
+        let f = |x: Option<f64>| x.map_or_else(String::new, |v| format!("{v}"));
+        let b = self.branch.as_ref();
+        let v = b.and_then(|b| b.vehicles);
+        let per = |k: usize, g: fn(&pim_core::VehicleResult) -> f64| f(v.map(|v| g(&v[k])));
+        let reason = match (&self.error, b.and_then(|b| b.reason.as_ref())) {
+            (Some(e), _) => e.clone(),
+            (None, Some(r)) => r.to_string(),
+            (None, None) => String::new(),
+        };
+        vec![
+            self.file.clone(),
+            self.cost_function.name().to_string(),
+            self.moment_branch.name().to_string(),
+            self.best.to_string(),
+            self.outcome.to_string(),
+            reason,
+            f(b.and_then(|b| b.e)),
+            f(b.and_then(|b| b.mu)),
+            f(b.and_then(|b| b.em)),
+            f(b.and_then(|b| b.mu_max)),
+            f(b.and_then(|b| b.cost)),
+            f(b.and_then(|b| b.energy_loss)),
+            f(b.and_then(|b| b.energy_loss_percent)),
+            per(0, |r| r.speed_initial),
+            per(1, |r| r.speed_initial),
+            per(0, |r| r.delta_v),
+            per(1, |r| r.delta_v),
+            per(0, |r| r.pdof),
+            per(1, |r| r.pdof),
+            per(0, |r| r.yaw_rate_change),
+            per(1, |r| r.yaw_rate_change),
+            b.and_then(|b| b.admissible)
+                .map_or_else(String::new, |a| a.to_string()),
+        ]
+    }
+}
+
+/// Fits one case file (already read; `text` is its content) under one cost function, like
+/// `pim fit --cost`, with the case's own `[bounds]` on top of the plan's settings. A file that
+/// cannot be parsed or fitted gives failed records whose `error` names the file and field.
+pub fn fit_case_text(
+    file: &str,
+    text: &str,
+    cost: CostPreset,
+    plan: &BatchPlan,
+) -> Vec<CaseRecord> {
+    let failed = |msg: String| -> Vec<CaseRecord> {
+        plan.branches
+            .iter()
+            .map(|&m| CaseRecord {
+                file: file.to_string(),
+                cost_function: cost,
+                outcome: Outcome::Failed,
+                moment_branch: m,
+                best: false,
+                error: Some(msg.clone()),
+                branch: None,
+            })
+            .collect()
+    };
+    let case = match crate::case::Case::from_text(file, text) {
+        Ok(c) => c,
+        Err(e) => return failed(e.message),
+    };
+    let problem = match crate::fitcase::problem(&case, crate::fitcase::CostChoice::Preset(cost)) {
+        Ok(p) => p,
+        Err(e) => return failed(e.message),
+    };
+    let settings = match crate::fitcase::settings_from(
+        &case,
+        FitSettings {
+            branches: plan.branches.clone(),
+            ..plan.settings.clone()
+        },
+    ) {
+        Ok(s) => s,
+        Err(e) => return failed(e.message),
+    };
+    let report = match pim_fit::fit(&problem, &settings) {
+        Ok(r) => r,
+        Err(e) => return failed(format!("{file}: {e}")),
+    };
+    report
+        .branches
+        .iter()
+        .map(|b| CaseRecord {
+            file: file.to_string(),
+            cost_function: cost,
+            outcome: b.status.into(),
+            moment_branch: b.moment,
+            best: report.best == Some(b.moment),
+            error: None,
+            branch: Some(BranchRecord::new(b)),
+        })
+        .collect()
+}

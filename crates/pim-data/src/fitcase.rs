@@ -152,11 +152,19 @@ pub fn settings(
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<pim_fit::ValidSettings> {
-    let mut s = FitSettings {
-        moment_form,
-        branches,
-        ..Default::default()
-    };
+    settings_from(
+        case,
+        FitSettings {
+            moment_form,
+            branches,
+            ..Default::default()
+        },
+    )
+}
+
+/// The case's `[bounds]` applied on top of `base`, checked.
+pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSettings> {
+    let mut s = base;
     if let Some(b) = case.content.bounds {
         if let Some(e) = b.e {
             s.e = e;

@@ -44,9 +44,7 @@ pub fn run(a: &DrawArgs) -> Result<ExitCode> {
 pub fn estimated_contact(case: &Case) -> Option<Velocities> {
     let est = case.content.estimates?.initial?.components();
     let v: Option<Vec<f64>> = est.iter().copied().collect();
-    v.map(|v| {
-        Velocities::from_vector(&nalgebra::Vector6::new(v[0], v[1], v[2], v[3], v[4], v[5]))
-    })
+    v.map(|v| Velocities::from_vector(&nalgebra::Vector6::new(v[0], v[1], v[2], v[3], v[4], v[5])))
 }
 
 /// The diagram of a case, solved or not.
@@ -77,9 +75,8 @@ pub fn diagram(
 /// Writes a diagram, creating the parent directory.
 pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
     if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            Failure::Output(format!("{}: cannot create: {e}", dir.display()))
-        })?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
     }
     d.write_svg(path)
         .map_err(|e| Failure::Output(format!("{}: cannot write: {e}", path.display())).into())

@@ -37,15 +37,15 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let report = pim_fit::fit(&problem, &settings)
         .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
     let record = json(&records::FitOut {
-            cost_function: name.to_string(),
-            branches: report
-                .branches
-                .iter()
-                .map(records::BranchRecord::new)
-                .collect(),
-            best: report.best,
-            notes: report.notes.clone(),
-        })?;
+        cost_function: name.to_string(),
+        branches: report
+            .branches
+            .iter()
+            .map(records::BranchRecord::new)
+            .collect(),
+        best: report.best,
+        notes: report.notes.clone(),
+    })?;
     let table = tables::fit_table(&title_of(&case), name, &report, a.units.into());
     if let Some(dir) = &a.out {
         let impact = case.impact()?;
@@ -55,7 +55,11 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         let analysed = solved.and_then(|s| {
             pim_core::analyse(
                 &impact,
-                &pim_core::Coefficients { e: s.e, mu: s.mu, em: s.em },
+                &pim_core::Coefficients {
+                    e: s.e,
+                    mu: s.mu,
+                    em: s.em,
+                },
                 &pim_core::SolveOptions {
                     moment_form: a.moment_form.into(),
                     tangential: if s.sticking {

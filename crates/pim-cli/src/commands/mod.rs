@@ -1,6 +1,7 @@
 //! The subcommands, one module each, and what they share: writing to stdout and files.
 
 pub mod batch;
+pub mod batch_cases;
 pub mod draw;
 pub mod fit;
 pub mod solve;

@@ -181,10 +181,7 @@ impl Diagram {
                 outline: Outline::of(sec, point),
                 heading: impact.nose_heading(id),
                 cg: cgs[k],
-                contact: solved
-                    .as_ref()
-                    .map(|s| v(s.initial))
-                    .or(contact.map(|c| v(c))),
+                contact: solved.as_ref().map(|s| v(s.initial)).or(contact.map(&v)),
                 separation: solved.as_ref().map(|s| v(s.separation)),
                 impulse: solved
                     .as_ref()
@@ -292,9 +289,9 @@ impl Diagram {
                 pts.push(a);
             }
         }
-        let lo = pts.iter().fold([f64::INFINITY; 2], |a, p| {
-            [a[0].min(p[0]), a[1].min(p[1])]
-        });
+        let lo = pts
+            .iter()
+            .fold([f64::INFINITY; 2], |a, p| [a[0].min(p[0]), a[1].min(p[1])]);
         let hi = pts.iter().fold([f64::NEG_INFINITY; 2], |a, p| {
             [a[0].max(p[0]), a[1].max(p[1])]
         });
@@ -342,14 +339,16 @@ impl Diagram {
             .map_err(|e| err(&e))?;
         let head = 0.035 * (x1 - x0);
         let span_m = x1 - x0;
-        let draw_arrow = |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
-            arrow(chart, head, from, to, color, width)
-        };
+        let draw_arrow =
+            |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
+                arrow(chart, head, from, to, color, width)
+            };
         // Outlines, noses and CGs.
-        let mut series: Vec<(Vec<(f64, f64)>, RGBColor)> = Vec::new();
-        for k in 0..2 {
-            series.push((self.outline_points(k), VEHICLE_COLORS[k]));
-        }
+        let series: Vec<(Vec<(f64, f64)>, RGBColor)> = VEHICLE_COLORS
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (self.outline_points(k), *c))
+            .collect();
         for (k, (pts, color)) in series.iter().enumerate() {
             let mut closed = pts.clone();
             closed.push(pts[0]);
@@ -404,7 +403,7 @@ impl Diagram {
             )?;
             if let Some(u) = v.contact {
                 draw_arrow(
-                &mut chart,
+                    &mut chart,
                     v.cg,
                     [v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]],
                     color,
@@ -413,7 +412,7 @@ impl Diagram {
             }
             if let Some(u) = v.separation {
                 draw_arrow(
-                &mut chart,
+                    &mut chart,
                     v.cg,
                     [v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]],
                     SEPARATION_COLORS[k],
@@ -421,7 +420,13 @@ impl Diagram {
                 )?;
             }
             if let Some(p) = v.impulse {
-                draw_arrow(&mut chart, [0.0, 0.0], [si * p[0], si * p[1]], IMPULSE_COLOR, 2)?;
+                draw_arrow(
+                    &mut chart,
+                    [0.0, 0.0],
+                    [si * p[0], si * p[1]],
+                    IMPULSE_COLOR,
+                    2,
+                )?;
             }
             if let Some((from, to)) = self.pdof_arrow(k) {
                 draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?;
@@ -444,8 +449,20 @@ impl Diagram {
                 ShapeStyle::from(SURFACE_COLOR).stroke_width(3),
             ))
             .map_err(|e| err(&e))?;
-        draw_arrow(&mut chart, [0.0; 2], [0.2 * l * n[0], 0.2 * l * n[1]], SURFACE_COLOR, 1)?;
-        draw_arrow(&mut chart, [0.0; 2], [0.12 * l * t[0], 0.12 * l * t[1]], SURFACE_COLOR, 1)?;
+        draw_arrow(
+            &mut chart,
+            [0.0; 2],
+            [0.2 * l * n[0], 0.2 * l * n[1]],
+            SURFACE_COLOR,
+            1,
+        )?;
+        draw_arrow(
+            &mut chart,
+            [0.0; 2],
+            [0.12 * l * t[0], 0.12 * l * t[1]],
+            SURFACE_COLOR,
+            1,
+        )?;
         let label = |text: &str, at: [f64; 2], color: RGBColor| {
             Text::new(
                 text.to_string(),
@@ -492,8 +509,12 @@ impl Diagram {
             .map_err(|e| err(&e))?;
 
         // The key.
-        let mut key = Key { area: &key_area, y: 30 };
-        let mut line = |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
+        let mut key = Key {
+            area: &key_area,
+            y: 30,
+        };
+        let mut line =
+            |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
         for (i, part) in wrap(&self.title, 36).into_iter().enumerate() {
             line(part, None, i == 0)?;
         }
@@ -506,7 +527,11 @@ impl Diagram {
                     "  {:.2} x {:.2} m{}",
                     o.length(),
                     o.width,
-                    if o.defaulted { " (typical for its mass)" } else { "" }
+                    if o.defaulted {
+                        " (typical for its mass)"
+                    } else {
+                        ""
+                    }
                 ),
                 None,
                 false,
@@ -539,14 +564,26 @@ impl Diagram {
         line("C impact centre (x)".into(), None, false)?;
         line("crush surface, n and t".into(), Some(SURFACE_COLOR), false)?;
         if si > 0.0 {
-            line("impulse on each vehicle at C".into(), Some(IMPULSE_COLOR), false)?;
+            line(
+                "impulse on each vehicle at C".into(),
+                Some(IMPULSE_COLOR),
+                false,
+            )?;
         }
         line(String::new(), None, false)?;
         if sv > 0.0 {
-            line(format!("velocity arrows: 1 m = {:.2} m/s", 1.0 / sv), None, false)?;
+            line(
+                format!("velocity arrows: 1 m = {:.2} m/s", 1.0 / sv),
+                None,
+                false,
+            )?;
         }
         if si > 0.0 {
-            line(format!("impulse arrows: 1 m = {:.0} N s", 1.0 / si), None, false)?;
+            line(
+                format!("impulse arrows: 1 m = {:.0} N s", 1.0 / si),
+                None,
+                false,
+            )?;
         }
         line("fixed frame, C at the origin".into(), None, false)?;
         line("outlines undeformed: they overlap".into(), None, false)?;

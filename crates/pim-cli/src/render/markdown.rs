@@ -9,10 +9,15 @@ use std::fmt::Write as _;
 fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem) {
     let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
     let _ = writeln!(s, "| | vehicle 1 | vehicle 2 |\n|---|---:|---:|");
-    let rows: [(String, &dyn Fn(&VehicleResult) -> String); 9] = [
+    type Cell<'a> = &'a dyn Fn(&VehicleResult) -> String;
+    let rows: [(String, Cell); 9] = [
         ("nose heading [deg]".into(), &|r| num(r.heading, 1)),
-        (format!("speed at contact [{sp}]"), &|r| num(u.speed(r.speed_initial), 2)),
-        (format!("speed at separation [{sp}]"), &|r| num(u.speed(r.speed_final), 2)),
+        (format!("speed at contact [{sp}]"), &|r| {
+            num(u.speed(r.speed_initial), 2)
+        }),
+        (format!("speed at separation [{sp}]"), &|r| {
+            num(u.speed(r.speed_final), 2)
+        }),
         (format!("delta-V [{sp}]"), &|r| num(u.speed(r.delta_v), 2)),
         (format!("delta-V longitudinal, forward + [{sp}]"), &|r| {
             num(u.speed(r.delta_v_longitudinal), 2)
@@ -20,9 +25,15 @@ fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem) {
         (format!("delta-V lateral, left + [{sp}]"), &|r| {
             num(u.speed(r.delta_v_lateral), 2)
         }),
-        ("PDOF, clockwise from the nose [deg]".into(), &|r| num(r.pdof, 0)),
-        ("PDOF clock direction".into(), &|r| format!("{} o'clock", r.clock)),
-        (format!("yaw-rate change [{yr}]"), &|r| num(u.yaw_rate(r.yaw_rate_change), 3)),
+        ("PDOF, clockwise from the nose [deg]".into(), &|r| {
+            num(r.pdof, 0)
+        }),
+        ("PDOF clock direction".into(), &|r| {
+            format!("{} o'clock", r.clock)
+        }),
+        (format!("yaw-rate change [{yr}]"), &|r| {
+            num(u.yaw_rate(r.yaw_rate_change), 3)
+        }),
     ];
     for (label, f) in rows {
         let _ = writeln!(s, "| {label} | {} | {} |", f(&v[0]), f(&v[1]));
@@ -74,10 +85,17 @@ pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> St
     let mut s = String::new();
     let _ = writeln!(s, "# {}\n", title.lines().next().unwrap_or(title));
     let _ = writeln!(s, "Fit with cost function {cost}.\n");
-    let _ = writeln!(s, "| branch | status | e | mu | em | cost | energy loss [%] |");
+    let _ = writeln!(
+        s,
+        "| branch | status | e | mu | em | cost | energy loss [%] |"
+    );
     let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|");
     for b in &r.branches {
-        let best = if Some(b.moment) == r.best { " (best)" } else { "" };
+        let best = if Some(b.moment) == r.best {
+            " (best)"
+        } else {
+            ""
+        };
         match &b.solution {
             Some(x) => {
                 let _ = writeln!(

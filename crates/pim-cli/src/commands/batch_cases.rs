@@ -1,0 +1,249 @@
+//! `pim batch` over case files: each file fitted under each cost function, the records streamed
+//! to stdout and to `--out` as they finish (memory does not grow with the number of files).
+
+use crate::args::{unique, BatchArgs, BatchFormat};
+use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
+use crate::inputs::{io_reason, read_text_file};
+use anyhow::Result;
+use pim_data::batch::{fit_case_text, BatchPlan, CaseRecord, Outcome};
+use pim_data::case::MAX_CASE_BYTES;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Files fitted in parallel at a time: enough to keep every core busy, small enough that the
+/// records in flight stay a few hundred kilobytes.
+const CHUNK: usize = 256;
+
+/// The case files named on the command line: files as given, directories as their `*.toml`
+/// files in name order.
+fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
+    let mut out = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| {
+                    Failure::Input(format!("{}: cannot read: {}", p.display(), io_reason(&e)))
+                })?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.extension().is_some_and(|x| x == "toml") && f.is_file())
+                .collect();
+            found.sort();
+            if found.is_empty() {
+                return Err(Failure::Input(format!(
+                    "{}: no .toml case files in this directory",
+                    p.display()
+                )));
+            }
+            out.extend(found);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// Counts for the summary.
+#[derive(Default)]
+struct Tally {
+    by_cost: BTreeMap<String, BTreeMap<String, usize>>,
+    records: usize,
+    unsolved: usize,
+    files_failed: usize,
+}
+
+impl Tally {
+    fn add(&mut self, r: &CaseRecord) {
+        *self
+            .by_cost
+            .entry(r.cost_function.name().to_string())
+            .or_default()
+            .entry(r.outcome.to_string())
+            .or_default() += 1;
+        self.records += 1;
+        if !r.outcome.solved() {
+            self.unsolved += 1;
+        }
+    }
+
+    fn text(&self, files: usize) -> String {
+        let mut s = format!(
+            "{files} case files, {} records ({} solved, {} without a solution); {} files could not be read or fitted\n\n",
+            self.records,
+            self.records - self.unsolved,
+            self.unsolved,
+            self.files_failed
+        );
+        s.push_str("cost  outcome          records\n");
+        for (cost, outcomes) in &self.by_cost {
+            for (o, n) in outcomes {
+                s.push_str(&format!("{cost:<5} {o:<16} {n:>7}\n"));
+            }
+        }
+        s
+    }
+}
+
+fn out_err(path: &Path, e: std::io::Error) -> Failure {
+    Failure::Output(format!(
+        "{}: cannot write: {}",
+        path.display(),
+        io_reason(&e)
+    ))
+}
+
+/// `pim batch CASES...`.
+pub fn run(a: &BatchArgs) -> Result<ExitCode> {
+    let files = case_files(&a.inputs)?;
+    if let Some(0) = a.threads {
+        return Err(Failure::Input("--threads must be at least 1".into()).into());
+    }
+    if !a.tests.is_empty() {
+        return Err(
+            Failure::Input("--tests selects rows of a data file, not case files".into()).into(),
+        );
+    }
+    let settings = pim_fit::FitSettings {
+        e: [0.0, a.e_max],
+        moment_form: a.moment_form.into(),
+        ..Default::default()
+    };
+    settings
+        .clone()
+        .check()
+        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
+    let plan = BatchPlan {
+        costs: unique(&a.cost),
+        branches: unique(&a.branch),
+        settings,
+        timing: a.timing,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
+
+    // Outputs, opened before any work so that an unwritable directory fails at once.
+    let mut csv_file = None;
+    let mut jsonl_file = None;
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| out_err(dir, e))?;
+        let p = dir.join("records.csv");
+        let mut w = csv::Writer::from_path(&p)
+            .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
+        w.write_record(CaseRecord::CSV_HEADER)
+            .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
+        csv_file = Some((p, w));
+        let p = dir.join("records.jsonl");
+        let f = std::fs::File::create(&p).map_err(|e| out_err(&p, e))?;
+        jsonl_file = Some((p, std::io::BufWriter::new(f)));
+    }
+    let stdout = std::io::stdout();
+    let mut stdout_csv =
+        (a.format == BatchFormat::Csv).then(|| csv::Writer::from_writer(stdout.lock()));
+    if let Some(w) = &mut stdout_csv {
+        w.write_record(CaseRecord::CSV_HEADER)?;
+    }
+    let show = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = if show {
+        let b = indicatif::ProgressBar::new(files.len() as u64);
+        b.set_message("fitting case files");
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let mut tally = Tally::default();
+    for chunk in files.chunks(CHUNK) {
+        let records: Vec<Vec<CaseRecord>> = pool.install(|| {
+            chunk
+                .par_iter()
+                .map(|path| {
+                    let name = path.display().to_string();
+                    let out = match read_text_file(path, MAX_CASE_BYTES) {
+                        Ok(text) => plan
+                            .costs
+                            .iter()
+                            .flat_map(|&c| fit_case_text(&name, &text, c, &plan))
+                            .collect(),
+                        Err(e) => plan
+                            .costs
+                            .iter()
+                            .flat_map(|&c| plan.branches.iter().map(move |&m| (c, m)))
+                            .map(|(c, m)| CaseRecord {
+                                file: name.clone(),
+                                cost_function: c,
+                                outcome: Outcome::Failed,
+                                moment_branch: m,
+                                best: false,
+                                error: Some(e.to_string()),
+                                branch: None,
+                            })
+                            .collect(),
+                    };
+                    bar.inc(1);
+                    out
+                })
+                .collect()
+        });
+        for file_records in records {
+            if file_records.iter().all(|r| r.outcome == Outcome::Failed) {
+                tally.files_failed += 1;
+            }
+            for r in &file_records {
+                tally.add(r);
+                let row = r.csv_row();
+                if let Some((p, w)) = &mut csv_file {
+                    w.write_record(&row)
+                        .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
+                }
+                if let Some((p, w)) = &mut jsonl_file {
+                    serde_json::to_writer(&mut *w, r)?;
+                    w.write_all(b"\n").map_err(|e| out_err(p, e))?;
+                }
+                match a.format {
+                    BatchFormat::Csv => {
+                        if let Some(w) = &mut stdout_csv {
+                            w.write_record(&row)?;
+                        }
+                    }
+                    BatchFormat::Json => {
+                        let mut line = serde_json::to_string(r)?;
+                        line.push('\n');
+                        super::print_out(&line)?;
+                    }
+                    BatchFormat::Table => {}
+                }
+            }
+        }
+        if let Some(w) = &mut stdout_csv {
+            w.flush()?;
+        }
+    }
+    bar.finish_and_clear();
+    let summary = tally.text(files.len());
+    if let Some((p, mut w)) = csv_file {
+        w.flush().map_err(|e| out_err(&p, e))?;
+    }
+    if let Some((p, mut w)) = jsonl_file {
+        w.flush().map_err(|e| out_err(&p, e))?;
+    }
+    if let Some(dir) = &a.out {
+        super::write_file(&dir.join("summary.txt"), &summary)?;
+        eprintln!(
+            "pim: wrote records.csv, records.jsonl and summary.txt to {}",
+            dir.display()
+        );
+    }
+    if a.format == BatchFormat::Table {
+        super::print_out(&summary)?;
+    } else {
+        eprint!("{summary}");
+    }
+    Ok(ExitCode::from(if tally.unsolved > 0 && a.strict {
+        EXIT_SOME_FAILED
+    } else {
+        EXIT_OK
+    }))
+}
