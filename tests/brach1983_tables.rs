@@ -327,3 +327,41 @@ fn table6_level_averages() {
     }
     assert!(checked >= 20, "only {checked} cells checked");
 }
+
+#[test]
+fn table3_from_natural_case_files_in_us_units() {
+    // The same published analyses written as a reconstructionist would: nose headings, impact
+    // points in feet, mph, lb, slug ft^2 (examples/cases/ricsac{7,9}_us.toml). They must give
+    // Table 3 to its printed rounding, as the papers' form does.
+    let rows = read_reference("data/reference/brach1983_table3.csv");
+    for row in rows {
+        let test = row.text("test");
+        let file = format!("examples/cases/ricsac{test}_us.toml");
+        let text = std::fs::read_to_string(repo_path(&file)).unwrap();
+        let case = pim_data::case::Case::from_text(&file, &text).unwrap();
+        let impact = case.impact().unwrap();
+        let (state, forward) = case.known_state().unwrap();
+        assert!(forward);
+        let opts = SolveOptions {
+            moment_form: if test == "7" {
+                MomentForm::Brach1983
+            } else {
+                MomentForm::Corrected
+            },
+            ..Default::default()
+        };
+        let r = solve_forward(&impact, &case.coefficients().unwrap(), &state, &opts).unwrap();
+        let got = computed(&r);
+        for (k, name) in COLS.iter().enumerate() {
+            let p = row.num(name);
+            assert!(
+                (got[k] - p).abs() <= 0.01,
+                "{file}: {name} {:.4} vs Table 3 {p}",
+                got[k]
+            );
+        }
+        if let Some(p) = row.opt("energy_loss_percent") {
+            assert!((r.energy.loss_percent - p).abs() <= 0.1);
+        }
+    }
+}
