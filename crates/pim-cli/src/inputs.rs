@@ -47,6 +47,16 @@ pub fn load_case(path: &Path) -> Result<Case, Failure> {
     Ok(Case::from_text(&path.display().to_string(), &text)?)
 }
 
+/// The collision of a case, checked; then its plausibility warnings go to stderr (only for a
+/// valid collision, so that an error is never preceded by noise).
+pub fn checked_impact(case: &Case) -> Result<pim_core::Impact, Failure> {
+    let impact = case.impact()?;
+    for w in case.warnings() {
+        eprintln!("pim: warning: {w}");
+    }
+    Ok(impact)
+}
+
 /// Reads and parses a RICSAC data file.
 pub fn load_ricsac(path: &Path) -> Result<Vec<RicsacTest>, Failure> {
     let text = read_text_file(path, MAX_DATA_BYTES)?;

@@ -380,3 +380,29 @@ fn the_case_file_of_the_help_text_solves_as_written() {
     assert!((j["final"]["vehicle2"]["vx"].as_f64().unwrap() - 8.25).abs() < 1e-9);
     assert!(j["final"]["vehicle2"]["omega"].as_f64().unwrap().abs() < 1e-12);
 }
+
+#[test]
+fn plausibility_warnings_go_to_stderr_and_the_solve_still_runs() {
+    let text = example()
+        .replace("heading = 60.0", "heading = 1.047")
+        .replace("yaw_inertia = 2279.0", "yaw_inertia = 22790.0")
+        .replace("vx = -13.01", "vx = -80.0");
+    let path = write_case("implausible.toml", &text);
+    let out = pim(&["solve", &path, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let msg = stderr(&out);
+    assert!(
+        msg.contains("heading = 1.047 is read as degrees; it looks like radians"),
+        "{msg}"
+    );
+    assert!(msg.contains("yaw_inertia / mass = 19.04 m^2"), "{msg}");
+    assert!(msg.contains("[initial] vehicle1: speed 80.0 m/s"), "{msg}");
+    // The example itself is plausible: no warning.
+    let out = pim(&[
+        "solve",
+        "examples/cases/ricsac7_brach1983.toml",
+        "--format",
+        "json",
+    ]);
+    assert!(stderr(&out).is_empty(), "{}", stderr(&out));
+}

@@ -16,7 +16,7 @@ use std::process::ExitCode;
 /// estimated contact velocities when it is a fit case.
 pub fn run(a: &DrawArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    let impact = case.impact()?;
+    let impact = crate::inputs::checked_impact(&case)?;
     let c = &case.content;
     let report = if c.coefficients.is_some() && (c.initial.is_some() || c.final_.is_some()) {
         let coefficients = case.coefficients()?;

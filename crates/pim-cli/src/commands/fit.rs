@@ -32,6 +32,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         }
         None => (fitcase::CostChoice::Custom, "custom"),
     };
+    crate::inputs::checked_impact(&case)?;
     let problem = fitcase::problem(&case, choice)?;
     let settings = fitcase::settings(&case, a.moment_form.into(), unique(&a.branch))?;
     let report = pim_fit::fit(&problem, &settings)
@@ -82,6 +83,23 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &table,
     })?;
+    if let Some(b) = report.best_branch() {
+        use pim_fit::ActiveConstraint as A;
+        for a in b.solution.iter().flat_map(|s| &s.active_constraints) {
+            let hint = match a {
+                A::EHigh => "the data want more restitution: widen [bounds] e",
+                A::MuLow | A::MuHigh => "widen [bounds] mu",
+                A::VelocityBound(_) => "widen [bounds] velocity / yaw_rate, or check the estimates",
+                A::EmLow => "em = -1 is the end of its physical range",
+                _ => continue,
+            };
+            eprintln!(
+                "pim: warning: {}: the best branch ({}) ends on a bound: {a}; {hint}",
+                case.file,
+                b.moment.name()
+            );
+        }
+    }
     if report.best.is_none() {
         eprintln!(
             "pim: {}: no branch has an admissible solution (the reasons are in the output)",

@@ -29,7 +29,7 @@ fn options(a: &SolveArgs) -> SolveOptions {
 /// `pim solve`.
 pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    let impact = case.impact()?;
+    let impact = crate::inputs::checked_impact(&case)?;
     let coefficients = case.coefficients()?;
     let (state, forward) = case.known_state()?;
     let opts = options(a);
@@ -65,7 +65,7 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
 /// `pim sensitivity`.
 pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    let impact = case.impact()?;
+    let impact = crate::inputs::checked_impact(&case)?;
     let coefficients = case.coefficients()?;
     let (state, forward) = case.known_state()?;
     if !forward {
