@@ -125,7 +125,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         if let Some(b) = &brach_text {
             write_file(&dir.join("brach1984.txt"), b)?;
         }
-        let figs = figures::write_all(&records, &plan.costs, dir)
+        let figs = figures::write_all(&records, &plan.costs, &plan.settings, dir)
             .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
         if a.format != BatchFormat::Json {
             eprintln!(

@@ -11,7 +11,8 @@ const COLORS: [RGBColor; 3] = [
     RGBColor(44, 160, 44),
 ];
 
-/// One series of a grouped bar chart: its name and one value per test (`None`: no bar).
+/// One series of a grouped bar chart: its name and one value per test (`None`: no solution,
+/// drawn as a cross on the axis; a value of 0 is a visible line).
 struct Series {
     name: String,
     values: Vec<Option<f64>>,
@@ -26,29 +27,40 @@ fn err<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
+/// A horizontal reference line (a bound) with its label.
+struct Bound {
+    value: f64,
+    label: String,
+}
+
+/// Width of the key strip on the right of every bar chart, px.
+const KEY_WIDTH: u32 = 150;
+
 fn grouped_bars(
     area: &Area,
     title: &str,
     y_label: &str,
     tests: &[u32],
     series: &[Series],
+    bounds: &[Bound],
 ) -> Result<(), String> {
+    let (w_px, _) = area.dim_in_pixel();
+    let (plot, key) = area.split_horizontally(w_px.saturating_sub(KEY_WIDTH));
     let vals: Vec<f64> = series
         .iter()
         .flat_map(|s| s.values.iter().flatten().copied())
+        .chain(bounds.iter().map(|b| b.value))
         .collect();
     let lo = vals.iter().copied().fold(0.0_f64, f64::min);
     let hi = vals.iter().copied().fold(0.0_f64, f64::max);
     let pad = 0.08 * (hi - lo).max(1e-9);
-    // Headroom above the tallest bar for the legend, which sits in the upper right corner.
-    let top = 0.3 * (hi - lo).max(1e-9);
     let n = tests.len();
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 18))
+    let mut chart = ChartBuilder::on(&plot)
+        .caption(title, ("sans-serif", 17))
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(60)
-        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), (lo - pad)..(hi + top))
+        .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), (lo - pad)..(hi + pad))
         .map_err(err)?;
     let labels: Vec<String> = tests.iter().map(|t| t.to_string()).collect();
     chart
@@ -69,32 +81,81 @@ fn grouped_bars(
         .map_err(err)?;
     let k = series.len().max(1) as f64;
     let w = 0.8 / k;
+    let cross = 0.03 * (hi - lo + 2.0 * pad);
     for (j, s) in series.iter().enumerate() {
         let color = COLORS[j % COLORS.len()];
-        let rects: Vec<Rectangle<(f64, f64)>> = s
-            .values
-            .iter()
-            .enumerate()
-            .filter_map(|(i, v)| {
-                v.map(|v| {
-                    let x0 = i as f64 - 0.4 + j as f64 * w;
-                    Rectangle::new([(x0, 0.0), (x0 + w * 0.9, v)], color.filled())
-                })
-            })
-            .collect();
-        chart
-            .draw_series(rects)
-            .map_err(err)?
-            .label(s.name.clone())
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], color.filled()));
+        for (i, v) in s.values.iter().enumerate() {
+            let x0 = i as f64 - 0.4 + j as f64 * w;
+            let x1 = x0 + w * 0.9;
+            match v {
+                Some(v) => {
+                    if *v != 0.0 {
+                        chart
+                            .draw_series(std::iter::once(Rectangle::new(
+                                [(x0, 0.0), (x1, *v)],
+                                color.filled(),
+                            )))
+                            .map_err(err)?;
+                    }
+                    // A zero (or tiny) value stays visible as a line on the axis.
+                    chart
+                        .draw_series(LineSeries::new(
+                            [(x0, 0.0), (x1, 0.0)],
+                            color.stroke_width(3),
+                        ))
+                        .map_err(err)?;
+                }
+                None => {
+                    let xm = 0.5 * (x0 + x1);
+                    let dx = 0.35 * (x1 - x0);
+                    for (a, b) in [
+                        ((xm - dx, -cross), (xm + dx, cross)),
+                        ((xm - dx, cross), (xm + dx, -cross)),
+                    ] {
+                        chart
+                            .draw_series(LineSeries::new([a, b], color.stroke_width(2)))
+                            .map_err(err)?;
+                    }
+                }
+            }
+        }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()
+    for b in bounds {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(-0.5, b.value), (n as f64 - 0.5, b.value)],
+                6,
+                4,
+                BLACK.mix(0.6).stroke_width(1),
+            ))
+            .map_err(err)?;
+    }
+    // The key, beside the plot so that it never covers a bar.
+    let mut y = 40;
+    for (j, s) in series.iter().enumerate() {
+        let color = COLORS[j % COLORS.len()];
+        key.draw(&Rectangle::new([(6, y), (20, y + 12)], color.filled()))
+            .map_err(err)?;
+        key.draw(&Text::new(s.name.clone(), (26, y), ("sans-serif", 14)))
+            .map_err(err)?;
+        y += 20;
+    }
+    key.draw(&Text::new("x  no solution", (6, y), ("sans-serif", 13)))
         .map_err(err)?;
+    y += 18;
+    key.draw(&Text::new("(infeasible)", (6, y), ("sans-serif", 13)))
+        .map_err(err)?;
+    y += 24;
+    for b in bounds {
+        key.draw(&PathElement::new(
+            [(6, y + 6), (20, y + 6)],
+            BLACK.mix(0.6).stroke_width(1),
+        ))
+        .map_err(err)?;
+        key.draw(&Text::new(b.label.clone(), (26, y), ("sans-serif", 13)))
+            .map_err(err)?;
+        y += 18;
+    }
     Ok(())
 }
 
@@ -112,6 +173,7 @@ fn best_per_cost(
 pub fn write_all(
     records: &[BatchRecord],
     costs: &[pim_fit::CostPreset],
+    settings: &pim_fit::FitSettings,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, String> {
     let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
@@ -136,10 +198,11 @@ pub fn write_all(
         root.fill(&WHITE).map_err(err)?;
         grouped_bars(
             &root,
-            "Minimum cost per test and cost function (best branch; no bar: infeasible)",
+            "Minimum cost per test and cost function (best branch)",
             "weighted sum of squares [(m/s)^2]",
             &tests,
             &per_cost(&|r| r.branch.as_ref().and_then(|b| b.cost)),
+            &[],
         )?;
         root.present().map_err(err)?;
     }
@@ -150,25 +213,40 @@ pub fn write_all(
         let root = SVGBackend::new(&p, (900, 1100)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let panels = root.split_evenly((3, 1));
-        let getters: [(&str, &str, &Getter); 3] = [
+        let [elo, ehi] = settings.e;
+        let [mlo, mhi] = settings.mu;
+        let bound = |value: f64, label: String| Bound { value, label };
+        let getters: [(&str, &str, &Getter, Vec<Bound>); 3] = [
             (
-                "Restitution e per test (best branch; no bar: 0 or infeasible)",
+                "Restitution e per test (best branch)",
                 "e [-]",
                 &|r| r.branch.as_ref().and_then(|b| b.e),
+                vec![bound(ehi, format!("e = {ehi} bound"))]
+                    .into_iter()
+                    .chain((elo > 0.0).then(|| bound(elo, format!("e = {elo} bound"))))
+                    .collect(),
             ),
             (
-                "Moment restitution em per test (no bar: 0 or infeasible)",
+                "Moment restitution em per test (best branch)",
                 "em [-]",
                 &|r| r.branch.as_ref().and_then(|b| b.em),
+                vec![
+                    bound(-1.0, "em = -1 bound".into()),
+                    bound(1.0, "em = 1 (zero)".into()),
+                ],
             ),
             (
-                "Equivalent friction mu per test (no bar: 0 or infeasible)",
+                "Equivalent friction mu per test (best branch)",
                 "mu [-]",
                 &|r| r.branch.as_ref().and_then(|b| b.mu),
+                vec![
+                    bound(mlo, format!("mu = {mlo} bound")),
+                    bound(mhi, format!("mu = {mhi} bound")),
+                ],
             ),
         ];
-        for (panel, (title, label, f)) in panels.iter().zip(getters) {
-            grouped_bars(panel, title, label, &tests, &per_cost(f))?;
+        for (panel, (title, label, f, bounds)) in panels.iter().zip(getters) {
+            grouped_bars(panel, title, label, &tests, &per_cost(f), &bounds)?;
         }
         root.present().map_err(err)?;
     }
@@ -189,6 +267,7 @@ pub fn write_all(
                 "relative error [%]",
                 &tests,
                 &per_cost(&|r| r.delta_v_relative_error.map(|e| 100.0 * e[v])),
+                &[],
             )?;
         }
         root.present().map_err(err)?;
@@ -202,18 +281,23 @@ pub fn write_all(
         let panels = root.split_evenly((1, 2));
         for (panel, (title, unit, comps)) in panels.iter().zip([
             (
-                "Separation velocities: fitted vs measured",
+                "Separation velocities: fitted vs measured (Q1 holds them fixed: not shown)",
                 "m/s",
                 [6usize, 7, 9, 10].as_slice(),
             ),
             (
-                "Separation yaw rates: fitted vs measured",
+                "Separation yaw rates: fitted vs measured (Q1 holds them fixed: not shown)",
                 "rad/s",
                 [8usize, 11].as_slice(),
             ),
         ]) {
             let mut pts: Vec<(usize, f64, f64)> = Vec::new();
             for (j, &c) in costs.iter().enumerate() {
+                // A cost function that holds the separation state fixed (Q1) reproduces it
+                // exactly: its points say nothing and are left out.
+                if comps.iter().all(|&k| c.holds_fixed(k)) {
+                    continue;
+                }
                 for &t in &tests {
                     if let Some(r) = best_per_cost(records, t, c) {
                         if let (Some(e), Some(b)) = (r.velocity_error, r.branch.as_ref()) {
@@ -252,6 +336,9 @@ pub fn write_all(
                 .label("fitted = measured")
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 12, y)], BLACK.mix(0.4)));
             for (j, &c) in costs.iter().enumerate() {
+                if comps.iter().all(|&k| c.holds_fixed(k)) {
+                    continue;
+                }
                 let color = COLORS[j % COLORS.len()];
                 chart
                     .draw_series(
