@@ -17,7 +17,7 @@ pub const EXIT_IO: u8 = 4;
 /// The exit codes, as printed in `--help`.
 pub const EXIT_CODES_HELP: &str = "\
 EXIT STATUS:
-  0  success
+  0  success (batch: it ran and wrote its results; infeasible records are counted in it)
   1  batch and compare-costs with --strict: some records are infeasible or failed (their rows
      say why); the others are complete
   2  bad input: a command-line flag, a file that cannot be read, or a field with a bad value;

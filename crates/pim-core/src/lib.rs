@@ -10,6 +10,16 @@
 //! [`Collision`]) are in **degrees**. Vehicle 1 is the papers' vehicle A, vehicle 2 is B. Lower
 //! case = contact (initial), upper case = separation (final).
 //!
+//! ### Two ways to give a heading
+//! [`Vehicle::heading`] is the papers' theta: vehicle 2's nose points along theta2, but
+//! vehicle 1's theta1 is the direction of its *tail* (its nose points along theta1 + 180 deg),
+//! which is how Brach's tables and the RICSAC data are written. Scene diagrams and simulation
+//! programs give both headings as the direction the nose points; [`Convention::Natural`]
+//! converts such a heading with [`Convention::theta`], and [`impact_point_polar`] turns an
+//! impact centre given in the vehicle's own frame (x forward, y to the left) into `(d, phi)`.
+//! [`Impact::nose_heading`], [`Impact::forward_axis`] and [`Impact::to_body`] give each
+//! vehicle's own axes whichever way the heading was given.
+//!
 //! Geometry (names of the 1983 BASIC listing):
 //! ```text
 //! D1 = d2 sin(theta2 + phi2)     D2 = d2 cos(theta2 + phi2)
@@ -31,6 +41,9 @@
 //! (5) m1 (V1y - v1y)(cos G - mu' sin G) + m2 (V2x - v2x)(sin G + mu' cos G) = 0,
 //!     mu' = mu sgn(vn) sgn(vt)                    (friction opposes the initial sliding)
 //! (5a) Vt = 0                                     (instead of 5: sliding ends before separation)
+//!      mu' = 0 when vt = 0 at contact: no sliding, so friction has no direction and no
+//!      tangential impulse acts (FrictionSign::NoSliding; |vt| <= NO_SLIDING_TOL x the
+//!      contact-point speeds counts as 0)
 //! (6) (W2 - W1)(1 - em) = em B                    (corrected form, Brach 1984; the default)
 //!     (W1 - W2)(1 - em) = em B                    (1983 listing, MomentForm::Brach1983)
 //!     B = (W1 - w1) - m1 D3 (V1x - v1x)/I1 + m1 D4 (V1y - v1y)/I1
@@ -44,7 +57,11 @@
 //! ## Derived results ([`ImpactReport`])
 //! - impulse on vehicle 1 `P = m1 (V1 - v1)`, `Pn = P.n`, `Pt = P.t`, moment impulse
 //!   `M = I1 (W1 - w1) - r1 x P`;
-//! - delta-V `|V - v|` and its direction per vehicle; kinetic energy
+//! - delta-V `|V - v|` and its direction per vehicle, and what a reconstruction reads
+//!   ([`VehicleResult`]): speeds at contact and separation, delta-V along the vehicle's forward
+//!   and left axes (an EDR's longitudinal and lateral channels), the principal direction of
+//!   force (PDOF, degrees clockwise from the nose, SAE) and its clock direction, the yaw-rate
+//!   change; kinetic energy
 //!   `T = sum (m (vx^2 + vy^2) + I w^2) / 2` before and after and the loss in percent;
 //! - the signed critical impulse ratio `mu_max`: the mu of equation 5 at which `Vt = 0`, i.e.
 //!   `(Pt/Pn) sgn(vn) sgn(vt)` of the no-slip solution. It can be negative in near-collinear

@@ -47,6 +47,8 @@ pub struct Impact {
     t: [f64; 2],
     /// +1 when vehicle 1's CG lies on the +n side of vehicle 2's CG, -1 on the -n side, 0 if undecided.
     side: f64,
+    /// Unit forward (nose) axes of vehicle 1 and 2 in the fixed frame.
+    axes: [[f64; 2]; 2],
 }
 
 fn check_vehicle(v: &Vehicle, id: VehicleId) -> Result<()> {
@@ -215,12 +217,15 @@ impl Impact {
         } else {
             0.0
         };
+        let (s1, c1) = v1.heading.to_radians().sin_cos();
+        let (s2, c2) = v2.heading.to_radians().sin_cos();
         Ok(Impact {
             collision,
             d,
             n,
             t,
             side,
+            axes: [[-c1, -s1], [c2, s2]],
         })
     }
 
@@ -276,13 +281,7 @@ impl Impact {
 
     /// Unit vector of the vehicle's forward (nose) direction in the fixed frame.
     pub fn forward_axis(&self, id: VehicleId) -> [f64; 2] {
-        let c = &self.collision;
-        let (theta, flip) = match id {
-            VehicleId::One => (c.vehicle1.heading, -1.0),
-            VehicleId::Two => (c.vehicle2.heading, 1.0),
-        };
-        let (s, co) = theta.to_radians().sin_cos();
-        [flip * co, flip * s]
+        self.axes[id.index()]
     }
 
     /// A fixed-frame vector in the vehicle's own axes: `(forward, left)` components.
@@ -353,12 +352,16 @@ impl Impact {
 
     /// The sign factor `sgn(vn) sgn(vt)` of equation 5 for the contact state `v`: friction
     /// opposes the initial sliding direction. When `|vt|` is round-off of the contact-point
-    /// speeds (at most [`NO_SLIDING_TOL`] of the larger one), the vehicles do not slide at
+    /// speeds (at most [`NO_SLIDING_TOL`] of their largest component), the vehicles do not slide at
     /// contact and the sign is [`FrictionSign::NoSliding`]: no tangential impulse.
     pub fn friction_sign(&self, v: &Velocities) -> FrictionSign {
         let (vn, vt) = self.relative_velocity(v);
         let [p1, p2] = self.contact_point_velocities(v);
-        let scale = p1[0].hypot(p1[1]).max(p2[0].hypot(p2[1]));
+        let scale = p1[0]
+            .abs()
+            .max(p1[1].abs())
+            .max(p2[0].abs())
+            .max(p2[1].abs());
         if vt.abs() <= NO_SLIDING_TOL * scale {
             FrictionSign::NoSliding
         } else {
@@ -422,7 +425,7 @@ pub struct VehicleVelocity {
 impl VehicleVelocity {
     /// Speed of the CG, m/s.
     pub fn speed(&self) -> f64 {
-        self.vx.hypot(self.vy)
+        (self.vx * self.vx + self.vy * self.vy).sqrt()
     }
 }
 

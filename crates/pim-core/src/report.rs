@@ -1,7 +1,7 @@
 //! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
 
 use crate::equations::{assemble, impulse_rows, LinearSystem};
-use crate::error::Equation;
+use crate::error::{Equation, VehicleId};
 use crate::friction::{classify_friction, creates_energy, FrictionSign};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use serde::{Deserialize, Serialize};
@@ -113,26 +113,53 @@ pub fn vehicle_results(
     initial: &Velocities,
     separation: &Velocities,
 ) -> [VehicleResult; 2] {
-    use crate::error::VehicleId;
-    let one = |id: VehicleId| {
-        let a = initial.vehicle(id);
-        let b = separation.vehicle(id);
-        let dv = [b.vx - a.vx, b.vy - a.vy];
-        let body = impact.to_body(id, dv);
-        let (angle, clock) = pdof(body);
-        VehicleResult {
-            heading: impact.nose_heading(id),
-            speed_initial: a.speed(),
-            speed_final: b.speed(),
-            delta_v: dv[0].hypot(dv[1]),
-            delta_v_longitudinal: body[0],
-            delta_v_lateral: body[1],
-            pdof: angle,
-            clock,
-            yaw_rate_change: b.omega - a.omega,
-        }
+    [
+        vehicle_result(
+            impact,
+            crate::error::VehicleId::One,
+            &delta_v(&initial.vehicle1, &separation.vehicle1),
+            initial,
+            separation,
+        ),
+        vehicle_result(
+            impact,
+            crate::error::VehicleId::Two,
+            &delta_v(&initial.vehicle2, &separation.vehicle2),
+            initial,
+            separation,
+        ),
+    ]
+}
+
+/// One vehicle's results from its delta-V (already computed by the report).
+fn vehicle_result(
+    impact: &Impact,
+    id: crate::error::VehicleId,
+    dv: &DeltaV,
+    initial: &Velocities,
+    separation: &Velocities,
+) -> VehicleResult {
+    let body = impact.to_body(id, [dv.dvx, dv.dvy]);
+    let heading = impact.nose_heading(id);
+    // The force comes from -delta-V: clockwise from the nose, heading - direction - 180.
+    let (angle, clock) = if dv.magnitude > 0.0 {
+        let angle = crate::model::wrap_degrees(heading - dv.direction - 180.0);
+        let hours = (angle / 30.0).round().rem_euclid(12.0) as u8;
+        (angle, if hours == 0 { 12 } else { hours })
+    } else {
+        (0.0, 12)
     };
-    [one(VehicleId::One), one(VehicleId::Two)]
+    VehicleResult {
+        heading,
+        speed_initial: initial.vehicle(id).speed(),
+        speed_final: separation.vehicle(id).speed(),
+        delta_v: dv.magnitude,
+        delta_v_longitudinal: body[0],
+        delta_v_lateral: body[1],
+        pdof: angle,
+        clock,
+        yaw_rate_change: dv.domega,
+    }
 }
 
 /// Kinetic energy balance of the impact.
@@ -238,7 +265,7 @@ fn delta_v(before: &crate::VehicleVelocity, after: &crate::VehicleVelocity) -> D
         dvx,
         dvy,
         domega: after.omega - before.omega,
-        magnitude: dvx.hypot(dvy),
+        magnitude: (dvx * dvx + dvy * dvy).sqrt(),
         direction: dvy.atan2(dvx).to_degrees(),
     }
 }
@@ -395,7 +422,10 @@ pub(crate) fn build_report(
         },
         impulse,
         delta_v: [dv1, dv2],
-        vehicles: vehicle_results(impact, initial, separation),
+        vehicles: [
+            vehicle_result(impact, VehicleId::One, &dv1, initial, separation),
+            vehicle_result(impact, VehicleId::Two, &dv2, initial, separation),
+        ],
         energy,
         friction_sign: sign,
         mu_max,

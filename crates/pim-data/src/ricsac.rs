@@ -1,4 +1,13 @@
 //! The RICSAC data file (`data/ricsac.csv`): one row per staged collision.
+//!
+//! The columns keep the papers' geometry (Brach 1983, 1984; Vossou & Koulocheris 2018), which is
+//! pim-core's [`Vehicle`] form: `heading1_deg` is theta1, the direction of vehicle 1's *tail*
+//! (its nose points along theta1 + 180 deg); `heading2_deg` is vehicle 2's nose; `phi1_deg`,
+//! `phi2_deg` are the angles of the impact centre counter-clockwise from each vehicle's nose and
+//! `d1_m`, `d2_m` its distances from the CGs; `crush_angle_deg` is the direction of the
+//! crush-surface normal. In a case file's natural form (`convention = "natural"`, the default)
+//! the same row reads: vehicle 1 `heading = heading1_deg + 180`, vehicle 2 `heading =
+//! heading2_deg`, `d`/`phi` unchanged (or `impact_point = { x = d cos phi, y = d sin phi }`).
 
 use crate::error::{InputError, Result};
 use nalgebra::Vector6;

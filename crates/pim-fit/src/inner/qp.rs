@@ -361,12 +361,185 @@ mod tests {
         (p, q, rows)
     }
 
+    /// Relative residual of the stationarity condition `2 P y - 2 q + A' lambda = 0` over the
+    /// rows active at `y`, with `lambda >= 0` found by projected gradient (nonnegative least
+    /// squares): close to 0 exactly when `y` is optimal.
+    fn kkt_residual(p: &DMatrix<f64>, q: &DVector<f64>, rows: &Rows, y: &DVector<f64>) -> f64 {
+        let g = p * y * 2.0 - q * 2.0;
+        let active: Vec<&DVector<f64>> = rows
+            .iter()
+            .filter(|(a, b)| (a.dot(y) - b).abs() <= 1e-7 * (1.0 + b.abs()))
+            .map(|(a, _)| a)
+            .collect();
+        let mut lambda = vec![0.0; active.len()];
+        let lip: f64 = active
+            .iter()
+            .map(|a| a.norm_squared())
+            .sum::<f64>()
+            .max(1e-12);
+        for _ in 0..20_000 {
+            let mut r = g.clone();
+            for (l, a) in lambda.iter().zip(&active) {
+                r += *a * *l;
+            }
+            for (l, a) in lambda.iter_mut().zip(&active) {
+                *l = (*l - a.dot(&r) / lip).max(0.0);
+            }
+        }
+        let mut r = g.clone();
+        for (l, a) in lambda.iter().zip(&active) {
+            r += *a * *l;
+        }
+        r.norm() / (1.0 + g.norm())
+    }
+
     fn objective(p: &DMatrix<f64>, q: &DVector<f64>, y: &DVector<f64>) -> f64 {
         (y.transpose() * p * y)[0] - 2.0 * q.dot(y)
     }
 
+    /// A degenerate QP (five parallel rows) on which clarabel stops at its iteration limit: the
+    /// active set's answer is optimal by its KKT conditions.
+    #[test]
+    fn degenerate_parallel_rows() {
+        let raw = [
+            0.7964611719908197,
+            0.16682786557918028,
+            0.4819033729831247,
+            -0.7108763538035591,
+            -0.3418533686459183,
+            0.0,
+            0.61079754766398,
+            -0.13982040907044438,
+            -0.9516624240970072,
+            -0.09028970236444211,
+            -0.9128247839842484,
+            -0.9832785122526998,
+            0.0,
+            -0.9485237237061783,
+            0.3703042068628044,
+            0.0,
+            -0.7534191839753257,
+            0.0,
+            0.0,
+            -0.8919216581310738,
+            0.0,
+            -0.45935857082998605,
+            0.46390650545339973,
+            0.32833910991695975,
+            0.0,
+            -0.7461782833398346,
+            0.8365752077851931,
+            0.0,
+            -0.7439406636939014,
+            0.8188296296837099,
+            0.9194901559528216,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ];
+        let (p, q, rows) = problem(2, 9, &raw);
+        let mut w = Vec::new();
+        let y = active_set(&p, &q, &rows, 1e-9, &mut w).expect("answered");
+        for (a, b) in &rows {
+            assert!(a.dot(&y) <= b + 1e-9);
+        }
+        assert!(kkt_residual(&p, &q, &rows, &y) <= 1e-6);
+    }
+
     proptest! {
-        #![proptest_config(ProptestConfig::with_cases(300))]
+        // Seeded: the suite gives the same verdict on every run.
+        #![proptest_config(ProptestConfig {
+            cases: 300,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_0f_9e),
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
 
         /// Whenever the active-set path answers, its answer is feasible and no worse than
         /// clarabel's (both solve the same convex QP; clarabel stops at its tolerance).
@@ -383,11 +556,20 @@ mod tests {
                 for (a, b) in &rows {
                     prop_assert!(a.dot(&y) <= b + tol);
                 }
-                if let QpOutcome::Solved(z) = clarabel_qp(&p, &q, &rows, 200) {
-                    let (fy, fz) = (objective(&p, &q, &y), objective(&p, &q, &z));
-                    prop_assert!(fy <= fz + 1e-6 * (1.0 + fz.abs()), "{fy} > {fz}");
-                } else {
-                    prop_assert!(false, "clarabel finds no solution where the active set does");
+                match clarabel_qp(&p, &q, &rows, 200) {
+                    QpOutcome::Solved(z) => {
+                        let (fy, fz) = (objective(&p, &q, &y), objective(&p, &q, &z));
+                        prop_assert!(fy <= fz + 1e-6 * (1.0 + fz.abs()), "{fy} > {fz}");
+                    }
+                    QpOutcome::Infeasible => {
+                        prop_assert!(false, "clarabel calls infeasible a QP the active set solved")
+                    }
+                    // clarabel stops without converging on some degenerate problems (many
+                    // parallel rows through the optimum): check the answer's KKT conditions.
+                    QpOutcome::Failed => prop_assert!(
+                        kkt_residual(&p, &q, &rows, &y) <= 1e-6,
+                        "clarabel did not converge and the answer fails KKT"
+                    ),
                 }
             }
         }
