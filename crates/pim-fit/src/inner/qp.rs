@@ -536,7 +536,7 @@ mod tests {
         // Seeded: the suite gives the same verdict on every run.
         #![proptest_config(ProptestConfig {
             cases: 300,
-            rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_0f_9e),
+            rng_seed: proptest::test_runner::RngSeed::Fixed(0x5eed_0f9e),
             failure_persistence: None,
             ..ProptestConfig::default()
         })]
