@@ -192,3 +192,18 @@ fn fit_help_documents_the_case_file() {
         assert!(text.contains(needle), "{needle}");
     }
 }
+
+#[test]
+fn a_fit_case_in_the_other_convention_is_explained() {
+    // The natural-form example with vehicle 1's heading written as Brach's theta1 (its tail).
+    let text = case_text().replace("heading = 180.0", "heading = 0.0");
+    let path = write_case("wrong_convention.toml", &text);
+    let out = pim(&["fit", &path, "--cost", "q2", "--format", "json"]);
+    let msg = stderr(&out);
+    assert!(
+        msg.contains("do not approach at the impact centre"),
+        "{msg}"
+    );
+    assert!(msg.contains("vehicle 1's CG at (-1.80, 0.00) m"), "{msg}");
+    assert!(msg.contains("with convention = \"brach\""), "{msg}");
+}

@@ -33,6 +33,15 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         None => (fitcase::CostChoice::Custom, "custom"),
     };
     crate::inputs::checked_impact(&case)?;
+    if let Some(why) =
+        super::draw::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
+    {
+        eprintln!(
+            "pim: warning: {}: the estimated contact velocities do not approach at the impact \
+             centre; {why}",
+            case.file
+        );
+    }
     let problem = fitcase::problem(&case, choice)?;
     let settings = fitcase::settings(&case, a.moment_form.into(), unique(&a.branch))?;
     let report = pim_fit::fit(&problem, &settings)
