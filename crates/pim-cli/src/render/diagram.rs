@@ -4,7 +4,7 @@
 //! `length`, `width`, `cg_to_front`, or a default by mass class, marked as such), the CGs and
 //! noses, C, the crush surface with its normal n and tangent t, the CG velocities at contact
 //! (and at separation when solved), the impulse on each vehicle at C, the PDOF arrows, a scale
-//! bar and the axes. A key on the right names every element and states the arrow scales.
+//! bar and the axes; the thick edge of each outline is its front. A key on the right names every element and states the arrow scales.
 
 use pim_core::{Impact, VehicleId, VehicleResult, Velocities};
 use pim_data::case::VehicleSection;
@@ -392,15 +392,7 @@ impl Diagram {
         let l = self.longest();
         for (k, v) in self.vehicles.iter().enumerate() {
             let color = VEHICLE_COLORS[k];
-            // Nose: a short heading arrow from the CG to the front face.
-            let nose = rotate([v.outline.front * 0.8, 0.0], v.heading);
-            draw_arrow(
-                &mut chart,
-                v.cg,
-                [v.cg[0] + nose[0], v.cg[1] + nose[1]],
-                color,
-                1,
-            )?;
+            // The nose is marked by the thick front edge of the outline.
             if let Some(u) = v.contact {
                 draw_arrow(
                     &mut chart,
