@@ -239,6 +239,10 @@ convention), without [coefficients], [initial], [final], plus:
   vehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }
   [weights.initial]                # optional, same shape, in (0, 1], default 1
   vehicle1 = { omega = 0.5 }
+  [sigma.final]                    # or standard deviations (m/s, rad/s) instead of weights:
+  vehicle1 = { vx = 0.5, vy = 0.5, omega = 0.2 }   # weights 1/sigma^2, the cost a chi-square
+                                   # (printed with its degrees of freedom and p-value); every
+                                   # estimate then needs a sigma
   [known.initial]                  # without --cost only: components held fixed
   vehicle1 = { omega = 0.0 }
   [bounds]                         # optional; these are the defaults
@@ -250,7 +254,7 @@ convention), without [coefficients], [initial], [final], plus:
   kind = \"delta_v_longitudinal\"   # delta_v_lateral, speed_along_heading, lateral_velocity
   vehicle = 1
   value = -5.1                     # m/s, along the vehicle's own axes
-  weight = 1.0
+  weight = 1.0                     # or sigma = 0.3 (m/s) with [sigma]
 
 COST FUNCTIONS (--cost):
   q1  separation velocities known exactly, contact velocities estimated

@@ -169,6 +169,10 @@ pub struct CaseFile {
     /// Weights of the estimates in (0, 1] (fit), same shape; default 1.
     #[serde(default)]
     pub weights: Option<PartialStates>,
+    /// Standard deviations of the estimates (fit), same shape (speed and yaw-rate units):
+    /// weights become inverse variances and the cost a chi-square. Not with `[weights]`.
+    #[serde(default)]
+    pub sigma: Option<PartialStates>,
     /// Components known exactly (fit without `--cost`), same shape.
     #[serde(default)]
     pub known: Option<PartialStates>,
@@ -266,6 +270,9 @@ pub struct ObservationSection {
     /// In (0, 1], default 1.
     #[serde(default = "one")]
     pub weight: f64,
+    /// Standard deviation of the value (speed unit), instead of `weight`.
+    #[serde(default)]
+    pub sigma: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -459,7 +466,10 @@ impl Case {
                 *w *= rate;
             }
         };
-        for states in [&mut c.estimates, &mut c.known].into_iter().flatten() {
+        for states in [&mut c.estimates, &mut c.known, &mut c.sigma]
+            .into_iter()
+            .flatten()
+        {
             for s in [&mut states.initial, &mut states.final_]
                 .into_iter()
                 .flatten()
@@ -478,6 +488,9 @@ impl Case {
         }
         for o in &mut c.observations {
             o.value *= speed;
+            if let Some(s) = &mut o.sigma {
+                *s *= speed;
+            }
         }
         // Converted once: the content is SI from here on.
         c.units = UnitsSection::default();

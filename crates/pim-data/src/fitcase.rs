@@ -20,12 +20,61 @@ fn input(case: &Case, what: String) -> InputError {
     InputError::new(&case.file, what)
 }
 
+/// When the case gives standard deviations (`[sigma]`, `sigma` on observations): the common
+/// unit `u` of its inverse-variance weights `w = u / sigma^2`, the smallest sigma squared
+/// (m^2/s^2 or rad^2/s^2), so that every weight is in (0, 1] and the cost over `u` is a
+/// chi-square. `None` without sigmas.
+pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
+    let c = &case.content;
+    let sig = c.sigma.unwrap_or_default().components();
+    let all: Vec<(String, f64)> = sig
+        .iter()
+        .enumerate()
+        .filter_map(|(k, s)| s.map(|s| (format!("[sigma] {}", COMPONENT_NAMES[k]), s)))
+        .chain(c.observations.iter().enumerate().filter_map(|(i, o)| {
+            o.sigma
+                .map(|s| (format!("[[observations]] entry {}: sigma", i + 1), s))
+        }))
+        .collect();
+    if all.is_empty() {
+        return Ok(None);
+    }
+    for (what, s) in &all {
+        if !(s.is_finite() && *s > 0.0) {
+            return Err(input(
+                case,
+                format!("{what} = {s} must be a positive number"),
+            ));
+        }
+    }
+    if c.weights.is_some() {
+        return Err(input(
+            case,
+            "give [sigma] (standard deviations) or [weights], not both".to_string(),
+        ));
+    }
+    Ok(Some(
+        all.iter().map(|(_, s)| s * s).fold(f64::INFINITY, f64::min),
+    ))
+}
+
 /// The fit problem of a case.
 pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
     let impact = case.impact()?;
     let c = &case.content;
     let est = c.estimates.unwrap_or_default().components();
-    let weights = c.weights.unwrap_or_default().components();
+    let unit = sigma_unit(case)?;
+    let sig = c.sigma.unwrap_or_default().components();
+    let weights = match unit {
+        Some(u) => {
+            let mut w = [None; 12];
+            for k in 0..12 {
+                w[k] = sig[k].map(|s| u / (s * s));
+            }
+            w
+        }
+        None => c.weights.unwrap_or_default().components(),
+    };
     let known = c.known.unwrap_or_default().components();
     for (k, w) in weights.iter().enumerate() {
         if let Some(w) = w {
@@ -42,7 +91,7 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
                 return Err(input(
                     case,
                     format!(
-                        "[weights] {}: a weight without an estimate",
+                        "[weights] / [sigma] {}: a weight or sigma without an estimate",
                         COMPONENT_NAMES[k]
                     ),
                 ));
@@ -130,12 +179,39 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
                 ))
             }
         };
+        let weight = match (unit, o.sigma) {
+            (Some(u), Some(s)) => u / (s * s),
+            (Some(_), None) => {
+                return Err(input(
+                    case,
+                    format!(
+                        "[[observations]] entry {}: sigma missing; with [sigma] every estimate and \
+                         observation needs a standard deviation",
+                        i + 1
+                    ),
+                ))
+            }
+            (None, _) => o.weight,
+        };
         observations.push(Observation {
             kind: o.kind,
             vehicle,
             value: o.value,
-            weight: o.weight,
+            weight,
         });
+    }
+    if unit.is_some() {
+        for k in 0..12 {
+            if matches!(components[k], Knowledge::Estimated { .. }) && sig[k].is_none() {
+                return Err(input(
+                    case,
+                    format!(
+                        "[sigma] {}: missing; with [sigma] every estimate needs a standard deviation",
+                        COMPONENT_NAMES[k]
+                    ),
+                ));
+            }
+        }
     }
     let problem = FitProblem {
         impact,

@@ -241,9 +241,20 @@ pub struct BranchRecord {
     pub identifiability: Vec<pim_fit::Identifiability>,
     /// How the optimum was established.
     pub certificate: pim_fit::Certificate,
+    /// The cost as a chi-square, when the case gives standard deviations (`[sigma]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chi_square: Option<pim_fit::ChiSquare>,
 }
 
 impl BranchRecord {
+    /// Adds the chi-square reading of the cost (weights `unit / sigma^2`).
+    pub fn with_chi_square(mut self, problem: &pim_fit::FitProblem, unit: Option<f64>) -> Self {
+        if let (Some(u), Some(cost)) = (unit, self.cost) {
+            self.chi_square = Some(pim_fit::ChiSquare::new(problem, self.moment, cost, u));
+        }
+        self
+    }
+
     /// Flattens a branch report.
     pub fn new(b: &pim_fit::BranchReport) -> Self {
         let s = b.solution.as_ref();
@@ -274,6 +285,7 @@ impl BranchRecord {
             admissible: s.map(|s| s.admissible),
             identifiability: b.identifiability.clone(),
             certificate: b.certificate.clone(),
+            chi_square: None,
         }
     }
 }

@@ -84,8 +84,8 @@ pub use problem::{
     Observation, ObservationKind, Vector12, COMPONENT_NAMES,
 };
 pub use report::{
-    ActiveConstraint, BranchReport, Certificate, FitReport, Identifiability, Limits, Quantity,
-    Reason, Solution, Status, Violation,
+    ActiveConstraint, BranchReport, Certificate, ChiSquare, FitReport, Identifiability, Limits,
+    Quantity, Reason, Solution, Status, Violation,
 };
 pub use settings::{FitSettings, SearchSettings, ValidSettings};
 

@@ -468,3 +468,51 @@ impl FitReport {
             .and_then(|b| self.branches.iter().find(|r| r.moment == b))
     }
 }
+
+/// The cost of a fit read as a chi-square, when its weights are inverse variances
+/// (`w_k = u / sigma_k^2` with one common unit `u`, m^2/s^2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ChiSquare {
+    /// `sum (r_k / sigma_k)^2 = cost / u`.
+    pub value: f64,
+    /// Data (estimated components and observations) minus free parameters: the unknown
+    /// velocity components plus the branch's coefficients (3 free, 2 zero) minus the six
+    /// equations. Active bounds are not subtracted.
+    pub degrees_of_freedom: i64,
+    /// `P(chi^2_dof >= value)`: the probability of a misfit at least this large if the model
+    /// and the stated sigmas are right (none when the degrees of freedom are not positive).
+    pub p_value: Option<f64>,
+}
+
+impl ChiSquare {
+    /// The chi-square of a branch's `cost` for `problem`, whose weights are `unit / sigma^2`.
+    pub fn new(problem: &crate::FitProblem, branch: MomentBranch, cost: f64, unit: f64) -> Self {
+        use crate::Knowledge;
+        let data = problem
+            .components
+            .iter()
+            .filter(|k| matches!(k, Knowledge::Estimated { .. }))
+            .count()
+            + problem.observations.len();
+        let free = problem
+            .components
+            .iter()
+            .filter(|k| !matches!(k, Knowledge::Known { .. }))
+            .count();
+        let coefficients = match branch {
+            MomentBranch::Free => 3,
+            MomentBranch::Zero => 2,
+        };
+        let dof = data as i64 - (free as i64 + coefficients - 6);
+        let value = cost / unit;
+        let p_value = (dof > 0)
+            .then(|| statrs::distribution::ChiSquared::new(dof as f64).ok())
+            .flatten()
+            .map(|d| statrs::distribution::ContinuousCDF::sf(&d, value));
+        ChiSquare {
+            value,
+            degrees_of_freedom: dof,
+            p_value,
+        }
+    }
+}

@@ -46,17 +46,31 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let settings = fitcase::settings(&case, a.moment_form.into(), unique(&a.branch))?;
     let report = pim_fit::fit(&problem, &settings)
         .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
+    let unit = fitcase::sigma_unit(&case)?;
+    let branch_records: Vec<records::BranchRecord> = report
+        .branches
+        .iter()
+        .map(|b| records::BranchRecord::new(b).with_chi_square(&problem, unit))
+        .collect();
     let record = json(&records::FitOut {
         cost_function: name.to_string(),
-        branches: report
-            .branches
-            .iter()
-            .map(records::BranchRecord::new)
-            .collect(),
+        branches: branch_records.clone(),
         best: report.best,
         notes: report.notes.clone(),
     })?;
-    let table = tables::fit_table(&title_of(&case), name, &report, a.units.into());
+    let mut table = tables::fit_table(&title_of(&case), name, &report, a.units.into());
+    for r in &branch_records {
+        if let Some(c) = &r.chi_square {
+            table.push_str(&format!(
+                "branch {}: chi-square {:.3} with {} degrees of freedom, p = {}\n",
+                r.moment.name(),
+                c.value,
+                c.degrees_of_freedom,
+                c.p_value
+                    .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
+            ));
+        }
+    }
     if let Some(dir) = &a.out {
         let impact = case.impact()?;
         let contact = super::draw::estimated_contact(&case);

@@ -1,0 +1,136 @@
+//! With standard deviations (`[sigma]`) the fit's cost is a chi-square: on data simulated from
+//! the forward model with exactly those sigmas, its values follow the chi-square law of the
+//! stated degrees of freedom (seeded).
+use pim_core::*;
+use pim_data::case::Case;
+use pim_data::fitcase::{self, CostChoice};
+use pim_fit::{ChiSquare, CostPreset, MomentBranch, Status};
+use rand::{Rng, SeedableRng};
+
+/// A standard normal number (Box-Muller).
+fn normal(rng: &mut rand::rngs::StdRng) -> f64 {
+    let u1: f64 = rng.random::<f64>().max(1e-300);
+    let u2: f64 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+const GEOMETRY: &str = r#"
+[vehicle1]
+mass = 1036.0
+yaw_inertia = 1348.0
+heading = 180.0
+impact_point = { x = 1.4, y = 0.0 }
+[vehicle2]
+mass = 2189.0
+yaw_inertia = 5287.0
+heading = 90.0
+d = 1.6
+phi = -30.0
+[impact]
+crush_angle = 0.0
+"#;
+
+#[test]
+fn chi_square_of_simulated_data_follows_its_law() {
+    let (sv, sw) = (0.2, 0.1);
+    let base = Case::from_text("geometry", GEOMETRY).unwrap();
+    let impact = base.impact().unwrap();
+    let x = Velocities::from_vector(&nalgebra::Vector6::new(-9.48, 0.0, 0.0, 0.0, 9.48, 0.0));
+    let mut truth = Coefficients {
+        e: 0.1,
+        mu: 0.0,
+        em: 1.0,
+    };
+    let mm = critical_friction(&impact, &truth, &x, &SolveOptions::default())
+        .unwrap()
+        .unwrap();
+    truth.mu = 0.5 * mm;
+    let sep = solve_forward(&impact, &truth, &x, &SolveOptions::default())
+        .unwrap()
+        .separation
+        .to_vector();
+    let settings = pim_fit::FitSettings {
+        branches: vec![MomentBranch::Zero],
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(2026);
+    let n = 200;
+    let (mut sum, mut below_5, mut dof) = (0.0, 0, 0);
+    for _ in 0..n {
+        let f: Vec<f64> = (0..6)
+            .map(|k| sep[k] + normal(&mut rng) * if k % 3 == 2 { sw } else { sv })
+            .collect();
+        let text = format!(
+            "{GEOMETRY}
+[estimates.initial]
+vehicle1 = {{ vx = -9.48, vy = 0.0, omega = 0.0 }}
+vehicle2 = {{ vx = 0.0, vy = 9.48, omega = 0.0 }}
+[estimates.final]
+vehicle1 = {{ vx = {}, vy = {}, omega = {} }}
+vehicle2 = {{ vx = {}, vy = {}, omega = {} }}
+[sigma.final]
+vehicle1 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}
+vehicle2 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}
+",
+            f[0], f[1], f[2], f[3], f[4], f[5]
+        );
+        let case = Case::from_text("sim", &text).unwrap();
+        let problem = fitcase::problem(&case, CostChoice::Preset(CostPreset::Q2)).unwrap();
+        let unit = fitcase::sigma_unit(&case).unwrap().unwrap();
+        assert!((unit - sw * sw).abs() < 1e-15);
+        let report = pim_fit::fit(&problem, &settings).unwrap();
+        let b = &report.branches[0];
+        assert_eq!(b.status, Status::Optimal);
+        let cost = b.solution.as_ref().unwrap().cost;
+        let c = ChiSquare::new(&problem, MomentBranch::Zero, cost, unit);
+        dof = c.degrees_of_freedom;
+        sum += c.value;
+        if c.p_value.unwrap() < 0.05 {
+            below_5 += 1;
+        }
+    }
+    // Q2, zero branch: 6 estimates, 6 unknown components + e, mu - 6 equations = 2 parameters.
+    assert_eq!(dof, 4);
+    // Mean of chi^2_4 is 4 with sd sqrt(8 / 200) = 0.2 for the mean of 200: within 3 sd.
+    let mean = sum / n as f64;
+    assert!((mean - 4.0).abs() < 0.6, "mean chi-square {mean}");
+    // About 5 % of p-values below 0.05 (binomial sd 1.5 %): between 1 % and 10 %.
+    assert!((2..=20).contains(&below_5), "{below_5} of {n} below 0.05");
+    println!("mean chi-square {mean:.3} (dof 4), {below_5}/{n} p-values below 0.05");
+}
+
+#[test]
+fn sigma_and_weights_together_are_refused() {
+    let text = format!(
+        "{GEOMETRY}
+[estimates.final]
+vehicle1 = {{ vx = -3.0 }}
+[sigma.final]
+vehicle1 = {{ vx = 0.2 }}
+[weights.final]
+vehicle1 = {{ vx = 0.5 }}
+"
+    );
+    let case = Case::from_text("both.toml", &text).unwrap();
+    let e = fitcase::problem(&case, CostChoice::Custom).unwrap_err();
+    assert!(
+        e.message
+            .contains("[sigma] (standard deviations) or [weights], not both"),
+        "{e}"
+    );
+    // A sigma in km/h is converted like the estimates.
+    let text = format!(
+        "{GEOMETRY}
+[units]
+speed = \"km/h\"
+[estimates.final]
+vehicle1 = {{ vx = -10.8 }}
+[sigma.final]
+vehicle1 = {{ vx = 0.72 }}
+"
+    );
+    let case = Case::from_text("kmh.toml", &text).unwrap();
+    assert!((fitcase::sigma_unit(&case).unwrap().unwrap() - 0.04).abs() < 1e-12);
+}
