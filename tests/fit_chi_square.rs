@@ -1,39 +1,18 @@
 //! With standard deviations (`[sigma]`) the fit's cost is a chi-square: on data simulated from
 //! the forward model with exactly those sigmas, its values follow the chi-square law of the
 //! stated degrees of freedom (seeded).
+mod common;
+use common::{normal, RICSAC9_GEOMETRY};
 use pim_core::*;
 use pim_data::case::Case;
 use pim_data::fitcase::{self, CostChoice};
 use pim_fit::{ChiSquare, CostPreset, MomentBranch, Status};
-use rand::{Rng, SeedableRng};
-
-/// A standard normal number (Box-Muller).
-fn normal(rng: &mut rand::rngs::StdRng) -> f64 {
-    let u1: f64 = rng.random::<f64>().max(1e-300);
-    let u2: f64 = rng.random();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-}
-
-const GEOMETRY: &str = r#"
-[vehicle1]
-mass = 1036.0
-yaw_inertia = 1348.0
-heading = 180.0
-impact_point = { x = 1.4, y = 0.0 }
-[vehicle2]
-mass = 2189.0
-yaw_inertia = 5287.0
-heading = 90.0
-d = 1.6
-phi = -30.0
-[impact]
-crush_angle = 0.0
-"#;
+use rand::SeedableRng;
 
 #[test]
 fn chi_square_of_simulated_data_follows_its_law() {
     let (sv, sw) = (0.2, 0.1);
-    let base = Case::from_text("geometry", GEOMETRY).unwrap();
+    let base = Case::from_text("geometry", RICSAC9_GEOMETRY).unwrap();
     let impact = base.impact().unwrap();
     let x = Velocities::from_vector(&nalgebra::Vector6::new(-9.48, 0.0, 0.0, 0.0, 9.48, 0.0));
     let mut truth = Coefficients {
@@ -63,7 +42,7 @@ fn chi_square_of_simulated_data_follows_its_law() {
             .map(|k| sep[k] + normal(&mut rng) * if k % 3 == 2 { sw } else { sv })
             .collect();
         let text = format!(
-            "{GEOMETRY}
+            "{RICSAC9_GEOMETRY}
 [estimates.initial]
 vehicle1 = {{ vx = -9.48, vy = 0.0, omega = 0.0 }}
 vehicle2 = {{ vx = 0.0, vy = 9.48, omega = 0.0 }}
@@ -104,7 +83,7 @@ vehicle2 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}
 #[test]
 fn sigma_and_weights_together_are_refused() {
     let text = format!(
-        "{GEOMETRY}
+        "{RICSAC9_GEOMETRY}
 [estimates.final]
 vehicle1 = {{ vx = -3.0 }}
 [sigma.final]
@@ -122,7 +101,7 @@ vehicle1 = {{ vx = 0.5 }}
     );
     // A sigma in km/h is converted like the estimates.
     let text = format!(
-        "{GEOMETRY}
+        "{RICSAC9_GEOMETRY}
 [units]
 speed = \"km/h\"
 [estimates.final]

@@ -102,3 +102,28 @@ pub fn brach1983_ricsac9() -> (Collision, Velocities) {
         state([-9.48, 0.0, 0.0, 0.0, 9.48, 0.0]),
     )
 }
+
+/// A standard normal number (Box-Muller), for simulated measurement noise.
+pub fn normal(rng: &mut rand::rngs::StdRng) -> f64 {
+    use rand::Rng;
+    let u1: f64 = rng.random::<f64>().max(1e-300);
+    let u2: f64 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// The geometry of RICSAC 9 (Brach 1983 Table 1) as a natural-form case file fragment.
+pub const RICSAC9_GEOMETRY: &str = r#"
+[vehicle1]
+mass = 1036.0
+yaw_inertia = 1348.0
+heading = 180.0
+impact_point = { x = 1.4, y = 0.0 }
+[vehicle2]
+mass = 2189.0
+yaw_inertia = 5287.0
+heading = 90.0
+d = 1.6
+phi = -30.0
+[impact]
+crush_angle = 0.0
+"#;

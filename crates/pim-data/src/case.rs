@@ -182,6 +182,9 @@ pub struct CaseFile {
     /// Extra observations (fit), e.g. what an EDR recorded.
     #[serde(default)]
     pub observations: Vec<ObservationSection>,
+    /// Uncertainty of the inputs the fit takes as exact (`pim uncertainty`).
+    #[serde(default)]
+    pub uncertainty: Option<crate::uncertainty::UncertaintySection>,
 }
 
 /// A vehicle's velocity where every component is optional.
@@ -491,6 +494,9 @@ impl Case {
             if let Some(s) = &mut o.sigma {
                 *s *= speed;
             }
+        }
+        if let Some(u) = &mut c.uncertainty {
+            *u = u.to_si(mass, inertia, length);
         }
         // Converted once: the content is SI from here on.
         c.units = UnitsSection::default();

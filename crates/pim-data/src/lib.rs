@@ -11,7 +11,8 @@
 //! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`;
 //! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
 //! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit;
-//! - [`units`]: the `[units]` of a case file and the unit systems of printed tables.
+//! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
+//! - [`uncertainty`]: the seeded parametric bootstrap of `pim uncertainty`.
 //!
 //! Bad input is an [`InputError`] whose message names the file, line and field.
 
@@ -22,6 +23,7 @@ pub mod fitcase;
 pub mod records;
 pub mod reference;
 pub mod ricsac;
+pub mod uncertainty;
 pub mod units;
 
 pub use error::{InputError, Result};

@@ -5,6 +5,7 @@ pub mod batch_cases;
 pub mod draw;
 pub mod fit;
 pub mod solve;
+pub mod uncertainty;
 
 use crate::error::Failure;
 use crate::inputs::io_reason;

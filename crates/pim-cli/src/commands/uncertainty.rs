@@ -1,0 +1,132 @@
+//! `pim uncertainty`: the seeded parametric bootstrap of a fit case.
+
+use super::{json, print_out, title_of, write_file};
+use crate::args::{Format, UncertaintyArgs};
+use crate::error::{Failure, EXIT_OK};
+use crate::inputs::{checked_impact, load_case};
+use anyhow::Result;
+use pim_data::fitcase::CostChoice;
+use pim_data::uncertainty::{self, Study, QUANTITIES};
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+/// The table of a study.
+fn table(title: &str, s: &Study) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{title}\nparametric bootstrap: {} draws (seed {}), {} with an admissible fit\n",
+        s.draws, s.seed, s.feasible_draws
+    );
+    let _ = writeln!(
+        t,
+        "{:<22} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "quantity", "nominal", "p05", "p50", "p95", "mean", "sd"
+    );
+    for name in QUANTITIES {
+        let q = &s.quantities[name];
+        let nominal = s
+            .nominal
+            .get(name)
+            .map_or_else(|| "-".to_string(), |v| format!("{v:.4}"));
+        let _ = writeln!(
+            t,
+            "{name:<22} {nominal:>10} {:>10.4} {:>10.4} {:>10.4} {:>10.4} {:>10.4}{}",
+            q.p05,
+            q.p50,
+            q.p95,
+            q.mean,
+            q.sd,
+            if q.not_determined {
+                "  NOT DETERMINED by the data: not a confidence interval"
+            } else {
+                ""
+            }
+        );
+    }
+    let _ = writeln!(
+        t,
+        "(speeds at contact and delta-V in m/s, energy loss in %)\n"
+    );
+    let shares: Vec<String> = s
+        .branch_share
+        .iter()
+        .map(|(b, v)| format!("{b} {:.1} %", 100.0 * v))
+        .collect();
+    let _ = writeln!(t, "best branch over the draws: {}", shares.join(", "));
+    let _ = writeln!(
+        t,
+        "\ndominant inputs (first-order index, correlation ratio):"
+    );
+    for sens in &s.sensitivity {
+        let list: Vec<String> = sens
+            .inputs
+            .iter()
+            .take(3)
+            .map(|(n, v)| format!("{n} {v:.2}"))
+            .collect();
+        let _ = writeln!(
+            t,
+            "  {:<22} {}",
+            sens.quantity,
+            if list.is_empty() {
+                "none above 0.02".to_string()
+            } else {
+                list.join("; ")
+            }
+        );
+    }
+    t
+}
+
+/// `pim uncertainty`.
+pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
+    let case = load_case(&a.case)?;
+    checked_impact(&case)?;
+    if a.draws == 0 {
+        return Err(Failure::Input("--draws must be at least 1".into()).into());
+    }
+    let choice = match a.cost {
+        Some(c) => CostChoice::Preset(c.into()),
+        None => CostChoice::Custom,
+    };
+    let unc = case.content.uncertainty.unwrap_or_default();
+    let show = a.format == Format::Table && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = if show {
+        let b = indicatif::ProgressBar::new(a.draws as u64);
+        b.set_message("refitting draws");
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let tick = || bar.inc(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
+    let study = pool.install(|| {
+        uncertainty::run(
+            &case,
+            &unc,
+            choice,
+            pim_fit::FitSettings::default(),
+            a.draws,
+            a.seed,
+            &tick,
+        )
+    })?;
+    bar.finish_and_clear();
+    let record = json(&study)?;
+    let text = table(&title_of(&case), &study);
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
+        write_file(&dir.join("uncertainty.json"), &record)?;
+        write_file(&dir.join("uncertainty.txt"), &text)?;
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &text,
+    })?;
+    Ok(ExitCode::from(EXIT_OK))
+}
