@@ -115,3 +115,70 @@ fn ninety_percent_intervals_cover_the_truth_full() {
         assert!((0.85..=0.95).contains(&v), "{c:?}");
     }
 }
+
+#[test]
+fn linearised_and_monte_carlo_standard_deviations_agree_for_a_well_determined_case() {
+    // RICSAC 9 geometry, exact data of e = 0.1, mu = 0.5 mu_max, em = 1; small sigmas (0.05 m/s,
+    // 0.02 rad/s) on all twelve estimates, Q3, zero branch: the fit is a smooth function of the
+    // data near the optimum, so the delta method must match the bootstrap.
+    let base = Case::from_text("geometry", RICSAC9_GEOMETRY).unwrap();
+    let impact = base.impact().unwrap();
+    let x = Velocities::from_vector(&nalgebra::Vector6::new(-9.48, 0.0, 0.0, 0.0, 9.48, 0.0));
+    let mut truth = Coefficients {
+        e: 0.1,
+        mu: 0.0,
+        em: 1.0,
+    };
+    let mm = critical_friction(&impact, &truth, &x, &SolveOptions::default())
+        .unwrap()
+        .unwrap();
+    truth.mu = 0.5 * mm;
+    let r = solve_forward(&impact, &truth, &x, &SolveOptions::default()).unwrap();
+    let u: Vec<f64> = x
+        .to_vector()
+        .iter()
+        .chain(r.separation.to_vector().iter())
+        .copied()
+        .collect();
+    let state = |o: usize| {
+        format!(
+            "vehicle1 = {{ vx = {}, vy = {}, omega = {} }}\nvehicle2 = {{ vx = {}, vy = {}, omega = {} }}\n",
+            u[o], u[o + 1], u[o + 2], u[o + 3], u[o + 4], u[o + 5]
+        )
+    };
+    let sig = "vehicle1 = { vx = 0.05, vy = 0.05, omega = 0.02 }\nvehicle2 = { vx = 0.05, vy = 0.05, omega = 0.02 }\n";
+    let text = format!(
+        "{RICSAC9_GEOMETRY}[estimates.initial]\n{}[estimates.final]\n{}[sigma.initial]\n{sig}[sigma.final]\n{sig}",
+        state(0),
+        state(6)
+    );
+    let case = Case::from_text("small_sigma", &text).unwrap();
+    let settings = pim_fit::FitSettings {
+        branches: vec![pim_fit::MomentBranch::Zero],
+        ..Default::default()
+    };
+    let study = uncertainty::run(
+        &case,
+        &UncertaintySection::default(),
+        CostChoice::Preset(CostPreset::Q3),
+        settings,
+        400,
+        3,
+        &|| {},
+    )
+    .unwrap();
+    for q in [
+        "e",
+        "mu",
+        "speed1",
+        "speed2",
+        "delta_v1",
+        "delta_v2",
+        "energy_loss_percent",
+    ] {
+        let mc = study.quantities[q].sd;
+        let lin = study.linearised_sd[q];
+        println!("{q}: Monte Carlo sd {mc:.5}, linearised {lin:.5}");
+        assert!((lin - mc).abs() <= 0.15 * mc, "{q}: {lin} vs {mc}");
+    }
+}

@@ -20,8 +20,8 @@ fn table(title: &str, s: &Study) -> String {
     );
     let _ = writeln!(
         t,
-        "{:<22} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
-        "quantity", "nominal", "p05", "p50", "p95", "mean", "sd"
+        "{:<22} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "quantity", "nominal", "p05", "p50", "p95", "mean", "sd", "sd (lin.)"
     );
     for name in QUANTITIES {
         let q = &s.quantities[name];
@@ -29,9 +29,13 @@ fn table(title: &str, s: &Study) -> String {
             .nominal
             .get(name)
             .map_or_else(|| "-".to_string(), |v| format!("{v:.4}"));
+        let lin = s
+            .linearised_sd
+            .get(name)
+            .map_or_else(|| "-".to_string(), |v| format!("{v:.4}"));
         let _ = writeln!(
             t,
-            "{name:<22} {nominal:>10} {:>10.4} {:>10.4} {:>10.4} {:>10.4} {:>10.4}{}",
+            "{name:<22} {nominal:>10} {:>10.4} {:>10.4} {:>10.4} {:>10.4} {:>10.4} {lin:>10}{}",
             q.p05,
             q.p50,
             q.p95,
@@ -46,7 +50,7 @@ fn table(title: &str, s: &Study) -> String {
     }
     let _ = writeln!(
         t,
-        "(speeds at contact and delta-V in m/s, energy loss in %)\n"
+        "(speeds at contact and delta-V in m/s, energy loss in %; sd (lin.): delta method)\n"
     );
     let shares: Vec<String> = s
         .branch_share
