@@ -583,11 +583,9 @@ fn linearised(
                 fit_once(&c, choice, settings)
             };
             let (p, m) = (at(inp.nominal + h)?, at(inp.nominal - h)?);
-            let mut g = [0.0; 8];
-            for q in 0..8 {
-                g[q] = (p.values[q] - m.values[q]) / (2.0 * h) * sd;
-            }
-            Some(g)
+            Some(std::array::from_fn(|q| {
+                (p.values[q] - m.values[q]) / (2.0 * h) * sd
+            }))
         })
         .collect();
     let mut out = BTreeMap::new();
