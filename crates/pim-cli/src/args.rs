@@ -155,7 +155,9 @@ pub struct UncertaintyArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
-    /// Also write uncertainty.json and uncertainty.txt into this directory.
+    /// Also write uncertainty.json, uncertainty.txt and the figures histograms.svg (speeds and
+    /// delta-V with their 90 % bands), speeds.svg (speed 1 against speed 2) and tornado.svg
+    /// (dominant inputs) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

@@ -111,3 +111,36 @@ fn nothing_uncertain_is_an_input_error() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("nothing is uncertain"));
 }
+
+#[test]
+fn out_writes_the_record_the_table_and_three_figures() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("uncertainty_out");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = pim(&[
+        "uncertainty",
+        CASE,
+        "--cost",
+        "q2",
+        "--draws",
+        "60",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in [
+        "uncertainty.json",
+        "uncertainty.txt",
+        "histograms.svg",
+        "speeds.svg",
+        "tornado.svg",
+    ] {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        assert!(text.len() > 200, "{f}");
+    }
+    let svg = std::fs::read_to_string(dir.join("histograms.svg")).unwrap();
+    assert!(svg.contains("90 %"));
+}

@@ -190,6 +190,9 @@ pub struct Summary {
     /// The nominal fit does not determine this quantity (its range within the identifiability
     /// tolerance is open or wide): the interval is not a confidence statement.
     pub not_determined: bool,
+    /// The 90 % interval reaches a bound of the search (e or mu): the bound, not the data, ends
+    /// it.
+    pub reaches_bound: bool,
 }
 
 /// One input's share of a quantity's spread.
@@ -226,6 +229,10 @@ pub struct Study {
     /// `sqrt(sum (dq/dx_i sd_i)^2)`, independent inputs; a uniform input counts with its
     /// standard deviation `(hi - lo) / sqrt 12`. Absent when a refit at a step fails.
     pub linearised_sd: BTreeMap<String, f64>,
+    /// The values of [`QUANTITIES`] of every feasible draw, in draw order (for figures; not
+    /// serialised).
+    #[serde(skip)]
+    pub samples: Vec<[f64; 8]>,
 }
 
 /// Writes a drawn value into a copy of the case.
@@ -514,6 +521,19 @@ pub fn run(
                 mean,
                 sd,
                 not_determined: undetermined[q],
+                reaches_bound: match q {
+                    0 => {
+                        let [lo, hi] = settings.get().e;
+                        percentile(&sorted, 0.05) <= lo + 1e-9
+                            || percentile(&sorted, 0.95) >= hi - 1e-9
+                    }
+                    1 => {
+                        let [lo, hi] = settings.get().mu;
+                        percentile(&sorted, 0.05) <= lo + 1e-9
+                            || percentile(&sorted, 0.95) >= hi - 1e-9
+                    }
+                    _ => false,
+                },
             },
         );
         let mut shares: Vec<(String, f64)> = inputs
@@ -559,6 +579,7 @@ pub fn run(
         branch_share,
         sensitivity,
         linearised_sd,
+        samples: feasible.iter().map(|(_, r)| r.values).collect(),
     })
 }
 

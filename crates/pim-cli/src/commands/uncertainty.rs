@@ -43,6 +43,8 @@ fn table(title: &str, s: &Study) -> String {
             q.sd,
             if q.not_determined {
                 "  NOT DETERMINED by the data: not a confidence interval"
+            } else if q.reaches_bound {
+                "  reaches a search bound: the bound, not the data, ends it"
             } else {
                 ""
             }
@@ -127,6 +129,8 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
             .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
         write_file(&dir.join("uncertainty.json"), &record)?;
         write_file(&dir.join("uncertainty.txt"), &text)?;
+        crate::render::uncertainty_figures::write_all(&study, dir)
+            .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
     }
     print_out(match a.format {
         Format::Json => &record,

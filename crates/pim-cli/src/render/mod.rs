@@ -5,3 +5,4 @@ pub mod diagram;
 pub mod figures;
 pub mod markdown;
 pub mod tables;
+pub mod uncertainty_figures;

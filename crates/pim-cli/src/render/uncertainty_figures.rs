@@ -1,0 +1,212 @@
+//! Figures of `pim uncertainty --out` (plotters, SVG): histograms of the impact speeds and
+//! delta-V with their 90 % bands, speed 1 against speed 2, and a tornado chart of the inputs
+//! that dominate each of them.
+
+use pim_data::uncertainty::{Study, QUANTITIES};
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+const BAR: RGBColor = RGBColor(31, 119, 180);
+const BAND: RGBColor = RGBColor(255, 127, 14);
+
+fn err<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+/// The four quantities drawn, with their labels.
+const SHOWN: [(&str, &str); 4] = [
+    ("speed1", "vehicle 1 speed at contact [m/s]"),
+    ("speed2", "vehicle 2 speed at contact [m/s]"),
+    ("delta_v1", "vehicle 1 delta-V [m/s]"),
+    ("delta_v2", "vehicle 2 delta-V [m/s]"),
+];
+
+fn index(name: &str) -> usize {
+    QUANTITIES.iter().position(|q| *q == name).unwrap_or(0)
+}
+
+/// Writes histograms.svg, speeds.svg and tornado.svg into `dir`.
+pub fn write_all(s: &Study, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut paths = Vec::new();
+    let p = dir.join("histograms.svg");
+    {
+        let root = SVGBackend::new(&p, (1000, 700)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
+            let q = index(name);
+            let v: Vec<f64> = s.samples.iter().map(|d| d[q]).collect();
+            let sum = &s.quantities[name];
+            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let (lo, hi) = if hi > lo {
+                (lo, hi)
+            } else {
+                (lo - 0.5, hi + 0.5)
+            };
+            let bins = 25usize;
+            let w = (hi - lo) / bins as f64;
+            let mut counts = vec![0usize; bins];
+            for x in &v {
+                counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
+            }
+            let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
+            let mut chart = ChartBuilder::on(area)
+                .caption(
+                    format!("{label}: 90 % {:.2} .. {:.2}", sum.p05, sum.p95),
+                    ("sans-serif", 15),
+                )
+                .margin(10)
+                .x_label_area_size(35)
+                .y_label_area_size(45)
+                .build_cartesian_2d(lo..hi, 0.0..top)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(label)
+                .y_desc("draws")
+                .draw()
+                .map_err(err)?;
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(sum.p05, 0.0), (sum.p95, top)],
+                    BAND.mix(0.15).filled(),
+                )))
+                .map_err(err)?;
+            chart
+                .draw_series(
+                    counts
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, c)| **c > 0)
+                        .map(|(i, c)| {
+                            let x0 = lo + i as f64 * w;
+                            Rectangle::new([(x0, 0.0), (x0 + 0.92 * w, *c as f64)], BAR.filled())
+                        }),
+                )
+                .map_err(err)?;
+            if let Some(n) = s.nominal.get(name) {
+                chart
+                    .draw_series(LineSeries::new(
+                        [(*n, 0.0), (*n, top)],
+                        BLACK.stroke_width(2),
+                    ))
+                    .map_err(err)?;
+            }
+        }
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+
+    let p = dir.join("speeds.svg");
+    {
+        let root = SVGBackend::new(&p, (620, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (a, b) = (index("speed1"), index("speed2"));
+        let pts: Vec<(f64, f64)> = s.samples.iter().map(|d| (d[a], d[b])).collect();
+        let range = |k: usize| {
+            let lo = pts
+                .iter()
+                .map(|p| if k == 0 { p.0 } else { p.1 })
+                .fold(f64::INFINITY, f64::min);
+            let hi = pts
+                .iter()
+                .map(|p| if k == 0 { p.0 } else { p.1 })
+                .fold(f64::NEG_INFINITY, f64::max);
+            let pad = 0.05 * (hi - lo).max(0.1);
+            (lo - pad)..(hi + pad)
+        };
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                "Impact speeds of the draws (black: nominal fit)",
+                ("sans-serif", 16),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(range(0), range(1))
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("vehicle 1 speed at contact [m/s]")
+            .y_desc("vehicle 2 speed at contact [m/s]")
+            .draw()
+            .map_err(err)?;
+        chart
+            .draw_series(
+                pts.iter()
+                    .map(|p| Circle::new(*p, 2, BAR.mix(0.6).filled())),
+            )
+            .map_err(err)?;
+        if let (Some(x), Some(y)) = (s.nominal.get("speed1"), s.nominal.get("speed2")) {
+            chart
+                .draw_series(std::iter::once(Cross::new(
+                    (*x, *y),
+                    7,
+                    BLACK.stroke_width(2),
+                )))
+                .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+
+    let p = dir.join("tornado.svg");
+    {
+        let root = SVGBackend::new(&p, (1100, 700)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
+            let inputs: Vec<(String, f64)> = s
+                .sensitivity
+                .iter()
+                .find(|x| x.quantity == name)
+                .map(|x| x.inputs.iter().take(6).cloned().collect())
+                .unwrap_or_default();
+            let n = inputs.len().max(1);
+            let (left, right) = area.split_horizontally(250);
+            let mut chart = ChartBuilder::on(&right)
+                .caption(format!("{label}: first-order index"), ("sans-serif", 14))
+                .margin(8)
+                .x_label_area_size(30)
+                .y_label_area_size(5)
+                .build_cartesian_2d(0.0..1.0f64, 0.0..n as f64)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .disable_y_mesh()
+                .y_labels(0)
+                .x_desc("share of the variance")
+                .draw()
+                .map_err(err)?;
+            chart
+                .draw_series(inputs.iter().enumerate().map(|(i, (_, v))| {
+                    let y = (n - 1 - i) as f64;
+                    Rectangle::new([(0.0, y + 0.15), (*v, y + 0.85)], BAR.filled())
+                }))
+                .map_err(err)?;
+            // Input names beside their bars, in the left strip.
+            let (_, h) = right.dim_in_pixel();
+            let plot_top = 8 + 22;
+            let plot_h = h as i32 - plot_top - 8 - 30;
+            for (i, (input, v)) in inputs.iter().enumerate() {
+                let y = plot_top + ((i as f64 + 0.4) / n as f64 * plot_h as f64) as i32;
+                left.draw(&Text::new(
+                    format!("{input} ({v:.2})"),
+                    (6, y),
+                    ("sans-serif", 12),
+                ))
+                .map_err(err)?;
+            }
+            if inputs.is_empty() {
+                left.draw(&Text::new(
+                    "no input above 0.02",
+                    (6, 40),
+                    ("sans-serif", 12),
+                ))
+                .map_err(err)?;
+            }
+        }
+        root.present().map_err(err)?;
+    }
+    paths.push(p);
+    Ok(paths)
+}
