@@ -216,7 +216,8 @@ CASE FILES: `pim batch cases/*.toml` or `pim batch cases/` fits every case file 
 as they finish, so memory does not grow with the number of files: --format csv or json (one
 JSON record per line) on stdout, and with --out DIR records.csv, records.jsonl and summary.txt.
 A file that cannot be read or fitted is a `failed` record naming the file and field; the
-others complete.
+others complete. With --draws N the best record of each file and cost function also carries the
+intervals of `pim uncertainty` (same draws and --seed; CSV columns speed1_p05 ... delta_v2_p95).
 
 OUTPUT (--out DIR): records.csv (one row per test, cost function and branch), records.json,
 velocity_errors.csv (fitted minus measured per component), summary.txt, compare_costs.txt,
@@ -273,6 +274,13 @@ pub struct BatchArgs {
     /// Exit with status 1 when any record is infeasible or failed (for scripts).
     #[arg(long)]
     pub strict: bool,
+    /// Case files only: add the 90 % intervals of `pim uncertainty` (this many draws) to the
+    /// best record of each file and cost function (the case needs [sigma] and/or [uncertainty]).
+    #[arg(long, default_value_t = 0)]
+    pub draws: usize,
+    /// Seed of the draws (with --draws).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 const FIT_HELP: &str = "\

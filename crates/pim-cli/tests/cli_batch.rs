@@ -247,3 +247,64 @@ fn a_batch_of_case_files_streams_records_and_names_bad_files() {
     ]);
     assert_eq!(out.status.code(), Some(1));
 }
+
+#[test]
+fn draws_add_intervals_to_the_best_record_of_each_case() {
+    let out = pim(&[
+        "batch",
+        "examples/cases/ricsac7_uncertainty.toml",
+        "examples/cases/ricsac7_fit.toml",
+        "--cost",
+        "q2",
+        "--draws",
+        "50",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let recs: Vec<Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let best_unc = recs
+        .iter()
+        .find(|r| r["best"] == true && r["file"].as_str().unwrap().ends_with("uncertainty.toml"))
+        .unwrap();
+    let s = &best_unc["intervals"]["delta_v1"];
+    assert!(
+        s["p05"].as_f64().unwrap() < s["p95"].as_f64().unwrap(),
+        "{s}"
+    );
+    // The same numbers as `pim uncertainty` with the same draws and seed.
+    let u = pim(&[
+        "uncertainty",
+        "examples/cases/ricsac7_uncertainty.toml",
+        "--cost",
+        "q2",
+        "--draws",
+        "50",
+        "--format",
+        "json",
+    ]);
+    let u: Value = serde_json::from_slice(&u.stdout).unwrap();
+    assert_eq!(
+        u["quantities"]["delta_v1"],
+        best_unc["intervals"]["delta_v1"]
+    );
+    // A case without sigmas says why it has no intervals.
+    let best_fit = recs
+        .iter()
+        .find(|r| r["best"] == true && r["file"].as_str().unwrap().ends_with("ricsac7_fit.toml"))
+        .unwrap();
+    assert!(best_fit["intervals_error"]
+        .as_str()
+        .unwrap()
+        .contains("nothing is uncertain"));
+    // A data file has no sigmas: --draws is refused.
+    assert_eq!(pim(&["batch", "--draws", "10"]).status.code(), Some(2));
+}

@@ -249,11 +249,21 @@ pub struct CaseRecord {
     /// The fitted branch (absent when the file failed).
     #[serde(flatten)]
     pub branch: Option<BranchRecord>,
+    /// With `pim batch --draws N`, on the best record of each (file, cost): the bootstrap
+    /// summaries of `pim uncertainty` (p05, p50, p95, mean, sd) by quantity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub intervals: Option<std::collections::BTreeMap<String, crate::uncertainty::Summary>>,
+    /// Why the intervals could not be computed (e.g. the case gives no sigmas).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub intervals_error: Option<String>,
 }
+
+/// The quantities whose 90 % intervals are CSV columns.
+const INTERVAL_COLUMNS: [&str; 4] = ["speed1", "speed2", "delta_v1", "delta_v2"];
 
 impl CaseRecord {
     /// The column names of [`CaseRecord::csv_row`].
-    pub const CSV_HEADER: [&'static str; 22] = [
+    pub const CSV_HEADER: [&'static str; 30] = [
         "file",
         "cost_function",
         "branch",
@@ -276,6 +286,14 @@ impl CaseRecord {
         "yaw_rate_change1_radps",
         "yaw_rate_change2_radps",
         "admissible",
+        "speed1_p05",
+        "speed1_p95",
+        "speed2_p05",
+        "speed2_p95",
+        "delta_v1_p05",
+        "delta_v1_p95",
+        "delta_v2_p05",
+        "delta_v2_p95",
     ];
 
     /// One flat CSV row (SI), in the order of [`CaseRecord::CSV_HEADER`].
@@ -289,7 +307,7 @@ impl CaseRecord {
             (None, Some(r)) => r.to_string(),
             (None, None) => String::new(),
         };
-        vec![
+        let mut row = vec![
             self.file.clone(),
             self.cost_function.name().to_string(),
             self.moment_branch.name().to_string(),
@@ -313,7 +331,36 @@ impl CaseRecord {
             per(1, |r| r.yaw_rate_change),
             b.and_then(|b| b.admissible)
                 .map_or_else(String::new, |a| a.to_string()),
-        ]
+        ];
+        for q in INTERVAL_COLUMNS {
+            let s = self.intervals.as_ref().and_then(|i| i.get(q));
+            row.push(f(s.map(|s| s.p05)));
+            row.push(f(s.map(|s| s.p95)));
+        }
+        row
+    }
+
+    /// Adds the bootstrap intervals of `pim uncertainty` (`draws` draws, `seed`) to this record.
+    pub fn add_intervals(&mut self, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
+        let study = crate::case::Case::from_text(&self.file, text).and_then(|case| {
+            let unc = case.content.uncertainty.unwrap_or_default();
+            crate::uncertainty::run(
+                &case,
+                &unc,
+                crate::fitcase::CostChoice::Preset(self.cost_function),
+                FitSettings {
+                    branches: plan.branches.clone(),
+                    ..plan.settings.clone()
+                },
+                draws,
+                seed,
+                &|| {},
+            )
+        });
+        match study {
+            Ok(s) => self.intervals = Some(s.quantities),
+            Err(e) => self.intervals_error = Some(e.message),
+        }
     }
 }
 
@@ -337,6 +384,8 @@ pub fn fit_case_text(
                 best: false,
                 error: Some(msg.clone()),
                 branch: None,
+                intervals: None,
+                intervals_error: None,
             })
             .collect()
     };
@@ -373,6 +422,8 @@ pub fn fit_case_text(
             best: report.best == Some(b.moment),
             error: None,
             branch: Some(BranchRecord::new(b)),
+            intervals: None,
+            intervals_error: None,
         })
         .collect()
 }

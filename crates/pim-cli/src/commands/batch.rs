@@ -22,6 +22,13 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         }
         _ => return super::batch_cases::run(a),
     };
+    if a.draws > 0 {
+        return Err(Failure::Input(
+            "--draws needs case files with [sigma] (a data file gives no standard deviations)"
+                .into(),
+        )
+        .into());
+    }
     let file = data.display().to_string();
     let mut tests = load_ricsac(&data)?;
     if !a.tests.is_empty() {

@@ -165,7 +165,15 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                         Ok(text) => plan
                             .costs
                             .iter()
-                            .flat_map(|&c| fit_case_text(&name, &text, c, &plan))
+                            .flat_map(|&c| {
+                                let mut recs = fit_case_text(&name, &text, c, &plan);
+                                if a.draws > 0 {
+                                    if let Some(best) = recs.iter_mut().find(|r| r.best) {
+                                        best.add_intervals(&text, &plan, a.draws, a.seed);
+                                    }
+                                }
+                                recs
+                            })
                             .collect(),
                         Err(e) => plan
                             .costs
@@ -179,6 +187,8 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                                 best: false,
                                 error: Some(e.to_string()),
                                 branch: None,
+                                intervals: None,
+                                intervals_error: None,
                             })
                             .collect(),
                     };
