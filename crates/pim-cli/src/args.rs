@@ -162,6 +162,22 @@ pub struct UncertaintyArgs {
     pub out: Option<PathBuf>,
 }
 
+#[derive(clap::Args, Debug)]
+pub struct PredictArgs {
+    /// The data file.
+    #[arg(default_value = "data/ricsac.csv")]
+    pub data: PathBuf,
+    /// Restitution used in eq. 17 (Brach: 0 unless known).
+    #[arg(long, default_value_t = 0.0)]
+    pub e: f64,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Also write predict_dv.json and predict_dv.txt into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Solve the impact equations: separation velocities from [initial], or contact velocities
@@ -195,6 +211,10 @@ pub enum Command {
     /// dominate each quantity. Bit-identical for any --threads.
     #[command(after_help = UNCERTAINTY_HELP)]
     Uncertainty(UncertaintyArgs),
+    /// Brach 1984 section 6: predict each test's delta-V from its impact speeds, masses and
+    /// energy loss (eq. 14 with L from eq. 16 and with L = 2/3) and from the point-mass
+    /// solution at the critical friction (eq. 17), beside the measured delta-V.
+    PredictDv(PredictArgs),
     /// Refit every RICSAC test of a data file under each cost function and moment branch (the
     /// main job): summary tables, the comparison with Brach 1984 Table 1, JSON or CSV records,
     /// and with --out, CSV files and SVG figures.

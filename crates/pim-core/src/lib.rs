@@ -109,6 +109,7 @@ mod friction;
 mod model;
 pub mod outline;
 pub mod point_mass;
+pub mod prediction;
 pub mod reduction;
 mod report;
 mod sensitivity;

@@ -10,6 +10,7 @@
 //!   collision, in the papers' geometry;
 //! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`;
 //! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
+//! - [`predict`]: Brach 1984's delta-V prediction for every test of a data file;
 //! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit;
 //! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
 //! - [`uncertainty`]: the seeded parametric bootstrap of `pim uncertainty`.
@@ -20,6 +21,7 @@ pub mod batch;
 pub mod case;
 mod error;
 pub mod fitcase;
+pub mod predict;
 pub mod records;
 pub mod reference;
 pub mod ricsac;

@@ -4,6 +4,7 @@ pub mod batch;
 pub mod batch_cases;
 pub mod draw;
 pub mod fit;
+pub mod predict;
 pub mod solve;
 pub mod uncertainty;
 

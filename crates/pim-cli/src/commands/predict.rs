@@ -1,0 +1,74 @@
+//! `pim predict-dv`: Brach 1984's delta-V prediction for every test of a data file.
+
+use super::{json, print_out, write_file};
+use crate::args::{Format, PredictArgs};
+use crate::error::{Failure, EXIT_OK};
+use crate::inputs::load_ricsac;
+use anyhow::Result;
+use pim_data::predict::{predict, TestPrediction};
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+fn table(file: &str, e: f64, rows: &[TestPrediction]) -> String {
+    let mut t = format!(
+        "{file}: delta-V predicted from the impact speeds, masses and energy loss (Brach 1984 \
+         eq. 14, 16, 17; e = {e} in eq. 17)\n\n"
+    );
+    let _ = writeln!(
+        t,
+        "test      L  loss  mu_m(pm) | dV1 meas  eq14  eq14(2/3)  eq17 | dV2 meas  eq14  eq14(2/3)  eq17"
+    );
+    for r in rows {
+        let (a, b) = (&r.delta_v1, &r.delta_v2);
+        let _ = writeln!(
+            t,
+            "{:>4} {:>6.4} {:>5.3} {:>9.3} | {:>8.2} {:>5.2} {:>10.2} {:>5.2} | {:>8.2} {:>5.2} {:>10.2} {:>5.2}",
+            r.test,
+            r.l,
+            r.energy_loss_fraction,
+            r.mu_m_point_mass,
+            a.measured,
+            a.eq14,
+            a.eq14_two_thirds,
+            a.eq17,
+            b.measured,
+            b.eq14,
+            b.eq14_two_thirds,
+            b.eq17
+        );
+    }
+    let _ = writeln!(
+        t,
+        "(delta-V in m/s; loss: fraction of the kinetic energy, rotation included, lost between \
+         the measured contact and separation velocities)"
+    );
+    t
+}
+
+/// `pim predict-dv`.
+pub fn run(a: &PredictArgs) -> Result<ExitCode> {
+    if !(a.e.is_finite() && (0.0..=1.0).contains(&a.e)) {
+        return Err(Failure::Input(format!("--e {}: must be in [0, 1]", a.e)).into());
+    }
+    let file = a.data.display().to_string();
+    let tests = load_ricsac(&a.data)?;
+    let mut rows = Vec::new();
+    for t in &tests {
+        rows.push(predict(t, a.e).map_err(|e| {
+            Failure::Input(format!("{file}: test {} (line {}): {e}", t.test, t.line))
+        })?);
+    }
+    let record = json(&serde_json::json!({ "tests": rows }))?;
+    let text = table(&file, a.e, &rows);
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
+        write_file(&dir.join("predict_dv.json"), &record)?;
+        write_file(&dir.join("predict_dv.txt"), &text)?;
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &text,
+    })?;
+    Ok(ExitCode::from(EXIT_OK))
+}

@@ -1,0 +1,31 @@
+//! End-to-end test of `pim predict-dv`: the JSON document of the schema.
+use serde_json::Value;
+use std::path::Path;
+use std::process::Command;
+
+#[test]
+fn predict_dv_json_has_every_test_and_field() {
+    let out = Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(["predict-dv", "--format", "json"])
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let tests = j["tests"].as_array().unwrap();
+    assert_eq!(tests.len(), 11);
+    for t in tests {
+        for k in ["test", "L", "energy_loss_fraction", "mu_m_point_mass"] {
+            assert!(t[k].is_number(), "{k}: {t}");
+        }
+        for v in ["delta_v1", "delta_v2"] {
+            for k in ["measured", "eq14", "eq14_two_thirds", "eq17"] {
+                assert!(t[v][k].as_f64().unwrap() > 0.0, "{v}.{k}: {t}");
+            }
+        }
+    }
+}

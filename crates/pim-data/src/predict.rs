@@ -1,0 +1,79 @@
+//! `pim predict-dv`: Brach 1984 section 6 applied to every test of a data file (see
+//! [`pim_core::prediction`] for the equations).
+
+use crate::ricsac::RicsacTest;
+use pim_core::point_mass::PointMassImpact;
+use pim_core::prediction::{delta_v_eq14, l_factor, point_mass_eq17};
+use serde::Serialize;
+
+/// Delta-V of one vehicle: measured and the three predictions, m/s.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DeltaVPrediction {
+    /// Measured (data file).
+    pub measured: f64,
+    /// Eq. 14 with L from eq. 16 and the measured energy-loss fraction.
+    pub eq14: f64,
+    /// Eq. 14 with L = 2/3 (Brach's regression) and the measured energy-loss fraction.
+    pub eq14_two_thirds: f64,
+    /// Eq. 17: the point-mass delta-V at the critical friction.
+    pub eq17: f64,
+}
+
+/// One test's prediction.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TestPrediction {
+    /// Test number.
+    pub test: u32,
+    /// L of eq. 16 (alpha = m1 / m2, R = v2 / v1 impact speeds).
+    #[serde(rename = "L")]
+    pub l: f64,
+    /// Fraction of the kinetic energy (rotation included) lost between the measured contact and
+    /// separation velocities.
+    pub energy_loss_fraction: f64,
+    /// mu_m = r / (1 + e) of the point-mass solution.
+    pub mu_m_point_mass: f64,
+    /// Vehicle 1.
+    pub delta_v1: DeltaVPrediction,
+    /// Vehicle 2.
+    pub delta_v2: DeltaVPrediction,
+}
+
+/// The predictions of one test, with restitution `e` in eq. 17 (Brach: 0 unless known).
+pub fn predict(t: &RicsacTest, e: f64) -> Result<TestPrediction, pim_core::PimError> {
+    let impact = t.impact()?;
+    let x = t.initial();
+    let xf = t.separation();
+    let t0 = x.kinetic_energy(&impact);
+    let t1 = xf.kinetic_energy(&impact);
+    let fraction = if t0 > 0.0 { (t0 - t1) / t0 } else { 0.0 };
+    let masses = impact.masses();
+    let speeds = [x.vehicle1.speed(), x.vehicle2.speed()];
+    let l = l_factor(masses[0] / masses[1], speeds[1] / speeds[0]);
+    let eq14 = delta_v_eq14(l, masses, speeds, fraction);
+    let two_thirds = delta_v_eq14(2.0 / 3.0, masses, speeds, fraction);
+    let pm = point_mass_eq17(
+        &PointMassImpact {
+            masses,
+            crush_angle: t.crush_angle_deg,
+            initial: [
+                [x.vehicle1.vx, x.vehicle1.vy],
+                [x.vehicle2.vx, x.vehicle2.vy],
+            ],
+        },
+        e,
+    )?;
+    let one = |k: usize, measured: f64| DeltaVPrediction {
+        measured,
+        eq14: eq14[k],
+        eq14_two_thirds: two_thirds[k],
+        eq17: pm.delta_v[k],
+    };
+    Ok(TestPrediction {
+        test: t.test,
+        l,
+        energy_loss_fraction: fraction,
+        mu_m_point_mass: pm.mu_m,
+        delta_v1: one(0, t.dv1_measured_mps),
+        delta_v2: one(1, t.dv2_measured_mps),
+    })
+}
