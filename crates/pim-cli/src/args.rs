@@ -173,7 +173,9 @@ pub struct PredictArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
-    /// Also write predict_dv.json and predict_dv.txt into this directory.
+    /// Also write predict_dv.json, predict_dv.txt and the figure predict_dv.svg (L against the
+    /// speed ratio for several mass ratios, as Brach's Fig. 3, and predicted against measured
+    /// delta-V) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

@@ -29,3 +29,16 @@ fn predict_dv_json_has_every_test_and_field() {
         }
     }
 }
+
+#[test]
+fn out_writes_the_figure() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("predict_out");
+    let out = Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(["predict-dv", "--out", dir.to_str().unwrap()])
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let svg = std::fs::read_to_string(dir.join("predict_dv.svg")).unwrap();
+    assert!(svg.contains("m1 / m2 = 1") && svg.contains("eq. 17, point mass"));
+}

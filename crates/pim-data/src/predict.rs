@@ -27,6 +27,10 @@ pub struct TestPrediction {
     /// L of eq. 16 (alpha = m1 / m2, R = v2 / v1 impact speeds).
     #[serde(rename = "L")]
     pub l: f64,
+    /// alpha = m1 / m2.
+    pub mass_ratio: f64,
+    /// R = v2 / v1 (impact speeds).
+    pub speed_ratio: f64,
     /// Fraction of the kinetic energy (rotation included) lost between the measured contact and
     /// separation velocities.
     pub energy_loss_fraction: f64,
@@ -71,6 +75,8 @@ pub fn predict(t: &RicsacTest, e: f64) -> Result<TestPrediction, pim_core::PimEr
     Ok(TestPrediction {
         test: t.test,
         l,
+        mass_ratio: masses[0] / masses[1],
+        speed_ratio: speeds[1] / speeds[0],
         energy_loss_fraction: fraction,
         mu_m_point_mass: pm.mu_m,
         delta_v1: one(0, t.dv1_measured_mps),

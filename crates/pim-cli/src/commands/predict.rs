@@ -65,6 +65,8 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
             .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
         write_file(&dir.join("predict_dv.json"), &record)?;
         write_file(&dir.join("predict_dv.txt"), &text)?;
+        crate::render::predict_figure::write(&rows, &dir.join("predict_dv.svg"))
+            .map_err(|e| Failure::Output(format!("{}: figure: {e}", dir.display())))?;
     }
     print_out(match a.format {
         Format::Json => &record,

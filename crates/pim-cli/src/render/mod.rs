@@ -4,5 +4,6 @@ pub mod batch_tables;
 pub mod diagram;
 pub mod figures;
 pub mod markdown;
+pub mod predict_figure;
 pub mod tables;
 pub mod uncertainty_figures;
