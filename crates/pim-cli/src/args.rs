@@ -219,7 +219,8 @@ pub enum Command {
     PredictDv(PredictArgs),
     /// Refit every RICSAC test of a data file under each cost function and moment branch (the
     /// main job): summary tables, the comparison with Brach 1984 Table 1, JSON or CSV records,
-    /// and with --out, CSV files and SVG figures.
+    /// and with --out, CSV files and SVG figures. Given case files or a directory, fit each of
+    /// them instead, streaming the records.
     #[command(after_help = format!("{BATCH_HELP}\n\n{EXIT_CODES_HELP}"))]
     Batch(BatchArgs),
     /// Per test, the cost functions side by side and the error of every velocity component
