@@ -10,6 +10,29 @@ use pim_data::batch;
 use pim_data::reference::parse_brach;
 use std::process::ExitCode;
 
+/// The plan of a batch from its flags, checked once (a bad flag is an input error, not a failed
+/// record per fit): `--threads`, `--e-max`, `--moment-form`, `--cost`, `--branch`, `--timing`.
+pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
+    if a.threads == Some(0) {
+        return Err(Failure::Input("--threads must be at least 1".into()));
+    }
+    let settings = pim_fit::FitSettings {
+        e: [0.0, a.e_max],
+        moment_form: a.moment_form.into(),
+        ..Default::default()
+    };
+    settings
+        .clone()
+        .check()
+        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
+    Ok(batch::BatchPlan {
+        costs: unique(&a.cost),
+        branches: unique(&a.branch),
+        settings,
+        timing: a.timing,
+    })
+}
+
 /// `pim batch` and (`compare`) `pim compare-costs`: a data file, or case files.
 pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     let data = match a.inputs.as_slice() {
@@ -44,27 +67,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         }
         tests.retain(|r| a.tests.contains(&r.test));
     }
-    if let Some(n) = a.threads {
-        if n == 0 {
-            return Err(Failure::Input("--threads must be at least 1".into()).into());
-        }
-    }
-    let settings = pim_fit::FitSettings {
-        e: [0.0, a.e_max],
-        moment_form: a.moment_form.into(),
-        ..Default::default()
-    };
-    // Check the shared settings once, so a bad flag is an input error, not 66 failed records.
-    settings
-        .clone()
-        .check()
-        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
-    let plan = batch::BatchPlan {
-        costs: unique(&a.cost),
-        branches: unique(&a.branch),
-        settings,
-        timing: a.timing,
-    };
+    let plan = plan(a)?;
     let n_jobs = (tests.len() * plan.costs.len()) as u64;
     let show =
         a.format != BatchFormat::Json && std::io::IsTerminal::is_terminal(&std::io::stderr());

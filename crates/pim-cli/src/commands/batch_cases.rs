@@ -1,11 +1,11 @@
 //! `pim batch` over case files: each file fitted under each cost function, the records streamed
 //! to stdout and to `--out` as they finish (memory does not grow with the number of files).
 
-use crate::args::{unique, BatchArgs, BatchFormat};
+use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::{io_reason, read_text_file};
 use anyhow::Result;
-use pim_data::batch::{fit_case_text, BatchPlan, CaseRecord, Outcome};
+use pim_data::batch::{fit_case_text, CaseRecord, Outcome};
 use pim_data::case::MAX_CASE_BYTES;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -97,29 +97,12 @@ fn out_err(path: &Path, e: std::io::Error) -> Failure {
 /// `pim batch CASES...`.
 pub fn run(a: &BatchArgs) -> Result<ExitCode> {
     let files = case_files(&a.inputs)?;
-    if let Some(0) = a.threads {
-        return Err(Failure::Input("--threads must be at least 1".into()).into());
-    }
     if !a.tests.is_empty() {
         return Err(
             Failure::Input("--tests selects rows of a data file, not case files".into()).into(),
         );
     }
-    let settings = pim_fit::FitSettings {
-        e: [0.0, a.e_max],
-        moment_form: a.moment_form.into(),
-        ..Default::default()
-    };
-    settings
-        .clone()
-        .check()
-        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
-    let plan = BatchPlan {
-        costs: unique(&a.cost),
-        branches: unique(&a.branch),
-        settings,
-        timing: a.timing,
-    };
+    let plan = super::batch::plan(a)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
