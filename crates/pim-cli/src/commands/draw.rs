@@ -7,7 +7,7 @@ use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_case;
 use crate::render::diagram::{Diagram, Solved};
 use anyhow::Result;
-use pim_core::{Impact, ImpactReport, Velocities};
+use pim_core::{Impact, Velocities};
 use pim_data::case::Case;
 use std::path::Path;
 use std::process::ExitCode;
@@ -34,7 +34,12 @@ pub fn run(a: &DrawArgs) -> Result<ExitCode> {
         None
     };
     let contact = estimated_contact(&case);
-    let diagram = diagram(&case, &impact, contact.as_ref(), report.as_ref());
+    let diagram = diagram(
+        &case,
+        &impact,
+        contact.as_ref(),
+        report.as_ref().map(Solved::of_report),
+    );
     write_diagram(&diagram, &a.output)?;
     eprintln!("pim: wrote {}", a.output.display());
     Ok(ExitCode::from(EXIT_OK))
@@ -52,7 +57,7 @@ pub fn diagram(
     case: &Case,
     impact: &Impact,
     contact: Option<&Velocities>,
-    report: Option<&ImpactReport>,
+    solved: Option<Solved>,
 ) -> Diagram {
     let title = match &case.content.title {
         Some(t) => t.clone(),
@@ -63,12 +68,7 @@ pub fn diagram(
         impact,
         [&case.content.vehicle1, &case.content.vehicle2],
         contact,
-        report.map(|r| Solved {
-            initial: &r.initial,
-            separation: &r.separation,
-            impulse: [r.impulse.px, r.impulse.py],
-            vehicles: &r.vehicles,
-        }),
+        solved,
     )
 }
 

@@ -72,33 +72,14 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         }
     }
     if let Some(dir) = &a.out {
-        let impact = case.impact()?;
         let contact = super::draw::estimated_contact(&case);
-        // The diagram shows the best branch solved again by pim-core from its fitted states.
-        let solved = report.best_branch().and_then(|b| b.solution.as_ref());
-        let analysed = solved.and_then(|s| {
-            pim_core::analyse(
-                &impact,
-                &pim_core::Coefficients {
-                    e: s.e,
-                    mu: s.mu,
-                    em: s.em,
-                },
-                &pim_core::SolveOptions {
-                    moment_form: a.moment_form.into(),
-                    tangential: if s.sticking {
-                        pim_core::TangentialCondition::NoSlip
-                    } else {
-                        pim_core::TangentialCondition::Sliding
-                    },
-                },
-                &s.initial,
-                &s.separation,
-                s.friction_sign,
-            )
-            .ok()
-        });
-        let d = super::draw::diagram(&case, &impact, contact.as_ref(), analysed.as_ref());
+        let best = report.best_branch().and_then(|b| b.solution.as_ref());
+        let d = super::draw::diagram(
+            &case,
+            &problem.impact,
+            contact.as_ref(),
+            best.map(crate::render::diagram::Solved::of_fit),
+        );
         let md = markdown::fit(&title_of(&case), name, &report, a.units.into());
         super::draw::write_result_dir(dir, &record, &md, &d)?;
     }

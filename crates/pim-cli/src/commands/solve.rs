@@ -51,7 +51,12 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let table = tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into());
     if let Some(dir) = &a.out {
         let contact = super::draw::estimated_contact(&case);
-        let d = super::draw::diagram(&case, &impact, contact.as_ref(), Some(&report));
+        let d = super::draw::diagram(
+            &case,
+            &impact,
+            contact.as_ref(),
+            Some(crate::render::diagram::Solved::of_report(&report)),
+        );
         let md = markdown::solve(&title_of(&case), &report, forward, a.units.into());
         super::draw::write_result_dir(dir, &record, &md, &d)?;
     }

@@ -146,6 +146,28 @@ pub struct Solved<'a> {
     pub vehicles: &'a [VehicleResult; 2],
 }
 
+impl<'a> Solved<'a> {
+    /// The states and results of a solve.
+    pub fn of_report(r: &'a pim_core::ImpactReport) -> Self {
+        Solved {
+            initial: &r.initial,
+            separation: &r.separation,
+            impulse: [r.impulse.px, r.impulse.py],
+            vehicles: &r.vehicles,
+        }
+    }
+
+    /// The states and results of a fitted branch.
+    pub fn of_fit(s: &'a pim_fit::Solution) -> Self {
+        Solved {
+            initial: &s.initial,
+            separation: &s.separation,
+            impulse: [s.impulse.px, s.impulse.py],
+            vehicles: &s.vehicles,
+        }
+    }
+}
+
 fn rotate(p: [f64; 2], deg: f64) -> [f64; 2] {
     let (s, c) = deg.to_radians().sin_cos();
     [c * p[0] - s * p[1], s * p[0] + c * p[1]]
