@@ -378,7 +378,11 @@ fn fit_once(
     settings: &pim_fit::ValidSettings,
 ) -> Option<DrawResult> {
     let problem = fitcase::problem(case, choice).ok()?;
-    let report = pim_fit::fit(&problem, settings).ok()?;
+    best_of(&pim_fit::fit(&problem, settings).ok()?)
+}
+
+/// The quantities of a fit's best branch, when it has an answer.
+fn best_of(report: &pim_fit::FitReport) -> Option<DrawResult> {
     let b = report.best_branch()?;
     if !matches!(b.status, Status::Optimal | Status::LimitReached) {
         return None;
@@ -459,7 +463,7 @@ pub fn run(
     // The nominal fit: also says which quantities the data do not determine.
     let problem = fitcase::problem(case, choice)?;
     let report = pim_fit::fit(&problem, &settings).map_err(|e| InputError::new(&case.file, e))?;
-    let nominal = fit_once(case, choice, &settings);
+    let nominal = best_of(&report);
     let mut undetermined = [false; 8];
     if let Some(b) = report.best_branch() {
         for i in &b.identifiability {
@@ -509,31 +513,25 @@ pub fn run(
         let y: Vec<f64> = feasible.iter().map(|(_, r)| r.values[q]).collect();
         let mut sorted = y.clone();
         sorted.sort_by(f64::total_cmp);
+        let (p05, p95) = (percentile(&sorted, 0.05), percentile(&sorted, 0.95));
         let n = y.len().max(1) as f64;
         let mean = y.iter().sum::<f64>() / n;
         let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
         quantities.insert(
             name.to_string(),
             Summary {
-                p05: percentile(&sorted, 0.05),
+                p05,
                 p50: percentile(&sorted, 0.5),
-                p95: percentile(&sorted, 0.95),
+                p95,
                 mean,
                 sd,
                 not_determined: undetermined[q],
                 reaches_bound: match q {
-                    0 => {
-                        let [lo, hi] = settings.get().e;
-                        percentile(&sorted, 0.05) <= lo + 1e-9
-                            || percentile(&sorted, 0.95) >= hi - 1e-9
-                    }
-                    1 => {
-                        let [lo, hi] = settings.get().mu;
-                        percentile(&sorted, 0.05) <= lo + 1e-9
-                            || percentile(&sorted, 0.95) >= hi - 1e-9
-                    }
-                    _ => false,
-                },
+                    0 => Some(settings.get().e),
+                    1 => Some(settings.get().mu),
+                    _ => None,
+                }
+                .is_some_and(|[lo, hi]| p05 <= lo + 1e-9 || p95 >= hi - 1e-9),
             },
         );
         let mut shares: Vec<(String, f64)> = inputs
