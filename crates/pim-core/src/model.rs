@@ -318,7 +318,11 @@ impl Impact {
 
     /// Relative velocity at C (vehicle 1 minus vehicle 2) along n and t: `(vn, vt)`, m/s.
     pub fn relative_velocity(&self, v: &Velocities) -> (f64, f64) {
-        let [p1, p2] = self.contact_point_velocities(v);
+        self.relative_of(self.contact_point_velocities(v))
+    }
+
+    /// `(vn, vt)` of the material-point velocities at C of both vehicles.
+    fn relative_of(&self, [p1, p2]: [[f64; 2]; 2]) -> (f64, f64) {
         let rx = p1[0] - p2[0];
         let ry = p1[1] - p2[1];
         (
@@ -355,8 +359,9 @@ impl Impact {
     /// speeds (at most [`NO_SLIDING_TOL`] of their largest component), the vehicles do not slide at
     /// contact and the sign is [`FrictionSign::NoSliding`]: no tangential impulse.
     pub fn friction_sign(&self, v: &Velocities) -> FrictionSign {
-        let (vn, vt) = self.relative_velocity(v);
-        let [p1, p2] = self.contact_point_velocities(v);
+        let points = self.contact_point_velocities(v);
+        let (vn, vt) = self.relative_of(points);
+        let [p1, p2] = points;
         let scale = p1[0]
             .abs()
             .max(p1[1].abs())

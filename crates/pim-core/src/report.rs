@@ -100,9 +100,14 @@ pub fn pdof(delta_v_body: [f64; 2]) -> (f64, u8) {
     if fwd == 0.0 && left == 0.0 {
         return (0.0, 12);
     }
-    // The force comes from -delta-V; clockwise from the nose is the negative of the
-    // counter-clockwise angle of -delta-V.
-    let angle = crate::model::wrap_degrees(-(-left).atan2(-fwd).to_degrees());
+    pdof_of_direction(0.0, left.atan2(fwd).to_degrees())
+}
+
+/// The PDOF and clock direction of a (non-zero) delta-V whose direction is `direction`, for a
+/// vehicle whose nose points along `heading` (both degrees counter-clockwise from the same
+/// axis). The force comes from -delta-V: clockwise from the nose, `heading - direction - 180`.
+fn pdof_of_direction(heading: f64, direction: f64) -> (f64, u8) {
+    let angle = crate::model::wrap_degrees(heading - direction - 180.0);
     let hours = (angle / 30.0).round().rem_euclid(12.0) as u8;
     (angle, if hours == 0 { 12 } else { hours })
 }
@@ -141,11 +146,8 @@ fn vehicle_result(
 ) -> VehicleResult {
     let body = impact.to_body(id, [dv.dvx, dv.dvy]);
     let heading = impact.nose_heading(id);
-    // The force comes from -delta-V: clockwise from the nose, heading - direction - 180.
     let (angle, clock) = if dv.magnitude > 0.0 {
-        let angle = crate::model::wrap_degrees(heading - dv.direction - 180.0);
-        let hours = (angle / 30.0).round().rem_euclid(12.0) as u8;
-        (angle, if hours == 0 { 12 } else { hours })
+        pdof_of_direction(heading, dv.direction)
     } else {
         (0.0, 12)
     };
