@@ -2,7 +2,7 @@
 //! the forward model with exactly those sigmas, its values follow the chi-square law of the
 //! stated degrees of freedom (seeded).
 mod common;
-use common::{normal, RICSAC9_GEOMETRY};
+use common::{normal, ricsac9_truth, sigma_toml, state_toml, RICSAC9_GEOMETRY};
 use pim_core::*;
 use pim_data::case::Case;
 use pim_data::fitcase::{self, CostChoice};
@@ -12,22 +12,9 @@ use rand::SeedableRng;
 #[test]
 fn chi_square_of_simulated_data_follows_its_law() {
     let (sv, sw) = (0.2, 0.1);
-    let base = Case::from_text("geometry", RICSAC9_GEOMETRY).unwrap();
-    let impact = base.impact().unwrap();
     let x = Velocities::from_vector(&nalgebra::Vector6::new(-9.48, 0.0, 0.0, 0.0, 9.48, 0.0));
-    let mut truth = Coefficients {
-        e: 0.1,
-        mu: 0.0,
-        em: 1.0,
-    };
-    let mm = critical_friction(&impact, &truth, &x, &SolveOptions::default())
-        .unwrap()
-        .unwrap();
-    truth.mu = 0.5 * mm;
-    let sep = solve_forward(&impact, &truth, &x, &SolveOptions::default())
-        .unwrap()
-        .separation
-        .to_vector();
+    let (_, truth) = ricsac9_truth(&x, 0.1, || 0.5).unwrap();
+    let sep = truth.separation.to_vector();
     let settings = pim_fit::FitSettings {
         branches: vec![MomentBranch::Zero],
         ..Default::default()
@@ -42,18 +29,10 @@ fn chi_square_of_simulated_data_follows_its_law() {
             .map(|k| sep[k] + normal(&mut rng) * if k % 3 == 2 { sw } else { sv })
             .collect();
         let text = format!(
-            "{RICSAC9_GEOMETRY}
-[estimates.initial]
-vehicle1 = {{ vx = -9.48, vy = 0.0, omega = 0.0 }}
-vehicle2 = {{ vx = 0.0, vy = 9.48, omega = 0.0 }}
-[estimates.final]
-vehicle1 = {{ vx = {}, vy = {}, omega = {} }}
-vehicle2 = {{ vx = {}, vy = {}, omega = {} }}
-[sigma.final]
-vehicle1 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}
-vehicle2 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}
-",
-            f[0], f[1], f[2], f[3], f[4], f[5]
+            "{RICSAC9_GEOMETRY}[estimates.initial]\n{}[estimates.final]\n{}[sigma.final]\n{}",
+            state_toml(x.to_vector().as_slice()),
+            state_toml(&f),
+            sigma_toml(sv, sw)
         );
         let case = Case::from_text("sim", &text).unwrap();
         let problem = fitcase::problem(&case, CostChoice::Preset(CostPreset::Q2)).unwrap();

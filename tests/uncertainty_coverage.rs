@@ -1,7 +1,7 @@
 //! `pim uncertainty`'s 90 % intervals cover the truth: collisions with known truth, estimates
 //! drawn with the stated sigmas, the parametric bootstrap run on each (seeded).
 mod common;
-use common::{normal, RICSAC9_GEOMETRY};
+use common::{normal, ricsac9_truth, sigma_toml, state_toml, RICSAC9_GEOMETRY};
 use pim_core::*;
 use pim_data::case::Case;
 use pim_data::fitcase::CostChoice;
@@ -12,24 +12,16 @@ use rand::{Rng, SeedableRng};
 /// Share of cases whose 90 % interval contains the truth, for speed1, speed2, delta_v1, delta_v2.
 fn coverage(cases: usize, draws: usize, seed: u64) -> [f64; 4] {
     let (sv, sw) = (0.3, 0.15);
-    let base = Case::from_text("geometry", RICSAC9_GEOMETRY).unwrap();
-    let impact = base.impact().unwrap();
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
     let mut hits = [0usize; 4];
     let mut n = 0;
     while n < cases {
         let (s1, s2) = (rng.random_range(6.0..15.0), rng.random_range(4.0..14.0));
         let x = Velocities::from_vector(&nalgebra::Vector6::new(-s1, 0.0, 0.0, 0.0, s2, 0.0));
-        let mut truth = Coefficients {
-            e: rng.random_range(0.05..0.15),
-            mu: 0.0,
-            em: 1.0,
-        };
-        let Ok(Some(mm)) = critical_friction(&impact, &truth, &x, &SolveOptions::default()) else {
+        let e = rng.random_range(0.05..0.15);
+        let Some((_, r)) = ricsac9_truth(&x, e, || rng.random_range(0.2..0.8)) else {
             continue;
         };
-        truth.mu = rng.random_range(0.2..0.8) * mm;
-        let r = solve_forward(&impact, &truth, &x, &SolveOptions::default()).unwrap();
         if !r.admissibility.admissible {
             continue;
         }
@@ -40,19 +32,11 @@ fn coverage(cases: usize, draws: usize, seed: u64) -> [f64; 4] {
             .enumerate()
             .map(|(k, v)| v + normal(&mut rng) * if k % 3 == 2 { sw } else { sv })
             .collect();
-        let state = |o: usize| {
-            format!(
-                "vehicle1 = {{ vx = {}, vy = {}, omega = {} }}\nvehicle2 = {{ vx = {}, vy = {}, omega = {} }}\n",
-                u[o], u[o + 1], u[o + 2], u[o + 3], u[o + 4], u[o + 5]
-            )
-        };
-        let sig = format!(
-            "vehicle1 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}\nvehicle2 = {{ vx = {sv}, vy = {sv}, omega = {sw} }}\n"
-        );
+        let sig = sigma_toml(sv, sw);
         let text = format!(
             "{RICSAC9_GEOMETRY}[estimates.initial]\n{}[estimates.final]\n{}[sigma.initial]\n{sig}[sigma.final]\n{sig}",
-            state(0),
-            state(6)
+            state_toml(&u[..6]),
+            state_toml(&u[6..])
         );
         let case = Case::from_text("sim", &text).unwrap();
         let settings = pim_fit::FitSettings {
@@ -121,36 +105,13 @@ fn linearised_and_monte_carlo_standard_deviations_agree_for_a_well_determined_ca
     // RICSAC 9 geometry, exact data of e = 0.1, mu = 0.5 mu_max, em = 1; small sigmas (0.05 m/s,
     // 0.02 rad/s) on all twelve estimates, Q3, zero branch: the fit is a smooth function of the
     // data near the optimum, so the delta method must match the bootstrap.
-    let base = Case::from_text("geometry", RICSAC9_GEOMETRY).unwrap();
-    let impact = base.impact().unwrap();
     let x = Velocities::from_vector(&nalgebra::Vector6::new(-9.48, 0.0, 0.0, 0.0, 9.48, 0.0));
-    let mut truth = Coefficients {
-        e: 0.1,
-        mu: 0.0,
-        em: 1.0,
-    };
-    let mm = critical_friction(&impact, &truth, &x, &SolveOptions::default())
-        .unwrap()
-        .unwrap();
-    truth.mu = 0.5 * mm;
-    let r = solve_forward(&impact, &truth, &x, &SolveOptions::default()).unwrap();
-    let u: Vec<f64> = x
-        .to_vector()
-        .iter()
-        .chain(r.separation.to_vector().iter())
-        .copied()
-        .collect();
-    let state = |o: usize| {
-        format!(
-            "vehicle1 = {{ vx = {}, vy = {}, omega = {} }}\nvehicle2 = {{ vx = {}, vy = {}, omega = {} }}\n",
-            u[o], u[o + 1], u[o + 2], u[o + 3], u[o + 4], u[o + 5]
-        )
-    };
-    let sig = "vehicle1 = { vx = 0.05, vy = 0.05, omega = 0.02 }\nvehicle2 = { vx = 0.05, vy = 0.05, omega = 0.02 }\n";
+    let (_, r) = ricsac9_truth(&x, 0.1, || 0.5).unwrap();
+    let sig = sigma_toml(0.05, 0.02);
     let text = format!(
         "{RICSAC9_GEOMETRY}[estimates.initial]\n{}[estimates.final]\n{}[sigma.initial]\n{sig}[sigma.final]\n{sig}",
-        state(0),
-        state(6)
+        state_toml(x.to_vector().as_slice()),
+        state_toml(r.separation.to_vector().as_slice())
     );
     let case = Case::from_text("small_sigma", &text).unwrap();
     let settings = pim_fit::FitSettings {

@@ -127,3 +127,41 @@ phi = -30.0
 [impact]
 crush_angle = 0.0
 "#;
+
+/// A collision on the RICSAC 9 geometry with a known truth: contact state `x`, restitution `e`,
+/// em = 1 and mu = `mu_fraction()` x mu_max (asked for only once mu_max exists). `None` when
+/// mu_max is undefined.
+pub fn ricsac9_truth(
+    x: &pim_core::Velocities,
+    e: f64,
+    mu_fraction: impl FnOnce() -> f64,
+) -> Option<(pim_core::Impact, pim_core::ImpactReport)> {
+    use pim_core::{critical_friction, solve_forward, Coefficients, SolveOptions};
+    let impact = pim_data::case::Case::from_text("geometry", RICSAC9_GEOMETRY)
+        .unwrap()
+        .impact()
+        .unwrap();
+    let mut truth = Coefficients {
+        e,
+        mu: 0.0,
+        em: 1.0,
+    };
+    let mm = critical_friction(&impact, &truth, x, &SolveOptions::default()).ok()??;
+    truth.mu = mu_fraction() * mm;
+    let r = solve_forward(&impact, &truth, x, &SolveOptions::default()).unwrap();
+    Some((impact, r))
+}
+
+/// Both vehicles' `{ vx, vy, omega }` lines of a case-file state from six values.
+pub fn state_toml(u: &[f64]) -> String {
+    format!(
+        "vehicle1 = {{ vx = {}, vy = {}, omega = {} }}\nvehicle2 = {{ vx = {}, vy = {}, omega = {} }}\n",
+        u[0], u[1], u[2], u[3], u[4], u[5]
+    )
+}
+
+/// The same standard deviations (`sv` m/s on velocities, `sw` rad/s on yaw rates) for both
+/// vehicles, as the lines of a `[sigma.*]` section.
+pub fn sigma_toml(sv: f64, sw: f64) -> String {
+    state_toml(&[sv, sv, sw, sv, sv, sw])
+}
