@@ -3,7 +3,7 @@
 use super::{json, print_out, write_file};
 use crate::args::{unique, BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
-use crate::inputs::{io_reason, load_ricsac};
+use crate::inputs::load_ricsac;
 use crate::render::{batch_tables, figures};
 use anyhow::Result;
 use pim_data::batch;
@@ -117,13 +117,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     };
     print_out(&text)?;
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            Failure::Output(format!(
-                "{}: cannot create the directory: {}",
-                dir.display(),
-                io_reason(&e)
-            ))
-        })?;
+        super::create_dir(dir)?;
         write_file(&dir.join("records.csv"), &records_csv)?;
         write_file(&dir.join("records.json"), &records_json)?;
         write_file(

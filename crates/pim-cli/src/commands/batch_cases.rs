@@ -112,7 +112,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
     let mut csv_file = None;
     let mut jsonl_file = None;
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir).map_err(|e| out_err(dir, e))?;
+        super::create_dir(dir)?;
         let p = dir.join("records.csv");
         let mut w = csv::Writer::from_path(&p)
             .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;

@@ -75,8 +75,7 @@ pub fn diagram(
 /// Writes a diagram, creating the parent directory.
 pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
     if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
+        super::create_dir(dir)?;
     }
     d.write_svg(path)
         .map_err(|e| Failure::Output(format!("{}: cannot write: {e}", path.display())).into())
@@ -84,8 +83,7 @@ pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
 
 /// Writes `result.json`, `report.md` and `diagram.svg` into `dir`.
 pub fn write_result_dir(dir: &Path, json: &str, markdown: &str, d: &Diagram) -> Result<()> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
+    super::create_dir(dir)?;
     write_file(&dir.join("result.json"), json)?;
     write_file(&dir.join("report.md"), markdown)?;
     write_diagram(d, &dir.join("diagram.svg"))?;

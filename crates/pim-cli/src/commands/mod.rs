@@ -45,6 +45,18 @@ pub fn title_of(case: &Case) -> String {
     t
 }
 
+/// Creates an output directory (and its parents); failures are exit status 4.
+pub fn create_dir(dir: &std::path::Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Failure::Output(format!(
+            "{}: cannot create the directory: {}",
+            dir.display(),
+            io_reason(&e)
+        ))
+        .into()
+    })
+}
+
 /// Writes an output file; failures are exit status 4.
 pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
     std::fs::write(path, text).map_err(|e| {

@@ -61,8 +61,7 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     let record = json(&serde_json::json!({ "tests": rows }))?;
     let text = table(&file, a.e, &rows);
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
+        super::create_dir(dir)?;
         write_file(&dir.join("predict_dv.json"), &record)?;
         write_file(&dir.join("predict_dv.txt"), &text)?;
         crate::render::predict_figure::write(&rows, &dir.join("predict_dv.svg"))

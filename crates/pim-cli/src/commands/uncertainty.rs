@@ -125,8 +125,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     let record = json(&study)?;
     let text = table(&title_of(&case), &study);
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::Output(format!("{}: cannot create: {e}", dir.display())))?;
+        super::create_dir(dir)?;
         write_file(&dir.join("uncertainty.json"), &record)?;
         write_file(&dir.join("uncertainty.txt"), &text)?;
         crate::render::uncertainty_figures::write_all(&study, dir)
