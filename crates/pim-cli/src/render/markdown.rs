@@ -1,42 +1,19 @@
 //! The short Markdown reports of `pim solve --out` and `pim fit --out`.
 
-use crate::render::tables::{num, tangential_words};
+use crate::render::tables::{tangential_words, vehicle_rows};
 use pim_core::{ImpactReport, VehicleResult};
 use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 
-/// The per-vehicle table (speeds, delta-V, PDOF, yaw-rate change).
+/// The per-vehicle table (the rows of the text tables).
 fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem) {
-    let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
     let _ = writeln!(s, "| | vehicle 1 | vehicle 2 |\n|---|---:|---:|");
-    type Cell<'a> = &'a dyn Fn(&VehicleResult) -> String;
-    let rows: [(String, Cell); 9] = [
-        ("nose heading [deg]".into(), &|r| num(r.heading, 1)),
-        (format!("speed at contact [{sp}]"), &|r| {
-            num(u.speed(r.speed_initial), 2)
-        }),
-        (format!("speed at separation [{sp}]"), &|r| {
-            num(u.speed(r.speed_final), 2)
-        }),
-        (format!("delta-V [{sp}]"), &|r| num(u.speed(r.delta_v), 2)),
-        (format!("delta-V longitudinal, forward + [{sp}]"), &|r| {
-            num(u.speed(r.delta_v_longitudinal), 2)
-        }),
-        (format!("delta-V lateral, left + [{sp}]"), &|r| {
-            num(u.speed(r.delta_v_lateral), 2)
-        }),
-        ("PDOF, clockwise from the nose [deg]".into(), &|r| {
-            num(r.pdof, 0)
-        }),
-        ("PDOF clock direction".into(), &|r| {
-            format!("{} o'clock", r.clock)
-        }),
-        (format!("yaw-rate change [{yr}]"), &|r| {
-            num(u.yaw_rate(r.yaw_rate_change), 3)
-        }),
-    ];
-    for (label, f) in rows {
-        let _ = writeln!(s, "| {label} | {} | {} |", f(&v[0]), f(&v[1]));
+    for (label, [a, b]) in vehicle_rows(v, u) {
+        let label = match label.strip_prefix("  ") {
+            Some(part) => format!("delta-V {part}"),
+            None => label,
+        };
+        let _ = writeln!(s, "| {label} | {a} | {b} |");
     }
 }
 

@@ -30,40 +30,47 @@ pub fn tangential_words(t: pim_core::TangentialOutcome) -> &'static str {
     }
 }
 
-/// The reconstructionist's block: speeds, delta-V in the vehicles' axes, PDOF, yaw-rate change.
-pub fn vehicle_block(s: &mut String, v: &[pim_core::VehicleResult; 2], u: UnitSystem) {
+/// The reconstructionist's rows per vehicle, in the unit system `u`: label and the two
+/// vehicles' values (speeds, delta-V in the vehicle's axes, PDOF, yaw-rate change).
+pub fn vehicle_rows(v: &[pim_core::VehicleResult; 2], u: UnitSystem) -> Vec<(String, [String; 2])> {
     let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
-    let row = |s: &mut String, label: String, f: &dyn Fn(&pim_core::VehicleResult) -> String| {
-        let _ = writeln!(s, "{label:<34} {:>12} {:>12}", f(&v[0]), f(&v[1]));
-    };
+    type Cell<'a> = &'a dyn Fn(&pim_core::VehicleResult) -> String;
+    let rows: [(String, Cell); 9] = [
+        ("heading of the nose [deg]".into(), &|r| num(r.heading, 1)),
+        (format!("speed at contact [{sp}]"), &|r| {
+            num(u.speed(r.speed_initial), 2)
+        }),
+        (format!("speed at separation [{sp}]"), &|r| {
+            num(u.speed(r.speed_final), 2)
+        }),
+        (format!("delta-V [{sp}]"), &|r| num(u.speed(r.delta_v), 2)),
+        (format!("  longitudinal, forward + [{sp}]"), &|r| {
+            num(u.speed(r.delta_v_longitudinal), 2)
+        }),
+        (format!("  lateral, left + [{sp}]"), &|r| {
+            num(u.speed(r.delta_v_lateral), 2)
+        }),
+        ("PDOF, clockwise from nose [deg]".into(), &|r| {
+            num(r.pdof, 0)
+        }),
+        ("PDOF as a clock direction".into(), &|r| {
+            format!("{} o'clock", r.clock)
+        }),
+        (format!("yaw-rate change [{yr}]"), &|r| {
+            num(u.yaw_rate(r.yaw_rate_change), 3)
+        }),
+    ];
+    rows.into_iter()
+        .map(|(label, f)| (label, [f(&v[0]), f(&v[1])]))
+        .collect()
+}
+
+/// The reconstructionist's block of a table (see [`vehicle_rows`]).
+pub fn vehicle_block(s: &mut String, v: &[pim_core::VehicleResult; 2], u: UnitSystem) {
     let _ = writeln!(s, "{:<34} {:>12} {:>12}", "", "vehicle1", "vehicle2");
-    row(s, "heading of the nose [deg]".into(), &|r| {
-        num(r.heading, 1)
-    });
-    row(s, format!("speed at contact [{sp}]"), &|r| {
-        num(u.speed(r.speed_initial), 2)
-    });
-    row(s, format!("speed at separation [{sp}]"), &|r| {
-        num(u.speed(r.speed_final), 2)
-    });
-    row(s, format!("delta-V [{sp}]"), &|r| {
-        num(u.speed(r.delta_v), 2)
-    });
-    row(s, format!("  longitudinal, forward + [{sp}]"), &|r| {
-        num(u.speed(r.delta_v_longitudinal), 2)
-    });
-    row(s, format!("  lateral, left + [{sp}]"), &|r| {
-        num(u.speed(r.delta_v_lateral), 2)
-    });
-    row(s, "PDOF, clockwise from nose [deg]".into(), &|r| {
-        num(r.pdof, 0)
-    });
-    row(s, "PDOF as a clock direction".into(), &|r| {
-        format!("{} o'clock", r.clock)
-    });
-    row(s, format!("yaw-rate change [{yr}]"), &|r| {
-        num(u.yaw_rate(r.yaw_rate_change), 3)
-    });
+    for (label, [a, b]) in vehicle_rows(v, u) {
+        let _ = writeln!(s, "{label:<34} {a:>12} {b:>12}");
+    }
 }
 
 /// The human-readable table of one solve, in the unit system `u`.
