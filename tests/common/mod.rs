@@ -103,12 +103,9 @@ pub fn brach1983_ricsac9() -> (Collision, Velocities) {
     )
 }
 
-/// A standard normal number (Box-Muller), for simulated measurement noise.
+/// A standard normal number, for simulated measurement noise (the bootstrap's own generator).
 pub fn normal(rng: &mut rand::rngs::StdRng) -> f64 {
-    use rand::Rng;
-    let u1: f64 = rng.random::<f64>().max(1e-300);
-    let u2: f64 = rng.random();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    pim_data::uncertainty::standard_normal(rng)
 }
 
 /// The geometry of RICSAC 9 (Brach 1983 Table 1) as a natural-form case file fragment.

@@ -41,7 +41,7 @@ impl Spread {
 
     fn draw(self, nominal: f64, rng: &mut impl Rng) -> f64 {
         match self {
-            Spread::Normal(s) => nominal + s * normal(rng),
+            Spread::Normal(s) => nominal + s * standard_normal(rng),
             Spread::Uniform { uniform: [a, b] } => a + (b - a) * rng.random::<f64>(),
         }
     }
@@ -137,7 +137,7 @@ impl UncertaintySection {
 }
 
 /// A standard normal number (Box-Muller).
-fn normal(rng: &mut impl Rng) -> f64 {
+pub fn standard_normal(rng: &mut impl Rng) -> f64 {
     let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
     let u2: f64 = rng.random();
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
@@ -627,7 +627,7 @@ mod tests {
         let y: Vec<f64> = x.iter().map(|v| v * v).collect();
         assert!(correlation_ratio(&x, &y) > 0.95);
         let mut rng = stream(1, 0);
-        let noise: Vec<f64> = (0..1000).map(|_| normal(&mut rng)).collect();
+        let noise: Vec<f64> = (0..1000).map(|_| standard_normal(&mut rng)).collect();
         assert!(correlation_ratio(&x, &noise) < 0.02);
     }
 
