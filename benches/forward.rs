@@ -1,4 +1,5 @@
-//! Forward solve with every derived result against a bare nalgebra 6x6 LU solve.
+//! Forward solve with every derived result against a bare nalgebra 6x6 LU solve, and the
+//! second impact model's forward solve with the same report.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Matrix6, Vector6};
@@ -69,6 +70,21 @@ fn bench(c: &mut Criterion) {
                 black_box(&coef),
                 black_box(&x),
                 &opts,
+            ))
+        })
+    });
+    // The second model with the same report (slides here: sticking needs |Pt/Pn| = 1.29).
+    let tc = TangentialCoefficients {
+        e: 0.1,
+        et: 0.0,
+        friction: 0.8,
+    };
+    g.bench_function("solve_tangential_with_report", |b| {
+        b.iter(|| {
+            black_box(solve_tangential(
+                black_box(&impact),
+                black_box(&tc),
+                black_box(&x),
             ))
         })
     });

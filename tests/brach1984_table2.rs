@@ -1,6 +1,6 @@
 //! Brach 1984 Table 2: collision 6 refitted (Q2, e up to 0.45) with four impact centres.
 mod common;
-use common::ricsac_tests;
+use common::{read_reference, ricsac_tests};
 use pim_core::*;
 use pim_fit::*;
 
@@ -10,52 +10,29 @@ type Row = (f64, f64, f64, f64, MomentBranch, f64, f64, f64, f64);
 /// What a refit gives: energy loss %, |dV1|, |dV2|, em, dW1, dW2.
 type Got = (f64, f64, f64, f64, f64, f64);
 
-const ROWS: [Row; 4] = [
-    (
-        2.56,
-        0.61,
-        -17.9,
-        -90.0,
-        MomentBranch::Free,
-        48.2,
-        4.6,
-        7.6,
-        -0.997,
-    ),
-    (
-        2.56,
-        0.61,
-        -17.9,
-        -90.0,
-        MomentBranch::Zero,
-        48.2,
-        4.6,
-        7.6,
-        1.0,
-    ),
-    (
-        2.44,
-        0.76,
-        -15.0,
-        -90.0,
-        MomentBranch::Free,
-        49.4,
-        4.7,
-        7.7,
-        -0.459,
-    ),
-    (
-        2.56,
-        0.69,
-        -25.0,
-        -60.0,
-        MomentBranch::Free,
-        46.9,
-        4.8,
-        7.9,
-        -0.709,
-    ),
-];
+/// The table's rows, from data/reference/brach1984_table2.csv.
+fn rows() -> Vec<Row> {
+    read_reference("data/reference/brach1984_table2.csv")
+        .iter()
+        .map(|r| {
+            let branch = match r.text("branch") {
+                "A" => MomentBranch::Free,
+                _ => MomentBranch::Zero,
+            };
+            (
+                r.num("d1_m"),
+                r.num("d2_m"),
+                r.num("phi1_deg"),
+                r.num("phi2_deg"),
+                branch,
+                r.num("energy_loss_percent"),
+                r.num("dv1_mps"),
+                r.num("dv2_mps"),
+                r.num("em"),
+            )
+        })
+        .collect()
+}
 
 #[test]
 fn four_impact_centres_of_collision_6() {
@@ -70,7 +47,9 @@ fn four_impact_centres_of_collision_6() {
         .unwrap()
     };
     let mut got: Vec<Got> = Vec::new();
-    for (k, &(d1, d2, phi1, phi2, branch, loss, dv1, dv2, _)) in ROWS.iter().enumerate() {
+    let rows = rows();
+    assert_eq!(rows.len(), 4);
+    for (k, &(d1, d2, phi1, phi2, branch, loss, dv1, dv2, _)) in rows.iter().enumerate() {
         let mut c = t.collision();
         c.vehicle1.d = d1;
         c.vehicle2.d = d2;
@@ -126,4 +105,76 @@ fn four_impact_centres_of_collision_6() {
     assert!(loss <= 3.0, "{loss}");
     assert!(em >= 0.15, "{em}");
     assert!(dw >= 0.3, "{dw}");
+}
+
+/// With geometry bounds that contain all four centres of the table, the fit over the geometry
+/// costs no more than the best of the four fits at fixed centres, in each branch.
+#[test]
+fn geometry_search_over_the_four_centres_is_never_worse() {
+    let t = ricsac_tests().into_iter().find(|t| t.test == 6).unwrap();
+    let settings = FitSettings {
+        e: [0.0, 0.45],
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let at = |d1: f64, d2: f64, phi1: f64, phi2: f64| {
+        let mut c = t.collision();
+        c.vehicle1.d = d1;
+        c.vehicle2.d = d2;
+        c.vehicle1.phi = phi1;
+        c.vehicle2.phi = phi2;
+        FitProblem::from_preset(
+            Impact::new(c).unwrap(),
+            CostPreset::Q2,
+            &t.initial(),
+            &t.separation(),
+            None,
+        )
+    };
+    let cost = |r: &FitReport, b: MomentBranch| {
+        r.branches
+            .iter()
+            .find(|x| x.moment == b)
+            .and_then(|x| x.solution.as_ref())
+            .map_or(f64::INFINITY, |s| s.cost)
+    };
+    let mut best_of_four = [f64::INFINITY; 2];
+    for &(d1, d2, phi1, phi2, ..) in &rows() {
+        let r = fit(&at(d1, d2, phi1, phi2), &settings).unwrap();
+        for (k, b) in MomentBranch::ALL.iter().enumerate() {
+            best_of_four[k] = best_of_four[k].min(cost(&r, *b));
+        }
+    }
+    let bounds = [
+        (GeometryInput::D(1), [2.44, 2.56]),
+        (GeometryInput::D(2), [0.61, 0.76]),
+        (GeometryInput::Phi(1), [-25.0, -15.0]),
+        (GeometryInput::Phi(2), [-90.0, -60.0]),
+    ]
+    .map(|(input, bounds)| GeometryBound { input, bounds });
+    // The search starts from the first row's centres.
+    let report = fit_geometry(&at(2.56, 0.61, -17.9, -90.0), &bounds, &settings).unwrap();
+    for (k, b) in MomentBranch::ALL.iter().enumerate() {
+        let got = cost(&report, *b);
+        let branch = report.branches.iter().find(|x| x.moment == *b).unwrap();
+        let g = branch.geometry.as_ref().unwrap();
+        println!(
+            "{}: cost {got:.4} against the best of the four {:.4}; d1 {:.3} phi1 {:.2} d2 {:.3} \
+             phi2 {:.2}; {} fits",
+            b.name(),
+            best_of_four[k],
+            g.vehicle1.d,
+            g.vehicle1.phi,
+            g.vehicle2.d,
+            g.vehicle2.phi,
+            g.search.fits
+        );
+        assert!(got <= best_of_four[k] * (1.0 + 1e-9), "{}", b.name());
+        // The estimate lies in the box and the reported solution is the fit there.
+        for (r, bd) in g.ranges.iter().zip(&bounds) {
+            assert!(r.value >= bd.bounds[0] - 1e-12 && r.value <= bd.bounds[1] + 1e-12);
+            assert!(r.low <= r.value && r.value <= r.high, "{r:?}");
+        }
+    }
 }

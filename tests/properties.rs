@@ -376,3 +376,119 @@ fn without_sliding_at_contact_no_tangential_impulse_acts() {
         })
         .unwrap();
 }
+
+/// A collision, an approaching contact state and coefficients of the tangential-restitution
+/// model.
+fn arb_tangential() -> impl Strategy<Value = (Impact, Velocities, TangentialCoefficients)> {
+    (
+        arb_collision(),
+        arb_state(),
+        0.0..1.0f64,
+        -1.0..1.0f64,
+        0.0..1.5f64,
+    )
+        .prop_filter_map(
+            "vehicles must approach and slide at C",
+            |(c, x, e, et, friction)| {
+                let impact = Impact::new(c).ok()?;
+                impact.check_approach(&x).ok()?;
+                (impact.friction_sign(&x) != FrictionSign::NoSliding).then_some((
+                    impact,
+                    x,
+                    TangentialCoefficients { e, et, friction },
+                ))
+            },
+        )
+}
+
+#[test]
+fn tangential_model_conserves_momentum_and_meets_its_conditions() {
+    runner(2000)
+        .run(&arb_tangential(), |(impact, x, c)| {
+            let t = solve_tangential(&impact, &c, &x).unwrap();
+            let r = &t.report;
+            let [m1, m2] = impact.masses();
+            let xf = &r.separation;
+            let scale = m1 * x.vehicle1.speed() + m2 * x.vehicle2.speed();
+            let px = m1 * (xf.vehicle1.vx - x.vehicle1.vx) + m2 * (xf.vehicle2.vx - x.vehicle2.vx);
+            let py = m1 * (xf.vehicle1.vy - x.vehicle1.vy) + m2 * (xf.vehicle2.vy - x.vehicle2.vy);
+            prop_assert!(px.abs() <= 1e-11 * scale && py.abs() <= 1e-11 * scale);
+            // No moment impulse: PIM's six equations hold with the equivalent coefficients
+            // (e, mu = the impulse ratio, em = 1).
+            prop_assert!(r.impulse.moment.abs() <= 1e-9 * (1.0 + r.impulse.normal.abs()));
+            prop_assert!(
+                r.residuals(&impact).max_relative() <= 1e-9,
+                "{:?}",
+                r.residuals(&impact)
+            );
+            let (vn, vt) = impact.relative_velocity(&x);
+            let (vn1, vt1) = impact.relative_velocity(xf);
+            let tol = 1e-9 * (1.0 + vn.abs() + vt.abs());
+            prop_assert!((vn1 + c.e * vn).abs() <= tol, "normal restitution");
+            match t.mode {
+                ContactMode::Stick => {
+                    prop_assert!((vt1 - c.et * vt).abs() <= tol, "tangential restitution");
+                    prop_assert!(t.impulse_ratio.abs() <= c.friction * (1.0 + 1e-9) + 1e-12);
+                }
+                ContactMode::Slide => {
+                    prop_assert!(t.stick_ratio.abs() > c.friction);
+                    prop_assert!((t.impulse_ratio.abs() - c.friction).abs() <= 1e-12);
+                }
+            }
+            // The report's admissibility is the energy balance.
+            prop_assert_eq!(
+                r.admissibility.admissible,
+                !creates_energy(r.energy.initial, r.energy.final_)
+            );
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn tangential_model_is_pim_in_its_two_limits() {
+    runner(1000)
+        .run(&arb_tangential(), |(impact, x, c)| {
+            // et = 0 and a friction limit that does not bind: PIM's no-slip form with em = 1.
+            let stick = TangentialCoefficients {
+                et: 0.0,
+                friction: 100.0,
+                ..c
+            };
+            let t = solve_tangential(&impact, &stick, &x).unwrap();
+            let pim_c = Coefficients {
+                e: c.e,
+                mu: 0.0,
+                em: 1.0,
+            };
+            let no_slip = SolveOptions {
+                tangential: TangentialCondition::NoSlip,
+                ..SolveOptions::default()
+            };
+            if let Ok(p) = solve_forward(&impact, &pim_c, &x, &no_slip) {
+                if t.mode == ContactMode::Stick {
+                    let d = (t.report.separation.to_vector() - p.separation.to_vector()).amax();
+                    prop_assert!(d <= 1e-8 * (1.0 + x.to_vector().amax()), "no-slip: {d}");
+                }
+            }
+            // A binding friction limit: PIM's sliding form with mu = friction and em = 1.
+            let t = solve_tangential(&impact, &c, &x).unwrap();
+            if t.mode == ContactMode::Slide {
+                let p = solve_forward(
+                    &impact,
+                    &Coefficients {
+                        e: c.e,
+                        mu: c.friction,
+                        em: 1.0,
+                    },
+                    &x,
+                    &SolveOptions::default(),
+                )
+                .unwrap();
+                let d = (t.report.separation.to_vector() - p.separation.to_vector()).amax();
+                prop_assert!(d <= 1e-8 * (1.0 + x.to_vector().amax()), "sliding: {d}");
+            }
+            Ok(())
+        })
+        .unwrap();
+}

@@ -30,6 +30,8 @@ CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, coun
   e = 0.1                          # restitution, 0..1
   mu = 0.5                         # equivalent friction (impulse ratio; no effect if vt = 0)
   em = 1.0                         # moment restitution, -1..0 or exactly 1 (no moment impulse)
+                                   # (or e, et = -1..1, friction >= 0: the second model, normal
+                                   # and tangential restitution with a friction limit, forwards)
   [initial]                        # velocities at contact; or [final] to solve backwards
   vehicle1 = { vx = 15.0, vy = 0.0, omega = 0.0 }      # m/s, m/s, rad/s (fixed frame)
   vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }
@@ -242,6 +244,21 @@ A file that cannot be read or fitted is a `failed` record naming the file and fi
 others complete. With --draws N the best record of each file and cost function also carries the
 intervals of `pim uncertainty` (same draws and --seed; CSV columns speed1_p05 ... delta_v2_p95).
 
+INTERVALS FOR A DATA FILE: a data file holds measurements without their standard deviations, so
+`pim batch data/ricsac.csv --draws 200 --tolerances tol.toml` takes them from a file that applies
+to every test (each a standard deviation, in the file's [units]):
+  [sigma.initial]                  # the measured velocities at contact
+  vehicle1 = { vx = 0.5, vy = 0.5, omega = 0.1 }
+  vehicle2 = { vx = 0.5, vy = 0.5, omega = 0.1 }
+  [sigma.final]                    # and at separation
+  vehicle1 = { vx = 0.5, vy = 0.5, omega = 0.2 }
+  vehicle2 = { vx = 0.5, vy = 0.5, omega = 0.2 }
+  [uncertainty]                    # optional: inputs the fit takes as exact
+  vehicle1 = { mass = 20.0, d = 0.1, phi = 3.0 }
+  impact = { crush_angle = 3.0 }
+The best record of each test and cost function then carries the intervals (JSON `intervals`,
+CSV columns speed1_p05 ... delta_v2_p95, and a table). Example: examples/ricsac_tolerances.toml.
+
 OUTPUT (--out DIR): records.csv (one row per test, cost function and branch), records.json,
 velocity_errors.csv (fitted minus measured per component), summary.txt, compare_costs.txt,
 brach1984.txt (when data/reference/brach1984_table1.csv is next to the data file), and the
@@ -304,6 +321,10 @@ pub struct BatchArgs {
     /// Seed of the draws (with --draws).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Data file only, with --draws: a TOML file of standard deviations applied to every test
+    /// ([units], [sigma.initial], [sigma.final], [uncertainty]; see below).
+    #[arg(long, value_name = "FILE")]
+    pub tolerances: Option<PathBuf>,
 }
 
 const FIT_HELP: &str = "\
@@ -328,6 +349,11 @@ convention), without [coefficients], [initial], [final], plus:
   mu = [-1.2, 1.2]                 # and always between 0 and mu_max
   velocity = 20.0                  # m/s, every linear component
   yaw_rate = 5.0                   # rad/s
+  vehicle1 = { d = [1.6, 2.0], phi = [-10.0, 10.0] }   # optional: estimate the impact centre
+  vehicle2 = { impact_point = { x = [-0.5, 0.5], y = [-0.9, -0.7] } }   # (either form)
+  crush_angle = [-35.0, -25.0]     # and the crush-surface angle, degrees
+                                   # (the case's values are the start; each branch then reports
+                                   # its geometry with ranges; see the README, Unknown geometry)
   [[observations]]                 # optional, e.g. what an event data recorder gave
   kind = \"delta_v_longitudinal\"   # delta_v_lateral, speed_along_heading, lateral_velocity
   vehicle = 1

@@ -52,13 +52,7 @@ impl Failure {
     /// Classifies a pim-core error raised while solving the case in `file`: singular or
     /// inconsistent equations are "no answer" (3), anything else bad input (2).
     pub fn from_core(file: &str, e: pim_core::PimError) -> Self {
-        use pim_core::PimError as E;
-        match e {
-            E::Singular { .. } | E::InconsistentSliding(_) => {
-                Failure::NoAnswer(format!("{file}: {e}"))
-            }
-            _ => Failure::Input(format!("{file}: {e}")),
-        }
+        pim_data::documents::DocumentError::from_core(file, e).into()
     }
 }
 
@@ -75,5 +69,15 @@ impl std::error::Error for Failure {}
 impl From<pim_data::InputError> for Failure {
     fn from(e: pim_data::InputError) -> Self {
         Failure::Input(e.message)
+    }
+}
+
+impl From<pim_data::documents::DocumentError> for Failure {
+    fn from(e: pim_data::documents::DocumentError) -> Self {
+        use pim_data::documents::DocumentError as D;
+        match e {
+            D::Input(m) => Failure::Input(m),
+            D::NoAnswer(m) => Failure::NoAnswer(m),
+        }
     }
 }

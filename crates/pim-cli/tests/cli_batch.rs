@@ -1,28 +1,11 @@
 //! End-to-end tests of `pim batch` and `pim compare-costs` on data/ricsac.csv.
+mod common;
+use common::*;
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    scratch_dir("cli_batch", name)
+}
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn pim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pim"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("run pim")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("cli_batch")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 #[test]
 fn full_batch_json_has_66_sound_records_and_writes_the_figures() {

@@ -1,15 +1,11 @@
 //! End-to-end tests of `pim fit`: the real binary, its JSON, exit codes and messages.
-use serde_json::Value;
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
+use common::*;
 
-fn pim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pim"))
-        .args(args)
-        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
-        .output()
-        .expect("run pim")
+fn write_case(name: &str, text: &str) -> String {
+    scratch_file("cli_fit", name, text)
 }
+use serde_json::Value;
 
 fn case_text() -> String {
     std::fs::read_to_string(concat!(
@@ -17,18 +13,6 @@ fn case_text() -> String {
         "/../../examples/cases/ricsac7_fit.toml"
     ))
     .unwrap()
-}
-
-fn write_case(name: &str, text: &str) -> String {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_fit");
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.display().to_string()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
 }
 
 #[test]
@@ -206,4 +190,100 @@ fn a_fit_case_in_the_other_convention_is_explained() {
     );
     assert!(msg.contains("vehicle 1's CG at (-1.80, 0.00) m"), "{msg}");
     assert!(msg.contains("with convention = \"brach\""), "{msg}");
+}
+
+#[test]
+fn geometry_bounds_estimate_the_impact_centres_and_never_cost_more() {
+    let case = "examples/cases/ricsac6_geometry.toml";
+    let out = pim_ok(&["fit", case, "--cost", "q2", "--format", "json"]);
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    // The same case with the geometry as given (no geometry bounds).
+    let text = std::fs::read_to_string(repo().join(case)).unwrap();
+    let fixed: String = text
+        .lines()
+        .filter(|l| !(l.starts_with("vehicle") && l.contains("= [")))
+        .filter(|l| !l.starts_with("crush_angle = ["))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(!fixed.contains("d = [2.44"), "{fixed}");
+    let plain = pim_ok(&[
+        "fit",
+        &write_case("ricsac6_fixed.toml", &fixed),
+        "--cost",
+        "q2",
+        "--format",
+        "json",
+    ]);
+    let p: Value = serde_json::from_slice(&plain.stdout).unwrap();
+    assert!(p["branches"][0].get("geometry").is_none());
+    let bounds = [
+        ("vehicle1.d", 2.44, 2.56),
+        ("vehicle1.phi", -25.0, -15.0),
+        ("vehicle2.d", 0.61, 0.76),
+        ("vehicle2.phi", -90.0, -60.0),
+        ("crush_angle", -40.0, -20.0),
+    ];
+    for (b, q) in j["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(p["branches"].as_array().unwrap())
+    {
+        let g = &b["geometry"];
+        for k in ["vehicle1", "vehicle2"] {
+            assert!(g[k]["d"].is_number() && g[k]["phi"].is_number(), "{g}");
+        }
+        assert!(g["crush_angle"].is_number());
+        let ranges = g["ranges"].as_array().unwrap();
+        assert_eq!(ranges.len(), 5);
+        for (r, (name, lo, hi)) in ranges.iter().zip(bounds) {
+            assert_eq!(r["input"], name);
+            let v = r["value"].as_f64().unwrap();
+            assert!(v >= lo - 1e-9 && v <= hi + 1e-9, "{name} {v}");
+            assert!(r["low"].as_f64().unwrap() <= v && v <= r["high"].as_f64().unwrap());
+        }
+        assert!(g["search"]["fits"].as_u64().unwrap() > 244);
+        // The case's own geometry is one of the points searched.
+        let (c, c0) = (b["cost"].as_f64().unwrap(), q["cost"].as_f64().unwrap());
+        assert!(c <= c0 * (1.0 + 1e-9), "{}: {c} > {c0}", b["moment"]);
+    }
+}
+
+#[test]
+fn impact_point_bounds_in_the_natural_form_and_bad_geometry_bounds() {
+    let text = case_text();
+    let with = |bounds: &str| text.replacen("[bounds]", &format!("[bounds]\n{bounds}"), 1);
+    let ok = write_case(
+        "r7_point_bounds.toml",
+        &with("vehicle1 = { impact_point = { x = [1.6, 2.0], y = [-0.3, 0.3] } }"),
+    );
+    let out = pim_ok(&["fit", &ok, "--cost", "q2", "--format", "json"]);
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let r = &j["branches"][0]["geometry"]["ranges"];
+    assert_eq!(r[0]["input"], "vehicle1.impact_point.x");
+    assert_eq!(r[1]["input"], "vehicle1.impact_point.y");
+    let x = r[0]["value"].as_f64().unwrap();
+    assert!((1.6..=2.0).contains(&x), "{x}");
+    for (name, bounds, says) in [
+        (
+            "outside.toml",
+            "vehicle1 = { impact_point = { x = [2.0, 2.4] } }",
+            "does not contain the case's value",
+        ),
+        (
+            "both.toml",
+            "vehicle1 = { d = [1.6, 2.0], impact_point = { y = [-0.3, 0.3] } }",
+            "not both",
+        ),
+        (
+            "reversed.toml",
+            "crush_angle = [10.0, -10.0]",
+            "low <= high",
+        ),
+    ] {
+        let out = pim(&["fit", &write_case(name, &with(bounds)), "--cost", "q2"]);
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let err = stderr(&out);
+        assert!(err.contains(name) && err.contains(says), "{name}: {err}");
+    }
 }

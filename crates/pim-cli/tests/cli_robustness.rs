@@ -1,31 +1,15 @@
 //! Every failure mode of the input paths: exit status, and a message that names the culprit.
 //! (Case-file field errors are in cli_solve.rs and cli_fit.rs, CSV cell errors in
 //! ricsac_loader.rs; this file covers the rest.)
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn pim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pim"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("run pim")
-}
+mod common;
+use common::*;
 
 fn scratch(name: &str, content: &[u8]) -> String {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_robustness");
-    std::fs::create_dir_all(&d).unwrap();
-    let p = d.join(name);
-    std::fs::write(&p, content).unwrap();
-    p.display().to_string()
+    scratch_file("cli_robustness", name, content)
 }
 
-fn err(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
+fn err(o: &std::process::Output) -> String {
+    stderr(o)
 }
 
 fn ricsac() -> String {

@@ -1,31 +1,16 @@
 //! End-to-end tests of `pim solve` and `pim sensitivity`: the real binary, its JSON and exit codes.
-use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn pim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pim"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("run pim")
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn example() -> String {
-    std::fs::read_to_string(repo().join("examples/cases/ricsac7_brach1983.toml")).unwrap()
-}
+mod common;
+use common::*;
 
 /// Writes a case file into the test's scratch directory.
 fn write_case(name: &str, text: &str) -> String {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_solve");
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p.display().to_string()
+    scratch_file("cli_solve", name, text)
+}
+use serde_json::Value;
+use std::process::Output;
+
+fn example() -> String {
+    std::fs::read_to_string(repo().join("examples/cases/ricsac7_brach1983.toml")).unwrap()
 }
 
 fn json_of(out: &Output) -> Value {
@@ -36,10 +21,6 @@ fn json_of(out: &Output) -> Value {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("valid JSON")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).to_string()
 }
 
 #[test]
@@ -405,4 +386,114 @@ fn plausibility_warnings_go_to_stderr_and_the_solve_still_runs() {
         "json",
     ]);
     assert!(stderr(&out).is_empty(), "{}", stderr(&out));
+}
+
+#[test]
+fn the_tangential_model_is_selected_by_its_coefficients() {
+    let with = |coefficients: &str| {
+        let text = example();
+        let start = text.find("[coefficients]").unwrap();
+        let end = start + text[start..].find("\n\n").unwrap_or(text.len() - start);
+        format!(
+            "{}[coefficients]\n{coefficients}{}",
+            &text[..start],
+            &text[end..]
+        )
+    };
+    // Sliding: the same as PIM with mu = friction and em = 1.
+    let t = json_of(&pim(&[
+        "solve",
+        &write_case(
+            "tangential.toml",
+            &with("e = 0.1\net = 0.0\nfriction = 0.5\n"),
+        ),
+        "--format",
+        "json",
+    ]));
+    assert_eq!(t["model"]["name"], "tangential");
+    assert_eq!(t["model"]["mode"], "slide");
+    assert!(t["model"]["stick_ratio"].as_f64().unwrap().abs() > 0.5);
+    let p = json_of(&pim(&[
+        "solve",
+        &write_case(
+            "pim_equivalent.toml",
+            &with("e = 0.1\nmu = 0.5\nem = 1.0\n"),
+        ),
+        "--format",
+        "json",
+    ]));
+    assert!(p.get("model").is_none());
+    for v in ["vehicle1", "vehicle2"] {
+        for k in ["vx", "vy", "omega"] {
+            let (a, b) = (
+                t["final"][v][k].as_f64().unwrap(),
+                p["final"][v][k].as_f64().unwrap(),
+            );
+            assert!((a - b).abs() < 1e-9, "{v}.{k}: {a} vs {b}");
+        }
+    }
+    // Sticking with a generous limit: vt' = et vt.
+    let s = json_of(&pim(&[
+        "solve",
+        &write_case(
+            "sticking.toml",
+            &with("e = 0.1\net = -0.2\nfriction = 5.0\n"),
+        ),
+        "--format",
+        "json",
+    ]));
+    assert_eq!(s["model"]["mode"], "stick");
+    // A mix of the two models' coefficients is refused, naming what was given.
+    let out = pim(&[
+        "solve",
+        &write_case("mixed.toml", &with("e = 0.1\nmu = 0.5\net = 0.0\n")),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("[coefficients] gives e, mu, et"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// Every example case file says in its header how to run it; the command must run as written.
+#[test]
+fn every_example_case_runs_as_its_header_says() {
+    let dir = repo().join("examples/cases");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 8);
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let name = format!(
+            "examples/cases/{}",
+            path.file_name().unwrap().to_str().unwrap()
+        );
+        let header: String = text
+            .lines()
+            .take_while(|l| l.starts_with('#'))
+            .collect::<Vec<_>>()
+            .join(" ");
+        let at = header
+            .find(&format!(" {name}"))
+            .unwrap_or_else(|| panic!("{name}: its header gives no command"));
+        let start = header[..at]
+            .rfind("pim ")
+            .expect("the command starts with pim");
+        let args: Vec<&str> = header[start + 4..]
+            .split_whitespace()
+            .take_while(|w| !w.starts_with('#') && !w.starts_with('('))
+            .collect();
+        let out = pim(&args);
+        assert!(
+            out.status.success(),
+            "{name}: pim {}: {}",
+            args.join(" "),
+            stderr(&out)
+        );
+    }
 }

@@ -1,27 +1,20 @@
 //! End-to-end tests of `pim uncertainty`: the schema, and bit-identical results for any thread
 //! count.
+mod common;
+use common::*;
+
+/// A fresh scratch directory for one test.
+fn scratch(name: &str) -> std::path::PathBuf {
+    scratch_dir("cli_uncertainty", name)
+}
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn pim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pim"))
-        .args(args)
-        .current_dir(repo())
-        .output()
-        .expect("run pim")
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 const CASE: &str = "examples/cases/ricsac7_uncertainty.toml";
 
 #[test]
 fn same_answer_for_any_thread_count_and_the_documented_schema() {
     let run = |threads: &str| {
-        let out = pim(&[
+        let out = pim_ok(&[
             "uncertainty",
             CASE,
             "--cost",
@@ -35,11 +28,6 @@ fn same_answer_for_any_thread_count_and_the_documented_schema() {
             "--format",
             "json",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         out.stdout
     };
     let one = run("1");
@@ -114,9 +102,8 @@ fn nothing_uncertain_is_an_input_error() {
 
 #[test]
 fn out_writes_the_record_the_table_and_three_figures() {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("uncertainty_out");
-    let _ = std::fs::remove_dir_all(&dir);
-    let out = pim(&[
+    let dir = scratch("out");
+    pim_ok(&[
         "uncertainty",
         CASE,
         "--cost",
@@ -126,11 +113,6 @@ fn out_writes_the_record_the_table_and_three_figures() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     for f in [
         "uncertainty.json",
         "uncertainty.txt",
@@ -143,4 +125,121 @@ fn out_writes_the_record_the_table_and_three_figures() {
     }
     let svg = std::fs::read_to_string(dir.join("histograms.svg")).unwrap();
     assert!(svg.contains("90 %"));
+}
+
+/// RICSAC 9 of data/ricsac.csv written by hand as a natural-form case file (vehicle 1's nose
+/// at heading1_deg + 180 = 180 degrees; phi is measured from the nose in both forms), with the
+/// tolerances of examples/ricsac_tolerances.toml.
+const RICSAC9_WITH_TOLERANCES: &str = r#"
+[vehicle1]
+mass = 1036.0
+yaw_inertia = 1348.0
+heading = 180.0
+d = 1.4
+phi = 6.0
+[vehicle2]
+mass = 2189.0
+yaw_inertia = 5287.0
+heading = 90.0
+d = 1.6
+phi = -29.7
+[impact]
+crush_angle = 0.0
+[estimates.initial]
+vehicle1 = { vx = -9.48, vy = 0.0, omega = 0.0 }
+vehicle2 = { vx = 0.0, vy = 9.48, omega = 0.0 }
+[estimates.final]
+vehicle1 = { vx = -0.86, vy = 4.52, omega = -3.14 }
+vehicle2 = { vx = -3.02, vy = 7.38, omega = 0.79 }
+"#;
+
+#[test]
+fn data_file_intervals_equal_those_of_the_same_test_as_a_case_file() {
+    let dir = scratch("data_intervals");
+    let tolerances = std::fs::read_to_string(repo().join("examples/ricsac_tolerances.toml"))
+        .expect("example tolerances");
+    let case = dir.join("ricsac9.toml");
+    std::fs::write(&case, format!("{RICSAC9_WITH_TOLERANCES}{tolerances}")).unwrap();
+    let batch = pim_ok(&[
+        "batch",
+        "data/ricsac.csv",
+        "--tests",
+        "9",
+        "--cost",
+        "q2",
+        "--draws",
+        "40",
+        "--seed",
+        "3",
+        "--tolerances",
+        "examples/ricsac_tolerances.toml",
+        "--format",
+        "json",
+    ]);
+    let j: Value = serde_json::from_slice(&batch.stdout).unwrap();
+    let records = j["records"].as_array().unwrap();
+    assert_eq!(records.len(), 2);
+    let best: Vec<&Value> = records.iter().filter(|r| r["best"] == true).collect();
+    assert_eq!(best.len(), 1);
+    let other = records.iter().find(|r| r["best"] == false).unwrap();
+    assert!(other.get("intervals").is_none(), "only the best record");
+    let single = pim_ok(&[
+        "uncertainty",
+        case.to_str().unwrap(),
+        "--cost",
+        "q2",
+        "--draws",
+        "40",
+        "--seed",
+        "3",
+        "--format",
+        "json",
+    ]);
+    let u: Value = serde_json::from_slice(&single.stdout).unwrap();
+    for q in ["speed1", "speed2", "delta_v1", "delta_v2", "e", "mu"] {
+        for p in ["p05", "p50", "p95"] {
+            let (a, b) = (
+                best[0]["intervals"][q][p].as_f64().unwrap(),
+                u["quantities"][q][p].as_f64().unwrap(),
+            );
+            assert!(
+                (a - b).abs() <= 1e-9 * (1.0 + b.abs()),
+                "{q} {p}: {a} vs {b}"
+            );
+        }
+    }
+    // The interval contains the fitted value and has width.
+    let s = &best[0]["intervals"]["delta_v1"];
+    let fitted = best[0]["delta_v"]["vehicle1"].as_f64().unwrap();
+    assert!(s["p05"].as_f64().unwrap() < fitted && fitted < s["p95"].as_f64().unwrap());
+}
+
+#[test]
+fn data_file_draws_need_tolerances_and_only_standard_deviations() {
+    let tol = scratch("uniform_tolerances").join("tol.toml");
+    std::fs::write(
+        &tol,
+        "[uncertainty]\nvehicle1 = { d = { uniform = [1.0, 1.2] } }\n",
+    )
+    .unwrap();
+    let example = "examples/ricsac_tolerances.toml";
+    let data = "data/ricsac.csv";
+    let cases: [(&[&str], &[&str]); 4] = [
+        (&[data, "--draws", "5"], &["--tolerances FILE"]),
+        (&[data, "--tolerances", example], &["with --draws"]),
+        (
+            &[data, "--draws", "5", "--tolerances", tol.to_str().unwrap()],
+            &["tol.toml", "vehicle1.d", "standard deviation"],
+        ),
+        (
+            &[CASE, "--draws", "5", "--tolerances", example],
+            &["case files carry their own"],
+        ),
+    ];
+    for (args, says) in cases {
+        let out = pim(&[&["batch"], args].concat());
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = stderr(&out);
+        assert!(says.iter().all(|s| err.contains(s)), "{args:?}: {err}");
+    }
 }

@@ -114,15 +114,17 @@ pub mod reduction;
 mod report;
 mod sensitivity;
 mod solve;
+pub mod tangential;
 
 pub use error::{Equation, PimError, Result, VehicleId};
 pub use friction::{
     classify_friction, creates_energy, CriticalImpulse, FrictionSign, FrictionVerdict,
 };
 pub use model::{
-    impact_point_polar, wrap_degrees, Coefficients, Collision, Convention, Impact, MomentForm,
-    SolveOptions, TangentialCondition, Vehicle, VehicleVelocity, Velocities, EM_ONE_TOL, MAX_ANGLE,
-    MAX_DISTANCE, MAX_INERTIA, MAX_MASS, MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
+    impact_point_cartesian, impact_point_polar, wrap_degrees, Coefficients, Collision, Convention,
+    Impact, MomentForm, SolveOptions, TangentialCondition, Vehicle, VehicleVelocity, Velocities,
+    EM_ONE_TOL, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS, MAX_SPEED, MAX_YAW_RATE,
+    NO_SLIDING_TOL,
 };
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
 pub use report::{
@@ -136,3 +138,4 @@ pub use solve::{
     analyse, critical_friction, separation_velocities, solve_backward, solve_backward_with_sign,
     solve_forward,
 };
+pub use tangential::{solve_tangential, ContactMode, TangentialCoefficients, TangentialReport};

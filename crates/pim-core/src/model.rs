@@ -158,6 +158,21 @@ pub fn impact_point_polar(x: f64, y: f64) -> (f64, f64) {
     (x.hypot(y), y.atan2(x).to_degrees())
 }
 
+/// The impact centre `(x, y)` in the vehicle's own frame (m, `x` forward, `y` to the left) of
+/// its polar form `(d, phi)` (m, degrees from the nose): the inverse of [`impact_point_polar`].
+///
+/// ```
+/// use pim_core::{impact_point_cartesian, impact_point_polar};
+/// let (x, y) = impact_point_cartesian(2.0, 30.0);
+/// assert!((x - 3f64.sqrt()).abs() < 1e-12 && (y - 1.0).abs() < 1e-12);
+/// let (d, phi) = impact_point_polar(x, y);
+/// assert!((d - 2.0).abs() < 1e-12 && (phi - 30.0).abs() < 1e-12);
+/// ```
+pub fn impact_point_cartesian(d: f64, phi: f64) -> (f64, f64) {
+    let (s, c) = phi.to_radians().sin_cos();
+    (d * c, d * s)
+}
+
 /// Relative size of the tangential relative velocity at contact below which the vehicles are
 /// taken not to slide (round-off of the contact-point speeds, e.g. `cos 90 deg` = 6e-17).
 pub const NO_SLIDING_TOL: f64 = 1e-9;

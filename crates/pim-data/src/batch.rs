@@ -3,9 +3,11 @@
 
 use crate::records::BranchRecord;
 use crate::ricsac::RicsacTest;
+use crate::uncertainty::{Summary, Tolerances};
 use pim_fit::{CostPreset, FitProblem, FitSettings, MomentBranch, Status, COMPONENT_NAMES};
 use rayon::prelude::*;
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::fmt;
 
 /// The outcome of one record: the fit's status, or `failed` when the row could not be fitted.
@@ -67,6 +69,43 @@ pub struct BatchPlan {
     pub timing: bool,
 }
 
+impl BatchPlan {
+    /// A plan with the default fit settings except the upper bound of e and the moment form,
+    /// checked once (a bad value is an error, not a failed record per fit). Repeated costs and
+    /// branches are kept once, in their first order.
+    pub fn new(
+        costs: &[CostPreset],
+        branches: &[MomentBranch],
+        e_max: f64,
+        moment_form: pim_core::MomentForm,
+    ) -> std::result::Result<Self, String> {
+        let settings = FitSettings {
+            e: [0.0, e_max],
+            moment_form,
+            ..Default::default()
+        };
+        settings
+            .clone()
+            .check()
+            .map_err(|e| format!("e_max {e_max}: {e}"))?;
+        fn unique<T: Copy + PartialEq>(v: &[T]) -> Vec<T> {
+            let mut out: Vec<T> = Vec::new();
+            for x in v {
+                if !out.contains(x) {
+                    out.push(*x);
+                }
+            }
+            out
+        }
+        Ok(BatchPlan {
+            costs: unique(costs),
+            branches: unique(branches),
+            settings,
+            timing: false,
+        })
+    }
+}
+
 /// One record per (test, cost, branch).
 #[derive(Debug, Clone, Serialize)]
 pub struct BatchRecord {
@@ -100,6 +139,13 @@ pub struct BatchRecord {
     /// Wall time of the fit of this (test, cost function), all its branches, s (only with timing).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fit_seconds: Option<f64>,
+    /// With `pim batch DATA --draws N --tolerances FILE`, on the best record of each (test,
+    /// cost): the bootstrap summaries of `pim uncertainty` by quantity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub intervals: Option<BTreeMap<String, Summary>>,
+    /// Why the intervals could not be computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub intervals_error: Option<String>,
 }
 
 impl BatchRecord {
@@ -152,6 +198,8 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
                 max_error_component: None,
                 max_error: None,
                 fit_seconds: None,
+                intervals: None,
+                intervals_error: None,
             })
             .collect()
     };
@@ -226,9 +274,66 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
                 max_error_component: max_c,
                 max_error: max_e,
                 fit_seconds: None,
+                intervals: None,
+                intervals_error: None,
             }
         })
         .collect()
+}
+
+/// The summaries of `pim uncertainty` for one case under one cost function and the plan's
+/// branches and settings.
+fn intervals(
+    case: &crate::case::Case,
+    cost: CostPreset,
+    plan: &BatchPlan,
+    draws: usize,
+    seed: u64,
+) -> crate::error::Result<BTreeMap<String, Summary>> {
+    let unc = case.content.uncertainty.unwrap_or_default();
+    crate::uncertainty::run(
+        case,
+        &unc,
+        crate::fitcase::CostChoice::Preset(cost),
+        FitSettings {
+            branches: plan.branches.clone(),
+            ..plan.settings.clone()
+        },
+        draws,
+        seed,
+        &|| {},
+    )
+    .map(|s| s.quantities)
+}
+
+/// Adds the bootstrap intervals of `pim uncertainty` to the best record of each (test, cost) of
+/// a data-file batch: each test's measured velocities are the estimates, `tolerances` gives
+/// every test the same standard deviations, and the draws are those of `pim uncertainty` with
+/// `draws` and `seed` (the same for every test). `file` names the data file in messages.
+pub fn add_data_intervals(
+    records: &mut [BatchRecord],
+    tests: &[RicsacTest],
+    file: &str,
+    tolerances: &Tolerances,
+    plan: &BatchPlan,
+    draws: usize,
+    seed: u64,
+) {
+    for r in records.iter_mut().filter(|r| r.best) {
+        let Some(t) = tests.iter().find(|t| t.test == r.test) else {
+            continue;
+        };
+        let study = t
+            .case(&format!("{file} test {}", t.test))
+            .and_then(|mut case| {
+                tolerances.apply(&mut case);
+                intervals(&case, r.cost_function, plan, draws, seed)
+            });
+        match study {
+            Ok(s) => r.intervals = Some(s),
+            Err(e) => r.intervals_error = Some(e.message),
+        }
+    }
 }
 
 /// One record of a batch over case files: one per (file, cost function, moment branch).
@@ -252,7 +357,7 @@ pub struct CaseRecord {
     /// With `pim batch --draws N`, on the best record of each (file, cost): the bootstrap
     /// summaries of `pim uncertainty` (p05, p50, p95, mean, sd) by quantity.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub intervals: Option<std::collections::BTreeMap<String, crate::uncertainty::Summary>>,
+    pub intervals: Option<BTreeMap<String, Summary>>,
     /// Why the intervals could not be computed (e.g. the case gives no sigmas).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub intervals_error: Option<String>,
@@ -342,23 +447,10 @@ impl CaseRecord {
 
     /// Adds the bootstrap intervals of `pim uncertainty` (`draws` draws, `seed`) to this record.
     pub fn add_intervals(&mut self, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
-        let study = crate::case::Case::from_text(&self.file, text).and_then(|case| {
-            let unc = case.content.uncertainty.unwrap_or_default();
-            crate::uncertainty::run(
-                &case,
-                &unc,
-                crate::fitcase::CostChoice::Preset(self.cost_function),
-                FitSettings {
-                    branches: plan.branches.clone(),
-                    ..plan.settings.clone()
-                },
-                draws,
-                seed,
-                &|| {},
-            )
-        });
+        let study = crate::case::Case::from_text(&self.file, text)
+            .and_then(|case| intervals(&case, self.cost_function, plan, draws, seed));
         match study {
-            Ok(s) => self.intervals = Some(s.quantities),
+            Ok(s) => self.intervals = Some(s),
             Err(e) => self.intervals_error = Some(e.message),
         }
     }
@@ -407,9 +499,9 @@ pub fn fit_case_text(
         Ok(s) => s,
         Err(e) => return failed(e.message),
     };
-    let report = match pim_fit::fit(&problem, &settings) {
+    let report = match crate::fitcase::fit(&case, &problem, &settings) {
         Ok(r) => r,
-        Err(e) => return failed(format!("{file}: {e}")),
+        Err(e) => return failed(e.message),
     };
     report
         .branches

@@ -90,12 +90,25 @@ pub struct ImpactSection {
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CoefficientsSection {
-    /// Restitution.
+    /// Restitution (both models).
     pub e: f64,
-    /// Friction.
-    pub mu: f64,
-    /// Moment restitution.
-    pub em: f64,
+    /// PIM: friction (impulse ratio).
+    pub mu: Option<f64>,
+    /// PIM: moment restitution.
+    pub em: Option<f64>,
+    /// Tangential-restitution model: tangential restitution, in [-1, 1].
+    pub et: Option<f64>,
+    /// Tangential-restitution model: friction limit of the impulse ratio.
+    pub friction: Option<f64>,
+}
+
+/// The impact model a case selects by its coefficients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CaseModel {
+    /// PIM: `e`, `mu`, `em`.
+    Pim(Coefficients),
+    /// The tangential-restitution model: `e`, `et`, `friction`.
+    Tangential(pim_core::TangentialCoefficients),
 }
 
 /// One vehicle's velocity, `{ vx, vy, omega }`.
@@ -244,6 +257,20 @@ impl PartialStates {
         }
         out
     }
+
+    /// Multiplies the speeds by `speed` and the yaw rates by `rate` (unit conversion).
+    pub fn scale(&mut self, speed: f64, rate: f64) {
+        for s in [&mut self.initial, &mut self.final_].into_iter().flatten() {
+            for v in [&mut s.vehicle1, &mut s.vehicle2] {
+                for x in [&mut v.vx, &mut v.vy].into_iter().flatten() {
+                    *x *= speed;
+                }
+                if let Some(w) = &mut v.omega {
+                    *w *= rate;
+                }
+            }
+        }
+    }
 }
 
 /// `[bounds]` of a fit.
@@ -258,6 +285,35 @@ pub struct BoundsSection {
     pub velocity: Option<f64>,
     /// Bound on each yaw rate, rad/s (default 5).
     pub yaw_rate: Option<f64>,
+    /// Vehicle 1's impact centre, estimated within these bounds (the case's value is the start).
+    pub vehicle1: Option<CentreBounds>,
+    /// Vehicle 2's impact centre, likewise.
+    pub vehicle2: Option<CentreBounds>,
+    /// The crush-surface angle, estimated within `[low, high]` degrees.
+    pub crush_angle: Option<[f64; 2]>,
+}
+
+/// Bounds of one vehicle's impact centre in `[bounds]`: `d` and / or `phi`, or `impact_point`
+/// `x` and / or `y` (length unit; degrees).
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CentreBounds {
+    /// `[low, high]` of the CG-to-impact-centre distance.
+    pub d: Option<[f64; 2]>,
+    /// `[low, high]` of the angle from the nose, degrees.
+    pub phi: Option<[f64; 2]>,
+    /// Bounds of the impact point's coordinates in the vehicle frame.
+    pub impact_point: Option<PointBounds>,
+}
+
+/// `impact_point = { x = [lo, hi], y = [lo, hi] }` in `[bounds]`.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointBounds {
+    /// `[low, high]` along the forward axis.
+    pub x: Option<[f64; 2]>,
+    /// `[low, high]` along the left axis.
+    pub y: Option<[f64; 2]>,
 }
 
 /// One `[[observations]]` entry.
@@ -461,29 +517,24 @@ impl Case {
             velocity(&mut s.vehicle1);
             velocity(&mut s.vehicle2);
         }
-        let partial = |v: &mut PartialVelocity| {
-            for x in [&mut v.vx, &mut v.vy].into_iter().flatten() {
-                *x *= speed;
-            }
-            if let Some(w) = &mut v.omega {
-                *w *= rate;
-            }
-        };
         for states in [&mut c.estimates, &mut c.known, &mut c.sigma]
             .into_iter()
             .flatten()
         {
-            for s in [&mut states.initial, &mut states.final_]
-                .into_iter()
-                .flatten()
-            {
-                partial(&mut s.vehicle1);
-                partial(&mut s.vehicle2);
-            }
+            states.scale(speed, rate);
         }
         if let Some(b) = &mut c.bounds {
             if let Some(v) = &mut b.velocity {
                 *v *= speed;
+            }
+            let scale = |r: &mut [f64; 2]| r.iter_mut().for_each(|x| *x *= length);
+            for centre in [&mut b.vehicle1, &mut b.vehicle2].into_iter().flatten() {
+                if let Some(d) = &mut centre.d {
+                    scale(d);
+                }
+                if let Some(p) = &mut centre.impact_point {
+                    [&mut p.x, &mut p.y].into_iter().flatten().for_each(scale);
+                }
             }
             if let Some(w) = &mut b.yaw_rate {
                 *w *= rate;
@@ -659,17 +710,63 @@ impl Case {
 
     /// The `[coefficients]` section, required and checked.
     pub fn coefficients(&self) -> Result<Coefficients> {
+        match self.model()? {
+            CaseModel::Pim(c) => Ok(c),
+            CaseModel::Tangential(_) => Err(InputError::new(
+                &self.file,
+                "[coefficients] e, et, friction select the tangential-restitution model, which \
+                 `pim solve` and `pim draw` take; this command needs PIM's e, mu, em",
+            )),
+        }
+    }
+
+    /// The model and its coefficients: PIM for `e, mu, em`, the tangential-restitution model
+    /// for `e, et, friction`, checked.
+    pub fn model(&self) -> Result<CaseModel> {
         let c = self.content.coefficients.ok_or_else(|| {
-            InputError::new(&self.file, "missing section [coefficients] (e, mu, em)")
+            InputError::new(
+                &self.file,
+                "missing section [coefficients] (e, mu, em for PIM, or e, et, friction for the \
+                 tangential-restitution model)",
+            )
         })?;
-        let c = Coefficients {
-            e: c.e,
-            mu: c.mu,
-            em: c.em,
-        };
-        c.validate()
-            .map_err(|e| InputError::new(&self.file, format!("[coefficients] {e}")))?;
-        Ok(c)
+        let bad =
+            |e: pim_core::PimError| InputError::new(&self.file, format!("[coefficients] {e}"));
+        match (c.mu, c.em, c.et, c.friction) {
+            (Some(mu), Some(em), None, None) => {
+                let c = Coefficients { e: c.e, mu, em };
+                c.validate().map_err(bad)?;
+                Ok(CaseModel::Pim(c))
+            }
+            (None, None, Some(et), Some(friction)) => {
+                let c = pim_core::TangentialCoefficients {
+                    e: c.e,
+                    et,
+                    friction,
+                };
+                c.validate().map_err(bad)?;
+                Ok(CaseModel::Tangential(c))
+            }
+            (mu, em, et, friction) => {
+                let given: Vec<&str> = [("mu", mu), ("em", em), ("et", et), ("friction", friction)]
+                    .iter()
+                    .filter(|(_, v)| v.is_some())
+                    .map(|(n, _)| *n)
+                    .collect();
+                Err(InputError::new(
+                    &self.file,
+                    format!(
+                        "[coefficients] gives e, {}: give e, mu, em (PIM) or e, et, friction (the \
+                         tangential-restitution model)",
+                        if given.is_empty() {
+                            "nothing else".to_string()
+                        } else {
+                            given.join(", ")
+                        }
+                    ),
+                ))
+            }
+        }
     }
 
     /// Exactly one of `[initial]` / `[final]`: `(state, true)` for initial.

@@ -4,7 +4,8 @@ use crate::case::Case;
 use crate::error::{InputError, Result};
 use pim_core::VehicleId;
 use pim_fit::{
-    CostPreset, FitProblem, FitSettings, Knowledge, MomentBranch, Observation, COMPONENT_NAMES,
+    CostPreset, FitProblem, FitSettings, GeometryBound, Knowledge, MomentBranch, Observation,
+    COMPONENT_NAMES,
 };
 
 /// What `--cost` selects: a preset, or the case's own known / estimated components.
@@ -256,5 +257,56 @@ pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSet
         }
     }
     s.check()
+        .map_err(|e| input(case, e.to_string().replacen("bounds: ", "[bounds] ", 1)))
+}
+
+/// The geometry inputs a case estimates (`[bounds]` `vehicle1` / `vehicle2` / `crush_angle`),
+/// SI and degrees; empty when the geometry is taken as exact.
+pub fn geometry(case: &Case) -> Result<Vec<GeometryBound>> {
+    use pim_fit::GeometryInput as G;
+    let Some(b) = case.content.bounds else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for (v, centre) in [(1u8, b.vehicle1), (2, b.vehicle2)] {
+        let Some(c) = centre else { continue };
+        let point = c.impact_point.unwrap_or_default();
+        if (c.d.is_some() || c.phi.is_some()) && (point.x.is_some() || point.y.is_some()) {
+            return Err(input(
+                case,
+                format!(
+                    "[bounds] vehicle{v}: bound the impact centre by d / phi or by impact_point \
+                     x / y, not both"
+                ),
+            ));
+        }
+        for (input, range) in [
+            (G::D(v), c.d),
+            (G::Phi(v), c.phi),
+            (G::X(v), point.x),
+            (G::Y(v), point.y),
+        ] {
+            if let Some(bounds) = range {
+                out.push(GeometryBound { input, bounds });
+            }
+        }
+    }
+    if let Some(bounds) = b.crush_angle {
+        out.push(GeometryBound {
+            input: G::CrushAngle,
+            bounds,
+        });
+    }
+    Ok(out)
+}
+
+/// Fits a case: the coefficients, and the geometry inputs that `[bounds]` bounds
+/// ([`pim_fit::fit_geometry`]).
+pub fn fit(
+    case: &Case,
+    problem: &FitProblem,
+    settings: &pim_fit::ValidSettings,
+) -> Result<pim_fit::FitReport> {
+    pim_fit::fit_geometry(problem, &geometry(case)?, settings)
         .map_err(|e| input(case, e.to_string().replacen("bounds: ", "[bounds] ", 1)))
 }

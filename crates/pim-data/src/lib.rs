@@ -19,6 +19,7 @@
 
 pub mod batch;
 pub mod case;
+pub mod documents;
 mod error;
 pub mod fitcase;
 pub mod predict;

@@ -42,6 +42,29 @@ pub struct TestPrediction {
     pub delta_v2: DeltaVPrediction,
 }
 
+/// The predictions of every test of a data file (`file` names it in messages), with restitution
+/// `e` in eq. 17, which must be in [0, 1].
+pub fn predict_all(
+    file: &str,
+    tests: &[RicsacTest],
+    e: f64,
+) -> std::result::Result<Vec<TestPrediction>, crate::InputError> {
+    if !(e.is_finite() && (0.0..=1.0).contains(&e)) {
+        return Err(crate::InputError::new(
+            file,
+            format!("e = {e}: must be in [0, 1]"),
+        ));
+    }
+    tests
+        .iter()
+        .map(|t| {
+            predict(t, e).map_err(|err| {
+                crate::InputError::new(file, format!("test {} (line {}): {err}", t.test, t.line))
+            })
+        })
+        .collect()
+}
+
 /// The predictions of one test, with restitution `e` in eq. 17 (Brach: 0 unless known).
 pub fn predict(t: &RicsacTest, e: f64) -> Result<TestPrediction, pim_core::PimError> {
     let impact = t.impact()?;

@@ -73,6 +73,11 @@ pub struct EnergyOut {
 pub struct SolveOut {
     /// `forward` or `backward`.
     pub direction: &'static str,
+    /// With `[coefficients] e, et, friction`: the tangential-restitution model, its mode and
+    /// impulse ratio (`coefficients` are then PIM's equivalent: e, mu = the impulse ratio
+    /// relative to the sliding direction, em = 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<ModelOut>,
     /// Coefficients used.
     pub coefficients: pim_core::Coefficients,
     /// Moment form and tangential condition.
@@ -119,6 +124,7 @@ impl SolveOut {
     pub fn new(impact: &pim_core::Impact, r: &ImpactReport, forward: bool) -> Self {
         SolveOut {
             direction: if forward { "forward" } else { "backward" },
+            model: None,
             coefficients: r.coefficients,
             options: r.options,
             initial: (&r.initial).into(),
@@ -244,13 +250,21 @@ pub struct BranchRecord {
     /// The cost as a chi-square, when the case gives standard deviations (`[sigma]`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub chi_square: Option<pim_fit::ChiSquare>,
+    /// With geometry bounds: the estimated impact centres and crush-surface angle (`vehicle1`
+    /// / `vehicle2` `{d, phi}`, `crush_angle`), their ranges and the search over them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<pim_fit::GeometryEstimate>,
 }
 
 impl BranchRecord {
     /// Adds the chi-square reading of the cost (weights `unit / sigma^2`).
     pub fn with_chi_square(mut self, problem: &pim_fit::FitProblem, unit: Option<f64>) -> Self {
         if let (Some(u), Some(cost)) = (unit, self.cost) {
-            self.chi_square = Some(pim_fit::ChiSquare::new(problem, self.moment, cost, u));
+            let geometry = self.geometry.as_ref().map_or(0, |g| g.estimated_inputs());
+            self.chi_square = Some(
+                pim_fit::ChiSquare::new(problem, self.moment, cost, u)
+                    .with_more_parameters(geometry),
+            );
         }
         self
     }
@@ -286,6 +300,7 @@ impl BranchRecord {
             identifiability: b.identifiability.clone(),
             certificate: b.certificate.clone(),
             chi_square: None,
+            geometry: b.geometry.clone(),
         }
     }
 }
@@ -301,4 +316,19 @@ pub struct FitOut {
     pub best: Option<pim_fit::MomentBranch>,
     /// Remarks on the whole fit.
     pub notes: Vec<String>,
+}
+
+/// The second model's part of a solve document.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModelOut {
+    /// `tangential`.
+    pub name: &'static str,
+    /// e, et, friction.
+    pub coefficients: pim_core::TangentialCoefficients,
+    /// `stick` or `slide`.
+    pub mode: pim_core::ContactMode,
+    /// The impulse ratio Pt / Pn that acted.
+    pub impulse_ratio: f64,
+    /// The impulse ratio sticking would need.
+    pub stick_ratio: f64,
 }

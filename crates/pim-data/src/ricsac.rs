@@ -173,6 +173,51 @@ impl RicsacTest {
         ))
     }
 
+    /// The test as a fit case (the papers' convention, SI): its geometry, and its measured
+    /// velocities at contact and separation as `[estimates]`. `file` names the case in messages
+    /// (e.g. `data/ricsac.csv test 7`).
+    pub fn case(&self, file: &str) -> crate::error::Result<crate::case::Case> {
+        let state = |v: &Velocities| {
+            let x = v.to_vector();
+            format!(
+                "vehicle1 = {{ vx = {:?}, vy = {:?}, omega = {:?} }}\n\
+                 vehicle2 = {{ vx = {:?}, vy = {:?}, omega = {:?} }}\n",
+                x[0], x[1], x[2], x[3], x[4], x[5]
+            )
+        };
+        let vehicle = |n: u8, m: f64, i: f64, h: f64, d: f64, phi: f64| {
+            format!(
+                "[vehicle{n}]\nmass = {m:?}\nyaw_inertia = {i:?}\nheading = {h:?}\nd = {d:?}\n\
+                 phi = {phi:?}\n"
+            )
+        };
+        let text = format!(
+            "title = \"RICSAC test {}\"\nconvention = \"brach\"\n{}{}[impact]\n\
+             crush_angle = {:?}\n[estimates.initial]\n{}[estimates.final]\n{}",
+            self.test,
+            vehicle(
+                1,
+                self.mass1_kg,
+                self.yaw_inertia1_kgm2,
+                self.heading1_deg,
+                self.d1_m,
+                self.phi1_deg
+            ),
+            vehicle(
+                2,
+                self.mass2_kg,
+                self.yaw_inertia2_kgm2,
+                self.heading2_deg,
+                self.d2_m,
+                self.phi2_deg
+            ),
+            self.crush_angle_deg,
+            state(&self.initial()),
+            state(&self.separation()),
+        );
+        crate::case::Case::from_text(file, &text)
+    }
+
     /// Every numeric cell with its column name.
     fn numeric(&self) -> [(&'static str, f64); 25] {
         [

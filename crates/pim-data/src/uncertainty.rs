@@ -136,6 +136,81 @@ impl UncertaintySection {
     }
 }
 
+/// A tolerances file: the standard deviations that `pim batch DATA.csv --draws N --tolerances
+/// FILE` applies to every test of a data file. The same sections as a case file: `[units]`,
+/// `[sigma.initial]` / `[sigma.final]` (the measured velocities' standard deviations) and
+/// `[uncertainty]` (the geometry's and the vehicles'), each a standard deviation: a uniform
+/// range is a pair of absolute values, which one file cannot give for every test.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tolerances {
+    /// Units of the file's numbers (default SI).
+    #[serde(default)]
+    pub units: crate::units::UnitsSection,
+    /// Standard deviations of the measured velocities.
+    #[serde(default)]
+    pub sigma: Option<crate::case::PartialStates>,
+    /// Standard deviations of the inputs the fit takes as exact.
+    #[serde(default)]
+    pub uncertainty: Option<UncertaintySection>,
+}
+
+impl Tolerances {
+    /// Parses and checks a tolerances file; the result is in SI.
+    pub fn from_text(file: &str, text: &str) -> Result<Self> {
+        let mut t: Tolerances = crate::case::parse_toml(file, text)?;
+        if t.sigma.is_none() && t.uncertainty.is_none() {
+            return Err(InputError::new(
+                file,
+                "nothing is uncertain: give [sigma.initial] / [sigma.final] and/or [uncertainty]",
+            ));
+        }
+        if let Some(u) = &t.uncertainty {
+            let mut all = vec![("impact.crush_angle".to_string(), u.impact.crush_angle)];
+            for (name, v) in [("vehicle1", u.vehicle1), ("vehicle2", u.vehicle2)] {
+                all.extend([
+                    (format!("{name}.mass"), v.mass),
+                    (format!("{name}.yaw_inertia"), v.yaw_inertia),
+                    (format!("{name}.heading"), v.heading),
+                    (format!("{name}.d"), v.d),
+                    (format!("{name}.phi"), v.phi),
+                ]);
+            }
+            for (what, sp) in all {
+                match sp {
+                    Some(Spread::Uniform { .. }) => {
+                        return Err(InputError::new(
+                            file,
+                            format!(
+                                "[uncertainty] {what}: a tolerances file applies to every test, \
+                                 so give a standard deviation; a uniform range holds absolute \
+                                 values and belongs in a case file"
+                            ),
+                        ))
+                    }
+                    Some(sp) => sp.check(&what, file)?,
+                    None => {}
+                }
+            }
+        }
+        let u = t.units;
+        if let Some(s) = &mut t.sigma {
+            s.scale(u.speed.to_si(), u.yaw_rate.to_si());
+        }
+        t.uncertainty = t
+            .uncertainty
+            .map(|x| x.to_si(u.mass.to_si(), u.yaw_inertia.to_si(), u.length.to_si()));
+        t.units = Default::default();
+        Ok(t)
+    }
+
+    /// Gives `case` these standard deviations (the case must be SI, as a loaded case is).
+    pub fn apply(&self, case: &mut Case) {
+        case.content.sigma = self.sigma;
+        case.content.uncertainty = self.uncertainty;
+    }
+}
+
 /// A standard normal number (Box-Muller).
 pub fn standard_normal(rng: &mut impl Rng) -> f64 {
     let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
@@ -291,14 +366,7 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
                     name: format!("{name}.{field}"),
                     spread: sp,
                     nominal,
-                    apply: Box::new(move |case: &mut Case, x| {
-                        let v = if id == 0 {
-                            &mut case.content.vehicle1
-                        } else {
-                            &mut case.content.vehicle2
-                        };
-                        set(v, x)
-                    }),
+                    apply: Box::new(move |case: &mut Case, x| set(vehicle_mut(case, id), x)),
                 });
             }
         }
@@ -309,21 +377,15 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
                     format!("[uncertainty] {name}: give impact_point or d / phi, not both"),
                 ));
             }
-            let (d, phi) = (v.d(), v.phi().to_radians());
-            let (x0, y0) = (d * phi.cos(), d * phi.sin());
+            let (x0, y0) = pim_core::impact_point_cartesian(v.d(), v.phi());
             for (axis, sd, nominal) in [("x", p.x, x0), ("y", p.y, y0)] {
                 out.push(Input {
                     name: format!("{name}.impact_point.{axis}"),
                     spread: Spread::Normal(sd),
                     nominal,
                     apply: Box::new(move |case: &mut Case, value| {
-                        let v = if id == 0 {
-                            &mut case.content.vehicle1
-                        } else {
-                            &mut case.content.vehicle2
-                        };
-                        let (d, phi) = (v.d(), v.phi().to_radians());
-                        let (mut x, mut y) = (d * phi.cos(), d * phi.sin());
+                        let v = vehicle_mut(case, id);
+                        let (mut x, mut y) = pim_core::impact_point_cartesian(v.d(), v.phi());
                         if axis == "x" {
                             x = value
                         } else {
@@ -347,6 +409,15 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
         });
     }
     Ok(out)
+}
+
+/// Vehicle `id` (0 or 1) of a case.
+fn vehicle_mut(case: &mut Case, id: usize) -> &mut crate::case::VehicleSection {
+    if id == 0 {
+        &mut case.content.vehicle1
+    } else {
+        &mut case.content.vehicle2
+    }
 }
 
 fn set_estimate(case: &mut Case, k: usize, x: f64) {
@@ -440,6 +511,9 @@ fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
     ((between / total) - (bins as f64 - 1.0) / n as f64).clamp(0.0, 1.0)
 }
 
+/// The smallest compass step of a draw's fit, as a fraction of the coefficient box.
+pub const DRAW_POLISH_LAST_STEP: f64 = 1e-5;
+
 /// Runs the study: `draws` perturbed refits of `case` under `choice`, seeded by `seed`.
 /// `tick` is called once per finished draw.
 pub fn run(
@@ -451,6 +525,13 @@ pub fn run(
     seed: u64,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Study> {
+    if !fitcase::geometry(case)?.is_empty() {
+        return Err(InputError::new(
+            &case.file,
+            "[bounds] estimates the impact geometry, which the draws do not search: give its \
+             spread in [uncertainty] instead (e.g. vehicle1 = { d = 0.1 })",
+        ));
+    }
     let inputs = inputs(case, unc)?;
     if inputs.is_empty() {
         return Err(InputError::new(
@@ -485,6 +566,18 @@ pub fn run(
             undetermined[3..].iter_mut().for_each(|u| *u = true);
         }
     }
+    // A draw needs only its optimum, not the identifiability ranges of its branches, and its
+    // optimum only to a precision well below the spread of the draws: the compass polish stops
+    // at 1e-5 of the coefficient box instead of 1e-7 (e to 2e-6, mu to 2.4e-5 with the default
+    // box). The global search (grid, starts) is the nominal fit's.
+    let mut draw_settings = FitSettings {
+        ranges: false,
+        ..settings.get().clone()
+    };
+    draw_settings.search.polish_last_step = DRAW_POLISH_LAST_STEP;
+    let draw_settings = draw_settings
+        .check()
+        .map_err(|e| InputError::new(&case.file, e))?;
     let results: Vec<(Vec<f64>, Option<DrawResult>)> = (0..draws)
         .into_par_iter()
         .map(|i| {
@@ -498,7 +591,7 @@ pub fn run(
                     x
                 })
                 .collect();
-            let r = fit_once(&c, choice, &settings);
+            let r = fit_once(&c, choice, &draw_settings);
             tick();
             (xs, r)
         })
@@ -549,7 +642,7 @@ pub fn run(
             inputs: shares,
         });
     }
-    let linearised_sd = linearised(case, &inputs, choice, &settings);
+    let linearised_sd = linearised(case, &inputs, choice, &draw_settings);
     let mut branch_share = BTreeMap::new();
     for b in [MomentBranch::Free, MomentBranch::Zero] {
         let k = feasible.iter().filter(|(_, r)| r.branch == b).count();

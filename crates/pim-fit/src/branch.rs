@@ -63,10 +63,15 @@ pub(crate) fn report(
             solution: None,
             identifiability: Vec::new(),
             certificate,
+            geometry: None,
         });
     };
     let (solution, problems) = solution(inner, settings, branch, &best)?;
-    let identifiability = identifiability(settings, branch, out, solution.cost);
+    let identifiability = if settings.ranges {
+        identifiability(settings, branch, out, solution.cost)
+    } else {
+        Vec::new()
+    };
     let (status, reason) = if !problems.is_empty() {
         (Status::CheckFailed, Some(Reason::CheckFailed(problems)))
     } else if out.limit_reached {
@@ -91,6 +96,7 @@ pub(crate) fn report(
         solution: Some(solution),
         identifiability,
         certificate,
+        geometry: None,
     })
 }
 

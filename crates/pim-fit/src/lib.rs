@@ -72,6 +72,7 @@
 
 mod branch;
 mod error;
+mod geometry;
 mod inner;
 mod problem;
 mod report;
@@ -79,6 +80,10 @@ mod search;
 mod settings;
 
 pub use error::{FitError, Result};
+pub use geometry::{
+    fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryRange,
+    GeometrySearch,
+};
 pub use problem::{
     forward_axis, state_vector, Component, CostPreset, FitProblem, Knowledge, MomentBranch,
     Observation, ObservationKind, Vector12, COMPONENT_NAMES,
@@ -130,6 +135,22 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
     for (&branch, out) in s.branches.iter().zip(&outcomes) {
         branches.push(branch::report(&inner, problem, s, branch, out)?);
     }
+    let (best, more) = choose_best(&branches, s);
+    notes.extend(more);
+    Ok(FitReport {
+        branches,
+        best,
+        notes,
+    })
+}
+
+/// The best branch among solved ones (ties within the agreement tolerance go to the zero
+/// branch, which has one coefficient fewer), and a note when both fit equally well.
+pub(crate) fn choose_best(
+    branches: &[BranchReport],
+    s: &FitSettings,
+) -> (Option<MomentBranch>, Vec<String>) {
+    let mut notes = Vec::new();
     let solved: Vec<(MomentBranch, f64)> = branches
         .iter()
         .filter(|b| matches!(b.status, Status::Optimal | Status::LimitReached))
@@ -155,9 +176,5 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
              best"
         ));
     }
-    Ok(FitReport {
-        branches,
-        best,
-        notes,
-    })
+    (best, notes)
 }

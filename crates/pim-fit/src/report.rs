@@ -447,6 +447,10 @@ pub struct BranchReport {
     pub identifiability: Vec<Identifiability>,
     /// How the optimum was established.
     pub certificate: Certificate,
+    /// With geometry bounds ([`crate::fit_geometry`]): the estimated impact centres and
+    /// crush-surface angle, their ranges and the search over them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<crate::geometry::GeometryEstimate>,
 }
 
 /// The result of a fit.
@@ -485,6 +489,17 @@ pub struct ChiSquare {
 }
 
 impl ChiSquare {
+    /// The same chi-square with `n` more estimated parameters (e.g. geometry inputs): `n`
+    /// degrees of freedom fewer.
+    pub fn with_more_parameters(self, n: usize) -> Self {
+        let dof = self.degrees_of_freedom - n as i64;
+        ChiSquare {
+            value: self.value,
+            degrees_of_freedom: dof,
+            p_value: p_value(dof, self.value),
+        }
+    }
+
     /// The chi-square of a branch's `cost` for `problem`, whose weights are `unit / sigma^2`.
     pub fn new(problem: &crate::FitProblem, branch: MomentBranch, cost: f64, unit: f64) -> Self {
         use crate::Knowledge;
@@ -505,14 +520,19 @@ impl ChiSquare {
         };
         let dof = data as i64 - (free as i64 + coefficients - 6);
         let value = cost / unit;
-        let p_value = (dof > 0)
-            .then(|| statrs::distribution::ChiSquared::new(dof as f64).ok())
-            .flatten()
-            .map(|d| statrs::distribution::ContinuousCDF::sf(&d, value));
         ChiSquare {
             value,
             degrees_of_freedom: dof,
-            p_value,
+            p_value: p_value(dof, value),
         }
     }
+}
+
+/// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom (none for
+/// `dof <= 0`).
+fn p_value(dof: i64, value: f64) -> Option<f64> {
+    (dof > 0)
+        .then(|| statrs::distribution::ChiSquared::new(dof as f64).ok())
+        .flatten()
+        .map(|d| statrs::distribution::ContinuousCDF::sf(&d, value))
 }

@@ -25,6 +25,11 @@ pub struct FitSettings {
     pub grid: [usize; 3],
     /// Relative cost tolerance of the identifiability ranges (default 0.01 = 1 %).
     pub identifiability_tolerance: f64,
+    /// Compute the identifiability ranges (the scans through the optimum; default true). A fit
+    /// that needs only its optimum, such as a bootstrap draw, turns them off: its branches then
+    /// report no ranges, and the optimum is the same.
+    #[serde(default = "yes")]
+    pub ranges: bool,
     /// Tolerances and limits of the search itself.
     #[serde(default)]
     pub search: SearchSettings,
@@ -41,9 +46,14 @@ impl Default for FitSettings {
             branches: MomentBranch::ALL.to_vec(),
             grid: [5, 17, 6],
             identifiability_tolerance: 0.01,
+            ranges: true,
             search: SearchSettings::default(),
         }
     }
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// Tolerances, grid sizes and iteration limits of the search (the defaults are what the

@@ -16,21 +16,21 @@ pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
     if a.threads == Some(0) {
         return Err(Failure::Input("--threads must be at least 1".into()));
     }
-    let settings = pim_fit::FitSettings {
-        e: [0.0, a.e_max],
-        moment_form: a.moment_form.into(),
-        ..Default::default()
-    };
-    settings
-        .clone()
-        .check()
-        .map_err(|e| Failure::Input(format!("--e-max: {e}")))?;
-    Ok(batch::BatchPlan {
-        costs: unique(&a.cost),
-        branches: unique(&a.branch),
-        settings,
-        timing: a.timing,
-    })
+    let costs: Vec<pim_fit::CostPreset> = unique(&a.cost);
+    let branches: Vec<pim_fit::MomentBranch> = unique(&a.branch);
+    let mut plan = batch::BatchPlan::new(&costs, &branches, a.e_max, a.moment_form.into())
+        .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
+    plan.timing = a.timing;
+    Ok(plan)
+}
+
+/// Reads a tolerances file (`--tolerances`).
+fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tolerances, Failure> {
+    let text = crate::inputs::read_text_file(path, pim_data::case::MAX_CASE_BYTES)?;
+    Ok(pim_data::uncertainty::Tolerances::from_text(
+        &path.display().to_string(),
+        &text,
+    )?)
 }
 
 /// `pim batch` and (`compare`) `pim compare-costs`: a data file, or case files.
@@ -45,13 +45,23 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         }
         _ => return super::batch_cases::run(a),
     };
-    if a.draws > 0 {
-        return Err(Failure::Input(
-            "--draws needs case files with [sigma] (a data file gives no standard deviations)"
-                .into(),
-        )
-        .into());
-    }
+    let tolerances = match (&a.tolerances, a.draws) {
+        (None, 0) => None,
+        (Some(_), 0) => {
+            return Err(
+                Failure::Input("--tolerances is used with --draws N (N >= 1)".into()).into(),
+            )
+        }
+        (None, _) => {
+            return Err(Failure::Input(
+                "--draws with a data file needs --tolerances FILE: the data file gives no \
+                 standard deviations (see `pim batch --help`, INTERVALS FOR A DATA FILE)"
+                    .into(),
+            )
+            .into())
+        }
+        (Some(path), _) => Some(load_tolerances(path)?),
+    };
     let file = data.display().to_string();
     let mut tests = load_ricsac(&data)?;
     if !a.tests.is_empty() {
@@ -79,13 +89,21 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         indicatif::ProgressBar::hidden()
     };
     let tick = || bar.inc(1);
+    let work = || {
+        let mut records = batch::run(&tests, &plan, &tick);
+        if let Some(t) = &tolerances {
+            bar.set_message("intervals");
+            batch::add_data_intervals(&mut records, &tests, &file, t, &plan, a.draws, a.seed);
+        }
+        records
+    };
     let records = match a.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
             .map_err(|e| Failure::Input(format!("--threads {n}: {e}")))?
-            .install(|| batch::run(&tests, &plan, &tick)),
-        None => batch::run(&tests, &plan, &tick),
+            .install(work),
+        None => work(),
     };
     bar.finish_and_clear();
     let brach = data
@@ -94,7 +112,10 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .filter(|p| p.is_file())
         .and_then(|p| std::fs::read_to_string(p).ok())
         .and_then(|t| parse_brach(&t).ok());
-    let summary = batch_tables::summary_table(&records, &plan.costs);
+    let mut summary = batch_tables::summary_table(&records, &plan.costs);
+    if tolerances.is_some() {
+        summary.push_str(&batch_tables::intervals_table(&records, a.draws, a.seed));
+    }
     let compare_text = batch_tables::compare_costs_table(&records, &plan.costs);
     let brach_text = brach
         .as_ref()

@@ -102,6 +102,14 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
             Failure::Input("--tests selects rows of a data file, not case files".into()).into(),
         );
     }
+    if a.tolerances.is_some() {
+        return Err(Failure::Input(
+            "--tolerances is for a data file; case files carry their own [sigma] and \
+             [uncertainty]"
+                .into(),
+        )
+        .into());
+    }
     let plan = super::batch::plan(a)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))

@@ -6,32 +6,14 @@ use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
 use crate::inputs::load_case;
 use crate::render::{markdown, tables};
 use anyhow::Result;
-use pim_data::{fitcase, records};
+use pim_data::documents;
 use std::process::ExitCode;
 
 /// `pim fit`.
 pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    for (name, present) in [
-        ("[coefficients]", case.content.coefficients.is_some()),
-        ("[initial]", case.content.initial.is_some()),
-        ("[final]", case.content.final_.is_some()),
-    ] {
-        if present {
-            return Err(Failure::Input(format!(
-                "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / [estimates.final]",
-                case.file
-            ))
-            .into());
-        }
-    }
-    let (choice, name) = match a.cost {
-        Some(c) => {
-            let p = pim_fit::CostPreset::from(c);
-            (fitcase::CostChoice::Preset(p), p.name())
-        }
-        None => (fitcase::CostChoice::Custom, "custom"),
-    };
+    let cost = a.cost.map(pim_fit::CostPreset::from);
+    let name = cost.map_or("custom", |p| p.name());
     crate::inputs::checked_impact(&case)?;
     if let Some(why) =
         super::draw::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
@@ -42,24 +24,16 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             case.file
         );
     }
-    let problem = fitcase::problem(&case, choice)?;
-    let settings = fitcase::settings(&case, a.moment_form.into(), unique(&a.branch))?;
-    let report = pim_fit::fit(&problem, &settings)
-        .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
-    let unit = fitcase::sigma_unit(&case)?;
-    let branch_records: Vec<records::BranchRecord> = report
-        .branches
-        .iter()
-        .map(|b| records::BranchRecord::new(b).with_chi_square(&problem, unit))
-        .collect();
-    let record = json(&records::FitOut {
-        cost_function: name.to_string(),
-        branches: branch_records.clone(),
-        best: report.best,
-        notes: report.notes.clone(),
-    })?;
+    let documents::Fitted {
+        problem,
+        report,
+        document,
+    } = documents::fit(&case, cost, a.moment_form.into(), unique(&a.branch))
+        .map_err(Failure::from)?;
+    let record = json(&document)?;
+    let branch_records = &document.branches;
     let mut table = tables::fit_table(&title_of(&case), name, &report, a.units.into());
-    for r in &branch_records {
+    for r in branch_records {
         if let Some(c) = &r.chi_square {
             table.push_str(&format!(
                 "branch {}: chi-square {:.3} with {} degrees of freedom, p = {}\n",
@@ -74,9 +48,17 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     if let Some(dir) = &a.out {
         let contact = super::draw::estimated_contact(&case);
         let best = report.best_branch().and_then(|b| b.solution.as_ref());
+        // With estimated geometry, the collision at the best branch's estimate.
+        let mut impact = problem.impact;
+        if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
+            let mut c = *impact.collision();
+            g.apply(&mut c);
+            impact = pim_core::Impact::new(c)
+                .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
+        }
         let d = super::draw::diagram(
             &case,
-            &problem.impact,
+            &impact,
             contact.as_ref(),
             best.map(crate::render::diagram::Solved::of_fit),
         );
@@ -101,6 +83,15 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
                 "pim: warning: {}: the best branch ({}) ends on a bound: {a}; {hint}",
                 case.file,
                 b.moment.name()
+            );
+        }
+    }
+    if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
+        for r in g.ranges.iter().filter(|r| r.at_bound) {
+            eprintln!(
+                "pim: warning: {}: the best branch's {} ends on its bound ({:.3}, bounds {:.3} .. \
+                 {:.3}): the bound, not the data, ends it; widen [bounds] if the crash allows",
+                case.file, r.input, r.value, r.bounds[0], r.bounds[1]
             );
         }
     }

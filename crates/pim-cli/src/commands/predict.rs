@@ -5,7 +5,7 @@ use crate::args::{Format, PredictArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_ricsac;
 use anyhow::Result;
-use pim_data::predict::{predict, TestPrediction};
+use pim_data::predict::TestPrediction;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -52,12 +52,7 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     }
     let file = a.data.display().to_string();
     let tests = load_ricsac(&a.data)?;
-    let mut rows = Vec::new();
-    for t in &tests {
-        rows.push(predict(t, a.e).map_err(|e| {
-            Failure::Input(format!("{file}: test {} (line {}): {e}", t.test, t.line))
-        })?);
-    }
+    let rows = pim_data::predict::predict_all(&file, &tests, a.e)?;
     let record = json(&serde_json::json!({ "tests": rows }))?;
     let text = table(&file, a.e, &rows);
     if let Some(dir) = &a.out {

@@ -7,7 +7,7 @@ use crate::inputs::load_case;
 use crate::render::{markdown, tables};
 use anyhow::Result;
 use pim_core::{SolveOptions, TangentialCondition};
-use pim_data::records;
+use pim_data::{documents, records};
 use std::process::ExitCode;
 
 /// The solve options of the command line.
@@ -29,26 +29,40 @@ fn options(a: &SolveArgs) -> SolveOptions {
 /// `pim solve`.
 pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    let impact = crate::inputs::checked_impact(&case)?;
-    let coefficients = case.coefficients()?;
-    let (state, forward) = case.known_state()?;
-    let opts = options(a);
-    let report = if forward {
-        pim_core::solve_forward(&impact, &coefficients, &state, &opts)
-    } else {
-        pim_core::solve_backward(&impact, &coefficients, &state, &opts)
-    }
-    .map_err(|e| match (&e, forward) {
-        (pim_core::PimError::NotApproaching { .. }, true) => {
-            match case.explain_not_approaching(&state) {
-                Some(why) => Failure::Input(format!("{}: {e}; {why}", case.file)),
-                None => Failure::from_core(&case.file, e),
-            }
+    crate::inputs::checked_impact(&case)?;
+    let documents::Solved {
+        impact,
+        report,
+        forward,
+        document,
+    } = documents::solve(&case, &options(a)).map_err(Failure::from)?;
+    let record = json(&document)?;
+    let mut table =
+        tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into());
+    if let Some(m) = &document.model {
+        let c = m.coefficients;
+        let how = match m.mode {
+            pim_core::ContactMode::Stick => format!(
+                "sticks: vt' = et vt within the friction limit (|Pt/Pn| = {:.3} <= {})",
+                m.stick_ratio.abs(),
+                c.friction
+            ),
+            pim_core::ContactMode::Slide => format!(
+                "slides: sticking would need |Pt/Pn| = {:.3} > friction {}, so |Pt/Pn| = {}",
+                m.stick_ratio.abs(),
+                c.friction,
+                c.friction
+            ),
+        };
+        let line = format!(
+            "model: normal and tangential restitution with a friction limit (e = {}, et = {}, \
+             friction = {}); it {how}; as PIM with the equivalent coefficients:\n",
+            c.e, c.et, c.friction
+        );
+        if let Some(at) = table.find("solved forwards") {
+            table.insert_str(at, &line);
         }
-        _ => Failure::from_core(&case.file, e),
-    })?;
-    let record = json(&records::SolveOut::new(&impact, &report, forward))?;
-    let table = tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into());
+    }
     if let Some(dir) = &a.out {
         let contact = super::draw::estimated_contact(&case);
         let d = super::draw::diagram(

@@ -3,6 +3,7 @@
 use pim_data::batch::{BatchRecord, Outcome};
 use pim_data::records::BranchRecord;
 use pim_data::reference::BrachRow;
+use pim_data::uncertainty::Summary;
 use pim_fit::{CostPreset, MomentBranch, COMPONENT_NAMES};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -235,6 +236,76 @@ struct CsvRow {
     admissible: Option<bool>,
     max_error_component: Option<String>,
     max_error: Option<f64>,
+    speed1_p05: Option<f64>,
+    speed1_p95: Option<f64>,
+    speed2_p05: Option<f64>,
+    speed2_p95: Option<f64>,
+    delta_v1_p05: Option<f64>,
+    delta_v1_p95: Option<f64>,
+    delta_v2_p05: Option<f64>,
+    delta_v2_p95: Option<f64>,
+}
+
+/// One end of a record's bootstrap interval, when it has one.
+fn band(r: &BatchRecord, q: &str, end: fn(&Summary) -> f64) -> Option<f64> {
+    r.intervals.as_ref().and_then(|i| i.get(q)).map(end)
+}
+
+/// The 90 % intervals of a data-file batch with `--draws`: per test and cost function (best
+/// branch), the fitted value and the 5th-95th percentile range of the impact speeds, delta-V,
+/// e and the energy loss. `?` marks a quantity the data do not determine (the range is not a
+/// confidence statement), `|` a range that a bound of the search ends.
+pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64) -> String {
+    let mut s = format!(
+        "\n90 % intervals from {draws} draws (seed {seed}) of the stated tolerances, best branch of \
+         each test and cost function: p05 - p95\n\
+         ? = not determined by the data, | = ended by a search bound\n\
+         test cost  branch   speed1 m/s      speed2 m/s      |dV1| m/s       |dV2| m/s       e               loss %\n"
+    );
+    for r in records.iter().filter(|r| r.best) {
+        let _ = write!(
+            s,
+            "{:>4} {:<4}  {:<6}",
+            r.test,
+            r.cost_function.name(),
+            r.moment_branch.name()
+        );
+        match (&r.intervals, &r.intervals_error) {
+            (Some(i), _) => {
+                for q in [
+                    "speed1",
+                    "speed2",
+                    "delta_v1",
+                    "delta_v2",
+                    "e",
+                    "energy_loss_percent",
+                ] {
+                    let cell = i.get(q).map_or_else(
+                        || "-".to_string(),
+                        |x| {
+                            let flag = if x.not_determined {
+                                "?"
+                            } else if x.reaches_bound {
+                                "|"
+                            } else {
+                                ""
+                            };
+                            let d = if q == "e" { 3 } else { 2 };
+                            format!("{:.d$} - {:.d$}{flag}", x.p05, x.p95)
+                        },
+                    );
+                    let _ = write!(s, "  {cell:<14}");
+                }
+                s.push('\n');
+            }
+            (None, Some(e)) => {
+                let _ = writeln!(s, "  no intervals: {e}");
+            }
+            (None, None) => s.push('\n'),
+        }
+    }
+    s.push('\n');
+    s
 }
 
 /// The records as CSV (one row per record; velocity errors in [`errors_csv`]).
@@ -268,6 +339,14 @@ pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
             admissible: b.and_then(|b| b.admissible),
             max_error_component: r.max_error_component.clone(),
             max_error: r.max_error,
+            speed1_p05: band(r, "speed1", |s| s.p05),
+            speed1_p95: band(r, "speed1", |s| s.p95),
+            speed2_p05: band(r, "speed2", |s| s.p05),
+            speed2_p95: band(r, "speed2", |s| s.p95),
+            delta_v1_p05: band(r, "delta_v1", |s| s.p05),
+            delta_v1_p95: band(r, "delta_v1", |s| s.p95),
+            delta_v2_p05: band(r, "delta_v2", |s| s.p05),
+            delta_v2_p95: band(r, "delta_v2", |s| s.p95),
         })
         .map_err(|e| e.to_string())?;
     }

@@ -1,7 +1,7 @@
 //! Everything the command shows a person: tables, CSV files and SVG figures.
 
 pub mod batch_tables;
-pub mod diagram;
+pub use pim_cli::diagram;
 pub mod figures;
 pub mod markdown;
 pub mod predict_figure;

@@ -323,6 +323,9 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
                 }
             }
         }
+        if let Some(g) = &b.geometry {
+            geometry_block(&mut s, g, u);
+        }
         let c = &b.certificate;
         let _ = writeln!(
             s,
@@ -334,4 +337,56 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
         let _ = writeln!(s, "note: {n}");
     }
     s
+}
+
+/// The estimated geometry of a branch: each input with its range, and the search over it.
+fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem) {
+    let unit = u.length_label();
+    let _ = writeln!(
+        s,
+        "  geometry: vehicle 1 d {:.3} {unit} phi {:.2} deg, vehicle 2 d {:.3} {unit} phi {:.2} deg, \
+         crush angle {:.2} deg",
+        u.length(g.vehicle1.d),
+        g.vehicle1.phi,
+        u.length(g.vehicle2.d),
+        g.vehicle2.phi,
+        g.crush_angle
+    );
+    for r in &g.ranges {
+        let length = r.input.ends_with(".d") || r.input.contains("impact_point");
+        let (f, unit): (&dyn Fn(f64) -> f64, &str) = if length {
+            (&|x| u.length(x), unit)
+        } else {
+            (&|x| x, "deg")
+        };
+        let mut flags = Vec::new();
+        if r.at_bound {
+            flags.push("on a bound");
+        }
+        if !r.identifiable {
+            flags.push("not pinned down");
+        }
+        let _ = writeln!(
+            s,
+            "    {:<24} {:>13}  within {:.0} % of the optimum: {:.3} .. {:.3}  (bounds \
+             {:.3} .. {:.3}){}",
+            r.input,
+            format!("{:.3} {unit}", f(r.value)),
+            r.tolerance * 100.0,
+            f(r.low),
+            f(r.high),
+            f(r.bounds[0]),
+            f(r.bounds[1]),
+            if flags.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", flags.join(", "))
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  geometry search: {} grid points ({} per input), {} refinements, {} fits",
+        g.search.grid_points, g.search.points_per_input, g.search.refinements, g.search.fits
+    );
 }

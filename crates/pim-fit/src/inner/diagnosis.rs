@@ -32,7 +32,7 @@ impl Inner {
             if eig.eigenvalues[i].abs() > 1e-9 * emax {
                 continue;
             }
-            let dx = to6(&(&ox.z * eig.eigenvectors.column(i)));
+            let dx = to6(&(&*ox.z * eig.eigenvectors.column(i)));
             let dxf = ox.r * dx;
             let du: Vec<f64> = dx.iter().chain(dxf.iter()).copied().collect();
             let big = du.iter().fold(0.0_f64, |a, b| a.max(b.abs()));

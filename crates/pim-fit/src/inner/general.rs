@@ -43,7 +43,7 @@ impl Lagrangian {
         let m = Matrix6::from_diagonal(&cs.mass);
         let qe = (ox.r.transpose() * m * ox.r - m) * 0.5;
         let zq =
-            ox.z.tr_mul(&(DMatrix::from_iterator(6, 6, qe.iter().copied()) * &ox.z));
+            ox.z.tr_mul(&(DMatrix::from_iterator(6, 6, qe.iter().copied()) * &*ox.z));
         let lq = ox.z.tr_mul(&to_d(&(qe * ox.xp)));
         Lagrangian { hy, gy, qe, zq, lq }
     }
@@ -151,7 +151,7 @@ impl Inner {
             }
             let (hy, gy) = ox.reduced();
             let y = solve_spd(&hy, &gy)?;
-            return Some((ox.xp + to6(&(&ox.z * &y)), true));
+            return Some((ox.xp + to6(&(&*ox.z * &y)), true));
         }
         if ox.z.ncols() == 0 {
             return Some((ox.xp, false));
@@ -162,7 +162,7 @@ impl Inner {
             .cholesky()
             .is_none_or(|ch| nearly_singular(ch.l_dirty().diagonal().iter(), hy.diagonal().amax()));
         let y = solve_spd(&hy, &gy)?;
-        Some((ox.xp + to6(&(&ox.z * &y)), flat))
+        Some((ox.xp + to6(&(&*ox.z * &y)), flat))
     }
 
     /// The energy-constrained optimum on the polyhedron `rows`.
@@ -200,7 +200,7 @@ impl Inner {
             let p = hy + zq * lambda;
             let q = gy - lq * lambda;
             if let Some(y) = solve_spd(&p, &q) {
-                let xl = ox.xp + to6(&(&ox.z * &y));
+                let xl = ox.xp + to6(&(&*ox.z * &y));
                 if inside(&xl) {
                     return Ok(xl);
                 }
@@ -215,7 +215,7 @@ impl Inner {
                 &mut active,
                 &proven_empty,
             ) {
-                QpOutcome::Solved(y) => Ok(ox.xp + to6(&(&ox.z * &y))),
+                QpOutcome::Solved(y) => Ok(ox.xp + to6(&(&*ox.z * &y))),
                 QpOutcome::Infeasible => Err(Violation::Infeasible),
                 QpOutcome::Failed => Err(Violation::EnergyUncertified),
             }

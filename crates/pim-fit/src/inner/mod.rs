@@ -280,3 +280,8 @@ impl Inner {
 
 #[cfg(test)]
 mod tests;
+
+/// Sum of weight x target^2 of a problem's data (a scale for cost tolerances).
+pub(crate) fn data_scale_of(problem: &crate::problem::FitProblem) -> f64 {
+    objective::Objective::new(problem).data_scale()
+}

@@ -7,15 +7,17 @@
 use super::qp::{general_null_space, to_d};
 use crate::problem::{FitProblem, Knowledge, Vector12};
 use nalgebra::{DMatrix, DVector, Matrix6, SMatrix, Vector6};
+use std::borrow::Cow;
 
-/// How the fixed components constrain x.
+/// How the fixed components constrain x: `x = xp + Z y`. Where neither depends on the transfer
+/// matrix they are built once (and borrowed by every evaluation).
 #[derive(Debug, Clone)]
 pub(crate) enum Fixed {
-    /// Nothing fixed.
-    None,
-    /// Only contact components fixed: (indices, values) and the free indices.
-    Initial(Vec<(usize, f64)>, Vec<usize>),
-    /// Anything else.
+    /// Nothing fixed: `xp = 0`, `Z = I`.
+    None(DMatrix<f64>),
+    /// Only contact components fixed: `xp` holds their values, `Z` selects the free ones.
+    Initial(Vector6<f64>, DMatrix<f64>),
+    /// Anything else (depends on the transfer matrix).
     General,
 }
 
@@ -36,20 +38,20 @@ pub(crate) struct Objective {
 }
 
 /// The cost at one transfer matrix, over x, and the null-space form of the fixed components.
-pub(crate) struct OverX {
+pub(crate) struct OverX<'a> {
     pub r: Matrix6<f64>,
     pub h: Matrix6<f64>,
     pub g: Vector6<f64>,
     /// `x = xp + Z y` spans the x that satisfy the fixed components.
     pub xp: Vector6<f64>,
-    pub z: DMatrix<f64>,
+    pub z: Cow<'a, DMatrix<f64>>,
 }
 
-impl OverX {
+impl OverX<'_> {
     /// The reduced Hessian and gradient: `y' hy y - 2 gy' y + const`.
     pub fn reduced(&self) -> (DMatrix<f64>, DVector<f64>) {
         let hd = DMatrix::from_iterator(6, 6, self.h.iter().copied());
-        let hy = self.z.transpose() * &hd * &self.z;
+        let hy = self.z.transpose() * &hd * &*self.z;
         let gy = self.z.transpose() * to_d(&(self.g - self.h * self.xp));
         (hy, gy)
     }
@@ -89,12 +91,20 @@ impl Objective {
         let split =
             diagonal.then(|| Vector6::from_iterator((6..12).map(|k| hu[(k, k)].max(0.0).sqrt())));
         let kind = if fixed.is_empty() {
-            Fixed::None
+            Fixed::None(DMatrix::identity(6, 6))
         } else if fixed.iter().all(|(k, _)| *k < 6) {
-            let free = (0..6)
+            let free: Vec<usize> = (0..6)
                 .filter(|k| fixed.iter().all(|(f, _)| f != k))
                 .collect();
-            Fixed::Initial(fixed.clone(), free)
+            let mut xp = Vector6::zeros();
+            for &(k, v) in &fixed {
+                xp[k] = v;
+            }
+            let mut z = DMatrix::zeros(6, free.len());
+            for (c, &k) in free.iter().enumerate() {
+                z[(k, c)] = 1.0;
+            }
+            Fixed::Initial(xp, z)
         } else {
             Fixed::General
         };
@@ -167,7 +177,7 @@ impl Objective {
 
     /// The cost over x at transfer matrix R, with the null space of the fixed components;
     /// `None` when the fixed components admit no x.
-    pub fn over_x(&self, r: Matrix6<f64>) -> Option<OverX> {
+    pub fn over_x(&self, r: Matrix6<f64>) -> Option<OverX<'_>> {
         let a = self.hu.fixed_view::<6, 6>(0, 0);
         let h = match &self.split {
             // Weights on separate components only: R' C R = (S R)' (S R), S = sqrt(C).
@@ -184,25 +194,18 @@ impl Objective {
         };
         let g = self.gu.fixed_rows::<6>(0) + r.transpose() * self.gu.fixed_rows::<6>(6);
         let (xp, z) = match &self.kind {
-            Fixed::None => (Vector6::zeros(), DMatrix::identity(6, 6)),
-            Fixed::Initial(known, free) => {
-                let mut xp = Vector6::zeros();
-                for &(k, v) in known {
-                    xp[k] = v;
-                }
-                let mut z = DMatrix::zeros(6, free.len());
-                for (c, &k) in free.iter().enumerate() {
-                    z[(k, c)] = 1.0;
-                }
-                (xp, z)
+            Fixed::None(z) => (Vector6::zeros(), Cow::Borrowed(z)),
+            Fixed::Initial(xp, z) => (*xp, Cow::Borrowed(z)),
+            Fixed::General => {
+                let (xp, z) = general_null_space(&self.fixed, &r)?;
+                (xp, Cow::Owned(z))
             }
-            Fixed::General => general_null_space(&self.fixed, &r)?,
         };
         Some(OverX { r, h, g, xp, z })
     }
 
     /// True when nothing is fixed (the equality optimum is a plain solve).
     pub fn nothing_fixed(&self) -> bool {
-        matches!(self.kind, Fixed::None)
+        matches!(self.kind, Fixed::None(_))
     }
 }

@@ -18,6 +18,7 @@ mod scan;
 mod space;
 
 pub(crate) use outcome::{near_limit, Outcome, Point, Sample};
+pub(crate) use space::product;
 
 use crate::inner::{Eval, Inner};
 use crate::problem::MomentBranch;
@@ -64,7 +65,9 @@ pub(crate) fn search_branch(
         out.limit_reached =
             out.refinements_agreeing == 1 && out.finals.iter().any(|(f, hit)| close(*f) && *hit);
     }
-    scan::scan(inner, settings, branch, &mut out);
+    if settings.ranges {
+        scan::scan(inner, settings, branch, &mut out);
+    }
     out
 }
 

@@ -152,22 +152,26 @@ impl Space {
 
     /// Every point of the grid.
     pub fn grid(&self) -> Vec<Vec<f64>> {
-        let mut pts: Vec<Vec<f64>> = vec![Vec::new()];
-        for d in &self.dims {
-            let axis = d.axis();
-            pts = pts
-                .into_iter()
-                .flat_map(|p| {
-                    axis.iter().map(move |&v| {
-                        let mut q = p.clone();
-                        q.push(v);
-                        q
-                    })
-                })
-                .collect();
-        }
-        pts
+        product(self.dims.iter().map(Dim::axis))
     }
+}
+
+/// Every point of the grid spanned by `axes` (the first axis varies slowest).
+pub(crate) fn product(axes: impl IntoIterator<Item = Vec<f64>>) -> Vec<Vec<f64>> {
+    let mut pts: Vec<Vec<f64>> = vec![Vec::new()];
+    for axis in axes {
+        pts = pts
+            .into_iter()
+            .flat_map(|p| {
+                axis.iter().map(move |&v| {
+                    let mut q = p.clone();
+                    q.push(v);
+                    q
+                })
+            })
+            .collect();
+    }
+    pts
 }
 
 /// The spaces of a branch; with `profile`, e is minimised exactly at every point instead of

@@ -322,6 +322,18 @@ impl Diagram {
 
     /// Writes the SVG.
     pub fn write_svg(&self, path: &Path) -> Result<(), String> {
+        let svg = self.svg()?;
+        std::fs::write(path, svg).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// The diagram as SVG text.
+    pub fn svg(&self) -> Result<String, String> {
+        let mut buf = String::new();
+        self.draw_into(&mut buf)?;
+        Ok(buf)
+    }
+
+    fn draw_into(&self, buf: &mut String) -> Result<(), String> {
         let err = |e: &dyn std::fmt::Display| e.to_string();
         let (lo, hi) = self.extent();
         let pad = 0.08 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + 0.5;
@@ -341,7 +353,7 @@ impl Diagram {
         let key_w = 350u32;
         let width = plot_w as u32 + margin_left + 20 + key_w;
         let height = (plot_h as u32 + margin_bottom + 40).max(560);
-        let root = SVGBackend::new(path, (width, height)).into_drawing_area();
+        let root = SVGBackend::with_string(buf, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let (plot_area, key_area) = root.split_horizontally(width - key_w);
         let mut chart = ChartBuilder::on(&plot_area)
@@ -704,4 +716,53 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
         }
     }
     out
+}
+
+/// The estimated contact velocities of a fit case, when all six are given.
+pub fn estimated_contact(case: &pim_data::case::Case) -> Option<Velocities> {
+    let est = case.content.estimates?.initial?.components();
+    let v: Option<Vec<f64>> = est.iter().copied().collect();
+    v.map(|v| Velocities::from_vector(&nalgebra::Vector6::new(v[0], v[1], v[2], v[3], v[4], v[5])))
+}
+
+/// The diagram of a case, solved or not.
+pub fn diagram(
+    case: &pim_data::case::Case,
+    impact: &Impact,
+    contact: Option<&Velocities>,
+    solved: Option<Solved>,
+) -> Diagram {
+    let title = match &case.content.title {
+        Some(t) => t.clone(),
+        None => case.file.clone(),
+    };
+    Diagram::new(
+        &title,
+        impact,
+        [&case.content.vehicle1, &case.content.vehicle2],
+        contact,
+        solved,
+    )
+}
+
+/// The diagram of `pim draw`: the case at contact, solved with `options` when it has
+/// `[coefficients]` and a state, with the estimated contact velocities when it is a fit case.
+pub fn case_diagram(
+    case: &pim_data::case::Case,
+    options: &pim_core::SolveOptions,
+) -> Result<Diagram, pim_data::documents::DocumentError> {
+    let impact = case.impact()?;
+    let c = &case.content;
+    let solved = if c.coefficients.is_some() && (c.initial.is_some() || c.final_.is_some()) {
+        Some(pim_data::documents::solve(case, options)?.report)
+    } else {
+        None
+    };
+    let contact = estimated_contact(case);
+    Ok(diagram(
+        case,
+        &impact,
+        contact.as_ref(),
+        solved.as_ref().map(Solved::of_report),
+    ))
 }

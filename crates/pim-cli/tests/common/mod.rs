@@ -1,0 +1,57 @@
+//! Helpers shared by the end-to-end tests: run the real `pim` binary from the repository root,
+//! read its output, and write scratch files.
+#![allow(dead_code)] // each test file uses its own subset
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The repository root (the binary runs there, so paths like `data/ricsac.csv` work).
+pub fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Runs `pim` with `args` from the repository root.
+pub fn pim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .expect("run pim")
+}
+
+/// Runs `pim` and asserts that it succeeded (the message shows its stderr).
+pub fn pim_ok(args: &[&str]) -> Output {
+    let out = pim(args);
+    assert!(
+        out.status.success(),
+        "pim {}: status {:?}, stderr {}",
+        args.join(" "),
+        out.status,
+        stderr(&out)
+    );
+    out
+}
+
+/// The standard error of a run, as text.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).to_string()
+}
+
+/// A fresh, empty scratch directory `group/name` under the target's test directory.
+pub fn scratch_dir(group: &str, name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(group)
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Writes `content` to `group/name` under the target's test directory; the path as text.
+pub fn scratch_file(group: &str, name: &str, content: impl AsRef<[u8]>) -> String {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(group);
+    std::fs::create_dir_all(&d).unwrap();
+    let p = d.join(name);
+    std::fs::write(&p, content).unwrap();
+    p.display().to_string()
+}

@@ -1,0 +1,332 @@
+//! A second impact model beside PIM: normal and tangential restitution with a friction limit
+//! (Kisilowski & Zalewski, equations 4.1-4.6; the family of PC-Crash's and Virtual CRASH's
+//! impulse models).
+//!
+//! The impulse `P` acts at the impact centre C (on vehicle 1; `-P` on vehicle 2) and no moment
+//! impulse acts. With `v = (vn, vt)` the relative velocity at C (vehicle 1 minus vehicle 2) and
+//! `K` the 2x2 collision matrix of the two bodies at C,
+//!
+//! ```text
+//! K = (1/m1 + 1/m2) I + (1/I1) r1p r1p' + (1/I2) r2p r2p'      (rp = (-ry, rx): r turned 90 deg)
+//! v' - v = K P                                                   (in n, t components)
+//! ```
+//!
+//! the model asks for `vn' = -e vn` (normal restitution) and `vt' = et vt` (tangential
+//! restitution, `et` in [-1, 1]; `et = 0` ends the sliding, `et < 0` reverses it). When the
+//! impulse that does so needs more than the friction limit, `|Pt| > friction |Pn|`, the vehicles
+//! slide instead (Routh): `Pt = friction s Pn` with `s = sgn(vn) sgn(vt)` the direction that
+//! opposes the sliding at contact (as PIM's equation 5), and `Pn` from the normal restitution
+//! alone.
+//!
+//! Its exact relations to PIM, both with `e_m = 1` (no moment impulse): sticking with `et = 0`
+//! is PIM's no-slip form, and sliding is PIM's sliding form with `mu = friction`. The solution is
+//! reported as PIM's [`ImpactReport`] with these equivalent coefficients (`mu` = the impulse
+//! ratio used, relative to the sliding direction), and [`TangentialReport`] says which mode
+//! acted. The model does not guarantee that no kinetic energy is created (tangential restitution
+//! with a coupled collision matrix can add energy); the report's admissibility says when it does.
+
+use crate::error::{PimError, Result};
+use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
+use crate::report::{ImpactReport, TangentialOutcome};
+use crate::{FrictionSign, MomentForm};
+use serde::{Deserialize, Serialize};
+
+/// Coefficients of the tangential-restitution model.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TangentialCoefficients {
+    /// Normal restitution: `vn' = -e vn`, in [0, 1].
+    pub e: f64,
+    /// Tangential restitution: `vt' = et vt` while sticking, in [-1, 1].
+    pub et: f64,
+    /// Friction limit: `|Pt| <= friction |Pn|`, >= 0.
+    pub friction: f64,
+}
+
+impl TangentialCoefficients {
+    /// Checks the domains.
+    pub fn validate(&self) -> Result<()> {
+        for (name, value, ok, domain) in [
+            ("e", self.e, (0.0..=1.0).contains(&self.e), "0 <= e <= 1"),
+            (
+                "et",
+                self.et,
+                (-1.0..=1.0).contains(&self.et),
+                "-1 <= et <= 1",
+            ),
+            (
+                "friction",
+                self.friction,
+                self.friction >= 0.0 && self.friction <= 100.0,
+                "0 <= friction <= 100",
+            ),
+        ] {
+            if !value.is_finite() {
+                return Err(PimError::NonFiniteValue { field: name, value });
+            }
+            if !ok {
+                return Err(PimError::CoefficientOutOfRange {
+                    name,
+                    value,
+                    domain,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Which condition decided the tangential impulse.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactMode {
+    /// The tangential restitution was reached within the friction limit.
+    Stick,
+    /// Sticking would need more than the friction limit: the vehicles slide with
+    /// `|Pt| = friction |Pn|`.
+    Slide,
+}
+
+/// The solution of the tangential-restitution model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TangentialReport {
+    /// The model's coefficients.
+    pub coefficients: TangentialCoefficients,
+    /// Stick or slide.
+    pub mode: ContactMode,
+    /// The impulse ratio `Pt / Pn` that acted.
+    pub impulse_ratio: f64,
+    /// The impulse ratio that sticking (`vt' = et vt`) would need.
+    pub stick_ratio: f64,
+    /// The solution as PIM's report, with the equivalent coefficients `e`, `mu` (the impulse
+    /// ratio relative to the sliding direction) and `e_m = 1`; its admissibility is the
+    /// model's own (no kinetic energy created; the friction limit holds by construction).
+    pub report: ImpactReport,
+}
+
+/// The 2x2 collision matrix in `(n, t)` components: `[[Knn, Knt], [Ktn, Ktt]]`.
+fn collision_matrix(impact: &Impact) -> [[f64; 2]; 2] {
+    let [m1, m2] = impact.masses();
+    let [i1, i2] = impact.inertias();
+    let [r1, r2] = impact.lever_arms();
+    let (n, t) = (impact.normal(), impact.tangent());
+    let k = |a: [f64; 2], b: [f64; 2]| {
+        let dot = a[0] * b[0] + a[1] * b[1];
+        let term = |r: [f64; 2], inertia: f64| {
+            let rp = [-r[1], r[0]];
+            (rp[0] * a[0] + rp[1] * a[1]) * (rp[0] * b[0] + rp[1] * b[1]) / inertia
+        };
+        (1.0 / m1 + 1.0 / m2) * dot + term(r1, i1) + term(r2, i2)
+    };
+    [[k(n, n), k(n, t)], [k(t, n), k(t, t)]]
+}
+
+/// Solves the tangential-restitution model forwards: the separation velocities from the
+/// velocities at contact. Errors: coefficients outside their domains, invalid velocities,
+/// vehicles that do not approach at C.
+///
+/// ```
+/// use pim_core::*;
+/// let v = |mass, yaw_inertia, heading, d, phi| Vehicle { mass, yaw_inertia, heading, d, phi };
+/// let impact = Impact::new(Collision {
+///     vehicle1: v(1036.0, 1348.0, 0.0, 1.4, 0.0),
+///     vehicle2: v(2189.0, 5287.0, 90.0, 1.6, -30.0),
+///     crush_angle: 0.0,
+/// })?;
+/// let initial = Velocities::from_vector(&nalgebra::Vector6::new(-9.48, 0.0, 0.0, 0.0, 9.48, 0.0));
+/// let c = TangentialCoefficients { e: 0.1, et: 0.0, friction: 2.0 };
+/// let r = solve_tangential(&impact, &c, &initial)?;
+/// assert_eq!(r.mode, ContactMode::Stick);
+/// let (vn, vt) = impact.relative_velocity(&r.report.separation);
+/// assert!(vt.abs() < 1e-9 && (vn - 0.1 * 9.48).abs() < 1e-9);
+/// # Ok::<(), PimError>(())
+/// ```
+pub fn solve_tangential(
+    impact: &Impact,
+    coefficients: &TangentialCoefficients,
+    initial: &Velocities,
+) -> Result<TangentialReport> {
+    coefficients.validate()?;
+    initial.validate()?;
+    impact.check_approach(initial)?;
+    let c = coefficients;
+    let (vn, vt) = impact.relative_velocity(initial);
+    let [[knn, knt], [ktn, ktt]] = collision_matrix(impact);
+    let det = knn * ktt - knt * ktn;
+    // The impulse that gives vn' = -e vn and vt' = et vt.
+    let (dn, dt) = (-(1.0 + c.e) * vn, (c.et - 1.0) * vt);
+    let pn_stick = (ktt * dn - knt * dt) / det;
+    let pt_stick = (knn * dt - ktn * dn) / det;
+    let stick_ratio = pt_stick / pn_stick;
+    let sign = impact.friction_sign(initial);
+    // The direction that opposes the sliding at contact (PIM's s = sgn(vn) sgn(vt)); without
+    // sliding at contact, that of the sticking impulse.
+    let s = match sign {
+        FrictionSign::NoSliding => stick_ratio.signum(),
+        other => other.value(),
+    };
+    let tol = 1e-12 * (1.0 + c.friction);
+    let (mode, ratio) = if stick_ratio.abs() <= c.friction + tol {
+        (ContactMode::Stick, stick_ratio)
+    } else {
+        (ContactMode::Slide, c.friction * s)
+    };
+    let pn = match mode {
+        ContactMode::Stick => pn_stick,
+        ContactMode::Slide => dn / (knn + ratio * knt),
+    };
+    let pt = ratio * pn;
+    let (n, t) = (impact.normal(), impact.tangent());
+    let p = [pn * n[0] + pt * t[0], pn * n[1] + pt * t[1]];
+    let [m1, m2] = impact.masses();
+    let [i1, i2] = impact.inertias();
+    let [r1, r2] = impact.lever_arms();
+    let cross = |r: [f64; 2]| r[0] * p[1] - r[1] * p[0];
+    let mut x = initial.to_vector();
+    x[0] += p[0] / m1;
+    x[1] += p[1] / m1;
+    x[2] += cross(r1) / i1;
+    x[3] -= p[0] / m2;
+    x[4] -= p[1] / m2;
+    x[5] -= cross(r2) / i2;
+    let separation = Velocities::from_vector(&x);
+    // PIM's equivalent: e, mu = the ratio relative to the sliding direction, em = 1; the
+    // no-slip form when the model sticks with et = 0 (PIM's equation 5a).
+    let mu = match sign {
+        FrictionSign::NoSliding => 0.0,
+        other => ratio * other.value(),
+    };
+    let options = SolveOptions {
+        moment_form: MomentForm::Corrected,
+        tangential: if mode == ContactMode::Stick && c.et == 0.0 {
+            TangentialCondition::NoSlip
+        } else {
+            TangentialCondition::Sliding
+        },
+    };
+    let equivalent = Coefficients {
+        e: c.e,
+        mu,
+        em: 1.0,
+    };
+    let mut report = crate::analyse(impact, &equivalent, &options, initial, &separation, sign)?;
+    // The model's own tangential outcome and admissibility.
+    report.tangential = match mode {
+        ContactMode::Stick => TangentialOutcome::Sticking,
+        ContactMode::Slide => TangentialOutcome::Sliding,
+    };
+    report.admissibility.friction_ok = true;
+    report.admissibility.admissible = report.admissibility.energy_ok;
+    Ok(TangentialReport {
+        coefficients: *c,
+        mode,
+        impulse_ratio: ratio,
+        stick_ratio,
+        report,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{solve_forward, Collision, Vehicle};
+
+    fn impact() -> Impact {
+        let v = |mass, yaw_inertia, heading, d, phi| Vehicle {
+            mass,
+            yaw_inertia,
+            heading,
+            d,
+            phi,
+        };
+        Impact::new(Collision {
+            vehicle1: v(1955.0, 4723.0, 0.0, 1.8, 0.0),
+            vehicle2: v(1197.0, 2279.0, 60.0, 0.9, -140.0),
+            crush_angle: -30.0,
+        })
+        .unwrap()
+    }
+
+    fn initial() -> Velocities {
+        Velocities::from_vector(&nalgebra::Vector6::new(-13.01, 0.0, 0.0, 6.50, 11.27, 0.0))
+    }
+
+    #[test]
+    fn domains_are_checked() {
+        for (e, et, friction) in [(1.2, 0.0, 1.0), (0.1, -1.5, 1.0), (0.1, 0.0, -0.1)] {
+            let c = TangentialCoefficients { e, et, friction };
+            assert!(solve_tangential(&impact(), &c, &initial()).is_err());
+        }
+    }
+
+    #[test]
+    fn sticking_with_zero_tangential_restitution_is_pims_no_slip_form() {
+        let c = TangentialCoefficients {
+            e: 0.12,
+            et: 0.0,
+            friction: 10.0,
+        };
+        let r = solve_tangential(&impact(), &c, &initial()).unwrap();
+        assert_eq!(r.mode, ContactMode::Stick);
+        let pim = solve_forward(
+            &impact(),
+            &Coefficients {
+                e: 0.12,
+                mu: 0.5,
+                em: 1.0,
+            },
+            &initial(),
+            &SolveOptions {
+                moment_form: MomentForm::Corrected,
+                tangential: TangentialCondition::NoSlip,
+            },
+        )
+        .unwrap();
+        let (a, b) = (r.report.separation.to_vector(), pim.separation.to_vector());
+        assert!((a - b).amax() < 1e-9, "{a} vs {b}");
+        // The impulse ratio used is PIM's critical ratio mu_max.
+        let mu_max = pim.mu_max.unwrap();
+        assert!((r.report.coefficients.mu - mu_max).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_binding_friction_limit_is_pims_sliding_form() {
+        let c = TangentialCoefficients {
+            e: 0.12,
+            et: 0.0,
+            friction: 0.3,
+        };
+        let r = solve_tangential(&impact(), &c, &initial()).unwrap();
+        assert_eq!(r.mode, ContactMode::Slide);
+        assert!(r.stick_ratio.abs() > 0.3);
+        let pim = solve_forward(
+            &impact(),
+            &Coefficients {
+                e: 0.12,
+                mu: 0.3,
+                em: 1.0,
+            },
+            &initial(),
+            &SolveOptions::default(),
+        )
+        .unwrap();
+        let (a, b) = (r.report.separation.to_vector(), pim.separation.to_vector());
+        assert!((a - b).amax() < 1e-9, "{a} vs {b}");
+        assert!(
+            (r.report.impulse.tangential.abs() - 0.3 * r.report.impulse.normal.abs()).abs() < 1e-6
+        );
+        assert!(r.report.impulse.moment.abs() < 1e-6);
+    }
+
+    #[test]
+    fn tangential_restitution_reverses_the_sliding_when_negative() {
+        let c = TangentialCoefficients {
+            e: 0.1,
+            et: -0.3,
+            friction: 10.0,
+        };
+        let r = solve_tangential(&impact(), &c, &initial()).unwrap();
+        let (_, vt) = impact().relative_velocity(&initial());
+        let (_, vt1) = impact().relative_velocity(&r.report.separation);
+        assert!((vt1 + 0.3 * vt).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,170 @@
+//! The documents of the `pim` command's JSON output, made from a loaded case: one function per
+//! command, so that every front end (the command line, the Python package) gives the same
+//! document for the same input.
+
+use crate::case::{Case, CaseModel};
+use crate::fitcase;
+use crate::records::{BranchRecord, FitOut, ModelOut, SolveOut};
+use pim_core::{Impact, ImpactReport, SolveOptions};
+use pim_fit::{CostPreset, FitProblem, FitReport, MomentBranch};
+
+/// Why a document could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DocumentError {
+    /// Bad input: the message names the file and field.
+    #[error("{0}")]
+    Input(String),
+    /// Valid input for which the model has no answer (singular or inconsistent equations).
+    #[error("{0}")]
+    NoAnswer(String),
+}
+
+impl From<crate::InputError> for DocumentError {
+    fn from(e: crate::InputError) -> Self {
+        DocumentError::Input(e.message)
+    }
+}
+
+impl DocumentError {
+    /// Classifies a pim-core error raised while solving the case in `file`: singular or
+    /// inconsistent equations are "no answer", anything else bad input.
+    pub fn from_core(file: &str, e: pim_core::PimError) -> Self {
+        use pim_core::PimError as E;
+        match e {
+            E::Singular { .. } | E::InconsistentSliding(_) => {
+                DocumentError::NoAnswer(format!("{file}: {e}"))
+            }
+            _ => DocumentError::Input(format!("{file}: {e}")),
+        }
+    }
+}
+
+/// A solved case: the impact, pim-core's report, the direction and the document.
+#[derive(Debug, Clone)]
+pub struct Solved {
+    /// The checked impact.
+    pub impact: Impact,
+    /// pim-core's report.
+    pub report: ImpactReport,
+    /// True when the case gave the contact state (`[initial]`).
+    pub forward: bool,
+    /// The document of `pim solve --format json`.
+    pub document: SolveOut,
+}
+
+/// `pim solve`: the case's known state carried through the impact with its coefficients.
+pub fn solve(case: &Case, options: &SolveOptions) -> Result<Solved, DocumentError> {
+    let impact = case.impact()?;
+    let (state, forward) = case.known_state()?;
+    if let CaseModel::Tangential(c) = case.model()? {
+        if !forward {
+            return Err(DocumentError::Input(format!(
+                "{}: the tangential-restitution model solves forwards: give [initial]",
+                case.file
+            )));
+        }
+        let t = pim_core::solve_tangential(&impact, &c, &state)
+            .map_err(|e| not_approaching(case, &state, e))?;
+        let mut document = SolveOut::new(&impact, &t.report, true);
+        document.model = Some(ModelOut {
+            name: "tangential",
+            coefficients: c,
+            mode: t.mode,
+            impulse_ratio: t.impulse_ratio,
+            stick_ratio: t.stick_ratio,
+        });
+        return Ok(Solved {
+            impact,
+            report: t.report,
+            forward,
+            document,
+        });
+    }
+    let coefficients = case.coefficients()?;
+    let report = if forward {
+        pim_core::solve_forward(&impact, &coefficients, &state, options)
+    } else {
+        pim_core::solve_backward(&impact, &coefficients, &state, options)
+    }
+    .map_err(|e| match forward {
+        true => not_approaching(case, &state, e),
+        false => DocumentError::from_core(&case.file, e),
+    })?;
+    let document = SolveOut::new(&impact, &report, forward);
+    Ok(Solved {
+        impact,
+        report,
+        forward,
+        document,
+    })
+}
+
+/// A forward solve's error, explained when the vehicles do not approach.
+fn not_approaching(
+    case: &Case,
+    state: &pim_core::Velocities,
+    e: pim_core::PimError,
+) -> DocumentError {
+    match (&e, case.explain_not_approaching(state)) {
+        (pim_core::PimError::NotApproaching { .. }, Some(why)) => {
+            DocumentError::Input(format!("{}: {e}; {why}", case.file))
+        }
+        _ => DocumentError::from_core(&case.file, e),
+    }
+}
+
+/// A fitted case: the problem, pim-fit's report and the document.
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    /// The fit problem (at the case's geometry).
+    pub problem: FitProblem,
+    /// pim-fit's report (each branch at its own geometry when `[bounds]` estimates it).
+    pub report: FitReport,
+    /// The document of `pim fit --format json`.
+    pub document: FitOut,
+}
+
+/// `pim fit`: `cost` a preset, or `None` for the case's own `[known]` and `[estimates]`.
+pub fn fit(
+    case: &Case,
+    cost: Option<CostPreset>,
+    moment_form: pim_core::MomentForm,
+    branches: Vec<MomentBranch>,
+) -> Result<Fitted, DocumentError> {
+    for (name, present) in [
+        ("[coefficients]", case.content.coefficients.is_some()),
+        ("[initial]", case.content.initial.is_some()),
+        ("[final]", case.content.final_.is_some()),
+    ] {
+        if present {
+            return Err(DocumentError::Input(format!(
+                "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / [estimates.final]",
+                case.file
+            )));
+        }
+    }
+    let (choice, name) = match cost {
+        Some(p) => (fitcase::CostChoice::Preset(p), p.name()),
+        None => (fitcase::CostChoice::Custom, "custom"),
+    };
+    case.impact()?;
+    let problem = fitcase::problem(case, choice)?;
+    let settings = fitcase::settings(case, moment_form, branches)?;
+    let report = fitcase::fit(case, &problem, &settings)?;
+    let unit = fitcase::sigma_unit(case)?;
+    let document = FitOut {
+        cost_function: name.to_string(),
+        branches: report
+            .branches
+            .iter()
+            .map(|b| BranchRecord::new(b).with_chi_square(&problem, unit))
+            .collect(),
+        best: report.best,
+        notes: report.notes.clone(),
+    };
+    Ok(Fitted {
+        problem,
+        report,
+        document,
+    })
+}

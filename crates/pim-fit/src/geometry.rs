@@ -1,0 +1,671 @@
+//! The impact geometry as unknowns: the impact centre of each vehicle and the crush-surface
+//! angle estimated with the coefficients, within bounds the user gives.
+//!
+//! Brach (1984, Table 2) refits RICSAC collision 6 with four impact centres: delta-V and the
+//! energy loss barely change, e_m does. Users rarely know the impact centre to better than tens
+//! of centimetres or the crush-surface angle to better than several degrees, so [`fit_geometry`]
+//! searches them too. For a fixed geometry the fit is the certified coefficient search of
+//! [`crate::fit`]; over the geometry box the branch's optimal cost `Q*(g)` is minimised by
+//!
+//! 1. a grid over the box (9, 7, 5, 4 or 3 points per input for 1, 2, 3, 4 or 5 inputs whose
+//!    bounds differ; an input with equal bounds is held) plus the
+//!    case's own geometry, every point a complete fit of the asked branches;
+//! 2. Nelder-Mead (argmin) over the box, scaled to the unit cube, from the best grid point, from
+//!    the case's geometry and from the other local minima of the grid (up to four starts per
+//!    branch), each of its points a complete fit of that branch;
+//! 3. scans along each input through the optimum (nine points across its whole range) for the
+//!    identifiability ranges: the values whose cost is within the identifiability tolerance.
+//!
+//! The optimum is global in the coefficients at every geometry point; over the geometry it is
+//! the best of the grid and of the refinements, which [`GeometrySearch`] records: the cost
+//! `Q*(g)` is not convex in the geometry, and no bound on it between grid points is proven.
+//! The reported branch is the full fit (with its own certificate and coefficient ranges) at the
+//! branch's best geometry.
+
+use crate::error::{FitError, Result};
+use crate::problem::{FitProblem, MomentBranch};
+use crate::report::{BranchReport, FitReport, Status};
+use crate::settings::{FitSettings, ValidSettings};
+use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use pim_core::{Collision, Impact, Vehicle};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// An input of the impact geometry that a fit may estimate. Vehicles are numbered 1 and 2.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GeometryInput {
+    /// Distance from the vehicle's CG to the impact centre, m.
+    D(u8),
+    /// Angle from the vehicle's nose to the impact centre, degrees counter-clockwise.
+    Phi(u8),
+    /// The impact centre's coordinate along the vehicle's forward axis, m.
+    X(u8),
+    /// The impact centre's coordinate along the vehicle's left axis, m.
+    Y(u8),
+    /// The crush-surface angle Gamma, degrees.
+    CrushAngle,
+}
+
+impl GeometryInput {
+    /// The name used in case files and reports: `vehicle1.d`, `vehicle2.impact_point.x`,
+    /// `crush_angle`.
+    pub fn name(self) -> String {
+        match self {
+            GeometryInput::D(v) => format!("vehicle{v}.d"),
+            GeometryInput::Phi(v) => format!("vehicle{v}.phi"),
+            GeometryInput::X(v) => format!("vehicle{v}.impact_point.x"),
+            GeometryInput::Y(v) => format!("vehicle{v}.impact_point.y"),
+            GeometryInput::CrushAngle => "crush_angle".into(),
+        }
+    }
+
+    fn vehicle(self) -> Option<u8> {
+        match self {
+            GeometryInput::D(v)
+            | GeometryInput::Phi(v)
+            | GeometryInput::X(v)
+            | GeometryInput::Y(v) => Some(v),
+            GeometryInput::CrushAngle => None,
+        }
+    }
+
+    /// The input's value in a collision.
+    pub fn get(self, c: &Collision) -> f64 {
+        let xy = |v: &Vehicle| pim_core::impact_point_cartesian(v.d, v.phi);
+        match self {
+            GeometryInput::D(v) => vehicle(c, v).d,
+            GeometryInput::Phi(v) => vehicle(c, v).phi,
+            GeometryInput::X(v) => xy(vehicle(c, v)).0,
+            GeometryInput::Y(v) => xy(vehicle(c, v)).1,
+            GeometryInput::CrushAngle => c.crush_angle,
+        }
+    }
+
+    /// Sets the input's value in a collision (the impact centre stays in polar form).
+    pub fn set(self, c: &mut Collision, value: f64) {
+        let set_xy = |v: &mut Vehicle, x: Option<f64>, y: Option<f64>| {
+            let (x0, y0) = pim_core::impact_point_cartesian(v.d, v.phi);
+            let (d, phi) = pim_core::impact_point_polar(x.unwrap_or(x0), y.unwrap_or(y0));
+            v.d = d;
+            v.phi = phi;
+        };
+        match self {
+            GeometryInput::D(v) => vehicle_mut(c, v).d = value,
+            GeometryInput::Phi(v) => vehicle_mut(c, v).phi = value,
+            GeometryInput::X(v) => set_xy(vehicle_mut(c, v), Some(value), None),
+            GeometryInput::Y(v) => set_xy(vehicle_mut(c, v), None, Some(value)),
+            GeometryInput::CrushAngle => c.crush_angle = value,
+        }
+    }
+}
+
+fn vehicle(c: &Collision, v: u8) -> &Vehicle {
+    if v == 1 {
+        &c.vehicle1
+    } else {
+        &c.vehicle2
+    }
+}
+
+fn vehicle_mut(c: &mut Collision, v: u8) -> &mut Vehicle {
+    if v == 1 {
+        &mut c.vehicle1
+    } else {
+        &mut c.vehicle2
+    }
+}
+
+/// One estimated geometry input and its bounds `[low, high]` (m or degrees). The problem's
+/// collision gives the start, which must lie within them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GeometryBound {
+    /// The input.
+    pub input: GeometryInput,
+    /// `[low, high]`.
+    pub bounds: [f64; 2],
+}
+
+/// The impact centre of one vehicle in polar form.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CentreEstimate {
+    /// CG to impact centre, m.
+    pub d: f64,
+    /// From the nose, degrees counter-clockwise.
+    pub phi: f64,
+}
+
+/// How well the data pin down one geometry input: the values along a scan through the optimum
+/// (the other inputs held) whose cost is within the identifiability tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeometryRange {
+    /// The input's name (as in [`GeometryInput::name`]).
+    pub input: String,
+    /// The estimate.
+    pub value: f64,
+    /// The bounds searched.
+    pub bounds: [f64; 2],
+    /// Smallest scanned value within the tolerance.
+    pub low: f64,
+    /// Largest such value.
+    pub high: f64,
+    /// The relative cost tolerance used (the fit's identifiability tolerance).
+    pub tolerance: f64,
+    /// False when that range covers half of the bounds or more: the data do not determine the
+    /// input within the bounds.
+    pub identifiable: bool,
+    /// The estimate lies on a bound (within 0.1 % of the range): the bound, not the data, ends
+    /// it.
+    pub at_bound: bool,
+}
+
+/// What the search over the geometry did, for one branch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeometrySearch {
+    /// The method, in words.
+    pub method: String,
+    /// Grid points per input.
+    pub points_per_input: usize,
+    /// Grid points evaluated (with the case's own geometry).
+    pub grid_points: usize,
+    /// Nelder-Mead refinements over the geometry.
+    pub refinements: usize,
+    /// Complete coefficient fits run for this branch (grid, refinements, scans).
+    pub fits: usize,
+}
+
+/// The estimated geometry of one branch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeometryEstimate {
+    /// Vehicle 1's impact centre.
+    pub vehicle1: CentreEstimate,
+    /// Vehicle 2's impact centre.
+    pub vehicle2: CentreEstimate,
+    /// The crush-surface angle, degrees.
+    pub crush_angle: f64,
+    /// Identifiability of each estimated input, in the order given.
+    pub ranges: Vec<GeometryRange>,
+    /// The search.
+    pub search: GeometrySearch,
+}
+
+impl GeometryEstimate {
+    /// Writes the estimated impact centres and crush-surface angle into a collision.
+    pub fn apply(&self, c: &mut Collision) {
+        c.vehicle1.d = self.vehicle1.d;
+        c.vehicle1.phi = self.vehicle1.phi;
+        c.vehicle2.d = self.vehicle2.d;
+        c.vehicle2.phi = self.vehicle2.phi;
+        c.crush_angle = self.crush_angle;
+    }
+
+    /// The number of inputs estimated (with bounds that leave them room).
+    pub fn estimated_inputs(&self) -> usize {
+        self.ranges
+            .iter()
+            .filter(|r| r.bounds[1] > r.bounds[0])
+            .count()
+    }
+}
+
+/// Grid points per input for `k` estimated inputs.
+fn points_per_input(k: usize) -> usize {
+    match k {
+        0 | 1 => 9,
+        2 => 7,
+        3 => 5,
+        4 => 4,
+        _ => 3,
+    }
+}
+
+/// Checks the geometry bounds against the problem's collision.
+fn check(problem: &FitProblem, geometry: &[GeometryBound]) -> Result<()> {
+    let c = problem.impact.collision();
+    for (i, g) in geometry.iter().enumerate() {
+        let name = g.input.name();
+        let [lo, hi] = g.bounds;
+        if g.input.vehicle().is_some_and(|v| v != 1 && v != 2) {
+            return Err(FitError::BadBounds(format!("{name}: vehicles are 1 and 2")));
+        }
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(FitError::BadBounds(format!(
+                "{name} = [{lo}, {hi}] must be finite with low <= high"
+            )));
+        }
+        if matches!(g.input, GeometryInput::D(_)) && lo < 0.0 {
+            return Err(FitError::BadBounds(format!(
+                "{name} = [{lo}, {hi}]: a distance cannot be negative"
+            )));
+        }
+        let start = g.input.get(c);
+        let slack = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
+        if start < lo - slack || start > hi + slack {
+            return Err(FitError::BadBounds(format!(
+                "{name} = [{lo}, {hi}] does not contain the case's value {start:.6}, where the \
+                 search starts"
+            )));
+        }
+        for h in &geometry[..i] {
+            let polar = |x: GeometryInput| matches!(x, GeometryInput::D(_) | GeometryInput::Phi(_));
+            let same_vehicle =
+                h.input.vehicle().is_some() && h.input.vehicle() == g.input.vehicle();
+            if h.input == g.input {
+                return Err(FitError::BadBounds(format!("{name} is bounded twice")));
+            }
+            if same_vehicle && polar(h.input) != polar(g.input) {
+                return Err(FitError::BadBounds(format!(
+                    "{} and {name}: bound the impact centre either by d / phi or by impact_point \
+                     x / y, not both",
+                    h.input.name()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The search over the geometry box, in unit-cube coordinates.
+struct Search<'a> {
+    problem: &'a FitProblem,
+    geometry: &'a [GeometryBound],
+    /// The inner fits of every asked branch (no identifiability ranges).
+    all: ValidSettings,
+    /// The inner fit of each branch alone, likewise.
+    single: Vec<(MomentBranch, ValidSettings)>,
+}
+
+impl<'a> Search<'a> {
+    /// The search, with its inner fits' settings checked once.
+    fn new(
+        problem: &'a FitProblem,
+        geometry: &'a [GeometryBound],
+        settings: &ValidSettings,
+    ) -> Result<Self> {
+        let inner = |branches: Vec<MomentBranch>| {
+            FitSettings {
+                ranges: false,
+                branches,
+                ..settings.get().clone()
+            }
+            .check()
+        };
+        let asked = &settings.get().branches;
+        Ok(Search {
+            problem,
+            geometry,
+            all: inner(asked.clone())?,
+            single: asked
+                .iter()
+                .map(|&b| Ok((b, inner(vec![b])?)))
+                .collect::<Result<_>>()?,
+        })
+    }
+
+    fn collision(&self, u: &[f64]) -> Collision {
+        let mut c = *self.problem.impact.collision();
+        for (g, &t) in self.geometry.iter().zip(u) {
+            let [lo, hi] = g.bounds;
+            g.input.set(&mut c, lo + t.clamp(0.0, 1.0) * (hi - lo));
+        }
+        c
+    }
+
+    fn problem_at(&self, u: &[f64]) -> Option<FitProblem> {
+        let impact = Impact::new(self.collision(u)).ok()?;
+        Some(FitProblem {
+            impact,
+            ..self.problem.clone()
+        })
+    }
+
+    /// The optimal cost of each asked branch at `u`, in the order asked (infinite where the
+    /// branch has no answer).
+    fn costs(&self, u: &[f64]) -> Vec<f64> {
+        self.costs_with(u, &self.all)
+    }
+
+    /// The optimal cost of one branch at `u`.
+    fn cost(&self, u: &[f64], branch: MomentBranch) -> f64 {
+        let (_, settings) = self
+            .single
+            .iter()
+            .find(|(b, _)| *b == branch)
+            .expect("an asked branch");
+        self.costs_with(u, settings)[0]
+    }
+
+    fn costs_with(&self, u: &[f64], settings: &ValidSettings) -> Vec<f64> {
+        let infinite = vec![f64::INFINITY; settings.get().branches.len()];
+        let Some(problem) = self.problem_at(u) else {
+            return infinite;
+        };
+        let Ok(report) = crate::fit(&problem, settings) else {
+            return infinite;
+        };
+        report
+            .branches
+            .iter()
+            .map(|b| match (b.status, &b.solution) {
+                (Status::Optimal | Status::LimitReached, Some(s)) => s.cost,
+                _ => f64::INFINITY,
+            })
+            .collect()
+    }
+}
+
+struct Objective<'a> {
+    search: &'a Search<'a>,
+    branch: MomentBranch,
+    fits: &'a std::cell::Cell<usize>,
+}
+
+impl CostFunction for Objective<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, u: &Self::Param) -> std::result::Result<f64, ArgminError> {
+        if u.iter().any(|t| !(0.0..=1.0).contains(t)) {
+            return Ok(f64::INFINITY);
+        }
+        self.fits.set(self.fits.get() + 1);
+        Ok(self.search.cost(u, self.branch))
+    }
+}
+
+/// Fits the coefficients and the bounded geometry inputs. With no geometry bounds it is
+/// [`crate::fit`]. Each branch's report is the complete fit at that branch's best geometry, with
+/// [`BranchReport::geometry`] saying what was estimated and how well.
+pub fn fit_geometry(
+    problem: &FitProblem,
+    geometry: &[GeometryBound],
+    settings: &ValidSettings,
+) -> Result<FitReport> {
+    if geometry.is_empty() {
+        return crate::fit(problem, settings);
+    }
+    problem.check()?;
+    check(problem, geometry)?;
+    let s = settings.get();
+    let search = Search::new(problem, geometry, settings)?;
+    // Inputs with equal bounds are held: the grid's density follows the others.
+    let n = points_per_input(
+        geometry
+            .iter()
+            .filter(|g| g.bounds[1] > g.bounds[0])
+            .count(),
+    );
+    // The grid in unit-cube coordinates (an input with equal bounds has one point), then the
+    // case's own geometry.
+    let axes: Vec<Vec<f64>> = geometry
+        .iter()
+        .map(|g| {
+            if g.bounds[0] >= g.bounds[1] {
+                vec![0.0]
+            } else {
+                (0..n).map(|i| i as f64 / (n - 1) as f64).collect()
+            }
+        })
+        .collect();
+    let mut points = crate::search::product(axes.iter().cloned());
+    let n_grid = points.len();
+    let c0 = problem.impact.collision();
+    let start: Vec<f64> = geometry
+        .iter()
+        .map(|g| {
+            let [lo, hi] = g.bounds;
+            if hi > lo {
+                ((g.input.get(c0) - lo) / (hi - lo)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    points.push(start.clone());
+    let values: Vec<Vec<f64>> = points.par_iter().map(|u| search.costs(u)).collect();
+    let per_branch: Vec<Result<crate::report::BranchReport>> = s
+        .branches
+        .par_iter()
+        .enumerate()
+        .map(|(j, &branch)| {
+            let value = |i: usize| values[i][j];
+            branch_search(&search, settings, branch, &points, &value, n_grid, &axes, n)
+        })
+        .collect();
+    let branches = per_branch.into_iter().collect::<Result<Vec<_>>>()?;
+    let (best, notes) = crate::choose_best(&branches, s);
+    Ok(FitReport {
+        branches,
+        best,
+        notes,
+    })
+}
+
+/// The search of one branch over the geometry: starts from the grid, Nelder-Mead, the scans,
+/// and the complete fit at the best geometry.
+#[allow(clippy::too_many_arguments)]
+fn branch_search(
+    search: &Search<'_>,
+    settings: &ValidSettings,
+    branch: MomentBranch,
+    points: &[Vec<f64>],
+    value: &dyn Fn(usize) -> f64,
+    n_grid: usize,
+    axes: &[Vec<f64>],
+    n: usize,
+) -> Result<BranchReport> {
+    // Inputs with room to move (those with equal bounds are held).
+    let k = axes.iter().filter(|a| a.len() > 1).count().max(1);
+    let mut fits = points.len();
+    let mut order: Vec<usize> = (0..points.len())
+        .filter(|&i| value(i).is_finite())
+        .collect();
+    order.sort_by(|&a, &b| value(a).total_cmp(&value(b)));
+    let step = 1.0 / (n - 1) as f64;
+    // Starts: the best grid point, the case's geometry, the other local minima of the grid.
+    let mut starts: Vec<usize> = order.first().copied().into_iter().collect();
+    let case_point = points.len() - 1;
+    if value(case_point).is_finite() && !starts.contains(&case_point) {
+        starts.push(case_point);
+    }
+    let neighbours = |i: usize, j: usize| {
+        i != j
+            && points[i]
+                .iter()
+                .zip(&points[j])
+                .all(|(a, b)| (a - b).abs() <= 1.01 * step)
+    };
+    for &i in &order {
+        if starts.len() >= 4 {
+            break;
+        }
+        if i < n_grid
+            && !starts.contains(&i)
+            && (0..n_grid).all(|j| !neighbours(i, j) || value(j) >= value(i))
+        {
+            starts.push(i);
+        }
+    }
+    let mut best: Option<(Vec<f64>, f64)> = order.first().map(|&i| (points[i].clone(), value(i)));
+    let mut refinements = 0;
+    for &i in &starts {
+        refinements += 1;
+        let counted = std::cell::Cell::new(0);
+        let obj = Objective {
+            search,
+            branch,
+            fits: &counted,
+        };
+        let mut simplex = vec![points[i].clone()];
+        for (d, axis) in axes.iter().enumerate() {
+            let mut v = points[i].clone();
+            if axis.len() > 1 {
+                v[d] = if v[d] + 0.5 * step <= 1.0 {
+                    v[d] + 0.5 * step
+                } else {
+                    v[d] - 0.5 * step
+                };
+            } else {
+                v[d] += 1e-9; // outside the box: never better
+            }
+            simplex.push(v);
+        }
+        let tol = settings.get().search.nelder_mead_tolerance * (1.0 + value(i));
+        let result = NelderMead::new(simplex)
+            .with_sd_tolerance(tol)
+            .and_then(|nm| {
+                Executor::new(obj, nm)
+                    .configure(|st| st.max_iters(100 * k as u64 + 100))
+                    .timer(false)
+                    .run()
+            });
+        fits += counted.get();
+        if let Ok(r) = result {
+            let st = r.state();
+            if let Some(p) = st.get_best_param() {
+                let c = st.get_best_cost();
+                if best.as_ref().is_none_or(|b| c < b.1) {
+                    best = Some((p.clone(), c));
+                }
+            }
+        }
+    }
+    let Some((u, cost)) = best else {
+        // No geometry in the box admits an answer: the complete fit at the case's geometry
+        // gives the reason.
+        let mut report = complete(search, settings, branch, &points[case_point])?;
+        report.geometry = Some(estimate(
+            search,
+            &points[case_point],
+            Vec::new(),
+            GeometrySearch {
+                method: method(k, n, points.len(), refinements),
+                points_per_input: n,
+                grid_points: points.len(),
+                refinements,
+                fits,
+            },
+        ));
+        return Ok(report);
+    };
+    // Nelder-Mead approaches a bound without reaching it: an input within 0.1 % of its range
+    // from a bound is put on it when that costs no more.
+    let (mut u, mut cost) = (u, cost);
+    for d in 0..k {
+        let snapped = if u[d] <= 1e-3 {
+            0.0
+        } else if u[d] >= 1.0 - 1e-3 {
+            1.0
+        } else {
+            continue;
+        };
+        let mut q = u.clone();
+        q[d] = snapped;
+        fits += 1;
+        let c = search.cost(&q, branch);
+        if c <= cost {
+            (u, cost) = (q, c);
+        }
+    }
+    // Scans through the optimum along each input.
+    let tol = settings.get().identifiability_tolerance;
+    let limit = cost * (1.0 + tol) + 1e-6 * (1.0 + crate::inner::data_scale_of(search.problem));
+    let mut ranges = Vec::new();
+    for (d, g) in search.geometry.iter().enumerate() {
+        let [lo, hi] = g.bounds;
+        let at = |t: f64| lo + t * (hi - lo);
+        let mut low = at(u[d]);
+        let mut high = low;
+        if hi > lo {
+            for i in 0..9 {
+                let mut q = u.clone();
+                q[d] = i as f64 / 8.0;
+                fits += 1;
+                if search.cost(&q, branch) <= limit {
+                    low = low.min(at(q[d]));
+                    high = high.max(at(q[d]));
+                }
+            }
+        }
+        let value = at(u[d]);
+        ranges.push(GeometryRange {
+            input: g.input.name(),
+            value,
+            bounds: g.bounds,
+            low,
+            high,
+            tolerance: tol,
+            identifiable: hi <= lo || high - low < 0.5 * (hi - lo),
+            at_bound: hi > lo && (u[d] <= 1e-3 || u[d] >= 1.0 - 1e-3),
+        });
+    }
+    let mut report = complete(search, settings, branch, &u)?;
+    report.geometry = Some(estimate(
+        search,
+        &u,
+        ranges,
+        GeometrySearch {
+            method: method(k, n, points.len(), refinements),
+            points_per_input: n,
+            grid_points: points.len(),
+            refinements,
+            fits: fits + 1,
+        },
+    ));
+    Ok(report)
+}
+
+fn method(k: usize, n: usize, grid: usize, refinements: usize) -> String {
+    format!(
+        "geometry: {grid} points ({n} per input over {k} input{}, and the case's own geometry), \
+         each a certified fit of the coefficients; Nelder-Mead over the geometry from \
+         {refinements} start{}; the best point over the geometry is the best found, not proven",
+        if k == 1 { "" } else { "s" },
+        if refinements == 1 { "" } else { "s" }
+    )
+}
+
+/// The complete fit (certificate, coefficient ranges) of one branch at `u`.
+fn complete(
+    search: &Search<'_>,
+    settings: &ValidSettings,
+    branch: MomentBranch,
+    u: &[f64],
+) -> Result<BranchReport> {
+    let problem = search.problem_at(u).ok_or_else(|| {
+        FitError::BadBounds("the geometry bounds admit no valid collision".into())
+    })?;
+    let valid = FitSettings {
+        branches: vec![branch],
+        ..settings.get().clone()
+    }
+    .check()?;
+    let report = crate::fit(&problem, &valid)?;
+    Ok(report
+        .branches
+        .into_iter()
+        .next()
+        .expect("one branch asked"))
+}
+
+fn estimate(
+    search: &Search<'_>,
+    u: &[f64],
+    ranges: Vec<GeometryRange>,
+    record: GeometrySearch,
+) -> GeometryEstimate {
+    let c = search.collision(u);
+    GeometryEstimate {
+        vehicle1: CentreEstimate {
+            d: c.vehicle1.d,
+            phi: c.vehicle1.phi,
+        },
+        vehicle2: CentreEstimate {
+            d: c.vehicle2.d,
+            phi: c.vehicle2.phi,
+        },
+        crush_angle: c.crush_angle,
+        ranges,
+        search: record,
+    }
+}

@@ -1,0 +1,133 @@
+"""Planar Impact Mechanics (Brach) for two-vehicle collision reconstruction, from Python.
+
+The same solver, certified fit and documents as the ``pim`` command: every function returns
+the document that ``pim <command> --format json`` prints for the same input, made by the same
+Rust code (nothing is re-implemented here). Units are SI in every document: m/s, rad/s, kg,
+m, J, degrees for angles.
+
+A *case* is a case file of the ``pim`` command, given as TOML text, as a path (``str`` or
+``os.PathLike``), or as a dict of the same shape::
+
+    [vehicle1]                 # natural form: heading = where the nose points (deg)
+    mass = 1036.0              # kg
+    yaw_inertia = 1348.0       # kg m^2
+    heading = 180.0
+    impact_point = { x = 1.4, y = 0.15 }   # m from the CG, x forward, y to the left
+    [vehicle2]
+    ...
+    [impact]
+    crush_angle = 0.0          # deg, the crush surface's normal
+    [estimates.initial]        # fit: estimated velocities at contact (and [estimates.final])
+    vehicle1 = { vx = -9.48, vy = 0.0, omega = 0.0 }
+
+``pim solve --help`` and ``pim fit --help`` describe every section ([units], [sigma],
+[known], [bounds], [[observations]], [uncertainty]).
+
+Cost functions (``cost=``), after Vossou & Koulocheris (2018):
+
+* ``"q1"``: the separation velocities are known exactly, the contact velocities estimated;
+* ``"q2"``: the contact velocities are known exactly, the separation velocities estimated
+  (Brach's fits);
+* ``"q3"``: all twelve velocity components estimated;
+* ``None``: the case's own ``[known]`` components held fixed, ``[estimates]`` estimated.
+
+Each fit searches both moment branches: ``"free"`` (e_m in [-1, 0]) and ``"zero"`` (e_m = 1,
+no moment impulse), and certifies the global optimum of each.
+
+Errors: :class:`InputError` for bad input (the command line's message, naming the file and
+field), :class:`NoSolution` when the model has no answer.
+"""
+
+from ._pim import (  # noqa: F401
+    InputError,
+    NoSolution,
+    batch,
+    draw,
+    fit,
+    predict_dv,
+    solve,
+    uncertainty,
+)
+
+__all__ = [
+    "InputError",
+    "NoSolution",
+    "batch",
+    "draw",
+    "fit",
+    "predict_dv",
+    "records_frame",
+    "solve",
+    "uncertainty",
+]
+
+
+def _flatten(prefix, value, out):
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _flatten(f"{prefix}_{k}" if prefix else str(k), v, out)
+    elif isinstance(value, list) and value and all(isinstance(v, (int, float)) for v in value):
+        for i, v in enumerate(value, start=1):
+            out[f"{prefix}_{i}"] = v
+    elif isinstance(value, list):
+        # Lists of records (constraints, ranges): kept whole in one cell.
+        out[prefix] = value
+    else:
+        out[prefix] = value
+
+
+# Unit suffixes of the flat columns: (test on the name, suffix), first match wins. Angles are
+# degrees, velocities m/s, yaw rates rad/s, energies J, impulses N s (moment: N m s).
+_UNIT_RULES = [
+    (lambda n: n.endswith("_percent"), "pct"),
+    (lambda n: n.endswith(("heading", "pdof", "_phi", "crush_angle")), "deg"),
+    (lambda n: n.endswith(("omega", "yaw_rate_change")), "radps"),
+    (lambda n: n.endswith(("_vx", "_vy", "speed_initial", "speed_final")), "mps"),
+    (lambda n: "delta_v" in n and "relative" not in n and "detail" not in n, "mps"),
+    (lambda n: n.endswith("energy_loss"), "j"),
+    (lambda n: n == "impulse_moment", "nms"),
+    (lambda n: n.startswith("impulse_"), "ns"),
+    (lambda n: n.endswith("_d"), "m"),
+]
+
+
+def _with_unit(name):
+    for test, unit in _UNIT_RULES:
+        if test(name):
+            if unit == "pct":
+                return name[: -len("_percent")] + "_pct"
+            return f"{name}_{unit}"
+    return name
+
+
+def records_frame(records):
+    """A pandas DataFrame with one row per record and flat, unit-suffixed columns.
+
+    ``records`` is the list that :func:`batch` returns, a fit document (its branches become
+    the rows), or any list of flat or nested dicts. Nested fields are joined with ``_``
+    (``initial_vehicle1_vx_mps``, ``vehicles_1_delta_v_mps``); lists of numbers become one
+    column per element. Units: ``_mps`` m/s, ``_radps`` rad/s, ``_deg`` degrees, ``_j``
+    joules, ``_pct`` percent.
+
+    pandas is optional for the package and needed here: ``pip install pandas``.
+    """
+    try:
+        import pandas as pd
+    except ImportError as exc:  # pragma: no cover - exercised without pandas
+        raise ImportError(
+            "pim.records_frame needs pandas, which is not installed: pip install pandas "
+            "(or pip install 'pim[pandas]')"
+        ) from exc
+    if isinstance(records, dict) and "branches" in records:
+        records = [dict(b, cost_function=records.get("cost_function")) for b in records["branches"]]
+    rows = []
+    for r in records:
+        flat = {}
+        for k, v in r.items():
+            if k == "vehicles" and isinstance(v, list):
+                for i, veh in enumerate(v, start=1):
+                    _flatten(f"vehicle{i}", veh, flat)
+            else:
+                _flatten(k, v, flat)
+        rows.append({_with_unit(k): v for k, v in flat.items()})
+    return pd.DataFrame(rows)

@@ -1,0 +1,57 @@
+"""Type stubs of the package pim (see the module docstring for the case format)."""
+
+import os
+from typing import Any, Dict, List, Literal, Optional, Sequence, Union
+
+Case = Union[str, "os.PathLike[str]", Dict[str, Any]]
+Cost = Literal["q1", "q2", "q3"]
+Branch = Literal["free", "zero"]
+MomentForm = Literal["corrected", "brach1983"]
+
+class InputError(Exception):
+    """Bad input; the message names the file and the field."""
+
+class NoSolution(Exception):
+    """The model has no answer; for a fit, ``document`` holds the fit's document."""
+
+    document: Dict[str, Any]
+
+def solve(case: Case, no_slip: bool = False, moment_form: MomentForm = "corrected") -> Dict[str, Any]:
+    """Solve a case forwards ([initial]) or backwards ([final]) with its [coefficients]."""
+
+def fit(
+    case: Case,
+    cost: Optional[Cost] = None,
+    branches: Sequence[Branch] = ("free", "zero"),
+    moment_form: MomentForm = "corrected",
+) -> Dict[str, Any]:
+    """Fit the coefficients (and velocities) of a case under a cost function."""
+
+def batch(
+    path: Union[str, "os.PathLike[str]"] = "data/ricsac.csv",
+    costs: Sequence[Cost] = ("q1", "q2", "q3"),
+    branches: Sequence[Branch] = ("free", "zero"),
+    threads: Optional[int] = None,
+    e_max: float = 0.2,
+    moment_form: MomentForm = "corrected",
+    tests: Optional[Sequence[int]] = None,
+) -> List[Dict[str, Any]]:
+    """Refit every test of a RICSAC-style data file; one record per test, cost and branch."""
+
+def uncertainty(
+    case: Case,
+    cost: Optional[Cost] = None,
+    draws: int = 200,
+    seed: int = 1,
+    threads: Optional[int] = None,
+) -> Dict[str, Any]:
+    """Parametric bootstrap of the case's stated uncertainties through the fit."""
+
+def predict_dv(path: Union[str, "os.PathLike[str]"] = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:
+    """Brach (1984) section 6: delta-V predicted for every test of a data file."""
+
+def draw(case: Case, no_slip: bool = False, moment_form: MomentForm = "corrected") -> str:
+    """The scale diagram of ``pim draw`` as SVG text."""
+
+def records_frame(records: Union[List[Dict[str, Any]], Dict[str, Any]]) -> Any:
+    """A pandas DataFrame with one row per record and flat, unit-suffixed columns."""

@@ -1,0 +1,374 @@
+//! Python bindings of the PIM toolkit: the module `pim._pim`, re-exported by the package `pim`.
+//!
+//! Every function returns the document that the `pim` command prints with `--format json`, made
+//! by the same library code (`pim_data::documents`, `pim_data::batch`, `pim_data::uncertainty`,
+//! `pim_data::predict`), as Python objects (dicts, lists, floats). Nothing is computed here.
+
+use pim_data::case::Case;
+use pim_data::documents::{self, DocumentError};
+use pim_fit::{CostPreset, MomentBranch};
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use std::path::Path;
+
+create_exception!(
+    _pim,
+    InputError,
+    PyException,
+    "Bad input: a case or data file that cannot be read, or a field with a bad value. The message \
+     is the command line's: it names the file and the field."
+);
+create_exception!(
+    _pim,
+    NoSolution,
+    PyException,
+    "Valid input for which the model has no answer: singular or inconsistent equations, or (fit) \
+     no moment branch with an admissible solution. For a fit, the exception's `document` holds \
+     the fit's document, whose branches say why."
+);
+
+fn input_error(message: impl Into<String>) -> PyErr {
+    InputError::new_err(message.into())
+}
+
+impl From<DocumentErrorPy> for PyErr {
+    fn from(e: DocumentErrorPy) -> Self {
+        match e.0 {
+            DocumentError::Input(m) => InputError::new_err(m),
+            DocumentError::NoAnswer(m) => NoSolution::new_err(m),
+        }
+    }
+}
+
+/// A local wrapper so that `?` turns a document error into the right Python exception.
+struct DocumentErrorPy(DocumentError);
+
+impl From<DocumentError> for DocumentErrorPy {
+    fn from(e: DocumentError) -> Self {
+        DocumentErrorPy(e)
+    }
+}
+
+impl From<pim_data::InputError> for DocumentErrorPy {
+    fn from(e: pim_data::InputError) -> Self {
+        DocumentErrorPy(e.into())
+    }
+}
+
+/// A serialisable value as a Python object (through JSON, so that the document is exactly the
+/// command line's).
+fn to_py<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> {
+    let text = serde_json::to_string(value)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    let json = py.import("json")?;
+    Ok(json.call_method1("loads", (text,))?.unbind())
+}
+
+/// Reads a text file, with the command line's message when it cannot.
+fn read(path: &Path) -> PyResult<String> {
+    std::fs::read_to_string(path)
+        .map_err(|e| input_error(format!("{}: cannot read: {e}", path.display())))
+}
+
+/// A case from TOML text, a path (str or os.PathLike) or a dict of the case file's shape.
+fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Case> {
+    let (name, text) = if case.is_instance_of::<PyDict>() {
+        let json: String = py
+            .import("json")?
+            .call_method1("dumps", (case,))?
+            .extract()?;
+        let value: serde_json::Value =
+            serde_json::from_str(&json).map_err(|e| input_error(format!("<dict>: {e}")))?;
+        let text = toml::to_string(&value).map_err(|e| {
+            input_error(format!(
+                "<dict>: cannot be written as a case file: {e} (a None has no TOML form: \
+                     leave the field out)"
+            ))
+        })?;
+        ("<dict>".to_string(), text)
+    } else if case.is_instance_of::<PyString>() {
+        let s: String = case.extract()?;
+        let looks_like_path = !s.contains('\n') && !s.contains('=');
+        if looks_like_path {
+            (s.clone(), read(Path::new(&s))?)
+        } else {
+            ("<text>".to_string(), s)
+        }
+    } else if let Ok(p) = case.extract::<std::path::PathBuf>() {
+        (p.display().to_string(), read(&p)?)
+    } else {
+        return Err(input_error(
+            "case: give TOML text, a path to a case file, or a dict of the same shape",
+        ));
+    };
+    Case::from_text(&name, &text).map_err(|e| input_error(e.message))
+}
+
+fn moment_form(name: &str) -> PyResult<pim_core::MomentForm> {
+    match name {
+        "corrected" => Ok(pim_core::MomentForm::Corrected),
+        "brach1983" => Ok(pim_core::MomentForm::Brach1983),
+        other => Err(input_error(format!(
+            "moment_form = {other:?}: use \"corrected\" or \"brach1983\""
+        ))),
+    }
+}
+
+fn options(no_slip: bool, moment_form: &str) -> PyResult<pim_core::SolveOptions> {
+    Ok(pim_core::SolveOptions {
+        moment_form: self::moment_form(moment_form)?,
+        tangential: if no_slip {
+            pim_core::TangentialCondition::NoSlip
+        } else {
+            pim_core::TangentialCondition::Sliding
+        },
+    })
+}
+
+fn cost(name: &str) -> PyResult<CostPreset> {
+    match name.to_ascii_lowercase().as_str() {
+        "q1" => Ok(CostPreset::Q1),
+        "q2" => Ok(CostPreset::Q2),
+        "q3" => Ok(CostPreset::Q3),
+        other => Err(input_error(format!(
+            "cost = {other:?}: use \"q1\", \"q2\" or \"q3\" (or None for the case's [known])"
+        ))),
+    }
+}
+
+fn branches(names: Vec<String>) -> PyResult<Vec<MomentBranch>> {
+    let mut out = Vec::new();
+    for n in names {
+        let b = match n.as_str() {
+            "free" => MomentBranch::Free,
+            "zero" => MomentBranch::Zero,
+            other => {
+                return Err(input_error(format!(
+                    "branches: {other:?} is not a branch; use \"free\" and/or \"zero\""
+                )))
+            }
+        };
+        if !out.contains(&b) {
+            out.push(b);
+        }
+    }
+    if out.is_empty() {
+        return Err(input_error(
+            "branches: give at least one of \"free\", \"zero\"",
+        ));
+    }
+    Ok(out)
+}
+
+/// Runs `f` on a rayon pool of `threads` (default: all cores) without holding the GIL.
+fn detached<T: Send>(
+    py: Python<'_>,
+    threads: Option<usize>,
+    f: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    if threads == Some(0) {
+        return Err(input_error("threads must be at least 1"));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| input_error(format!("threads: {e}")))?;
+    Ok(py.detach(|| pool.install(f)))
+}
+
+/// Solves a case forwards ([initial] given) or backwards ([final] given) with its
+/// [coefficients]; the document of `pim solve --format json`.
+#[pyfunction]
+#[pyo3(signature = (case, no_slip = false, moment_form = "corrected"))]
+fn solve(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    no_slip: bool,
+    moment_form: &str,
+) -> PyResult<Py<PyAny>> {
+    let case = load_case(py, case)?;
+    let solved =
+        documents::solve(&case, &options(no_slip, moment_form)?).map_err(DocumentErrorPy)?;
+    to_py(py, &solved.document)
+}
+
+/// Fits the coefficients e, mu, e_m and the twelve velocity components of a case; the
+/// document of `pim fit --format json` (dict with `cost_function`, `branches`, `best`, `notes`).
+///
+/// case: TOML text, a path to a case file, or a dict of the same shape: [vehicle1],
+///   [vehicle2] (mass kg, yaw_inertia kg m^2, heading deg = where the nose points,
+///   impact_point = {x, y} m from the CG or d and phi), [impact] crush_angle (deg),
+///   [estimates.initial] / [estimates.final] (vx, vy m/s, omega rad/s per vehicle; partial
+///   allowed), optional [weights] or [sigma], [known], [bounds], [[observations]], [units],
+///   convention = "brach" for the papers' form. `pim fit --help` describes every field.
+/// cost: "q1" separation velocities known exactly, contact velocities estimated; "q2" contact
+///   velocities known exactly, separation velocities estimated (Brach's fits); "q3" all twelve
+///   estimated; None: the case's [known] held fixed and [estimates] estimated.
+/// branches: "free" (e_m in [-1, 0]) and / or "zero" (e_m = 1, no moment impulse); each is
+///   searched globally and its optimum certified.
+/// moment_form: "corrected" (default) or "brach1983" (the 1983 paper's moment equation).
+///
+/// Raises InputError for bad input (the command line's message) and NoSolution when no
+/// branch has an admissible solution; its `document` attribute holds the document, whose
+/// branches give the reasons.
+#[pyfunction]
+#[pyo3(signature = (case, cost = None, branches = vec!["free".to_string(), "zero".to_string()], moment_form = "corrected"))]
+#[pyo3(text_signature = "(case, cost=None, branches=('free', 'zero'), moment_form='corrected')")]
+fn fit(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    cost: Option<&str>,
+    branches: Vec<String>,
+    moment_form: &str,
+) -> PyResult<Py<PyAny>> {
+    let case = load_case(py, case)?;
+    let cost = cost.map(self::cost).transpose()?;
+    let branches = self::branches(branches)?;
+    let form = self::moment_form(moment_form)?;
+    let fitted = detached(py, None, || documents::fit(&case, cost, form, branches))?
+        .map_err(DocumentErrorPy)?;
+    let document = to_py(py, &fitted.document)?;
+    if fitted.report.best.is_none() {
+        let err = NoSolution::new_err(format!(
+            "{}: no branch has an admissible solution (the reasons are in the document)",
+            case.file
+        ));
+        err.value(py).setattr("document", document)?;
+        return Err(err);
+    }
+    Ok(document)
+}
+
+/// Refits every test of a RICSAC-style data file under each cost function and branch; the
+/// records of `pim batch DATA --format json` (a list, one dict per test, cost function and
+/// branch). The fits run on `threads` cores (default all) without holding the GIL; the records
+/// are the same for any thread count. `tests` keeps only those test numbers.
+#[pyfunction]
+#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = 0.2, moment_form = "corrected", tests = None))]
+#[pyo3(
+    text_signature = "(path='data/ricsac.csv', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', tests=None)"
+)]
+#[allow(clippy::too_many_arguments)]
+fn batch(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    costs: Vec<String>,
+    branches: Vec<String>,
+    threads: Option<usize>,
+    e_max: f64,
+    moment_form: &str,
+    tests: Option<Vec<u32>>,
+) -> PyResult<Py<PyAny>> {
+    let costs = costs
+        .iter()
+        .map(|c| cost(c))
+        .collect::<PyResult<Vec<_>>>()?;
+    let plan = pim_data::batch::BatchPlan::new(
+        &costs,
+        &self::branches(branches)?,
+        e_max,
+        self::moment_form(moment_form)?,
+    )
+    .map_err(input_error)?;
+    let file = path.display().to_string();
+    let mut rows =
+        pim_data::ricsac::parse(&file, &read(&path)?).map_err(|e| input_error(e.message))?;
+    if let Some(keep) = tests {
+        for t in &keep {
+            if !rows.iter().any(|r| r.test == *t) {
+                return Err(input_error(format!("tests: test {t} is not in {file}")));
+            }
+        }
+        rows.retain(|r| keep.contains(&r.test));
+    }
+    let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;
+    to_py(py, &records)
+}
+
+/// Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit by a
+/// seeded parametric bootstrap; the document of `pim uncertainty --format json`.
+#[pyfunction]
+#[pyo3(signature = (case, cost = None, draws = 200, seed = 1, threads = None))]
+fn uncertainty(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    cost: Option<&str>,
+    draws: usize,
+    seed: u64,
+    threads: Option<usize>,
+) -> PyResult<Py<PyAny>> {
+    let case = load_case(py, case)?;
+    case.impact().map_err(|e| input_error(e.message))?;
+    if draws == 0 {
+        return Err(input_error("draws must be at least 1"));
+    }
+    let choice = match cost {
+        Some(c) => pim_data::fitcase::CostChoice::Preset(self::cost(c)?),
+        None => pim_data::fitcase::CostChoice::Custom,
+    };
+    let unc = case.content.uncertainty.unwrap_or_default();
+    let study = detached(py, threads, || {
+        pim_data::uncertainty::run(
+            &case,
+            &unc,
+            choice,
+            pim_fit::FitSettings::default(),
+            draws,
+            seed,
+            &|| {},
+        )
+    })?
+    .map_err(|e| input_error(e.message))?;
+    to_py(py, &study)
+}
+
+/// Brach (1984) section 6: delta-V predicted from the impact speeds, masses and energy loss
+/// for every test of a data file; the document of `pim predict-dv --format json`.
+#[pyfunction]
+#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), e = 0.0))]
+#[pyo3(text_signature = "(path='data/ricsac.csv', e=0.0)")]
+fn predict_dv(py: Python<'_>, path: std::path::PathBuf, e: f64) -> PyResult<Py<PyAny>> {
+    let file = path.display().to_string();
+    let tests =
+        pim_data::ricsac::parse(&file, &read(&path)?).map_err(|e| input_error(e.message))?;
+    let rows =
+        pim_data::predict::predict_all(&file, &tests, e).map_err(|e| input_error(e.message))?;
+    to_py(py, &serde_json::json!({ "tests": rows }))
+}
+
+/// The scale diagram of `pim draw` as SVG text: the case at contact (outlines, CGs, impact
+/// centre, crush surface), solved with its [coefficients] when it has them and a state, with
+/// the estimated contact velocities of a fit case. Write it to a file or show it with
+/// IPython.display.SVG.
+#[pyfunction]
+#[pyo3(signature = (case, no_slip = false, moment_form = "corrected"))]
+fn draw(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    no_slip: bool,
+    moment_form: &str,
+) -> PyResult<String> {
+    let case = load_case(py, case)?;
+    let diagram = pim_cli::diagram::case_diagram(&case, &options(no_slip, moment_form)?)
+        .map_err(DocumentErrorPy)?;
+    diagram
+        .svg()
+        .map_err(pyo3::exceptions::PyRuntimeError::new_err)
+}
+
+/// The compiled part of the package `pim`.
+#[pymodule]
+fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("InputError", py.get_type::<InputError>())?;
+    m.add("NoSolution", py.get_type::<NoSolution>())?;
+    m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(batch, m)?)?;
+    m.add_function(wrap_pyfunction!(uncertainty, m)?)?;
+    m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
+    m.add_function(wrap_pyfunction!(draw, m)?)?;
+    Ok(())
+}

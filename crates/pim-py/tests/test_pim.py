@@ -1,0 +1,163 @@
+"""The Python package against the command line: the same documents for the same input."""
+
+import json
+import os
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import pim
+
+REPO = Path(__file__).resolve().parents[3]
+PIM = REPO / "target" / "release" / "pim"
+
+
+@pytest.fixture(scope="session", autouse=True)
+def cli():
+    if not PIM.exists():
+        subprocess.run(["cargo", "build", "--release", "-p", "pim-cli"], cwd=REPO, check=True)
+    os.chdir(REPO)
+
+
+def run_cli(*args):
+    out = subprocess.run([str(PIM), *args], capture_output=True, text=True, cwd=REPO)
+    return out
+
+
+def cli_json(*args):
+    out = run_cli(*args, "--format", "json")
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+R7_FIT = "examples/cases/ricsac7_fit.toml"
+
+
+@pytest.mark.parametrize("cost", ["q1", "q2", "q3"])
+def test_fit_equals_the_cli_document(cost):
+    assert pim.fit(R7_FIT, cost=cost) == cli_json("fit", R7_FIT, "--cost", cost)
+
+
+def test_a_case_as_path_text_or_dict_is_the_same_case():
+    text = (REPO / R7_FIT).read_text()
+    by_path = pim.fit(Path(R7_FIT), cost="q2", branches=("zero",))
+    assert pim.fit(text, cost="q2", branches=["zero"]) == by_path
+    assert pim.fit(tomllib.loads(text), cost="q2", branches=["zero"]) == by_path
+    assert [b["moment"] for b in by_path["branches"]] == ["zero"]
+
+
+def test_solve_equals_the_cli_document_both_moment_forms():
+    case = "examples/cases/ricsac7_brach1983.toml"
+    assert pim.solve(case) == cli_json("solve", case)
+    got = pim.solve(case, no_slip=True, moment_form="brach1983")
+    assert got == cli_json("solve", case, "--no-slip", "--moment-form", "brach1983")
+
+
+def test_batch_records_equal_the_cli_records_for_any_thread_count():
+    records = pim.batch("data/ricsac.csv", costs=["q2", "q3"], threads=1)
+    assert records == cli_json("batch", "data/ricsac.csv", "--cost", "q2,q3")["records"]
+    assert len(records) == 11 * 2 * 2
+    assert pim.batch(costs=("q2",), tests=[7, 9], threads=2) == [
+        r for r in records if r["cost_function"] == "q2" and r["test"] in (7, 9)
+    ]
+
+
+def test_uncertainty_and_predict_dv_equal_the_cli_documents():
+    case = "examples/cases/ricsac7_uncertainty.toml"
+    got = pim.uncertainty(case, cost="q2", draws=40, seed=3, threads=2)
+    assert got == cli_json("uncertainty", case, "--cost", "q2", "--draws", "40", "--seed", "3")
+    assert got["draws"] == 40 and set(got["quantities"]) >= {"speed1", "speed2", "delta_v1"}
+    assert pim.predict_dv(e=0.1) == cli_json("predict-dv", "--e", "0.1")
+
+
+def test_input_errors_carry_the_cli_message(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text((REPO / R7_FIT).read_text().replace("mass = 1955.0", "mass = -5.0"))
+    out = run_cli("fit", str(bad), "--cost", "q2")
+    assert out.returncode == 2
+    with pytest.raises(pim.InputError) as err:
+        pim.fit(str(bad), cost="q2")
+    assert out.stderr.strip() == f"pim: {err.value}"
+    with pytest.raises(pim.InputError, match="q4"):
+        pim.fit(R7_FIT, cost="q4")
+    with pytest.raises(pim.InputError, match="missing.csv"):
+        pim.batch("missing.csv")
+
+
+def test_no_solution_is_an_exception_with_the_document(tmp_path):
+    # RICSAC 6 under Q1: no admissible solution in either branch (as in the batch).
+    case = "examples/cases/ricsac6_geometry.toml"
+    text = (REPO / case).read_text()
+    fixed = "\n".join(
+        line for line in text.splitlines()
+        if not (line.startswith(("vehicle1 = { d", "vehicle2 = { d", "crush_angle = [")))
+    )
+    path = tmp_path / "r6.toml"
+    path.write_text(fixed)
+    assert run_cli("fit", str(path), "--cost", "q1").returncode == 3
+    with pytest.raises(pim.NoSolution) as err:
+        pim.fit(str(path), cost="q1")
+    doc = err.value.document
+    cli = run_cli("fit", str(path), "--cost", "q1", "--format", "json")
+    assert doc == json.loads(cli.stdout)
+    assert doc["best"] is None and all(b["status"] == "infeasible" for b in doc["branches"])
+    # A backward solve with e = 0 has no answer either (exit status 3 on the command line).
+    solve_case = (REPO / "examples/cases/ricsac7_brach1983.toml").read_text()
+    back = tmp_path / "back.toml"
+    back.write_text(solve_case.replace("e = 0.015", "e = 0.0").replace("[initial]  ", "[final]  "))
+    assert run_cli("solve", str(back)).returncode == 3
+    with pytest.raises(pim.NoSolution, match="restitution"):
+        pim.solve(str(back))
+
+
+def test_records_frame_of_the_batch():
+    records = pim.batch(costs=["q1", "q2", "q3"])
+    frame = pim.records_frame(records)
+    assert frame.shape[0] == 66
+    for column in ["test", "cost_function", "moment", "e", "mu", "em", "cost",
+                   "energy_loss_pct", "delta_v_vehicle1_mps", "final_vehicle1_vx_mps",
+                   "final_vehicle1_omega_radps", "vehicle1_pdof_deg"]:
+        assert column in frame.columns, column
+    q2 = frame[(frame.cost_function == "q2") & frame.best]
+    assert len(q2) == 11
+    # The numbers are the records' own.
+    r = next(x for x in records if x["test"] == 9 and x["cost_function"] == "q2" and x["best"])
+    row = q2[q2.test == 9].iloc[0]
+    assert row.e == r["e"] and row.delta_v_vehicle1_mps == r["delta_v"]["vehicle1"]
+
+
+def test_records_frame_without_pandas_says_how_to_get_it(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match="pip install pandas"):
+        pim.records_frame([{"e": 0.1}])
+
+
+def test_help_explains_the_cost_functions_and_the_case():
+    doc = pim.fit.__doc__
+    for word in ["q1", "q2", "q3", "[estimates.initial]", "free", "zero", "NoSolution"]:
+        assert word in doc, word
+    assert "q3" in pim.__doc__ and "[vehicle1]" in pim.__doc__
+
+
+@pytest.mark.parametrize("case", ["examples/cases/ricsac7_brach1983.toml", R7_FIT])
+def test_draw_equals_the_svg_of_pim_draw(case, tmp_path):
+    out = tmp_path / "d.svg"
+    assert run_cli("draw", case, "--output", str(out)).returncode == 0
+    svg = pim.draw(case)
+    assert svg == out.read_text()
+    assert svg.startswith("<svg") and "impact centre" in svg
+
+
+def test_the_second_model_solves_as_on_the_command_line(tmp_path):
+    text = (REPO / "examples/cases/ricsac7_brach1983.toml").read_text()
+    case = tomllib.loads(text)
+    case["coefficients"] = {"e": 0.1, "et": 0.0, "friction": 0.5}
+    got = pim.solve(case)
+    assert got["model"]["name"] == "tangential" and got["model"]["mode"] == "slide"
+    path = tmp_path / "t.toml"
+    path.write_text(text.replace("e = 0.015", "e = 0.1").replace("mu = 0.968", "et = 0.0")
+                    .replace("em = -0.774", "friction = 0.5"))
+    assert got == cli_json("solve", str(path))
