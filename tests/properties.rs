@@ -4,17 +4,9 @@ use common::*;
 use pim_core::*;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-fn runner(cases: u32) -> TestRunner {
-    TestRunner::new_with_rng(
-        Config {
-            cases,
-            failure_persistence: None,
-            ..Config::default()
-        },
-        TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]),
-    )
+fn runner(cases: u32) -> proptest::test_runner::TestRunner {
+    seeded_runner(cases, 7)
 }
 
 prop_compose! {

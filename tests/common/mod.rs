@@ -162,3 +162,17 @@ pub fn state_toml(u: &[f64]) -> String {
 pub fn sigma_toml(sv: f64, sw: f64) -> String {
     state_toml(&[sv, sv, sw, sv, sv, sw])
 }
+
+/// A seeded proptest runner: `cases` cases from the ChaCha stream of `seed` (reproducible, no
+/// failure files).
+pub fn seeded_runner(cases: u32, seed: u8) -> proptest::test_runner::TestRunner {
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+    TestRunner::new_with_rng(
+        Config {
+            cases,
+            failure_persistence: None,
+            ..Config::default()
+        },
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[seed; 32]),
+    )
+}

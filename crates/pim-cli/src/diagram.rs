@@ -121,6 +121,8 @@ pub struct DrawnVehicle {
     pub impulse: Option<[f64; 2]>,
     /// Delta-V direction (fixed frame, unit) with PDOF and clock, when solved.
     pub pdof: Option<([f64; 2], f64, u8)>,
+    /// A fixed barrier: drawn as a wall along the crush surface, its face through C.
+    pub barrier: bool,
 }
 
 /// A whole diagram.
@@ -168,6 +170,42 @@ impl<'a> Solved<'a> {
     }
 }
 
+/// A barrier as a wall: its face on the crush surface through C, 0.3 m thick on the side away
+/// from vehicle 1's CG, as long as 1.2 times vehicle 1.
+fn barrier_wall(
+    impact: &Impact,
+    cg1: [f64; 2],
+    vehicle1: &VehicleSection,
+    arm1: [f64; 2],
+) -> DrawnVehicle {
+    let n = impact.normal();
+    // Unit normal towards vehicle 1's side.
+    let towards = if cg1[0] * n[0] + cg1[1] * n[1] >= 0.0 {
+        n
+    } else {
+        [-n[0], -n[1]]
+    };
+    let thick = 0.3;
+    let point = impact.to_body(VehicleId::One, arm1);
+    let length = 1.2 * Outline::of(vehicle1, point).length();
+    DrawnVehicle {
+        label: "barrier (fixed, rigid)".to_string(),
+        outline: Outline {
+            front: thick / 2.0,
+            rear: thick / 2.0,
+            width: length,
+            defaulted: false,
+        },
+        heading: towards[1].atan2(towards[0]).to_degrees(),
+        cg: [-towards[0] * thick / 2.0, -towards[1] * thick / 2.0],
+        contact: None,
+        separation: None,
+        impulse: None,
+        pdof: None,
+        barrier: true,
+    }
+}
+
 fn rotate(p: [f64; 2], deg: f64) -> [f64; 2] {
     let (s, c) = deg.to_radians().sin_cos();
     [c * p[0] - s * p[1], s * p[0] + c * p[1]]
@@ -198,6 +236,9 @@ impl Diagram {
                 [x.vx, x.vy]
             };
             let sign = if k == 0 { 1.0 } else { -1.0 };
+            if k == 1 && impact.is_barrier() {
+                return barrier_wall(impact, cgs[0], sections[0], arms[0]);
+            }
             DrawnVehicle {
                 label,
                 outline: Outline::of(sec, point),
@@ -216,6 +257,7 @@ impl Diagram {
                     let n = d[0].hypot(d[1]);
                     (n > 0.0).then(|| ([d[0] / n, d[1] / n], r.pdof, r.clock))
                 }),
+                barrier: false,
             }
         };
         Diagram {
@@ -406,6 +448,9 @@ impl Diagram {
                 ))
                 .map_err(|e| err(&e))?;
             let v = &self.vehicles[k];
+            if v.barrier {
+                continue;
+            }
             chart
                 .draw_series(std::iter::once(Circle::new(
                     (v.cg[0], v.cg[1]),
@@ -547,6 +592,12 @@ impl Diagram {
         line(String::new(), None, false)?;
         for (k, v) in self.vehicles.iter().enumerate() {
             line(v.label.clone(), Some(VEHICLE_COLORS[k]), true)?;
+            if v.barrier {
+                line("  its face: the crush surface".into(), None, false)?;
+                line("  it does not move".into(), None, false)?;
+                line(String::new(), None, false)?;
+                continue;
+            }
             let o = &v.outline;
             line(
                 format!(

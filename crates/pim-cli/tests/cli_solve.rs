@@ -189,7 +189,7 @@ fn bad_case_files_exit_2_naming_file_and_field() {
         ("zero_inertia.toml", example().replace("yaw_inertia = 2279.0", "yaw_inertia = 0.0"), "vehicle2.yaw_inertia"),
         ("neg_d.toml", example().replace("d = 0.9", "d = -0.9"), "vehicle2.d"),
         ("text_angle.toml", example().replace("heading = 60.0", "heading = \"sixty\""), ":21:"),
-        ("missing.toml", example().replace("yaw_inertia = 2279.0\n", ""), "missing field `yaw_inertia`"),
+        ("missing.toml", example().replace("yaw_inertia = 2279.0\n", ""), "[vehicle2] yaw_inertia: missing"),
         ("typo.toml", example().replace("crush_angle", "crush_angel"), "crush_angel"),
         ("nan.toml", example().replace("vx = -13.01", "vx = nan"), "[initial] vehicle1.vx"),
         ("inf.toml", example().replace("mass = 1197.0", "mass = inf"), "vehicle2.mass"),

@@ -28,20 +28,37 @@ fn momentum(row: RowVector6<f64>) -> Row {
     (row, -row)
 }
 
-/// Equation 1: `m1 (V1x - v1x) + m2 (V2x - v2x) = 0`.
+/// The limit row of equations 1-3 against a barrier: vehicle 2's component `k` does not change.
+fn barrier_row(k: usize) -> Row {
+    let mut row = RowVector6::zeros();
+    row[k] = 1.0;
+    momentum(row)
+}
+
+/// Equation 1: `m1 (V1x - v1x) + m2 (V2x - v2x) = 0` (barrier: `V2x - v2x = 0`).
 pub fn momentum_x(impact: &Impact) -> Row {
+    if impact.is_barrier() {
+        return barrier_row(3);
+    }
     let [m1, m2] = impact.masses();
     momentum(RowVector6::new(m1, 0.0, 0.0, m2, 0.0, 0.0))
 }
 
-/// Equation 2: `m1 (V1y - v1y) + m2 (V2y - v2y) = 0`.
+/// Equation 2: `m1 (V1y - v1y) + m2 (V2y - v2y) = 0` (barrier: `V2y - v2y = 0`).
 pub fn momentum_y(impact: &Impact) -> Row {
+    if impact.is_barrier() {
+        return barrier_row(4);
+    }
     let [m1, m2] = impact.masses();
     momentum(RowVector6::new(0.0, m1, 0.0, 0.0, m2, 0.0))
 }
 
-/// Equation 3: `I1 (W1 - w1) + I2 (W2 - w2) + m1 (D2 + D4)(V1y - v1y) + m2 (D1 + D3)(V2x - v2x) = 0`.
+/// Equation 3: `I1 (W1 - w1) + I2 (W2 - w2) + m1 (D2 + D4)(V1y - v1y) + m2 (D1 + D3)(V2x - v2x) = 0`
+/// (barrier: `W2 - w2 = 0`).
 pub fn angular_momentum(impact: &Impact) -> Row {
+    if impact.is_barrier() {
+        return barrier_row(5);
+    }
     let [m1, m2] = impact.masses();
     let [i1, i2] = impact.inertias();
     let [d1, d2, d3, d4] = impact.levers();
@@ -76,11 +93,23 @@ pub fn restitution(impact: &Impact, e: f64) -> Row {
 }
 
 /// Equation 5: `m1 (V1y - v1y)(cos G - mu' sin G) + m2 (V2x - v2x)(sin G + mu' cos G) = 0`, with
-/// `mu' = mu * friction_sign` (friction opposes the initial sliding direction).
+/// `mu' = mu * friction_sign` (friction opposes the initial sliding direction). It says
+/// `Pt = mu' Pn` for the impulse on vehicle 1; against a barrier it is written with that impulse
+/// alone: `m1 (V1y - v1y)(cos G - mu' sin G) - m1 (V1x - v1x)(sin G + mu' cos G) = 0`.
 pub fn friction(impact: &Impact, mu: f64, friction_sign: FrictionSign) -> Row {
     let [m1, m2] = impact.masses();
     let [c, s] = impact.normal();
     let mu_s = mu * friction_sign.value();
+    if impact.is_barrier() {
+        return momentum(RowVector6::new(
+            -m1 * (s + mu_s * c),
+            m1 * (c - mu_s * s),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ));
+    }
     momentum(RowVector6::new(
         0.0,
         m1 * (c - mu_s * s),
@@ -110,11 +139,15 @@ pub fn no_slip(impact: &Impact) -> Row {
 }
 
 /// The relative-yaw-rate change caused by the moment impulse alone, as a row:
-/// `B = b . (X - x)`, `b = (-m1 D3/I1, m1 D4/I1, 1, -m2 D1/I2, m2 D2/I2, -1)`.
+/// `B = b . (X - x)`, `b = (-m1 D3/I1, m1 D4/I1, 1, -m2 D1/I2, m2 D2/I2, -1)` (barrier: the
+/// vehicle-2 terms are 0, as vehicle 2 does not move).
 pub fn moment_b_row(impact: &Impact) -> RowVector6<f64> {
     let [m1, m2] = impact.masses();
     let [i1, i2] = impact.inertias();
     let [d1, d2, d3, d4] = impact.levers();
+    if impact.is_barrier() {
+        return RowVector6::new(-m1 * d3 / i1, m1 * d4 / i1, 1.0, 0.0, 0.0, 0.0);
+    }
     RowVector6::new(
         -m1 * d3 / i1,
         m1 * d4 / i1,

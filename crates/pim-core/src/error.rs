@@ -164,6 +164,10 @@ pub enum PimError {
     /// Solving backwards, no friction direction is consistent with the recovered contact velocities.
     #[error("{0}")]
     InconsistentSliding(String),
+    /// A barrier given inconsistently (only vehicle 2 can be one, with infinite mass and
+    /// inertia, at rest).
+    #[error("{0}")]
+    Barrier(String),
     /// A sensitivity study asked for a coefficient level outside the model's domain.
     #[error(
         "sensitivity level {name} x {factor} = {value} is outside its domain {domain}; \

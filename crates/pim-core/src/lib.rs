@@ -54,6 +54,17 @@
 //! components, `F X + G x = 0` ([`equations::assemble`]): forwards `X = -F^-1 G x`, backwards
 //! `x = -G^-1 F X`.
 //!
+//! ## A fixed rigid barrier
+//! Vehicle 2 may be a barrier ([`Vehicle::barrier`]: infinite mass and yaw inertia, at rest).
+//! The equations are then their limits as `m2, I2` grow without bound: (1)-(3) divided by `m2`
+//! (or `I2`) become `V2 - v2 = 0`; (5) is written with vehicle 1's impulse alone,
+//! `m1 (V1y - v1y)(cos G - mu' sin G) - m1 (V1x - v1x)(sin G + mu' cos G) = 0` (the same
+//! equation in the two-vehicle case, where (1) gives `m2 (V2x - v2x) = -m1 (V1x - v1x)`); the
+//! vehicle-2 terms of `B` vanish; (4) is unchanged. Momentum is not conserved (the ground takes
+//! it), kinetic energy is vehicle 1's, and vehicle 2's velocities must be 0
+//! ([`Impact::check_barrier_state`]). The tangential-restitution model ([`tangential`]) is
+//! written with `1/m2`, `1/I2` and needs no special form.
+//!
 //! ## Derived results ([`ImpactReport`])
 //! - impulse on vehicle 1 `P = m1 (V1 - v1)`, `Pn = P.n`, `Pt = P.t`, moment impulse
 //!   `M = I1 (W1 - w1) - r1 x P`;

@@ -6,11 +6,17 @@ use nalgebra::Vector6;
 use serde::{Deserialize, Serialize};
 
 /// One vehicle: its inertial properties and where the impact centre C sits on it.
+///
+/// Vehicle 2 may be a fixed rigid barrier ([`Vehicle::barrier`]): infinite mass and yaw inertia,
+/// at rest before and after the impact. The equations then take their limits as vehicle 2's
+/// mass and inertia grow without bound (see [`crate::equations`]): vehicle 2 does not move, the
+/// impulse acts on vehicle 1 alone, and momentum is not conserved (the ground takes it).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Vehicle {
-    /// Mass m, kg (> 0).
+    /// Mass m, kg (> 0; infinite for a barrier).
     pub mass: f64,
-    /// Yaw moment of inertia I about the vertical axis through the CG, kg m^2 (> 0).
+    /// Yaw moment of inertia I about the vertical axis through the CG, kg m^2 (> 0; infinite
+    /// for a barrier).
     pub yaw_inertia: f64,
     /// Heading angle theta of the vehicle's length axis to the fixed x axis, degrees.
     pub heading: f64,
@@ -51,7 +57,39 @@ pub struct Impact {
     axes: [[f64; 2]; 2],
 }
 
+impl Vehicle {
+    /// A fixed rigid barrier as vehicle 2: infinite mass and yaw inertia, its "centre" at the
+    /// impact centre (`d = 0`), heading 0. Only the crush-surface angle orients it.
+    pub fn barrier() -> Self {
+        Vehicle {
+            mass: f64::INFINITY,
+            yaw_inertia: f64::INFINITY,
+            heading: 0.0,
+            d: 0.0,
+            phi: 0.0,
+        }
+    }
+
+    /// True for a barrier (infinite mass).
+    pub fn is_barrier(&self) -> bool {
+        self.mass == f64::INFINITY
+    }
+}
+
 fn check_vehicle(v: &Vehicle, id: VehicleId) -> Result<()> {
+    if id == VehicleId::Two && (v.mass == f64::INFINITY || v.yaw_inertia == f64::INFINITY) {
+        if !(v.mass.is_infinite() && v.yaw_inertia.is_infinite()) {
+            return Err(PimError::Barrier(
+                "a barrier (vehicle 2) needs both mass and yaw inertia infinite".into(),
+            ));
+        }
+        let finite = Vehicle {
+            mass: 1.0,
+            yaw_inertia: 1.0,
+            ..*v
+        };
+        return check_vehicle(&finite, id);
+    }
     for (field, value) in [
         ("mass", v.mass),
         ("yaw_inertia", v.yaw_inertia),
@@ -249,6 +287,24 @@ impl Impact {
         &self.collision
     }
 
+    /// True when vehicle 2 is a fixed rigid barrier ([`Vehicle::barrier`]).
+    pub fn is_barrier(&self) -> bool {
+        self.collision.vehicle2.is_barrier()
+    }
+
+    /// Checks that a barrier's velocities are zero in a state (always true without a barrier).
+    pub fn check_barrier_state(&self, v: &Velocities) -> Result<()> {
+        let b = &v.vehicle2;
+        if self.is_barrier() && (b.vx != 0.0 || b.vy != 0.0 || b.omega != 0.0) {
+            return Err(PimError::Barrier(format!(
+                "vehicle 2 is a fixed barrier: its velocities must be 0 (got vx = {}, vy = {}, \
+                 omega = {})",
+                b.vx, b.vy, b.omega
+            )));
+        }
+        Ok(())
+    }
+
     /// Masses `[m1, m2]`, kg.
     pub fn masses(&self) -> [f64; 2] {
         [self.collision.vehicle1.mass, self.collision.vehicle2.mass]
@@ -346,8 +402,10 @@ impl Impact {
         )
     }
 
-    /// Checks that the vehicles approach each other at C in the state `v` (contact velocities).
+    /// Checks that the vehicles approach each other at C in the state `v` (contact velocities),
+    /// and that a barrier is at rest in it.
     pub fn check_approach(&self, v: &Velocities) -> Result<()> {
+        self.check_barrier_state(v)?;
         let (vn, _) = self.relative_velocity(v);
         let speed = v.max_speed().max(1e-9);
         let closing = if self.side != 0.0 {
@@ -532,16 +590,18 @@ impl Velocities {
         Ok(())
     }
 
-    /// Total kinetic energy of both vehicles in this state, J.
+    /// Total kinetic energy of both vehicles in this state, J (of vehicle 1 alone against a
+    /// barrier, which does not move).
     pub fn kinetic_energy(&self, impact: &Impact) -> f64 {
         let [m1, m2] = impact.masses();
         let [i1, i2] = impact.inertias();
         let a = &self.vehicle1;
         let b = &self.vehicle2;
-        0.5 * (m1 * (a.vx * a.vx + a.vy * a.vy)
-            + i1 * a.omega * a.omega
-            + m2 * (b.vx * b.vx + b.vy * b.vy)
-            + i2 * b.omega * b.omega)
+        let first = m1 * (a.vx * a.vx + a.vy * a.vy) + i1 * a.omega * a.omega;
+        if impact.is_barrier() {
+            return 0.5 * first;
+        }
+        0.5 * (first + m2 * (b.vx * b.vx + b.vy * b.vy) + i2 * b.omega * b.omega)
     }
 }
 

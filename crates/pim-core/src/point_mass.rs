@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 /// A point-mass impact: masses, crush angle and the two planar velocities at contact.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PointMassImpact {
-    /// Masses `[m1, m2]`, kg.
+    /// Masses `[m1, m2]`, kg (`m2` infinite for a fixed barrier: the reduced mass is then m1).
     pub masses: [f64; 2],
     /// Crush-surface angle Gamma to the y axis, degrees.
     pub crush_angle: f64,
@@ -69,7 +69,12 @@ pub fn solve_point_mass(
         });
     }
     let e = coefficients.e;
-    let mbar = m1 * m2 / (m1 + m2);
+    // Reduced mass; against a barrier (m2 infinite) it is m1.
+    let mbar = if m2.is_infinite() {
+        m1
+    } else {
+        m1 * m2 / (m1 + m2)
+    };
     let pn = mbar * (1.0 + e) * (v2n - v1n);
     let r = (v2t - v1t) / (v2n - v1n);
     // No sliding at contact (vt is round-off of the speeds): no tangential impulse, as in the

@@ -239,6 +239,7 @@ pub fn solve_backward(
 ) -> Result<ImpactReport> {
     coefficients.validate()?;
     separation.validate()?;
+    impact.check_barrier_state(separation)?;
     let signs: &[FrictionSign] = match options.tangential {
         TangentialCondition::Sliding => &[
             FrictionSign::Positive,
@@ -262,6 +263,7 @@ pub fn solve_backward_with_sign(
 ) -> Result<ImpactReport> {
     coefficients.validate()?;
     separation.validate()?;
+    impact.check_barrier_state(separation)?;
     backward(impact, coefficients, separation, options, &[friction_sign])
 }
 

@@ -33,18 +33,28 @@ pub struct PointSection {
 
 /// One vehicle as written in the case file. After loading ([`Case::from_text`]) every number
 /// is SI and `d`, `phi` are set whichever form the file used.
+///
+/// `[vehicle2] barrier = true` makes vehicle 2 a fixed rigid barrier: no mass, yaw inertia,
+/// heading or impact centre are given (after loading, mass and yaw inertia are infinite and the
+/// rest 0), and its velocities are 0 (they may be left out of `[initial]` / `[final]`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleSection {
     /// Free text (make, model).
     #[serde(default)]
     pub description: Option<String>,
-    /// Mass (mass unit; kg after loading).
+    /// A fixed rigid barrier (vehicle 2 only).
+    #[serde(default)]
+    pub barrier: bool,
+    /// Mass (mass unit; kg after loading; infinite for a barrier).
+    #[serde(default = "unset")]
     pub mass: f64,
-    /// Yaw moment of inertia (kg m^2 after loading).
+    /// Yaw moment of inertia (kg m^2 after loading; infinite for a barrier).
+    #[serde(default = "unset")]
     pub yaw_inertia: f64,
     /// Heading, degrees counter-clockwise from +x: where the nose points (natural convention),
     /// or the papers' theta (`convention = "brach"`: vehicle 1's tail).
+    #[serde(default = "unset")]
     pub heading: f64,
     /// CG to impact centre (polar form; m after loading).
     #[serde(default)]
@@ -64,6 +74,12 @@ pub struct VehicleSection {
     /// CG to the front face, for drawings (default half the length; m after loading).
     #[serde(default)]
     pub cg_to_front: Option<f64>,
+}
+
+/// A required number the file did not give (checked after parsing, so that a barrier can
+/// leave it out).
+fn unset() -> f64 {
+    f64::NAN
 }
 
 impl VehicleSection {
@@ -129,9 +145,17 @@ pub struct VelocitySection {
 pub struct StateSection {
     /// Vehicle 1.
     pub vehicle1: VelocitySection,
-    /// Vehicle 2.
-    pub vehicle2: VelocitySection,
+    /// Vehicle 2 (may be left out for a barrier, which is at rest; always set after loading).
+    #[serde(default)]
+    pub vehicle2: Option<VelocitySection>,
 }
+
+/// A barrier's velocity: at rest.
+const AT_REST: VelocitySection = VelocitySection {
+    vx: 0.0,
+    vy: 0.0,
+    omega: 0.0,
+};
 
 impl StateSection {
     /// As a pim-core state.
@@ -143,7 +167,7 @@ impl StateSection {
         };
         Velocities {
             vehicle1: v(self.vehicle1),
-            vehicle2: v(self.vehicle2),
+            vehicle2: v(self.vehicle2.unwrap_or(AT_REST)),
         }
     }
 }
@@ -435,10 +459,112 @@ impl Case {
             file: file.to_string(),
             content,
         };
+        case.resolve_barrier()?;
         case.check_states()?;
         case.resolve_impact_points()?;
         case.convert_to_si();
         Ok(case)
+    }
+
+    /// True when vehicle 2 is a fixed barrier (`[vehicle2] barrier = true`).
+    pub fn is_barrier(&self) -> bool {
+        self.content.vehicle2.barrier
+    }
+
+    /// Checks the vehicles' required numbers and a barrier's section (vehicle 2 only, nothing
+    /// that a barrier does not have, at rest in the states), and fills in the barrier.
+    fn resolve_barrier(&mut self) -> Result<()> {
+        let file = self.file.clone();
+        let c = &mut self.content;
+        if c.vehicle1.barrier {
+            return Err(InputError::new(
+                &file,
+                "[vehicle1] barrier = true: only vehicle 2 can be a barrier; put the moving \
+                 vehicle first",
+            ));
+        }
+        if c.vehicle2.barrier {
+            let v = &mut c.vehicle2;
+            let given: Vec<&str> = [
+                ("mass", !v.mass.is_nan()),
+                ("yaw_inertia", !v.yaw_inertia.is_nan()),
+                ("heading", !v.heading.is_nan()),
+                ("d", v.d.is_some()),
+                ("phi", v.phi.is_some()),
+                ("impact_point", v.impact_point.is_some()),
+            ]
+            .iter()
+            .filter(|(_, g)| *g)
+            .map(|(n, _)| *n)
+            .collect();
+            if !given.is_empty() {
+                return Err(InputError::new(
+                    &file,
+                    format!(
+                        "[vehicle2] is a barrier (barrier = true) and cannot have {}: a fixed \
+                         rigid barrier has no mass, inertia or heading, and the crush surface \
+                         ([impact] crush_angle) orients it",
+                        given.join(", ")
+                    ),
+                ));
+            }
+            v.mass = f64::INFINITY;
+            v.yaw_inertia = f64::INFINITY;
+            v.heading = 0.0;
+            v.d = Some(0.0);
+            v.phi = Some(0.0);
+            for (name, st) in [("initial", &mut c.initial), ("final", &mut c.final_)] {
+                let Some(st) = st else { continue };
+                match st.vehicle2 {
+                    None => st.vehicle2 = Some(AT_REST),
+                    Some(w) if w.vx == 0.0 && w.vy == 0.0 && w.omega == 0.0 => {}
+                    Some(w) => {
+                        return Err(InputError::new(
+                            &file,
+                            format!(
+                                "[{name}] vehicle2 = {{ vx = {}, vy = {}, omega = {} }}: vehicle \
+                                 2 is a fixed barrier and does not move; leave it out",
+                                w.vx, w.vy, w.omega
+                            ),
+                        ))
+                    }
+                }
+            }
+            return Ok(());
+        }
+        for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
+            for (field, x, what) in [
+                ("mass", v.mass, "the vehicle's mass"),
+                ("yaw_inertia", v.yaw_inertia, "its yaw moment of inertia"),
+                ("heading", v.heading, "where its nose points, degrees"),
+            ] {
+                if x.is_nan() {
+                    let hint = if name == "vehicle2" {
+                        " (or barrier = true for a fixed barrier)"
+                    } else {
+                        ""
+                    };
+                    return Err(InputError::new(
+                        &file,
+                        format!("[{name}] {field}: missing or not a number; give {what}{hint}"),
+                    ));
+                }
+                finite(&file, &format!("{name}.{field}"), x)?;
+            }
+        }
+        for (name, st) in [("initial", &c.initial), ("final", &c.final_)] {
+            if let Some(st) = st {
+                if st.vehicle2.is_none() {
+                    return Err(InputError::new(
+                        &file,
+                        format!(
+                            "[{name}] vehicle2: missing; give {{ vx = .., vy = .., omega = .. }}"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Checks that each vehicle gives its impact centre in exactly one form and writes the
@@ -515,7 +641,7 @@ impl Case {
         };
         for s in [&mut c.initial, &mut c.final_].into_iter().flatten() {
             velocity(&mut s.vehicle1);
-            velocity(&mut s.vehicle2);
+            s.vehicle2.iter_mut().for_each(velocity);
         }
         for states in [&mut c.estimates, &mut c.known, &mut c.sigma]
             .into_iter()
@@ -559,7 +685,8 @@ impl Case {
             ("final", &self.content.final_),
         ] {
             if let Some(s) = s {
-                for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", s.vehicle2)] {
+                let vehicle2 = s.vehicle2.unwrap_or(AT_REST);
+                for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", vehicle2)] {
                     for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
                         finite(&self.file, &format!("[{name}] {veh}.{field}"), x)?;
                     }
@@ -571,12 +698,17 @@ impl Case {
 
     /// The collision in the papers' form (pim-core's [`Vehicle`]) for a given convention.
     fn collision(&self, convention: Convention) -> Collision {
-        let v = |s: &VehicleSection, id: VehicleId| Vehicle {
-            mass: s.mass,
-            yaw_inertia: s.yaw_inertia,
-            heading: convention.theta(id, s.heading),
-            d: s.d(),
-            phi: s.phi(),
+        let v = |s: &VehicleSection, id: VehicleId| {
+            if s.barrier {
+                return Vehicle::barrier();
+            }
+            Vehicle {
+                mass: s.mass,
+                yaw_inertia: s.yaw_inertia,
+                heading: convention.theta(id, s.heading),
+                d: s.d(),
+                phi: s.phi(),
+            }
         };
         Collision {
             vehicle1: v(&self.content.vehicle1, VehicleId::One),
@@ -661,7 +793,7 @@ impl Case {
                 }
             }
             let k = v.yaw_inertia / v.mass;
-            if !(INERTIA_PER_MASS.0..=INERTIA_PER_MASS.1).contains(&k) {
+            if !v.barrier && !(INERTIA_PER_MASS.0..=INERTIA_PER_MASS.1).contains(&k) {
                 out.push(format!(
                     "{f}: [{name}] yaw_inertia / mass = {k:.2} m^2, outside the {} .. {} m^2 of \
                      road vehicles: check the units of mass and yaw_inertia",
@@ -678,7 +810,8 @@ impl Case {
         let mut speeds: Vec<(String, f64)> = Vec::new();
         for (sec, st) in [("initial", &c.initial), ("final", &c.final_)] {
             if let Some(st) = st {
-                for (veh, v) in [("vehicle1", st.vehicle1), ("vehicle2", st.vehicle2)] {
+                let vehicle2 = st.vehicle2.unwrap_or(AT_REST);
+                for (veh, v) in [("vehicle1", st.vehicle1), ("vehicle2", vehicle2)] {
                     speeds.push((format!("[{sec}] {veh}"), v.vx.hypot(v.vy)));
                 }
             }

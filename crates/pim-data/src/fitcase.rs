@@ -113,6 +113,41 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             }
         }
     }
+    let barrier = case.is_barrier();
+    if barrier {
+        for k in [3, 4, 5, 9, 10, 11] {
+            for (sec, given) in [
+                ("estimates", est[k].is_some()),
+                ("known", known[k].is_some()),
+                ("sigma", sig[k].is_some()),
+                (
+                    "weights",
+                    c.weights.unwrap_or_default().components()[k].is_some(),
+                ),
+            ] {
+                if given {
+                    return Err(input(
+                        case,
+                        format!(
+                            "[{sec}] {}: vehicle 2 is a fixed barrier (barrier = true), at rest \
+                             before and after the impact; leave its velocities out",
+                            COMPONENT_NAMES[k]
+                        ),
+                    ));
+                }
+            }
+        }
+        if let Some(i) = c.observations.iter().position(|o| o.vehicle == 2) {
+            return Err(input(
+                case,
+                format!(
+                    "[[observations]] entry {}: vehicle = 2 is a fixed barrier, which has no \
+                     delta-V or speed to observe",
+                    i + 1
+                ),
+            ));
+        }
+    }
     let mut components = [Knowledge::Unknown; 12];
     match choice {
         CostChoice::Preset(preset) => {
@@ -122,13 +157,12 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
                     preset.name()
                 )));
             }
-            let needed: Vec<usize> = match preset {
-                CostPreset::Q1 | CostPreset::Q2 | CostPreset::Q3 => (0..12).collect(),
-            };
+            // A barrier's components are held at 0 by the fit itself.
+            let needed: Vec<usize> = (0..12).filter(|k| !barrier || k % 6 < 3).collect();
             for k in needed {
                 let Some(value) = est[k] else {
                     return Err(input(case, format!(
-                        "--cost {} needs every component of [estimates.initial] and [estimates.final]; {} is missing",
+                        "--cost {} needs every component of [estimates.initial] and [estimates.final] (of vehicle 1 against a barrier); {} is missing",
                         preset.name(),
                         COMPONENT_NAMES[k]
                     )));
@@ -270,6 +304,14 @@ pub fn geometry(case: &Case) -> Result<Vec<GeometryBound>> {
     let mut out = Vec::new();
     for (v, centre) in [(1u8, b.vehicle1), (2, b.vehicle2)] {
         let Some(c) = centre else { continue };
+        if v == 2 && case.is_barrier() {
+            return Err(input(
+                case,
+                "[bounds] vehicle2: vehicle 2 is a fixed barrier, which has no impact centre to \
+                 estimate; bound crush_angle to estimate the barrier face's angle"
+                    .to_string(),
+            ));
+        }
         let point = c.impact_point.unwrap_or_default();
         if (c.d.is_some() || c.phi.is_some()) && (point.x.is_some() || point.y.is_some()) {
             return Err(input(

@@ -78,6 +78,10 @@ pub struct SolveOut {
     /// relative to the sliding direction, em = 1).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<ModelOut>,
+    /// Present (true) when vehicle 2 is a fixed rigid barrier: its velocities are 0 and the
+    /// energy is vehicle 1's.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub barrier: bool,
     /// Coefficients used.
     pub coefficients: pim_core::Coefficients,
     /// Moment form and tangential condition.
@@ -125,6 +129,7 @@ impl SolveOut {
         SolveOut {
             direction: if forward { "forward" } else { "backward" },
             model: None,
+            barrier: impact.is_barrier(),
             coefficients: r.coefficients,
             options: r.options,
             initial: (&r.initial).into(),

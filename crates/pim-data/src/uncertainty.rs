@@ -346,6 +346,14 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
             });
         }
     }
+    if case.is_barrier() && unc.vehicle2 != VehicleSpread::default() {
+        return Err(InputError::new(
+            &case.file,
+            "[uncertainty] vehicle2: vehicle 2 is a fixed barrier; it has no mass, inertia, \
+             heading or impact centre to be uncertain (the barrier face's angle is [uncertainty] \
+             impact.crush_angle)",
+        ));
+    }
     for (id, spread) in [(0usize, unc.vehicle1), (1, unc.vehicle2)] {
         let name = ["vehicle1", "vehicle2"][id];
         let v = if id == 0 { &c.vehicle1 } else { &c.vehicle2 };

@@ -32,6 +32,9 @@ pub enum FitError {
     /// More components are held fixed than the equations can accept.
     #[error("{0}")]
     OverDetermined(String),
+    /// Data about a fixed barrier, which does not move.
+    #[error("{0}")]
+    Barrier(String),
 }
 
 /// Result alias of pim-fit.

@@ -384,6 +384,8 @@ pub fn fit_geometry(
     if geometry.is_empty() {
         return crate::fit(problem, settings);
     }
+    let normalised = problem.normalised()?;
+    let problem = &normalised;
     problem.check()?;
     check(problem, geometry)?;
     let s = settings.get();

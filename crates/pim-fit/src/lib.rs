@@ -100,6 +100,8 @@ use search::{search_branch, Outcome};
 /// Fits both (or the selected) moment branches. Errors only for an invalid problem; infeasible
 /// data give a report whose branches say so.
 pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> {
+    let normalised = problem.normalised()?;
+    let problem = &normalised;
     problem.check()?;
     let mut s = settings.get();
     let mut inner = Inner::new(problem, s);

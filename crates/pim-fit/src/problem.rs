@@ -232,6 +232,51 @@ impl FitProblem {
         }
     }
 
+    /// The problem as the search sees it: against a barrier, vehicle 2 is at rest, so its
+    /// components are held at 0 in one state (the one whose vehicle-1 components are all held
+    /// fixed, else the contact state); the equations (`V2 = v2`) hold them in the other.
+    /// Non-zero values or observations of a barrier are refused.
+    pub fn normalised(&self) -> Result<FitProblem> {
+        let mut p = self.clone();
+        if !p.impact.is_barrier() {
+            return Ok(p);
+        }
+        for k in [3, 4, 5, 9, 10, 11] {
+            match p.components[k] {
+                Knowledge::Unknown => {}
+                // Zero is what a barrier is (from_preset with a state at rest gives it).
+                Knowledge::Known { value } | Knowledge::Estimated { value, .. } if value == 0.0 => {
+                }
+                _ => {
+                    return Err(FitError::Barrier(format!(
+                        "{} is given, but vehicle 2 is a fixed barrier at rest: leave its \
+                         velocities out",
+                        COMPONENT_NAMES[k]
+                    )))
+                }
+            }
+        }
+        if p.observations.iter().any(|o| o.vehicle == VehicleId::Two) {
+            return Err(FitError::Barrier(
+                "an observation of vehicle 2, which is a fixed barrier".into(),
+            ));
+        }
+        let held = |r: std::ops::Range<usize>| {
+            p.components[r]
+                .iter()
+                .all(|c| matches!(c, Knowledge::Known { .. }))
+        };
+        let base = if held(6..9) && !held(0..3) { 9 } else { 3 };
+        for k in [3, 4, 5, 9, 10, 11] {
+            p.components[k] = if (base..base + 3).contains(&k) {
+                Knowledge::Known { value: 0.0 }
+            } else {
+                Knowledge::Unknown
+            };
+        }
+        Ok(p)
+    }
+
     /// Checks values and weights.
     pub fn check(&self) -> Result<()> {
         let mut anything = false;

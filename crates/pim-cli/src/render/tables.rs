@@ -100,6 +100,13 @@ pub fn solve_table(
             pim_core::TangentialCondition::NoSlip => "no slip at separation (equation 5a)",
         }
     );
+    if impact.is_barrier() {
+        let _ = writeln!(
+            s,
+            "vehicle 2 is a fixed rigid barrier: it does not move, takes the momentum, and the \
+             energy is vehicle 1's"
+        );
+    }
     let _ = writeln!(s);
     let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
     let _ = writeln!(

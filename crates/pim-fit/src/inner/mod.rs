@@ -145,6 +145,12 @@ impl Inner {
         };
         let [m1, m2] = impact.masses();
         let [i1, i2] = impact.inertias();
+        // A barrier does not move: its (infinite) mass carries no kinetic energy.
+        let (m2, i2) = if impact.is_barrier() {
+            (0.0, 0.0)
+        } else {
+            (m2, i2)
+        };
         let tol = settings.search.feasibility_tolerance * objective.scale;
         Inner {
             reduction: Reduction::new(&impact, settings.moment_form),
