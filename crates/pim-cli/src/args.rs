@@ -24,6 +24,8 @@ CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, coun
   yaw_inertia = 2500.0
   heading = 90.0
   impact_point = { x = 0.0, y = 0.9 }  # the middle of its left side
+  # (or only: barrier = true       # a fixed rigid barrier: no mass or velocities; its face is
+  #                                # the crush surface; examples/cases/barrier_small_overlap.toml)
   [impact]
   crush_angle = 0.0                # deg: direction of the crush-surface normal (either sense)
   [coefficients]

@@ -161,3 +161,12 @@ def test_the_second_model_solves_as_on_the_command_line(tmp_path):
     path.write_text(text.replace("e = 0.015", "e = 0.1").replace("mu = 0.968", "et = 0.0")
                     .replace("em = -0.774", "friction = 0.5"))
     assert got == cli_json("solve", str(path))
+
+
+def test_a_barrier_case_solves_and_draws_as_on_the_command_line():
+    case = "examples/cases/barrier_small_overlap.toml"
+    got = pim.solve(case)
+    assert got == cli_json("solve", case)
+    assert got["barrier"] is True
+    assert got["final"]["vehicle2"] == {"vx": 0.0, "vy": 0.0, "omega": 0.0}
+    assert "barrier (fixed, rigid)" in pim.draw(case)

@@ -13,7 +13,7 @@ A *case* is a case file of the ``pim`` command, given as TOML text, as a path (`
     yaw_inertia = 1348.0       # kg m^2
     heading = 180.0
     impact_point = { x = 1.4, y = 0.15 }   # m from the CG, x forward, y to the left
-    [vehicle2]
+    [vehicle2]                 # or: barrier = true (a fixed rigid barrier, nothing else)
     ...
     [impact]
     crush_angle = 0.0          # deg, the crush surface's normal
