@@ -172,13 +172,9 @@ impl<'a> Solved<'a> {
 
 /// A barrier as a wall: its face on the crush surface through C, 0.3 m thick on the side away
 /// from vehicle 1's CG, as long as 1.2 times vehicle 1.
-fn barrier_wall(
-    impact: &Impact,
-    cg1: [f64; 2],
-    vehicle1: &VehicleSection,
-    arm1: [f64; 2],
-) -> DrawnVehicle {
+fn barrier_wall(impact: &Impact, vehicle1: &DrawnVehicle) -> DrawnVehicle {
     let n = impact.normal();
+    let cg1 = vehicle1.cg;
     // Unit normal towards vehicle 1's side.
     let towards = if cg1[0] * n[0] + cg1[1] * n[1] >= 0.0 {
         n
@@ -186,8 +182,7 @@ fn barrier_wall(
         [-n[0], -n[1]]
     };
     let thick = 0.3;
-    let point = impact.to_body(VehicleId::One, arm1);
-    let length = 1.2 * Outline::of(vehicle1, point).length();
+    let length = 1.2 * vehicle1.outline.length();
     DrawnVehicle {
         label: "barrier (fixed, rigid)".to_string(),
         outline: Outline {
@@ -236,9 +231,6 @@ impl Diagram {
                 [x.vx, x.vy]
             };
             let sign = if k == 0 { 1.0 } else { -1.0 };
-            if k == 1 && impact.is_barrier() {
-                return barrier_wall(impact, cgs[0], sections[0], arms[0]);
-            }
             DrawnVehicle {
                 label,
                 outline: Outline::of(sec, point),
@@ -262,7 +254,15 @@ impl Diagram {
         };
         Diagram {
             title: title.to_string(),
-            vehicles: [vehicle(0), vehicle(1)],
+            vehicles: {
+                let first = vehicle(0);
+                let second = if impact.is_barrier() {
+                    barrier_wall(impact, &first)
+                } else {
+                    vehicle(1)
+                };
+                [first, second]
+            },
             normal: impact.normal(),
         }
     }

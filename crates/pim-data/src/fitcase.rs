@@ -115,15 +115,13 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
     }
     let barrier = case.is_barrier();
     if barrier {
+        let given_weights = c.weights.unwrap_or_default().components();
         for k in [3, 4, 5, 9, 10, 11] {
             for (sec, given) in [
                 ("estimates", est[k].is_some()),
                 ("known", known[k].is_some()),
                 ("sigma", sig[k].is_some()),
-                (
-                    "weights",
-                    c.weights.unwrap_or_default().components()[k].is_some(),
-                ),
+                ("weights", given_weights[k].is_some()),
             ] {
                 if given {
                     return Err(input(
