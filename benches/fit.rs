@@ -63,6 +63,7 @@ fn bench(c: &mut Criterion) {
     let plan = pim_data::batch::BatchPlan {
         costs: CostPreset::ALL.to_vec(),
         branches: MomentBranch::ALL.to_vec(),
+        models: vec![pim_fit::FitModel::Pim],
         settings: FitSettings::default(),
         timing: false,
     };

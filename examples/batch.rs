@@ -7,6 +7,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let plan = pim_data::batch::BatchPlan {
         costs: vec![CostPreset::Q2],
         branches: vec![MomentBranch::Zero],
+        models: vec![pim_fit::FitModel::Pim],
         settings: FitSettings::default(),
         timing: false,
     };

@@ -80,6 +80,24 @@ impl From<UnitsArg> for pim_data::units::UnitSystem {
     }
 }
 
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, ValueEnum)]
+pub enum ModelArg {
+    /// Planar Impact Mechanics: e, mu, em (both moment branches).
+    Pim,
+    /// Normal and tangential restitution with a friction limit: e, et, friction (no moment
+    /// impulse; one branch).
+    Tangential,
+}
+
+impl From<ModelArg> for pim_fit::FitModel {
+    fn from(m: ModelArg) -> Self {
+        match m {
+            ModelArg::Pim => pim_fit::FitModel::Pim,
+            ModelArg::Tangential => pim_fit::FitModel::Tangential,
+        }
+    }
+}
+
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MomentArg {
     /// The corrected moment equation of Brach 1984 (default).
@@ -289,9 +307,13 @@ pub struct BatchArgs {
     /// Cost functions.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [CostArg::Q1, CostArg::Q2, CostArg::Q3])]
     pub cost: Vec<CostArg>,
-    /// Moment branches.
+    /// Moment branches (of PIM).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
     pub branch: Vec<BranchArg>,
+    /// Models fitted, e.g. --model pim,tangential: every test and cost function under each,
+    /// side by side in models.txt and models.svg (with --out) and the table (data files only).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [ModelArg::Pim])]
+    pub model: Vec<ModelArg>,
     /// Only these tests (numbers as in the data file), e.g. --tests 1,6,7.
     #[arg(long, value_delimiter = ',')]
     pub tests: Vec<u32>,
@@ -393,6 +415,12 @@ pub struct FitArgs {
     /// Cost function; without it the case's [known] and [estimates] define the problem.
     #[arg(long, value_enum)]
     pub cost: Option<CostArg>,
+    /// The model fitted. `tangential` estimates e, et and the friction limit within
+    /// [bounds] e, et (default [-1, 1]) and friction (default [0, 1.2]), with the same cost
+    /// functions, observations and global search; it has no moment impulse, so --branch does
+    /// not apply.
+    #[arg(long, value_enum, default_value_t = ModelArg::Pim)]
+    pub model: ModelArg,
     /// Moment branches to fit.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
     pub branch: Vec<BranchArg>,

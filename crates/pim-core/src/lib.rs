@@ -149,4 +149,6 @@ pub use solve::{
     analyse, critical_friction, separation_velocities, solve_backward, solve_backward_with_sign,
     solve_forward,
 };
-pub use tangential::{solve_tangential, ContactMode, TangentialCoefficients, TangentialReport};
+pub use tangential::{
+    solve_tangential, stick_transfer, ContactMode, TangentialCoefficients, TangentialReport,
+};

@@ -29,6 +29,7 @@ use crate::error::{PimError, Result};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use crate::report::{ImpactReport, TangentialOutcome};
 use crate::{FrictionSign, MomentForm};
+use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
 
 /// Coefficients of the tangential-restitution model.
@@ -120,6 +121,53 @@ fn collision_matrix(impact: &Impact) -> [[f64; 2]; 2] {
     [[k(n, n), k(n, t)], [k(t, n), k(t, t)]]
 }
 
+/// The impulse `(Pn, Pt)` on vehicle 1 that gives `vn' = -e vn` and `vt' = et vt` from the
+/// relative velocity `(vn, vt)` at C, for the collision matrix `k`.
+fn stick_impulse(k: &[[f64; 2]; 2], e: f64, et: f64, vn: f64, vt: f64) -> (f64, f64) {
+    let [[knn, knt], [ktn, ktt]] = *k;
+    let det = knn * ktt - knt * ktn;
+    let (dn, dt) = (-(1.0 + e) * vn, (et - 1.0) * vt);
+    ((ktt * dn - knt * dt) / det, (knn * dt - ktn * dn) / det)
+}
+
+/// The velocities after an impulse `(pn, pt)` (crush-surface components, on vehicle 1; `-P` on
+/// vehicle 2) acts at C on the state `x`.
+fn apply_impulse(impact: &Impact, pn: f64, pt: f64, x: &Vector6<f64>) -> Vector6<f64> {
+    let (n, t) = (impact.normal(), impact.tangent());
+    let p = [pn * n[0] + pt * t[0], pn * n[1] + pt * t[1]];
+    let [m1, m2] = impact.masses();
+    let [i1, i2] = impact.inertias();
+    let [r1, r2] = impact.lever_arms();
+    let cross = |r: [f64; 2]| r[0] * p[1] - r[1] * p[0];
+    let mut x = *x;
+    x[0] += p[0] / m1;
+    x[1] += p[1] / m1;
+    x[2] += cross(r1) / i1;
+    x[3] -= p[0] / m2;
+    x[4] -= p[1] / m2;
+    x[5] -= cross(r2) / i2;
+    x
+}
+
+/// The sticking mode as a linear map of the contact state: `X = R x` with `vn' = -e vn` and
+/// `vt' = et vt` (whatever the friction limit; the fit checks it as a condition of its own).
+/// `None` when the collision matrix is singular.
+pub fn stick_transfer(impact: &Impact, e: f64, et: f64) -> Option<Matrix6<f64>> {
+    let k = collision_matrix(impact);
+    let det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
+    if !(det.is_finite() && det.abs() > 1e-300) {
+        return None;
+    }
+    let mut r = Matrix6::zeros();
+    for j in 0..6 {
+        let x = Vector6::ith(j, 1.0);
+        let (vn, vt) = impact.relative_velocity(&Velocities::from_vector(&x));
+        let (pn, pt) = stick_impulse(&k, e, et, vn, vt);
+        r.set_column(j, &apply_impulse(impact, pn, pt, &x));
+    }
+    Some(r)
+}
+
 /// Solves the tangential-restitution model forwards: the separation velocities from the
 /// velocities at contact. Errors: coefficients outside their domains, invalid velocities,
 /// vehicles that do not approach at C.
@@ -150,12 +198,11 @@ pub fn solve_tangential(
     impact.check_approach(initial)?;
     let c = coefficients;
     let (vn, vt) = impact.relative_velocity(initial);
-    let [[knn, knt], [ktn, ktt]] = collision_matrix(impact);
-    let det = knn * ktt - knt * ktn;
+    let k = collision_matrix(impact);
+    let [[knn, knt], _] = k;
     // The impulse that gives vn' = -e vn and vt' = et vt.
-    let (dn, dt) = (-(1.0 + c.e) * vn, (c.et - 1.0) * vt);
-    let pn_stick = (ktt * dn - knt * dt) / det;
-    let pt_stick = (knn * dt - ktn * dn) / det;
+    let (pn_stick, pt_stick) = stick_impulse(&k, c.e, c.et, vn, vt);
+    let dn = -(1.0 + c.e) * vn;
     let stick_ratio = pt_stick / pn_stick;
     let sign = impact.friction_sign(initial);
     // The direction that opposes the sliding at contact (PIM's s = sgn(vn) sgn(vt)); without
@@ -175,19 +222,7 @@ pub fn solve_tangential(
         ContactMode::Slide => dn / (knn + ratio * knt),
     };
     let pt = ratio * pn;
-    let (n, t) = (impact.normal(), impact.tangent());
-    let p = [pn * n[0] + pt * t[0], pn * n[1] + pt * t[1]];
-    let [m1, m2] = impact.masses();
-    let [i1, i2] = impact.inertias();
-    let [r1, r2] = impact.lever_arms();
-    let cross = |r: [f64; 2]| r[0] * p[1] - r[1] * p[0];
-    let mut x = initial.to_vector();
-    x[0] += p[0] / m1;
-    x[1] += p[1] / m1;
-    x[2] += cross(r1) / i1;
-    x[3] -= p[0] / m2;
-    x[4] -= p[1] / m2;
-    x[5] -= cross(r2) / i2;
+    let x = apply_impulse(impact, pn, pt, &initial.to_vector());
     let separation = Velocities::from_vector(&x);
     // PIM's equivalent: e, mu = the ratio relative to the sliding direction, em = 1; the
     // no-slip form when the model sticks with et = 0 (PIM's equation 5a).
@@ -328,5 +363,22 @@ mod tests {
         let (_, vt) = impact().relative_velocity(&initial());
         let (_, vt1) = impact().relative_velocity(&r.report.separation);
         assert!((vt1 + 0.3 * vt).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_stick_transfer_is_the_sticking_solution() {
+        for (e, et) in [(0.0, 0.0), (0.12, 0.4), (0.3, -0.7), (1.0, 1.0)] {
+            let c = TangentialCoefficients {
+                e,
+                et,
+                friction: 100.0,
+            };
+            let r = solve_tangential(&impact(), &c, &initial()).unwrap();
+            assert_eq!(r.mode, ContactMode::Stick);
+            let t = stick_transfer(&impact(), e, et).unwrap();
+            let got = t * initial().to_vector();
+            let want = r.report.separation.to_vector();
+            assert!((got - want).amax() < 1e-9, "{got} vs {want}");
+        }
     }
 }

@@ -4,7 +4,9 @@
 use crate::records::BranchRecord;
 use crate::ricsac::RicsacTest;
 use crate::uncertainty::{Summary, Tolerances};
-use pim_fit::{CostPreset, FitProblem, FitSettings, MomentBranch, Status, COMPONENT_NAMES};
+use pim_fit::{
+    CostPreset, FitModel, FitProblem, FitSettings, MomentBranch, Status, COMPONENT_NAMES,
+};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -61,8 +63,10 @@ impl fmt::Display for Outcome {
 pub struct BatchPlan {
     /// Cost functions, in order.
     pub costs: Vec<CostPreset>,
-    /// Moment branches, in order.
+    /// Moment branches, in order (of PIM; the tangential model has one).
     pub branches: Vec<MomentBranch>,
+    /// Models fitted, in order (default PIM only).
+    pub models: Vec<FitModel>,
     /// Fit settings (bounds, moment form) shared by every fit.
     pub settings: FitSettings,
     /// Record the wall time of each fit (makes the output differ from run to run).
@@ -100,9 +104,21 @@ impl BatchPlan {
         Ok(BatchPlan {
             costs: unique(costs),
             branches: unique(branches),
+            models: vec![FitModel::Pim],
             settings,
             timing: false,
         })
+    }
+
+    /// The same plan fitting these models (repeats kept once, in their first order).
+    pub fn with_models(mut self, models: &[FitModel]) -> Self {
+        self.models = Vec::new();
+        for m in models {
+            if !self.models.contains(m) {
+                self.models.push(*m);
+            }
+        }
+        self
     }
 }
 
@@ -113,6 +129,8 @@ pub struct BatchRecord {
     pub test: u32,
     /// Cost function.
     pub cost_function: CostPreset,
+    /// The model fitted: `pim` or `tangential`.
+    pub model: FitModel,
     /// `optimal`, `infeasible`, `limit_reached`, `check_failed` or `failed`.
     pub outcome: Outcome,
     /// Line of the data file.
@@ -124,7 +142,7 @@ pub struct BatchRecord {
     pub error: Option<String>,
     /// The branch of this record (also when failed).
     pub moment_branch: MomentBranch,
-    /// True for the best branch of this (test, cost).
+    /// True for the best branch of this (test, cost, model).
     pub best: bool,
     /// Measured |delta-V| of vehicle 1 and 2 (data file), m/s.
     pub delta_v_measured: [f64; 2],
@@ -155,8 +173,9 @@ impl BatchRecord {
     }
 }
 
-/// Runs the plan over the tests, in parallel; the records come out in (test, cost, branch)
-/// order whatever the thread count. `tick` is called once per finished fit.
+/// Runs the plan over the tests, in parallel; the records come out in (test, cost, model,
+/// branch) order whatever the thread count. `tick` is called once per finished fit (of all the
+/// models of a test and cost).
 pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> Vec<BatchRecord> {
     let jobs: Vec<(&RicsacTest, CostPreset)> = tests
         .iter()
@@ -166,7 +185,11 @@ pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> 
         .par_iter()
         .map(|&(t, cost)| {
             let start = std::time::Instant::now();
-            let mut out = fit_one(t, cost, plan);
+            let mut out: Vec<BatchRecord> = plan
+                .models
+                .iter()
+                .flat_map(|&m| fit_one(t, cost, m, plan))
+                .collect();
             if plan.timing {
                 let secs = start.elapsed().as_secs_f64();
                 out.iter_mut().for_each(|r| r.fit_seconds = Some(secs));
@@ -178,14 +201,24 @@ pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> 
     results.into_iter().flatten().collect()
 }
 
-fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecord> {
+fn fit_one(
+    t: &RicsacTest,
+    cost: CostPreset,
+    model: FitModel,
+    plan: &BatchPlan,
+) -> Vec<BatchRecord> {
     let measured = [t.dv1_measured_mps, t.dv2_measured_mps];
+    let branches = match model {
+        FitModel::Pim => plan.branches.clone(),
+        FitModel::Tangential => vec![MomentBranch::Zero],
+    };
     let failed = |msg: String| -> Vec<BatchRecord> {
-        plan.branches
+        branches
             .iter()
             .map(|&m| BatchRecord {
                 test: t.test,
                 cost_function: cost,
+                model,
                 outcome: Outcome::Failed,
                 line: t.line,
                 branch: None,
@@ -208,7 +241,8 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
         Err(e) => return failed(e.to_string()),
     };
     let settings = FitSettings {
-        branches: plan.branches.clone(),
+        model,
+        branches: branches.clone(),
         ..plan.settings.clone()
     };
     let settings = match settings.check() {
@@ -262,6 +296,7 @@ fn fit_one(t: &RicsacTest, cost: CostPreset, plan: &BatchPlan) -> Vec<BatchRecor
             BatchRecord {
                 test: t.test,
                 cost_function: cost,
+                model,
                 outcome: b.status.into(),
                 line: t.line,
                 best: report.best == Some(b.moment),
@@ -319,7 +354,11 @@ pub fn add_data_intervals(
     draws: usize,
     seed: u64,
 ) {
-    for r in records.iter_mut().filter(|r| r.best) {
+    // The draws fit PIM (the plan's settings): its best records get them.
+    for r in records
+        .iter_mut()
+        .filter(|r| r.best && r.model == FitModel::Pim)
+    {
         let Some(t) = tests.iter().find(|t| t.test == r.test) else {
             continue;
         };

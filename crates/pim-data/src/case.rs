@@ -305,6 +305,10 @@ pub struct BoundsSection {
     pub e: Option<[f64; 2]>,
     /// [low, high] of mu (default [-1.2, 1.2]); mu is always also between 0 and mu_max.
     pub mu: Option<[f64; 2]>,
+    /// [low, high] of the tangential model's et (default [-1, 1]; `pim fit --model tangential`).
+    pub et: Option<[f64; 2]>,
+    /// [low, high] of the tangential model's friction limit (default [0, 1.2]).
+    pub friction: Option<[f64; 2]>,
     /// Bound on each linear velocity component, m/s (default 20).
     pub velocity: Option<f64>,
     /// Bound on each yaw rate, rad/s (default 5).

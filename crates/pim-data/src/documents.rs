@@ -128,6 +128,7 @@ pub struct Fitted {
 pub fn fit(
     case: &Case,
     cost: Option<CostPreset>,
+    model: pim_fit::FitModel,
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<Fitted, DocumentError> {
@@ -149,10 +150,16 @@ pub fn fit(
     };
     case.impact()?;
     let problem = fitcase::problem(case, choice)?;
-    let settings = fitcase::settings(case, moment_form, branches)?;
+    // The tangential model has no moment impulse: its one branch is the zero branch.
+    let branches = match model {
+        pim_fit::FitModel::Tangential => vec![MomentBranch::Zero],
+        pim_fit::FitModel::Pim => branches,
+    };
+    let settings = fitcase::settings(case, model, moment_form, branches)?;
     let report = fitcase::fit(case, &problem, &settings)?;
     let unit = fitcase::sigma_unit(case)?;
     let document = FitOut {
+        model: model.name(),
         cost_function: name.to_string(),
         branches: report
             .branches

@@ -258,12 +258,14 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
 /// The settings of a case (`[bounds]`), with the command-line choices.
 pub fn settings(
     case: &Case,
+    model: pim_fit::FitModel,
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<pim_fit::ValidSettings> {
     settings_from(
         case,
         FitSettings {
+            model,
             moment_form,
             branches,
             ..Default::default()
@@ -280,6 +282,12 @@ pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSet
         }
         if let Some(mu) = b.mu {
             s.mu = mu;
+        }
+        if let Some(et) = b.et {
+            s.et = et;
+        }
+        if let Some(f) = b.friction {
+            s.friction = f;
         }
         if let Some(v) = b.velocity {
             s.velocity_bound = v;

@@ -259,6 +259,11 @@ pub struct BranchRecord {
     /// / `vehicle2` `{d, phi}`, `crush_angle`), their ranges and the search over them.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub geometry: Option<pim_fit::GeometryEstimate>,
+    /// The tangential model's coefficients (`pim fit --model tangential`): mode, et, the
+    /// friction limits that give the answer, the impulse ratio; `e` above is its restitution,
+    /// `mu` its impulse ratio relative to the sliding direction and `em` = 1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential: Option<pim_fit::TangentialFit>,
 }
 
 impl BranchRecord {
@@ -306,6 +311,7 @@ impl BranchRecord {
             certificate: b.certificate.clone(),
             chi_square: None,
             geometry: b.geometry.clone(),
+            tangential: s.and_then(|s| s.tangential.clone()),
         }
     }
 }
@@ -313,6 +319,8 @@ impl BranchRecord {
 /// The JSON of `pim fit`.
 #[derive(Debug, Clone, Serialize)]
 pub struct FitOut {
+    /// The model fitted: `pim` or `tangential`.
+    pub model: &'static str,
     /// `q1`, `q2`, `q3` or `custom`.
     pub cost_function: String,
     /// One record per branch.

@@ -563,6 +563,8 @@ pub fn run(
                     Quantity::Em => 2,
                     Quantity::Speed1 => 3,
                     Quantity::Speed2 => 4,
+                    // Coefficients of the tangential model, which draws do not fit.
+                    Quantity::Et | Quantity::Friction => continue,
                 };
                 undetermined[k] = true;
             }

@@ -69,6 +69,7 @@ fn exercise_case(text: &str) {
                 fitcase::problem(&case, choice),
                 fitcase::settings(
                     &case,
+                    pim_fit::FitModel::Pim,
                     MomentForm::Corrected,
                     vec![pim_fit::MomentBranch::Zero],
                 ),

@@ -6,12 +6,24 @@ use crate::inner::Inner;
 use crate::problem::{FitProblem, MomentBranch};
 use crate::report::{
     BranchReport, Certificate, Identifiability, Limits, Quantity, Reason, Solution, Status,
+    TangentialFit,
 };
 use crate::search::{near_limit, Outcome, Point, Sample};
-use crate::settings::FitSettings;
+use crate::settings::{FitModel, FitSettings};
 use pim_core::{SolveOptions, Velocities};
 
 fn certificate(out: &Outcome) -> Certificate {
+    if out.friction_max.is_some() {
+        return Certificate {
+            method: "grid over the coefficient box per contact mode of the tangential model \
+                     (sticking over e and et; sliding over e, friction and et), every grid \
+                     point whose lower bound could beat the incumbent solved exactly, then \
+                     Nelder-Mead from the best grid points of distinct cells, the results near \
+                     the best polished by a compass search"
+                .to_string(),
+            ..certificate_counts(out)
+        };
+    }
     let profile = if out.profiled_e {
         " (e minimised exactly at every point: with one state known, both states are affine in \
          e or in 1 + 1/e)"
@@ -25,6 +37,14 @@ fn certificate(out: &Outcome) -> Certificate {
              solved exactly, then Nelder-Mead from the best grid points of distinct cells, the \
              results near the best polished by a compass search"
         ),
+        ..certificate_counts(out)
+    }
+}
+
+/// The counts of a certificate (its method in words left empty).
+fn certificate_counts(out: &Outcome) -> Certificate {
+    Certificate {
+        method: String::new(),
         grid_points: out.grid_points,
         evaluations: out.evaluations,
         exact_solves: out.exact_solves,
@@ -50,6 +70,7 @@ pub(crate) fn report(
             yaw_rate: settings.yaw_rate_bound,
             mu: settings.mu,
             e: settings.e,
+            friction: settings.friction,
         };
         return Ok(BranchReport {
             moment: branch,
@@ -109,26 +130,35 @@ fn solution(
     best: &Point,
 ) -> Result<(Solution, Vec<String>)> {
     let c = &best.candidate;
-    let coefficients = pim_core::Coefficients {
-        mu: c.mu_eff,
-        ..best.at.c
-    };
-    let options = SolveOptions {
-        moment_form: settings.moment_form,
-        tangential: best.at.mode,
-    };
     let initial = Velocities::from_vector(&c.x);
     let separation = Velocities::from_vector(&c.xf);
-    let r = pim_core::analyse(
-        &inner.impact,
-        &coefficients,
-        &options,
-        &initial,
-        &separation,
-        best.at.sign,
-    )?;
+    let mut problems = Vec::new();
+    let (r, tangential) = if inner.model == FitModel::Tangential {
+        let (r, t, mut more) = tangential_check(inner, settings, best, &initial)?;
+        problems.append(&mut more);
+        (r, Some(t))
+    } else {
+        let coefficients = pim_core::Coefficients {
+            mu: c.mu_eff,
+            ..best.at.c
+        };
+        let options = SolveOptions {
+            moment_form: settings.moment_form,
+            tangential: best.at.mode,
+        };
+        let r = pim_core::analyse(
+            &inner.impact,
+            &coefficients,
+            &options,
+            &initial,
+            &separation,
+            best.at.sign,
+        )?;
+        (r, None)
+    };
+    let coefficients = r.coefficients;
     let residuals = r.residuals(&inner.impact);
-    let mut problems = r.inadmissibility_reasons();
+    problems.extend(r.inadmissibility_reasons());
     if residuals.max_relative() > 1e-8 {
         problems.push(format!(
             "the six equations hold only to {:.1e} (relative)",
@@ -142,7 +172,7 @@ fn solution(
         cost: c.cost,
         initial,
         separation,
-        sticking: best.at.mode == pim_core::TangentialCondition::NoSlip,
+        sticking: tangential.is_none() && best.at.mode == pim_core::TangentialCondition::NoSlip,
         friction_sign: best.at.sign,
         max_residual: residuals.max_relative(),
         residuals,
@@ -156,8 +186,74 @@ fn solution(
         impulse: r.impulse,
         admissible: r.admissibility.admissible,
         undetermined: inner.undetermined_components(&best.at),
+        tangential,
     };
     Ok((solution, problems))
+}
+
+/// The tangential model's check of a fitted point: its own forward solve from the fitted
+/// contact state must give the fitted separation state, in the mode the search assumed.
+fn tangential_check(
+    inner: &Inner,
+    settings: &FitSettings,
+    best: &Point,
+    initial: &Velocities,
+) -> Result<(pim_core::ImpactReport, TangentialFit, Vec<String>)> {
+    let c = &best.candidate;
+    let sliding = best.at.mode == pim_core::TangentialCondition::Sliding;
+    let friction = if sliding {
+        best.at.c.mu
+    } else {
+        settings.friction[1]
+    };
+    let coefficients = pim_core::TangentialCoefficients {
+        e: best.at.c.e,
+        et: best.at.et,
+        friction,
+    };
+    let t = pim_core::solve_tangential(&inner.impact, &coefficients, initial)?;
+    let mut problems = Vec::new();
+    let gap = (t.report.separation.to_vector() - c.xf).amax();
+    let scale = c.xf.amax().max(c.x.amax()).max(1.0);
+    if gap > 1e-8 * scale {
+        problems.push(format!(
+            "the tangential model's forward solve differs from the fitted separation by \
+             {gap:.1e}"
+        ));
+    }
+    let mode = if sliding {
+        pim_core::ContactMode::Slide
+    } else {
+        pim_core::ContactMode::Stick
+    };
+    // On the boundary both modes give the same answer: the forward solve may read it either way.
+    if t.mode != mode && gap > 1e-8 * scale {
+        problems.push(format!(
+            "the tangential model's forward solve {} where the fit assumed it {}",
+            words(t.mode),
+            words(mode)
+        ));
+    }
+    let fit = TangentialFit {
+        mode,
+        et: best.at.et,
+        friction: if sliding {
+            friction
+        } else {
+            t.impulse_ratio.abs()
+        },
+        friction_max: friction,
+        impulse_ratio: t.impulse_ratio,
+        stick_ratio: t.stick_ratio,
+    };
+    Ok((t.report, fit, problems))
+}
+
+fn words(m: pim_core::ContactMode) -> &'static str {
+    match m {
+        pim_core::ContactMode::Stick => "sticks",
+        pim_core::ContactMode::Slide => "slides",
+    }
 }
 
 fn identifiability(
@@ -172,11 +268,16 @@ fn identifiability(
     let range = |q: Quantity| {
         near.iter()
             .fold([f64::INFINITY, f64::NEG_INFINITY], |r, s| {
-                [r[0].min(s.get(q)), r[1].max(s.get(q))]
+                let [lo, hi] = s.span(q);
+                [r[0].min(lo), r[1].max(hi)]
             })
     };
     let flat = near.iter().any(|s| s.flat);
-    let mut quantities = vec![Quantity::E, Quantity::Mu];
+    let mut quantities = if out.friction_max.is_some() {
+        vec![Quantity::E, Quantity::Et, Quantity::Friction]
+    } else {
+        vec![Quantity::E, Quantity::Mu]
+    };
     if branch == MomentBranch::Free {
         quantities.push(Quantity::Em);
     }
@@ -195,6 +296,8 @@ fn identifiability(
                     let size = match q {
                         Quantity::E => settings.e[1] - settings.e[0],
                         Quantity::Mu => settings.mu[1] - settings.mu[0],
+                        Quantity::Et => settings.et[1] - settings.et[0],
+                        Quantity::Friction => settings.friction[1] - settings.friction[0],
                         _ => 1.0,
                     };
                     (size <= 0.0 || high - low < 0.5 * size, false)

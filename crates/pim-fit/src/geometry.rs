@@ -437,6 +437,7 @@ pub fn fit_geometry(
     let branches = per_branch.into_iter().collect::<Result<Vec<_>>>()?;
     let (best, notes) = crate::choose_best(&branches, s);
     Ok(FitReport {
+        model: s.model,
         branches,
         best,
         notes,

@@ -90,9 +90,9 @@ pub use problem::{
 };
 pub use report::{
     ActiveConstraint, BranchReport, Certificate, ChiSquare, FitReport, Identifiability, Limits,
-    Quantity, Reason, Solution, Status, Violation,
+    Quantity, Reason, Solution, Status, TangentialFit, Violation,
 };
-pub use settings::{FitSettings, SearchSettings, ValidSettings};
+pub use settings::{FitModel, FitSettings, SearchSettings, ValidSettings};
 
 use inner::Inner;
 use search::{search_branch, Outcome};
@@ -107,7 +107,7 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
     let mut inner = Inner::new(problem, s);
     let mut notes = Vec::new();
     let held;
-    if inner.no_sliding_at_contact() {
+    if s.model == FitModel::Pim && inner.no_sliding_at_contact() {
         // No sliding at contact: friction has no direction and no tangential impulse acts, so
         // mu has no effect on the equations; it is held at 0.
         held = FitSettings {
@@ -140,6 +140,7 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
     let (best, more) = choose_best(&branches, s);
     notes.extend(more);
     Ok(FitReport {
+        model: s.model,
         branches,
         best,
         notes,

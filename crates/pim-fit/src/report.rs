@@ -50,6 +50,11 @@ pub enum Violation {
     Friction,
     /// Sticking needs a friction ratio outside the mu bounds.
     MuBound,
+    /// Tangential model: the sticking impulse needs a ratio above the friction limit's bound.
+    FrictionLimit,
+    /// Tangential model: sliding at this friction, although the sticking impulse stays within
+    /// the friction limit (the model would stick).
+    StickWithinFriction,
     /// The solution creates kinetic energy.
     Energy,
     /// The equations are singular for these coefficients.
@@ -73,6 +78,8 @@ pub struct Limits {
     pub mu: [f64; 2],
     /// e range.
     pub e: [f64; 2],
+    /// Friction-limit range of the tangential model.
+    pub friction: [f64; 2],
 }
 
 impl Violation {
@@ -93,6 +100,14 @@ impl Violation {
                 "stopping the sliding would need a friction ratio outside [{}, {}]",
                 limits.mu[0], limits.mu[1]
             ),
+            Violation::FrictionLimit => format!(
+                "the tangential restitution would need an impulse ratio above the largest \
+                 friction limit {}",
+                limits.friction[1]
+            ),
+            Violation::StickWithinFriction => "sliding at that friction limit would need a \
+                sticking impulse beyond it (Routh's rule would stick instead)"
+                .to_string(),
             Violation::Energy => "the solution would create kinetic energy".to_string(),
             Violation::Singular => "the impact equations are singular".to_string(),
             Violation::Infeasible => {
@@ -238,6 +253,11 @@ pub enum ActiveConstraint {
     MuMax,
     /// The friction ratio of a sticking solution is at a mu bound.
     StickingMuBound,
+    /// Tangential model: the sticking impulse ratio is at the largest friction limit.
+    FrictionBound,
+    /// Tangential model: the sticking impulse at et is exactly at the friction limit (sticking
+    /// and sliding give the same answer).
+    StickSlide,
     /// No kinetic energy created: T1 = T0.
     Energy,
     /// e at the lower end of its range.
@@ -266,6 +286,12 @@ impl fmt::Display for ActiveConstraint {
             }
             ActiveConstraint::MuMax => f.write_str("mu = mu_max (sliding just stops)"),
             ActiveConstraint::StickingMuBound => f.write_str("mu bound"),
+            ActiveConstraint::FrictionBound => {
+                f.write_str("impulse ratio at the largest friction limit")
+            }
+            ActiveConstraint::StickSlide => {
+                f.write_str("sticking impulse at the friction limit (stick = slide)")
+            }
             ActiveConstraint::Energy => f.write_str("no kinetic energy created (T1 = T0)"),
             ActiveConstraint::ELow => f.write_str("e at its lower bound"),
             ActiveConstraint::EHigh => f.write_str("e at its upper bound"),
@@ -291,6 +317,8 @@ impl ActiveConstraint {
             ActiveConstraint::SlidingDirection => "vt=0".into(),
             ActiveConstraint::MuMax => "mu=mu_max".into(),
             ActiveConstraint::StickingMuBound => "mu_max=bound".into(),
+            ActiveConstraint::FrictionBound => "ratio=friction_max".into(),
+            ActiveConstraint::StickSlide => "stick=slide".into(),
             ActiveConstraint::Energy => "T1=T0".into(),
             ActiveConstraint::ELow => "e=min".into(),
             ActiveConstraint::EHigh => "e=max".into(),
@@ -319,6 +347,10 @@ pub enum Quantity {
     Mu,
     /// Moment restitution.
     Em,
+    /// Tangential restitution (tangential model).
+    Et,
+    /// Friction limit (tangential model).
+    Friction,
     /// Speed of vehicle 1 at contact, m/s.
     Speed1,
     /// Speed of vehicle 2 at contact, m/s.
@@ -331,6 +363,8 @@ impl fmt::Display for Quantity {
             Quantity::E => "e",
             Quantity::Mu => "mu",
             Quantity::Em => "em",
+            Quantity::Et => "et",
+            Quantity::Friction => "friction",
             Quantity::Speed1 => "speed1",
             Quantity::Speed2 => "speed2",
         })
@@ -382,6 +416,26 @@ pub struct Certificate {
     pub energy_uncertified_points: usize,
 }
 
+/// The tangential model's reading of a fitted solution.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TangentialFit {
+    /// Sticking or sliding.
+    pub mode: pim_core::ContactMode,
+    /// Tangential restitution: sticking, `vt' = et vt`; sliding, one value at which Routh's
+    /// rule slides (the answer does not depend on it; its range is in the identifiability).
+    pub et: f64,
+    /// The smallest friction limit that gives this answer: sliding, the limit itself;
+    /// sticking, the impulse ratio `|Pt / Pn|`.
+    pub friction: f64,
+    /// The largest such limit: sliding, the same; sticking, the upper end of the friction
+    /// bounds (every limit at least the impulse ratio sticks the same way).
+    pub friction_max: f64,
+    /// The impulse ratio `Pt / Pn` that acted.
+    pub impulse_ratio: f64,
+    /// The impulse ratio sticking at `et` would need.
+    pub stick_ratio: f64,
+}
+
 /// The fitted solution of one moment branch.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Solution {
@@ -429,6 +483,11 @@ pub struct Solution {
     /// of them); empty when the fitted velocities are unique. The values shown are then the
     /// smallest-norm choice among equally good ones.
     pub undetermined: Vec<Component>,
+    /// The tangential model's coefficients (`None` for PIM, whose `e`, `mu`, `em` above are
+    /// then the model's own; for the tangential model they are its PIM equivalent: `mu` the
+    /// impulse ratio relative to the sliding direction, `em = 1`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tangential: Option<TangentialFit>,
 }
 
 /// The result of one moment branch.
@@ -456,6 +515,8 @@ pub struct BranchReport {
 /// The result of a fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FitReport {
+    /// The model fitted.
+    pub model: crate::FitModel,
     /// One report per branch, in the order asked.
     pub branches: Vec<BranchReport>,
     /// The optimal branch with the lower cost, if any; on a tie (costs within 1e-6 relative)

@@ -6,6 +6,29 @@ use crate::problem::MomentBranch;
 use pim_core::MomentForm;
 use serde::{Deserialize, Serialize};
 
+/// The impact model a fit estimates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitModel {
+    /// Planar Impact Mechanics: `e`, `mu`, `e_m` (the moment branches).
+    #[default]
+    Pim,
+    /// Normal and tangential restitution with a friction limit (pim-core's
+    /// [`pim_core::tangential`]): `e`, `et`, `friction`; no moment impulse, so one branch
+    /// ([`MomentBranch::Zero`]).
+    Tangential,
+}
+
+impl FitModel {
+    /// The model's name in case files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitModel::Pim => "pim",
+            FitModel::Tangential => "tangential",
+        }
+    }
+}
+
 /// Settings of a fit, before checking ([`FitSettings::check`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitSettings {
@@ -13,13 +36,22 @@ pub struct FitSettings {
     pub e: [f64; 2],
     /// Range of mu (default [-1.2, 1.2]); mu must also lie between 0 and mu_max.
     pub mu: [f64; 2],
+    /// The model fitted (default PIM).
+    #[serde(default)]
+    pub model: FitModel,
+    /// Range of the tangential restitution et of the tangential model (default [-1, 1]).
+    #[serde(default = "et_default")]
+    pub et: [f64; 2],
+    /// Range of the friction limit of the tangential model (default [0, 1.2]).
+    #[serde(default = "friction_default")]
+    pub friction: [f64; 2],
     /// Bound on every linear velocity component, m/s (default 20).
     pub velocity_bound: f64,
     /// Bound on every yaw rate, rad/s (default 5).
     pub yaw_rate_bound: f64,
     /// Form of the moment equation (default corrected).
     pub moment_form: MomentForm,
-    /// Branches to fit (default both).
+    /// Branches to fit (default both; the tangential model has the zero branch only).
     pub branches: Vec<MomentBranch>,
     /// Grid resolution of the global search: points along e, mu and em (default 5, 17, 6).
     pub grid: [usize; 3],
@@ -40,6 +72,9 @@ impl Default for FitSettings {
         FitSettings {
             e: [0.0, 0.2],
             mu: [-1.2, 1.2],
+            model: FitModel::Pim,
+            et: et_default(),
+            friction: friction_default(),
             velocity_bound: 20.0,
             yaw_rate_bound: 5.0,
             moment_form: MomentForm::Corrected,
@@ -54,6 +89,14 @@ impl Default for FitSettings {
 
 fn yes() -> bool {
     true
+}
+
+fn et_default() -> [f64; 2] {
+    [-1.0, 1.0]
+}
+
+fn friction_default() -> [f64; 2] {
+    [0.0, 1.2]
 }
 
 /// Tolerances, grid sizes and iteration limits of the search (the defaults are what the
@@ -151,7 +194,11 @@ impl ValidSettings {
 
 impl FitSettings {
     /// Checks the settings once, so that a fit only runs on valid ones.
-    pub fn check(self) -> Result<ValidSettings> {
+    pub fn check(mut self) -> Result<ValidSettings> {
+        if self.model == FitModel::Tangential {
+            // No moment impulse in the tangential model: its one branch is the zero branch.
+            self.branches = vec![MomentBranch::Zero];
+        }
         let [elo, ehi] = self.e;
         if !(elo.is_finite() && ehi.is_finite() && 0.0 <= elo && elo <= ehi && ehi <= 1.0) {
             return Err(FitError::BadBounds(format!(
@@ -162,6 +209,18 @@ impl FitSettings {
         if !(mlo.is_finite() && mhi.is_finite() && mlo <= mhi && mlo >= -100.0 && mhi <= 100.0) {
             return Err(FitError::BadBounds(format!(
                 "mu = [{mlo}, {mhi}] must satisfy -100 <= low <= high <= 100"
+            )));
+        }
+        let [tlo, thi] = self.et;
+        if !(tlo.is_finite() && thi.is_finite() && -1.0 <= tlo && tlo <= thi && thi <= 1.0) {
+            return Err(FitError::BadBounds(format!(
+                "et = [{tlo}, {thi}] must satisfy -1 <= low <= high <= 1"
+            )));
+        }
+        let [flo, fhi] = self.friction;
+        if !(flo.is_finite() && fhi.is_finite() && 0.0 <= flo && flo <= fhi && fhi <= 100.0) {
+            return Err(FitError::BadBounds(format!(
+                "friction = [{flo}, {fhi}] must satisfy 0 <= low <= high <= 100"
             )));
         }
         for (name, b, limit) in [

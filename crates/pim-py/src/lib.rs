@@ -116,6 +116,16 @@ fn moment_form(name: &str) -> PyResult<pim_core::MomentForm> {
     }
 }
 
+fn model(name: &str) -> PyResult<pim_fit::FitModel> {
+    match name {
+        "pim" => Ok(pim_fit::FitModel::Pim),
+        "tangential" => Ok(pim_fit::FitModel::Tangential),
+        other => Err(input_error(format!(
+            "model = {other:?}: use \"pim\" or \"tangential\""
+        ))),
+    }
+}
+
 fn options(no_slip: bool, moment_form: &str) -> PyResult<pim_core::SolveOptions> {
     Ok(pim_core::SolveOptions {
         moment_form: self::moment_form(moment_form)?,
@@ -209,26 +219,35 @@ fn solve(
 /// branches: "free" (e_m in [-1, 0]) and / or "zero" (e_m = 1, no moment impulse); each is
 ///   searched globally and its optimum certified.
 /// moment_form: "corrected" (default) or "brach1983" (the 1983 paper's moment equation).
+/// model: "pim" (default) or "tangential": normal and tangential restitution with a friction
+///   limit (e, et, friction within [bounds] e, et, friction; no moment impulse, one branch
+///   "zero", whose `tangential` entry gives the contact mode, et and the friction limits).
 ///
 /// Raises InputError for bad input (the command line's message) and NoSolution when no
 /// branch has an admissible solution; its `document` attribute holds the document, whose
 /// branches give the reasons.
 #[pyfunction]
-#[pyo3(signature = (case, cost = None, branches = vec!["free".to_string(), "zero".to_string()], moment_form = "corrected"))]
-#[pyo3(text_signature = "(case, cost=None, branches=('free', 'zero'), moment_form='corrected')")]
+#[pyo3(signature = (case, cost = None, branches = vec!["free".to_string(), "zero".to_string()], moment_form = "corrected", model = "pim"))]
+#[pyo3(
+    text_signature = "(case, cost=None, branches=('free', 'zero'), moment_form='corrected', model='pim')"
+)]
 fn fit(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
     cost: Option<&str>,
     branches: Vec<String>,
     moment_form: &str,
+    model: &str,
 ) -> PyResult<Py<PyAny>> {
     let case = load_case(py, case)?;
     let cost = cost.map(self::cost).transpose()?;
     let branches = self::branches(branches)?;
     let form = self::moment_form(moment_form)?;
-    let fitted = detached(py, None, || documents::fit(&case, cost, form, branches))?
-        .map_err(DocumentErrorPy)?;
+    let model = self::model(model)?;
+    let fitted = detached(py, None, || {
+        documents::fit(&case, cost, model, form, branches)
+    })?
+    .map_err(DocumentErrorPy)?;
     let document = to_py(py, &fitted.document)?;
     if fitted.report.best.is_none() {
         let err = NoSolution::new_err(format!(
@@ -244,11 +263,12 @@ fn fit(
 /// Refits every test of a RICSAC-style data file under each cost function and branch; the
 /// records of `pim batch DATA --format json` (a list, one dict per test, cost function and
 /// branch). The fits run on `threads` cores (default all) without holding the GIL; the records
-/// are the same for any thread count. `tests` keeps only those test numbers.
+/// are the same for any thread count. `tests` keeps only those test numbers. `models`:
+/// "pim" and / or "tangential" (each record's `model` says which; `pim batch --model`).
 #[pyfunction]
-#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = 0.2, moment_form = "corrected", tests = None))]
+#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = 0.2, moment_form = "corrected", tests = None, models = vec!["pim".to_string()]))]
 #[pyo3(
-    text_signature = "(path='data/ricsac.csv', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', tests=None)"
+    text_signature = "(path='data/ricsac.csv', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', tests=None, models=('pim',))"
 )]
 #[allow(clippy::too_many_arguments)]
 fn batch(
@@ -260,10 +280,15 @@ fn batch(
     e_max: f64,
     moment_form: &str,
     tests: Option<Vec<u32>>,
+    models: Vec<String>,
 ) -> PyResult<Py<PyAny>> {
     let costs = costs
         .iter()
         .map(|c| cost(c))
+        .collect::<PyResult<Vec<_>>>()?;
+    let models = models
+        .iter()
+        .map(|m| model(m))
         .collect::<PyResult<Vec<_>>>()?;
     let plan = pim_data::batch::BatchPlan::new(
         &costs,
@@ -271,7 +296,8 @@ fn batch(
         e_max,
         self::moment_form(moment_form)?,
     )
-    .map_err(input_error)?;
+    .map_err(input_error)?
+    .with_models(&models);
     let file = path.display().to_string();
     let mut rows =
         pim_data::ricsac::parse(&file, &read(&path)?).map_err(|e| input_error(e.message))?;

@@ -21,7 +21,8 @@ pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
     let mut plan = batch::BatchPlan::new(&costs, &branches, a.e_max, a.moment_form.into())
         .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
     plan.timing = a.timing;
-    Ok(plan)
+    let models: Vec<pim_fit::FitModel> = a.model.iter().map(|&m| m.into()).collect();
+    Ok(plan.with_models(&models))
 }
 
 /// Reads a tolerances file (`--tolerances`).
@@ -112,15 +113,23 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .filter(|p| p.is_file())
         .and_then(|p| std::fs::read_to_string(p).ok())
         .and_then(|t| parse_brach(&t).ok());
-    let mut summary = batch_tables::summary_table(&records, &plan.costs);
+    // The PIM tables and figures read PIM's records; the models side by side read all.
+    let pim_records: Vec<batch::BatchRecord> = records
+        .iter()
+        .filter(|r| r.model == pim_fit::FitModel::Pim)
+        .cloned()
+        .collect();
+    let several = plan.models != [pim_fit::FitModel::Pim];
+    let models_text = several.then(|| batch_tables::models_table(&records, &plan.costs));
+    let mut summary = batch_tables::summary_table(&pim_records, &plan.costs);
     if tolerances.is_some() {
         summary.push_str(&batch_tables::intervals_table(&records, a.draws, a.seed));
     }
-    let compare_text = batch_tables::compare_costs_table(&records, &plan.costs);
+    let compare_text = batch_tables::compare_costs_table(&pim_records, &plan.costs);
     let brach_text = brach
         .as_ref()
-        .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2))
-        .map(|b| batch_tables::brach_table(&records, b));
+        .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2) && !pim_records.is_empty())
+        .map(|b| batch_tables::brach_table(&pim_records, b));
     let records_json = json(&serde_json::json!({ "data": file, "records": records }))?;
     let records_csv =
         batch_tables::records_csv(&records).map_err(|e| Failure::Output(e.to_string()))?;
@@ -129,7 +138,13 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         BatchFormat::Csv => records_csv.clone(),
         BatchFormat::Table if compare => compare_text.clone(),
         BatchFormat::Table => {
-            let mut t = format!("{file}: {} tests\n\n{summary}", tests.len());
+            let mut t = format!("{file}: {} tests\n\n", tests.len());
+            if !pim_records.is_empty() {
+                t.push_str(&summary);
+            }
+            if let Some(m) = &models_text {
+                t.push_str(m);
+            }
             if let Some(b) = &brach_text {
                 t.push_str(b);
             }
@@ -141,21 +156,34 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         super::create_dir(dir)?;
         write_file(&dir.join("records.csv"), &records_csv)?;
         write_file(&dir.join("records.json"), &records_json)?;
-        write_file(
-            &dir.join("velocity_errors.csv"),
-            &batch_tables::errors_csv(&records),
-        )?;
-        write_file(&dir.join("summary.txt"), &summary)?;
-        write_file(&dir.join("compare_costs.txt"), &compare_text)?;
+        let mut tables = 2;
+        let mut figs = Vec::new();
+        if !pim_records.is_empty() {
+            write_file(
+                &dir.join("velocity_errors.csv"),
+                &batch_tables::errors_csv(&pim_records),
+            )?;
+            write_file(&dir.join("summary.txt"), &summary)?;
+            write_file(&dir.join("compare_costs.txt"), &compare_text)?;
+            tables += 3;
+            figs = figures::write_all(&pim_records, &plan.costs, &plan.settings, dir)
+                .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
+        }
         if let Some(b) = &brach_text {
             write_file(&dir.join("brach1984.txt"), b)?;
+            tables += 1;
         }
-        let figs = figures::write_all(&records, &plan.costs, &plan.settings, dir)
-            .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
+        if let Some(m) = &models_text {
+            write_file(&dir.join("models.txt"), m)?;
+            tables += 1;
+            figs.push(
+                figures::write_models(&records, &plan.costs, &plan.models, dir)
+                    .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?,
+            );
+        }
         if a.format != BatchFormat::Json {
             eprintln!(
-                "pim: wrote {} tables and {} figures to {}",
-                if brach_text.is_some() { 6 } else { 5 },
+                "pim: wrote {tables} tables and {} figures to {}",
                 figs.len(),
                 dir.display()
             );

@@ -102,6 +102,14 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
             Failure::Input("--tests selects rows of a data file, not case files".into()).into(),
         );
     }
+    if a.model != [crate::args::ModelArg::Pim] {
+        return Err(Failure::Input(
+            "--model compares the models over a data file; fit a case file with the tangential \
+             model by `pim fit CASE --model tangential`"
+                .into(),
+        )
+        .into());
+    }
     if a.tolerances.is_some() {
         return Err(Failure::Input(
             "--tolerances is for a data file; case files carry their own [sigma] and \

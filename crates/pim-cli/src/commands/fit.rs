@@ -28,8 +28,14 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         problem,
         report,
         document,
-    } = documents::fit(&case, cost, a.moment_form.into(), unique(&a.branch))
-        .map_err(Failure::from)?;
+    } = documents::fit(
+        &case,
+        cost,
+        a.model.into(),
+        a.moment_form.into(),
+        unique(&a.branch),
+    )
+    .map_err(Failure::from)?;
     let record = json(&document)?;
     let branch_records = &document.branches;
     let mut table = tables::fit_table(&title_of(&case), name, &report, a.units.into());

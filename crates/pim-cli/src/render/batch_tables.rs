@@ -92,6 +92,120 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
     s
 }
 
+/// The models side by side (`pim batch --model pim,tangential`): per cost function and test,
+/// the best fit of each model with its coefficients, cost, energy loss and delta-V errors, and
+/// per model the mean |delta-V error| over the tests both solved.
+pub fn models_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
+    use pim_fit::FitModel;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "The two models side by side: PIM (e, mu, em; best branch) and the tangential model \
+         (e, et, friction limit; no moment impulse). dV err = (fitted - measured) / measured \
+         |delta-V|, percent.\n"
+    );
+    let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
+    tests.dedup();
+    let best = |t: u32, c: CostPreset, m: FitModel| {
+        records
+            .iter()
+            .find(|r| r.test == t && r.cost_function == c && r.model == m && r.best && r.solved())
+    };
+    let pct = |r: &BatchRecord, k: usize| r.delta_v_relative_error.map(|e| 100.0 * e[k]);
+    let num = |x: Option<f64>, w: usize, p: usize| {
+        x.map_or_else(|| format!("{:>w$}", "-"), |v| format!("{v:>w$.p$}"))
+    };
+    for &c in costs {
+        let _ = writeln!(s, "{}", cost_title(c));
+        let _ = writeln!(
+            s,
+            "test | PIM   branch  e      mu      em       cost  loss %  dV1 err  dV2 err | tangential  e      et     friction        cost  loss %  dV1 err  dV2 err"
+        );
+        let mut sums = [[0.0_f64; 2]; 2];
+        let mut both = 0usize;
+        let mut not_worse = 0usize;
+        for &t in &tests {
+            let (p, q) = (best(t, c, FitModel::Pim), best(t, c, FitModel::Tangential));
+            let pim_text = p
+                .and_then(|r| r.branch.as_ref().map(|b| (r, b)))
+                .map_or_else(
+                    || format!("{:<52}", "  no solution"),
+                    |(r, b)| {
+                        format!(
+                            "{:<5} {:.3}  {:+.3}  {:+.3} {} {} {} {}",
+                            r.moment_branch.name(),
+                            b.e.unwrap_or(f64::NAN),
+                            b.mu.unwrap_or(f64::NAN),
+                            b.em.unwrap_or(f64::NAN),
+                            num(b.cost, 9, 4),
+                            num(b.energy_loss_percent, 6, 1),
+                            num(pct(r, 0), 7, 1),
+                            num(pct(r, 1), 7, 1),
+                        )
+                    },
+                );
+            let tan_text = q
+                .and_then(|r| r.branch.as_ref().map(|b| (r, b)))
+                .map_or_else(
+                    || "no solution".to_string(),
+                    |(r, b)| {
+                        let t = b.tangential.as_ref();
+                        let friction = t.map_or_else(
+                            || "-".to_string(),
+                            |t| match t.mode {
+                                pim_core::ContactMode::Slide => format!("{:.3} slide", t.friction),
+                                pim_core::ContactMode::Stick => {
+                                    format!(">={:.3} stick", t.friction)
+                                }
+                            },
+                        );
+                        format!(
+                            "{:.3}  {}  {:<14} {} {} {} {}",
+                            b.e.unwrap_or(f64::NAN),
+                            t.map_or_else(|| "  -   ".to_string(), |t| format!("{:+.3}", t.et)),
+                            friction,
+                            num(b.cost, 9, 4),
+                            num(b.energy_loss_percent, 6, 1),
+                            num(pct(r, 0), 7, 1),
+                            num(pct(r, 1), 7, 1),
+                        )
+                    },
+                );
+            let _ = writeln!(s, "{t:>4} | {pim_text} | {tan_text}");
+            if let (Some(p), Some(q)) = (p, q) {
+                if let (Some(a), Some(b)) = (p.delta_v_relative_error, q.delta_v_relative_error) {
+                    both += 1;
+                    for k in 0..2 {
+                        sums[0][k] += a[k].abs();
+                        sums[1][k] += b[k].abs();
+                    }
+                }
+                let cost = |r: &BatchRecord| r.branch.as_ref().and_then(|b| b.cost);
+                if let (Some(a), Some(b)) = (cost(p), cost(q)) {
+                    if b <= a * (1.0 + 1e-6) + 1e-9 {
+                        not_worse += 1;
+                    }
+                }
+            }
+        }
+        if both > 0 {
+            let n = both as f64;
+            let _ = writeln!(
+                s,
+                "mean |dV err| over the {both} tests both models solve: PIM {:.1} % / {:.1} %, \
+                 tangential {:.1} % / {:.1} % (vehicle 1 / 2); the tangential model's cost is \
+                 at most PIM's in {not_worse} of them",
+                100.0 * sums[0][0] / n,
+                100.0 * sums[0][1] / n,
+                100.0 * sums[1][0] / n,
+                100.0 * sums[1][1] / n,
+            );
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
 const SHORT: [&str; 12] = [
     "vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2", "vf1x", "vf1y", "wf1", "vf2x", "vf2y", "wf2",
 ];
@@ -216,6 +330,7 @@ pub fn brach_table(records: &[BatchRecord], brach: &[BrachRow]) -> String {
 struct CsvRow {
     test: u32,
     cost_function: &'static str,
+    model: &'static str,
     branch: &'static str,
     best: bool,
     outcome: Outcome,
@@ -244,6 +359,11 @@ struct CsvRow {
     delta_v1_p95: Option<f64>,
     delta_v2_p05: Option<f64>,
     delta_v2_p95: Option<f64>,
+    /// Tangential model: stick or slide, et, and the friction limits that give the answer.
+    contact_mode: Option<&'static str>,
+    et: Option<f64>,
+    friction: Option<f64>,
+    friction_max: Option<f64>,
 }
 
 /// One end of a record's bootstrap interval, when it has one.
@@ -310,12 +430,14 @@ pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64) -> Stri
 
 /// The records as CSV (one row per record; velocity errors in [`errors_csv`]).
 pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
+    let tan = |r: &BatchRecord| r.branch.as_ref().and_then(|b| b.tangential.clone());
     let mut w = csv::Writer::from_writer(Vec::new());
     for r in records {
         let b = r.branch.as_ref();
         w.serialize(CsvRow {
             test: r.test,
             cost_function: r.cost_function.name(),
+            model: r.model.name(),
             branch: r.moment_branch.name(),
             best: r.best,
             outcome: r.outcome,
@@ -347,6 +469,13 @@ pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
             delta_v1_p95: band(r, "delta_v1", |s| s.p95),
             delta_v2_p05: band(r, "delta_v2", |s| s.p05),
             delta_v2_p95: band(r, "delta_v2", |s| s.p95),
+            contact_mode: tan(r).map(|t| match t.mode {
+                pim_core::ContactMode::Stick => "stick",
+                pim_core::ContactMode::Slide => "slide",
+            }),
+            et: tan(r).map(|t| t.et),
+            friction: tan(r).map(|t| t.friction),
+            friction_max: tan(r).map(|t| t.friction_max),
         })
         .map_err(|e| e.to_string())?;
     }

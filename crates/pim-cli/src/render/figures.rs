@@ -16,6 +16,7 @@ const COLORS: [RGBColor; 3] = [
 struct Series {
     name: String,
     values: Vec<Option<f64>>,
+    color: RGBColor,
 }
 
 /// Reads one value of a record.
@@ -83,7 +84,7 @@ fn grouped_bars(
     let w = 0.8 / k;
     let cross = 0.03 * (hi - lo + 2.0 * pad);
     for (j, s) in series.iter().enumerate() {
-        let color = COLORS[j % COLORS.len()];
+        let color = s.color;
         for (i, v) in s.values.iter().enumerate() {
             let x0 = i as f64 - 0.4 + j as f64 * w;
             let x1 = x0 + w * 0.9;
@@ -132,8 +133,8 @@ fn grouped_bars(
     }
     // The key, beside the plot so that it never covers a bar.
     let mut y = 40;
-    for (j, s) in series.iter().enumerate() {
-        let color = COLORS[j % COLORS.len()];
+    for s in series {
+        let color = s.color;
         key.draw(&Rectangle::new([(6, y), (20, y + 12)], color.filled()))
             .map_err(err)?;
         key.draw(&Text::new(s.name.clone(), (26, y), ("sans-serif", 14)))
@@ -169,6 +170,88 @@ fn best_per_cost(
         .find(|r| r.test == test && r.cost_function == cost && r.best && r.solved())
 }
 
+/// The lighter shade of a cost function's colour, for the tangential model beside PIM.
+fn light(c: RGBColor) -> RGBColor {
+    let mix = |v: u8| (v as f64 + 0.55 * (255.0 - v as f64)).round() as u8;
+    RGBColor(mix(c.0), mix(c.1), mix(c.2))
+}
+
+/// The comparison of the models (`pim batch --model pim,tangential`): per test, the minimum
+/// cost, the relative delta-V error of each vehicle and the energy loss of the best fit of each
+/// model and cost function (PIM in the cost function's colour, the tangential model lighter).
+/// Written as `models.svg`; returns its path.
+pub fn write_models(
+    records: &[BatchRecord],
+    costs: &[pim_fit::CostPreset],
+    models: &[pim_fit::FitModel],
+    dir: &Path,
+) -> Result<PathBuf, String> {
+    let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
+    tests.dedup();
+    let series = |f: &Getter| -> Vec<Series> {
+        let mut out = Vec::new();
+        for (j, &c) in costs.iter().enumerate() {
+            for &m in models {
+                let base = COLORS[j % COLORS.len()];
+                out.push(Series {
+                    name: format!("{} {}", c.name().to_uppercase(), m.name()),
+                    values: tests
+                        .iter()
+                        .map(|&t| {
+                            records
+                                .iter()
+                                .find(|r| {
+                                    r.test == t
+                                        && r.cost_function == c
+                                        && r.model == m
+                                        && r.best
+                                        && r.solved()
+                                })
+                                .and_then(f)
+                        })
+                        .collect(),
+                    color: match m {
+                        pim_fit::FitModel::Pim => base,
+                        pim_fit::FitModel::Tangential => light(base),
+                    },
+                });
+            }
+        }
+        out
+    };
+    let p = dir.join("models.svg");
+    {
+        let root = SVGBackend::new(&p, (1000, 1400)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let panels = root.split_evenly((4, 1));
+        let getters: [(&str, &str, &Getter); 4] = [
+            (
+                "Minimum cost per test: PIM (best branch) and the tangential model",
+                "cost [(m/s)^2]",
+                &|r| r.branch.as_ref().and_then(|b| b.cost),
+            ),
+            (
+                "Relative delta-V error of vehicle 1 ((fitted - measured) / measured)",
+                "relative error [%]",
+                &|r| r.delta_v_relative_error.map(|e| 100.0 * e[0]),
+            ),
+            (
+                "Relative delta-V error of vehicle 2 ((fitted - measured) / measured)",
+                "relative error [%]",
+                &|r| r.delta_v_relative_error.map(|e| 100.0 * e[1]),
+            ),
+            ("Kinetic energy loss", "loss [%]", &|r| {
+                r.branch.as_ref().and_then(|b| b.energy_loss_percent)
+            }),
+        ];
+        for (panel, (title, label, f)) in panels.iter().zip(getters) {
+            grouped_bars(panel, title, label, &tests, &series(f), &[])?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(p)
+}
+
 /// Writes the four figures into `dir`; returns their paths.
 pub fn write_all(
     records: &[BatchRecord],
@@ -181,12 +264,14 @@ pub fn write_all(
     let per_cost = |f: &dyn Fn(&BatchRecord) -> Option<f64>| -> Vec<Series> {
         costs
             .iter()
-            .map(|&c| Series {
+            .enumerate()
+            .map(|(j, &c)| Series {
                 name: c.name().to_uppercase(),
                 values: tests
                     .iter()
                     .map(|&t| best_per_cost(records, t, c).and_then(f))
                     .collect(),
+                color: COLORS[j % COLORS.len()],
             })
             .collect()
     };

@@ -248,11 +248,18 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
     let mut s = String::new();
     let _ = writeln!(s, "{title}\nfit with cost function {cost}\n");
     for b in &r.branches {
+        let tangential = r.model == pim_fit::FitModel::Tangential;
         let _ = writeln!(
             s,
-            "branch {:<4} ({}): {:?}{}",
-            b.moment.name(),
-            if b.moment == pim_fit::MomentBranch::Zero {
+            "{} ({}): {:?}{}",
+            if tangential {
+                "tangential model".to_string()
+            } else {
+                format!("branch {:<4}", b.moment.name())
+            },
+            if tangential {
+                "normal and tangential restitution, friction limit, no moment impulse"
+            } else if b.moment == pim_fit::MomentBranch::Zero {
                 "em = 1"
             } else {
                 "em in [-1, 0]"
@@ -268,15 +275,19 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
             let _ = writeln!(s, "  {reason}");
         }
         if let Some(sol) = &b.solution {
-            let _ = writeln!(
-                s,
-                "  e = {:.4}   mu = {:+.4}   em = {:+.4}   mu/mu_max = {}   {}",
-                sol.e,
-                sol.mu,
-                sol.em,
-                opt3(sol.mu_ratio),
-                if sol.sticking { "sticking" } else { "sliding" }
-            );
+            if let Some(t) = &sol.tangential {
+                tangential_lines(&mut s, sol.e, t);
+            } else {
+                let _ = writeln!(
+                    s,
+                    "  e = {:.4}   mu = {:+.4}   em = {:+.4}   mu/mu_max = {}   {}",
+                    sol.e,
+                    sol.mu,
+                    sol.em,
+                    opt3(sol.mu_ratio),
+                    if sol.sticking { "sticking" } else { "sliding" }
+                );
+            }
             let _ = writeln!(
                 s,
                 "  cost {:.5}   energy loss {:.0} J ({:.2} %)   residual {:.1e}",
@@ -344,6 +355,29 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
         let _ = writeln!(s, "note: {n}");
     }
     s
+}
+
+/// The tangential model's coefficients of a fitted solution, in words.
+fn tangential_lines(s: &mut String, e: f64, t: &pim_fit::TangentialFit) {
+    match t.mode {
+        pim_core::ContactMode::Stick => {
+            let _ = writeln!(
+                s,
+                "  e = {e:.4}   et = {:+.4}   sticking: impulse ratio {:+.4}, so any friction \
+                 limit from {:.4} to {:.4} (its bound) gives this answer",
+                t.et, t.impulse_ratio, t.friction, t.friction_max
+            );
+        }
+        pim_core::ContactMode::Slide => {
+            let _ = writeln!(
+                s,
+                "  e = {e:.4}   friction = {:.4}   sliding (Routh): sticking would need the \
+                 impulse ratio {:+.4}; et is any value that needs more than the limit \
+                 (e.g. {:+.4})",
+                t.friction, t.stick_ratio, t.et
+            );
+        }
+    }
 }
 
 /// The estimated geometry of a branch: each input with its range, and the search over it.

@@ -52,8 +52,11 @@ pub(crate) struct Ratio {
     pub hi: f64,
     /// `Friction` (sliding, mu between 0 and mu_max) or `MuBound` (sticking).
     pub kind: Violation,
-    /// The candidate's mu (sliding).
+    /// The candidate's mu (sliding; the friction limit of the tangential model's sliding).
     pub mu: f64,
+    /// The condition is on the inverse ratio `Pn / (sign Pt)` within `[lo, hi]` (the
+    /// tangential model's sliding: `|Pt| >= friction |Pn|`).
+    pub inverse: bool,
 }
 
 /// Result of a point check.
@@ -117,7 +120,15 @@ impl ConstraintSet<'_> {
     }
 
     /// Whether the ratio condition holds at a ratio value (pim-core decides friction).
-    fn ratio_holds(&self, r: &Ratio, mu_max: Option<f64>) -> bool {
+    fn ratio_holds(&self, r: &Ratio, p: Option<CriticalImpulse>) -> bool {
+        if r.inverse {
+            // |Pt| >= friction |Pn| (a relative 1e-9 of slack, as below).
+            return p.is_some_and(|p| {
+                let (n, t) = (p.normal.abs(), p.tangential.abs());
+                t - r.mu * n >= -1e-9 * (t + r.mu * n)
+            });
+        }
+        let mu_max = p.and_then(|p| p.mu_max(self.sign));
         match r.kind {
             Violation::Friction => classify_friction(r.mu, mu_max).admissible,
             _ => mu_max.is_some_and(|m| {
@@ -165,7 +176,7 @@ impl ConstraintSet<'_> {
         }
         let ratio_ok = self.ratio.is_none_or(|r| {
             let p = self.impulses(&r.source, e, x, xf);
-            self.ratio_holds(&r, p.and_then(|p| p.mu_max(self.sign)))
+            self.ratio_holds(&r, p)
         });
         Check {
             linear,
@@ -198,7 +209,8 @@ impl ConstraintSet<'_> {
         out
     }
 
-    /// `(Pn, sign Pt)` of the ratio condition as rows over x, for `X = R x` at restitution e.
+    /// `(Pn, sign Pt)` of the ratio condition as rows over x, for `X = R x` at restitution e
+    /// (swapped for an inverse ratio).
     fn ratio_rows(
         &self,
         r: &Ratio,
@@ -206,17 +218,19 @@ impl ConstraintSet<'_> {
         e: f64,
     ) -> Option<(RowVector6<f64>, RowVector6<f64>)> {
         let s = self.sign.value();
-        match &r.source {
+        let (pn, pt) = match &r.source {
             Impulses::Actual => {
                 let d = rt - Matrix6::identity();
-                Some((self.impulse.0 * d, self.impulse.1 * d * s))
+                (self.impulse.0 * d, self.impulse.1 * d * s)
             }
             Impulses::Critical(rows) => {
                 let m = rows.rows(e);
-                Some((m.row(0).into_owned(), m.row(1) * s))
+                (m.row(0).into_owned(), m.row(1) * s)
             }
-            Impulses::Undefined => None,
-        }
+            Impulses::Undefined => return None,
+        };
+        // The inverse ratio Pn / (sign Pt): the roles of the rows swap.
+        Some(if r.inverse { (pt, pn) } else { (pn, pt) })
     }
 
     /// The rows of one wedge of the ratio condition (`side` = the sign of Pn), aimed inside:
@@ -315,7 +329,7 @@ impl ConstraintSet<'_> {
                 let e = Line::e_of_t(t, forward);
                 let (x, xf) = u(t);
                 let p = self.impulses(&r.source, e, &x, &xf);
-                self.ratio_holds(&r, p.and_then(|p| p.mu_max(self.sign)))
+                self.ratio_holds(&r, p)
             };
             set = set.intersect(&Intervals::where_holds(lo, hi, &roots, test));
             if set.is_empty() {
@@ -390,7 +404,15 @@ impl ConstraintSet<'_> {
                 }
             }
         }
-        if let Some(r) = self.ratio {
+        if let Some(r) = self.ratio.filter(|r| r.inverse) {
+            if let Some(p) = self.impulses(&r.source, e, x, xf) {
+                let (n, t) = (p.normal.abs(), p.tangential.abs());
+                if (t - r.mu * n).abs() <= 1e-6 * (t + r.mu * n) {
+                    out.push(ActiveConstraint::StickSlide);
+                }
+            }
+        }
+        if let Some(r) = self.ratio.filter(|r| !r.inverse) {
             let m = self
                 .impulses(&r.source, e, x, xf)
                 .and_then(|p| p.mu_max(self.sign));
@@ -400,6 +422,9 @@ impl ConstraintSet<'_> {
                     Violation::Friction if near(r.mu) => out.push(ActiveConstraint::MuMax),
                     Violation::MuBound if near(r.lo) || near(r.hi) => {
                         out.push(ActiveConstraint::StickingMuBound)
+                    }
+                    Violation::FrictionLimit if near(r.lo) || near(r.hi) => {
+                        out.push(ActiveConstraint::FrictionBound)
                     }
                     _ => {}
                 }

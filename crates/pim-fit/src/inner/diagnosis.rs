@@ -13,7 +13,7 @@ impl Inner {
     /// Velocity components that the data leave undetermined at a point: directions in which the
     /// reduced cost is flat (its Hessian is singular).
     pub fn undetermined_components(&self, at: &At) -> Vec<Component> {
-        let Some(r) = self.reduction.transfer(&at.c, at.mode, at.sign) else {
+        let Some(r) = self.transfer(at) else {
             return Vec::new();
         };
         let Some(ox) = self.objective.over_x(r) else {
@@ -74,6 +74,10 @@ impl Inner {
         }
         let [mlo, mhi] = self.mu_bounds;
         let mu_box = (mhi - mlo).max(1e-3);
+        if self.model == crate::FitModel::Tangential {
+            // Its friction and et are reported with their ranges; mu is the impulse ratio.
+            return out;
+        }
         match at.mode {
             TangentialCondition::Sliding => {
                 if near(c.mu_eff, 0.0, mu_box) {

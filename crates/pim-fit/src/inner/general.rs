@@ -51,7 +51,7 @@ impl Lagrangian {
 
 impl Inner {
     pub(super) fn evaluate_general(&self, at: &At, exact: bool, cutoff: f64) -> Eval {
-        let Some(r) = self.reduction.transfer(&at.c, at.mode, at.sign) else {
+        let Some(r) = self.transfer(at) else {
             return Eval::Infeasible(Violation::Singular);
         };
         let Some(ox) = self.objective.over_x(r) else {

@@ -25,20 +25,24 @@ pub(crate) use profile::LineAt;
 
 use crate::problem::FitProblem;
 use crate::report::Violation;
-use crate::settings::{FitSettings, SearchSettings};
-use nalgebra::{RowVector6, Vector6};
+use crate::settings::{FitModel, FitSettings, SearchSettings};
+use nalgebra::{Matrix2x6, Matrix6, RowVector6, Vector6};
 use objective::Objective;
 use pim_core::equations::{impulse_rows, normal_velocity_row, tangential_velocity_row};
-use pim_core::reduction::{KnownState, Reduction};
+use pim_core::reduction::{CriticalRows, KnownState, Reduction};
 use pim_core::{Coefficients, CriticalImpulse, FrictionSign, Impact, TangentialCondition};
 
 /// Where a candidate is evaluated: coefficients (mu unused when sticking), tangential condition
-/// and friction sign.
+/// and friction sign. In the tangential model `NoSlip` is its sticking mode with tangential
+/// restitution `et`, and `Sliding` its sliding mode with friction limit `c.mu`, admissible when
+/// the sticking impulse at `et` would exceed it (Routh).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct At {
     pub c: Coefficients,
     pub mode: TangentialCondition,
     pub sign: FrictionSign,
+    /// Tangential restitution (tangential model; 0 for PIM).
+    pub et: f64,
 }
 
 /// A solved candidate.
@@ -86,6 +90,10 @@ pub(crate) struct Inner {
     mass: Vector6<f64>,
     pub mu_bounds: [f64; 2],
     pub e_range: [f64; 2],
+    /// The model fitted.
+    pub model: FitModel,
+    /// Friction-limit range of the tangential model.
+    pub friction: [f64; 2],
     pub settings: SearchSettings,
     /// Feasibility tolerance, m/s.
     tol: f64,
@@ -104,9 +112,19 @@ impl Inner {
     pub fn new(problem: &FitProblem, settings: &FitSettings) -> Self {
         let impact = problem.impact;
         let objective = Objective::new(problem);
+        let tangential = settings.model == FitModel::Tangential;
+        // The tangential model has no moment impulse: its sliding mode is PIM's with e_m = 1,
+        // where the moment forms agree. Its states are solved by the general path (the reduced
+        // known-state solve is PIM's).
+        let moment_form = if tangential {
+            pim_core::MomentForm::Corrected
+        } else {
+            settings.moment_form
+        };
         let known = objective
             .known_state()
-            .map(|(v, forward)| KnownState::new(&impact, settings.moment_form, v, forward));
+            .filter(|_| !tangential)
+            .map(|(v, forward)| KnownState::new(&impact, moment_form, v, forward));
         let known_sign = objective
             .fixed_contact()
             .map(|x| impact.friction_sign(&pim_core::Velocities::from_vector(&x)));
@@ -153,7 +171,7 @@ impl Inner {
         };
         let tol = settings.search.feasibility_tolerance * objective.scale;
         Inner {
-            reduction: Reduction::new(&impact, settings.moment_form),
+            reduction: Reduction::new(&impact, moment_form),
             known,
             known_sign,
             linear: [
@@ -164,6 +182,8 @@ impl Inner {
             mass: Vector6::new(m1, m1, i1, m2, m2, i2),
             mu_bounds: settings.mu,
             e_range: settings.e,
+            model: settings.model,
+            friction: settings.friction,
             settings: settings.search,
             tol,
             objective,
@@ -192,15 +212,73 @@ impl Inner {
         }
     }
 
+    /// The transfer matrix `X = R x` of a candidate point.
+    pub fn transfer(&self, at: &At) -> Option<Matrix6<f64>> {
+        match (self.model, at.mode) {
+            (FitModel::Tangential, TangentialCondition::NoSlip) => {
+                pim_core::stick_transfer(&self.impact, at.c.e, at.et)
+            }
+            _ => self.reduction.transfer(&at.c, at.mode, at.sign),
+        }
+    }
+
+    /// The tangential model's sticking impulse at `et` as rows over x, `(l0 + e l1) x`.
+    fn stick_rows(&self, et: f64) -> Option<CriticalRows> {
+        let r0 = pim_core::stick_transfer(&self.impact, 0.0, et)?;
+        let r1 = pim_core::stick_transfer(&self.impact, 1.0, et)?;
+        let rows = |d: Matrix6<f64>| {
+            let mut m = Matrix2x6::zeros();
+            m.set_row(0, &(self.impulse.0 * d));
+            m.set_row(1, &(self.impulse.1 * d));
+            m
+        };
+        Some(CriticalRows {
+            l0: rows(r0 - Matrix6::identity()),
+            l1: rows(r1 - r0),
+        })
+    }
+
+    /// The impulse-ratio condition of the tangential model: sticking within the largest
+    /// friction limit, or sliding where sticking at `et` would exceed the friction limit
+    /// (`|Pt| >= friction |Pn|`, written as `Pn / Pt` within `+-1 / friction`).
+    fn tangential_ratio(&self, at: &At) -> Ratio {
+        match at.mode {
+            TangentialCondition::NoSlip => Ratio {
+                source: Impulses::Actual,
+                lo: -self.friction[1],
+                hi: self.friction[1],
+                kind: Violation::FrictionLimit,
+                mu: 0.0,
+                inverse: false,
+            },
+            TangentialCondition::Sliding => {
+                let f = at.c.mu;
+                let bound = if f > 0.0 { 1.0 / f } else { f64::INFINITY };
+                Ratio {
+                    source: self
+                        .stick_rows(at.et)
+                        .map_or(Impulses::Undefined, Impulses::Critical),
+                    lo: -bound,
+                    hi: bound,
+                    kind: Violation::StickWithinFriction,
+                    mu: f,
+                    inverse: true,
+                }
+            }
+        }
+    }
+
     /// The constraint set of a candidate point.
     pub fn constraints(&self, at: &At) -> ConstraintSet<'_> {
         let ratio = match at.mode {
+            _ if self.model == FitModel::Tangential => Some(self.tangential_ratio(at)),
             TangentialCondition::NoSlip => Some(Ratio {
                 source: Impulses::Actual,
                 lo: self.mu_bounds[0],
                 hi: self.mu_bounds[1],
                 kind: Violation::MuBound,
                 mu: 0.0,
+                inverse: false,
             }),
             TangentialCondition::Sliding if at.c.mu == 0.0 => None,
             TangentialCondition::Sliding => {
@@ -220,6 +298,7 @@ impl Inner {
                     hi,
                     kind: Violation::Friction,
                     mu,
+                    inverse: false,
                 })
             }
         };
@@ -254,6 +333,9 @@ impl Inner {
 
     /// mu_max of a candidate's contact state at its e and em (`None` when undefined).
     pub fn mu_max(&self, at: &At, c: &Candidate) -> Option<f64> {
+        if self.model == FitModel::Tangential {
+            return None;
+        }
         self.reduction
             .critical_rows(at.c.em)?
             .at(at.c.e, &c.x)

@@ -34,6 +34,7 @@ impl LineAt {
             },
             mode: self.mode,
             sign: self.sign,
+            et: 0.0,
         }
     }
 }

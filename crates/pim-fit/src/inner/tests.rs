@@ -133,6 +133,7 @@ fn level_ends_bracket_the_near_optimal_e() {
                         c: Coefficients { e, mu, em },
                         mode: TangentialCondition::Sliding,
                         sign,
+                        et: 0.0,
                     };
                     if let Eval::Feasible(c) = prep.evaluate(&th, true, f64::INFINITY) {
                         if c.cost <= limit {
@@ -182,6 +183,7 @@ fn profile_is_the_minimum_over_e() {
                                 c: Coefficients { e, mu, em },
                                 mode,
                                 sign,
+                                et: 0.0,
                             };
                             if let Eval::Feasible(c) = prep.evaluate(&th, true, f64::INFINITY) {
                                 scan = Some(scan.map_or(c.cost, |s: f64| s.min(c.cost)));
@@ -198,6 +200,7 @@ fn profile_is_the_minimum_over_e() {
                                         c: theta,
                                         mode,
                                         sign,
+                                        et: 0.0,
                                     },
                                     true,
                                     f64::INFINITY,

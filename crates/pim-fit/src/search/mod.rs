@@ -35,6 +35,7 @@ pub(crate) fn search_branch(
     let mut out = Outcome {
         data_scale: inner.data_scale(),
         profiled_e: inner.profiles(),
+        friction_max: (inner.model == crate::FitModel::Tangential).then_some(settings.friction[1]),
         ..Outcome::default()
     };
     let faces = inner.singular_faces();

@@ -20,6 +20,11 @@ pub(crate) struct Sample {
     /// mu, or mu_max when sticking.
     pub mu: f64,
     pub em: f64,
+    /// Tangential model: et (sticking), or an et at which Routh's rule slides.
+    pub et: f64,
+    /// Tangential model: the friction limits that give this answer (sticking: from the
+    /// impulse ratio to the largest limit; sliding: the limit itself).
+    pub friction: [f64; 2],
     pub cost: f64,
     /// Speed of vehicle 1 at contact, m/s.
     pub speed1: f64,
@@ -36,8 +41,19 @@ impl Sample {
             Quantity::E => self.e,
             Quantity::Mu => self.mu,
             Quantity::Em => self.em,
+            Quantity::Et => self.et,
+            Quantity::Friction => self.friction[0],
             Quantity::Speed1 => self.speed1,
             Quantity::Speed2 => self.speed2,
+        }
+    }
+
+    /// The values of a quantity this sample stands for (one value but for the friction limit
+    /// of a sticking sample).
+    pub fn span(&self, q: Quantity) -> [f64; 2] {
+        match q {
+            Quantity::Friction => self.friction,
+            _ => [self.get(q); 2],
         }
     }
 }
@@ -64,6 +80,8 @@ pub(crate) struct Outcome {
     pub data_scale: f64,
     /// e was minimised exactly at every point rather than searched.
     pub profiled_e: bool,
+    /// Tangential model: the largest friction limit (`None` for PIM).
+    pub friction_max: Option<f64>,
 }
 
 impl Outcome {
@@ -71,10 +89,17 @@ impl Outcome {
     pub fn record(&mut self, p: Point) {
         let c = p.candidate;
         let speed = |i: usize| c.x[i].hypot(c.x[i + 1]);
+        let friction = match (self.friction_max, p.at.mode) {
+            (None, _) => [f64::NAN; 2],
+            (Some(_), pim_core::TangentialCondition::Sliding) => [p.at.c.mu; 2],
+            (Some(max), pim_core::TangentialCondition::NoSlip) => [c.mu_eff.abs(), max],
+        };
         self.samples.push(Sample {
             e: p.at.c.e,
             mu: c.mu_eff,
             em: p.at.c.em,
+            et: p.at.et,
+            friction,
             cost: c.cost,
             speed1: speed(0),
             speed2: speed(3),

@@ -41,10 +41,14 @@ fn scanned(
 
 /// The optimum's coefficients in a space (mu = the optimum's mu_eff).
 fn centre(space: &Space, best: &Point) -> Vec<f64> {
-    space.point_of(&Coefficients {
-        mu: best.candidate.mu_eff,
-        ..best.at.c
-    })
+    // The tangential model's sliding space through a sticking optimum: at the friction limit
+    // that its impulse ratio reaches.
+    let mu = if space.et_axis && space.mode != best.at.mode {
+        best.candidate.mu_eff.abs()
+    } else {
+        best.candidate.mu_eff
+    };
+    space.point_of(&Coefficients { mu, ..best.at.c }, best.at.et)
 }
 
 /// Runs the scans and records every feasible point.
@@ -121,6 +125,7 @@ pub(crate) fn scan(inner: &Inner, settings: &FitSettings, branch: MomentBranch, 
                     c,
                     mode: at.mode,
                     sign: at.sign,
+                    et: 0.0,
                 },
                 candidate,
             });

@@ -7,7 +7,7 @@
 
 use crate::inner::{At, Eval, Inner, LineAt};
 use crate::problem::MomentBranch;
-use crate::settings::FitSettings;
+use crate::settings::{FitModel, FitSettings};
 use pim_core::reduction::SingularFaces;
 use pim_core::{Coefficients, FrictionSign, TangentialCondition};
 
@@ -53,13 +53,21 @@ pub(crate) struct Space {
     pub e_fixed: Option<f64>,
     /// em fixed on a face of the box (not a dimension).
     pub em_fixed: Option<f64>,
+    /// Tangential model: et is the last dimension (and em is 1).
+    pub et_axis: bool,
 }
 
 impl Space {
-    /// Coefficients of a point (clamped onto the box, against round-off of the refinement).
-    pub fn coefficients(&self, p: &[f64]) -> Coefficients {
+    /// Coefficients and et of a point (clamped onto the box, against round-off of the
+    /// refinement).
+    pub fn coefficients(&self, p: &[f64]) -> (Coefficients, f64) {
         let c = |k: usize| p[k].clamp(self.dims[k].lo, self.dims[k].hi);
-        let p: Vec<f64> = (0..p.len()).map(c).collect();
+        let mut p: Vec<f64> = (0..p.len()).map(c).collect();
+        let et = if self.et_axis {
+            p.pop().unwrap_or(0.0)
+        } else {
+            0.0
+        };
         let (e, p) = match (self.profile_e, self.e_fixed) {
             (Some(range), _) => (range[0], &p[..]),
             (None, Some(e)) => (e, &p[..]),
@@ -74,11 +82,11 @@ impl Space {
             (MomentBranch::Free, Some(em)) => em,
             (MomentBranch::Free, None) => rest[0],
         };
-        Coefficients { e, mu, em }
+        (Coefficients { e, mu, em }, et)
     }
 
-    /// The point of a coefficient triple (mu_eff for the sliding mode's mu).
-    pub fn point_of(&self, c: &Coefficients) -> Vec<f64> {
+    /// The point of a coefficient triple and et (mu_eff for the sliding mode's mu).
+    pub fn point_of(&self, c: &Coefficients, et: f64) -> Vec<f64> {
         let mut p = Vec::new();
         if self.profile_e.is_none() && self.e_fixed.is_none() {
             p.push(c.e);
@@ -88,6 +96,9 @@ impl Space {
         }
         if self.branch == MomentBranch::Free && self.em_fixed.is_none() {
             p.push(c.em);
+        }
+        if self.et_axis {
+            p.push(et);
         }
         p
     }
@@ -117,7 +128,7 @@ impl Space {
         exact: bool,
         cutoff: f64,
     ) -> (At, Eval) {
-        let c = self.coefficients(p);
+        let (c, et) = self.coefficients(p);
         let (c, eval) = match self.profile_e {
             Some(e_range) => inner.evaluate_profile(&LineAt {
                 e_range,
@@ -131,6 +142,7 @@ impl Space {
                     c,
                     mode: self.mode,
                     sign,
+                    et,
                 };
                 (c, inner.evaluate(&at, exact, cutoff))
             }
@@ -140,6 +152,7 @@ impl Space {
                 c,
                 mode: self.mode,
                 sign,
+                et,
             },
             eval,
         )
@@ -204,6 +217,9 @@ pub(crate) fn spaces(
         ..e
     };
     let free = branch == MomentBranch::Free;
+    if s.model == FitModel::Tangential {
+        return tangential_spaces(e, fine_e, s);
+    }
     let mut faces_at: Vec<(Option<f64>, Option<f64>)> = vec![(None, None)];
     if faces.e_zero && s.e[0] == 0.0 && s.e[1] > 0.0 {
         faces_at.push((Some(0.0), None));
@@ -235,8 +251,47 @@ pub(crate) fn spaces(
                 profile_e: profile.then_some(s.e),
                 e_fixed,
                 em_fixed,
+                et_axis: false,
             });
         }
     }
     out
+}
+
+/// The spaces of the tangential model (no moment impulse, e searched): sticking over `(e, et)`
+/// with the friction limit at its largest (any friction at least the impulse ratio sticks the
+/// same way), and sliding over `(e, friction, et)`, where et only decides whether Routh's rule
+/// slides (the answer does not depend on it).
+fn tangential_spaces(e: Dim, fine_e: Dim, s: &FitSettings) -> Vec<Space> {
+    let et = Dim {
+        lo: s.et[0],
+        hi: s.et[1],
+        n: if s.et[0] < s.et[1] {
+            s.grid[2].max(5)
+        } else {
+            1
+        },
+    };
+    let friction = Dim {
+        lo: s.friction[0],
+        hi: s.friction[1],
+        n: if s.friction[0] < s.friction[1] {
+            s.grid[1].div_ceil(2).max(2)
+        } else {
+            1
+        },
+    };
+    let space = |mode, dims| Space {
+        branch: MomentBranch::Zero,
+        mode,
+        dims,
+        profile_e: None,
+        e_fixed: None,
+        em_fixed: None,
+        et_axis: true,
+    };
+    vec![
+        space(TangentialCondition::Sliding, vec![e, friction, et]),
+        space(TangentialCondition::NoSlip, vec![fine_e, et]),
+    ]
 }

@@ -7,6 +7,7 @@ Case = Union[str, "os.PathLike[str]", Dict[str, Any]]
 Cost = Literal["q1", "q2", "q3"]
 Branch = Literal["free", "zero"]
 MomentForm = Literal["corrected", "brach1983"]
+Model = Literal["pim", "tangential"]
 
 class InputError(Exception):
     """Bad input; the message names the file and the field."""
@@ -24,6 +25,7 @@ def fit(
     cost: Optional[Cost] = None,
     branches: Sequence[Branch] = ("free", "zero"),
     moment_form: MomentForm = "corrected",
+    model: Model = "pim",
 ) -> Dict[str, Any]:
     """Fit the coefficients (and velocities) of a case under a cost function."""
 
@@ -35,8 +37,9 @@ def batch(
     e_max: float = 0.2,
     moment_form: MomentForm = "corrected",
     tests: Optional[Sequence[int]] = None,
+    models: Sequence[Model] = ("pim",),
 ) -> List[Dict[str, Any]]:
-    """Refit every test of a RICSAC-style data file; one record per test, cost and branch."""
+    """Refit every test of a RICSAC-style data file; one record per test, cost, model and branch."""
 
 def uncertainty(
     case: Case,

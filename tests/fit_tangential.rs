@@ -1,0 +1,199 @@
+//! Fitting the tangential-restitution model: noise-free data from its own forward solve are
+//! fitted back (e, et and the friction limit recovered, cost zero) under Q1, Q2 and Q3, in both
+//! contact modes; and every fitted answer is the model's own forward solution.
+
+mod common;
+
+use pim_core::{solve_tangential, ContactMode, Impact, TangentialCoefficients, Velocities};
+use pim_fit::{fit, CostPreset, FitModel, FitProblem, FitSettings, MomentBranch, Quantity};
+
+/// RICSAC 7 as in Brach 1983 Table 1.
+fn impact() -> Impact {
+    Impact::new(common::brach1983_ricsac7().0).unwrap()
+}
+
+fn initial() -> Velocities {
+    common::brach1983_ricsac7().1
+}
+
+fn settings() -> pim_fit::ValidSettings {
+    FitSettings {
+        model: FitModel::Tangential,
+        ..FitSettings::default()
+    }
+    .check()
+    .unwrap()
+}
+
+#[test]
+fn sticking_data_give_back_e_and_et() {
+    let truth = TangentialCoefficients {
+        e: 0.08,
+        et: 0.35,
+        friction: 1.2,
+    };
+    let t = solve_tangential(&impact(), &truth, &initial()).unwrap();
+    assert_eq!(t.mode, ContactMode::Stick);
+    for preset in [CostPreset::Q1, CostPreset::Q2, CostPreset::Q3] {
+        let problem =
+            FitProblem::from_preset(impact(), preset, &initial(), &t.report.separation, None);
+        let report = fit(&problem, &settings()).unwrap();
+        assert_eq!(report.branches.len(), 1, "{preset:?}");
+        let b = &report.branches[0];
+        assert_eq!(b.moment, MomentBranch::Zero);
+        let s = b.solution.as_ref().expect("solved");
+        let tf = s.tangential.as_ref().expect("tangential reading");
+        assert!(s.cost < 1e-8, "{preset:?}: cost {}", s.cost);
+        assert!((s.e - 0.08).abs() < 1e-3, "{preset:?}: e {}", s.e);
+        // The impulse ratio is determined. Sticking at et and sliding at a friction limit equal
+        // to that ratio give the same answer (Routh's rule slides there for any et whose
+        // sticking impulse needs more), so the data cannot tell the two readings apart.
+        assert!(
+            (tf.impulse_ratio - t.impulse_ratio).abs() < 1e-3,
+            "{preset:?}"
+        );
+        match tf.mode {
+            ContactMode::Stick => {
+                assert!((tf.et - 0.35).abs() < 1e-3, "{preset:?}: et {}", tf.et);
+                assert!((tf.friction - t.impulse_ratio.abs()).abs() < 1e-3);
+                assert!((tf.friction_max - 1.2).abs() < 1e-12);
+            }
+            ContactMode::Slide => {
+                assert!((tf.friction - t.impulse_ratio.abs()).abs() < 1e-3);
+                assert!(tf.stick_ratio.abs() >= tf.friction * (1.0 - 1e-9));
+            }
+        }
+        // Either way the friction limit is at least the impulse ratio, and may be anything up
+        // to the bound.
+        let f = b
+            .identifiability
+            .iter()
+            .find(|i| i.coefficient == Quantity::Friction)
+            .unwrap();
+        // (within the 1 % cost tolerance of the ranges)
+        let r = t.impulse_ratio.abs();
+        assert!((f.low - r).abs() < 0.01 * r, "{preset:?}: {f:?} {r}");
+        assert!((f.high - 1.2).abs() < 1e-9, "{preset:?}: {f:?}");
+        let sep = (s.separation.to_vector() - t.report.separation.to_vector()).amax();
+        assert!(sep < 1e-3, "{preset:?}: separation off by {sep}");
+        assert!(s.max_residual < 1e-8 && s.admissible, "{preset:?}");
+    }
+}
+
+#[test]
+fn sliding_data_give_back_e_and_the_friction_limit() {
+    let truth = TangentialCoefficients {
+        e: 0.12,
+        et: 0.0,
+        friction: 0.3,
+    };
+    let t = solve_tangential(&impact(), &truth, &initial()).unwrap();
+    assert_eq!(t.mode, ContactMode::Slide);
+    for preset in [CostPreset::Q2, CostPreset::Q3] {
+        let problem =
+            FitProblem::from_preset(impact(), preset, &initial(), &t.report.separation, None);
+        let report = fit(&problem, &settings()).unwrap();
+        let b = &report.branches[0];
+        let s = b.solution.as_ref().expect("solved");
+        let tf = s.tangential.as_ref().expect("tangential reading");
+        assert!(s.cost < 1e-8, "{preset:?}: cost {}", s.cost);
+        assert!((s.e - 0.12).abs() < 1e-3, "{preset:?}: e {}", s.e);
+        assert!(
+            (tf.friction - 0.3).abs() < 1e-3,
+            "{preset:?}: {}",
+            tf.friction
+        );
+        // et is not determined by sliding data: its range is wide.
+        let et = b
+            .identifiability
+            .iter()
+            .find(|i| i.coefficient == Quantity::Et)
+            .unwrap();
+        assert!(!et.identifiable && et.high - et.low > 0.5, "{et:?}");
+    }
+}
+
+/// The model's cost of a forward solve against the measured separation state (Q2: unit weights),
+/// when the answer is admissible and within the fit's velocity bounds.
+fn q2_cost(impact: &Impact, c: &TangentialCoefficients, x: &Velocities, xf: &Velocities) -> f64 {
+    let Ok(t) = solve_tangential(impact, c, x) else {
+        return f64::INFINITY;
+    };
+    let sep = t.report.separation.to_vector();
+    let within = sep
+        .iter()
+        .enumerate()
+        .all(|(k, v)| v.abs() <= if k % 3 == 2 { 5.0 } else { 20.0 });
+    if !t.report.admissibility.admissible || !within {
+        return f64::INFINITY;
+    }
+    (sep - xf.to_vector()).norm_squared()
+}
+
+/// Q2 on every RICSAC test: the fit is never beaten by an independent search written with
+/// pim-core's forward solver only (a dense grid over e, et and the friction limit, then a
+/// compass search from its best point).
+#[test]
+fn q2_is_never_beaten_by_a_dense_search_of_the_model() {
+    for t in common::ricsac_tests() {
+        let impact = t.impact().unwrap();
+        let (x, xf) = (t.initial(), t.separation());
+        let problem = FitProblem::from_preset(impact, CostPreset::Q2, &x, &xf, None);
+        let report = fit(&problem, &settings()).unwrap();
+        let fitted = report.branches[0]
+            .solution
+            .as_ref()
+            .map_or(f64::INFINITY, |s| s.cost);
+        let cost = |p: [f64; 3]| {
+            let c = TangentialCoefficients {
+                e: p[0].clamp(0.0, 0.2),
+                et: p[1].clamp(-1.0, 1.0),
+                friction: p[2].clamp(0.0, 1.2),
+            };
+            q2_cost(&impact, &c, &x, &xf)
+        };
+        let mut best = ([0.0; 3], f64::INFINITY);
+        for i in 0..=20 {
+            for j in 0..=40 {
+                for k in 0..=24 {
+                    let p = [0.01 * i as f64, -1.0 + 0.05 * j as f64, 0.05 * k as f64];
+                    let v = cost(p);
+                    if v < best.1 {
+                        best = (p, v);
+                    }
+                }
+            }
+        }
+        let mut step = [0.005, 0.025, 0.025];
+        while step[0] > 1e-9 && best.1.is_finite() {
+            let mut moved = false;
+            for d in 0..3 {
+                for s in [-1.0, 1.0] {
+                    let mut p = best.0;
+                    p[d] += s * step[d];
+                    let v = cost(p);
+                    if v < best.1 {
+                        best = (p, v);
+                        moved = true;
+                    }
+                }
+            }
+            if !moved {
+                step.iter_mut().for_each(|s| *s *= 0.5);
+            }
+        }
+        // Q2 keeps the measured contact state: every test has admissible answers.
+        assert!(
+            best.1.is_finite(),
+            "test {}: no admissible grid point",
+            t.test
+        );
+        assert!(
+            fitted <= best.1 * (1.0 + 1e-6) + 1e-9,
+            "test {}: fit {fitted} > reference {}",
+            t.test,
+            best.1
+        );
+        eprintln!("test {}: fit {fitted:.6} reference {:.6}", t.test, best.1);
+    }
+}
