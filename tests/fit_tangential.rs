@@ -197,3 +197,44 @@ fn q2_is_never_beaten_by_a_dense_search_of_the_model() {
         eprintln!("test {}: fit {fitted:.6} reference {:.6}", t.test, best.1);
     }
 }
+
+/// The tangential model contains PIM's zero branch (PIM sliding is its sliding mode, PIM's
+/// no-slip form its sticking mode with et = 0): on every RICSAC test, under Q2 and Q3, its
+/// optimum is never above that branch's and exists wherever that branch has one.
+#[test]
+fn never_worse_than_pims_zero_branch_on_ricsac() {
+    let pim = FitSettings {
+        branches: vec![MomentBranch::Zero],
+        ..FitSettings::default()
+    }
+    .check()
+    .unwrap();
+    let mut below = 0;
+    for t in common::ricsac_tests() {
+        let impact = t.impact().unwrap();
+        for preset in [CostPreset::Q2, CostPreset::Q3] {
+            let problem =
+                FitProblem::from_preset(impact, preset, &t.initial(), &t.separation(), None);
+            let cost = |s: &pim_fit::ValidSettings| {
+                fit(&problem, s).unwrap().branches[0]
+                    .solution
+                    .as_ref()
+                    .map(|s| s.cost)
+            };
+            let (Some(zero), tangential) = (cost(&pim), cost(&settings())) else {
+                continue;
+            };
+            let tangential = tangential.unwrap_or_else(|| panic!("test {}: none", t.test));
+            assert!(
+                tangential <= zero * (1.0 + 1e-6) + 1e-9,
+                "test {} {preset:?}: tangential {tangential} > PIM zero {zero}",
+                t.test
+            );
+            if tangential < zero * (1.0 - 1e-6) {
+                below += 1;
+            }
+        }
+    }
+    // et adds freedom the data use: below PIM's zero branch on 14 of the 22 fits.
+    assert_eq!(below, 14);
+}

@@ -371,6 +371,8 @@ convention), without [coefficients], [initial], [final], plus:
   [bounds]                         # optional; these are the defaults
   e = [0.0, 0.2]
   mu = [-1.2, 1.2]                 # and always between 0 and mu_max
+  et = [-1.0, 1.0]                 # --model tangential: tangential restitution
+  friction = [0.0, 1.2]            # --model tangential: friction limit of |Pt/Pn|
   velocity = 20.0                  # m/s, every linear component
   yaw_rate = 5.0                   # rad/s
   vehicle1 = { d = [1.6, 2.0], phi = [-10.0, 10.0] }   # optional: estimate the impact centre
@@ -388,7 +390,16 @@ COST FUNCTIONS (--cost):
   q1  separation velocities known exactly, contact velocities estimated
   q2  contact velocities known exactly, separation velocities estimated (Brach's fits)
   q3  all twelve estimated
-  (none) [known] held fixed, [estimates] estimated, everything else unknown";
+  (none) [known] held fixed, [estimates] estimated, everything else unknown
+
+MODELS (--model):
+  pim         e, mu, em; both moment branches (default)
+  tangential  e, et and the friction limit (normal and tangential restitution, Routh's
+              friction limit, no moment impulse; one branch). Searched per contact mode:
+              sticking over (e, et), any friction limit at least the impulse ratio giving the
+              same answer; sliding over (e, friction), where et only decides that sticking
+              would need more than the limit. The output says which mode, et, and the
+              friction limits that give the answer; the ranges say what the data leave open.";
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CostArg {

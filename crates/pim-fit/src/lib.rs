@@ -49,6 +49,26 @@
 //! [`Status::Infeasible`] outcome with the reason in words, never a solution that violates the
 //! equations.
 //!
+//! ## The second model
+//! With [`FitSettings::model`] = [`FitModel::Tangential`] the fit estimates pim-core's
+//! tangential-restitution model (normal restitution e, tangential restitution et, a friction
+//! limit on `|Pt / Pn|`, no moment impulse) with the same cost, observations and search. Its
+//! answers are PIM's with `e_m = 1` and other admissible impulse ratios, so the inner problem is
+//! the same convex program over x with the model's own transfer matrix and ratio condition:
+//! - sticking, searched over `(e, et)`: `X = R x` with `vn' = -e vn`, `vt' = et vt`
+//!   (pim-core's `stick_transfer`), and the ratio of the impulse within the largest friction
+//!   limit, `|Pt| <= friction_max |Pn|` (two wedges, as PIM's sticking mode);
+//! - sliding, searched over `(e, friction, et)`: PIM's sliding form with mu = friction, and
+//!   Routh's condition that sticking at et would need more, `|Pt(et)| >= friction |Pn(et)|`,
+//!   whose admissible set is again two polyhedra, written as `Pn / Pt` within
+//!   `+-1 / friction` (the answer does not depend on et; et only witnesses the condition).
+//!
+//! The report's [`Solution::tangential`] says which mode acted, et and the friction limits
+//! that give the answer; e, mu and e_m of the solution are then PIM's equivalent (mu the
+//! impulse ratio relative to the sliding direction, e_m = 1). pim-core's forward solve from the
+//! fitted contact state must reproduce the fitted separation state, or the branch is reported
+//! as [`Status::CheckFailed`].
+//!
 //! ```
 //! use pim_core::*;
 //! use pim_fit::*;

@@ -41,6 +41,20 @@ def test_fit_equals_the_cli_document(cost):
     assert pim.fit(R7_FIT, cost=cost) == cli_json("fit", R7_FIT, "--cost", cost)
 
 
+def test_the_second_model_fits_as_on_the_command_line():
+    got = pim.fit(R7_FIT, cost="q2", model="tangential")
+    assert got == cli_json("fit", R7_FIT, "--cost", "q2", "--model", "tangential")
+    assert got["model"] == "tangential" and len(got["branches"]) == 1
+    assert got["branches"][0]["tangential"]["mode"] in ("stick", "slide")
+    records = pim.batch(costs=("q2",), tests=[7], models=("pim", "tangential"))
+    assert records == cli_json(
+        "batch", "--cost", "q2", "--tests", "7", "--model", "pim,tangential"
+    )["records"]
+    assert [r["model"] for r in records] == ["pim", "pim", "tangential"]
+    with pytest.raises(pim.InputError, match="use \"pim\" or \"tangential\""):
+        pim.fit(R7_FIT, cost="q2", model="impc")
+
+
 def test_a_case_as_path_text_or_dict_is_the_same_case():
     text = (REPO / R7_FIT).read_text()
     by_path = pim.fit(Path(R7_FIT), cost="q2", branches=("zero",))
