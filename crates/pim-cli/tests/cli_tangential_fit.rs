@@ -88,6 +88,24 @@ fn fit_tangential_is_the_models_own_answer() {
         String::from_utf8(pim_ok(&["fit", CASE, "--cost", "q2", "--model", "tangential"]).stdout)
             .unwrap();
     assert!(table.contains("tangential model ("), "{table}");
+    let dir = scratch_dir("tangential_fit", "out");
+    let d = dir.display().to_string();
+    pim_ok(&[
+        "fit",
+        CASE,
+        "--cost",
+        "q2",
+        "--model",
+        "tangential",
+        "--out",
+        &d,
+    ]);
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        md.contains("| status | mode | e | et | friction limit |"),
+        "{md}"
+    );
+    assert!(dir.join("diagram.svg").is_file());
     assert!(
         table.contains("friction = ") || table.contains("et = "),
         "{table}"

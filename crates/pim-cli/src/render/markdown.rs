@@ -62,6 +62,78 @@ pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> St
     let mut s = String::new();
     let _ = writeln!(s, "# {}\n", title.lines().next().unwrap_or(title));
     let _ = writeln!(s, "Fit with cost function {cost}.\n");
+    if r.model == pim_fit::FitModel::Tangential {
+        tangential_fit(&mut s, r);
+    } else {
+        pim_fit_table(&mut s, r);
+    }
+    if let Some(sol) = r.best_branch().and_then(|b| b.solution.as_ref()) {
+        let _ = writeln!(
+            s,
+            "\n## Best branch\n\n![plan view at contact, fitted velocities](diagram.svg)\n"
+        );
+        vehicles(&mut s, &sol.vehicles, u);
+        let _ = writeln!(
+            s,
+            "\nKinetic energy loss {:.0} J ({:.2} %).",
+            sol.energy_loss, sol.energy_loss_percent
+        );
+    } else {
+        let _ = writeln!(s, "\nNo branch has an admissible solution.");
+    }
+    let _ = writeln!(s, "\nEvery number, in SI, is in result.json.");
+    s
+}
+
+/// The tangential model's line of a fit report: mode, e, et and the friction limits.
+fn tangential_fit(s: &mut String, r: &pim_fit::FitReport) {
+    let _ = writeln!(
+        s,
+        "Tangential-restitution model (normal restitution e, tangential restitution et, \
+         friction limit; no moment impulse).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| status | mode | e | et | friction limit | cost | energy loss [%] |"
+    );
+    let _ = writeln!(s, "|---|---|---:|---:|---|---:|---:|");
+    for b in &r.branches {
+        match b
+            .solution
+            .as_ref()
+            .and_then(|x| x.tangential.as_ref().map(|t| (x, t)))
+        {
+            Some((x, t)) => {
+                let (mode, et, friction) = match t.mode {
+                    pim_core::ContactMode::Stick => (
+                        "stick",
+                        format!("{:+.4}", t.et),
+                        format!("{:.4} to {:.4}", t.friction, t.friction_max),
+                    ),
+                    pim_core::ContactMode::Slide => (
+                        "slide",
+                        "any whose sticking would exceed the limit".to_string(),
+                        format!("{:.4}", t.friction),
+                    ),
+                };
+                let _ = writeln!(
+                    s,
+                    "| {} | {mode} | {:.4} | {et} | {friction} | {:.5} | {:.2} |",
+                    b.status, x.e, x.cost, x.energy_loss_percent
+                );
+            }
+            None => {
+                let _ = writeln!(s, "| {} | | | | | | |", b.status);
+            }
+        }
+        if let Some(reason) = &b.reason {
+            let _ = writeln!(s, "\n{reason}");
+        }
+    }
+}
+
+/// PIM's table of a fit report: one row per branch, then the reasons and notes.
+fn pim_fit_table(s: &mut String, r: &pim_fit::FitReport) {
     let _ = writeln!(
         s,
         "| branch | status | e | mu | em | cost | energy loss [%] |"
@@ -100,20 +172,4 @@ pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> St
     for n in &r.notes {
         let _ = writeln!(s, "\nNote: {n}");
     }
-    if let Some(sol) = r.best_branch().and_then(|b| b.solution.as_ref()) {
-        let _ = writeln!(
-            s,
-            "\n## Best branch\n\n![plan view at contact, fitted velocities](diagram.svg)\n"
-        );
-        vehicles(&mut s, &sol.vehicles, u);
-        let _ = writeln!(
-            s,
-            "\nKinetic energy loss {:.0} J ({:.2} %).",
-            sol.energy_loss, sol.energy_loss_percent
-        );
-    } else {
-        let _ = writeln!(s, "\nNo branch has an admissible solution.");
-    }
-    let _ = writeln!(s, "\nEvery number, in SI, is in result.json.");
-    s
 }
