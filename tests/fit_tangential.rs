@@ -238,3 +238,102 @@ fn never_worse_than_pims_zero_branch_on_ricsac() {
     // et adds freedom the data use: below PIM's zero branch on 14 of the 22 fits.
     assert_eq!(below, 14);
 }
+
+/// A realistic random impact with the tangential model's coefficients whose forward solution is
+/// admissible, within the fit's bounds, and slides at contact: (impact, contact state, truth).
+fn arb_truth(
+) -> impl proptest::strategy::Strategy<Value = (Impact, Velocities, TangentialCoefficients)> {
+    use proptest::prelude::*;
+    (
+        (
+            800.0..2500.0f64,
+            1000.0..5000.0f64,
+            0.8..2.5f64,
+            -60.0..60.0f64,
+        ),
+        (
+            800.0..2500.0f64,
+            1000.0..5000.0f64,
+            0.5..2.0f64,
+            -120.0..-60.0f64,
+        ),
+        (30.0..150.0f64, -40.0..40.0f64),
+        (6.0..15.0f64, 4.0..14.0f64),
+        (0.02..0.18f64, -0.8..0.8f64, 0.1..1.1f64),
+    )
+        .prop_filter_map(
+            "admissible truth",
+            |(a, b, (h2, g), (s1, s2), (e, et, f))| {
+                let impact = Impact::new(pim_core::Collision {
+                    vehicle1: common::vehicle(a.0, a.1, 0.0, a.2, a.3),
+                    vehicle2: common::vehicle(b.0, b.1, h2, b.2, b.3),
+                    crush_angle: g,
+                })
+                .ok()?;
+                let h = h2.to_radians();
+                let x = common::state([-s1, 0.0, 0.0, s2 * h.cos(), s2 * h.sin(), 0.0]);
+                let c = TangentialCoefficients { e, et, friction: f };
+                let t = solve_tangential(&impact, &c, &x).ok()?;
+                let within = t
+                    .report
+                    .separation
+                    .to_vector()
+                    .iter()
+                    .enumerate()
+                    .all(|(k, v)| v.abs() < if k % 3 == 2 { 4.5 } else { 19.0 });
+                let (_, vt) = impact.relative_velocity(&x);
+                (t.report.admissibility.admissible && within && vt.abs() > 0.5)
+                    .then_some((impact, x, c))
+            },
+        )
+}
+
+/// Noise-free data of random collisions (both contact modes) are fitted back under Q2 and Q3:
+/// zero cost, e and the impulse ratio recovered, and the answer is the model's own forward
+/// solution (the fit's check passes: status optimal, residuals at round-off).
+#[test]
+fn random_collisions_are_fitted_back() {
+    use proptest::strategy::{Strategy, ValueTree};
+    let mut runner = common::seeded_runner(1, 23);
+    let strat = arb_truth();
+    let (mut sticks, mut slides) = (0, 0);
+    for _ in 0..20 {
+        let (impact, x, truth) = strat.new_tree(&mut runner).unwrap().current();
+        let t = solve_tangential(&impact, &truth, &x).unwrap();
+        match t.mode {
+            ContactMode::Stick => sticks += 1,
+            ContactMode::Slide => slides += 1,
+        }
+        for preset in [CostPreset::Q2, CostPreset::Q3] {
+            let problem = FitProblem::from_preset(impact, preset, &x, &t.report.separation, None);
+            let report = fit(&problem, &settings()).unwrap();
+            let b = &report.branches[0];
+            assert_eq!(b.status, pim_fit::Status::Optimal, "{preset:?} {truth:?}");
+            let s = b.solution.as_ref().unwrap();
+            let tf = s.tangential.as_ref().unwrap();
+            assert!(s.cost < 1e-7, "{preset:?} {truth:?}: cost {}", s.cost);
+            assert!(s.max_residual < 1e-8);
+            assert!(
+                (s.e - truth.e).abs() < 2e-3,
+                "{preset:?} {truth:?}: e {}",
+                s.e
+            );
+            assert!(
+                (tf.impulse_ratio - t.impulse_ratio).abs() < 2e-3 * (1.0 + t.impulse_ratio.abs()),
+                "{preset:?} {truth:?}: ratio {} vs {}",
+                tf.impulse_ratio,
+                t.impulse_ratio
+            );
+            if tf.mode == ContactMode::Stick && t.mode == ContactMode::Stick {
+                assert!(
+                    (tf.et - truth.et).abs() < 2e-3,
+                    "{preset:?} {truth:?}: et {}",
+                    tf.et
+                );
+            }
+        }
+    }
+    // Both modes are exercised.
+    assert!(sticks >= 3 && slides >= 3, "{sticks} stick, {slides} slide");
+    eprintln!("{sticks} sticking and {slides} sliding truths fitted back");
+}
