@@ -113,6 +113,23 @@ fn fit_against_the_barrier_recovers_the_coefficients() {
     assert!((s["e"].as_f64().unwrap() - 0.1).abs() < 1e-5, "{s}");
     assert!((s["mu"].as_f64().unwrap() - 0.2).abs() < 1e-5, "{s}");
     assert_eq!(s["final"]["vehicle2"]["vx"], 0.0);
+    // The second model fits the same data: sliding PIM is its sliding mode, so the impulse
+    // ratio (its PIM-equivalent mu) and e come back.
+    let v = json(&pim_ok(&[
+        "fit",
+        &file,
+        "--cost",
+        "q2",
+        "--model",
+        "tangential",
+        "--format",
+        "json",
+    ]));
+    let t = &v["branches"][0];
+    assert_eq!(t["status"], "optimal");
+    assert!(t["cost"].as_f64().unwrap() < 1e-9, "{t}");
+    assert!((t["e"].as_f64().unwrap() - 0.1).abs() < 1e-4, "{t}");
+    assert!((t["mu"].as_f64().unwrap() - 0.2).abs() < 1e-4, "{t}");
 }
 
 #[test]

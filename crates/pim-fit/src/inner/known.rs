@@ -5,6 +5,7 @@ use super::{At, Candidate, Eval, Inner};
 use crate::report::Violation;
 use nalgebra::Vector6;
 use pim_core::reduction::Reduced;
+use pim_core::TangentialCondition;
 
 impl Inner {
     /// The candidate of a problem with one state known. `None` when the problem is not of that
@@ -12,6 +13,17 @@ impl Inner {
     /// decides).
     pub(super) fn evaluate_known(&self, at: &At) -> Option<Eval> {
         let known = self.known.as_ref()?;
+        if self.model == crate::FitModel::Tangential && at.mode == TangentialCondition::NoSlip {
+            // The tangential model's sticking: its own transfer matrix, X = R x.
+            let (v, contact) = self.known_state?;
+            let r = self.transfer(at)?;
+            let (x, xf) = if contact {
+                (v, r * v)
+            } else {
+                (r.lu().solve(&v)?, v)
+            };
+            return Some(self.checked(at, x, xf));
+        }
         match known.solve(&at.c, at.mode, at.sign) {
             Reduced::States(x, xf) => Some(self.checked(at, x, xf)),
             Reduced::Inconsistent => Some(Eval::Infeasible(Violation::Inconsistent)),
@@ -26,10 +38,11 @@ impl Inner {
             return Eval::Infeasible(v);
         }
         if !check.ratio_ok {
-            return Eval::Infeasible(match at.mode {
-                pim_core::TangentialCondition::Sliding => Violation::Friction,
-                pim_core::TangentialCondition::NoSlip => Violation::MuBound,
-            });
+            let kind = self.constraints(at).ratio.map(|r| r.kind);
+            return Eval::Infeasible(kind.unwrap_or(match at.mode {
+                TangentialCondition::Sliding => Violation::Friction,
+                TangentialCondition::NoSlip => Violation::MuBound,
+            }));
         }
         if !check.energy_ok {
             return Eval::Infeasible(Violation::Energy);

@@ -82,6 +82,8 @@ pub(crate) struct Inner {
     pub objective: Objective,
     /// The reduced solve, when one whole state is known (Q1, Q2).
     known: Option<KnownState>,
+    /// That state, and whether it is the contact state.
+    known_state: Option<(Vector6<f64>, bool)>,
     /// Friction sign when the contact state is fully known.
     known_sign: Option<FrictionSign>,
     /// The linear conditions for each friction sign (positive, negative).
@@ -114,17 +116,16 @@ impl Inner {
         let objective = Objective::new(problem);
         let tangential = settings.model == FitModel::Tangential;
         // The tangential model has no moment impulse: its sliding mode is PIM's with e_m = 1,
-        // where the moment forms agree. Its states are solved by the general path (the reduced
-        // known-state solve is PIM's).
+        // where the moment forms agree (and so is its reduced known-state solve); its sticking
+        // mode solves a known state through its own transfer matrix.
         let moment_form = if tangential {
             pim_core::MomentForm::Corrected
         } else {
             settings.moment_form
         };
-        let known = objective
-            .known_state()
-            .filter(|_| !tangential)
-            .map(|(v, forward)| KnownState::new(&impact, moment_form, v, forward));
+        let known_state = objective.known_state();
+        let known =
+            known_state.map(|(v, forward)| KnownState::new(&impact, moment_form, v, forward));
         let known_sign = objective
             .fixed_contact()
             .map(|x| impact.friction_sign(&pim_core::Velocities::from_vector(&x)));
@@ -173,6 +174,7 @@ impl Inner {
         Inner {
             reduction: Reduction::new(&impact, moment_form),
             known,
+            known_state,
             known_sign,
             linear: [
                 linear_for(FrictionSign::Positive),
@@ -356,13 +358,14 @@ impl Inner {
     pub fn singular_faces(&self) -> pim_core::reduction::SingularFaces {
         self.known
             .as_ref()
+            .filter(|_| self.model == FitModel::Pim)
             .map(|k| k.singular_faces())
             .unwrap_or_default()
     }
 
-    /// True when the search may profile e out (see [`Inner::evaluate_profile`]).
+    /// True when the search may profile e out (see [`Inner::evaluate_profile`]; PIM only).
     pub fn profiles(&self) -> bool {
-        self.known.as_ref().is_some_and(|d| d.profiles())
+        self.model == FitModel::Pim && self.known.as_ref().is_some_and(|d| d.profiles())
     }
 }
 
