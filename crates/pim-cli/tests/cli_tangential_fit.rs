@@ -167,6 +167,18 @@ fn bad_models_and_bounds_say_why() {
         "mu = [-1.2, 1.2]",
         "mu = [-1.2, 1.2]\nfriction = [0.8, 0.2]",
     );
+    // A friction box the data want to leave: the answer ends on its bound, and the user is told.
+    let narrow = text.replace("friction = [0.8, 0.2]", "friction = [0.0, 0.05]");
+    let path = scratch_file("tangential_fit", "narrow.toml", narrow);
+    let out = pim_ok(&["fit", &path, "--cost", "q2", "--model", "tangential"]);
+    assert!(
+        stderr(&out).contains(
+            "the tangential model's fit ends on a bound: friction limit at its upper bound; \
+             widen [bounds] friction"
+        ),
+        "{}",
+        stderr(&out)
+    );
     let path = scratch_file("tangential_fit", "bad_bounds.toml", text);
     let out = pim(&["fit", &path, "--cost", "q2", "--model", "tangential"]);
     assert_eq!(out.status.code(), Some(2));

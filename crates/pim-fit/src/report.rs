@@ -255,6 +255,14 @@ pub enum ActiveConstraint {
     StickingMuBound,
     /// Tangential model: the sticking impulse ratio is at the largest friction limit.
     FrictionBound,
+    /// Tangential model: the friction limit of a sliding answer at the lower end of its range.
+    FrictionLow,
+    /// Tangential model: the friction limit of a sliding answer at the upper end of its range.
+    FrictionHigh,
+    /// Tangential model: et of a sticking answer at the lower end of its range.
+    EtLow,
+    /// Tangential model: et of a sticking answer at the upper end of its range.
+    EtHigh,
     /// Tangential model: the sticking impulse at et is exactly at the friction limit (sticking
     /// and sliding give the same answer).
     StickSlide,
@@ -292,6 +300,10 @@ impl fmt::Display for ActiveConstraint {
             ActiveConstraint::StickSlide => {
                 f.write_str("sticking impulse at the friction limit (stick = slide)")
             }
+            ActiveConstraint::FrictionLow => f.write_str("friction limit at its lower bound"),
+            ActiveConstraint::FrictionHigh => f.write_str("friction limit at its upper bound"),
+            ActiveConstraint::EtLow => f.write_str("et at its lower bound"),
+            ActiveConstraint::EtHigh => f.write_str("et at its upper bound"),
             ActiveConstraint::Energy => f.write_str("no kinetic energy created (T1 = T0)"),
             ActiveConstraint::ELow => f.write_str("e at its lower bound"),
             ActiveConstraint::EHigh => f.write_str("e at its upper bound"),
@@ -319,6 +331,10 @@ impl ActiveConstraint {
             ActiveConstraint::StickingMuBound => "mu_max=bound".into(),
             ActiveConstraint::FrictionBound => "ratio=friction_max".into(),
             ActiveConstraint::StickSlide => "stick=slide".into(),
+            ActiveConstraint::FrictionLow => "friction=min".into(),
+            ActiveConstraint::FrictionHigh => "friction=max".into(),
+            ActiveConstraint::EtLow => "et=min".into(),
+            ActiveConstraint::EtHigh => "et=max".into(),
             ActiveConstraint::Energy => "T1=T0".into(),
             ActiveConstraint::ELow => "e=min".into(),
             ActiveConstraint::EHigh => "e=max".into(),

@@ -81,14 +81,19 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             let hint = match a {
                 A::EHigh => "the data want more restitution: widen [bounds] e",
                 A::MuLow | A::MuHigh => "widen [bounds] mu",
+                A::FrictionLow | A::FrictionHigh => "widen [bounds] friction",
+                A::EtLow | A::EtHigh => "widen [bounds] et if it is narrower than [-1, 1]",
                 A::VelocityBound(_) => "widen [bounds] velocity / yaw_rate, or check the estimates",
                 A::EmLow => "em = -1 is the end of its physical range",
                 _ => continue,
             };
+            let which = match report.model {
+                pim_fit::FitModel::Tangential => "the tangential model's fit".to_string(),
+                pim_fit::FitModel::Pim => format!("the best branch ({})", b.moment.name()),
+            };
             eprintln!(
-                "pim: warning: {}: the best branch ({}) ends on a bound: {a}; {hint}",
-                case.file,
-                b.moment.name()
+                "pim: warning: {}: {which} ends on a bound: {a}; {hint}",
+                case.file
             );
         }
     }

@@ -75,7 +75,28 @@ impl Inner {
         let [mlo, mhi] = self.mu_bounds;
         let mu_box = (mhi - mlo).max(1e-3);
         if self.model == crate::FitModel::Tangential {
-            // Its friction and et are reported with their ranges; mu is the impulse ratio.
+            // The coefficient that decides the answer: the friction limit when sliding, et when
+            // sticking (the other only bounds it).
+            let (v, [lo, hi], low, high) = match at.mode {
+                TangentialCondition::Sliding => (
+                    at.c.mu,
+                    self.friction,
+                    ActiveConstraint::FrictionLow,
+                    ActiveConstraint::FrictionHigh,
+                ),
+                TangentialCondition::NoSlip => (
+                    at.et,
+                    self.et_range,
+                    ActiveConstraint::EtLow,
+                    ActiveConstraint::EtHigh,
+                ),
+            };
+            let size = (hi - lo).max(1e-3);
+            if hi > lo && near(v, lo, size) {
+                out.push(low);
+            } else if hi > lo && near(v, hi, size) {
+                out.push(high);
+            }
             return out;
         }
         match at.mode {

@@ -96,6 +96,8 @@ pub(crate) struct Inner {
     pub model: FitModel,
     /// Friction-limit range of the tangential model.
     pub friction: [f64; 2],
+    /// et range of the tangential model.
+    pub et_range: [f64; 2],
     pub settings: SearchSettings,
     /// Feasibility tolerance, m/s.
     tol: f64,
@@ -186,6 +188,7 @@ impl Inner {
             e_range: settings.e,
             model: settings.model,
             friction: settings.friction,
+            et_range: settings.et,
             settings: settings.search,
             tol,
             objective,
