@@ -44,72 +44,14 @@ fn normal(rng: &mut StdRng) -> f64 {
 /// within the bounds (the caller draws again).
 fn draw(seed: u64) -> Option<StressCase> {
     let mut rng = StdRng::seed_from_u64(seed);
-    let vehicle = |rng: &mut StdRng| {
-        let mass = rng.random_range(800.0..2600.0);
-        let k = rng.random_range(1.1..1.6f64); // radius of gyration, m
-        Vehicle {
-            mass,
-            yaw_inertia: mass * k * k,
-            heading: rng.random_range(-180.0..180.0),
-            d: rng.random_range(0.4..2.6),
-            phi: rng.random_range(-180.0..180.0),
-        }
-    };
-    let v1 = vehicle(&mut rng);
-    let v2 = vehicle(&mut rng);
-    let impact = Impact::new(Collision {
-        vehicle1: v1,
-        vehicle2: v2,
-        crush_angle: rng.random_range(-90.0..90.0),
-    })
-    .ok()?;
-    // Travel directions: vehicle 1 forward is its heading + 180 deg in the papers' geometry.
-    let motion = |heading: f64, rng: &mut StdRng| {
-        let speed: f64 = rng.random_range(4.0..18.0);
-        let dir = (heading + rng.random_range(-12.0..12.0)).to_radians();
-        VehicleVelocity {
-            vx: speed * dir.cos(),
-            vy: speed * dir.sin(),
-            omega: rng.random_range(-0.4..0.4),
-        }
-    };
-    let x = Velocities {
-        vehicle1: motion(v1.heading + 180.0, &mut rng),
-        vehicle2: motion(v2.heading, &mut rng),
-    };
-    impact.check_approach(&x).ok()?;
-    let (_, vt) = impact.relative_velocity(&x);
-    if vt.abs() < 0.3 {
-        return None;
-    }
-    let em = if rng.random_bool(0.5) {
-        1.0
-    } else {
-        rng.random_range(-1.0..0.0)
-    };
-    let mut truth = Coefficients {
-        e: rng.random_range(0.0..0.2),
-        mu: 0.0,
-        em,
-    };
-    let mu_max = critical_friction(&impact, &truth, &x, &SolveOptions::default()).ok()??;
-    if !(0.02..1.15).contains(&mu_max.abs()) {
-        return None;
-    }
-    let stick = rng.random_bool(0.25);
-    truth.mu = if stick {
-        mu_max
-    } else {
-        mu_max * rng.random_range(0.05..0.95)
-    };
-    let opts = SolveOptions {
-        tangential: if stick {
-            TangentialCondition::NoSlip
-        } else {
-            TangentialCondition::Sliding
-        },
-        ..Default::default()
-    };
+    let common::RandomImpact {
+        impact,
+        x,
+        truth,
+        stick,
+        mu_max,
+        opts,
+    } = common::random_impact(&mut rng)?;
     let r = solve_forward(&impact, &truth, &x, &opts).ok()?;
     let inside = |v: &Velocities, margin: f64| {
         v.to_vector().iter().enumerate().all(|(k, c)| {
@@ -165,6 +107,9 @@ struct Verdict {
     q3_energy_active: usize,
     /// Of those, with a negative mu_max.
     q3_energy_negative_mu_max: usize,
+    /// Q3 branches and those the convex solve decided (the others fell back to the grid search).
+    q3_branches: usize,
+    q3_convex: usize,
 }
 
 /// pim-core's independent check of a fitted solution: the equations from scratch and
@@ -224,6 +169,12 @@ fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
         bounds: Box3::default(),
     };
     for b in &report.branches {
+        if case.preset == CostPreset::Q3 {
+            v.q3_branches += 1;
+            if b.certificate.method.starts_with("convex") {
+                v.q3_convex += 1;
+            }
+        }
         let ours = match (&b.status, &b.solution) {
             (Status::Optimal, Some(s)) => {
                 v.optimal += 1;
@@ -293,6 +244,9 @@ fn run(first: u64, n: usize) {
         .iter()
         .map(|(_, v)| v.q3_energy_negative_mu_max)
         .sum();
+    let q3: usize = verdicts.iter().map(|(_, v)| v.q3_branches).sum();
+    let q3_convex: usize = verdicts.iter().map(|(_, v)| v.q3_convex).sum();
+    println!("Q3 branches {q3}, decided by the convex solve {q3_convex}");
     println!(
         "{n} cases: side +/- {sides:?}, mu_max +/- {signs:?}, em free/one {branches:?}, \
          Q1/Q2/Q3 {presets:?}, sticking truths {sticking}; branches optimal {optimal}, \

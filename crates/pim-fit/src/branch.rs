@@ -13,6 +13,22 @@ use crate::settings::{FitModel, FitSettings};
 use pim_core::{SolveOptions, Velocities};
 
 fn certificate(out: &Outcome) -> Certificate {
+    if let Some(c) = out.convex {
+        return Certificate {
+            method: format!(
+                "convex decomposition: over the contact state and the impulse every condition \
+                 but the energy is linear once the signs of the friction, of the normal and \
+                 tangential impulse, of the frictionless and no-slip normal impulses, of the \
+                 final tangential velocity and (free branch) of the linear-impulse yaw rate are \
+                 fixed; each sign pattern is a strictly convex QP solved to its KKT-verified \
+                 optimum by a dual active-set method ({} patterns over {} e_m intervals of a \
+                 branch-and-bound, {} solved, {} stopped by their lower bound or found \
+                 empty); the best checked by the exact constraint set",
+                c.patterns, c.intervals, c.solved, c.pruned
+            ),
+            ..certificate_counts(out)
+        };
+    }
     if out.friction_max.is_some() {
         return Certificate {
             method: "grid over the coefficient box per contact mode of the tangential model \

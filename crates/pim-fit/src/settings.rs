@@ -152,6 +152,10 @@ pub struct SearchSettings {
     pub energy_bisections: usize,
     /// Iteration limit of the QP solver (default 200).
     pub qp_iterations: u32,
+    /// Solve PIM fits whose cost is strictly convex in the velocities (every component
+    /// estimated, as in Q3) as a union of convex QPs over the contact state and the impulse
+    /// (default true); false runs the grid search on them too.
+    pub convex: bool,
 }
 
 impl Default for SearchSettings {
@@ -177,6 +181,7 @@ impl Default for SearchSettings {
             energy_doublings: 60,
             energy_bisections: 40,
             qp_iterations: 200,
+            convex: true,
         }
     }
 }

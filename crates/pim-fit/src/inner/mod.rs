@@ -196,6 +196,16 @@ impl Inner {
         }
     }
 
+    /// The smallest |Pn| of a friction wedge, N s.
+    pub fn pn_floor(&self) -> f64 {
+        1e-9 * self.mass[0] * self.objective.scale
+    }
+
+    /// The feasibility tolerance of the linear conditions, m/s.
+    pub fn tolerance(&self) -> f64 {
+        self.tol
+    }
+
     /// Sum of weight x target^2 over the data.
     pub fn data_scale(&self) -> f64 {
         self.objective.data_scale()
@@ -307,7 +317,6 @@ impl Inner {
                 })
             }
         };
-        let m1 = self.mass[0];
         ConstraintSet {
             linear: &self.linear[sign_index(at.sign)],
             ratio,
@@ -315,7 +324,7 @@ impl Inner {
             impulse: self.impulse,
             mass: self.mass,
             tol: self.tol,
-            pn_floor: 1e-9 * m1 * self.objective.scale,
+            pn_floor: self.pn_floor(),
         }
     }
 

@@ -119,6 +119,11 @@ impl Objective {
         }
     }
 
+    /// The cost as `U' H U - 2 g' U + c0`: `(H, g, c0)`.
+    pub fn quadratic(&self) -> (&SMatrix<f64, 12, 12>, &Vector12, f64) {
+        (&self.hu, &self.gu, self.c0)
+    }
+
     /// Sum of weight x target^2 over the data.
     pub fn data_scale(&self) -> f64 {
         self.c0

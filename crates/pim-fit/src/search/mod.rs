@@ -38,6 +38,22 @@ pub(crate) fn search_branch(
         friction_max: (inner.model == crate::FitModel::Tangential).then_some(settings.friction[1]),
         ..Outcome::default()
     };
+    let verdict = crate::convex::solve(inner, settings, branch);
+    if let crate::convex::Verdict::Optimal {
+        at,
+        candidate,
+        counts,
+    } = verdict
+    {
+        out.convex = Some(counts);
+        out.evaluations = counts.patterns;
+        out.exact_solves = counts.solved;
+        out.record(Point { at, candidate });
+        if settings.ranges {
+            scan::scan(inner, settings, branch, &mut out);
+        }
+        return out;
+    }
     let faces = inner.singular_faces();
     for space in spaces(branch, settings, out.profiled_e, faces) {
         let (pts, values) = grid(inner, &space, &mut out);

@@ -82,6 +82,8 @@ pub(crate) struct Outcome {
     pub profiled_e: bool,
     /// Tangential model: the largest friction limit (`None` for PIM).
     pub friction_max: Option<f64>,
+    /// The optimum came from the convex solve over the contact state and the impulse.
+    pub convex: Option<crate::convex::Counts>,
 }
 
 impl Outcome {

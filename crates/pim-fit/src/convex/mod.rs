@@ -1,0 +1,675 @@
+//! The fit as a union of convex QPs over the contact state and the impulse.
+//!
+//! Equations 1-3 (momentum) say that the velocity change `d = X - x` lies in a fixed
+//! three-dimensional space (two-dimensional with no moment impulse, the zero branch): `d = D q`.
+//! Over `z = (x, q)` every other condition is linear once a few signs are fixed:
+//!
+//! - restitution: `e = -Vn / vn` within `[e_min, e_max]` with the vehicles approaching
+//!   (`side vn < 0`) is `e_min a <= b <= e_max a` for `a = -side vn`, `b = side Vn`;
+//! - moment restitution: `e_m = W_f / W_lin`, the final relative yaw rate over the one the linear
+//!   impulse alone would leave (`W_lin = W_f + B`, B the change caused by the moment impulse;
+//!   equation 6 is `(1 - e_m) W_f = e_m B`), within `[-1, 0]`: for a sign `s_w` of `W_lin`,
+//!   `s_w W_lin >= 0` and `W_f` between `e_lo W_lin` and `e_hi W_lin`;
+//! - the mu bounds: `mu = s Pt / Pn` (s the friction sign) within `[mu_min, mu_max_bound]` is
+//!   linear for a sign `s_n` of Pn;
+//! - mu between 0 and mu_max: at fixed x, e and e_m the impulses of all mu lie on a line, on which
+//!   Pt and the final tangential velocity Vt are affine, `Vt = k Pt + c`. mu = 0 is the point
+//!   `Pt = 0`, mu = mu_max the point `Vt = 0`, and "mu between 0 and mu_max" (when the normal
+//!   impulse keeps its sign between them, as it does wherever the ratio is defined on the way)
+//!   is the segment between them: `Pt Vt / k <= 0`. The direction of the line depends on e_m
+//!   alone, so the sign of k is a property of the geometry on each piece of the e_m interval;
+//!   for a sign `s_t` of Pt the condition is `s_t Pt >= 0`, `sgn(k) s_t Vt <= 0`;
+//! - velocity bounds, approach speed and the sliding direction of the friction sign are linear
+//!   in x and X.
+//!
+//! With every weight of the cost positive (Q3 and custom costs that weigh each component) the
+//! cost is strictly convex in z, so each sign pattern (friction sign, `s_n`, `s_t`, and in the
+//! free branch the e_m piece and `s_w`) is a strictly convex QP, solved exactly by a dual
+//! active-set method ([`dual`]) whose value only rises, so a pattern stops as soon as it
+//! cannot beat the best one found. The minimum over the patterns is the global optimum over
+//! the union; the best point is then checked against the search's own constraint set
+//! (pim-core's friction classification and energy test). Where that check fails (the optimum
+//! creates energy, whose condition is not convex here, or its normal impulse changes sign on
+//! the way to mu_max), or a QP does not verify, the general search decides instead.
+
+// Dense linear algebra on index ranges reads best with explicit indices.
+#![allow(clippy::needless_range_loop)]
+
+mod dual;
+
+use crate::inner::{At, Candidate, Inner};
+use crate::problem::MomentBranch;
+use crate::settings::FitSettings;
+use dual::{Row, N};
+use nalgebra::{Matrix6, RowVector6, SymmetricEigen};
+use pim_core::equations::{
+    angular_momentum, impulse_rows, moment_b_row, momentum_x, momentum_y, normal_velocity_row,
+    tangential_velocity_row,
+};
+use pim_core::{Coefficients, FrictionSign, MomentForm, TangentialCondition};
+
+/// A linear form over `z = (x, q)`.
+type Form = [f64; N];
+
+/// What the convex solve of a branch found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Verdict {
+    /// The global optimum of the branch.
+    Optimal {
+        at: At,
+        candidate: Candidate,
+        counts: Counts,
+    },
+    /// The general search must decide (see the module documentation), with the reason.
+    Search(&'static str),
+}
+
+/// What the convex solve did, for the certificate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct Counts {
+    /// Sign patterns of the branch.
+    pub patterns: usize,
+    /// Patterns solved to their optimum.
+    pub solved: usize,
+    /// Patterns stopped by their lower bound or found empty.
+    pub pruned: usize,
+    /// e_m intervals solved (1 in the zero branch).
+    pub intervals: usize,
+}
+
+/// One sign pattern over an e_m interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Pattern {
+    sign: FrictionSign,
+    /// Signs of Pn, Pt, Vt, of the frictionless normal impulse Pn0 and of the no-slip one Pn*.
+    s_n: f64,
+    s_t: f64,
+    s_v: f64,
+    s_a: f64,
+    s_b: f64,
+    /// The ranges of `Pn0 = Pn - rho_a Pt` and `Pn* = Pn - rho_b Vt` over the interval.
+    rho_a: [f64; 2],
+    rho_b: [f64; 2],
+    /// The e_m interval and the sign of W_lin (free branch).
+    em: [f64; 2],
+    s_w: f64,
+}
+
+/// The problem over z for one branch.
+struct Formulation {
+    /// Number of variables: 6 + the dimension of the velocity-change space.
+    n: usize,
+    /// Basis of the velocity-change space (columns 0..n-6).
+    d: [[f64; 3]; 6],
+    objective: dual::Objective,
+    /// The constant of the cost: cost = f + c0.
+    c0: f64,
+    /// Rows every pattern shares.
+    common: Vec<Row>,
+    vn: Form,
+    big_vn: Form,
+    pn: Form,
+    pt: Form,
+    vt: Form,
+    big_vt: Form,
+    w_final: Form,
+    w_lin: Form,
+    side: f64,
+}
+
+fn add(a: &Form, b: &Form, s: f64) -> Form {
+    let mut out = *a;
+    for (o, v) in out.iter_mut().zip(b) {
+        *o += s * v;
+    }
+    out
+}
+
+fn scaled(a: &Form, s: f64) -> Form {
+    a.map(|v| v * s)
+}
+
+fn dot(a: &Form, z: &[f64; N]) -> f64 {
+    a.iter().zip(z).map(|(x, y)| x * y).sum()
+}
+
+impl Formulation {
+    /// `None` when the problem is not one this path solves (something held fixed, a weight
+    /// missing so that the cost is not strictly convex, a degenerate geometry).
+    fn new(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Option<Formulation> {
+        let impact = &inner.impact;
+        if !inner.objective.nothing_fixed() || impact.is_barrier() {
+            return None;
+        }
+        // Basis of the velocity changes allowed by equations 1-3 (and B = 0 in the zero branch).
+        let mut rows: Vec<RowVector6<f64>> = vec![
+            momentum_x(impact).0,
+            momentum_y(impact).0,
+            angular_momentum(impact).0,
+        ];
+        let b_row = moment_b_row(impact);
+        if branch == MomentBranch::Zero {
+            rows.push(b_row);
+        }
+        let mut cc = Matrix6::zeros();
+        for r in &rows {
+            let unit = r / r.norm();
+            cc += unit.transpose() * unit;
+        }
+        let eig = SymmetricEigen::try_new(cc, f64::EPSILON, 500)?;
+        let null: Vec<usize> = (0..6)
+            .filter(|&i| eig.eigenvalues[i].abs() <= 1e-10)
+            .collect();
+        if null.len() != 6 - rows.len() {
+            return None;
+        }
+        let r = null.len();
+        let n = 6 + r;
+        let mut d = [[0.0; 3]; 6];
+        for (c, &i) in null.iter().enumerate() {
+            for (k, row) in d.iter_mut().enumerate() {
+                row[c] = eig.eigenvectors[(k, i)];
+            }
+        }
+        // Forms of x, of X = x + D q, and of rows over x or over d.
+        let over_x = |row: &RowVector6<f64>| {
+            let mut f = [0.0; N];
+            f[..6].copy_from_slice(row.as_slice());
+            f
+        };
+        let over_d = |row: &RowVector6<f64>| {
+            let mut f = [0.0; N];
+            for c in 0..r {
+                f[6 + c] = (0..6).map(|k| row[k] * d[k][c]).sum();
+            }
+            f
+        };
+        let over_final = |row: &RowVector6<f64>| add(&over_x(row), &over_d(row), 1.0);
+        // The cost U'HU - 2g'U + c0 with U = T z.
+        let (hu, gu, c0) = inner.objective.quadratic();
+        let mut t = [[0.0; N]; 12];
+        for k in 0..6 {
+            t[k][k] = 1.0;
+            t[6 + k][k] = 1.0;
+            for c in 0..r {
+                t[6 + k][6 + c] = d[k][c];
+            }
+        }
+        let mut g = [[0.0; N]; N];
+        let mut a = [0.0; N];
+        for i in 0..n {
+            for j in 0..n {
+                let mut s = 0.0;
+                for p in 0..12 {
+                    if t[p][i] == 0.0 {
+                        continue;
+                    }
+                    for q in 0..12 {
+                        s += t[p][i] * hu[(p, q)] * t[q][j];
+                    }
+                }
+                g[i][j] = 2.0 * s;
+            }
+            a[i] = -2.0 * (0..12).map(|p| t[p][i] * gu[p]).sum::<f64>();
+        }
+        let objective = dual::Objective::new(n, g, a)?;
+        let tol = inner.tolerance();
+        let mut common = Vec::new();
+        for k in 0..12 {
+            let limit = if k % 3 == 2 {
+                settings.yaw_rate_bound
+            } else {
+                settings.velocity_bound
+            } - tol;
+            common.push(Row::new(scaled(&t[k], -1.0), -limit)?);
+            common.push(Row::new(t[k], -limit)?);
+        }
+        let side = if impact.side() == 0.0 {
+            1.0
+        } else {
+            impact.side()
+        };
+        let nrow = normal_velocity_row(impact);
+        let trow = tangential_velocity_row(impact);
+        let vn = over_x(&nrow);
+        let big_vn = over_final(&nrow);
+        // Approach: -side vn >= min_approach + tol.
+        common.push(Row::new(
+            scaled(&vn, -side),
+            settings.search.min_approach_speed + tol,
+        )?);
+        // Restitution within [e_min, e_max]: a = -side vn, b = side Vn.
+        let (fa, fb) = (scaled(&vn, -side), scaled(&big_vn, side));
+        common.push(Row::new(add(&fb, &fa, -settings.e[0]), 0.0)?);
+        common.push(Row::new(add(&scaled(&fa, settings.e[1]), &fb, -1.0), 0.0)?);
+        let (pn_row, pt_row) = impulse_rows(impact);
+        let w_sign = match settings.moment_form {
+            MomentForm::Corrected => 1.0,
+            MomentForm::Brach1983 => -1.0,
+        };
+        let w = RowVector6::new(0.0, 0.0, -w_sign, 0.0, 0.0, w_sign);
+        let w_final = over_final(&w);
+        let w_lin = add(&w_final, &over_d(&b_row), 1.0);
+        Some(Formulation {
+            n,
+            d,
+            objective,
+            c0,
+            common,
+            vn,
+            big_vn,
+            pn: over_d(&pn_row),
+            pt: over_d(&pt_row),
+            vt: over_x(&trow),
+            big_vt: over_final(&trow),
+            w_final,
+            w_lin,
+            side,
+        })
+    }
+
+    /// `(Pn, Pt, Vt)` along the direction of the line of impulses at fixed x, e and e_m (its
+    /// length and sign arbitrary, but affine in e_m; e_m ignored in the zero branch).
+    fn slopes(&self, em: f64) -> [f64; 3] {
+        let r = self.n - 6;
+        let part = |f: &Form| [f[6], f[7], if r == 3 { f[8] } else { 0.0 }];
+        let u1 = part(&add(&self.big_vn, &self.vn, -1.0));
+        let delta = if r == 2 {
+            [-u1[1], u1[0], 0.0]
+        } else {
+            // Equation 6 along d: (1 - em) W_f - em B, with B = W_lin - W_f.
+            let wf = part(&self.w_final);
+            let b = part(&add(&self.w_lin, &self.w_final, -1.0));
+            let u2 = [
+                (1.0 - em) * wf[0] - em * b[0],
+                (1.0 - em) * wf[1] - em * b[1],
+                (1.0 - em) * wf[2] - em * b[2],
+            ];
+            [
+                u1[1] * u2[2] - u1[2] * u2[1],
+                u1[2] * u2[0] - u1[0] * u2[2],
+                u1[0] * u2[1] - u1[1] * u2[0],
+            ]
+        };
+        let along = |f: &Form| {
+            let p = part(f);
+            p[0] * delta[0] + p[1] * delta[1] + p[2] * delta[2]
+        };
+        [along(&self.pn), along(&self.pt), along(&self.big_vt)]
+    }
+
+    /// The e_m pieces of a branch: between the roots of the line's Pt and Vt slopes (affine in
+    /// e_m), so that the sign of `k = dVt / dPt` and the ratios below have no pole inside.
+    fn pieces(&self, branch: MomentBranch) -> Vec<[f64; 2]> {
+        if branch == MomentBranch::Zero {
+            return vec![[1.0, 1.0]];
+        }
+        let (lo, hi) = (-1.0, 0.0);
+        let (s0, s1) = (self.slopes(0.0), self.slopes(1.0));
+        let mut cuts = vec![lo, hi];
+        for i in 1..3 {
+            let slope = s1[i] - s0[i];
+            if slope != 0.0 {
+                let root = -s0[i] / slope;
+                if root > lo && root < hi {
+                    cuts.push(root);
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        cuts.windows(2).map(|w| [w[0], w[1]]).collect()
+    }
+
+    /// The sign patterns of an e_m interval (within one piece).
+    fn patterns(&self, inner: &Inner, branch: MomentBranch, em: [f64; 2]) -> Vec<Pattern> {
+        let ends = [self.slopes(em[0]), self.slopes(em[1])];
+        let mid = self.slopes(0.5 * (em[0] + em[1]));
+        let kappa = if mid[1] * mid[2] < 0.0 { -1.0 } else { 1.0 };
+        // Pn0 = Pn - rho_a Pt, Pn* = Pn - rho_b Vt, with the ratios over the interval. A ratio
+        // is monotone between its poles, which are the ends of the pieces: there its value is
+        // infinite, with the sign it has just inside.
+        let size = |i: usize| ends[0][i].abs().max(ends[1][i].abs()).max(mid[i].abs());
+        let ratio = |end: &[f64; 3], i: usize| {
+            if end[i].abs() <= 1e-9 * size(i) {
+                let inside = mid[0] / mid[i];
+                if inside >= 0.0 {
+                    f64::INFINITY
+                } else {
+                    f64::NEG_INFINITY
+                }
+            } else {
+                end[0] / end[i]
+            }
+        };
+        let range = |i: usize| {
+            let v = [ratio(&ends[0], i), ratio(&ends[1], i)];
+            [v[0].min(v[1]), v[0].max(v[1])]
+        };
+        let (rho_a, rho_b) = (range(1), range(2));
+        let s_ws: &[f64] = match branch {
+            MomentBranch::Zero => &[1.0],
+            MomentBranch::Free => &[1.0, -1.0],
+        };
+        let mut out = Vec::new();
+        for &sign in inner.signs() {
+            for &s_w in s_ws {
+                for s_a in [1.0, -1.0] {
+                    for s_b in [s_a, -s_a] {
+                        // Pn lies between Pn0 and Pn* on the segment (case A), beyond one of
+                        // them on the rays (case B).
+                        let s_ns: &[f64] = if s_a * s_b > 0.0 {
+                            &[1.0]
+                        } else {
+                            &[1.0, -1.0]
+                        };
+                        for &s_n_rel in s_ns {
+                            let s_n = s_a * s_n_rel;
+                            for s_t in [1.0, -1.0] {
+                                // mu between 0 and mu_max: kappa s_a s_b s_t s_v <= 0.
+                                let s_v = -kappa * s_a * s_b * s_t;
+                                out.push(Pattern {
+                                    sign,
+                                    s_n,
+                                    s_t,
+                                    s_v,
+                                    s_a,
+                                    s_b,
+                                    rho_a,
+                                    rho_b,
+                                    em,
+                                    s_w,
+                                });
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The rows of a pattern beyond the common ones.
+    fn pattern_rows(&self, inner: &Inner, p: &Pattern, branch: MomentBranch) -> Option<Vec<Row>> {
+        let mut rows = Vec::with_capacity(12);
+        let s = p.sign.value();
+        let tol = inner.tolerance();
+        // Sliding direction: sgn(vt) = -s side, held strictly (aimed inside by tol).
+        rows.push(Row::new(scaled(&self.vt, -s * self.side), tol)?);
+        // mu = s Pt / Pn within the bounds, for the sign s_n of Pn.
+        let [mlo, mhi] = inner.mu_bounds;
+        let spt = scaled(&self.pt, s);
+        // Signs of normal impulses are held strictly (by the floor of the other solve paths):
+        // where one vanishes mu_max is undefined, and an optimum approached there is reached
+        // from inside.
+        let floor = inner.pn_floor();
+        rows.push(Row::new(scaled(&self.pn, p.s_n), floor)?);
+        if let Some(r) = Row::new(scaled(&add(&spt, &self.pn, -mlo), p.s_n), 0.0) {
+            rows.push(r);
+        }
+        if let Some(r) = Row::new(scaled(&add(&spt, &self.pn, -mhi), -p.s_n), 0.0) {
+            rows.push(r);
+        }
+        // The signs of Pt and Vt, and of Pn0 = Pn - rho_a Pt and Pn* = Pn - rho_b Vt for some
+        // ratio of the interval (exact when e_m is fixed).
+        rows.push(Row::new(scaled(&self.pt, p.s_t), 0.0)?);
+        rows.push(Row::new(scaled(&self.big_vt, p.s_v), 0.0)?);
+        for (form, sf, sign, rho) in [
+            (&self.pt, p.s_t, p.s_a, p.rho_a),
+            (&self.big_vt, p.s_v, p.s_b, p.rho_b),
+        ] {
+            // max over rho of sign (Pn - rho F) with sgn F = sf: at the low end when
+            // sign sf > 0.
+            let r = if sign * sf > 0.0 { rho[0] } else { rho[1] };
+            if r.is_finite() {
+                if let Some(row) = Row::new(scaled(&add(&self.pn, form, -r), sign), floor) {
+                    rows.push(row);
+                }
+            }
+        }
+        if branch == MomentBranch::Free {
+            // e_m = W_f / W_lin within the interval, for the sign s_w of W_lin.
+            let [lo, hi] = p.em;
+            rows.push(Row::new(scaled(&self.w_lin, p.s_w), 0.0)?);
+            if let Some(r) = Row::new(scaled(&add(&self.w_final, &self.w_lin, -lo), p.s_w), 0.0) {
+                rows.push(r);
+            }
+            if let Some(r) = Row::new(scaled(&add(&self.w_final, &self.w_lin, -hi), -p.s_w), 0.0) {
+                rows.push(r);
+            }
+        }
+        Some(rows)
+    }
+
+    /// Solves the patterns of one e_m interval with the incumbent as cutoff, updating it with
+    /// every optimum that passes the exact check. Returns the lowest value among the optima
+    /// that fail it, with its e_m (the relaxation is not exact there), or why the general
+    /// search must decide.
+    #[allow(clippy::type_complexity)]
+    fn interval(
+        &self,
+        inner: &Inner,
+        branch: MomentBranch,
+        em: [f64; 2],
+        common_bound: f64,
+        best: &mut Option<(f64, At, Candidate)>,
+        counts: &mut Counts,
+    ) -> Result<Option<(f64, f64)>, &'static str> {
+        let mut work: Vec<(f64, Pattern, Vec<Row>)> = Vec::new();
+        for p in self.patterns(inner, branch, em) {
+            let rows = self
+                .pattern_rows(inner, &p, branch)
+                .ok_or("degenerate rows")?;
+            let bound = rows
+                .iter()
+                .map(|r| self.objective.bound(r))
+                .fold(common_bound, f64::max);
+            work.push((bound, p, rows));
+        }
+        work.sort_by(|a, b| a.0.total_cmp(&b.0));
+        counts.patterns += work.len();
+        let mut failed: Option<(f64, f64)> = None;
+        let mut all_rows: Vec<Row> = Vec::with_capacity(self.common.len() + 12);
+        for (bound, p, rows) in &work {
+            let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+            if *bound >= incumbent {
+                counts.pruned += 1;
+                continue;
+            }
+            all_rows.clear();
+            all_rows.extend_from_slice(&self.common);
+            all_rows.extend_from_slice(rows);
+            match self.objective.solve(&all_rows, incumbent) {
+                dual::Outcome::Solved { z, f, .. } => {
+                    counts.solved += 1;
+                    let (at, candidate) = self.candidate(inner, p, &z);
+                    // A point where the six equations are singular is no answer of PIM's
+                    // forward solve; the general search, which works through the transfer
+                    // matrix, stays off it.
+                    if inner.transfer(&at).is_none() {
+                        return Err("singular equations at a pattern's optimum");
+                    }
+                    let ok = inner
+                        .constraints(&at)
+                        .check(at.c.e, &candidate.x, &candidate.xf)
+                        .ok();
+                    if ok {
+                        if f < incumbent {
+                            *best = Some((f, at, candidate));
+                        }
+                    } else if failed.is_none_or(|(g, _)| f < g) {
+                        failed = Some((f, at.c.em));
+                    }
+                }
+                dual::Outcome::Cutoff(_) | dual::Outcome::Infeasible => counts.pruned += 1,
+                dual::Outcome::Failed => return Err("a QP did not verify"),
+            }
+        }
+        Ok(failed)
+    }
+
+    /// The candidate of a pattern's optimum: coefficients read from z (onto their box against
+    /// round-off), the states and the cost.
+    fn candidate(&self, inner: &Inner, p: &Pattern, z: &[f64; N]) -> (At, Candidate) {
+        let r = self.n - 6;
+        let mut x = nalgebra::Vector6::zeros();
+        let mut xf = nalgebra::Vector6::zeros();
+        for k in 0..6 {
+            x[k] = z[k];
+            xf[k] = z[k] + (0..r).map(|c| self.d[k][c] * z[6 + c]).sum::<f64>();
+        }
+        let scale = inner.objective.scale;
+        let a = -self.side * dot(&self.vn, z);
+        let b = self.side * dot(&self.big_vn, z);
+        let e = (b / a).clamp(inner.e_range[0], inner.e_range[1]);
+        let em = if r == 2 {
+            1.0
+        } else {
+            let (wf, wl) = (dot(&self.w_final, z), dot(&self.w_lin, z));
+            if wl.abs() <= 1e-12 * (scale + wf.abs()) {
+                0.5 * (p.em[0] + p.em[1])
+            } else {
+                (wf / wl).clamp(p.em[0], p.em[1])
+            }
+        };
+        let (pn, pt) = (dot(&self.pn, z), dot(&self.pt, z));
+        let s = p.sign.value();
+        let mu = if pn.abs() <= 1e-12 * pt.abs() || pn == 0.0 {
+            0.0
+        } else {
+            (s * pt / pn).clamp(inner.mu_bounds[0], inner.mu_bounds[1])
+        };
+        let sticking = dot(&self.big_vt, z).abs() <= 1e-10 * scale && mu != 0.0;
+        let (mode, c_mu) = if sticking {
+            (TangentialCondition::NoSlip, 0.0)
+        } else {
+            (TangentialCondition::Sliding, mu)
+        };
+        let at = At {
+            c: Coefficients { e, mu: c_mu, em },
+            mode,
+            sign: p.sign,
+            et: 0.0,
+        };
+        let candidate = Candidate {
+            cost: inner.objective.cost(&x, &xf),
+            x,
+            xf,
+            mu_eff: mu,
+            qp: true,
+            lambda: 0.0,
+            flat: false,
+        };
+        (at, candidate)
+    }
+}
+
+/// Intervals of e_m solved at most, per branch, before the general search decides.
+const MAX_NODES: usize = 200;
+
+/// An e_m interval and a lower bound of the cost over it (in the QP's value, cost - c0).
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    em: [f64; 2],
+    bound: f64,
+}
+
+/// Solves a branch as the union of its sign patterns' QPs: in the zero branch one set of
+/// patterns, exact; in the free branch a branch-and-bound over e_m intervals, whose patterns
+/// relax the two ratios that depend on e_m to their range over the interval. A pattern's
+/// optimum that passes the exact check is feasible; one that fails splits its interval at its
+/// e_m, with its value as the children's lower bound, until no interval can beat the best.
+pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Verdict {
+    if inner.model != crate::FitModel::Pim || !settings.search.convex {
+        return Verdict::Search("not applicable");
+    }
+    let Some(form) = Formulation::new(inner, settings, branch) else {
+        return Verdict::Search("not applicable");
+    };
+    let common_bound = form
+        .common
+        .iter()
+        .map(|r| form.objective.bound(r))
+        .fold(form.objective.f0, f64::max);
+    let mut queue: Vec<Node> = form
+        .pieces(branch)
+        .into_iter()
+        .map(|em| Node {
+            em,
+            bound: common_bound,
+        })
+        .collect();
+    let mut counts = Counts::default();
+    let mut best: Option<(f64, At, Candidate)> = None;
+    let margin = |f: f64| 1e-9 * (form.c0 + f).abs().max(1.0);
+    let mut nodes = 0;
+    while !queue.is_empty() {
+        // Best-first.
+        let i = (0..queue.len())
+            .min_by(|&a, &b| queue[a].bound.total_cmp(&queue[b].bound))
+            .unwrap_or(0);
+        let node = queue.swap_remove(i);
+        let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+        if node.bound >= incumbent - margin(incumbent) {
+            continue;
+        }
+        nodes += 1;
+        if nodes > MAX_NODES {
+            return Verdict::Search("too many e_m intervals");
+        }
+        let failed =
+            match form.interval(inner, branch, node.em, common_bound, &mut best, &mut counts) {
+                Ok(failed) => failed,
+                Err(why) => return Verdict::Search(why),
+            };
+        let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+        if let Some((f, em)) = failed.filter(|(f, _)| *f < incumbent - margin(incumbent)) {
+            // The relaxation is not exact here: split the interval (at the failing optimum's
+            // e_m, unless that is next to an end).
+            let [lo, hi] = node.em;
+            let width = hi - lo;
+            if branch == MomentBranch::Zero || width <= 1e-9 {
+                return Verdict::Search("the best pattern fails the exact check");
+            }
+            let cut = if em > lo + 0.05 * width && em < hi - 0.05 * width {
+                em
+            } else {
+                0.5 * (lo + hi)
+            };
+            // A feasible point near the failing one, at its e_m held fixed (where the patterns
+            // are exact), so that the incumbent follows an optimum approached towards an end
+            // of the interval (a pole of mu_max) and the children can be closed.
+            let probe = em.clamp(lo + 1e-9 * width, hi - 1e-9 * width);
+            if let Err(why) = form.interval(
+                inner,
+                branch,
+                [probe, probe],
+                common_bound,
+                &mut best,
+                &mut counts,
+            ) {
+                return Verdict::Search(why);
+            }
+            queue.push(Node {
+                em: [lo, cut],
+                bound: f,
+            });
+            queue.push(Node {
+                em: [cut, hi],
+                bound: f,
+            });
+        }
+    }
+    counts.intervals = nodes;
+    let Some((_, at, candidate)) = best else {
+        return Verdict::Search("no pattern feasible");
+    };
+    Verdict::Optimal {
+        at,
+        candidate,
+        counts,
+    }
+}
+
+#[cfg(test)]
+mod tests;
