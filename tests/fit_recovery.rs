@@ -49,14 +49,7 @@ fn arb_truth() -> impl Strategy<Value = (Impact, Velocities, Coefficients, bool)
                     return None;
                 }
                 c.mu = if stick { mm } else { frac * mm };
-                let opts = SolveOptions {
-                    tangential: if stick {
-                        TangentialCondition::NoSlip
-                    } else {
-                        TangentialCondition::Sliding
-                    },
-                    ..Default::default()
-                };
+                let opts = common::truth_options(stick);
                 let r = solve_forward(&impact, &c, &x, &opts).ok()?;
                 let ok_bounds = r
                     .separation

@@ -256,14 +256,7 @@ pub fn random_impact(rng: &mut rand::rngs::StdRng) -> Option<RandomImpact> {
     } else {
         mu_max * rng.random_range(0.05..0.95)
     };
-    let opts = SolveOptions {
-        tangential: if stick {
-            TangentialCondition::NoSlip
-        } else {
-            TangentialCondition::Sliding
-        },
-        ..Default::default()
-    };
+    let opts = truth_options(stick);
     Some(RandomImpact {
         impact,
         x,
@@ -272,4 +265,17 @@ pub fn random_impact(rng: &mut rand::rngs::StdRng) -> Option<RandomImpact> {
         mu_max,
         opts,
     })
+}
+
+/// Solve options of a truth that sticks (equation 5a) or slides (equation 5).
+#[allow(dead_code)]
+pub fn truth_options(stick: bool) -> pim_core::SolveOptions {
+    pim_core::SolveOptions {
+        tangential: if stick {
+            pim_core::TangentialCondition::NoSlip
+        } else {
+            pim_core::TangentialCondition::Sliding
+        },
+        ..Default::default()
+    }
 }

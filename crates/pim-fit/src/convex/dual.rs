@@ -191,7 +191,7 @@ impl Objective {
                 }
             }
             if p == usize::MAX {
-                return self.verify(rows, &z, f, &act[..q], &u[..q], scale);
+                return self.verify(rows, &z, &act[..q], &u[..q], scale);
             }
             let np = rows[p].n;
             u[q] = 0.0;
@@ -285,15 +285,7 @@ impl Objective {
 
     /// The KKT conditions at a candidate: every row holds, the multipliers are non-negative and
     /// `G z + a = sum u_i n_i` over the active rows.
-    fn verify(
-        &self,
-        rows: &[Row],
-        z: &[f64; N],
-        f: f64,
-        act: &[usize],
-        u: &[f64],
-        scale: f64,
-    ) -> Outcome {
+    fn verify(&self, rows: &[Row], z: &[f64; N], act: &[usize], u: &[f64], scale: f64) -> Outcome {
         let n = self.n;
         if !z.iter().all(|v| v.is_finite()) {
             return Outcome::Failed;
@@ -322,7 +314,6 @@ impl Objective {
         if worst > 1e-8 * size.max(1e-300) {
             return Outcome::Failed;
         }
-        let _ = f;
         Outcome::Solved {
             z: *z,
             f: self.value(z),

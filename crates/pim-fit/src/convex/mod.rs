@@ -104,8 +104,9 @@ struct Formulation {
     objective: dual::Objective,
     /// The constant of the cost: cost = f + c0.
     c0: f64,
-    /// Rows every pattern shares.
+    /// Rows every pattern shares, and the largest of their single-row lower bounds.
     common: Vec<Row>,
+    common_bound: f64,
     vn: Form,
     big_vn: Form,
     pn: Form,
@@ -250,12 +251,17 @@ impl Formulation {
         let w = RowVector6::new(0.0, 0.0, -w_sign, 0.0, 0.0, w_sign);
         let w_final = over_final(&w);
         let w_lin = add(&w_final, &over_d(&b_row), 1.0);
+        let common_bound = common
+            .iter()
+            .map(|r| objective.bound(r))
+            .fold(objective.f0, f64::max);
         Some(Formulation {
             n,
             d,
             objective,
             c0,
             common,
+            common_bound,
             vn,
             big_vn,
             pn: over_d(&pn_row),
@@ -451,7 +457,6 @@ impl Formulation {
         inner: &Inner,
         branch: MomentBranch,
         em: [f64; 2],
-        common_bound: f64,
         best: &mut Option<(f64, At, Candidate)>,
         counts: &mut Counts,
     ) -> Result<Option<(f64, f64)>, &'static str> {
@@ -463,7 +468,7 @@ impl Formulation {
             let bound = rows
                 .iter()
                 .map(|r| self.objective.bound(r))
-                .fold(common_bound, f64::max);
+                .fold(self.common_bound, f64::max);
             work.push((bound, p, rows));
         }
         work.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -586,17 +591,12 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
     let Some(form) = Formulation::new(inner, settings, branch) else {
         return Verdict::Search("not applicable");
     };
-    let common_bound = form
-        .common
-        .iter()
-        .map(|r| form.objective.bound(r))
-        .fold(form.objective.f0, f64::max);
     let mut queue: Vec<Node> = form
         .pieces(branch)
         .into_iter()
         .map(|em| Node {
             em,
-            bound: common_bound,
+            bound: form.common_bound,
         })
         .collect();
     let mut counts = Counts::default();
@@ -617,11 +617,10 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
         if nodes > MAX_NODES {
             return Verdict::Search("too many e_m intervals");
         }
-        let failed =
-            match form.interval(inner, branch, node.em, common_bound, &mut best, &mut counts) {
-                Ok(failed) => failed,
-                Err(why) => return Verdict::Search(why),
-            };
+        let failed = match form.interval(inner, branch, node.em, &mut best, &mut counts) {
+            Ok(failed) => failed,
+            Err(why) => return Verdict::Search(why),
+        };
         let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
         if let Some((f, em)) = failed.filter(|(f, _)| *f < incumbent - margin(incumbent)) {
             // The relaxation is not exact here: split the interval (at the failing optimum's
@@ -640,14 +639,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
             // are exact), so that the incumbent follows an optimum approached towards an end
             // of the interval (a pole of mu_max) and the children can be closed.
             let probe = em.clamp(lo + 1e-9 * width, hi - 1e-9 * width);
-            if let Err(why) = form.interval(
-                inner,
-                branch,
-                [probe, probe],
-                common_bound,
-                &mut best,
-                &mut counts,
-            ) {
+            if let Err(why) = form.interval(inner, branch, [probe, probe], &mut best, &mut counts) {
                 return Verdict::Search(why);
             }
             queue.push(Node {
