@@ -26,7 +26,10 @@ fn moving(v: [f64; 3]) -> Velocities {
 
 /// Full frontal impact through the CG: vehicle 1 (Brach's heading 0: nose towards -x) hits a
 /// wall normal to x at 15 m/s. It rebounds at e times its speed, does not turn, and loses the
-/// fraction 1 - e^2 of its kinetic energy; delta-V is (1 + e) v.
+/// fraction 1 - e^2 of its kinetic energy; delta-V is (1 + e) v. Nothing slides at contact and
+/// the normal impulse through the CG makes nothing slide: mu_max = 0, so mu = 0 is the one
+/// admissible friction, and any other mu is reported inadmissible (a tangential impulse that
+/// sticking does not need).
 #[test]
 fn central_frontal_impact_rebounds_at_e() {
     let impact = barrier_impact(vehicle(1500.0, 2500.0, 0.0, 2.0, 0.0), 0.0);
@@ -34,9 +37,14 @@ fn central_frontal_impact_rebounds_at_e() {
     for e in [0.0, 0.1, 0.3] {
         let c = Coefficients {
             e,
-            mu: 0.5,
+            mu: 0.0,
             em: 1.0,
         };
+        let too_much = Coefficients { mu: 0.5, ..c };
+        let bad = solve_forward(&impact, &too_much, &x, &SolveOptions::default()).unwrap();
+        assert!(bad.mu_max.unwrap().abs() < 1e-12, "{:?}", bad.mu_max);
+        assert!(!bad.admissibility.friction_ok && !bad.admissibility.admissible);
+        assert_eq!(bad.friction_basis, FrictionBasis::NoSlipImpulse);
         let r = solve_forward(&impact, &c, &x, &SolveOptions::default()).unwrap();
         let s = r.separation;
         assert!((s.vehicle1.vx - 15.0 * e).abs() < 1e-12, "{s:?}");
@@ -200,8 +208,10 @@ fn both(
 }
 
 /// Both models against the same barrier: the tangential-restitution model sliding at its
-/// friction limit is PIM sliding with mu = friction and e_m = 1; sticking with et = 0 is PIM's
-/// no-slip form.
+/// friction limit is PIM sliding with mu = friction on the no-slip impulse's side and e_m = 1;
+/// sticking with et = 0 is PIM's no-slip form. Here the normal impulse alone reverses the
+/// sliding (mu_max = -0.204): friction against the initial sliding (PIM's mu = +0.2) would
+/// drive the sliding further past zero, and PIM rejects it; both models use mu = -0.2.
 #[test]
 fn both_models_agree_against_a_barrier() {
     let impact = barrier_impact(vehicle(1400.0, 2300.0, 20.0, 1.9, 35.0), 10.0);
@@ -220,11 +230,17 @@ fn both_models_agree_against_a_barrier() {
         &impact,
         &x,
         model(0.2),
-        pim(0.2),
+        pim(-0.2),
         TangentialCondition::Sliding,
     );
     assert_eq!(slide.mode, ContactMode::Slide);
     assert!(d < 1e-10, "{d}");
+    let mu_max = slide.report.mu_max.unwrap();
+    assert!((mu_max + 0.2038).abs() < 1e-4, "{mu_max}");
+    assert!((slide.report.coefficients.mu + 0.2).abs() < 1e-12);
+    assert!(slide.report.admissibility.admissible);
+    let against = solve_forward(&impact, &pim(0.2), &x, &SolveOptions::default()).unwrap();
+    assert!(!against.admissibility.friction_ok);
     let (stick, d) = both(
         &impact,
         &x,

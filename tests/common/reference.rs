@@ -131,7 +131,7 @@ impl RefProblem<'_> {
                     let h = Matrix6::identity() + r.transpose() * r;
                     let g: Vector6<f64> = self.x.to_vector() + r.transpose() * self.xf.to_vector();
                     let x = Velocities::from_vector(&h.cholesky()?.solve(&g));
-                    (self.impact.friction_sign(&x) == s).then_some(x)
+                    (contact_friction(self.impact, &c, &x, &options(stick)).0 == s).then_some(x)
                 })
                 .collect(),
         };

@@ -30,10 +30,12 @@ CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, coun
   crush_angle = 0.0                # deg: direction of the crush-surface normal (either sense)
   [coefficients]
   e = 0.1                          # restitution, 0..1
-  mu = 0.5                         # equivalent friction (impulse ratio; no effect if vt = 0)
+  mu = 0.0                         # impulse ratio Pt/Pn, between 0 and mu_max (0 here: nothing
+                                   # slides at C and the impulse passes through both CGs)
   em = 1.0                         # moment restitution, -1..0 or exactly 1 (no moment impulse)
                                    # (or e, et = -1..1, friction >= 0: the second model, normal
-                                   # and tangential restitution with a friction limit, forwards)
+                                   # and tangential restitution with a friction limit, forwards;
+                                   # or model = \"impc\", e, friction: Carpenter-Welcher, et = -e)
   [initial]                        # velocities at contact; or [final] to solve backwards
   vehicle1 = { vx = 15.0, vy = 0.0, omega = 0.0 }      # m/s, m/s, rad/s (fixed frame)
   vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }

@@ -33,6 +33,46 @@ fn solve_against_the_barrier() {
         table.contains("vehicle 2 is a fixed rigid barrier"),
         "{table}"
     );
+    // The car does not slide along the face at contact, but the off-centre impulse makes its
+    // front slide: friction acts on the no-slip impulse's side (mu_max 0.245), the car is
+    // pushed sideways and yaws (README: 17.87 m/s, 2.991 rad/s).
+    assert_eq!(r["friction_basis"], "no_slip_impulse");
+    let mu_max = r["mu_max"].as_f64().unwrap();
+    assert!((mu_max - 0.2452).abs() < 1e-4, "{mu_max}");
+    assert_eq!(r["admissible"], true);
+    let dv = r["vehicles"][0]["delta_v"].as_f64().unwrap();
+    let yaw = r["vehicles"][0]["yaw_rate_change"].as_f64().unwrap();
+    assert!(
+        (dv - 17.87).abs() < 0.005 && (yaw - 2.991).abs() < 0.0005,
+        "{dv} {yaw}"
+    );
+    // The Carpenter-Welcher preset with its cap at the same ratio gives the same answer (at
+    // vt = 0 both are that ratio on the no-slip impulse's side with Vn = -e vn).
+    let impc = json(&pim_ok(&[
+        "solve",
+        "examples/cases/barrier_small_overlap_impc.toml",
+        "--format",
+        "json",
+    ]));
+    for k in ["vx", "vy", "omega"] {
+        let a = r["final"]["vehicle1"][k].as_f64().unwrap();
+        let b = impc["final"]["vehicle1"][k].as_f64().unwrap();
+        assert!((a - b).abs() < 1e-9, "{k}: PIM {a}, IMPC {b}");
+    }
+    // With PIM's no-slip form: IMPC with a cap that does not bind (18.69 m/s, 2.119 rad/s).
+    let stick = json(&pim_ok(&[
+        "solve",
+        EXAMPLE,
+        "--no-slip",
+        "--format",
+        "json",
+    ]));
+    let dv = stick["vehicles"][0]["delta_v"].as_f64().unwrap();
+    let yaw = stick["vehicles"][0]["yaw_rate_change"].as_f64().unwrap();
+    assert!(
+        (dv - 18.69).abs() < 0.005 && (yaw - 2.119).abs() < 0.0005,
+        "{dv} {yaw}"
+    );
 }
 
 fn barrier_case(extra_vehicle2: &str, coefficients: &str, initial2: &str) -> String {
@@ -44,7 +84,7 @@ fn barrier_case(extra_vehicle2: &str, coefficients: &str, initial2: &str) -> Str
         )
         .replace("em = 1.0               # no moment impulse", "")
         .replace(
-            "mu = 0.3               # impulse ratio along the barrier face",
+            "mu = 0.2               # impulse ratio along the barrier face (between 0 and mu_max = 0.245 here)",
             coefficients,
         )
         .replace(

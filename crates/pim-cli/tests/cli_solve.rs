@@ -268,7 +268,9 @@ fn help_documents_the_case_file_and_exit_codes() {
 fn natural_side_impact_gives_the_physics_in_si_and_us_units() {
     // Car 1 (nose along +x, 15 m/s) hits the middle of the left side of car 2 (standing, nose
     // along +y); equal masses, e = 0.1: momentum and restitution give V1 = 15 (1 - 1.1 / 2) =
-    // 6.75 and V2 = 15 x 1.1 / 2 = 8.25 m/s. vt = 0 at contact: no tangential impulse, no yaw.
+    // 6.75 and V2 = 15 x 1.1 / 2 = 8.25 m/s. vt = 0 at contact and the impulse passes through
+    // both CGs, so the no-slip impulse has no tangential part: mu_max = 0, the example's mu = 0
+    // is the one admissible value, and there is no tangential impulse and no yaw.
     // The US file holds the same numbers rounded to its printed digits (1e-8 relative).
     for (file, tol) in [
         ("examples/cases/side_impact.toml", 1e-12),
@@ -293,7 +295,10 @@ fn natural_side_impact_gives_the_physics_in_si_and_us_units() {
         ] {
             assert!(f(p).abs() < 1e-9, "{file} {p} = {}", f(p));
         }
-        assert_eq!(j["tangential"], "not_sliding", "{file}");
+        assert_eq!(j["tangential"], "sticking", "{file}");
+        assert_eq!(j["friction_basis"], "no_slip_impulse", "{file}");
+        assert!(f("/mu_max").abs() < 1e-12, "{file}");
+        assert_eq!(j["admissible"], true, "{file}");
         // Car 1 is slowed along its axis: PDOF 0 deg, 12 o'clock; car 2 is struck on its left
         // side: pushed to its right, PDOF -90 deg, 9 o'clock.
         assert!((f("/vehicles/0/delta_v_longitudinal") + 8.25).abs() < tol * 10.0);

@@ -171,7 +171,7 @@ pub fn moment_restitution(impact: &Impact, em: f64, form: MomentForm) -> Row {
 
 /// Assembles the six equations for given coefficients, friction sign and options.
 ///
-/// `friction_sign` is `sgn(vn) sgn(vt)` of the contact state (see [`Impact::friction_sign`]);
+/// `friction_sign` is the sign factor of equation 5 (see [`crate::contact_friction`]);
 /// it is ignored under [`TangentialCondition::NoSlip`].
 pub fn assemble(
     impact: &Impact,

@@ -1,43 +1,82 @@
-//! The friction direction of equation 5 and the exact friction condition "mu between 0 and
-//! mu_max".
+//! The one friction rule of every model, and the exact friction condition.
 //!
-//! `mu_max` is the impulse ratio of the no-slip solution (equation 5a instead of 5): the
-//! tangential over the normal impulse that ends the sliding exactly at separation, put in the
-//! sign convention of equation 5. Both impulses of the no-slip solution are linear in the
-//! contact state, so `mu_max` is a ratio of two linear forms; [`classify_friction`] is the one
-//! place that decides, from `mu` and `mu_max`, whether friction is admissible. The solver's
-//! reports and the fit both call it.
+//! ## The rule
+//! The tangential impulse lies between zero and the impulse that sticking needs. In the
+//! impulse ratio `rho = Pt / Pn` (impulse on vehicle 1, crush-surface components):
+//!
+//! ```text
+//! rho between 0 and rho_s,      rho_s = Pt_s / Pn_s of the sticking impulse
+//! ```
+//!
+//! where the sticking impulse is the model's own: PIM's no-slip impulse (equation 5a, `Vt = 0`
+//! at separation), the tangential model's impulse of `vt' = et vt` (for IMPC, `et = -e`).
+//!
+//! Why: along the impulse the tangential velocity at C is an affine function of the tangential
+//! impulse at a fixed normal impulse (the six equations are linear), `Vt = k Pt + c`, and the
+//! sticking impulse is where it reaches its sticking value. Friction takes out sliding; a ratio
+//! of the other sign than `rho_s` adds sliding to what the normal impulse leaves, and one beyond
+//! `rho_s` overshoots the sticking value and needs more tangential impulse than sticking does,
+//! which in PIM creates energy (Brach 1984, section 5). So the direction of friction is the
+//! direction of the sticking impulse, not that of the initial sliding. The two agree unless
+//! the coupling of the collision (the off-diagonal terms of the collision matrix, from the
+//! eccentricity of C) reverses the sliding by itself.
+//!
+//! ## PIM's form of it
+//! PIM's equation 5 writes `rho = mu sgn(vn) sgn(vt)`, so that a positive mu opposes the
+//! initial sliding. With `mu_max = rho_s sgn(vn) sgn(vt)` (signed) the rule reads "mu between 0
+//! and mu_max" ([`classify_friction`]); `mu_max < 0` where the coupling reverses the sliding
+//! (Brach 1984 Table 1B, tests 3 and 4). Where the contact point does **not** slide at contact
+//! (`vt = 0`, or round-off of it, [`crate::NO_SLIDING_TOL`]) there is no sliding direction, but
+//! an eccentric normal impulse still makes C slide and the no-slip impulse still has a
+//! direction: the sign factor is then taken from it, `s = sgn(Pt_s Pn_s)`
+//! ([`friction_direction`], [`FrictionBasis::NoSlipImpulse`]), so that mu >= 0 and
+//! `mu_max = |rho_s|`. A central hit with no coupling (`rho_s = 0`) then admits only mu = 0.
+//! Where the contact point slides this is the former rule, unchanged; at `vt = 0` it replaces
+//! "no tangential impulse whatever mu is", which ignored the sliding the normal impulse causes.
+//! The answer is continuous as vt passes through 0 at a fixed fraction `mu / mu_max`: the
+//! closure of each sliding direction's set of admissible answers meets the other's at `vt = 0`.
+//!
+//! The no-slip impulse, and so mu_max, is a ratio of two linear forms of the contact state
+//! ([`crate::reduction::Reduction::critical_rows`]); [`classify_friction`] is the one place
+//! that decides whether a ratio is admissible. The solver's reports, the second model's report
+//! and the fit all call it.
 
 use crate::report::{TangentialOutcome, REPORT_TOL};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-/// The sign factor `sgn(vn) sgn(vt)` of equation 5: friction opposes the initial sliding
-/// direction, `mu' = mu * sign`. Serialised as the number `1`, `-1` or `0`.
-///
-/// When the vehicles do not slide along the crush surface at contact (`vt = 0`), friction has
-/// no direction to oppose: the sign is [`FrictionSign::NoSliding`], `mu' = 0` and the
-/// tangential impulse is zero whatever mu is (a perpendicular central hit gets no sideways
-/// impulse and no yaw).
+/// The sign factor `s` of equation 5, `mu' = mu s`: `sgn(vn) sgn(vt)` where the contact point
+/// slides at contact (friction opposes the initial sliding), the sign of the no-slip impulse
+/// ratio where it does not ([`friction_direction`]). Serialised as the number `1` or `-1`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum FrictionSign {
-    /// `sgn(vn) sgn(vt) = +1`.
+    /// `s = +1`.
     Positive,
-    /// `sgn(vn) sgn(vt) = -1`.
+    /// `s = -1`.
     Negative,
-    /// `vt = 0` at contact: no sliding, no tangential impulse (`mu' = 0`).
-    NoSliding,
+}
+
+/// Where the sign factor of equation 5 comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FrictionBasis {
+    /// The contact point slides at contact: `s = sgn(vn) sgn(vt)`.
+    #[default]
+    Sliding,
+    /// It does not (`vt = 0`): `s` is the sign of the no-slip impulse ratio `Pt_s / Pn_s`, the
+    /// sliding that the normal impulse itself causes (+1 when that impulse has no tangential
+    /// part: then only mu = 0 is admissible).
+    NoSlipImpulse,
 }
 
 impl FrictionSign {
     /// Both signs, positive first.
     pub const BOTH: [FrictionSign; 2] = [FrictionSign::Positive, FrictionSign::Negative];
 
-    /// `+1.0`, `-1.0` or `0.0`.
+    /// `+1.0` or `-1.0`.
     pub fn value(self) -> f64 {
         match self {
             FrictionSign::Positive => 1.0,
             FrictionSign::Negative => -1.0,
-            FrictionSign::NoSliding => 0.0,
         }
     }
 
@@ -50,23 +89,40 @@ impl FrictionSign {
         }
     }
 
-    /// `sgn(vn) sgn(vt)` of a contact state's relative velocity at C; [`FrictionSign::NoSliding`]
-    /// when `vt` is zero (callers decide what counts as zero: [`crate::Impact::friction_sign`]
-    /// uses a round-off tolerance).
-    pub fn of(vn: f64, vt: f64) -> Self {
+    /// `sgn(vn) sgn(vt)` of a contact state's relative velocity at C; `None` when `vt` is zero
+    /// (callers decide what counts as zero: [`crate::Impact::sliding_sign`] uses a round-off
+    /// tolerance).
+    pub fn of(vn: f64, vt: f64) -> Option<Self> {
         if vt == 0.0 {
-            return FrictionSign::NoSliding;
+            return None;
         }
-        Self::of_value(Self::of_value(vn).value() * Self::of_value(vt).value())
+        Some(Self::of_value(
+            Self::of_value(vn).value() * Self::of_value(vt).value(),
+        ))
     }
 
-    /// The other sign (`NoSliding` stays as it is).
+    /// The other sign.
     pub fn flipped(self) -> Self {
         match self {
             FrictionSign::Positive => FrictionSign::Negative,
             FrictionSign::Negative => FrictionSign::Positive,
-            FrictionSign::NoSliding => FrictionSign::NoSliding,
         }
+    }
+}
+
+/// The one rule for the sign factor of equation 5: the sliding direction at contact when there
+/// is one, else the direction of the no-slip impulse (`no_slip` is evaluated only then; `None`
+/// or a zero tangential part gives `Positive`).
+pub fn friction_direction(
+    sliding: Option<FrictionSign>,
+    no_slip: impl FnOnce() -> Option<CriticalImpulse>,
+) -> (FrictionSign, FrictionBasis) {
+    match sliding {
+        Some(s) => (s, FrictionBasis::Sliding),
+        None => (
+            no_slip().map_or(FrictionSign::Positive, |p| p.direction()),
+            FrictionBasis::NoSlipImpulse,
+        ),
     }
 }
 
@@ -79,11 +135,7 @@ impl Serialize for FrictionSign {
 impl<'de> Deserialize<'de> for FrictionSign {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = f64::deserialize(d)?;
-        Ok(if x == 0.0 {
-            FrictionSign::NoSliding
-        } else {
-            FrictionSign::of_value(x)
-        })
+        Ok(FrictionSign::of_value(x))
     }
 }
 
@@ -98,12 +150,8 @@ pub struct CriticalImpulse {
 
 impl CriticalImpulse {
     /// The signed critical impulse ratio `mu_max = (Pt / Pn) sign`; `None` when the normal
-    /// impulse vanishes (relative to the whole impulse), the ratio is not finite, or there is
-    /// no sliding at contact (no sign convention, no friction limit).
+    /// impulse vanishes (relative to the whole impulse) or the ratio is not finite.
     pub fn mu_max(&self, sign: FrictionSign) -> Option<f64> {
-        if sign == FrictionSign::NoSliding {
-            return None;
-        }
         let (pn, pt) = (self.normal, self.tangential);
         let scale = pn.hypot(pt);
         if pn.is_nan() || pn.abs() <= 1e-12 * scale {
@@ -111,6 +159,17 @@ impl CriticalImpulse {
         }
         let r = pt / pn * sign.value();
         r.is_finite().then_some(r)
+    }
+
+    /// The sign of the impulse ratio `Pt / Pn` (`Positive` when either part is zero or not a
+    /// number): the direction of friction that this impulse stands for.
+    pub fn direction(&self) -> FrictionSign {
+        let p = self.normal * self.tangential;
+        if p < 0.0 {
+            FrictionSign::Negative
+        } else {
+            FrictionSign::Positive
+        }
     }
 }
 
@@ -199,15 +258,25 @@ mod tests {
 
     #[test]
     fn sign_of_relative_velocity() {
-        assert_eq!(FrictionSign::of(-1.0, 2.0), FrictionSign::Negative);
-        assert_eq!(FrictionSign::of(-1.0, -2.0), FrictionSign::Positive);
-        assert_eq!(FrictionSign::of(0.0, 0.0), FrictionSign::NoSliding);
-        assert_eq!(FrictionSign::of(-3.0, 0.0), FrictionSign::NoSliding);
-        assert!(FrictionSign::NoSliding.value().abs() < f64::MIN_POSITIVE);
+        assert_eq!(FrictionSign::of(-1.0, 2.0), Some(FrictionSign::Negative));
+        assert_eq!(FrictionSign::of(-1.0, -2.0), Some(FrictionSign::Positive));
+        assert_eq!(FrictionSign::of(0.0, 0.0), None);
+        assert_eq!(FrictionSign::of(-3.0, 0.0), None);
         let m = CriticalImpulse {
             normal: 2.0,
             tangential: -1.0,
         };
         assert_eq!(m.mu_max(FrictionSign::Negative), Some(0.5));
+        assert_eq!(m.direction(), FrictionSign::Negative);
+        // Without sliding at contact the sign comes from the no-slip impulse.
+        let (s, basis) = friction_direction(None, || Some(m));
+        assert_eq!(
+            (s, basis),
+            (FrictionSign::Negative, FrictionBasis::NoSlipImpulse)
+        );
+        assert_eq!(m.mu_max(s), Some(0.5));
+        let (s, basis) = friction_direction(Some(FrictionSign::Positive), || unreachable!());
+        assert_eq!((s, basis), (FrictionSign::Positive, FrictionBasis::Sliding));
+        assert_eq!(friction_direction(None, || None).0, FrictionSign::Positive);
     }
 }

@@ -39,11 +39,10 @@
 //! (3) I1 (W1 - w1) + I2 (W2 - w2) + m1 (D2 + D4)(V1y - v1y) + m2 (D1 + D3)(V2x - v2x) = 0
 //! (4) Vn = -e vn
 //! (5) m1 (V1y - v1y)(cos G - mu' sin G) + m2 (V2x - v2x)(sin G + mu' cos G) = 0,
-//!     mu' = mu sgn(vn) sgn(vt)                    (friction opposes the initial sliding)
+//!     mu' = mu s,  s = sgn(vn) sgn(vt)            (friction opposes the initial sliding)
+//!     where vt = 0 at contact: s = sgn(Pt* Pn*) of the no-slip impulse (5a), the sliding the
+//!     normal impulse itself causes (|vt| <= NO_SLIDING_TOL x the contact-point speeds is 0)
 //! (5a) Vt = 0                                     (instead of 5: sliding ends before separation)
-//!      mu' = 0 when vt = 0 at contact: no sliding, so friction has no direction and no
-//!      tangential impulse acts (FrictionSign::NoSliding; |vt| <= NO_SLIDING_TOL x the
-//!      contact-point speeds counts as 0)
 //! (6) (W2 - W1)(1 - em) = em B                    (corrected form, Brach 1984; the default)
 //!     (W1 - W2)(1 - em) = em B                    (1983 listing, MomentForm::Brach1983)
 //!     B = (W1 - w1) - m1 D3 (V1x - v1x)/I1 + m1 D4 (V1y - v1y)/I1
@@ -78,12 +77,30 @@
 //!   `(Pt/Pn) sgn(vn) sgn(vt)` of the no-slip solution. It can be negative in near-collinear
 //!   impacts (Brach 1984 Table 1B, tests 3 and 4);
 //! - admissibility: mu between 0 and mu_max ([`classify_friction`]: mu = 0, or mu of the sign
-//!   of mu_max and no larger in size), and no kinetic energy created ([`creates_energy`]). Even
+//!   of mu_max and no larger in size), and no kinetic energy created ([`creates_energy`]).
+//!   This is the friction rule below in PIM's form. Even
 //!   inside the friction domain the equations can return more kinetic energy than they were
 //!   given (mostly with `-1 < em < 0`), so the energy balance is always checked and reported.
 //!   The no-slip impulse, and so mu_max, is a ratio of two linear forms of the contact state
 //!   ([`reduction::Reduction::critical_rows`]); near a vanishing no-slip normal impulse mu_max
 //!   jumps from plus to minus infinity, and there only the sign decides.
+//!
+//! ## The friction rule (every model, every fit)
+//! The tangential impulse lies between zero and the impulse that sticking needs: the impulse
+//! ratio `rho = Pt / Pn` between 0 and `rho_s` of the model's sticking impulse (PIM's no-slip
+//! impulse of equation 5a; the tangential model's `vt' = et vt`). Derivation: at a fixed normal
+//! impulse the final tangential velocity at C is affine in the tangential impulse,
+//! `Vt = k Pt + c`; `rho_s` is where it reaches its sticking value, a ratio of the other sign
+//! adds sliding, one beyond `rho_s` overshoots the sticking value and (in PIM) creates energy.
+//! So friction acts on the side of the sticking impulse. In PIM's sign convention this is
+//! "mu between 0 and mu_max": unchanged where the contact point slides at contact; where it
+//! does not (`vt = 0`) the sign factor comes from the no-slip impulse ([`friction_direction`],
+//! [`contact_friction`], [`FrictionBasis::NoSlipImpulse`]), so an eccentric impact into a
+//! barrier face gets its tangential impulse and its yaw. In the tangential model a binding
+//! friction limit puts the ratio on the edge of the friction cone on the sticking impulse's side
+//! (IMPC's rule, [`TangentialCoefficients::impc`]). The point-mass solution has no coupling: its
+//! no-slip ratio has the sign of the sliding, and without sliding only mu = 0 is admissible.
+//! Details and the reduction to the former rule in the module docs of `friction`.
 //!
 //! ## Reduction to three unknowns ([`reduction`])
 //! Equations 1-3 fix the velocity change to a three-dimensional space `X - x = N p`; with one
@@ -129,7 +146,8 @@ pub mod tangential;
 
 pub use error::{Equation, PimError, Result, VehicleId};
 pub use friction::{
-    classify_friction, creates_energy, CriticalImpulse, FrictionSign, FrictionVerdict,
+    classify_friction, creates_energy, friction_direction, CriticalImpulse, FrictionBasis,
+    FrictionSign, FrictionVerdict,
 };
 pub use model::{
     impact_point_cartesian, impact_point_polar, wrap_degrees, Coefficients, Collision, Convention,
@@ -146,8 +164,8 @@ pub use sensitivity::{
     sensitivity, CoefficientName, Level, LevelAverage, SensitivityCase, SensitivityStudy,
 };
 pub use solve::{
-    analyse, critical_friction, separation_velocities, solve_backward, solve_backward_with_sign,
-    solve_forward,
+    analyse, contact_friction, critical_friction, separation_velocities, solve_backward,
+    solve_backward_with_sign, solve_forward,
 };
 pub use tangential::{
     solve_tangential, stick_transfer, ContactMode, TangentialCoefficients, TangentialReport,

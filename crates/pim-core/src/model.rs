@@ -263,8 +263,19 @@ impl Impact {
         let n = [cg, sg];
         let t = [-sg, cg];
         // CG of vehicle 1 relative to C is -r1 = (D4, D3); CG of vehicle 2 is -r2 = -(D2, D1).
-        let sep = (d[3] + d[1]) * n[0] + (d[2] + d[0]) * n[1];
-        let scale = v1.d + v2.d;
+        // Each CG's distance from the crush plane votes for the side, weighted by the vehicle's
+        // mobility 1/m: equal masses compare the two CGs, and a barrier (infinite mass, no CG)
+        // is the limit of an ever heavier vehicle 2, so both read the same.
+        let [m1, m2] = [v1.mass, v2.mass];
+        let h1 = d[3] * n[0] + d[2] * n[1];
+        let h2 = -(d[1] * n[0] + d[0] * n[1]);
+        let (w1, w2) = if m2.is_infinite() {
+            (1.0, 0.0)
+        } else {
+            (m2 / (m1 + m2), m1 / (m1 + m2))
+        };
+        let sep = w1 * h1 - w2 * h2;
+        let scale = w1 * v1.d + w2 * v2.d;
         let side = if scale > 0.0 && sep.abs() > 1e-9 * scale {
             sep.signum()
         } else {
@@ -368,8 +379,12 @@ impl Impact {
         [[-r1[0], -r1[1]], [-r2[0], -r2[1]]]
     }
 
-    /// Which side of the crush surface vehicle 1 is on: +1 when its CG lies on the +n side of
-    /// vehicle 2's CG, -1 on the -n side, 0 when the geometry does not say (both CGs on the line).
+    /// Which side of the crush surface vehicle 1 is on: +1 on the +n side, -1 on the -n side, 0
+    /// when the geometry does not say. Decided by the heights `h1`, `h2` of the two CGs above the
+    /// crush plane through C (along n), weighted by each vehicle's mobility:
+    /// `sgn(m2 h1 - m1 h2)`. With equal masses that is "vehicle 1's CG on the +n side of vehicle
+    /// 2's"; against a barrier (infinite mass) it is `sgn(h1)`, the limit of an ever heavier
+    /// vehicle 2, so a barrier and a very heavy vehicle read the same.
     ///
     /// The vehicles approach at C when the normal relative velocity `vn` has the opposite sign.
     pub fn side(&self) -> f64 {
@@ -427,11 +442,12 @@ impl Impact {
         }
     }
 
-    /// The sign factor `sgn(vn) sgn(vt)` of equation 5 for the contact state `v`: friction
-    /// opposes the initial sliding direction. When `|vt|` is round-off of the contact-point
-    /// speeds (at most [`NO_SLIDING_TOL`] of their largest component), the vehicles do not slide at
-    /// contact and the sign is [`FrictionSign::NoSliding`]: no tangential impulse.
-    pub fn friction_sign(&self, v: &Velocities) -> FrictionSign {
+    /// The sliding direction `sgn(vn) sgn(vt)` of the contact state `v`, or `None` when the
+    /// contact point does not slide at contact: `|vt|` is round-off of the contact-point speeds
+    /// (at most [`NO_SLIDING_TOL`] of their largest component). The sign factor of equation 5
+    /// is this where it is defined and the direction of the no-slip impulse where it is not
+    /// ([`crate::friction_direction`], [`crate::contact_friction`]).
+    pub fn sliding_sign(&self, v: &Velocities) -> Option<FrictionSign> {
         let points = self.contact_point_velocities(v);
         let (vn, vt) = self.relative_of(points);
         let [p1, p2] = points;
@@ -441,7 +457,7 @@ impl Impact {
             .max(p2[0].abs())
             .max(p2[1].abs());
         if vt.abs() <= NO_SLIDING_TOL * scale {
-            FrictionSign::NoSliding
+            None
         } else {
             FrictionSign::of(vn, vt)
         }

@@ -9,7 +9,8 @@
 //! V1t = v1t + mu' Pn / m1    V2t = v2t - mu' Pn / m2
 //! ```
 //!
-//! where `mu' = mu sgn(vn) sgn(vt)` as in equation 5, or `mu' = r / (1 + e)` with
+//! where `mu' = mu sgn(vn) sgn(vt)` as in equation 5 (`+mu` without sliding at contact, where
+//! only mu = 0 is admissible: see the friction rule of the crate docs), or `mu' = r / (1 + e)` with
 //! `r = (v2t - v1t)/(v2n - v1n)` under the no-slip condition. This is an independent cross-check of
 //! the 6x6 solve with `d1 = d2 = 0` and no rotation.
 
@@ -37,8 +38,12 @@ pub struct PointMassSolution {
     pub normal_impulse: f64,
     /// The signed impulse ratio actually used (mu' of equation 5).
     pub mu_effective: f64,
-    /// Critical ratio in the sign convention of equation 5: `|r| / (1 + e)`.
+    /// Critical ratio in the sign convention of equation 5: `|r| / (1 + e)` (a point-mass
+    /// impact has no coupling, so it is never negative; 0 without sliding at contact).
     pub mu_max: f64,
+    /// mu lies between 0 and mu_max (always under the no-slip form): the friction rule of
+    /// [`crate::classify_friction`].
+    pub friction_ok: bool,
     /// Kinetic energy loss from Brach 1984 eq. 10, J.
     pub energy_loss: f64,
     /// Largest possible energy loss, Brach 1984 eq. 12, J.
@@ -77,14 +82,22 @@ pub fn solve_point_mass(
     };
     let pn = mbar * (1.0 + e) * (v2n - v1n);
     let r = (v2t - v1t) / (v2n - v1n);
-    // No sliding at contact (vt is round-off of the speeds): no tangential impulse, as in the
-    // rigid-body solve (`Impact::friction_sign`).
+    // The one friction rule (`crate::friction_direction`): the sliding direction at contact, or
+    // where vt is round-off of the speeds the direction of the no-slip impulse, whose ratio
+    // r / (1 + e) has the sign of vt / vn: without sliding it has no tangential part, so the
+    // sign is +1 and only mu = 0 is admissible.
     let scale = dot(v1, v1).sqrt().max(dot(v2, v2).sqrt());
-    let sign = if vt.abs() <= crate::model::NO_SLIDING_TOL * scale {
-        crate::FrictionSign::NoSliding
+    let sliding = if vt.abs() <= crate::model::NO_SLIDING_TOL * scale {
+        None
     } else {
         crate::FrictionSign::of(vn, vt)
     };
+    let no_slip = crate::CriticalImpulse {
+        normal: pn,
+        tangential: pn * r / (1.0 + e),
+    };
+    let (sign, _) = crate::friction_direction(sliding, || Some(no_slip));
+    let mu_max = no_slip.mu_max(sign).unwrap_or(0.0);
     let mu_eff = match tangential {
         TangentialCondition::Sliding => coefficients.mu * sign.value(),
         TangentialCondition::NoSlip => r / (1.0 + e),
@@ -99,7 +112,13 @@ pub fn solve_point_mass(
         separation: [back(big_v1n, big_v1t), back(big_v2n, big_v2t)],
         normal_impulse: pn,
         mu_effective: mu_eff,
-        mu_max: r.abs() / (1.0 + e),
+        mu_max,
+        friction_ok: match tangential {
+            TangentialCondition::Sliding => {
+                crate::classify_friction(coefficients.mu, Some(mu_max)).admissible
+            }
+            TangentialCondition::NoSlip => true,
+        },
         energy_loss: mbar
             * dv2
             * (1.0 + e)

@@ -2,7 +2,7 @@
 
 use crate::equations::{assemble, impulse_rows, LinearSystem};
 use crate::error::{Equation, VehicleId};
-use crate::friction::{classify_friction, creates_energy, FrictionSign};
+use crate::friction::{classify_friction, creates_energy, FrictionBasis, FrictionSign};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use serde::{Deserialize, Serialize};
 
@@ -188,9 +188,6 @@ pub enum TangentialOutcome {
     Sticking,
     /// The tangential impulse overshoots and reverses the sliding (mu beyond mu_max): not physical.
     Reversed,
-    /// No sliding at contact (`vt = 0`): friction has no direction and the tangential impulse
-    /// is zero, whatever mu is.
-    NotSliding,
 }
 
 /// Whether a solution is physically admissible.
@@ -246,8 +243,13 @@ pub struct ImpactReport {
     pub vehicles: [VehicleResult; 2],
     /// Kinetic energy balance.
     pub energy: Energy,
-    /// `sgn(vn) sgn(vt)` at contact: mu' = mu times this in equation 5 (`1` or `-1` in JSON).
+    /// The sign factor of equation 5, mu' = mu times this (`1` or `-1` in JSON):
+    /// `sgn(vn) sgn(vt)` at contact, or the direction of the no-slip impulse where the contact
+    /// point does not slide at contact (see `friction_basis`).
     pub friction_sign: FrictionSign,
+    /// Where `friction_sign` comes from: the sliding at contact, or (`vt = 0`) the no-slip
+    /// impulse.
+    pub friction_basis: FrictionBasis,
     /// Signed critical impulse ratio: the mu at which Vt = 0 (None if the normal impulse vanishes).
     pub mu_max: Option<f64>,
     /// mu / mu_max (the effective ratio is 1 under the no-slip form).
@@ -326,7 +328,13 @@ impl ImpactReport {
         let mut reasons = Vec::new();
         let mu = self.coefficients.mu;
         if !self.admissibility.friction_ok {
+            let not_sliding = self.friction_basis == FrictionBasis::NoSlipImpulse;
             reasons.push(match self.mu_max {
+                Some(m) if not_sliding && m.abs() <= REPORT_TOL => format!(
+                    "mu = {mu} but the vehicles do not slide at contact and the normal impulse \
+                     does not make them slide (mu_max = 0): any tangential impulse is more than \
+                     sticking needs; only mu = 0 (or the no-slip form) is admissible"
+                ),
                 Some(m) => format!(
                     "mu = {mu} is not between 0 and mu_max = {m:.6}: the tangential impulse {}",
                     if mu * m < 0.0 {
@@ -358,7 +366,7 @@ pub(crate) fn build_report(
     options: &SolveOptions,
     initial: &Velocities,
     separation: &Velocities,
-    sign: FrictionSign,
+    (sign, basis): (FrictionSign, FrictionBasis),
     mu_max: Option<f64>,
 ) -> ImpactReport {
     let [p1i, p2i] = impact.contact_point_velocities(initial);
@@ -396,9 +404,6 @@ pub(crate) fn build_report(
 
     let (tangential, mu_ratio, friction_ok) = match options.tangential {
         TangentialCondition::NoSlip => (TangentialOutcome::Sticking, Some(1.0), true),
-        TangentialCondition::Sliding if sign == FrictionSign::NoSliding => {
-            (TangentialOutcome::NotSliding, None, true)
-        }
         TangentialCondition::Sliding => {
             let v = classify_friction(coefficients.mu, mu_max);
             (v.outcome, v.ratio, v.admissible)
@@ -430,6 +435,7 @@ pub(crate) fn build_report(
         ],
         energy,
         friction_sign: sign,
+        friction_basis: basis,
         mu_max,
         mu_ratio,
         tangential,

@@ -2,7 +2,7 @@
 
 use crate::equations::{assemble, impulse_rows, tangential_velocity_row, LinearSystem};
 use crate::error::{Equation, PimError, Result};
-use crate::friction::{CriticalImpulse, FrictionSign};
+use crate::friction::{friction_direction, CriticalImpulse, FrictionBasis, FrictionSign};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use crate::report::{build_report, ImpactReport};
 use nalgebra::{Matrix6, Vector6, LU, U6};
@@ -153,6 +153,44 @@ fn critical_ratio(
     .mu_max(sign)
 }
 
+/// The no-slip impulse on vehicle 1 of a contact state (equation 5a instead of 5; the friction
+/// sign does not enter that system), `None` when the no-slip system is singular.
+fn no_slip_impulse(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    x: &Vector6<f64>,
+    options: &SolveOptions,
+) -> Option<CriticalImpulse> {
+    let opts = SolveOptions {
+        tangential: TangentialCondition::NoSlip,
+        ..*options
+    };
+    let system = assemble(impact, coefficients, FrictionSign::Positive, &opts);
+    let factor = Factor::new(&system.f).ok()?;
+    let sep = factor.solve(&-(system.g * x));
+    let (pn, pt) = impulse_rows(impact);
+    let change = sep - x;
+    Some(CriticalImpulse {
+        normal: (pn * change)[0],
+        tangential: (pt * change)[0],
+    })
+}
+
+/// The sign factor of equation 5 for a contact state, by the one friction rule
+/// ([`crate::friction_direction`]): the sliding direction `sgn(vn) sgn(vt)` where the contact
+/// point slides, else the direction of the no-slip impulse at these coefficients (which depends
+/// on e, e_m and the moment form, not on mu).
+pub fn contact_friction(
+    impact: &Impact,
+    coefficients: &Coefficients,
+    initial: &Velocities,
+    options: &SolveOptions,
+) -> (FrictionSign, FrictionBasis) {
+    friction_direction(impact.sliding_sign(initial), || {
+        no_slip_impulse(impact, coefficients, &initial.to_vector(), options)
+    })
+}
+
 /// The separation velocities for given contact velocities, without the derived quantities.
 ///
 /// This is the bare solve of `F X = -G x` (one 6x6 LU).
@@ -165,7 +203,7 @@ pub fn separation_velocities(
     coefficients.validate()?;
     initial.validate()?;
     impact.check_approach(initial)?;
-    let sign = impact.friction_sign(initial);
+    let (sign, _) = contact_friction(impact, coefficients, initial, options);
     let system = assemble(impact, coefficients, sign, options);
     let factor =
         Factor::new(&system.f).map_err(|row| singular_error(&system, row, false, coefficients))?;
@@ -206,7 +244,7 @@ pub fn solve_forward(
     coefficients.validate()?;
     initial.validate()?;
     impact.check_approach(initial)?;
-    let sign = impact.friction_sign(initial);
+    let (sign, basis) = contact_friction(impact, coefficients, initial, options);
     let x = initial.to_vector();
     let sol = forward(impact, coefficients, &x, sign, options)?;
     Ok(build_report(
@@ -215,7 +253,7 @@ pub fn solve_forward(
         options,
         initial,
         &Velocities::from_vector(&sol.separation),
-        sign,
+        (sign, basis),
         sol.mu_max,
     ))
 }
@@ -241,19 +279,16 @@ pub fn solve_backward(
     separation.validate()?;
     impact.check_barrier_state(separation)?;
     let signs: &[FrictionSign] = match options.tangential {
-        TangentialCondition::Sliding => &[
-            FrictionSign::Positive,
-            FrictionSign::Negative,
-            FrictionSign::NoSliding,
-        ],
+        TangentialCondition::Sliding => &FrictionSign::BOTH,
         TangentialCondition::NoSlip => &[FrictionSign::Positive],
     };
     backward(impact, coefficients, separation, options, signs)
 }
 
-/// Solves backwards when the sliding direction at contact is known: `friction_sign` is
-/// `sgn(vn) sgn(vt)` of the contact state (+1 or -1). The recovered contact state must slide that
-/// way, or the result is an [`PimError::InconsistentSliding`] error.
+/// Solves backwards when the sign factor of equation 5 is known: `friction_sign` is
+/// `sgn(vn) sgn(vt)` of the contact state (+1 or -1), or where it does not slide the direction
+/// of its no-slip impulse. The recovered contact state must give that sign by the friction rule
+/// ([`contact_friction`]), or the result is an [`PimError::InconsistentSliding`] error.
 pub fn solve_backward_with_sign(
     impact: &Impact,
     coefficients: &Coefficients,
@@ -289,13 +324,9 @@ fn backward(
             }
         };
         let x = Velocities::from_vector(&factor.solve(&-(system.f * xf)));
-        if s == FrictionSign::NoSliding && impact.friction_sign(&x) != s {
-            // The exceptional hypothesis "no sliding at contact" is kept only when it holds.
-            continue;
-        }
         if let Err(e) = impact.check_approach(&x) {
             rejected.push((s, e));
-        } else if no_slip || impact.friction_sign(&x) == s {
+        } else if no_slip || contact_friction(impact, coefficients, &x, options).0 == s {
             consistent.push((s, x));
         } else {
             rejected.push((
@@ -347,7 +378,7 @@ fn backward(
                 options,
                 initial,
                 separation,
-                *sign,
+                (*sign, basis_of(impact, initial)),
                 mu_max,
             )
         })
@@ -393,7 +424,7 @@ pub fn critical_friction(
     coefficients.validate()?;
     initial.validate()?;
     impact.check_approach(initial)?;
-    let sign = impact.friction_sign(initial);
+    let (sign, _) = contact_friction(impact, coefficients, initial, options);
     let opts = SolveOptions {
         tangential: TangentialCondition::NoSlip,
         ..*options
@@ -402,8 +433,8 @@ pub fn critical_friction(
 }
 
 /// Derived results (impulses, delta-V, energy, mu_max, admissibility) for a given pair of
-/// states, for example a fitted one, with the friction sign `sgn(vn) sgn(vt)` it was computed
-/// with. The states are taken as they are; their equation residuals are in
+/// states, for example a fitted one, with the sign factor of equation 5 it was computed with
+/// (see [`contact_friction`]). The states are taken as they are; their equation residuals are in
 /// [`ImpactReport::residuals`].
 pub fn analyse(
     impact: &Impact,
@@ -430,7 +461,16 @@ pub fn analyse(
         options,
         initial,
         separation,
-        sign,
+        (sign, basis_of(impact, initial)),
         mu_max,
     ))
+}
+
+/// Whether a contact state's friction sign comes from its sliding or from its no-slip impulse.
+fn basis_of(impact: &Impact, initial: &Velocities) -> FrictionBasis {
+    if impact.sliding_sign(initial).is_some() {
+        FrictionBasis::Sliding
+    } else {
+        FrictionBasis::NoSlipImpulse
+    }
 }

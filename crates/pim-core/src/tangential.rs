@@ -14,21 +14,32 @@
 //! the model asks for `vn' = -e vn` (normal restitution) and `vt' = et vt` (tangential
 //! restitution, `et` in [-1, 1]; `et = 0` ends the sliding, `et < 0` reverses it). When the
 //! impulse that does so needs more than the friction limit, `|Pt| > friction |Pn|`, the vehicles
-//! slide instead (Routh): `Pt = friction s Pn` with `s = sgn(vn) sgn(vt)` the direction that
-//! opposes the sliding at contact (as PIM's equation 5), and `Pn` from the normal restitution
-//! alone.
+//! slide instead: `Pt = friction s Pn` with `s` the sign of that sticking impulse's ratio
+//! `Pt_s / Pn_s` (the edge of the friction cone on the sticking impulse's side, the friction
+//! rule of the crate docs: the ratio lies between 0 and the sticking ratio), and `Pn` from the
+//! normal restitution alone. Where the coupling of the collision matrix does not reverse the
+//! sliding, `s = sgn(vn) sgn(vt)`, friction against the initial sliding; where it does (PIM's
+//! `mu_max < 0`), pushing against the initial sliding for the whole impulse would drive the
+//! sliding past where sticking ends it, and the sticking impulse's side is the physical one.
+//!
+//! With `et = -e` this is the impulse-momentum model of Carpenter & Welcher (IMPC: the impulse
+//! ratio capped at a friction coefficient, `P = (1 + e)` times the no-slip impulse of the
+//! coupled bodies when the cap does not bind, no moment impulse); [`TangentialCoefficients::impc`]
+//! builds its coefficients.
 //!
 //! Its exact relations to PIM, both with `e_m = 1` (no moment impulse): sticking with `et = 0`
 //! is PIM's no-slip form, and sliding is PIM's sliding form with `mu = friction`. The solution is
 //! reported as PIM's [`ImpactReport`] with these equivalent coefficients (`mu` = the impulse
-//! ratio used, relative to the sliding direction), and [`TangentialReport`] says which mode
-//! acted. The model does not guarantee that no kinetic energy is created (tangential restitution
-//! with a coupled collision matrix can add energy); the report's admissibility says when it does.
+//! ratio used in PIM's sign convention), and [`TangentialReport`] says which mode acted. Its
+//! admissibility is the friction rule's test on the model's own sticking ratio
+//! ([`crate::classify_friction`]; it holds by construction where the normal impulse pushes the
+//! vehicles apart) and the energy balance: the model does not guarantee that no kinetic energy is
+//! created (tangential restitution with a coupled collision matrix can add energy).
 
 use crate::error::{PimError, Result};
 use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
 use crate::report::{ImpactReport, TangentialOutcome};
-use crate::{FrictionSign, MomentForm};
+use crate::{classify_friction, CriticalImpulse, MomentForm};
 use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
 
@@ -44,6 +55,23 @@ pub struct TangentialCoefficients {
 }
 
 impl TangentialCoefficients {
+    /// The Carpenter-Welcher impulse-momentum model (IMPC) as this model: restitution `e` on
+    /// both axes while the impulse ratio stays within `friction` (`et = -e`: sticking restores
+    /// the tangential velocity at C with `-e`, as the normal one), the impulse ratio capped at
+    /// `friction` otherwise.
+    ///
+    /// ```
+    /// let c = pim_core::TangentialCoefficients::impc(0.1, 0.3);
+    /// assert_eq!((c.e, c.et, c.friction), (0.1, -0.1, 0.3));
+    /// ```
+    pub fn impc(e: f64, friction: f64) -> Self {
+        TangentialCoefficients {
+            e,
+            et: -e,
+            friction,
+        }
+    }
+
     /// Checks the domains.
     pub fn validate(&self) -> Result<()> {
         for (name, value, ok, domain) in [
@@ -204,18 +232,19 @@ pub fn solve_tangential(
     let (pn_stick, pt_stick) = stick_impulse(&k, c.e, c.et, vn, vt);
     let dn = -(1.0 + c.e) * vn;
     let stick_ratio = pt_stick / pn_stick;
-    let sign = impact.friction_sign(initial);
-    // The direction that opposes the sliding at contact (PIM's s = sgn(vn) sgn(vt)); without
-    // sliding at contact, that of the sticking impulse.
-    let s = match sign {
-        FrictionSign::NoSliding => stick_ratio.signum(),
-        other => other.value(),
-    };
+    // The one friction rule: the ratio lies between 0 and that of the sticking impulse, so a
+    // binding limit puts it on the edge of the friction cone on the sticking impulse's side
+    // (IMPC's rule), whatever the initial sliding direction.
+    let side = CriticalImpulse {
+        normal: pn_stick,
+        tangential: pt_stick,
+    }
+    .direction();
     let tol = 1e-12 * (1.0 + c.friction);
     let (mode, ratio) = if stick_ratio.abs() <= c.friction + tol {
         (ContactMode::Stick, stick_ratio)
     } else {
-        (ContactMode::Slide, c.friction * s)
+        (ContactMode::Slide, c.friction * side.value())
     };
     let pn = match mode {
         ContactMode::Stick => pn_stick,
@@ -224,12 +253,20 @@ pub fn solve_tangential(
     let pt = ratio * pn;
     let x = apply_impulse(impact, pn, pt, &initial.to_vector());
     let separation = Velocities::from_vector(&x);
-    // PIM's equivalent: e, mu = the ratio relative to the sliding direction, em = 1; the
-    // no-slip form when the model sticks with et = 0 (PIM's equation 5a).
-    let mu = match sign {
-        FrictionSign::NoSliding => 0.0,
-        other => ratio * other.value(),
+    // PIM's equivalent: e, mu = the ratio in PIM's sign convention (relative to the sliding at
+    // contact, or to PIM's no-slip impulse where there is none), em = 1; the no-slip form when
+    // the model sticks with et = 0 (PIM's equation 5a).
+    let pim_options = SolveOptions {
+        moment_form: MomentForm::Corrected,
+        tangential: TangentialCondition::Sliding,
     };
+    let frictionless = Coefficients {
+        e: c.e,
+        mu: 0.0,
+        em: 1.0,
+    };
+    let (sign, _) = crate::contact_friction(impact, &frictionless, initial, &pim_options);
+    let mu = ratio * sign.value();
     let options = SolveOptions {
         moment_form: MomentForm::Corrected,
         tangential: if mode == ContactMode::Stick && c.et == 0.0 {
@@ -244,13 +281,18 @@ pub fn solve_tangential(
         em: 1.0,
     };
     let mut report = crate::analyse(impact, &equivalent, &options, initial, &separation, sign)?;
-    // The model's own tangential outcome and admissibility.
+    // The model's own tangential outcome, and its friction test by the same rule as PIM's: the
+    // ratio between 0 and the sticking ratio (classify_friction), with a normal impulse that
+    // pushes the vehicles apart.
+    let verdict = classify_friction(ratio, Some(stick_ratio));
     report.tangential = match mode {
         ContactMode::Stick => TangentialOutcome::Sticking,
         ContactMode::Slide => TangentialOutcome::Sliding,
     };
-    report.admissibility.friction_ok = true;
-    report.admissibility.admissible = report.admissibility.energy_ok;
+    report.mu_ratio = verdict.ratio;
+    report.admissibility.friction_ok = verdict.admissible && pn * vn <= 0.0;
+    report.admissibility.admissible =
+        report.admissibility.friction_ok && report.admissibility.energy_ok;
     Ok(TangentialReport {
         coefficients: *c,
         mode,

@@ -106,6 +106,10 @@ pub struct ImpactSection {
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CoefficientsSection {
+    /// The model by name, optional: `"pim"` (e, mu, em), `"tangential"` (e, et, friction) or
+    /// `"impc"` (e, friction: the Carpenter-Welcher model, the tangential model with
+    /// `et = -e`). Without it the coefficients given select PIM or the tangential model.
+    pub model: Option<ModelName>,
     /// Restitution (both models).
     pub e: f64,
     /// PIM: friction (impulse ratio).
@@ -116,6 +120,18 @@ pub struct CoefficientsSection {
     pub et: Option<f64>,
     /// Tangential-restitution model: friction limit of the impulse ratio.
     pub friction: Option<f64>,
+}
+
+/// A model named in `[coefficients] model = "..."`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModelName {
+    /// Planar Impact Mechanics: e, mu, em.
+    Pim,
+    /// Normal and tangential restitution with a friction limit: e, et, friction.
+    Tangential,
+    /// The Carpenter-Welcher impulse-momentum model: e, friction (et = -e).
+    Impc,
 }
 
 /// The impact model a case selects by its coefficients.
@@ -869,13 +885,29 @@ impl Case {
         })?;
         let bad =
             |e: pim_core::PimError| InputError::new(&self.file, format!("[coefficients] {e}"));
+        let named = c.model;
+        if named == Some(ModelName::Impc) {
+            return match (c.mu, c.em, c.et, c.friction) {
+                (None, None, None, Some(friction)) => {
+                    let t = pim_core::TangentialCoefficients::impc(c.e, friction);
+                    t.validate().map_err(bad)?;
+                    Ok(CaseModel::Tangential(t))
+                }
+                _ => Err(InputError::new(
+                    &self.file,
+                    "[coefficients] model = \"impc\" takes e and friction only (IMPC's \
+                     tangential restitution is -e; give model = \"tangential\" with et to choose \
+                     it)",
+                )),
+            };
+        }
         match (c.mu, c.em, c.et, c.friction) {
-            (Some(mu), Some(em), None, None) => {
+            (Some(mu), Some(em), None, None) if named != Some(ModelName::Tangential) => {
                 let c = Coefficients { e: c.e, mu, em };
                 c.validate().map_err(bad)?;
                 Ok(CaseModel::Pim(c))
             }
-            (None, None, Some(et), Some(friction)) => {
+            (None, None, Some(et), Some(friction)) if named != Some(ModelName::Pim) => {
                 let c = pim_core::TangentialCoefficients {
                     e: c.e,
                     et,

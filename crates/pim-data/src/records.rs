@@ -107,6 +107,11 @@ pub struct SolveOut {
     pub relative_velocity: pim_core::RelativeVelocity,
     /// Material-point velocities at C.
     pub contact_points: pim_core::ContactPoints,
+    /// The sign factor of equation 5 (`1` or `-1`): mu' = mu times this.
+    pub friction_sign: pim_core::FrictionSign,
+    /// `sliding` when it is the sliding direction at contact, `no_slip_impulse` when the
+    /// contact point does not slide at contact and friction takes the no-slip impulse's side.
+    pub friction_basis: pim_core::FrictionBasis,
     /// Signed critical impulse ratio (null when undefined).
     pub mu_max: Option<f64>,
     /// mu / mu_max.
@@ -149,6 +154,8 @@ impl SolveOut {
             impulse: r.impulse,
             relative_velocity: r.relative,
             contact_points: r.contact_points,
+            friction_sign: r.friction_sign,
+            friction_basis: r.friction_basis,
             mu_max: r.mu_max,
             mu_ratio: r.mu_ratio,
             tangential: r.tangential,

@@ -154,13 +154,17 @@ fn solution(
         problems.append(&mut more);
         (r, Some(t))
     } else {
-        let coefficients = pim_core::Coefficients {
-            mu: c.mu_eff,
-            ..best.at.c
-        };
         let options = SolveOptions {
             moment_form: settings.moment_form,
             tangential: best.at.mode,
+        };
+        // The sign of equation 5 as the forward model reads it from the fitted contact state
+        // (the friction rule: the searched sign where it slides, the no-slip impulse's side
+        // where it does not), with mu re-expressed so that mu' = mu sign is the searched one.
+        let (sign, _) = pim_core::contact_friction(&inner.impact, &best.at.c, &initial, &options);
+        let coefficients = pim_core::Coefficients {
+            mu: c.mu_eff * best.at.sign.value() * sign.value(),
+            ..best.at.c
         };
         let r = pim_core::analyse(
             &inner.impact,
@@ -168,7 +172,7 @@ fn solution(
             &options,
             &initial,
             &separation,
-            best.at.sign,
+            sign,
         )?;
         (r, None)
     };
@@ -189,7 +193,7 @@ fn solution(
         initial,
         separation,
         sticking: tangential.is_none() && best.at.mode == pim_core::TangentialCondition::NoSlip,
-        friction_sign: best.at.sign,
+        friction_sign: r.friction_sign,
         max_residual: residuals.max_relative(),
         residuals,
         active_constraints: inner.active_constraints(&best.at, c, branch == MomentBranch::Free),

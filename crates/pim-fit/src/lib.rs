@@ -141,25 +141,9 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
     let normalised = problem.normalised()?;
     let problem = &normalised;
     problem.check()?;
-    let mut s = settings.get();
-    let mut inner = Inner::new(problem, s);
+    let s = settings.get();
+    let inner = Inner::new(problem, s);
     let mut notes = Vec::new();
-    let held;
-    if s.model == FitModel::Pim && inner.no_sliding_at_contact() {
-        // No sliding at contact: friction has no direction and no tangential impulse acts, so
-        // mu has no effect on the equations; it is held at 0.
-        held = FitSettings {
-            mu: [0.0, 0.0],
-            ..s.clone()
-        };
-        s = &held;
-        inner = Inner::new(problem, s);
-        notes.push(
-            "the known contact velocities do not slide along the crush surface (vt = 0): no \
-             tangential impulse acts and mu is held at 0"
-                .to_string(),
-        );
-    }
     // The branches are independent searches: run them side by side.
     let outcomes: Vec<Outcome> = match s.branches.as_slice() {
         [a, b] => {

@@ -48,10 +48,9 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
                 c.friction
             ),
             pim_core::ContactMode::Slide => format!(
-                "slides: sticking would need |Pt/Pn| = {:.3} > friction {}, so |Pt/Pn| = {}",
-                m.stick_ratio.abs(),
-                c.friction,
-                c.friction
+                "slides: sticking would need Pt/Pn = {:+.3}, beyond the friction limit {}, so \
+                 Pt/Pn = {:+} (the limit on the sticking impulse's side)",
+                m.stick_ratio, c.friction, m.impulse_ratio
             ),
         };
         let line = format!(

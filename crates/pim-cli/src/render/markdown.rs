@@ -40,11 +40,7 @@ pub fn solve(title: &str, r: &ImpactReport, forward: bool, u: UnitSystem) -> Str
         "\nKinetic energy: {:.0} J at contact, {:.0} J at separation; loss {:.0} J ({:.2} %).\n",
         e.initial, e.final_, e.loss, e.loss_percent
     );
-    let _ = writeln!(
-        s,
-        "Along the crush surface: {}.\n",
-        tangential_words(r.tangential)
-    );
+    let _ = writeln!(s, "Along the crush surface: {}.\n", tangential_words(r));
     if r.admissibility.admissible {
         let _ = writeln!(s, "The solution is physically admissible.");
     } else {

@@ -16,17 +16,22 @@ fn opt(x: Option<f64>, prec: usize) -> String {
     x.map_or_else(|| "undefined".to_string(), |v| format!("{v:.prec$}"))
 }
 
-/// Words for what happens along the crush surface.
-pub fn tangential_words(t: pim_core::TangentialOutcome) -> &'static str {
-    match t {
+/// Words for what happens along the crush surface, and where the direction of friction comes
+/// from when the contact point does not slide at contact.
+pub fn tangential_words(r: &ImpactReport) -> String {
+    let outcome = match r.tangential {
         pim_core::TangentialOutcome::Sliding => "still sliding at separation (|mu| < |mu_max|)",
         pim_core::TangentialOutcome::Sticking => "sliding ends by separation (mu = mu_max)",
         pim_core::TangentialOutcome::Reversed => {
             "sliding reversed (mu beyond mu_max: not physical)"
         }
-        pim_core::TangentialOutcome::NotSliding => {
-            "no sliding at contact (vt = 0): no tangential impulse, mu has no effect"
-        }
+    };
+    match r.friction_basis {
+        pim_core::FrictionBasis::Sliding => outcome.to_string(),
+        pim_core::FrictionBasis::NoSlipImpulse => format!(
+            "{outcome}; no sliding at contact (vt = 0), so friction acts against the sliding \
+             that the normal impulse causes (the side of the no-slip impulse)"
+        ),
     }
 }
 
@@ -165,7 +170,7 @@ pub fn solve_table(
         "friction            mu_max {} (signed), mu/mu_max {}: {}",
         opt(r.mu_max, 4),
         opt(r.mu_ratio, 4),
-        tangential_words(r.tangential)
+        tangential_words(r)
     );
     let _ = writeln!(
         s,

@@ -68,8 +68,6 @@ pub(crate) struct Check {
     pub ratio_ok: bool,
     /// No kinetic energy created.
     pub energy_ok: bool,
-    /// The sliding direction is the only violated condition.
-    pub only_direction: bool,
 }
 
 impl Check {
@@ -122,10 +120,13 @@ impl ConstraintSet<'_> {
     /// Whether the ratio condition holds at a ratio value (pim-core decides friction).
     fn ratio_holds(&self, r: &Ratio, p: Option<CriticalImpulse>) -> bool {
         if r.inverse {
-            // |Pt| >= friction |Pn| (a relative 1e-9 of slack, as below).
+            // sign Pt / Pn >= friction: the sticking impulse exceeds the limit on the side of
+            // the sign (a relative 1e-9 of slack, as below).
+            let s = self.sign.value();
             return p.is_some_and(|p| {
-                let (n, t) = (p.normal.abs(), p.tangential.abs());
-                t - r.mu * n >= -1e-9 * (t + r.mu * n)
+                let n = p.normal.abs();
+                let t = s * p.tangential * p.normal.signum();
+                t - r.mu * n >= -1e-9 * (t.abs() + r.mu * n)
             });
         }
         let mu_max = p.and_then(|p| p.mu_max(self.sign));
@@ -154,10 +155,14 @@ impl ConstraintSet<'_> {
                     let v = if k < 6 { x[k] } else { xf[k - 6] };
                     (v.abs() > limit + slack, Violation::Bound(Component(k)))
                 }
-                // The sliding direction is strict: a contact state must slide the way its
-                // friction sign says, or pim-core would read the other sign from it.
+                // The sliding direction holds to round-off only: a contact state must slide the
+                // way its friction sign says, or not slide at all (vt = 0 within pim-core's
+                // NO_SLIDING_TOL, where the friction rule takes the no-slip impulse's side,
+                // which the ratio condition of this sign checks); otherwise pim-core would read
+                // the other sign from it.
                 Linear::Contact { row, rhs, kind } if kind == Violation::SlidingDirection => {
-                    ((row * x)[0] > rhs, kind)
+                    let slack = 0.25 * pim_core::NO_SLIDING_TOL * (row.abs() * x.abs())[0];
+                    ((row * x)[0] > rhs + slack, kind)
                 }
                 Linear::Contact { row, rhs, kind } => ((row * x)[0] > rhs + slack, kind),
             };
@@ -170,7 +175,6 @@ impl ConstraintSet<'_> {
                 linear = Some(kind);
             }
         }
-        let others = linear.is_some();
         if direction && linear.is_none() {
             linear = Some(Violation::SlidingDirection);
         }
@@ -182,7 +186,6 @@ impl ConstraintSet<'_> {
             linear,
             ratio_ok,
             energy_ok: !creates_energy(self.energy(x), self.energy(xf)),
-            only_direction: direction && !others && ratio_ok,
         }
     }
 
@@ -310,7 +313,6 @@ impl ConstraintSet<'_> {
         if let Some(r) = self.ratio {
             let (pn, pt) = self.ratio_polynomials(&r, line, forward);
             let mut roots = Vec::new();
-            roots.extend(quadratic_roots(pn));
             let combo = |a: f64, p: [f64; 3], b: f64, q: [f64; 3]| {
                 [
                     a * p[0] + b * q[0],
@@ -318,12 +320,19 @@ impl ConstraintSet<'_> {
                     a * p[2] + b * q[2],
                 ]
             };
+            // The ratio is num / den: sign Pt / Pn, or Pn / (sign Pt) for an inverse ratio.
             let s = self.sign.value();
+            let (den, num) = if r.inverse {
+                (combo(s, pt, 0.0, pt), pn)
+            } else {
+                (pn, combo(s, pt, 0.0, pt))
+            };
+            roots.extend(quadratic_roots(den));
             if r.lo.is_finite() {
-                roots.extend(quadratic_roots(combo(s, pt, -r.lo, pn)));
+                roots.extend(quadratic_roots(combo(1.0, num, -r.lo, den)));
             }
             if r.hi.is_finite() {
-                roots.extend(quadratic_roots(combo(r.hi, pn, -s, pt)));
+                roots.extend(quadratic_roots(combo(r.hi, den, -1.0, num)));
             }
             let test = |t: f64| {
                 let e = Line::e_of_t(t, forward);

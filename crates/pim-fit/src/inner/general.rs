@@ -11,8 +11,10 @@
 //!    `E = 0`, found by bisection while the Lagrangian stays convex. By weak duality that point is
 //!    then optimal for the energy-constrained problem on that polyhedron.
 //!
-//! A candidate whose contact state has `vt = 0` is not counted: equation 5's friction sign is
-//! undefined there, and the other sign is evaluated on its own.
+//! A candidate whose contact state has `vt = 0` (the sliding-direction row active) counts like
+//! any other: pim-core's friction rule then takes the sign of the no-slip impulse, and the
+//! ratio condition of this sign (mu between 0 and mu_max) holds exactly when that is this sign
+//! or mu = 0, so the closure of each sign's set is the forward model's.
 
 use super::constraints::{ConstraintSet, RowX};
 use super::objective::OverX;
@@ -76,10 +78,6 @@ impl Inner {
         let check = cs.check(at.c.e, &x, &(r * x));
         if check.ok() {
             return Eval::Feasible(make(x, false, 0.0));
-        }
-        if check.only_direction {
-            // The optimum would have vt = 0 at contact (see the module docs).
-            return Eval::Infeasible(Violation::SlidingDirection);
         }
         let ratio_kind = cs.ratio.map_or(Violation::Friction, |r| r.kind);
         let first = check.linear.unwrap_or(if check.ratio_ok {
@@ -221,9 +219,6 @@ impl Inner {
             }
         };
         let x0 = solve(0.0)?;
-        if self.direction_active(cs, &x0) {
-            return Err(Violation::SlidingDirection);
-        }
         let energy_of = |x: &Vector6<f64>| (x.transpose() * qe * x)[0];
         if !pim_core::creates_energy(cs.energy(&x0), cs.energy(&(ox.r * x0))) {
             return Ok(Answer { x: x0, lambda: 0.0 });
@@ -304,16 +299,5 @@ impl Inner {
             }
         }
         limit.iter().map(|l| l * l).sum::<f64>().sqrt() + xp.norm()
-    }
-
-    /// True when the contact state has vt = 0 (the sliding-direction row is active).
-    fn direction_active(&self, cs: &ConstraintSet<'_>, x: &Vector6<f64>) -> bool {
-        let tol = 1e-7 * self.objective.scale;
-        cs.linear.iter().any(|c| match *c {
-            super::Linear::Contact { row, rhs, kind } => {
-                kind == Violation::SlidingDirection && ((row * x)[0] - rhs).abs() <= tol
-            }
-            _ => false,
-        })
     }
 }

@@ -34,8 +34,9 @@ use pim_core::{Coefficients, CriticalImpulse, FrictionSign, Impact, TangentialCo
 
 /// Where a candidate is evaluated: coefficients (mu unused when sticking), tangential condition
 /// and friction sign. In the tangential model `NoSlip` is its sticking mode with tangential
-/// restitution `et`, and `Sliding` its sliding mode with friction limit `c.mu`, admissible when
-/// the sticking impulse at `et` would exceed it (Routh).
+/// restitution `et`, and `Sliding` its sliding mode with friction limit `c.mu` on the side
+/// `sign` (the impulse ratio is `c.mu sign`), admissible when the sticking impulse at `et`
+/// would exceed the limit on that side (the friction rule).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct At {
     pub c: Coefficients,
@@ -84,10 +85,15 @@ pub(crate) struct Inner {
     known: Option<KnownState>,
     /// That state, and whether it is the contact state.
     known_state: Option<(Vector6<f64>, bool)>,
-    /// Friction sign when the contact state is fully known.
+    /// Sliding direction of the contact state when it is fully known and slides at contact
+    /// (`None` when it is not known or does not slide: then both signs are searched, and the
+    /// friction rule picks the no-slip impulse's side through the ratio condition).
     known_sign: Option<FrictionSign>,
     /// The linear conditions for each friction sign (positive, negative).
     linear: [Vec<Linear>; 2],
+    /// The linear conditions without the sliding direction: the tangential model's sliding
+    /// mode, whose sign is the side of the sticking impulse, not the sliding direction.
+    linear_any: Vec<Linear>,
     impulse: (RowVector6<f64>, RowVector6<f64>),
     mass: Vector6<f64>,
     pub mu_bounds: [f64; 2],
@@ -103,11 +109,10 @@ pub(crate) struct Inner {
     tol: f64,
 }
 
-/// The linear constraint set of a sign. `NoSliding` never reaches a search point (a known contact
-/// state without sliding is searched with sign +1 and mu = 0, see [`Inner::signs`]).
+/// The linear constraint set of a sign.
 fn sign_index(s: FrictionSign) -> usize {
     match s {
-        FrictionSign::Positive | FrictionSign::NoSliding => 0,
+        FrictionSign::Positive => 0,
         FrictionSign::Negative => 1,
     }
 }
@@ -130,7 +135,7 @@ impl Inner {
             known_state.map(|(v, forward)| KnownState::new(&impact, moment_form, v, forward));
         let known_sign = objective
             .fixed_contact()
-            .map(|x| impact.friction_sign(&pim_core::Velocities::from_vector(&x)));
+            .and_then(|x| impact.sliding_sign(&pim_core::Velocities::from_vector(&x)));
         let side = if impact.side() == 0.0 {
             1.0
         } else {
@@ -178,6 +183,18 @@ impl Inner {
             known,
             known_state,
             known_sign,
+            linear_any: linear_for(FrictionSign::Positive)
+                .into_iter()
+                .filter(|c| {
+                    !matches!(
+                        c,
+                        Linear::Contact {
+                            kind: Violation::SlidingDirection,
+                            ..
+                        }
+                    )
+                })
+                .collect(),
             linear: [
                 linear_for(FrictionSign::Positive),
                 linear_for(FrictionSign::Negative),
@@ -211,19 +228,15 @@ impl Inner {
         self.objective.data_scale()
     }
 
-    /// True when the contact state is known and does not slide at C (`vt = 0`): there is no
-    /// tangential impulse, and the fit must hold mu at 0.
-    pub fn no_sliding_at_contact(&self) -> bool {
-        self.known_sign == Some(FrictionSign::NoSliding)
-    }
-
-    /// The friction signs to try (with no sliding at contact, mu = 0 and either sign is the
-    /// same system: +1 is used).
+    /// The friction signs to try: the sliding direction of a known contact state that slides,
+    /// else both (a known contact state with `vt = 0` takes the sign of its no-slip impulse,
+    /// which the ratio condition of each sign decides; the tangential model's sliding sign is
+    /// the side of its sticking impulse, so it always tries both).
     pub fn signs(&self) -> &'static [FrictionSign] {
-        match self.known_sign {
-            Some(FrictionSign::Positive | FrictionSign::NoSliding) => &[FrictionSign::Positive],
-            Some(FrictionSign::Negative) => &[FrictionSign::Negative],
-            None => &FrictionSign::BOTH,
+        match (self.model, self.known_sign) {
+            (FitModel::Pim, Some(FrictionSign::Positive)) => &[FrictionSign::Positive],
+            (FitModel::Pim, Some(FrictionSign::Negative)) => &[FrictionSign::Negative],
+            _ => &FrictionSign::BOTH,
         }
     }
 
@@ -254,8 +267,9 @@ impl Inner {
     }
 
     /// The impulse-ratio condition of the tangential model: sticking within the largest
-    /// friction limit, or sliding where sticking at `et` would exceed the friction limit
-    /// (`|Pt| >= friction |Pn|`, written as `Pn / Pt` within `+-1 / friction`).
+    /// friction limit, or sliding where sticking at `et` would exceed the friction limit on the
+    /// side of the candidate's sign (the friction rule: `sign Pt / Pn >= friction` for the
+    /// sticking impulse, written as `Pn / (sign Pt)` within `[0, 1 / friction]`).
     fn tangential_ratio(&self, at: &At) -> Ratio {
         match at.mode {
             TangentialCondition::NoSlip => Ratio {
@@ -273,7 +287,7 @@ impl Inner {
                     source: self
                         .stick_rows(at.et)
                         .map_or(Impulses::Undefined, Impulses::Critical),
-                    lo: -bound,
+                    lo: 0.0,
                     hi: bound,
                     kind: Violation::StickWithinFriction,
                     mu: f,
@@ -317,8 +331,14 @@ impl Inner {
                 })
             }
         };
+        let tangential_sliding =
+            self.model == FitModel::Tangential && at.mode == TangentialCondition::Sliding;
         ConstraintSet {
-            linear: &self.linear[sign_index(at.sign)],
+            linear: if tangential_sliding {
+                &self.linear_any
+            } else {
+                &self.linear[sign_index(at.sign)]
+            },
             ratio,
             sign: at.sign,
             impulse: self.impulse,
