@@ -293,6 +293,28 @@ fn stress_corpus_300() {
     run(1, 300);
 }
 
+/// Seed 108006 of the 3,000-case run: a Q1 fit whose zero-branch optimum lies in a friction
+/// band (mu between mu_max = -0.060 and 0) narrower than the grid, next to a vt = 0 contact
+/// state where the band of the other sign begins; the search must refine inside the band.
+#[test]
+fn stress_seed_108006() {
+    let case = draw(108006).unwrap();
+    let v = check(&case, &FitSettings::default().check().unwrap());
+    assert!(v.failures.is_empty(), "{:?}", v.failures);
+    let problem =
+        FitProblem::from_preset(case.impact, case.preset, &case.x_est, &case.xf_est, None);
+    let report = fit(&problem, &FitSettings::default().check().unwrap()).unwrap();
+    let zero = report
+        .branches
+        .iter()
+        .find(|b| b.moment == MomentBranch::Zero)
+        .and_then(|b| b.solution.as_ref())
+        .unwrap();
+    // The reference search's optimum (common/reference.rs), to its own precision.
+    assert!((zero.cost - 0.544852).abs() < 2e-6, "{}", zero.cost);
+    assert!((zero.mu + 0.04423).abs() < 1e-4, "{}", zero.mu);
+}
+
 #[test]
 #[ignore = "about 80 s on two cores; run with --ignored"]
 fn stress_corpus_3000() {

@@ -399,9 +399,9 @@ impl Formulation {
     fn pattern_rows(&self, inner: &Inner, p: &Pattern, branch: MomentBranch) -> Option<Vec<Row>> {
         let mut rows = Vec::with_capacity(12);
         let s = p.sign.value();
-        let tol = inner.tolerance();
-        // Sliding direction: sgn(vt) = -s side, held strictly (aimed inside by tol).
-        rows.push(Row::new(scaled(&self.vt, -s * self.side), tol)?);
+        // Sliding direction: sgn(vt) = -s side, or vt = 0 (closed: there the friction rule takes
+        // the no-slip impulse's side, which the friction rows of this sign check).
+        rows.push(Row::new(scaled(&self.vt, -s * self.side), 0.0)?);
         // mu = s Pt / Pn within the bounds, for the sign s_n of Pn.
         let [mlo, mhi] = inner.mu_bounds;
         let spt = scaled(&self.pt, s);

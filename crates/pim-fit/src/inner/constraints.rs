@@ -206,6 +206,11 @@ impl ConstraintSet<'_> {
                     out.push((row, limit - self.tol, v));
                     out.push((-row, limit - self.tol, v));
                 }
+                // The sliding direction is closed (vt = 0 is admissible by the friction rule);
+                // the other contact rows are aimed inside.
+                Linear::Contact { row, rhs, kind } if kind == Violation::SlidingDirection => {
+                    out.push((row, rhs, kind))
+                }
                 Linear::Contact { row, rhs, kind } => out.push((row, rhs - self.tol, kind)),
             }
         }

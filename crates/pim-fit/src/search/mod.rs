@@ -56,9 +56,8 @@ pub(crate) fn search_branch(
     }
     let faces = inner.singular_faces();
     for space in spaces(branch, settings, out.profiled_e, faces) {
-        let (pts, values) = grid(inner, &space, &mut out);
-        let n_grid = space.grid_len();
-        refine_from_grid(inner, settings, &space, &pts[..], &values, n_grid, &mut out);
+        let g = grid(inner, &space, &mut out);
+        refine_from_grid(inner, settings, &space, &g, &mut out);
     }
     // An infeasible verdict is a strong statement: a feasible set thinner than the grid spacing
     // is looked for on finer grids first.
@@ -69,9 +68,8 @@ pub(crate) fn search_branch(
         }
         finer.grid = finer.grid.map(|n| 2 * n - 1);
         for space in spaces(branch, &finer, out.profiled_e, faces) {
-            let (pts, values) = grid(inner, &space, &mut out);
-            let n_grid = space.grid_len();
-            refine_from_grid(inner, &finer, &space, &pts, &values, n_grid, &mut out);
+            let g = grid(inner, &space, &mut out);
+            refine_from_grid(inner, &finer, &space, &g, &mut out);
         }
     }
     // Agreement of the refinements with the optimum.
@@ -88,10 +86,24 @@ pub(crate) fn search_branch(
     out
 }
 
+/// The evaluated grid of a space.
+struct Grid {
+    /// The regular grid points, then the samples of narrow friction bands.
+    pts: Vec<Vec<f64>>,
+    /// The best exact value of each point (`None`: no feasible sign).
+    values: Vec<Option<f64>>,
+    /// Number of regular grid points (the first of `pts`).
+    n_grid: usize,
+    /// Width of the friction band of each band sample (0 for a regular grid point).
+    bands: Vec<f64>,
+}
+
 /// The grid of a space: relaxed evaluations, then exact solves where the lower bound could still
-/// win. Returns the points and the best exact value of each (`None`: no feasible sign).
-fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> (Vec<Vec<f64>>, Vec<Option<f64>>) {
+/// win, then samples of the friction bands narrower than the grid.
+fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> Grid {
     let mut pts = space.grid();
+    let n_grid = pts.len();
+    let mut bands = vec![0.0; n_grid];
     out.grid_points += pts.len();
     let mut values: Vec<Option<f64>> = vec![None; pts.len()];
     let mut found: Vec<(usize, Point)> = Vec::new();
@@ -140,7 +152,7 @@ fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> (Vec<Vec<f64>>, Vec<
     // narrow admissible band (a small or negative mu_max) is not stepped over.
     if let Some(k) = space.mu_axis() {
         let spacing = space.dims[k].spacing();
-        let mut extra: Vec<Vec<f64>> = Vec::new();
+        let mut extra: Vec<(Vec<f64>, f64)> = Vec::new();
         for (i, p) in &found {
             let Some(m) = inner.mu_max(&p.at, &p.candidate) else {
                 continue;
@@ -161,22 +173,33 @@ fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> (Vec<Vec<f64>>, Vec<
                 }
                 let mut q = pts[*i].clone();
                 q[k] = mid;
-                if !extra.iter().chain(pts.iter()).any(|e| e == &q) {
-                    extra.push(q);
+                if !extra
+                    .iter()
+                    .map(|e| &e.0)
+                    .chain(pts.iter())
+                    .any(|e| e == &q)
+                {
+                    extra.push((q, hi - lo));
                 }
             }
         }
-        for q in extra {
+        for (q, width) in extra {
             let i = pts.len();
             pts.push(q);
             values.push(None);
+            bands.push(width);
             out.grid_points += 1;
             if let Some(p) = out.exact(inner, space, &pts[i]) {
                 values[i] = Some(p.candidate.cost);
             }
         }
     }
-    (pts, values)
+    Grid {
+        pts,
+        values,
+        n_grid,
+        bands,
+    }
 }
 
 /// Records a feasible grid point and keeps the best value of its point.
@@ -189,16 +212,17 @@ fn keep(out: &mut Outcome, values: &mut [Option<f64>], i: usize, p: Point) {
 
 /// Nelder-Mead from the best grid points of distinct cells (more than one cell apart), then the
 /// compass search from every result within `polish_within` of the best (the others are distinct
-/// local minima).
+/// local minima). A friction-band sample starts with a simplex of its band's size, so that its
+/// refinement stays in the band instead of stepping over it, and is always polished (its band
+/// is a local minimum of its own that the grid's values do not rank).
 fn refine_from_grid(
     inner: &Inner,
     settings: &FitSettings,
     space: &Space,
-    pts: &[Vec<f64>],
-    values: &[Option<f64>],
-    n_grid: usize,
+    grid: &Grid,
     out: &mut Outcome,
 ) {
+    let (pts, values, n_grid) = (&grid.pts, &grid.values, grid.n_grid);
     if space.dims.is_empty() {
         // A single point, solved exactly: nothing to refine.
         return;
@@ -252,14 +276,25 @@ fn refine_from_grid(
             starts.push(i);
         }
     }
-    let mut refined: Vec<(Vec<f64>, f64, bool)> = Vec::new();
+    // The first step along each axis of a start: the grid's, or its band's for a band sample.
+    let first_steps = |i: usize| -> Vec<f64> {
+        let mut steps = spacing.clone();
+        if let Some(k) = space.mu_axis() {
+            if grid.bands[i] > 0.0 {
+                steps[k] = steps[k].min(grid.bands[i]);
+            }
+        }
+        steps
+    };
+    let mut refined: Vec<(Vec<f64>, f64, bool, Vec<f64>)> = Vec::new();
     for &i in &starts {
         out.refinements += 1;
         let tol = s.nelder_mead_tolerance * (1.0 + values[i].unwrap_or(0.0));
-        let (best, hit) = refine::nelder_mead(inner, space, &pts[i], tol, s, out);
+        let steps = first_steps(i);
+        let (best, hit) = refine::nelder_mead(inner, space, &pts[i], &steps, tol, s, out);
         if let Some(b) = best {
             if let Some(p) = out.exact(inner, space, &b) {
-                refined.push((b, p.candidate.cost, hit));
+                refined.push((b, p.candidate.cost, hit, steps));
             }
         }
     }
@@ -274,14 +309,15 @@ fn refine_from_grid(
             .all(|((x, y), sp)| (x - y).abs() <= 1e-3 * sp)
     };
     let mut polished: Vec<(Vec<f64>, f64)> = Vec::new();
-    for (p, cost, hit) in refined {
-        if cost <= lead + s.polish_within * (1.0 + lead.abs()) {
+    for (p, cost, hit, steps) in refined {
+        let narrow = steps.iter().zip(&spacing).any(|(a, b)| a < b);
+        if narrow || cost <= lead + s.polish_within * (1.0 + lead.abs()) {
             if let Some((_, value)) = polished.iter().find(|(q, _)| twin(&p, q)) {
                 let value = value.min(cost);
                 out.finals.push((value, hit && value >= cost));
                 continue;
             }
-            let (_, value) = refine::compass(inner, space, p.clone(), cost, s, out);
+            let (_, value) = refine::compass(inner, space, p.clone(), cost, &spacing, s, out);
             out.finals.push((value, hit && value >= cost));
             polished.push((p, value));
         } else {

@@ -27,12 +27,14 @@ impl CostFunction for Objective<'_> {
     }
 }
 
-/// Nelder-Mead from `start`, stopped when the simplex values agree to `sd_tolerance`; returns
-/// the best point and whether the iteration limit was hit.
+/// Nelder-Mead from `start` with a first simplex of half of `steps` along each axis (the grid
+/// spacing, or less in a narrow friction band), stopped when the simplex values agree to
+/// `sd_tolerance`; returns the best point and whether the iteration limit was hit.
 pub(crate) fn nelder_mead(
     inner: &Inner,
     space: &Space,
     start: &[f64],
+    steps: &[f64],
     sd_tolerance: f64,
     settings: &SearchSettings,
     out: &mut Outcome,
@@ -40,7 +42,7 @@ pub(crate) fn nelder_mead(
     let dim = start.len();
     let mut simplex = vec![start.to_vec()];
     for (k, d) in space.dims.iter().enumerate() {
-        let step = if d.n > 1 { d.spacing() * 0.5 } else { 0.0 };
+        let step = if d.n > 1 { steps[k] * 0.5 } else { 0.0 };
         let mut v = start.to_vec();
         // Step inwards so that the simplex starts inside the box.
         v[k] = if v[k] + step <= d.hi {
@@ -75,21 +77,25 @@ pub(crate) fn nelder_mead(
     }
 }
 
-/// Compass (pattern) search with step halving, inside the box; returns the point and its cost.
+/// Compass (pattern) search with step halving, inside the box, with first steps a fraction
+/// `polish_first_step` of `steps` (the grid spacing, or a narrow band's width); returns the
+/// point and its cost.
 pub(crate) fn compass(
     inner: &Inner,
     space: &Space,
     mut p: Vec<f64>,
     mut cost: f64,
+    steps: &[f64],
     settings: &SearchSettings,
     out: &mut Outcome,
 ) -> (Vec<f64>, f64) {
     let mut step: Vec<f64> = space
         .dims
         .iter()
-        .map(|d| {
+        .zip(steps)
+        .map(|(d, s)| {
             if d.n > 1 {
-                d.spacing() * settings.polish_first_step
+                s * settings.polish_first_step
             } else {
                 0.0
             }

@@ -158,11 +158,6 @@ impl Space {
         )
     }
 
-    /// The number of grid points.
-    pub fn grid_len(&self) -> usize {
-        self.dims.iter().map(|d| d.n.max(1)).product()
-    }
-
     /// Every point of the grid.
     pub fn grid(&self) -> Vec<Vec<f64>> {
         product(self.dims.iter().map(Dim::axis))
