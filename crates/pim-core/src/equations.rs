@@ -93,7 +93,8 @@ pub fn restitution(impact: &Impact, e: f64) -> Row {
 }
 
 /// Equation 5: `m1 (V1y - v1y)(cos G - mu' sin G) + m2 (V2x - v2x)(sin G + mu' cos G) = 0`, with
-/// `mu' = mu * friction_sign` (friction opposes the initial sliding direction). It says
+/// `mu' = mu * friction_sign` (the sign factor of the friction rule: the initial sliding
+/// direction, or the no-slip impulse's side where there is none, [`crate::contact_friction`]). It says
 /// `Pt = mu' Pn` for the impulse on vehicle 1; against a barrier it is written with that impulse
 /// alone: `m1 (V1y - v1y)(cos G - mu' sin G) - m1 (V1x - v1x)(sin G + mu' cos G) = 0`.
 pub fn friction(impact: &Impact, mu: f64, friction_sign: FrictionSign) -> Row {

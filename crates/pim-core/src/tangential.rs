@@ -28,7 +28,8 @@
 //! builds its coefficients.
 //!
 //! Its exact relations to PIM, both with `e_m = 1` (no moment impulse): sticking with `et = 0`
-//! is PIM's no-slip form, and sliding is PIM's sliding form with `mu = friction`. The solution is
+//! is PIM's no-slip form, and sliding is PIM's sliding form with `mu = friction` on the sticking
+//! impulse's side (`mu = -friction` where the coupling reverses the sliding). The solution is
 //! reported as PIM's [`ImpactReport`] with these equivalent coefficients (`mu` = the impulse
 //! ratio used in PIM's sign convention), and [`TangentialReport`] says which mode acted. Its
 //! admissibility is the friction rule's test on the model's own sticking ratio

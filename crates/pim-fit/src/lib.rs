@@ -75,10 +75,12 @@
 //! - sticking, searched over `(e, et)`: `X = R x` with `vn' = -e vn`, `vt' = et vt`
 //!   (pim-core's `stick_transfer`), and the ratio of the impulse within the largest friction
 //!   limit, `|Pt| <= friction_max |Pn|` (two wedges, as PIM's sticking mode);
-//! - sliding, searched over `(e, friction, et)`: PIM's sliding form with mu = friction, and
-//!   Routh's condition that sticking at et would need more, `|Pt(et)| >= friction |Pn(et)|`,
-//!   whose admissible set is again two polyhedra, written as `Pn / Pt` within
-//!   `+-1 / friction` (the answer does not depend on et; et only witnesses the condition).
+//! - sliding, searched over `(e, friction, et)` and the side s of the friction: PIM's sliding
+//!   form with the impulse ratio `s friction`, and the friction rule's condition that sticking
+//!   at et would need more on that side, `s Pt(et) / Pn(et) >= friction`, whose admissible set
+//!   is again two polyhedra, written as `Pn / (s Pt)` within `[0, 1 / friction]` (the answer
+//!   does not depend on et; et only witnesses the condition). The sign of this mode is the side
+//!   of the sticking impulse, not the sliding direction, so it carries no sliding-direction row.
 //!
 //! The report's [`Solution::tangential`] says which mode acted, et and the friction limits
 //! that give the answer; e, mu and e_m of the solution are then PIM's equivalent (mu the

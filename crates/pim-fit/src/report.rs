@@ -247,7 +247,7 @@ pub enum ActiveConstraint {
     VelocityBound(Component),
     /// The closing speed at C is at its minimum.
     MinimumApproach,
-    /// No sliding at contact (vt = 0).
+    /// No sliding at contact (vt = 0): friction takes the no-slip impulse's side.
     SlidingDirection,
     /// mu = mu_max: sliding just stops at separation.
     MuMax,

@@ -26,8 +26,13 @@ pub fn tangential_words(r: &ImpactReport) -> String {
             "sliding reversed (mu beyond mu_max: not physical)"
         }
     };
+    let no_coupling = r.mu_max.is_some_and(|m| m.abs() <= pim_core::REPORT_TOL);
     match r.friction_basis {
         pim_core::FrictionBasis::Sliding => outcome.to_string(),
+        pim_core::FrictionBasis::NoSlipImpulse if no_coupling => format!(
+            "{outcome}; no sliding at contact (vt = 0) and the normal impulse causes none \
+             (mu_max = 0): no tangential impulse is admissible"
+        ),
         pim_core::FrictionBasis::NoSlipImpulse => format!(
             "{outcome}; no sliding at contact (vt = 0), so friction acts against the sliding \
              that the normal impulse causes (the side of the no-slip impulse)"
