@@ -212,9 +212,10 @@ fn keep(out: &mut Outcome, values: &mut [Option<f64>], i: usize, p: Point) {
 
 /// Nelder-Mead from the best grid points of distinct cells (more than one cell apart), then the
 /// compass search from every result within `polish_within` of the best (the others are distinct
-/// local minima). A friction-band sample starts with a simplex of its band's size, so that its
-/// refinement stays in the band instead of stepping over it, and is always polished (its band
-/// is a local minimum of its own that the grid's values do not rank).
+/// local minima). A friction-band sample is refined twice, from the grid's simplex and from one
+/// of its band's width along mu (a refinement that stays in the band instead of stepping over
+/// it); the latter is always polished (its band is a local minimum of its own that the grid's
+/// values do not rank).
 fn refine_from_grid(
     inner: &Inner,
     settings: &FitSettings,
@@ -276,25 +277,29 @@ fn refine_from_grid(
             starts.push(i);
         }
     }
-    // The first step along each axis of a start: the grid's, or its band's for a band sample.
-    let first_steps = |i: usize| -> Vec<f64> {
-        let mut steps = spacing.clone();
+    // The first steps along the axes of a start: the grid's; a band sample is refined with
+    // those and again with its band's width along mu (a simplex inside the band).
+    let first_steps = |i: usize| -> Vec<Vec<f64>> {
+        let mut all = vec![spacing.clone()];
         if let Some(k) = space.mu_axis() {
-            if grid.bands[i] > 0.0 {
-                steps[k] = steps[k].min(grid.bands[i]);
+            if grid.bands[i] > 0.0 && grid.bands[i] < spacing[k] {
+                let mut narrow = spacing.clone();
+                narrow[k] = grid.bands[i];
+                all.push(narrow);
             }
         }
-        steps
+        all
     };
     let mut refined: Vec<(Vec<f64>, f64, bool, Vec<f64>)> = Vec::new();
     for &i in &starts {
-        out.refinements += 1;
         let tol = s.nelder_mead_tolerance * (1.0 + values[i].unwrap_or(0.0));
-        let steps = first_steps(i);
-        let (best, hit) = refine::nelder_mead(inner, space, &pts[i], &steps, tol, s, out);
-        if let Some(b) = best {
-            if let Some(p) = out.exact(inner, space, &b) {
-                refined.push((b, p.candidate.cost, hit, steps));
+        for steps in first_steps(i) {
+            out.refinements += 1;
+            let (best, hit) = refine::nelder_mead(inner, space, &pts[i], &steps, tol, s, out);
+            if let Some(b) = best {
+                if let Some(p) = out.exact(inner, space, &b) {
+                    refined.push((b, p.candidate.cost, hit, steps));
+                }
             }
         }
     }
