@@ -5,9 +5,10 @@
 //! `x = (v1x, v1y, w1, v2x, v2y, w2)` the contact state. Each row function returns the pair
 //! `(f, g)` of row vectors of one equation.
 
+use crate::coefficients::{Coefficients, MomentForm, SolveOptions, TangentialCondition};
 use crate::error::Equation;
 use crate::friction::FrictionSign;
-use crate::model::{Coefficients, Impact, MomentForm, SolveOptions, TangentialCondition};
+use crate::model::Impact;
 use nalgebra::{Matrix6, RowVector6};
 
 /// One equation: coefficients of the separation state (`f`) and of the contact state (`g`).

@@ -41,8 +41,22 @@
 //! that decides whether a ratio is admissible. The solver's reports, the second model's report
 //! and the fit all call it.
 
-use crate::report::{TangentialOutcome, REPORT_TOL};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// Relative tolerance used to decide "mu equals mu_max" and "no energy created".
+pub const REPORT_TOL: f64 = 1e-9;
+
+/// What happens along the crush surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TangentialOutcome {
+    /// The vehicles still slide at separation, in the initial direction (|mu| < |mu_max|).
+    Sliding,
+    /// Sliding ends at or before separation (mu = mu_max, or the no-slip form).
+    Sticking,
+    /// The tangential impulse overshoots and reverses the sliding (mu beyond mu_max): not physical.
+    Reversed,
+}
 
 /// The sign factor `s` of equation 5, `mu' = mu s`: `sgn(vn) sgn(vt)` where the contact point
 /// slides at contact (friction opposes the initial sliding), the sign of the no-slip impulse

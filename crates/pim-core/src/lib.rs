@@ -131,6 +131,7 @@
 //! # Ok::<(), PimError>(())
 //! ```
 
+mod coefficients;
 pub mod equations;
 mod error;
 mod friction;
@@ -144,21 +145,21 @@ mod sensitivity;
 mod solve;
 pub mod tangential;
 
+pub use coefficients::{Coefficients, MomentForm, SolveOptions, TangentialCondition, EM_ONE_TOL};
 pub use error::{Equation, PimError, Result, VehicleId};
 pub use friction::{
     classify_friction, creates_energy, friction_direction, CriticalImpulse, FrictionBasis,
-    FrictionSign, FrictionVerdict,
+    FrictionSign, FrictionVerdict, TangentialOutcome, REPORT_TOL,
 };
 pub use model::{
-    impact_point_cartesian, impact_point_polar, wrap_degrees, Coefficients, Collision, Convention,
-    Impact, MomentForm, SolveOptions, TangentialCondition, Vehicle, VehicleVelocity, Velocities,
-    EM_ONE_TOL, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS, MAX_SPEED, MAX_YAW_RATE,
-    NO_SLIDING_TOL,
+    impact_point_cartesian, impact_point_polar, wrap_degrees, Collision, Convention, Impact,
+    Vehicle, VehicleVelocity, Velocities, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,
+    MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
 };
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
 pub use report::{
     pdof, residuals, vehicle_results, Admissibility, ContactPoints, DeltaV, Energy, ImpactReport,
-    Impulse, RelativeVelocity, Residuals, TangentialOutcome, VehicleResult, REPORT_TOL,
+    Impulse, RelativeVelocity, Residuals, VehicleResult,
 };
 pub use sensitivity::{
     sensitivity, CoefficientName, Level, LevelAverage, SensitivityCase, SensitivityStudy,

@@ -14,8 +14,8 @@
 //! `r = (v2t - v1t)/(v2n - v1n)` under the no-slip condition. This is an independent cross-check of
 //! the 6x6 solve with `d1 = d2 = 0` and no rotation.
 
+use crate::coefficients::{Coefficients, TangentialCondition};
 use crate::error::{PimError, Result};
-use crate::model::{Coefficients, TangentialCondition};
 use serde::{Deserialize, Serialize};
 
 /// A point-mass impact: masses, crush angle and the two planar velocities at contact.

@@ -39,8 +39,8 @@
 //!
 //! which [`crate::solve_point_mass`] with the no-slip condition computes.
 
+use crate::coefficients::{Coefficients, TangentialCondition};
 use crate::error::Result;
-use crate::model::{Coefficients, TangentialCondition};
 use crate::point_mass::{solve_point_mass, PointMassImpact};
 
 /// `L` of eq. 16 for the mass ratio `alpha = m1 / m2` and the speed ratio `R = v2 / v1`.

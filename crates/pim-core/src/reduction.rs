@@ -13,12 +13,13 @@
 //! transfer matrix of `X = R x` ([`Reduction::transfer`]). The no-slip impulse of a contact state,
 //! whose ratio is mu_max, is linear in that state ([`Reduction::critical_rows`]).
 
+use crate::coefficients::{Coefficients, MomentForm, TangentialCondition};
 use crate::equations::{
     angular_momentum, friction, impulse_rows, moment_restitution, momentum_x, momentum_y, no_slip,
     restitution, Row,
 };
 use crate::friction::{CriticalImpulse, FrictionSign};
-use crate::model::{Coefficients, Impact, MomentForm, TangentialCondition};
+use crate::model::Impact;
 use nalgebra::{
     Matrix2x3, Matrix2x6, Matrix3, Matrix6, RowVector3, RowVector6, SMatrix, Vector3, Vector6,
 };

@@ -1,13 +1,13 @@
 //! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
 
+use crate::coefficients::{Coefficients, SolveOptions, TangentialCondition};
 use crate::equations::{assemble, impulse_rows, LinearSystem};
 use crate::error::{Equation, VehicleId};
-use crate::friction::{classify_friction, creates_energy, FrictionBasis, FrictionSign};
-use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
+use crate::friction::{
+    classify_friction, creates_energy, FrictionBasis, FrictionSign, TangentialOutcome, REPORT_TOL,
+};
+use crate::model::{Impact, Velocities};
 use serde::{Deserialize, Serialize};
-
-/// Relative tolerance used to decide "mu equals mu_max" and "no energy created".
-pub const REPORT_TOL: f64 = 1e-9;
 
 /// Velocity of each vehicle's material point at the impact centre C, m/s.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -176,18 +176,6 @@ pub struct Energy {
     pub loss: f64,
     /// 100 (initial - final) / initial, percent.
     pub loss_percent: f64,
-}
-
-/// What happens along the crush surface.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TangentialOutcome {
-    /// The vehicles still slide at separation, in the initial direction (|mu| < |mu_max|).
-    Sliding,
-    /// Sliding ends at or before separation (mu = mu_max, or the no-slip form).
-    Sticking,
-    /// The tangential impulse overshoots and reverses the sliding (mu beyond mu_max): not physical.
-    Reversed,
 }
 
 /// Whether a solution is physically admissible.

@@ -6,8 +6,9 @@
 //! `em = 1` has four combinations, otherwise eight. Levels are ordered low (numerically smaller)
 //! then high, and combinations run with e slowest and em fastest, as in the 1983 tables.
 
+use crate::coefficients::{Coefficients, SolveOptions, EM_ONE_TOL};
 use crate::error::{PimError, Result};
-use crate::model::{Coefficients, Impact, SolveOptions, Velocities, EM_ONE_TOL};
+use crate::model::{Impact, Velocities};
 use crate::report::ImpactReport;
 use crate::solve::solve_forward;
 use serde::{Deserialize, Serialize};

@@ -1,9 +1,10 @@
 //! Forward and backward solution of the six equations.
 
+use crate::coefficients::{Coefficients, SolveOptions, TangentialCondition};
 use crate::equations::{assemble, impulse_rows, tangential_velocity_row, LinearSystem};
 use crate::error::{Equation, PimError, Result};
 use crate::friction::{friction_direction, CriticalImpulse, FrictionBasis, FrictionSign};
-use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
+use crate::model::{Impact, Velocities};
 use crate::report::{build_report, ImpactReport};
 use nalgebra::{Matrix6, Vector6, LU, U6};
 

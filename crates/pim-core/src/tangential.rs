@@ -37,9 +37,11 @@
 //! vehicles apart) and the energy balance: the model does not guarantee that no kinetic energy is
 //! created (tangential restitution with a coupled collision matrix can add energy).
 
+use crate::coefficients::{Coefficients, SolveOptions, TangentialCondition};
 use crate::error::{PimError, Result};
-use crate::model::{Coefficients, Impact, SolveOptions, TangentialCondition, Velocities};
-use crate::report::{ImpactReport, TangentialOutcome};
+use crate::friction::TangentialOutcome;
+use crate::model::{Impact, Velocities};
+use crate::report::ImpactReport;
 use crate::{classify_friction, CriticalImpulse, MomentForm};
 use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};

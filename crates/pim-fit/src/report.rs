@@ -525,7 +525,7 @@ pub struct BranchReport {
     /// With geometry bounds ([`crate::fit_geometry`]): the estimated impact centres and
     /// crush-surface angle, their ranges and the search over them.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub geometry: Option<crate::geometry::GeometryEstimate>,
+    pub geometry: Option<crate::geometry::types::GeometryEstimate>,
 }
 
 /// The result of a fit.

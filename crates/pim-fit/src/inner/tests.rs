@@ -2,7 +2,11 @@
 use super::constraints::Intervals;
 use super::*;
 use crate::problem::CostPreset;
+use crate::problem::FitProblem;
+use crate::report::Violation;
 use crate::settings::FitSettings;
+use nalgebra::Vector6;
+use pim_core::{Coefficients, Impact, TangentialCondition};
 use pim_core::{Collision, SolveOptions, Vehicle, Velocities};
 
 fn problem(preset: CostPreset) -> FitProblem {
