@@ -5,7 +5,8 @@
 //! and pass it in.
 //!
 //! - [`case`]: the TOML case file of a solve, a sensitivity study or a fit ([`case::Case`]),
-//!   and [`fitcase`], the fit problem and settings it describes;
+//!   its [`sections`] and its `[uncertainty]` section ([`spread`]), and [`fitcase`], the fit
+//!   problem and settings it describes;
 //! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
 //!   collision, in the papers' geometry;
 //! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`;
@@ -26,6 +27,8 @@ pub mod predict;
 pub mod records;
 pub mod reference;
 pub mod ricsac;
+pub mod sections;
+pub mod spread;
 pub mod uncertainty;
 pub mod units;
 

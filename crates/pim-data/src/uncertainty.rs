@@ -6,135 +6,15 @@
 //! records the quantities a report needs. Draw `i` uses its own random stream (seeded from
 //! `seed` and `i`), so the result is bit-identical for any thread count.
 
-use crate::case::{Case, PointSection};
+use crate::case::Case;
 use crate::error::{InputError, Result};
 use crate::fitcase::{self, CostChoice};
+pub use crate::spread::{standard_normal, ImpactSpread, Spread, UncertaintySection, VehicleSpread};
 use pim_fit::{FitSettings, MomentBranch, Quantity, Status};
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-
-/// The spread of one input: a number is the standard deviation of a normal distribution about
-/// the case's value; `{ uniform = [lo, hi] }` draws uniformly between the two values.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
-#[serde(untagged)]
-pub enum Spread {
-    /// Normal, with this standard deviation (the input's unit).
-    Normal(f64),
-    /// Uniform between two values (the input's unit).
-    Uniform {
-        /// `[lo, hi]`.
-        uniform: [f64; 2],
-    },
-}
-
-impl Spread {
-    fn scaled(self, k: f64) -> Self {
-        match self {
-            Spread::Normal(s) => Spread::Normal(s * k),
-            Spread::Uniform { uniform: [a, b] } => Spread::Uniform {
-                uniform: [a * k, b * k],
-            },
-        }
-    }
-
-    fn draw(self, nominal: f64, rng: &mut impl Rng) -> f64 {
-        match self {
-            Spread::Normal(s) => nominal + s * standard_normal(rng),
-            Spread::Uniform { uniform: [a, b] } => a + (b - a) * rng.random::<f64>(),
-        }
-    }
-
-    /// Standard deviation.
-    fn sd(self) -> f64 {
-        match self {
-            Spread::Normal(s) => s,
-            Spread::Uniform { uniform: [a, b] } => (b - a) / 12f64.sqrt(),
-        }
-    }
-
-    fn check(self, what: &str, file: &str) -> Result<()> {
-        let ok = match self {
-            Spread::Normal(s) => s.is_finite() && s >= 0.0,
-            Spread::Uniform { uniform: [a, b] } => a.is_finite() && b.is_finite() && a <= b,
-        };
-        if ok {
-            Ok(())
-        } else {
-            Err(InputError::new(
-                file,
-                format!(
-                    "[uncertainty] {what}: a standard deviation >= 0 or {{ uniform = [lo, hi] }} \
-                     with lo <= hi"
-                ),
-            ))
-        }
-    }
-}
-
-/// Uncertain inputs of one vehicle.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct VehicleSpread {
-    /// Mass (mass unit).
-    pub mass: Option<Spread>,
-    /// Yaw inertia (inertia unit).
-    pub yaw_inertia: Option<Spread>,
-    /// Heading, degrees.
-    pub heading: Option<Spread>,
-    /// CG to impact centre (length unit).
-    pub d: Option<Spread>,
-    /// Angle phi, degrees.
-    pub phi: Option<Spread>,
-    /// The impact point's x and y (length unit), instead of `d` / `phi`: normal standard
-    /// deviations.
-    pub impact_point: Option<PointSection>,
-}
-
-/// Uncertain crush-surface angle.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ImpactSpread {
-    /// Degrees.
-    pub crush_angle: Option<Spread>,
-}
-
-/// `[uncertainty]` of a case file.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct UncertaintySection {
-    /// Vehicle 1.
-    #[serde(default)]
-    pub vehicle1: VehicleSpread,
-    /// Vehicle 2.
-    #[serde(default)]
-    pub vehicle2: VehicleSpread,
-    /// The crush surface.
-    #[serde(default)]
-    pub impact: ImpactSpread,
-}
-
-impl UncertaintySection {
-    /// Converts the file's units to SI (factors: mass, inertia, length).
-    pub fn to_si(self, mass: f64, inertia: f64, length: f64) -> Self {
-        let v = |s: VehicleSpread| VehicleSpread {
-            mass: s.mass.map(|x| x.scaled(mass)),
-            yaw_inertia: s.yaw_inertia.map(|x| x.scaled(inertia)),
-            d: s.d.map(|x| x.scaled(length)),
-            impact_point: s.impact_point.map(|p| PointSection {
-                x: p.x * length,
-                y: p.y * length,
-            }),
-            ..s
-        };
-        UncertaintySection {
-            vehicle1: v(self.vehicle1),
-            vehicle2: v(self.vehicle2),
-            impact: self.impact,
-        }
-    }
-}
 
 /// A tolerances file: the standard deviations that `pim batch DATA.csv --draws N --tolerances
 /// FILE` applies to every test of a data file. The same sections as a case file: `[units]`,
@@ -209,13 +89,6 @@ impl Tolerances {
         case.content.sigma = self.sigma;
         case.content.uncertainty = self.uncertainty;
     }
-}
-
-/// A standard normal number (Box-Muller).
-pub fn standard_normal(rng: &mut impl Rng) -> f64 {
-    let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
-    let u2: f64 = rng.random();
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }
 
 /// The random stream of draw `i`: SplitMix64 of the seed and the index.

@@ -1,0 +1,314 @@
+//! The sections of a TOML case file: vehicles, impact, coefficients, states, partial states,
+//! bounds and observations, as written (in the file's units).
+
+use pim_core::{Coefficients, VehicleVelocity, Velocities};
+use serde::Deserialize;
+
+/// A point in a vehicle's own frame: `x` forward, `y` to the left, from the CG.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSection {
+    /// Forward of the CG (length unit).
+    pub x: f64,
+    /// Left of the CG (length unit).
+    pub y: f64,
+}
+
+/// One vehicle as written in the case file. After loading ([`Case::from_text`]) every number
+/// is SI and `d`, `phi` are set whichever form the file used.
+///
+/// `[vehicle2] barrier = true` makes vehicle 2 a fixed rigid barrier: no mass, yaw inertia,
+/// heading or impact centre are given (after loading, mass and yaw inertia are infinite and the
+/// rest 0), and its velocities are 0 (they may be left out of `[initial]` / `[final]`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSection {
+    /// Free text (make, model).
+    #[serde(default)]
+    pub description: Option<String>,
+    /// A fixed rigid barrier (vehicle 2 only).
+    #[serde(default)]
+    pub barrier: bool,
+    /// Mass (mass unit; kg after loading; infinite for a barrier).
+    #[serde(default = "unset")]
+    pub mass: f64,
+    /// Yaw moment of inertia (kg m^2 after loading; infinite for a barrier).
+    #[serde(default = "unset")]
+    pub yaw_inertia: f64,
+    /// Heading, degrees counter-clockwise from +x: where the nose points (natural convention),
+    /// or the papers' theta (`convention = "brach"`: vehicle 1's tail).
+    #[serde(default = "unset")]
+    pub heading: f64,
+    /// CG to impact centre (polar form; m after loading).
+    #[serde(default)]
+    pub d: Option<f64>,
+    /// Angle from the nose to the CG-to-C line, degrees counter-clockwise (polar form).
+    #[serde(default)]
+    pub phi: Option<f64>,
+    /// The impact centre in the vehicle's frame (x forward, y left), instead of `d`, `phi`.
+    #[serde(default)]
+    pub impact_point: Option<PointSection>,
+    /// Overall length, for drawings (m after loading).
+    #[serde(default)]
+    pub length: Option<f64>,
+    /// Overall width, for drawings (m after loading).
+    #[serde(default)]
+    pub width: Option<f64>,
+    /// CG to the front face, for drawings (default half the length; m after loading).
+    #[serde(default)]
+    pub cg_to_front: Option<f64>,
+}
+
+/// A required number the file did not give (checked after parsing, so that a barrier can
+/// leave it out).
+fn unset() -> f64 {
+    f64::NAN
+}
+
+impl VehicleSection {
+    /// CG to impact centre, m (set after loading).
+    pub fn d(&self) -> f64 {
+        self.d.unwrap_or(0.0)
+    }
+
+    /// Angle phi, degrees (set after loading).
+    pub fn phi(&self) -> f64 {
+        self.phi.unwrap_or(0.0)
+    }
+}
+
+/// `[impact]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImpactSection {
+    /// Gamma, degrees.
+    pub crush_angle: f64,
+}
+
+/// `[coefficients]`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoefficientsSection {
+    /// The model by name, optional: `"pim"` (e, mu, em), `"tangential"` (e, et, friction) or
+    /// `"impc"` (e, friction: the Carpenter-Welcher model, the tangential model with
+    /// `et = -e`). Without it the coefficients given select PIM or the tangential model.
+    pub model: Option<ModelName>,
+    /// Restitution (both models).
+    pub e: f64,
+    /// PIM: friction (impulse ratio).
+    pub mu: Option<f64>,
+    /// PIM: moment restitution.
+    pub em: Option<f64>,
+    /// Tangential-restitution model: tangential restitution, in [-1, 1].
+    pub et: Option<f64>,
+    /// Tangential-restitution model: friction limit of the impulse ratio.
+    pub friction: Option<f64>,
+}
+
+/// A model named in `[coefficients] model = "..."`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModelName {
+    /// Planar Impact Mechanics: e, mu, em.
+    Pim,
+    /// Normal and tangential restitution with a friction limit: e, et, friction.
+    Tangential,
+    /// The Carpenter-Welcher impulse-momentum model: e, friction (et = -e).
+    Impc,
+}
+
+/// The impact model a case selects by its coefficients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CaseModel {
+    /// PIM: `e`, `mu`, `em`.
+    Pim(Coefficients),
+    /// The tangential-restitution model: `e`, `et`, `friction`.
+    Tangential(pim_core::TangentialCoefficients),
+}
+
+/// One vehicle's velocity, `{ vx, vy, omega }`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VelocitySection {
+    /// m/s.
+    pub vx: f64,
+    /// m/s.
+    pub vy: f64,
+    /// rad/s.
+    pub omega: f64,
+}
+
+/// `[initial]` or `[final]`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StateSection {
+    /// Vehicle 1.
+    pub vehicle1: VelocitySection,
+    /// Vehicle 2 (may be left out for a barrier, which is at rest; always set after loading).
+    #[serde(default)]
+    pub vehicle2: Option<VelocitySection>,
+}
+
+/// A barrier's velocity: at rest.
+pub(crate) const AT_REST: VelocitySection = VelocitySection {
+    vx: 0.0,
+    vy: 0.0,
+    omega: 0.0,
+};
+
+impl StateSection {
+    /// As a pim-core state.
+    pub fn to_velocities(self) -> Velocities {
+        let v = |s: VelocitySection| VehicleVelocity {
+            vx: s.vx,
+            vy: s.vy,
+            omega: s.omega,
+        };
+        Velocities {
+            vehicle1: v(self.vehicle1),
+            vehicle2: v(self.vehicle2.unwrap_or(AT_REST)),
+        }
+    }
+}
+
+/// A vehicle's velocity where every component is optional.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartialVelocity {
+    /// m/s.
+    pub vx: Option<f64>,
+    /// m/s.
+    pub vy: Option<f64>,
+    /// rad/s.
+    pub omega: Option<f64>,
+}
+
+/// Both vehicles, optional components.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartialState {
+    /// Vehicle 1.
+    #[serde(default)]
+    pub vehicle1: PartialVelocity,
+    /// Vehicle 2.
+    #[serde(default)]
+    pub vehicle2: PartialVelocity,
+}
+
+impl PartialState {
+    /// The six components (v1x, v1y, w1, v2x, v2y, w2), `None` where absent.
+    pub fn components(&self) -> [Option<f64>; 6] {
+        let a = &self.vehicle1;
+        let b = &self.vehicle2;
+        [a.vx, a.vy, a.omega, b.vx, b.vy, b.omega]
+    }
+}
+
+/// `initial` and `final`, each optional.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartialStates {
+    /// Contact state.
+    #[serde(default)]
+    pub initial: Option<PartialState>,
+    /// Separation state.
+    #[serde(default, rename = "final")]
+    pub final_: Option<PartialState>,
+}
+
+impl PartialStates {
+    /// The twelve components of U, `None` where absent.
+    pub fn components(&self) -> [Option<f64>; 12] {
+        let mut out = [None; 12];
+        if let Some(i) = &self.initial {
+            out[..6].copy_from_slice(&i.components());
+        }
+        if let Some(f) = &self.final_ {
+            out[6..].copy_from_slice(&f.components());
+        }
+        out
+    }
+
+    /// Multiplies the speeds by `speed` and the yaw rates by `rate` (unit conversion).
+    pub fn scale(&mut self, speed: f64, rate: f64) {
+        for s in [&mut self.initial, &mut self.final_].into_iter().flatten() {
+            for v in [&mut s.vehicle1, &mut s.vehicle2] {
+                for x in [&mut v.vx, &mut v.vy].into_iter().flatten() {
+                    *x *= speed;
+                }
+                if let Some(w) = &mut v.omega {
+                    *w *= rate;
+                }
+            }
+        }
+    }
+}
+
+/// `[bounds]` of a fit.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundsSection {
+    /// [low, high] of e (default [0, 0.2]).
+    pub e: Option<[f64; 2]>,
+    /// [low, high] of mu (default [-1.2, 1.2]); mu is always also between 0 and mu_max.
+    pub mu: Option<[f64; 2]>,
+    /// [low, high] of the tangential model's et (default [-1, 1]; `pim fit --model tangential`).
+    pub et: Option<[f64; 2]>,
+    /// [low, high] of the tangential model's friction limit (default [0, 1.2]).
+    pub friction: Option<[f64; 2]>,
+    /// Bound on each linear velocity component, m/s (default 20).
+    pub velocity: Option<f64>,
+    /// Bound on each yaw rate, rad/s (default 5).
+    pub yaw_rate: Option<f64>,
+    /// Vehicle 1's impact centre, estimated within these bounds (the case's value is the start).
+    pub vehicle1: Option<CentreBounds>,
+    /// Vehicle 2's impact centre, likewise.
+    pub vehicle2: Option<CentreBounds>,
+    /// The crush-surface angle, estimated within `[low, high]` degrees.
+    pub crush_angle: Option<[f64; 2]>,
+}
+
+/// Bounds of one vehicle's impact centre in `[bounds]`: `d` and / or `phi`, or `impact_point`
+/// `x` and / or `y` (length unit; degrees).
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CentreBounds {
+    /// `[low, high]` of the CG-to-impact-centre distance.
+    pub d: Option<[f64; 2]>,
+    /// `[low, high]` of the angle from the nose, degrees.
+    pub phi: Option<[f64; 2]>,
+    /// Bounds of the impact point's coordinates in the vehicle frame.
+    pub impact_point: Option<PointBounds>,
+}
+
+/// `impact_point = { x = [lo, hi], y = [lo, hi] }` in `[bounds]`.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointBounds {
+    /// `[low, high]` along the forward axis.
+    pub x: Option<[f64; 2]>,
+    /// `[low, high]` along the left axis.
+    pub y: Option<[f64; 2]>,
+}
+
+/// One `[[observations]]` entry.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObservationSection {
+    /// `delta_v_longitudinal`, `delta_v_lateral`, `speed_along_heading` or `lateral_velocity`.
+    pub kind: pim_fit::ObservationKind,
+    /// 1 or 2.
+    pub vehicle: u8,
+    /// m/s.
+    pub value: f64,
+    /// In (0, 1], default 1.
+    #[serde(default = "one")]
+    pub weight: f64,
+    /// Standard deviation of the value (speed unit), instead of `weight`.
+    #[serde(default)]
+    pub sigma: Option<f64>,
+}
+
+fn one() -> f64 {
+    1.0
+}
