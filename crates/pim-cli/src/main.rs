@@ -9,7 +9,6 @@ mod args;
 mod commands;
 mod error;
 mod inputs;
-mod render;
 
 use anyhow::Result;
 use args::{Cli, Command};

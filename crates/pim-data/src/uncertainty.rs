@@ -596,6 +596,7 @@ fn linearised(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::Rng;
 
     #[test]
     fn correlation_ratio_of_a_function_and_of_noise() {

@@ -377,7 +377,7 @@ fn draw(
     moment_form: &str,
 ) -> PyResult<String> {
     let case = load_case(py, case)?;
-    let diagram = pim_cli::diagram::case_diagram(&case, &options(no_slip, moment_form)?)
+    let diagram = pim_render::diagram::case_diagram(&case, &options(no_slip, moment_form)?)
         .map_err(DocumentErrorPy)?;
     diagram
         .svg()

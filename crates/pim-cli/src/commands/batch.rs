@@ -1,29 +1,15 @@
 //! `pim batch` and `pim compare-costs`: the refit of a data file.
 
+use super::batch_plan::plan;
 use super::{json, print_out, write_file};
-use crate::args::{unique, BatchArgs, BatchFormat};
+use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::load_ricsac;
-use crate::render::{batch_tables, figures};
 use anyhow::Result;
 use pim_data::batch;
 use pim_data::reference::parse_brach;
+use pim_render::{batch_tables, figures};
 use std::process::ExitCode;
-
-/// The plan of a batch from its flags, checked once (a bad flag is an input error, not a failed
-/// record per fit): `--threads`, `--e-max`, `--moment-form`, `--cost`, `--branch`, `--timing`.
-pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
-    if a.threads == Some(0) {
-        return Err(Failure::Input("--threads must be at least 1".into()));
-    }
-    let costs: Vec<pim_fit::CostPreset> = unique(&a.cost);
-    let branches: Vec<pim_fit::MomentBranch> = unique(&a.branch);
-    let mut plan = batch::BatchPlan::new(&costs, &branches, a.e_max, a.moment_form.into())
-        .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
-    plan.timing = a.timing;
-    let models: Vec<pim_fit::FitModel> = a.model.iter().map(|&m| m.into()).collect();
-    Ok(plan.with_models(&models))
-}
 
 /// Reads a tolerances file (`--tolerances`).
 fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tolerances, Failure> {
@@ -166,7 +152,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             write_file(&dir.join("summary.txt"), &summary)?;
             write_file(&dir.join("compare_costs.txt"), &compare_text)?;
             tables += 3;
-            figs = figures::write_all(&pim_records, &plan.costs, &plan.settings, dir)
+            figs = figures::all(&pim_records, &plan.costs, &plan.settings)
                 .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
         }
         if let Some(b) = &brach_text {
@@ -177,10 +163,11 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             write_file(&dir.join("models.txt"), m)?;
             tables += 1;
             figs.push(
-                figures::write_models(&records, &plan.costs, &plan.models, dir)
+                figures::models(&records, &plan.costs, &plan.models)
                     .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?,
             );
         }
+        super::write_figures(dir, &figs)?;
         if a.format != BatchFormat::Json {
             eprintln!(
                 "pim: wrote {tables} tables and {} figures to {}",

@@ -118,7 +118,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         )
         .into());
     }
-    let plan = super::batch::plan(a)?;
+    let plan = super::batch_plan::plan(a)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()

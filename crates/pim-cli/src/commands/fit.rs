@@ -4,9 +4,9 @@ use super::{json, print_out, title_of};
 use crate::args::{unique, FitArgs, Format};
 use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
 use crate::inputs::load_case;
-use crate::render::{markdown, tables};
 use anyhow::Result;
 use pim_data::documents;
+use pim_render::{markdown, tables};
 use std::process::ExitCode;
 
 /// `pim fit`.
@@ -16,7 +16,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let name = cost.map_or("custom", |p| p.name());
     crate::inputs::checked_impact(&case)?;
     if let Some(why) =
-        super::draw::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
+        pim_render::diagram::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
     {
         eprintln!(
             "pim: warning: {}: the estimated contact velocities do not approach at the impact \
@@ -52,7 +52,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         }
     }
     if let Some(dir) = &a.out {
-        let contact = super::draw::estimated_contact(&case);
+        let contact = pim_render::diagram::estimated_contact(&case);
         let best = report.best_branch().and_then(|b| b.solution.as_ref());
         // With estimated geometry, the collision at the best branch's estimate.
         let mut impact = problem.impact;
@@ -62,14 +62,14 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             impact = pim_core::Impact::new(c)
                 .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
         }
-        let d = super::draw::diagram(
+        let d = pim_render::diagram::diagram(
             &case,
             &impact,
             contact.as_ref(),
-            best.map(crate::render::diagram::Solved::of_fit),
+            best.map(pim_render::diagram::Solved::of_fit),
         );
         let md = markdown::fit(&title_of(&case), name, &report, a.units.into());
-        super::draw::write_result_dir(dir, &record, &md, &d)?;
+        super::write_result_dir(dir, &record, &md, &d)?;
     }
     print_out(match a.format {
         Format::Json => &record,

@@ -2,17 +2,22 @@
 
 pub mod batch;
 pub mod batch_cases;
+pub mod batch_plan;
 pub mod draw;
 pub mod fit;
 pub mod predict;
 pub mod solve;
 pub mod uncertainty;
 
+use crate::args::MomentArg;
 use crate::error::Failure;
 use crate::inputs::io_reason;
 use anyhow::Result;
+use pim_core::{SolveOptions, TangentialCondition};
 use pim_data::case::Case;
+use pim_render::diagram::Diagram;
 use std::io::Write;
+use std::path::Path;
 
 /// Writes the command's output to stdout (a closed pipe is not an error).
 pub fn print_out(text: &str) -> Result<()> {
@@ -67,4 +72,48 @@ pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
         ))
         .into()
     })
+}
+
+/// The solve options of the command line.
+pub fn options_of(moment_form: MomentArg, no_slip: bool) -> SolveOptions {
+    SolveOptions {
+        moment_form: moment_form.into(),
+        tangential: if no_slip {
+            TangentialCondition::NoSlip
+        } else {
+            TangentialCondition::Sliding
+        },
+    }
+}
+
+/// Writes a diagram, creating the parent directory.
+pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        create_dir(dir)?;
+    }
+    let svg = d
+        .svg()
+        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", path.display())))?;
+    write_file(path, &svg)
+}
+
+/// Writes `result.json`, `report.md` and `diagram.svg` into `dir`.
+pub fn write_result_dir(dir: &Path, json: &str, markdown: &str, d: &Diagram) -> Result<()> {
+    create_dir(dir)?;
+    write_file(&dir.join("result.json"), json)?;
+    write_file(&dir.join("report.md"), markdown)?;
+    write_diagram(d, &dir.join("diagram.svg"))?;
+    eprintln!(
+        "pim: wrote result.json, report.md and diagram.svg to {}",
+        dir.display()
+    );
+    Ok(())
+}
+
+/// Writes figures into `dir`; returns how many.
+pub fn write_figures(dir: &Path, figures: &[pim_render::Figure]) -> Result<usize> {
+    for f in figures {
+        write_file(&dir.join(&f.name), &f.svg)?;
+    }
+    Ok(figures.len())
 }

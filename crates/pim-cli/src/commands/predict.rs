@@ -59,8 +59,9 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
         super::create_dir(dir)?;
         write_file(&dir.join("predict_dv.json"), &record)?;
         write_file(&dir.join("predict_dv.txt"), &text)?;
-        crate::render::predict_figure::write(&rows, &dir.join("predict_dv.svg"))
+        let figure = pim_render::predict_figure::figure(&rows)
             .map_err(|e| Failure::Output(format!("{}: figure: {e}", dir.display())))?;
+        super::write_figures(dir, &[figure])?;
     }
     print_out(match a.format {
         Format::Json => &record,

@@ -1,29 +1,17 @@
 //! `pim solve` and `pim sensitivity`: one case file, forwards or backwards.
 
 use super::{json, print_out, title_of};
-use crate::args::{Format, MomentArg, SolveArgs};
+use crate::args::{Format, SolveArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_case;
-use crate::render::{markdown, tables};
 use anyhow::Result;
-use pim_core::{SolveOptions, TangentialCondition};
+use pim_core::SolveOptions;
 use pim_data::{documents, records};
+use pim_render::{markdown, tables};
 use std::process::ExitCode;
 
-/// The solve options of the command line.
-pub fn options_of(moment_form: MomentArg, no_slip: bool) -> SolveOptions {
-    SolveOptions {
-        moment_form: moment_form.into(),
-        tangential: if no_slip {
-            TangentialCondition::NoSlip
-        } else {
-            TangentialCondition::Sliding
-        },
-    }
-}
-
 fn options(a: &SolveArgs) -> SolveOptions {
-    options_of(a.moment_form, a.no_slip)
+    super::options_of(a.moment_form, a.no_slip)
 }
 
 /// `pim solve`.
@@ -63,15 +51,15 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         }
     }
     if let Some(dir) = &a.out {
-        let contact = super::draw::estimated_contact(&case);
-        let d = super::draw::diagram(
+        let contact = pim_render::diagram::estimated_contact(&case);
+        let d = pim_render::diagram::diagram(
             &case,
             &impact,
             contact.as_ref(),
-            Some(crate::render::diagram::Solved::of_report(&report)),
+            Some(pim_render::diagram::Solved::of_report(&report)),
         );
         let md = markdown::solve(&title_of(&case), &report, forward, a.units.into());
-        super::draw::write_result_dir(dir, &record, &md, &d)?;
+        super::write_result_dir(dir, &record, &md, &d)?;
     }
     print_out(match a.format {
         Format::Json => &record,

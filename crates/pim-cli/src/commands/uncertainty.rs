@@ -128,8 +128,9 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         super::create_dir(dir)?;
         write_file(&dir.join("uncertainty.json"), &record)?;
         write_file(&dir.join("uncertainty.txt"), &text)?;
-        crate::render::uncertainty_figures::write_all(&study, dir)
+        let figures = pim_render::uncertainty_figures::figures(&study)
             .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
+        super::write_figures(dir, &figures)?;
     }
     print_out(match a.format {
         Format::Json => &record,

@@ -36,46 +36,21 @@
 #![allow(clippy::needless_range_loop)]
 
 mod dual;
+mod form;
+mod verdict;
 
 use crate::inner::{At, Candidate, Inner};
 use crate::problem::MomentBranch;
 use crate::settings::FitSettings;
 use dual::{Row, N};
+use form::{add, dot, scaled, Form};
 use nalgebra::{Matrix6, RowVector6, SymmetricEigen};
 use pim_core::equations::{
     angular_momentum, impulse_rows, moment_b_row, momentum_x, momentum_y, normal_velocity_row,
     tangential_velocity_row,
 };
 use pim_core::{Coefficients, FrictionSign, MomentForm, TangentialCondition};
-
-/// A linear form over `z = (x, q)`.
-type Form = [f64; N];
-
-/// What the convex solve of a branch found.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Verdict {
-    /// The global optimum of the branch.
-    Optimal {
-        at: At,
-        candidate: Candidate,
-        counts: Counts,
-    },
-    /// The general search must decide (see the module documentation), with the reason.
-    Search(&'static str),
-}
-
-/// What the convex solve did, for the certificate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub(crate) struct Counts {
-    /// Sign patterns of the branch.
-    pub patterns: usize,
-    /// Patterns solved to their optimum.
-    pub solved: usize,
-    /// Patterns stopped by their lower bound or found empty.
-    pub pruned: usize,
-    /// e_m intervals solved (1 in the zero branch).
-    pub intervals: usize,
-}
+pub(crate) use verdict::{Counts, Verdict};
 
 /// One sign pattern over an e_m interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,22 +91,6 @@ struct Formulation {
     w_final: Form,
     w_lin: Form,
     side: f64,
-}
-
-fn add(a: &Form, b: &Form, s: f64) -> Form {
-    let mut out = *a;
-    for (o, v) in out.iter_mut().zip(b) {
-        *o += s * v;
-    }
-    out
-}
-
-fn scaled(a: &Form, s: f64) -> Form {
-    a.map(|v| v * s)
-}
-
-fn dot(a: &Form, z: &[f64; N]) -> f64 {
-    a.iter().zip(z).map(|(x, y)| x * y).sum()
 }
 
 impl Formulation {

@@ -2,9 +2,9 @@
 //! delta-V with their 90 % bands, speed 1 against speed 2, and a tornado chart of the inputs
 //! that dominate each of them.
 
+use crate::{svg_figure, Figure};
 use pim_data::uncertainty::{Study, QUANTITIES};
 use plotters::prelude::*;
-use std::path::{Path, PathBuf};
 
 const BAR: RGBColor = RGBColor(31, 119, 180);
 const BAND: RGBColor = RGBColor(255, 127, 14);
@@ -25,82 +25,73 @@ fn index(name: &str) -> usize {
     QUANTITIES.iter().position(|q| *q == name).unwrap_or(0)
 }
 
-/// Writes histograms.svg, speeds.svg and tornado.svg into `dir`.
-pub fn write_all(s: &Study, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let mut paths = Vec::new();
-    let p = dir.join("histograms.svg");
-    {
-        let root = SVGBackend::new(&p, (1000, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
-            let q = index(name);
-            let v: Vec<f64> = s.samples.iter().map(|d| d[q]).collect();
-            let sum = &s.quantities[name];
-            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let (lo, hi) = if hi > lo {
-                (lo, hi)
-            } else {
-                (lo - 0.5, hi + 0.5)
-            };
-            let bins = 25usize;
-            let w = (hi - lo) / bins as f64;
-            let mut counts = vec![0usize; bins];
-            for x in &v {
-                counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
-            }
-            let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
-            let mut chart = ChartBuilder::on(area)
-                .caption(
-                    format!("{label}: 90 % {:.2} .. {:.2}", sum.p05, sum.p95),
-                    ("sans-serif", 15),
-                )
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(45)
-                .build_cartesian_2d(lo..hi, 0.0..top)
-                .map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc(label)
-                .y_desc("draws")
-                .draw()
-                .map_err(err)?;
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(sum.p05, 0.0), (sum.p95, top)],
-                    BAND.mix(0.15).filled(),
-                )))
-                .map_err(err)?;
-            chart
-                .draw_series(
-                    counts
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, c)| **c > 0)
-                        .map(|(i, c)| {
+/// The figures `histograms.svg`, `speeds.svg` and `tornado.svg`.
+pub fn figures(s: &Study) -> Result<Vec<Figure>, String> {
+    let mut figures = Vec::new();
+    let figure =
+        svg_figure("histograms.svg", (1000, 700), |root| {
+            for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
+                let q = index(name);
+                let v: Vec<f64> = s.samples.iter().map(|d| d[q]).collect();
+                let sum = &s.quantities[name];
+                let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let (lo, hi) = if hi > lo {
+                    (lo, hi)
+                } else {
+                    (lo - 0.5, hi + 0.5)
+                };
+                let bins = 25usize;
+                let w = (hi - lo) / bins as f64;
+                let mut counts = vec![0usize; bins];
+                for x in &v {
+                    counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
+                }
+                let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
+                let mut chart = ChartBuilder::on(area)
+                    .caption(
+                        format!("{label}: 90 % {:.2} .. {:.2}", sum.p05, sum.p95),
+                        ("sans-serif", 15),
+                    )
+                    .margin(10)
+                    .x_label_area_size(35)
+                    .y_label_area_size(45)
+                    .build_cartesian_2d(lo..hi, 0.0..top)
+                    .map_err(err)?;
+                chart
+                    .configure_mesh()
+                    .x_desc(label)
+                    .y_desc("draws")
+                    .draw()
+                    .map_err(err)?;
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(sum.p05, 0.0), (sum.p95, top)],
+                        BAND.mix(0.15).filled(),
+                    )))
+                    .map_err(err)?;
+                chart
+                    .draw_series(counts.iter().enumerate().filter(|(_, c)| **c > 0).map(
+                        |(i, c)| {
                             let x0 = lo + i as f64 * w;
                             Rectangle::new([(x0, 0.0), (x0 + 0.92 * w, *c as f64)], BAR.filled())
-                        }),
-                )
-                .map_err(err)?;
-            if let Some(n) = s.nominal.get(name) {
-                chart
-                    .draw_series(LineSeries::new(
-                        [(*n, 0.0), (*n, top)],
-                        BLACK.stroke_width(2),
+                        },
                     ))
                     .map_err(err)?;
+                if let Some(n) = s.nominal.get(name) {
+                    chart
+                        .draw_series(LineSeries::new(
+                            [(*n, 0.0), (*n, top)],
+                            BLACK.stroke_width(2),
+                        ))
+                        .map_err(err)?;
+                }
             }
-        }
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
+            Ok(())
+        })?;
+    figures.push(figure);
 
-    let p = dir.join("speeds.svg");
-    {
-        let root = SVGBackend::new(&p, (620, 560)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("speeds.svg", (620, 560), |root| {
         let (a, b) = (index("speed1"), index("speed2"));
         let pts: Vec<(f64, f64)> = s.samples.iter().map(|d| (d[a], d[b])).collect();
         let range = |k: usize| {
@@ -115,7 +106,7 @@ pub fn write_all(s: &Study, dir: &Path) -> Result<Vec<PathBuf>, String> {
             let pad = 0.05 * (hi - lo).max(0.1);
             (lo - pad)..(hi + pad)
         };
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 "Impact speeds of the draws (black: nominal fit)",
                 ("sans-serif", 16),
@@ -146,14 +137,11 @@ pub fn write_all(s: &Study, dir: &Path) -> Result<Vec<PathBuf>, String> {
                 )))
                 .map_err(err)?;
         }
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
+        Ok(())
+    })?;
+    figures.push(figure);
 
-    let p = dir.join("tornado.svg");
-    {
-        let root = SVGBackend::new(&p, (1100, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("tornado.svg", (1100, 700), |root| {
         for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
             let inputs: Vec<(String, f64)> = s
                 .sensitivity
@@ -205,8 +193,8 @@ pub fn write_all(s: &Study, dir: &Path) -> Result<Vec<PathBuf>, String> {
                 .map_err(err)?;
             }
         }
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
-    Ok(paths)
+        Ok(())
+    })?;
+    figures.push(figure);
+    Ok(figures)
 }

@@ -1,6 +1,6 @@
 //! The short Markdown reports of `pim solve --out` and `pim fit --out`.
 
-use crate::render::tables::{tangential_words, vehicle_rows};
+use crate::tables::{tangential_words, vehicle_rows};
 use pim_core::{ImpactReport, VehicleResult};
 use pim_data::units::UnitSystem;
 use std::fmt::Write as _;

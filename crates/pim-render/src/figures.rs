@@ -1,9 +1,9 @@
 //! SVG figures of a batch run (plotters): cost per test and cost function, the coefficients, the
 //! relative delta-V error per vehicle, and fitted against measured separation velocities.
 
+use crate::{svg_figure, Figure};
 use pim_data::batch::BatchRecord;
 use plotters::prelude::*;
-use std::path::{Path, PathBuf};
 
 const COLORS: [RGBColor; 3] = [
     RGBColor(31, 119, 180),
@@ -179,13 +179,12 @@ fn light(c: RGBColor) -> RGBColor {
 /// The comparison of the models (`pim batch --model pim,tangential`): per test, the minimum
 /// cost, the relative delta-V error of each vehicle and the energy loss of the best fit of each
 /// model and cost function (PIM in the cost function's colour, the tangential model lighter).
-/// Written as `models.svg`; returns its path.
-pub fn write_models(
+/// The figure `models.svg`.
+pub fn models(
     records: &[BatchRecord],
     costs: &[pim_fit::CostPreset],
     models: &[pim_fit::FitModel],
-    dir: &Path,
-) -> Result<PathBuf, String> {
+) -> Result<Figure, String> {
     let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
     tests.dedup();
     let series = |f: &Getter| -> Vec<Series> {
@@ -219,10 +218,7 @@ pub fn write_models(
         }
         out
     };
-    let p = dir.join("models.svg");
-    {
-        let root = SVGBackend::new(&p, (1000, 1400)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("models.svg", (1000, 1400), |root| {
         let panels = root.split_evenly((4, 1));
         let getters: [(&str, &str, &Getter); 4] = [
             (
@@ -247,18 +243,18 @@ pub fn write_models(
         for (panel, (title, label, f)) in panels.iter().zip(getters) {
             grouped_bars(panel, title, label, &tests, &series(f), &[])?;
         }
-        root.present().map_err(err)?;
-    }
-    Ok(p)
+        Ok(())
+    })?;
+    Ok(figure)
 }
 
-/// Writes the four figures into `dir`; returns their paths.
-pub fn write_all(
+/// The four figures of a batch: `cost.svg`, `coefficients.svg`, `delta_v.svg` and the
+/// comparison with Brach 1984 Table 1.
+pub fn all(
     records: &[BatchRecord],
     costs: &[pim_fit::CostPreset],
     settings: &pim_fit::FitSettings,
-    dir: &Path,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<Figure>, String> {
     let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
     tests.dedup();
     let per_cost = |f: &dyn Fn(&BatchRecord) -> Option<f64>| -> Vec<Series> {
@@ -275,28 +271,22 @@ pub fn write_all(
             })
             .collect()
     };
-    let mut paths = Vec::new();
+    let mut figures = Vec::new();
 
-    let p = dir.join("cost.svg");
-    {
-        let root = SVGBackend::new(&p, (900, 500)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("cost.svg", (900, 500), |root| {
         grouped_bars(
-            &root,
+            root,
             "Minimum cost per test and cost function (best branch)",
             "weighted sum of squares [(m/s)^2]",
             &tests,
             &per_cost(&|r| r.branch.as_ref().and_then(|b| b.cost)),
             &[],
         )?;
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
+        Ok(())
+    })?;
+    figures.push(figure);
 
-    let p = dir.join("coefficients.svg");
-    {
-        let root = SVGBackend::new(&p, (900, 1100)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("coefficients.svg", (900, 1100), |root| {
         let panels = root.split_evenly((3, 1));
         let [elo, ehi] = settings.e;
         let [mlo, mhi] = settings.mu;
@@ -333,14 +323,11 @@ pub fn write_all(
         for (panel, (title, label, f, bounds)) in panels.iter().zip(getters) {
             grouped_bars(panel, title, label, &tests, &per_cost(f), &bounds)?;
         }
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
+        Ok(())
+    })?;
+    figures.push(figure);
 
-    let p = dir.join("delta_v.svg");
-    {
-        let root = SVGBackend::new(&p, (900, 800)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("delta_v.svg", (900, 800), |root| {
         let panels = root.split_evenly((2, 1));
         for (v, panel) in panels.iter().enumerate() {
             grouped_bars(
@@ -355,14 +342,11 @@ pub fn write_all(
                 &[],
             )?;
         }
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
+        Ok(())
+    })?;
+    figures.push(figure);
 
-    let p = dir.join("separation.svg");
-    {
-        let root = SVGBackend::new(&p, (1000, 500)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
+    let figure = svg_figure("separation.svg", (1000, 500), |root| {
         let panels = root.split_evenly((1, 2));
         for (panel, (title, unit, comps)) in panels.iter().zip([
             (
@@ -443,8 +427,8 @@ pub fn write_all(
                 .draw()
                 .map_err(err)?;
         }
-        root.present().map_err(err)?;
-    }
-    paths.push(p);
-    Ok(paths)
+        Ok(())
+    })?;
+    figures.push(figure);
+    Ok(figures)
 }

@@ -1,10 +1,11 @@
 //! The figure of `pim predict-dv --out` (as Brach 1984 Fig. 3): L of eq. 16 against the speed
 //! ratio for several mass ratios, and predicted against measured delta-V.
 
+use crate::{svg_figure, Figure};
 use pim_core::prediction::l_factor;
 use pim_data::predict::TestPrediction;
+use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 const COLORS: [RGBColor; 5] = [
     RGBColor(31, 119, 180),
@@ -18,10 +19,12 @@ fn err<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
-/// Writes `path`.
-pub fn write(rows: &[TestPrediction], path: &Path) -> Result<(), String> {
-    let root = SVGBackend::new(path, (1100, 520)).into_drawing_area();
-    root.fill(&WHITE).map_err(err)?;
+/// The figure `predict_dv.svg`.
+pub fn figure(rows: &[TestPrediction]) -> Result<Figure, String> {
+    svg_figure("predict_dv.svg", (1100, 520), |root| draw(rows, root))
+}
+
+fn draw(rows: &[TestPrediction], root: &DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String> {
     let (left, right) = root.split_horizontally(550);
     let mut chart = ChartBuilder::on(&left)
         .caption(
@@ -119,6 +122,5 @@ pub fn write(rows: &[TestPrediction], path: &Path) -> Result<(), String> {
         .border_style(BLACK)
         .draw()
         .map_err(err)?;
-    root.present().map_err(err)?;
     Ok(())
 }

@@ -1,0 +1,20 @@
+//! The plan of a batch (a data file or case files) from its flags.
+
+use crate::args::{unique, BatchArgs};
+use crate::error::Failure;
+use pim_data::batch;
+
+/// The plan of a batch from its flags, checked once (a bad flag is an input error, not a failed
+/// record per fit): `--threads`, `--e-max`, `--moment-form`, `--cost`, `--branch`, `--timing`.
+pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
+    if a.threads == Some(0) {
+        return Err(Failure::Input("--threads must be at least 1".into()));
+    }
+    let costs: Vec<pim_fit::CostPreset> = unique(&a.cost);
+    let branches: Vec<pim_fit::MomentBranch> = unique(&a.branch);
+    let mut plan = batch::BatchPlan::new(&costs, &branches, a.e_max, a.moment_form.into())
+        .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
+    plan.timing = a.timing;
+    let models: Vec<pim_fit::FitModel> = a.model.iter().map(|&m| m.into()).collect();
+    Ok(plan.with_models(&models))
+}

@@ -1,0 +1,281 @@
+//! `pim draw`: a to-scale plan view of a collision at contact (plotters, SVG).
+//!
+//! The fixed frame has the impact centre C at the origin. Drawn: both outlines (from the case's
+//! `length`, `width`, `cg_to_front`, or a default by mass class, marked as such), the CGs and
+//! noses, C, the crush surface with its normal n and tangent t, the CG velocities at contact
+//! (and at separation when solved), the impulse on each vehicle at C, the PDOF arrows, a scale
+//! bar and the axes; the thick edge of each outline is its front. A key on the right names every element and states the arrow scales.
+
+use pim_core::{Impact, VehicleId, VehicleResult, Velocities};
+use pim_data::case::VehicleSection;
+use plotters::prelude::*;
+
+mod outline;
+mod paint;
+
+use outline::{barrier_wall, rotate};
+pub use outline::{DrawnVehicle, Outline};
+
+const VEHICLE_COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
+const SEPARATION_COLORS: [RGBColor; 2] = [RGBColor(120, 170, 215), RGBColor(240, 140, 140)];
+const IMPULSE_COLOR: RGBColor = RGBColor(40, 40, 40);
+const SURFACE_COLOR: RGBColor = RGBColor(44, 160, 44);
+const PDOF_COLOR: RGBColor = RGBColor(148, 103, 189);
+
+/// A whole diagram.
+#[derive(Debug, Clone)]
+pub struct Diagram {
+    /// First line of the key.
+    pub title: String,
+    /// Both vehicles.
+    pub vehicles: [DrawnVehicle; 2],
+    /// Unit normal of the crush surface.
+    pub normal: [f64; 2],
+}
+
+/// The states and results of a solved (or fitted) collision.
+pub struct Solved<'a> {
+    /// Contact velocities.
+    pub initial: &'a Velocities,
+    /// Separation velocities.
+    pub separation: &'a Velocities,
+    /// Impulse on vehicle 1 `(Px, Py)`, N s.
+    pub impulse: [f64; 2],
+    /// Per-vehicle results.
+    pub vehicles: &'a [VehicleResult; 2],
+}
+
+impl<'a> Solved<'a> {
+    /// The states and results of a solve.
+    pub fn of_report(r: &'a pim_core::ImpactReport) -> Self {
+        Solved {
+            initial: &r.initial,
+            separation: &r.separation,
+            impulse: [r.impulse.px, r.impulse.py],
+            vehicles: &r.vehicles,
+        }
+    }
+
+    /// The states and results of a fitted branch.
+    pub fn of_fit(s: &'a pim_fit::Solution) -> Self {
+        Solved {
+            initial: &s.initial,
+            separation: &s.separation,
+            impulse: [s.impulse.px, s.impulse.py],
+            vehicles: &s.vehicles,
+        }
+    }
+}
+
+impl Diagram {
+    /// Builds the diagram of a collision, with contact velocities only (`contact`) or a solved
+    /// state (`solved`).
+    pub fn new(
+        title: &str,
+        impact: &Impact,
+        sections: [&VehicleSection; 2],
+        contact: Option<&Velocities>,
+        solved: Option<Solved>,
+    ) -> Self {
+        let cgs = impact.cg_positions();
+        let arms = impact.lever_arms();
+        let vehicle = |k: usize| {
+            let id = VehicleId::from_index(k);
+            let point = impact.to_body(id, arms[k]);
+            let sec = sections[k];
+            let label = match &sec.description {
+                Some(d) => format!("vehicle {} ({d})", k + 1),
+                None => format!("vehicle {}", k + 1),
+            };
+            let v = |s: &Velocities| {
+                let x = s.vehicle(id);
+                [x.vx, x.vy]
+            };
+            let sign = if k == 0 { 1.0 } else { -1.0 };
+            DrawnVehicle {
+                label,
+                outline: Outline::of(sec, point),
+                heading: impact.nose_heading(id),
+                cg: cgs[k],
+                contact: solved.as_ref().map(|s| v(s.initial)).or(contact.map(&v)),
+                separation: solved.as_ref().map(|s| v(s.separation)),
+                impulse: solved
+                    .as_ref()
+                    .map(|s| [sign * s.impulse[0], sign * s.impulse[1]]),
+                pdof: solved.as_ref().and_then(|s| {
+                    let r = &s.vehicles[k];
+                    let a = s.initial.vehicle(id);
+                    let b = s.separation.vehicle(id);
+                    let d = [b.vx - a.vx, b.vy - a.vy];
+                    let n = d[0].hypot(d[1]);
+                    (n > 0.0).then(|| ([d[0] / n, d[1] / n], r.pdof, r.clock))
+                }),
+                barrier: false,
+            }
+        };
+        Diagram {
+            title: title.to_string(),
+            vehicles: {
+                let first = vehicle(0);
+                let second = if impact.is_barrier() {
+                    barrier_wall(impact, &first)
+                } else {
+                    vehicle(1)
+                };
+                [first, second]
+            },
+            normal: impact.normal(),
+        }
+    }
+
+    /// The PDOF arrow of vehicle `k`: along the force, from outside the outline to its edge,
+    /// aimed at the CG.
+    fn pdof_arrow(&self, k: usize) -> Option<([f64; 2], [f64; 2])> {
+        let v = &self.vehicles[k];
+        let (u, _, _) = v.pdof?;
+        let back = rotate([-u[0], -u[1]], -v.heading);
+        let edge = v.outline.exit(back) + 0.05 * self.longest();
+        let len = 0.35 * self.longest();
+        // Beside the line through the CG, where the velocity arrows often lie.
+        let off = 0.06 * self.longest();
+        let side = [-u[1] * off, u[0] * off];
+        let end = [
+            v.cg[0] - edge * u[0] + side[0],
+            v.cg[1] - edge * u[1] + side[1],
+        ];
+        let start = [end[0] - len * u[0], end[1] - len * u[1]];
+        Some((start, end))
+    }
+
+    fn outline_points(&self, k: usize) -> Vec<(f64, f64)> {
+        let v = &self.vehicles[k];
+        v.outline
+            .corners()
+            .iter()
+            .map(|c| {
+                let p = rotate(*c, v.heading);
+                (v.cg[0] + p[0], v.cg[1] + p[1])
+            })
+            .collect()
+    }
+
+    /// Metres of arrow per m/s, so that the longest velocity arrow is 0.6 of the longer vehicle.
+    fn velocity_scale(&self) -> f64 {
+        let max = self
+            .vehicles
+            .iter()
+            .flat_map(|v| [v.contact, v.separation])
+            .flatten()
+            .map(|u| u[0].hypot(u[1]))
+            .fold(0.0, f64::max);
+        if max > 0.0 {
+            0.6 * self.longest() / max
+        } else {
+            0.0
+        }
+    }
+
+    /// Metres of arrow per N s: the impulse arrow is 0.5 of the longer vehicle.
+    fn impulse_scale(&self) -> f64 {
+        let max = self
+            .vehicles
+            .iter()
+            .filter_map(|v| v.impulse)
+            .map(|u| u[0].hypot(u[1]))
+            .fold(0.0, f64::max);
+        if max > 0.0 {
+            0.5 * self.longest() / max
+        } else {
+            0.0
+        }
+    }
+
+    fn longest(&self) -> f64 {
+        self.vehicles
+            .iter()
+            .map(|v| v.outline.length())
+            .fold(0.0, f64::max)
+    }
+
+    /// Every segment drawn (for the extent of the view).
+    fn extent(&self) -> ([f64; 2], [f64; 2]) {
+        let mut pts: Vec<[f64; 2]> = vec![[0.0, 0.0]];
+        let sv = self.velocity_scale();
+        let si = self.impulse_scale();
+        for (k, v) in self.vehicles.iter().enumerate() {
+            pts.extend(self.outline_points(k).iter().map(|p| [p.0, p.1]));
+            for u in [v.contact, v.separation].into_iter().flatten() {
+                pts.push([v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]]);
+            }
+            if let Some(p) = v.impulse {
+                pts.push([si * p[0], si * p[1]]);
+            }
+            if let Some((a, _)) = self.pdof_arrow(k) {
+                pts.push(a);
+            }
+        }
+        let lo = pts
+            .iter()
+            .fold([f64::INFINITY; 2], |a, p| [a[0].min(p[0]), a[1].min(p[1])]);
+        let hi = pts.iter().fold([f64::NEG_INFINITY; 2], |a, p| {
+            [a[0].max(p[0]), a[1].max(p[1])]
+        });
+        (lo, hi)
+    }
+
+    /// The diagram as SVG text.
+    pub fn svg(&self) -> Result<String, String> {
+        let mut buf = String::new();
+        self.draw_into(&mut buf)?;
+        Ok(buf)
+    }
+}
+
+/// The estimated contact velocities of a fit case, when all six are given.
+pub fn estimated_contact(case: &pim_data::case::Case) -> Option<Velocities> {
+    let est = case.content.estimates?.initial?.components();
+    let v: Option<Vec<f64>> = est.iter().copied().collect();
+    v.map(|v| Velocities::from_vector(&nalgebra::Vector6::new(v[0], v[1], v[2], v[3], v[4], v[5])))
+}
+
+/// The diagram of a case, solved or not.
+pub fn diagram(
+    case: &pim_data::case::Case,
+    impact: &Impact,
+    contact: Option<&Velocities>,
+    solved: Option<Solved>,
+) -> Diagram {
+    let title = match &case.content.title {
+        Some(t) => t.clone(),
+        None => case.file.clone(),
+    };
+    Diagram::new(
+        &title,
+        impact,
+        [&case.content.vehicle1, &case.content.vehicle2],
+        contact,
+        solved,
+    )
+}
+
+/// The diagram of `pim draw`: the case at contact, solved with `options` when it has
+/// `[coefficients]` and a state, with the estimated contact velocities when it is a fit case.
+pub fn case_diagram(
+    case: &pim_data::case::Case,
+    options: &pim_core::SolveOptions,
+) -> Result<Diagram, pim_data::documents::DocumentError> {
+    let impact = case.impact()?;
+    let c = &case.content;
+    let solved = if c.coefficients.is_some() && (c.initial.is_some() || c.final_.is_some()) {
+        Some(pim_data::documents::solve(case, options)?.report)
+    } else {
+        None
+    };
+    let contact = estimated_contact(case);
+    Ok(diagram(
+        case,
+        &impact,
+        contact.as_ref(),
+        solved.as_ref().map(Solved::of_report),
+    ))
+}

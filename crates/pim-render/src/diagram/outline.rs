@@ -1,0 +1,148 @@
+//! The vehicles as drawn: outlines about the CG, and a barrier as a wall.
+
+use pim_core::Impact;
+use pim_data::case::VehicleSection;
+
+/// A plan-view outline about the CG, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outline {
+    /// CG to the front face.
+    pub front: f64,
+    /// CG to the rear face.
+    pub rear: f64,
+    /// Overall width.
+    pub width: f64,
+    /// True when the dimensions are defaults for the mass class, not the case's.
+    pub defaulted: bool,
+}
+
+/// Typical length and width of a passenger vehicle of this mass, m (small car, compact,
+/// mid-size, full-size / light truck).
+fn class_dimensions(mass: f64) -> (f64, f64) {
+    match mass {
+        m if m < 1100.0 => (3.9, 1.65),
+        m if m < 1500.0 => (4.4, 1.75),
+        m if m < 2000.0 => (4.85, 1.85),
+        _ => (5.3, 2.0),
+    }
+}
+
+impl Outline {
+    /// The case's outline, or the default of its mass class enlarged (if needed) to reach the
+    /// impact centre at `point` (body frame, m).
+    pub fn of(v: &VehicleSection, point: [f64; 2]) -> Self {
+        match (v.length, v.width) {
+            (Some(length), Some(width)) => {
+                let front = v.cg_to_front.unwrap_or(length / 2.0);
+                Outline {
+                    front,
+                    rear: length - front,
+                    width,
+                    defaulted: false,
+                }
+            }
+            (length, width) => {
+                let (l, w) = class_dimensions(v.mass);
+                let length = length.unwrap_or(l);
+                let width = width.unwrap_or(w);
+                let front = v.cg_to_front.unwrap_or(length / 2.0);
+                Outline {
+                    front: front.max(point[0]),
+                    rear: (length - front).max(-point[0]),
+                    width: width.max(2.0 * point[1].abs()),
+                    defaulted: true,
+                }
+            }
+        }
+    }
+
+    /// Corners in the body frame, counter-clockwise from front left.
+    pub(super) fn corners(&self) -> [[f64; 2]; 4] {
+        let h = self.width / 2.0;
+        [
+            [self.front, h],
+            [-self.rear, h],
+            [-self.rear, -h],
+            [self.front, -h],
+        ]
+    }
+
+    /// Distance from the CG to the outline along the body-frame unit direction `w`.
+    pub(super) fn exit(&self, w: [f64; 2]) -> f64 {
+        let mut t = f64::INFINITY;
+        if w[0] > 1e-12 {
+            t = t.min(self.front / w[0]);
+        }
+        if w[0] < -1e-12 {
+            t = t.min(self.rear / -w[0]);
+        }
+        if w[1].abs() > 1e-12 {
+            t = t.min(0.5 * self.width / w[1].abs());
+        }
+        t
+    }
+
+    /// Length, m.
+    pub fn length(&self) -> f64 {
+        self.front + self.rear
+    }
+}
+
+/// What is drawn for one vehicle.
+#[derive(Debug, Clone)]
+pub struct DrawnVehicle {
+    /// Label, e.g. `vehicle 1 (striking car)`.
+    pub label: String,
+    /// Its outline.
+    pub outline: Outline,
+    /// Nose direction, degrees counter-clockwise from +x.
+    pub heading: f64,
+    /// CG position (C at the origin), m.
+    pub cg: [f64; 2],
+    /// CG velocity at contact, m/s.
+    pub contact: Option<[f64; 2]>,
+    /// CG velocity at separation, m/s.
+    pub separation: Option<[f64; 2]>,
+    /// Impulse on this vehicle, N s.
+    pub impulse: Option<[f64; 2]>,
+    /// Delta-V direction (fixed frame, unit) with PDOF and clock, when solved.
+    pub pdof: Option<([f64; 2], f64, u8)>,
+    /// A fixed barrier: drawn as a wall along the crush surface, its face through C.
+    pub barrier: bool,
+}
+
+/// A barrier as a wall: its face on the crush surface through C, 0.3 m thick on the side away
+/// from vehicle 1's CG, as long as 1.2 times vehicle 1.
+pub(super) fn barrier_wall(impact: &Impact, vehicle1: &DrawnVehicle) -> DrawnVehicle {
+    let n = impact.normal();
+    let cg1 = vehicle1.cg;
+    // Unit normal towards vehicle 1's side.
+    let towards = if cg1[0] * n[0] + cg1[1] * n[1] >= 0.0 {
+        n
+    } else {
+        [-n[0], -n[1]]
+    };
+    let thick = 0.3;
+    let length = 1.2 * vehicle1.outline.length();
+    DrawnVehicle {
+        label: "barrier (fixed, rigid)".to_string(),
+        outline: Outline {
+            front: thick / 2.0,
+            rear: thick / 2.0,
+            width: length,
+            defaulted: false,
+        },
+        heading: towards[1].atan2(towards[0]).to_degrees(),
+        cg: [-towards[0] * thick / 2.0, -towards[1] * thick / 2.0],
+        contact: None,
+        separation: None,
+        impulse: None,
+        pdof: None,
+        barrier: true,
+    }
+}
+
+pub(super) fn rotate(p: [f64; 2], deg: f64) -> [f64; 2] {
+    let (s, c) = deg.to_radians().sin_cos();
+    [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+}

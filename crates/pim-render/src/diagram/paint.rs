@@ -1,0 +1,399 @@
+//! Painting a diagram into SVG: outlines, arrows, labels and the key.
+
+use super::{Diagram, IMPULSE_COLOR, PDOF_COLOR, SEPARATION_COLORS, SURFACE_COLOR, VEHICLE_COLORS};
+use plotters::prelude::*;
+
+impl Diagram {
+    pub(super) fn draw_into(&self, buf: &mut String) -> Result<(), String> {
+        let err = |e: &dyn std::fmt::Display| e.to_string();
+        let (lo, hi) = self.extent();
+        let pad = 0.08 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + 0.5;
+        let (x0, x1) = (lo[0] - pad, hi[0] + pad);
+        let (y0, y1) = (lo[1] - pad, hi[1] + pad);
+        // Equal scale on both axes: the plot's pixel size follows the extent.
+        let plot_w = 760.0;
+        let px_per_m = plot_w / (x1 - x0);
+        let plot_h = ((y1 - y0) * px_per_m).clamp(200.0, 1400.0);
+        let (y0, y1) = {
+            let mid = 0.5 * (y0 + y1);
+            let half = 0.5 * plot_h / px_per_m;
+            (mid - half, mid + half)
+        };
+        let margin_left = 60u32;
+        let margin_bottom = 45u32;
+        let key_w = 350u32;
+        let width = plot_w as u32 + margin_left + 20 + key_w;
+        let height = (plot_h as u32 + margin_bottom + 40).max(560);
+        let root = SVGBackend::with_string(buf, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(&e))?;
+        let (plot_area, key_area) = root.split_horizontally(width - key_w);
+        let mut chart = ChartBuilder::on(&plot_area)
+            .margin(10)
+            .margin_top(30)
+            .x_label_area_size(margin_bottom)
+            .y_label_area_size(margin_left)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| err(&e))?;
+        chart
+            .configure_mesh()
+            .x_desc("x [m]")
+            .y_desc("y [m]")
+            .light_line_style(RGBColor(240, 240, 240))
+            .bold_line_style(RGBColor(225, 225, 225))
+            .draw()
+            .map_err(|e| err(&e))?;
+        let head = 0.035 * (x1 - x0);
+        let span_m = x1 - x0;
+        let draw_arrow =
+            |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
+                arrow(chart, head, from, to, color, width)
+            };
+        // Outlines, noses and CGs.
+        let series: Vec<(Vec<(f64, f64)>, RGBColor)> = VEHICLE_COLORS
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (self.outline_points(k), *c))
+            .collect();
+        for (k, (pts, color)) in series.iter().enumerate() {
+            let mut closed = pts.clone();
+            closed.push(pts[0]);
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    pts.clone(),
+                    color.mix(0.10).filled(),
+                )))
+                .map_err(|e| err(&e))?;
+            chart
+                .draw_series(LineSeries::new(
+                    closed,
+                    ShapeStyle::from(*color).stroke_width(2),
+                ))
+                .map_err(|e| err(&e))?;
+            // The front face, thick: where the nose is.
+            chart
+                .draw_series(LineSeries::new(
+                    vec![pts[0], pts[3]],
+                    ShapeStyle::from(*color).stroke_width(6),
+                ))
+                .map_err(|e| err(&e))?;
+            let v = &self.vehicles[k];
+            if v.barrier {
+                continue;
+            }
+            chart
+                .draw_series(std::iter::once(Circle::new(
+                    (v.cg[0], v.cg[1]),
+                    5,
+                    color.filled(),
+                )))
+                .map_err(|e| err(&e))?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    format!("CG{}", k + 1),
+                    (v.cg[0] + 0.02 * span_m, v.cg[1] + 0.045 * span_m),
+                    ("sans-serif", 14).into_font().color(color),
+                )))
+                .map_err(|e| err(&e))?;
+        }
+        let sv = self.velocity_scale();
+        let si = self.impulse_scale();
+        let l = self.longest();
+        for (k, v) in self.vehicles.iter().enumerate() {
+            let color = VEHICLE_COLORS[k];
+            // The nose is marked by the thick front edge of the outline.
+            if let Some(u) = v.contact {
+                draw_arrow(
+                    &mut chart,
+                    v.cg,
+                    [v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]],
+                    color,
+                    3,
+                )?;
+            }
+            if let Some(u) = v.separation {
+                draw_arrow(
+                    &mut chart,
+                    v.cg,
+                    [v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]],
+                    SEPARATION_COLORS[k],
+                    3,
+                )?;
+            }
+            if let Some(p) = v.impulse {
+                draw_arrow(
+                    &mut chart,
+                    [0.0, 0.0],
+                    [si * p[0], si * p[1]],
+                    IMPULSE_COLOR,
+                    2,
+                )?;
+            }
+            if let Some((from, to)) = self.pdof_arrow(k) {
+                draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?;
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        format!("PDOF {}", k + 1),
+                        (from[0], from[1]),
+                        ("sans-serif", 13).into_font().color(&PDOF_COLOR),
+                    )))
+                    .map_err(|e| err(&e))?;
+            }
+        }
+        // Crush surface through C, n and t.
+        let n = self.normal;
+        let t = [-n[1], n[0]];
+        let half = 0.3 * l;
+        chart
+            .draw_series(LineSeries::new(
+                vec![(-half * t[0], -half * t[1]), (half * t[0], half * t[1])],
+                ShapeStyle::from(SURFACE_COLOR).stroke_width(3),
+            ))
+            .map_err(|e| err(&e))?;
+        draw_arrow(
+            &mut chart,
+            [0.0; 2],
+            [0.2 * l * n[0], 0.2 * l * n[1]],
+            SURFACE_COLOR,
+            1,
+        )?;
+        draw_arrow(
+            &mut chart,
+            [0.0; 2],
+            [0.12 * l * t[0], 0.12 * l * t[1]],
+            SURFACE_COLOR,
+            1,
+        )?;
+        let label = |text: &str, at: [f64; 2], color: RGBColor| {
+            Text::new(
+                text.to_string(),
+                (at[0], at[1]),
+                ("sans-serif", 14).into_font().color(&color),
+            )
+        };
+        chart
+            .draw_series([
+                label("n", [0.22 * l * n[0], 0.22 * l * n[1]], SURFACE_COLOR),
+                label("t", [0.14 * l * t[0], 0.14 * l * t[1]], SURFACE_COLOR),
+            ])
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(std::iter::once(Cross::new(
+                (0.0, 0.0),
+                7,
+                BLACK.stroke_width(2),
+            )))
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(std::iter::once(label("C", [0.03 * l, -0.07 * l], BLACK)))
+            .map_err(|e| err(&e))?;
+        // Scale bar: 1, 2 or 5 m, about a fifth of the width, bottom left.
+        let span = x1 - x0;
+        let bar = [1.0, 2.0, 5.0, 10.0]
+            .into_iter()
+            .find(|b| *b >= 0.15 * span)
+            .unwrap_or(20.0);
+        let bx = x0 + 0.04 * span;
+        let by = y0 + 0.05 * (y1 - y0);
+        chart
+            .draw_series(LineSeries::new(
+                vec![(bx, by), (bx + bar, by)],
+                BLACK.stroke_width(4),
+            ))
+            .map_err(|e| err(&e))?;
+        chart
+            .draw_series(std::iter::once(label(
+                &format!("{bar} m"),
+                [bx, by + 0.03 * (y1 - y0)],
+                BLACK,
+            )))
+            .map_err(|e| err(&e))?;
+
+        // The key.
+        let mut key = Key {
+            area: &key_area,
+            y: 30,
+        };
+        let mut line =
+            |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
+        for (i, part) in wrap(&self.title, 36).into_iter().enumerate() {
+            line(part, None, i == 0)?;
+        }
+        line(String::new(), None, false)?;
+        for (k, v) in self.vehicles.iter().enumerate() {
+            line(v.label.clone(), Some(VEHICLE_COLORS[k]), true)?;
+            if v.barrier {
+                line("  its face: the crush surface".into(), None, false)?;
+                line("  it does not move".into(), None, false)?;
+                line(String::new(), None, false)?;
+                continue;
+            }
+            let o = &v.outline;
+            line(
+                format!(
+                    "  {:.2} x {:.2} m{}",
+                    o.length(),
+                    o.width,
+                    if o.defaulted {
+                        " (typical for its mass)"
+                    } else {
+                        ""
+                    }
+                ),
+                None,
+                false,
+            )?;
+            line(format!("  nose towards {:.1} deg", v.heading), None, false)?;
+            if let Some(u) = v.contact {
+                line(
+                    format!("  contact {:.2} m/s", u[0].hypot(u[1])),
+                    Some(VEHICLE_COLORS[k]),
+                    false,
+                )?;
+            }
+            if let Some(u) = v.separation {
+                line(
+                    format!("  separation {:.2} m/s", u[0].hypot(u[1])),
+                    Some(SEPARATION_COLORS[k]),
+                    false,
+                )?;
+            }
+            if let Some((_, pdof, clock)) = v.pdof {
+                line(
+                    format!("  PDOF {pdof:.0} deg, {clock} o'clock"),
+                    Some(PDOF_COLOR),
+                    false,
+                )?;
+            }
+            line(String::new(), None, false)?;
+        }
+        line("thick edge: the front".into(), None, false)?;
+        line("C impact centre (x)".into(), None, false)?;
+        line("crush surface, n and t".into(), Some(SURFACE_COLOR), false)?;
+        if si > 0.0 {
+            line(
+                "impulse on each vehicle at C".into(),
+                Some(IMPULSE_COLOR),
+                false,
+            )?;
+        }
+        line(String::new(), None, false)?;
+        if sv > 0.0 {
+            line(
+                format!("velocity arrows: 1 m = {:.2} m/s", 1.0 / sv),
+                None,
+                false,
+            )?;
+        }
+        if si > 0.0 {
+            line(
+                format!("impulse arrows: 1 m = {:.0} N s", 1.0 / si),
+                None,
+                false,
+            )?;
+        }
+        line("fixed frame, C at the origin".into(), None, false)?;
+        line("outlines undeformed: they overlap".into(), None, false)?;
+        line("by about the crush at contact".into(), None, false)?;
+        root.present().map_err(|e| err(&e))?;
+        Ok(())
+    }
+}
+
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// Draws an arrow from `from` to `to` (m) with a filled head of length `head` (m).
+fn arrow(
+    chart: &mut Chart,
+    head: f64,
+    from: [f64; 2],
+    to: [f64; 2],
+    color: RGBColor,
+    width: u32,
+) -> Result<(), String> {
+    let d = [to[0] - from[0], to[1] - from[1]];
+    let len = d[0].hypot(d[1]);
+    if len <= 0.0 {
+        return Ok(());
+    }
+    let u = [d[0] / len, d[1] / len];
+    let h = head.min(0.5 * len);
+    let base = [to[0] - h * u[0], to[1] - h * u[1]];
+    let side = [-u[1] * 0.45 * h, u[0] * 0.45 * h];
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            vec![(from[0], from[1]), (base[0], base[1])],
+            color.stroke_width(width),
+        )))
+        .map_err(|e| e.to_string())?;
+    chart
+        .draw_series(std::iter::once(Polygon::new(
+            vec![
+                (to[0], to[1]),
+                (base[0] + side[0], base[1] + side[1]),
+                (base[0] - side[0], base[1] - side[1]),
+            ],
+            color.filled(),
+        )))
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// The key beside the plot: one line per element, with its colour.
+struct Key<'a, 'b> {
+    area: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    y: i32,
+}
+
+impl Key<'_, '_> {
+    fn line(&mut self, text: String, color: Option<RGBColor>, bold: bool) -> Result<(), String> {
+        let x = 12i32;
+        let y = self.y;
+        if text.is_empty() {
+            self.y += 8;
+            return Ok(());
+        }
+        if let Some(c) = color {
+            self.area
+                .draw(&PathElement::new(
+                    vec![(x, y + 7), (x + 26, y + 7)],
+                    c.stroke_width(3),
+                ))
+                .map_err(|e| e.to_string())?;
+        }
+        let f = if bold {
+            ("sans-serif", 15).into_font().style(FontStyle::Bold)
+        } else {
+            ("sans-serif", 14).into_font()
+        };
+        self.area
+            .draw(&Text::new(text, (x + 34, y), f))
+            .map_err(|e| e.to_string())?;
+        self.y += 20;
+        Ok(())
+    }
+}
+
+/// Splits text into lines of at most `width` characters at spaces.
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut out = Vec::new();
+    for para in text.lines() {
+        let mut cur = String::new();
+        for word in para.split_whitespace() {
+            if !cur.is_empty() && cur.len() + 1 + word.len() > width {
+                out.push(std::mem::take(&mut cur));
+            }
+            if !cur.is_empty() {
+                cur.push(' ');
+            }
+            cur.push_str(word);
+        }
+        if !cur.is_empty() {
+            out.push(cur);
+        }
+    }
+    out
+}

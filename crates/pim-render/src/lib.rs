@@ -1,0 +1,61 @@
+//! # pim-render: what the PIM toolkit shows a person
+//!
+//! Tables, Markdown reports, the scale plan-view diagram and the SVG figures of the `pim`
+//! command, shared by every front end (the command line and the Python package), so that each
+//! draws and prints exactly the same thing. Everything is returned as text: an SVG document, a
+//! table, a CSV or Markdown string; the caller writes files.
+//!
+//! ```text
+//!   pim-core  (equations, reports)        pim-fit (fit reports)        pim-data (cases, records)
+//!        \__________________________________|________________________________/
+//!                                           |
+//!                                      pim-render
+//!      tables ---- markdown (solve and fit reports; uses tables' rows and words)
+//!      batch_tables (summary, models, costs, Brach 1984 Table 1, intervals, CSV)
+//!      diagram (plan view at contact: outlines, C, crush surface, velocities, impulses)
+//!      figures (batch), uncertainty_figures, predict_figure (plotters, SVG strings)
+//!                                           |
+//!                         pim-cli (the `pim` binary), pim-py (Python)
+//! ```
+//!
+//! Numbers are printed in the unit system the caller asks for ([`pim_data::units::UnitSystem`]);
+//! the JSON documents, made by pim-data, stay SI.
+
+pub mod batch_tables;
+pub mod diagram;
+pub mod figures;
+pub mod markdown;
+pub mod predict_figure;
+pub mod tables;
+pub mod uncertainty_figures;
+
+/// An SVG figure: its file name (e.g. `cost.svg`) and its text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Figure {
+    /// File name, without a folder.
+    pub name: String,
+    /// The SVG document.
+    pub svg: String,
+}
+
+/// A figure drawn by `draw` on a white SVG canvas of `size` pixels.
+pub(crate) fn svg_figure(
+    name: &str,
+    size: (u32, u32),
+    draw: impl FnOnce(
+        &plotters::drawing::DrawingArea<plotters::prelude::SVGBackend<'_>, plotters::coord::Shift>,
+    ) -> Result<(), String>,
+) -> Result<Figure, String> {
+    use plotters::prelude::*;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        draw(&root)?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(Figure {
+        name: name.into(),
+        svg,
+    })
+}
