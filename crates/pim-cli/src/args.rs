@@ -3,6 +3,7 @@
 use crate::error::EXIT_CODES_HELP;
 use clap::{Parser, Subcommand, ValueEnum};
 use pim_core::MomentForm;
+use pim_fit::{CostPreset, FitModel, MomentBranch};
 use std::path::PathBuf;
 
 const ABOUT: &str = "Planar Impact Mechanics (Brach) for two-vehicle collisions: solve the six \
@@ -82,30 +83,45 @@ impl From<UnitsArg> for pim_data::units::UnitSystem {
     }
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, ValueEnum)]
-pub enum ModelArg {
-    /// Planar Impact Mechanics: e, mu, em (both moment branches).
-    Pim,
-    /// Normal and tangential restitution with a friction limit: e, et, friction (no moment
-    /// impulse; one branch).
-    Tangential,
+/// A value of a named choice of the library (moment form, cost function, branch, model): its
+/// names and their help come from the library, so the command accepts what the library calls
+/// them.
+fn choice<T: Copy + Send + Sync + 'static>(
+    all: &'static [T],
+    name: fn(T) -> &'static str,
+    help: fn(T) -> &'static str,
+) -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(
+        all.iter()
+            .map(move |&v| PossibleValue::new(name(v)).help(help(v))),
+    )
+    .map(move |s: String| {
+        all.iter()
+            .copied()
+            .find(|&v| name(v) == s)
+            .expect("clap passes only possible values")
+    })
 }
 
-impl From<ModelArg> for pim_fit::FitModel {
-    fn from(m: ModelArg) -> Self {
-        match m {
-            ModelArg::Pim => pim_fit::FitModel::Pim,
-            ModelArg::Tangential => pim_fit::FitModel::Tangential,
-        }
-    }
+fn moment_form() -> impl clap::builder::TypedValueParser<Value = MomentForm> {
+    choice(&MomentForm::ALL, MomentForm::name, MomentForm::description)
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
-pub enum MomentArg {
-    /// The corrected moment equation of Brach 1984 (default).
-    Corrected,
-    /// The 1983 BASIC listing's form, with its sign error; to reproduce the 1983 tables.
-    Brach1983,
+fn cost() -> impl clap::builder::TypedValueParser<Value = CostPreset> {
+    choice(&CostPreset::ALL, CostPreset::name, CostPreset::description)
+}
+
+fn branch() -> impl clap::builder::TypedValueParser<Value = MomentBranch> {
+    choice(
+        &MomentBranch::ALL,
+        MomentBranch::name,
+        MomentBranch::description,
+    )
+}
+
+fn model() -> impl clap::builder::TypedValueParser<Value = FitModel> {
+    choice(&FitModel::ALL, FitModel::name, FitModel::description)
 }
 
 #[derive(clap::Args, Debug)]
@@ -116,8 +132,8 @@ pub struct SolveArgs {
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
     /// Form of the moment equation (6).
-    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
-    pub moment_form: MomentArg,
+    #[arg(long, value_parser = moment_form(), default_value = "corrected")]
+    pub moment_form: MomentForm,
     /// Use the no-slip condition (5a, Vt = 0 at separation) instead of friction (5); mu is then
     /// ignored and the friction it implies is reported as mu_max.
     #[arg(long)]
@@ -139,8 +155,8 @@ pub struct DrawArgs {
     #[arg(long, short = 'o')]
     pub output: PathBuf,
     /// Form of the moment equation (6), when the case is solved.
-    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
-    pub moment_form: MomentArg,
+    #[arg(long, value_parser = moment_form(), default_value = "corrected")]
+    pub moment_form: MomentForm,
     /// Solve with the no-slip condition (5a) instead of friction (5).
     #[arg(long)]
     pub no_slip: bool,
@@ -165,8 +181,8 @@ pub struct UncertaintyArgs {
     /// The case file (TOML).
     pub case: PathBuf,
     /// Cost function; without it the case's [known] and [estimates] define the problem.
-    #[arg(long, value_enum)]
-    pub cost: Option<CostArg>,
+    #[arg(long, value_parser = cost())]
+    pub cost: Option<CostPreset>,
     /// Number of draws.
     #[arg(long, default_value_t = 200)]
     pub draws: usize,
@@ -307,15 +323,15 @@ pub struct BatchArgs {
     #[arg(default_value = "data/ricsac.csv", num_args = 1..)]
     pub inputs: Vec<PathBuf>,
     /// Cost functions.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [CostArg::Q1, CostArg::Q2, CostArg::Q3])]
-    pub cost: Vec<CostArg>,
+    #[arg(long, value_parser = cost(), value_delimiter = ',', default_values = ["q1", "q2", "q3"])]
+    pub cost: Vec<CostPreset>,
     /// Moment branches (of PIM).
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
-    pub branch: Vec<BranchArg>,
+    #[arg(long, value_parser = branch(), value_delimiter = ',', default_values = ["free", "zero"])]
+    pub branch: Vec<MomentBranch>,
     /// Models fitted, e.g. --model pim,tangential: every test and cost function under each,
     /// side by side in models.txt and models.svg (with --out) and the table (data files only).
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [ModelArg::Pim])]
-    pub model: Vec<ModelArg>,
+    #[arg(long, value_parser = model(), value_delimiter = ',', default_values = ["pim"])]
+    pub model: Vec<FitModel>,
     /// Only these tests (numbers as in the data file), e.g. --tests 1,6,7.
     #[arg(long, value_delimiter = ',')]
     pub tests: Vec<u32>,
@@ -329,11 +345,11 @@ pub struct BatchArgs {
     #[arg(long)]
     pub threads: Option<usize>,
     /// Upper bound of e (default 0.2; Brach 1984 needed up to 0.42).
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(long, default_value_t = pim_fit::DEFAULT_E_RANGE[1])]
     pub e_max: f64,
     /// Form of the moment equation (6).
-    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
-    pub moment_form: MomentArg,
+    #[arg(long, value_parser = moment_form(), default_value = "corrected")]
+    pub moment_form: MomentForm,
     /// Add each fit's wall time (`fit_seconds`) to the records (output then varies run to run).
     #[arg(long)]
     pub timing: bool,
@@ -403,46 +419,28 @@ MODELS (--model):
               would need more than the limit. The output says which mode, et, and the
               friction limits that give the answer; the ranges say what the data leave open.";
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
-pub enum CostArg {
-    /// Separation velocities known, contact velocities estimated.
-    Q1,
-    /// Contact velocities known, separation velocities estimated.
-    Q2,
-    /// All twelve estimated.
-    Q3,
-}
-
-#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
-pub enum BranchArg {
-    /// em in [-1, 0].
-    Free,
-    /// em = 1 (no moment impulse).
-    Zero,
-}
-
 #[derive(clap::Args, Debug)]
 pub struct FitArgs {
     /// The case file (TOML); see CASE FILE below.
     pub case: PathBuf,
     /// Cost function; without it the case's [known] and [estimates] define the problem.
-    #[arg(long, value_enum)]
-    pub cost: Option<CostArg>,
+    #[arg(long, value_parser = cost())]
+    pub cost: Option<CostPreset>,
     /// The model fitted. `tangential` estimates e, et and the friction limit within
     /// [bounds] e, et (default [-1, 1]) and friction (default [0, 1.2]), with the same cost
     /// functions, observations and global search; it has no moment impulse, so --branch does
     /// not apply.
-    #[arg(long, value_enum, default_value_t = ModelArg::Pim)]
-    pub model: ModelArg,
+    #[arg(long, value_parser = model(), default_value = "pim")]
+    pub model: FitModel,
     /// Moment branches to fit.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [BranchArg::Free, BranchArg::Zero])]
-    pub branch: Vec<BranchArg>,
+    #[arg(long, value_parser = branch(), value_delimiter = ',', default_values = ["free", "zero"])]
+    pub branch: Vec<MomentBranch>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
     /// Form of the moment equation (6).
-    #[arg(long, value_enum, default_value_t = MomentArg::Corrected)]
-    pub moment_form: MomentArg,
+    #[arg(long, value_parser = moment_form(), default_value = "corrected")]
+    pub moment_form: MomentForm,
     /// Units of the table (JSON is always SI).
     #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
     pub units: UnitsArg,
@@ -452,39 +450,10 @@ pub struct FitArgs {
     pub out: Option<PathBuf>,
 }
 
-impl From<MomentArg> for MomentForm {
-    fn from(m: MomentArg) -> Self {
-        match m {
-            MomentArg::Corrected => MomentForm::Corrected,
-            MomentArg::Brach1983 => MomentForm::Brach1983,
-        }
-    }
-}
-
-impl From<BranchArg> for pim_fit::MomentBranch {
-    fn from(b: BranchArg) -> Self {
-        match b {
-            BranchArg::Free => pim_fit::MomentBranch::Free,
-            BranchArg::Zero => pim_fit::MomentBranch::Zero,
-        }
-    }
-}
-
-impl From<CostArg> for pim_fit::CostPreset {
-    fn from(c: CostArg) -> Self {
-        match c {
-            CostArg::Q1 => pim_fit::CostPreset::Q1,
-            CostArg::Q2 => pim_fit::CostPreset::Q2,
-            CostArg::Q3 => pim_fit::CostPreset::Q3,
-        }
-    }
-}
-
-/// The distinct values of a list of arguments, converted, in their first order.
-pub fn unique<A: Copy, T: From<A> + PartialEq>(list: &[A]) -> Vec<T> {
+/// The distinct values of a list of arguments, in their first order.
+pub fn unique<T: Copy + PartialEq>(list: &[T]) -> Vec<T> {
     let mut out: Vec<T> = Vec::new();
-    for &a in list {
-        let t = T::from(a);
+    for &t in list {
         if !out.contains(&t) {
             out.push(t);
         }

@@ -75,3 +75,35 @@ pub struct SolveOptions {
     /// Sliding (equation 5) or no slip (equation 5a).
     pub tangential: TangentialCondition,
 }
+
+impl MomentForm {
+    /// Both forms, the default first.
+    pub const ALL: [MomentForm; 2] = [MomentForm::Corrected, MomentForm::Brach1983];
+
+    /// The name used in case files, on the command line and in Python: `corrected`,
+    /// `brach1983`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MomentForm::Corrected => "corrected",
+            MomentForm::Brach1983 => "brach1983",
+        }
+    }
+
+    /// What the form is, in a line.
+    pub fn description(self) -> &'static str {
+        match self {
+            MomentForm::Corrected => "The corrected moment equation of Brach 1984 (default)",
+            MomentForm::Brach1983 => {
+                "The 1983 BASIC listing's form, with its sign error; to reproduce the 1983 tables"
+            }
+        }
+    }
+}
+
+impl std::str::FromStr for MomentForm {
+    type Err = String;
+    /// By [`MomentForm::name`]; the error lists the accepted names.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        crate::names::parse_name(s, &Self::ALL, Self::name)
+    }
+}

@@ -136,6 +136,7 @@ pub mod equations;
 mod error;
 mod friction;
 mod model;
+mod names;
 pub mod outline;
 pub mod point_mass;
 pub mod prediction;
@@ -156,6 +157,7 @@ pub use model::{
     Vehicle, VehicleVelocity, Velocities, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,
     MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
 };
+pub use names::parse_name;
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
 pub use report::{
     pdof, residuals, vehicle_results, Admissibility, ContactPoints, DeltaV, Energy, ImpactReport,

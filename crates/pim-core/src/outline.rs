@@ -43,10 +43,46 @@ pub enum Face {
     Right,
 }
 
+impl Outline {
+    /// Overall length, m.
+    pub fn length(&self) -> f64 {
+        self.cg_to_front + self.cg_to_rear
+    }
+
+    /// Corners in the body frame (x forward, y to the left, m), counter-clockwise from the
+    /// front left.
+    pub fn corners(&self) -> [[f64; 2]; 4] {
+        let h = self.width / 2.0;
+        [
+            [self.cg_to_front, h],
+            [-self.cg_to_rear, h],
+            [-self.cg_to_rear, -h],
+            [self.cg_to_front, -h],
+        ]
+    }
+
+    /// Distance from the CG to where the ray along the body-frame unit direction `w` leaves
+    /// the outline, m.
+    pub fn exit_along(&self, w: [f64; 2]) -> f64 {
+        exit_dir(w[0], w[1], self.faces()).0
+    }
+
+    /// Distances from the CG to the front, rear, left and right faces.
+    fn faces(&self) -> [f64; 4] {
+        let half = self.width / 2.0;
+        [self.cg_to_front, self.cg_to_rear, half, half]
+    }
+}
+
 /// Where the ray at angle `phi_deg` leaves a rectangle whose faces are at the given distances
 /// (front, rear, left, right; all > 0): (distance, face).
 fn exit(phi_deg: f64, faces: [f64; 4]) -> (f64, Face) {
     let (s, c) = phi_deg.to_radians().sin_cos();
+    exit_dir(c, s, faces)
+}
+
+/// Where the ray along the unit direction `(c, s)` leaves the rectangle: (distance, face).
+fn exit_dir(c: f64, s: f64, faces: [f64; 4]) -> (f64, Face) {
     let mut best = (f64::INFINITY, Face::Front);
     for (dist, comp, face) in [
         (faces[0], c, Face::Front),
@@ -67,19 +103,13 @@ fn exit(phi_deg: f64, faces: [f64; 4]) -> (f64, Face) {
 /// The damaged face hit by the ray at `phi_deg` (degrees, from the forward axis, to the left
 /// positive) on the undeformed outline.
 pub fn damaged_face(outline: &Outline, phi_deg: f64) -> Face {
-    let half = outline.width / 2.0;
-    exit(
-        phi_deg,
-        [outline.cg_to_front, outline.cg_to_rear, half, half],
-    )
-    .1
+    exit(phi_deg, outline.faces()).1
 }
 
 /// Distance d from the CG to the impact centre, m, by the rule of this module: the ray at
 /// `phi_deg` meets the outline whose damaged face is moved in by `mean_crush` (m).
 pub fn impact_centre_distance(outline: &Outline, phi_deg: f64, mean_crush: f64) -> (f64, Face) {
-    let half = outline.width / 2.0;
-    let mut faces = [outline.cg_to_front, outline.cg_to_rear, half, half];
+    let mut faces = outline.faces();
     let face = damaged_face(outline, phi_deg);
     let k = match face {
         Face::Front => 0,

@@ -134,4 +134,4 @@ pub use report::{
     Quantity, Reason, Solution, Status, TangentialFit, Violation,
 };
 pub use run::fit;
-pub use settings::{FitModel, FitSettings, SearchSettings, ValidSettings};
+pub use settings::{FitModel, FitSettings, SearchSettings, ValidSettings, DEFAULT_E_RANGE};

@@ -105,6 +105,15 @@ impl CostPreset {
         }
     }
 
+    /// What the preset holds and estimates, in a line.
+    pub fn description(self) -> &'static str {
+        match self {
+            CostPreset::Q1 => "Separation velocities known, contact velocities estimated",
+            CostPreset::Q2 => "Contact velocities known, separation velocities estimated",
+            CostPreset::Q3 => "All twelve estimated",
+        }
+    }
+
     /// Whether the preset holds component k of U fixed at its estimate (the one place this rule
     /// is written): Q1 the separation state, Q2 the contact state, Q3 nothing.
     pub fn holds_fixed(self, k: usize) -> bool {
@@ -361,5 +370,29 @@ impl MomentBranch {
             MomentBranch::Free => "free",
             MomentBranch::Zero => "zero",
         }
+    }
+
+    /// What the branch holds e_m to, in a line.
+    pub fn description(self) -> &'static str {
+        match self {
+            MomentBranch::Free => "em in [-1, 0]",
+            MomentBranch::Zero => "em = 1 (no moment impulse)",
+        }
+    }
+}
+
+impl std::str::FromStr for CostPreset {
+    type Err = String;
+    /// By [`CostPreset::name`]; the error lists the accepted names.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        pim_core::parse_name(s, &Self::ALL, Self::name)
+    }
+}
+
+impl std::str::FromStr for MomentBranch {
+    type Err = String;
+    /// By [`MomentBranch::name`]; the error lists the accepted names.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        pim_core::parse_name(s, &Self::ALL, Self::name)
     }
 }

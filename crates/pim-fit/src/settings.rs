@@ -20,6 +20,20 @@ pub enum FitModel {
 }
 
 impl FitModel {
+    /// Both models, PIM first.
+    pub const ALL: [FitModel; 2] = [FitModel::Pim, FitModel::Tangential];
+
+    /// What the model fits, in a line.
+    pub fn description(self) -> &'static str {
+        match self {
+            FitModel::Pim => "Planar Impact Mechanics: e, mu, em (both moment branches)",
+            FitModel::Tangential => {
+                "Normal and tangential restitution with a friction limit: e, et, friction (no \
+                 moment impulse; one branch)"
+            }
+        }
+    }
+
     /// The model's name in case files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -28,6 +42,10 @@ impl FitModel {
         }
     }
 }
+
+/// The default range of e: [0, 0.2], Vossou & Koulocheris's setting for the RICSAC tests (Brach
+/// 1984 needed up to 0.42, so it is a setting).
+pub const DEFAULT_E_RANGE: [f64; 2] = [0.0, 0.2];
 
 /// Settings of a fit, before checking ([`FitSettings::check`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -70,7 +88,7 @@ pub struct FitSettings {
 impl Default for FitSettings {
     fn default() -> Self {
         FitSettings {
-            e: [0.0, 0.2],
+            e: DEFAULT_E_RANGE,
             mu: [-1.2, 1.2],
             model: FitModel::Pim,
             et: et_default(),
@@ -281,5 +299,13 @@ impl FitSettings {
             ));
         }
         Ok(ValidSettings(self))
+    }
+}
+
+impl std::str::FromStr for FitModel {
+    type Err = String;
+    /// By [`FitModel::name`]; the error lists the accepted names.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        pim_core::parse_name(s, &Self::ALL, Self::name)
     }
 }

@@ -106,24 +106,19 @@ fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Case> {
     Case::from_text(&name, &text).map_err(|e| input_error(e.message))
 }
 
+/// A named choice of the library (moment form, cost function, branch, model), read by the
+/// library's own names; `field` names the argument in the error.
+fn named<T: std::str::FromStr<Err = String>>(field: &str, name: &str) -> PyResult<T> {
+    name.parse()
+        .map_err(|e| input_error(format!("{field}: {e}")))
+}
+
 fn moment_form(name: &str) -> PyResult<pim_core::MomentForm> {
-    match name {
-        "corrected" => Ok(pim_core::MomentForm::Corrected),
-        "brach1983" => Ok(pim_core::MomentForm::Brach1983),
-        other => Err(input_error(format!(
-            "moment_form = {other:?}: use \"corrected\" or \"brach1983\""
-        ))),
-    }
+    named("moment_form", name)
 }
 
 fn model(name: &str) -> PyResult<pim_fit::FitModel> {
-    match name {
-        "pim" => Ok(pim_fit::FitModel::Pim),
-        "tangential" => Ok(pim_fit::FitModel::Tangential),
-        other => Err(input_error(format!(
-            "model = {other:?}: use \"pim\" or \"tangential\""
-        ))),
-    }
+    named("model", name)
 }
 
 fn options(no_slip: bool, moment_form: &str) -> PyResult<pim_core::SolveOptions> {
@@ -138,28 +133,13 @@ fn options(no_slip: bool, moment_form: &str) -> PyResult<pim_core::SolveOptions>
 }
 
 fn cost(name: &str) -> PyResult<CostPreset> {
-    match name.to_ascii_lowercase().as_str() {
-        "q1" => Ok(CostPreset::Q1),
-        "q2" => Ok(CostPreset::Q2),
-        "q3" => Ok(CostPreset::Q3),
-        other => Err(input_error(format!(
-            "cost = {other:?}: use \"q1\", \"q2\" or \"q3\" (or None for the case's [known])"
-        ))),
-    }
+    named("cost", name)
 }
 
 fn branches(names: Vec<String>) -> PyResult<Vec<MomentBranch>> {
     let mut out = Vec::new();
     for n in names {
-        let b = match n.as_str() {
-            "free" => MomentBranch::Free,
-            "zero" => MomentBranch::Zero,
-            other => {
-                return Err(input_error(format!(
-                    "branches: {other:?} is not a branch; use \"free\" and/or \"zero\""
-                )))
-            }
-        };
+        let b: MomentBranch = named("branches", &n)?;
         if !out.contains(&b) {
             out.push(b);
         }
@@ -266,7 +246,7 @@ fn fit(
 /// are the same for any thread count. `tests` keeps only those test numbers. `models`:
 /// "pim" and / or "tangential" (each record's `model` says which; `pim batch --model`).
 #[pyfunction]
-#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = 0.2, moment_form = "corrected", tests = None, models = vec!["pim".to_string()]))]
+#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = pim_fit::DEFAULT_E_RANGE[1], moment_form = "corrected", tests = None, models = vec!["pim".to_string()]))]
 #[pyo3(
     text_signature = "(path='data/ricsac.csv', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', tests=None, models=('pim',))"
 )]

@@ -51,7 +51,7 @@ def test_the_second_model_fits_as_on_the_command_line():
         "batch", "--cost", "q2", "--tests", "7", "--model", "pim,tangential"
     )["records"]
     assert [r["model"] for r in records] == ["pim", "pim", "tangential"]
-    with pytest.raises(pim.InputError, match="use \"pim\" or \"tangential\""):
+    with pytest.raises(pim.InputError, match="is not one of \"pim\", \"tangential\""):
         pim.fit(R7_FIT, cost="q2", model="impc")
 
 

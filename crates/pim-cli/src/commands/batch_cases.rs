@@ -102,7 +102,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
             Failure::Input("--tests selects rows of a data file, not case files".into()).into(),
         );
     }
-    if a.model != [crate::args::ModelArg::Pim] {
+    if a.model != [pim_fit::FitModel::Pim] {
         return Err(Failure::Input(
             "--model compares the models over a data file; fit a case file with the tangential \
              model by `pim fit CASE --model tangential`"

@@ -12,9 +12,9 @@ pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
     }
     let costs: Vec<pim_fit::CostPreset> = unique(&a.cost);
     let branches: Vec<pim_fit::MomentBranch> = unique(&a.branch);
-    let mut plan = batch::BatchPlan::new(&costs, &branches, a.e_max, a.moment_form.into())
+    let mut plan = batch::BatchPlan::new(&costs, &branches, a.e_max, a.moment_form)
         .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
     plan.timing = a.timing;
-    let models: Vec<pim_fit::FitModel> = a.model.iter().map(|&m| m.into()).collect();
+    let models: Vec<pim_fit::FitModel> = a.model.to_vec();
     Ok(plan.with_models(&models))
 }

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 /// `pim fit`.
 pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    let cost = a.cost.map(pim_fit::CostPreset::from);
+    let cost = a.cost;
     let name = cost.map_or("custom", |p| p.name());
     crate::inputs::checked_impact(&case)?;
     if let Some(why) =
@@ -28,14 +28,8 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         problem,
         report,
         document,
-    } = documents::fit(
-        &case,
-        cost,
-        a.model.into(),
-        a.moment_form.into(),
-        unique(&a.branch),
-    )
-    .map_err(Failure::from)?;
+    } = documents::fit(&case, cost, a.model, a.moment_form, unique(&a.branch))
+        .map_err(Failure::from)?;
     let record = json(&document)?;
     let branch_records = &document.branches;
     let mut table = tables::fit_table(&title_of(&case), name, &report, a.units.into());

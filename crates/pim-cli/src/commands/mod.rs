@@ -9,7 +9,6 @@ pub mod predict;
 pub mod solve;
 pub mod uncertainty;
 
-use crate::args::MomentArg;
 use crate::error::Failure;
 use crate::inputs::io_reason;
 use anyhow::Result;
@@ -75,9 +74,9 @@ pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
 }
 
 /// The solve options of the command line.
-pub fn options_of(moment_form: MomentArg, no_slip: bool) -> SolveOptions {
+pub fn options_of(moment_form: pim_core::MomentForm, no_slip: bool) -> SolveOptions {
     SolveOptions {
-        moment_form: moment_form.into(),
+        moment_form,
         tangential: if no_slip {
             TangentialCondition::NoSlip
         } else {

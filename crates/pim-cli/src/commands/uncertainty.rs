@@ -93,7 +93,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         return Err(Failure::Input("--draws must be at least 1".into()).into());
     }
     let choice = match a.cost {
-        Some(c) => CostChoice::Preset(c.into()),
+        Some(c) => CostChoice::Preset(c),
         None => CostChoice::Custom,
     };
     let unc = case.content.uncertainty.unwrap_or_default();

@@ -3,15 +3,12 @@
 use pim_core::Impact;
 use pim_data::case::VehicleSection;
 
-/// A plan-view outline about the CG, m.
+/// A vehicle's plan-view outline as drawn: pim-core's outline about the CG, and whether its
+/// dimensions are the case's or defaults for the mass class.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outline {
-    /// CG to the front face.
-    pub front: f64,
-    /// CG to the rear face.
-    pub rear: f64,
-    /// Overall width.
-    pub width: f64,
+    /// The outline, m.
+    pub body: pim_core::outline::Outline,
     /// True when the dimensions are defaults for the mass class, not the case's.
     pub defaulted: bool,
 }
@@ -35,9 +32,11 @@ impl Outline {
             (Some(length), Some(width)) => {
                 let front = v.cg_to_front.unwrap_or(length / 2.0);
                 Outline {
-                    front,
-                    rear: length - front,
-                    width,
+                    body: pim_core::outline::Outline {
+                        cg_to_front: front,
+                        cg_to_rear: length - front,
+                        width,
+                    },
                     defaulted: false,
                 }
             }
@@ -47,9 +46,11 @@ impl Outline {
                 let width = width.unwrap_or(w);
                 let front = v.cg_to_front.unwrap_or(length / 2.0);
                 Outline {
-                    front: front.max(point[0]),
-                    rear: (length - front).max(-point[0]),
-                    width: width.max(2.0 * point[1].abs()),
+                    body: pim_core::outline::Outline {
+                        cg_to_front: front.max(point[0]),
+                        cg_to_rear: (length - front).max(-point[0]),
+                        width: width.max(2.0 * point[1].abs()),
+                    },
                     defaulted: true,
                 }
             }
@@ -58,33 +59,22 @@ impl Outline {
 
     /// Corners in the body frame, counter-clockwise from front left.
     pub(super) fn corners(&self) -> [[f64; 2]; 4] {
-        let h = self.width / 2.0;
-        [
-            [self.front, h],
-            [-self.rear, h],
-            [-self.rear, -h],
-            [self.front, -h],
-        ]
+        self.body.corners()
     }
 
     /// Distance from the CG to the outline along the body-frame unit direction `w`.
     pub(super) fn exit(&self, w: [f64; 2]) -> f64 {
-        let mut t = f64::INFINITY;
-        if w[0] > 1e-12 {
-            t = t.min(self.front / w[0]);
-        }
-        if w[0] < -1e-12 {
-            t = t.min(self.rear / -w[0]);
-        }
-        if w[1].abs() > 1e-12 {
-            t = t.min(0.5 * self.width / w[1].abs());
-        }
-        t
+        self.body.exit_along(w)
     }
 
     /// Length, m.
     pub fn length(&self) -> f64 {
-        self.front + self.rear
+        self.body.length()
+    }
+
+    /// Overall width, m.
+    pub fn width(&self) -> f64 {
+        self.body.width
     }
 }
 
@@ -127,9 +117,11 @@ pub(super) fn barrier_wall(impact: &Impact, vehicle1: &DrawnVehicle) -> DrawnVeh
     DrawnVehicle {
         label: "barrier (fixed, rigid)".to_string(),
         outline: Outline {
-            front: thick / 2.0,
-            rear: thick / 2.0,
-            width: length,
+            body: pim_core::outline::Outline {
+                cg_to_front: thick / 2.0,
+                cg_to_rear: thick / 2.0,
+                width: length,
+            },
             defaulted: false,
         },
         heading: towards[1].atan2(towards[0]).to_degrees(),

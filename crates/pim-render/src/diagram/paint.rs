@@ -232,7 +232,7 @@ impl Diagram {
                 format!(
                     "  {:.2} x {:.2} m{}",
                     o.length(),
-                    o.width,
+                    o.width(),
                     if o.defaulted {
                         " (typical for its mass)"
                     } else {
