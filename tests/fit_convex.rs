@@ -31,7 +31,7 @@ fn costs(problem: &FitProblem, convex: bool) -> Vec<(f64, bool)> {
         .map(|b| {
             (
                 b.solution.as_ref().map_or(f64::INFINITY, |s| s.cost),
-                b.certificate.method.starts_with("convex"),
+                b.certificate.method.route == Route::Convex,
             )
         })
         .collect()

@@ -171,7 +171,7 @@ fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
     for b in &report.branches {
         if case.preset == CostPreset::Q3 {
             v.q3_branches += 1;
-            if b.certificate.method.starts_with("convex") {
+            if b.certificate.method.route == Route::Convex {
                 v.q3_convex += 1;
             }
         }

@@ -1,12 +1,12 @@
 //! From the outcome of a branch's search to its report: the solution checked by pim-core, the
 //! status and reason, the identifiability ranges and the certificate.
 
+use crate::certificate::{Certificate, Method, Route};
 use crate::error::Result;
 use crate::inner::Inner;
 use crate::problem::{FitProblem, MomentBranch};
 use crate::report::{
-    BranchReport, Certificate, Identifiability, Limits, Quantity, Reason, Solution, Status,
-    TangentialFit,
+    BranchReport, Identifiability, Limits, Quantity, Reason, Solution, Status, TangentialFit,
 };
 use crate::search::{near_limit, Outcome, Point, Sample};
 use crate::settings::{FitModel, FitSettings};
@@ -15,8 +15,10 @@ use pim_core::{SolveOptions, Velocities};
 fn certificate(out: &Outcome) -> Certificate {
     if let Some(c) = out.convex {
         return Certificate {
-            method: format!(
-                "convex decomposition: over the contact state and the impulse every condition \
+            method: method(
+                out,
+                format!(
+                    "convex decomposition: over the contact state and the impulse every condition \
                  but the energy is linear once the signs of the friction, of the normal and \
                  tangential impulse, of the frictionless and no-slip normal impulses, of the \
                  final tangential velocity and (free branch) of the linear-impulse yaw rate are \
@@ -24,19 +26,23 @@ fn certificate(out: &Outcome) -> Certificate {
                  optimum by a dual active-set method ({} patterns over {} e_m intervals of a \
                  branch-and-bound, {} solved, {} stopped by their lower bound or found \
                  empty); the best checked by the exact constraint set",
-                c.patterns, c.intervals, c.solved, c.pruned
+                    c.patterns, c.intervals, c.solved, c.pruned
+                ),
             ),
             ..certificate_counts(out)
         };
     }
     if out.friction_max.is_some() {
         return Certificate {
-            method: "grid over the coefficient box per contact mode of the tangential model \
+            method: method(
+                out,
+                "grid over the coefficient box per contact mode of the tangential model \
                      (sticking over e and et; sliding over e, friction and et), every grid \
                      point whose lower bound could beat the incumbent solved exactly, then \
                      Nelder-Mead from the best grid points of distinct cells, the results near \
                      the best polished by a compass search"
-                .to_string(),
+                    .to_string(),
+            ),
             ..certificate_counts(out)
         };
     }
@@ -47,20 +53,47 @@ fn certificate(out: &Outcome) -> Certificate {
         ""
     };
     Certificate {
-        method: format!(
-            "grid over the coefficient box per tangential mode (sliding; sticking at \
+        method: method(
+            out,
+            format!(
+                "grid over the coefficient box per tangential mode (sliding; sticking at \
              mu = mu_max){profile}, every grid point whose lower bound could beat the incumbent \
              solved exactly, then Nelder-Mead from the best grid points of distinct cells, the \
              results near the best polished by a compass search"
+            ),
         ),
         ..certificate_counts(out)
     }
 }
 
-/// The counts of a certificate (its method in words left empty).
+/// The method of an outcome: its route and fallback reason as the search recorded them, and the
+/// description (with the reason for a fallback).
+fn method(out: &Outcome, description: String) -> Method {
+    let (route, fallback) = match (out.convex, out.fallback) {
+        (Some(_), _) => (Route::Convex, None),
+        (None, why) => (Route::Grid, why),
+    };
+    let description = match fallback {
+        Some(why) if route == Route::Grid => {
+            format!("{description} (not the convex route: {})", why.words())
+        }
+        _ => description,
+    };
+    Method {
+        route,
+        fallback,
+        description,
+    }
+}
+
+/// The counts of a certificate (its method left to the caller).
 fn certificate_counts(out: &Outcome) -> Certificate {
     Certificate {
-        method: String::new(),
+        method: Method {
+            route: Route::Grid,
+            fallback: None,
+            description: String::new(),
+        },
         grid_points: out.grid_points,
         evaluations: out.evaluations,
         exact_solves: out.exact_solves,

@@ -16,13 +16,39 @@
 //!             T(X) <= T(x)                                       (no kinetic energy created)
 //! ```
 //!
-//! Module map, along the path of a candidate: [`fit`] (here) runs one search per moment branch
-//! (`search`: the convex route of `convex` where it applies, else spaces and grids, refinement;
-//! then scans, outcome), which evaluates points of the
-//! coefficient box through the inner problem (`inner`: objective, constraint set, the known-state
-//! and general solves, profiles along e, diagnosis), which calls pim-core for every equation
-//! row, the reduction to three unknowns and the impulse projection. `branch` turns an outcome
-//! into a [`BranchReport`]; `settings` holds every tolerance with its default.
+//! ## Modules, and the path of one fit through them
+//! ```text
+//! fit (run.rs) ── per moment branch, side by side ──> search::search_branch   (the route)
+//!   │                                                   │
+//!   │                 ┌── convex::solve ─ Verdict::Optimal ───────────────────┐
+//!   │                 │     (sign patterns, dual active-set QPs,               │
+//!   │                 │      branch-and-bound over e_m)                        │
+//!   │                 └── Verdict::Search(Fallback) ──> grid over the box      │
+//!   │                        (search::space, refine, scan; every point by      │
+//!   │                         inner::Inner::evaluate: known.rs / general.rs,   │
+//!   │                         profile.rs along e, constraints.rs, qp.rs)       │
+//!   │                                                   ▼                      ▼
+//!   └──> branch::report: pim-core's analyse/solve_tangential check, status,
+//!        ranges, Certificate { method: Method { route, fallback, description } }
+//! geometry (fit_geometry): fit() at every geometry point of a box; its estimate types in
+//! geometry/types.rs. report.rs and certificate.rs hold the public result types; settings.rs
+//! every tolerance with its default; problem.rs the data and cost presets.
+//! ```
+//! Every equation row, the reduction to three unknowns, the impulse projection and the
+//! friction rule come from pim-core.
+//!
+//! ## Which route a problem takes
+//! `search::search_branch` decides, once per branch, and the certificate says which route ran and, when
+//! the grid search decided, why ([`Method`], [`Fallback`]):
+//! - **convex decomposition** (exact): PIM with every component estimated with a positive
+//!   weight (Q3, custom costs that weigh each component), no barrier. Its cost is strictly
+//!   convex over the contact state and the impulse, and every condition but the energy is
+//!   linear once a few signs are fixed.
+//! - **grid search** (certified by lower bounds and refinements), otherwise: a component held
+//!   fixed or unweighted (Q1, Q2: [`Fallback::NotStrictlyConvex`]), the tangential model
+//!   ([`Fallback::Model`]), a barrier, a degenerate geometry, or where the convex route cannot
+//!   certify its answer (its best point creates energy, a QP fails its KKT check, the equations
+//!   are singular there, the branch-and-bound runs out of intervals, no pattern is feasible).
 //!
 //! The observation rows `a_j` cover EDR-style data: delta-V along and across a vehicle's axis,
 //! the speed along its heading ([`ObservationKind`]). Presets Q1, Q2, Q3 ([`CostPreset`]) are the
@@ -110,6 +136,7 @@
 //! ```
 
 mod branch;
+mod certificate;
 mod convex;
 mod error;
 mod geometry;
@@ -120,6 +147,7 @@ mod run;
 mod search;
 mod settings;
 
+pub use certificate::{Certificate, Fallback, Method, Route};
 pub use error::{FitError, Result};
 pub use geometry::{
     fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryRange,
@@ -130,8 +158,8 @@ pub use problem::{
     Observation, ObservationKind, Vector12, COMPONENT_NAMES,
 };
 pub use report::{
-    ActiveConstraint, BranchReport, Certificate, ChiSquare, FitReport, Identifiability, Limits,
-    Quantity, Reason, Solution, Status, TangentialFit, Violation,
+    ActiveConstraint, BranchReport, ChiSquare, FitReport, Identifiability, Limits, Quantity,
+    Reason, Solution, Status, TangentialFit, Violation,
 };
 pub use run::fit;
 pub use settings::{FitModel, FitSettings, SearchSettings, ValidSettings, DEFAULT_E_RANGE};

@@ -1,6 +1,7 @@
 //! The fit report: statuses, reasons and active constraints are types; their words are made by
 //! `Display` (and serialised as those words) at the edge.
 
+use crate::certificate::Certificate;
 use crate::problem::{Component, MomentBranch};
 use pim_core::{DeltaV, FrictionSign, Impulse, PimError, Residuals, Velocities};
 use serde::{Deserialize, Serialize, Serializer};
@@ -409,27 +410,6 @@ pub struct Identifiability {
     /// The cost is exactly flat along a velocity direction near the optimum: the range seen is
     /// only part of the set of equally good values (a speed is then at least `low`).
     pub open_ended: bool,
-}
-
-/// How the optimum was established.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Certificate {
-    /// The method, in words.
-    pub method: String,
-    /// Grid points over the coefficient boxes (all modes).
-    pub grid_points: usize,
-    /// Inner problems evaluated (each friction sign counts).
-    pub evaluations: usize,
-    /// Inner problems solved exactly with their inequalities.
-    pub exact_solves: usize,
-    /// Of those, solved by the QP solver.
-    pub qp_solves: usize,
-    /// Nelder-Mead refinements run.
-    pub refinements: usize,
-    /// Refinements that reached the same optimum (to 1e-6 relative).
-    pub refinements_agreeing: usize,
-    /// Points where the energy constraint could not be enforced exactly (treated as infeasible).
-    pub energy_uncertified_points: usize,
 }
 
 /// The tangential model's reading of a fitted solution.

@@ -39,6 +39,7 @@ mod dual;
 mod form;
 mod verdict;
 
+use crate::certificate::Fallback;
 use crate::inner::{At, Candidate, Inner};
 use crate::problem::MomentBranch;
 use crate::settings::FitSettings;
@@ -94,12 +95,19 @@ struct Formulation {
 }
 
 impl Formulation {
-    /// `None` when the problem is not one this path solves (something held fixed, a weight
-    /// missing so that the cost is not strictly convex, a degenerate geometry).
-    fn new(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Option<Formulation> {
+    /// Why not, when the problem is not one this path solves (something held fixed, a weight
+    /// missing so that the cost is not strictly convex, a barrier, a degenerate geometry).
+    fn new(
+        inner: &Inner,
+        settings: &FitSettings,
+        branch: MomentBranch,
+    ) -> Result<Formulation, Fallback> {
         let impact = &inner.impact;
-        if !inner.objective.nothing_fixed() || impact.is_barrier() {
-            return None;
+        if !inner.objective.nothing_fixed() {
+            return Err(Fallback::NotStrictlyConvex);
+        }
+        if impact.is_barrier() {
+            return Err(Fallback::Barrier);
         }
         // Basis of the velocity changes allowed by equations 1-3 (and B = 0 in the zero branch).
         let mut rows: Vec<RowVector6<f64>> = vec![
@@ -116,12 +124,13 @@ impl Formulation {
             let unit = r / r.norm();
             cc += unit.transpose() * unit;
         }
-        let eig = SymmetricEigen::try_new(cc, f64::EPSILON, 500)?;
+        let eig =
+            SymmetricEigen::try_new(cc, f64::EPSILON, 500).ok_or(Fallback::DegenerateGeometry)?;
         let null: Vec<usize> = (0..6)
             .filter(|&i| eig.eigenvalues[i].abs() <= 1e-10)
             .collect();
         if null.len() != 6 - rows.len() {
-            return None;
+            return Err(Fallback::DegenerateGeometry);
         }
         let r = null.len();
         let n = 6 + r;
@@ -172,7 +181,7 @@ impl Formulation {
             }
             a[i] = -2.0 * (0..12).map(|p| t[p][i] * gu[p]).sum::<f64>();
         }
-        let objective = dual::Objective::new(n, g, a)?;
+        let objective = dual::Objective::new(n, g, a).ok_or(Fallback::DegenerateGeometry)?;
         let tol = inner.tolerance();
         let mut common = Vec::new();
         for k in 0..12 {
@@ -181,8 +190,8 @@ impl Formulation {
             } else {
                 settings.velocity_bound
             } - tol;
-            common.push(Row::new(scaled(&t[k], -1.0), -limit)?);
-            common.push(Row::new(t[k], -limit)?);
+            common.push(Row::new(scaled(&t[k], -1.0), -limit).ok_or(Fallback::DegenerateGeometry)?);
+            common.push(Row::new(t[k], -limit).ok_or(Fallback::DegenerateGeometry)?);
         }
         let side = if impact.side() == 0.0 {
             1.0
@@ -194,14 +203,19 @@ impl Formulation {
         let vn = over_x(&nrow);
         let big_vn = over_final(&nrow);
         // Approach: -side vn >= min_approach + tol.
-        common.push(Row::new(
-            scaled(&vn, -side),
-            settings.search.min_approach_speed + tol,
-        )?);
+        common.push(
+            Row::new(scaled(&vn, -side), settings.search.min_approach_speed + tol)
+                .ok_or(Fallback::DegenerateGeometry)?,
+        );
         // Restitution within [e_min, e_max]: a = -side vn, b = side Vn.
         let (fa, fb) = (scaled(&vn, -side), scaled(&big_vn, side));
-        common.push(Row::new(add(&fb, &fa, -settings.e[0]), 0.0)?);
-        common.push(Row::new(add(&scaled(&fa, settings.e[1]), &fb, -1.0), 0.0)?);
+        common.push(
+            Row::new(add(&fb, &fa, -settings.e[0]), 0.0).ok_or(Fallback::DegenerateGeometry)?,
+        );
+        common.push(
+            Row::new(add(&scaled(&fa, settings.e[1]), &fb, -1.0), 0.0)
+                .ok_or(Fallback::DegenerateGeometry)?,
+        );
         let (pn_row, pt_row) = impulse_rows(impact);
         let w_sign = match settings.moment_form {
             MomentForm::Corrected => 1.0,
@@ -214,7 +228,7 @@ impl Formulation {
             .iter()
             .map(|r| objective.bound(r))
             .fold(objective.f0, f64::max);
-        Some(Formulation {
+        Ok(Formulation {
             n,
             d,
             objective,
@@ -418,12 +432,12 @@ impl Formulation {
         em: [f64; 2],
         best: &mut Option<(f64, At, Candidate)>,
         counts: &mut Counts,
-    ) -> Result<Option<(f64, f64)>, &'static str> {
+    ) -> Result<Option<(f64, f64)>, Fallback> {
         let mut work: Vec<(f64, Pattern, Vec<Row>)> = Vec::new();
         for p in self.patterns(inner, branch, em) {
             let rows = self
                 .pattern_rows(inner, &p, branch)
-                .ok_or("degenerate rows")?;
+                .ok_or(Fallback::DegenerateGeometry)?;
             let bound = rows
                 .iter()
                 .map(|r| self.objective.bound(r))
@@ -451,7 +465,7 @@ impl Formulation {
                     // forward solve; the general search, which works through the transfer
                     // matrix, stays off it.
                     if inner.transfer(&at).is_none() {
-                        return Err("singular equations at a pattern's optimum");
+                        return Err(Fallback::Singular);
                     }
                     let ok = inner
                         .constraints(&at)
@@ -466,7 +480,7 @@ impl Formulation {
                     }
                 }
                 dual::Outcome::Cutoff(_) | dual::Outcome::Infeasible => counts.pruned += 1,
-                dual::Outcome::Failed => return Err("a QP did not verify"),
+                dual::Outcome::Failed => return Err(Fallback::QpFailed),
             }
         }
         Ok(failed)
@@ -544,11 +558,15 @@ struct Node {
 /// optimum that passes the exact check is feasible; one that fails splits its interval at its
 /// e_m, with its value as the children's lower bound, until no interval can beat the best.
 pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Verdict {
-    if inner.model != crate::FitModel::Pim || !settings.search.convex {
-        return Verdict::Search("not applicable");
+    if inner.model != crate::FitModel::Pim {
+        return Verdict::Search(Fallback::Model);
     }
-    let Some(form) = Formulation::new(inner, settings, branch) else {
-        return Verdict::Search("not applicable");
+    if !settings.search.convex {
+        return Verdict::Search(Fallback::Disabled);
+    }
+    let form = match Formulation::new(inner, settings, branch) {
+        Ok(form) => form,
+        Err(why) => return Verdict::Search(why),
     };
     let mut queue: Vec<Node> = form
         .pieces(branch)
@@ -574,7 +592,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
         }
         nodes += 1;
         if nodes > MAX_NODES {
-            return Verdict::Search("too many e_m intervals");
+            return Verdict::Search(Fallback::NodeLimit);
         }
         let failed = match form.interval(inner, branch, node.em, &mut best, &mut counts) {
             Ok(failed) => failed,
@@ -587,7 +605,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
             let [lo, hi] = node.em;
             let width = hi - lo;
             if branch == MomentBranch::Zero || width <= 1e-9 {
-                return Verdict::Search("the best pattern fails the exact check");
+                return Verdict::Search(Fallback::ExactCheckFailed);
             }
             let cut = if em > lo + 0.05 * width && em < hi - 0.05 * width {
                 em
@@ -613,7 +631,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
     }
     counts.intervals = nodes;
     let Some((_, at, candidate)) = best else {
-        return Verdict::Search("no pattern feasible");
+        return Verdict::Search(Fallback::NoPatternFeasible);
     };
     Verdict::Optimal {
         at,

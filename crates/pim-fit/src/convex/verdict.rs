@@ -1,5 +1,6 @@
 //! What the convex route decided for a branch, and what it did.
 
+use crate::certificate::Fallback;
 use crate::inner::{At, Candidate};
 
 /// What the convex solve of a branch found.
@@ -12,7 +13,7 @@ pub(crate) enum Verdict {
         counts: Counts,
     },
     /// The general search must decide (see the module documentation), with the reason.
-    Search(&'static str),
+    Search(Fallback),
 }
 
 /// What the convex solve did, for the certificate.

@@ -26,7 +26,9 @@ use crate::report::Violation;
 use crate::settings::FitSettings;
 use space::{spaces, Space};
 
-/// Searches one branch.
+/// Searches one branch: the one place that decides its route. The convex decomposition first
+/// (exact, for PIM with every component estimated); where it does not apply or cannot certify
+/// its answer, the typed reason is kept for the certificate and the grid search decides.
 pub(crate) fn search_branch(
     inner: &Inner,
     settings: &FitSettings,
@@ -39,6 +41,9 @@ pub(crate) fn search_branch(
         ..Outcome::default()
     };
     let verdict = crate::convex::solve(inner, settings, branch);
+    if let crate::convex::Verdict::Search(why) = verdict {
+        out.fallback = Some(why);
+    }
     if let crate::convex::Verdict::Optimal {
         at,
         candidate,

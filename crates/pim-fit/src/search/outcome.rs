@@ -84,6 +84,8 @@ pub(crate) struct Outcome {
     pub friction_max: Option<f64>,
     /// The optimum came from the convex solve over the contact state and the impulse.
     pub convex: Option<crate::convex::Counts>,
+    /// Why the convex route did not decide the branch (`None` when it did).
+    pub fallback: Option<crate::certificate::Fallback>,
 }
 
 impl Outcome {

@@ -1,0 +1,98 @@
+//! How a branch's optimum was established: the solver route, the reason for a fallback, and the
+//! counts of the search.
+
+use serde::{Deserialize, Serialize};
+
+/// The solver route that decided a branch (see the crate docs, "Which route a problem takes").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Route {
+    /// The exact convex decomposition over the contact state and the impulse.
+    Convex,
+    /// The grid over the coefficient box, refinements and the exact inner solves.
+    Grid,
+}
+
+/// Why a branch was decided by the grid search instead of the convex decomposition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Fallback {
+    /// The tangential model: its ratio condition is not written over the convex variables.
+    Model,
+    /// Turned off in the settings (`SearchSettings::convex = false`).
+    Disabled,
+    /// A component is known exactly or carries no weight: the cost is not strictly convex in
+    /// the velocities (Q1, Q2 and costs that leave a component out).
+    NotStrictlyConvex,
+    /// Vehicle 2 is a barrier.
+    Barrier,
+    /// The momentum equations do not leave a velocity-change space of the expected dimension.
+    DegenerateGeometry,
+    /// The branch-and-bound over e_m needed more intervals than it allows.
+    NodeLimit,
+    /// A pattern's optimum lies where the six equations are singular.
+    Singular,
+    /// A QP's answer did not pass its KKT verification.
+    QpFailed,
+    /// The best pattern's point fails the exact constraint set (it creates energy, whose
+    /// condition is not convex over these variables, or its normal impulse changes sign).
+    ExactCheckFailed,
+    /// No sign pattern is feasible: the grid search decides (and explains) infeasibility.
+    NoPatternFeasible,
+}
+
+impl Fallback {
+    /// The reason in words.
+    pub fn words(self) -> &'static str {
+        match self {
+            Fallback::Model => "the tangential model is not written over the convex variables",
+            Fallback::Disabled => "the convex route is turned off in the settings",
+            Fallback::NotStrictlyConvex => {
+                "a component is known exactly or unweighted, so the cost is not strictly convex \
+                 in the velocities"
+            }
+            Fallback::Barrier => "vehicle 2 is a barrier",
+            Fallback::DegenerateGeometry => {
+                "the momentum equations leave a velocity-change space of unexpected dimension"
+            }
+            Fallback::NodeLimit => "the branch-and-bound over e_m reached its interval limit",
+            Fallback::Singular => "a pattern's optimum lies where the six equations are singular",
+            Fallback::QpFailed => "a QP's answer failed its KKT verification",
+            Fallback::ExactCheckFailed => "the best pattern's point fails the exact constraints",
+            Fallback::NoPatternFeasible => "no sign pattern is feasible",
+        }
+    }
+}
+
+/// How a branch was solved: the route, why the convex route was not taken (if it was not),
+/// and the method in words.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Method {
+    /// The route that decided the branch.
+    pub route: Route,
+    /// Why the convex route did not decide it (`None` on the convex route).
+    pub fallback: Option<Fallback>,
+    /// The method, in words.
+    pub description: String,
+}
+
+/// How the optimum was established.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Certificate {
+    /// The route, the reason for a fallback and the method in words.
+    pub method: Method,
+    /// Grid points over the coefficient boxes (all modes).
+    pub grid_points: usize,
+    /// Inner problems evaluated (each friction sign counts).
+    pub evaluations: usize,
+    /// Inner problems solved exactly with their inequalities.
+    pub exact_solves: usize,
+    /// Of those, solved by the QP solver.
+    pub qp_solves: usize,
+    /// Nelder-Mead refinements run.
+    pub refinements: usize,
+    /// Refinements that reached the same optimum (to 1e-6 relative).
+    pub refinements_agreeing: usize,
+    /// Points where the energy constraint could not be enforced exactly (treated as infeasible).
+    pub energy_uncertified_points: usize,
+}
