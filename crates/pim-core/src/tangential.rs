@@ -43,6 +43,10 @@ use crate::friction::TangentialOutcome;
 use crate::model::{Impact, Velocities};
 use crate::report::ImpactReport;
 use crate::{classify_friction, CriticalImpulse, MomentForm};
+
+/// Relative tolerance of "the sticking ratio is within the friction limit" (Routh's condition):
+/// the forward model's stick/slide decision and the fit's check of it use this one value.
+pub const RATIO_TOL: f64 = 1e-12;
 use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
 
@@ -243,7 +247,7 @@ pub fn solve_tangential(
         tangential: pt_stick,
     }
     .direction();
-    let tol = 1e-12 * (1.0 + c.friction);
+    let tol = RATIO_TOL * (1.0 + c.friction);
     let (mode, ratio) = if stick_ratio.abs() <= c.friction + tol {
         (ContactMode::Stick, stick_ratio)
     } else {

@@ -208,10 +208,7 @@ fn fit_one(
     plan: &BatchPlan,
 ) -> Vec<BatchRecord> {
     let measured = [t.dv1_measured_mps, t.dv2_measured_mps];
-    let branches = match model {
-        FitModel::Pim => plan.branches.clone(),
-        FitModel::Tangential => vec![MomentBranch::Zero],
-    };
+    let branches = model.branches(&plan.branches);
     let failed = |msg: String| -> Vec<BatchRecord> {
         branches
             .iter()

@@ -150,11 +150,7 @@ pub fn fit(
     };
     case.impact()?;
     let problem = fitcase::problem(case, choice)?;
-    // The tangential model has no moment impulse: its one branch is the zero branch.
-    let branches = match model {
-        pim_fit::FitModel::Tangential => vec![MomentBranch::Zero],
-        pim_fit::FitModel::Pim => branches,
-    };
+    let branches = model.branches(&branches);
     let settings = fitcase::settings(case, model, moment_form, branches)?;
     let report = fitcase::fit(case, &problem, &settings)?;
     let unit = fitcase::sigma_unit(case)?;

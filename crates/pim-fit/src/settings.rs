@@ -34,6 +34,16 @@ impl FitModel {
         }
     }
 
+    /// The moment branches the model fits, of those asked: PIM all of them; the tangential
+    /// model, which has no moment impulse, only the zero branch (the one place this rule is
+    /// written).
+    pub fn branches(self, asked: &[MomentBranch]) -> Vec<MomentBranch> {
+        match self {
+            FitModel::Pim => asked.to_vec(),
+            FitModel::Tangential => vec![MomentBranch::Zero],
+        }
+    }
+
     /// The model's name in case files and on the command line.
     pub fn name(self) -> &'static str {
         match self {
@@ -218,10 +228,7 @@ impl ValidSettings {
 impl FitSettings {
     /// Checks the settings once, so that a fit only runs on valid ones.
     pub fn check(mut self) -> Result<ValidSettings> {
-        if self.model == FitModel::Tangential {
-            // No moment impulse in the tangential model: its one branch is the zero branch.
-            self.branches = vec![MomentBranch::Zero];
-        }
+        self.branches = self.model.branches(&self.branches);
         let [elo, ehi] = self.e;
         if !(elo.is_finite() && ehi.is_finite() && 0.0 <= elo && elo <= ehi && ehi <= 1.0) {
             return Err(FitError::BadBounds(format!(

@@ -126,7 +126,7 @@ impl ConstraintSet<'_> {
             return p.is_some_and(|p| {
                 let n = p.normal.abs();
                 let t = s * p.tangential * p.normal.signum();
-                t - r.mu * n >= -1e-9 * (t.abs() + r.mu * n)
+                t - r.mu * n >= -pim_core::tangential::RATIO_TOL * (t.abs() + r.mu * n)
             });
         }
         let mu_max = p.and_then(|p| p.mu_max(self.sign));
