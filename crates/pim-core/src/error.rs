@@ -198,6 +198,10 @@ pub enum PimError {
     /// The sensitivity percentage is not a finite number in [0, 100).
     #[error("the sensitivity percentage must be a finite number in [0, 100) (got {0})")]
     BadPercentage(f64),
+
+    /// The model cannot do what was asked (e.g. solve backwards).
+    #[error("{0}")]
+    Unsupported(String),
 }
 
 /// Result alias of pim-core.

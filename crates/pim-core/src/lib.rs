@@ -102,6 +102,15 @@
 //! no-slip ratio has the sign of the sliding, and without sliding only mu = 0 is admissible.
 //! Details and the reduction to the former rule in the module docs of `friction`.
 //!
+//! ## Models as types ([`ImpactModel`])
+//! A front end asks a model for its name, its coefficients and their domains, and its solve,
+//! whichever model it is: [`PimModel`] (PIM with its solve options), [`TangentialCoefficients`]
+//! (normal and tangential restitution with a friction limit) and [`Impc`] (Carpenter &
+//! Welcher's model, the tangential model with `et = -e`, in a file of its own: a further model
+//! is one such type and the line of the case reader that names it). Each returns PIM's
+//! [`ImpactReport`] with its equivalent coefficients and its own admissibility, and, when it
+//! decides between sticking and sliding, a [`ContactOutcome`].
+//!
 //! ## Reduction to three unknowns ([`reduction`])
 //! Equations 1-3 fix the velocity change to a three-dimensional space `X - x = N p`; with one
 //! state known the other follows from a 3x3 solve in p, along e both states are affine (in e,
@@ -135,6 +144,8 @@ mod coefficients;
 pub mod equations;
 mod error;
 mod friction;
+mod impact_model;
+mod impc;
 mod model;
 mod names;
 pub mod outline;
@@ -152,6 +163,8 @@ pub use friction::{
     classify_friction, creates_energy, friction_direction, CriticalImpulse, FrictionBasis,
     FrictionSign, FrictionVerdict, TangentialOutcome, REPORT_TOL,
 };
+pub use impact_model::{ContactOutcome, ImpactModel, ModelSolution, PimModel};
+pub use impc::Impc;
 pub use model::{
     impact_point_cartesian, impact_point_polar, wrap_degrees, Collision, Convention, Impact,
     Vehicle, VehicleVelocity, Velocities, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,

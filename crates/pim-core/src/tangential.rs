@@ -310,11 +310,11 @@ pub fn solve_tangential(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::{solve_forward, Collision, Vehicle};
 
-    fn impact() -> Impact {
+    pub(crate) fn impact() -> Impact {
         let v = |mass, yaw_inertia, heading, d, phi| Vehicle {
             mass,
             yaw_inertia,
@@ -330,7 +330,7 @@ mod tests {
         .unwrap()
     }
 
-    fn initial() -> Velocities {
+    pub(crate) fn initial() -> Velocities {
         Velocities::from_vector(&nalgebra::Vector6::new(-13.01, 0.0, 0.0, 6.50, 11.27, 0.0))
     }
 

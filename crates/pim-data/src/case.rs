@@ -555,10 +555,11 @@ impl Case {
     pub fn coefficients(&self) -> Result<Coefficients> {
         match self.model()? {
             CaseModel::Pim(c) => Ok(c),
-            CaseModel::Tangential(_) => Err(InputError::new(
+            CaseModel::Tangential(_) | CaseModel::Impc(_) => Err(InputError::new(
                 &self.file,
-                "[coefficients] e, et, friction select the tangential-restitution model, which \
-                 `pim solve` and `pim draw` take; this command needs PIM's e, mu, em",
+                "[coefficients] select the tangential-restitution model (e, et, friction) or \
+                 IMPC (model = \"impc\"), which `pim solve` and `pim draw` take; this command \
+                 needs PIM's e, mu, em",
             )),
         }
     }
@@ -579,9 +580,9 @@ impl Case {
         if named == Some(ModelName::Impc) {
             return match (c.mu, c.em, c.et, c.friction) {
                 (None, None, None, Some(friction)) => {
-                    let t = pim_core::TangentialCoefficients::impc(c.e, friction);
-                    t.validate().map_err(bad)?;
-                    Ok(CaseModel::Tangential(t))
+                    let m = pim_core::Impc { e: c.e, friction };
+                    pim_core::ImpactModel::validate(&m).map_err(bad)?;
+                    Ok(CaseModel::Impc(m))
                 }
                 _ => Err(InputError::new(
                     &self.file,

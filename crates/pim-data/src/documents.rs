@@ -2,7 +2,7 @@
 //! command, so that every front end (the command line, the Python package) gives the same
 //! document for the same input.
 
-use crate::case::{Case, CaseModel};
+use crate::case::Case;
 use crate::fitcase;
 use crate::records::{BranchRecord, FitOut, ModelOut, SolveOut};
 use pim_core::{Impact, ImpactReport, SolveOptions};
@@ -56,44 +56,34 @@ pub struct Solved {
 pub fn solve(case: &Case, options: &SolveOptions) -> Result<Solved, DocumentError> {
     let impact = case.impact()?;
     let (state, forward) = case.known_state()?;
-    if let CaseModel::Tangential(c) = case.model()? {
-        if !forward {
-            return Err(DocumentError::Input(format!(
-                "{}: the tangential-restitution model solves forwards: give [initial]",
-                case.file
-            )));
-        }
-        let t = pim_core::solve_tangential(&impact, &c, &state)
-            .map_err(|e| not_approaching(case, &state, e))?;
-        let mut document = SolveOut::new(&impact, &t.report, true);
-        document.model = Some(ModelOut {
-            name: "tangential",
-            coefficients: c,
-            mode: t.mode,
-            impulse_ratio: t.impulse_ratio,
-            stick_ratio: t.stick_ratio,
-        });
-        return Ok(Solved {
-            impact,
-            report: t.report,
-            forward,
-            document,
-        });
-    }
-    let coefficients = case.coefficients()?;
-    let report = if forward {
-        pim_core::solve_forward(&impact, &coefficients, &state, options)
+    // The model is picked once, here; everything below asks it, whichever it is.
+    let model = case.model()?.impact_model(options);
+    let solution = if forward {
+        model.solve(&impact, &state)
     } else {
-        pim_core::solve_backward(&impact, &coefficients, &state, options)
+        model.solve_backward(&impact, &state)
     }
-    .map_err(|e| match forward {
-        true => not_approaching(case, &state, e),
-        false => DocumentError::from_core(&case.file, e),
+    .map_err(|e| match (forward, e) {
+        (true, e) => not_approaching(case, &state, e),
+        (false, pim_core::PimError::Unsupported(why)) => {
+            DocumentError::Input(format!("{}: {why}: give [initial]", case.file))
+        }
+        (false, e) => DocumentError::from_core(&case.file, e),
     })?;
-    let document = SolveOut::new(&impact, &report, forward);
+    let mut document = SolveOut::new(&impact, &solution.report, forward);
+    if let Some(c) = solution.contact {
+        document.model = Some(ModelOut {
+            name: model.name(),
+            description: model.description(),
+            coefficients: model.coefficients().into_iter().collect(),
+            mode: c.mode,
+            impulse_ratio: c.impulse_ratio,
+            stick_ratio: c.stick_ratio,
+        });
+    }
     Ok(Solved {
         impact,
-        report,
+        report: solution.report,
         forward,
         document,
     })

@@ -341,10 +341,12 @@ pub struct FitOut {
 /// The second model's part of a solve document.
 #[derive(Debug, Clone, Serialize)]
 pub struct ModelOut {
-    /// `tangential`.
+    /// The model's name (`tangential`, `impc`).
     pub name: &'static str,
-    /// e, et, friction.
-    pub coefficients: pim_core::TangentialCoefficients,
+    /// What the model is, in a line.
+    pub description: &'static str,
+    /// Its coefficients by name (e, et, friction; IMPC: e, friction).
+    pub coefficients: std::collections::BTreeMap<&'static str, f64>,
     /// `stick` or `slide`.
     pub mode: pim_core::ContactMode,
     /// The impulse ratio Pt / Pn that acted.

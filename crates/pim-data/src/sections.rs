@@ -124,6 +124,22 @@ pub enum CaseModel {
     Pim(Coefficients),
     /// The tangential-restitution model: `e`, `et`, `friction`.
     Tangential(pim_core::TangentialCoefficients),
+    /// The Carpenter-Welcher model: `model = "impc"`, `e`, `friction`.
+    Impc(pim_core::Impc),
+}
+
+impl CaseModel {
+    /// The model as a type, with the solve options a PIM case is solved with.
+    pub fn impact_model(self, options: &pim_core::SolveOptions) -> Box<dyn pim_core::ImpactModel> {
+        match self {
+            CaseModel::Pim(coefficients) => Box::new(pim_core::PimModel {
+                coefficients,
+                options: *options,
+            }),
+            CaseModel::Tangential(c) => Box::new(c),
+            CaseModel::Impc(c) => Box::new(c),
+        }
+    }
 }
 
 /// One vehicle's velocity, `{ vx, vy, omega }`.

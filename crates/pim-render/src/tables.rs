@@ -441,3 +441,31 @@ fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem) 
         g.search.grid_points, g.search.points_per_input, g.search.refinements, g.search.fits
     );
 }
+
+/// The line that names a model other than PIM and says what it did, before PIM's equivalent
+/// of its solution.
+pub fn model_line(m: &pim_data::records::ModelOut) -> String {
+    let friction = m.coefficients.get("friction").copied().unwrap_or(f64::NAN);
+    let how = match m.mode {
+        pim_core::ContactMode::Stick => format!(
+            "sticks: the restitution is reached within the friction limit (|Pt/Pn| = {:.3} <= \
+             {friction})",
+            m.stick_ratio.abs(),
+        ),
+        pim_core::ContactMode::Slide => format!(
+            "slides: sticking would need Pt/Pn = {:+.3}, beyond the friction limit {friction}, \
+             so Pt/Pn = {:+} (the limit on the sticking impulse's side)",
+            m.stick_ratio, m.impulse_ratio
+        ),
+    };
+    let coefficients: Vec<String> = m
+        .coefficients
+        .iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect();
+    format!(
+        "model: {} ({}); it {how}; as PIM with the equivalent coefficients:\n",
+        m.description,
+        coefficients.join(", ")
+    )
+}

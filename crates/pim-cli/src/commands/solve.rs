@@ -28,24 +28,7 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let mut table =
         tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into());
     if let Some(m) = &document.model {
-        let c = m.coefficients;
-        let how = match m.mode {
-            pim_core::ContactMode::Stick => format!(
-                "sticks: vt' = et vt within the friction limit (|Pt/Pn| = {:.3} <= {})",
-                m.stick_ratio.abs(),
-                c.friction
-            ),
-            pim_core::ContactMode::Slide => format!(
-                "slides: sticking would need Pt/Pn = {:+.3}, beyond the friction limit {}, so \
-                 Pt/Pn = {:+} (the limit on the sticking impulse's side)",
-                m.stick_ratio, c.friction, m.impulse_ratio
-            ),
-        };
-        let line = format!(
-            "model: normal and tangential restitution with a friction limit (e = {}, et = {}, \
-             friction = {}); it {how}; as PIM with the equivalent coefficients:\n",
-            c.e, c.et, c.friction
-        );
+        let line = tables::model_line(m);
         if let Some(at) = table.find("solved forwards") {
             table.insert_str(at, &line);
         }
