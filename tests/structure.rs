@@ -51,6 +51,10 @@ fn before_tests(text: &str) -> &str {
     while let Some(i) = text[from..].find("#[cfg(test)]") {
         let at = from + i;
         let after = text[at + "#[cfg(test)]".len()..].trim_start();
+        let after = ["pub(crate) ", "pub(super) ", "pub "]
+            .iter()
+            .find_map(|v| after.strip_prefix(v))
+            .unwrap_or(after);
         let inline = after
             .strip_prefix("mod ")
             .and_then(|r| r.find(['{', ';']).map(|j| r.as_bytes()[j] == b'{'))

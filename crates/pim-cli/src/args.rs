@@ -104,6 +104,44 @@ fn choice<T: Copy + Send + Sync + 'static>(
     })
 }
 
+/// Largest number of draws a run accepts (each draw is a full fit: a million Q3 draws take about
+/// a minute on two cores, and the draws' results are kept in memory).
+pub const MAX_DRAWS: usize = 1_000_000;
+
+/// Largest number of worker threads accepted (more only adds overhead on any machine this
+/// runs on; the default is the machine's cores).
+pub const MAX_THREADS: usize = 256;
+
+/// A count between `lo` and `hi`.
+fn count(s: &str, lo: usize, hi: usize, what: &str) -> Result<usize, String> {
+    let n: usize = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a whole number; {what} takes {lo} to {hi}"))?;
+    if n < lo || n > hi {
+        return Err(format!("{n} is out of range; {what} takes {lo} to {hi}"));
+    }
+    Ok(n)
+}
+
+fn draws(s: &str) -> Result<usize, String> {
+    count(s, 1, MAX_DRAWS, "--draws")
+}
+
+fn batch_draws(s: &str) -> Result<usize, String> {
+    count(s, 0, MAX_DRAWS, "--draws (0: no intervals)")
+}
+
+fn threads(s: &str) -> Result<usize, String> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    count(
+        s,
+        1,
+        MAX_THREADS,
+        &format!("--threads (this machine has {cores} cores)"),
+    )
+}
+
 fn moment_form() -> impl clap::builder::TypedValueParser<Value = MomentForm> {
     choice(&MomentForm::ALL, MomentForm::name, MomentForm::description)
 }
@@ -183,14 +221,14 @@ pub struct UncertaintyArgs {
     /// Cost function; without it the case's [known] and [estimates] define the problem.
     #[arg(long, value_parser = cost())]
     pub cost: Option<CostPreset>,
-    /// Number of draws.
-    #[arg(long, default_value_t = 200)]
+    /// Number of draws (1 to 1,000,000).
+    #[arg(long, default_value_t = 200, value_parser = draws)]
     pub draws: usize,
     /// Seed of the random streams.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads (default: all cores; at most 256).
+    #[arg(long, value_parser = threads)]
     pub threads: Option<usize>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
@@ -341,8 +379,8 @@ pub struct BatchArgs {
     /// Also write CSV tables and SVG figures into this directory (created if needed).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads (default: all cores; at most 256).
+    #[arg(long, value_parser = threads)]
     pub threads: Option<usize>,
     /// Upper bound of e (default 0.2; Brach 1984 needed up to 0.42).
     #[arg(long, default_value_t = pim_fit::DEFAULT_E_RANGE[1])]
@@ -358,7 +396,7 @@ pub struct BatchArgs {
     pub strict: bool,
     /// Case files only: add the 90 % intervals of `pim uncertainty` (this many draws) to the
     /// best record of each file and cost function (the case needs [sigma] and/or [uncertainty]).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = batch_draws)]
     pub draws: usize,
     /// Seed of the draws (with --draws).
     #[arg(long, default_value_t = 1)]

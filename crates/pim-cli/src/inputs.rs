@@ -5,31 +5,23 @@ use pim_data::case::{Case, MAX_CASE_BYTES};
 use pim_data::ricsac::{RicsacTest, MAX_DATA_BYTES};
 use std::path::Path;
 
-/// Reads a file that must be a small regular text file, with messages naming it.
+/// Reads a file that must be a small regular text file, with messages naming it: refused
+/// unless it is a regular file, and read with a cap (pim-data's [`pim_data::input`]), so that
+/// no input can make the command wait or read without end.
 pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, Failure> {
-    let name = path.display();
+    let name = path.display().to_string();
     let meta = std::fs::metadata(path)
         .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    if meta.is_dir() {
-        return Err(Failure::Input(format!(
-            "{name}: is a directory, expected a file"
-        )));
-    }
+    pim_data::input::check_regular(&name, &meta)?;
     if meta.len() > max_bytes {
         return Err(Failure::Input(format!(
-            "{name}: is {} bytes, larger than the {} bytes accepted for this kind of file",
-            meta.len(),
-            max_bytes
+            "{name}: is {} bytes, larger than the {max_bytes} bytes accepted for this kind of file",
+            meta.len()
         )));
     }
-    let bytes = std::fs::read(path)
+    let file = std::fs::File::open(path)
         .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    String::from_utf8(bytes).map_err(|e| {
-        Failure::Input(format!(
-            "{name}: is not UTF-8 text (byte {})",
-            e.utf8_error().valid_up_to()
-        ))
-    })
+    Ok(pim_data::input::read_text(&name, file, max_bytes)?)
 }
 
 /// A short reason for an I/O error.

@@ -1,6 +1,7 @@
 //! The TOML case file of a solve, a sensitivity study and a fit.
 
 use crate::error::{InputError, Result};
+pub use crate::parse::{line_col, parse_toml};
 pub use crate::sections::*;
 use crate::units::UnitsSection;
 use pim_core::{Coefficients, Collision, Convention, Vehicle, VehicleId, Velocities};
@@ -81,74 +82,6 @@ pub struct Case {
     pub content: CaseFile,
 }
 
-/// Line and column (1-based) of a byte offset.
-pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
-    let upto = &text[..offset.min(text.len())];
-    let line = upto.matches('\n').count() + 1;
-    let col = upto.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    (line, col)
-}
-
-/// Parses TOML into `T`, with errors as `file:line:col: field: message` (the field as its
-/// dotted path, e.g. `vehicle1.mass`).
-pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
-    if text.trim().is_empty() {
-        return Err(InputError::new(file, "the file is empty"));
-    }
-    let located = |e: &toml::de::Error, field: Option<String>| {
-        let msg = plain_words(e.message().trim());
-        let what = match field {
-            Some(f) if !f.is_empty() && f != "." => format!("{f}: {msg}"),
-            _ => msg,
-        };
-        match e.span() {
-            Some(span) => {
-                let (line, col) = line_col(text, span.start);
-                InputError::located(file, format!("{file}:{line}:{col}: {what}"))
-            }
-            None => InputError::new(file, what),
-        }
-    };
-    let de = toml::Deserializer::parse(text).map_err(|e| located(&e, None))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
-        let field = e.path().to_string();
-        located(e.inner(), Some(field))
-    })
-}
-
-/// serde's type messages in the words of a case file: `invalid type: string "heavy", expected
-/// f64` becomes `expected a number, got the text "heavy"`.
-fn plain_words(msg: &str) -> String {
-    let Some(rest) = msg.strip_prefix("invalid type: ") else {
-        return msg.to_string();
-    };
-    let Some((got, want)) = rest.split_once(", expected ") else {
-        return msg.to_string();
-    };
-    let got = if let Some(t) = got.strip_prefix("string ") {
-        format!("the text {t}")
-    } else if let Some(t) = got.strip_prefix("integer ") {
-        format!("the whole number {}", t.trim_matches('`'))
-    } else if let Some(t) = got.strip_prefix("floating point ") {
-        format!("the number {}", t.trim_matches('`'))
-    } else if let Some(t) = got.strip_prefix("boolean ") {
-        t.trim_matches('`').to_string()
-    } else if got == "sequence" {
-        "a list".to_string()
-    } else if got == "map" {
-        "a table".to_string()
-    } else {
-        got.to_string()
-    };
-    let want = match want {
-        "f64" | "f32" => "a number".to_string(),
-        "u8" | "u16" | "u32" | "u64" | "usize" | "i32" | "i64" => "a whole number".to_string(),
-        "a string" => "text in quotes".to_string(),
-        w => w.to_string(),
-    };
-    format!("expected {want}, got {got}")
-}
-
 fn finite(file: &str, path: &str, value: f64) -> Result<()> {
     if value.is_finite() {
         Ok(())
@@ -173,7 +106,15 @@ impl Case {
         case.check_states()?;
         case.resolve_impact_points()?;
         case.convert_to_si();
+        case.check_outlines()?;
         Ok(case)
+    }
+
+    /// Checks the drawing dimensions (in SI) of both vehicles.
+    fn check_outlines(&self) -> Result<()> {
+        let c = &self.content;
+        c.vehicle1.check_outline(&self.file, "vehicle1")?;
+        c.vehicle2.check_outline(&self.file, "vehicle2")
     }
 
     /// True when vehicle 2 is a fixed barrier (`[vehicle2] barrier = true`).

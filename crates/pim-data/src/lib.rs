@@ -23,6 +23,8 @@ pub mod case;
 pub mod documents;
 mod error;
 pub mod fitcase;
+pub mod input;
+pub mod parse;
 pub mod predict;
 pub mod records;
 pub mod reference;

@@ -1,6 +1,7 @@
 //! The sections of a TOML case file: vehicles, impact, coefficients, states, partial states,
 //! bounds and observations, as written (in the file's units).
 
+use crate::error::{InputError, Result};
 use pim_core::{Coefficients, VehicleVelocity, Velocities};
 use serde::Deserialize;
 
@@ -74,6 +75,39 @@ impl VehicleSection {
     /// Angle phi, degrees (set after loading).
     pub fn phi(&self) -> f64 {
         self.phi.unwrap_or(0.0)
+    }
+
+    /// Checks the drawing dimensions (in SI): finite, positive and of a road vehicle's size,
+    /// with the CG inside the length, so that no drawing is made of an outline that cannot be.
+    pub fn check_outline(&self, file: &str, name: &str) -> Result<()> {
+        for (field, value, max) in [
+            ("length", self.length, MAX_VEHICLE_LENGTH),
+            ("width", self.width, MAX_VEHICLE_WIDTH),
+            ("cg_to_front", self.cg_to_front, MAX_VEHICLE_LENGTH),
+        ] {
+            let Some(x) = value else { continue };
+            if !(x.is_finite() && x > 0.0 && x <= max) {
+                return Err(InputError::new(
+                    file,
+                    format!(
+                        "[{name}] {field} = {x} m (in SI): must be a number above 0 and at most \
+                         {max} m"
+                    ),
+                ));
+            }
+        }
+        if let (Some(l), Some(f)) = (self.length, self.cg_to_front) {
+            if f > l {
+                return Err(InputError::new(
+                    file,
+                    format!(
+                        "[{name}] cg_to_front = {f} m is longer than length = {l} m: the centre \
+                         of gravity must lie within the vehicle"
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -328,3 +362,9 @@ pub struct ObservationSection {
 fn one() -> f64 {
     1.0
 }
+
+/// Largest drawing length (and CG-to-front distance) accepted, m: a tractor with two trailers.
+pub const MAX_VEHICLE_LENGTH: f64 = 50.0;
+
+/// Largest drawing width accepted, m.
+pub const MAX_VEHICLE_WIDTH: f64 = 10.0;

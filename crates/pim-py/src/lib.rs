@@ -67,9 +67,15 @@ fn to_py<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> 
 }
 
 /// Reads a text file, with the command line's message when it cannot.
-fn read(path: &Path) -> PyResult<String> {
-    std::fs::read_to_string(path)
-        .map_err(|e| input_error(format!("{}: cannot read: {e}", path.display())))
+/// Reads a case or data file as the command does: a regular file, read with a cap.
+fn read(path: &Path, max_bytes: u64) -> PyResult<String> {
+    let name = path.display().to_string();
+    let meta =
+        std::fs::metadata(path).map_err(|e| input_error(format!("{name}: cannot read: {e}")))?;
+    pim_data::input::check_regular(&name, &meta).map_err(|e| input_error(e.message))?;
+    let file =
+        std::fs::File::open(path).map_err(|e| input_error(format!("{name}: cannot read: {e}")))?;
+    pim_data::input::read_text(&name, file, max_bytes).map_err(|e| input_error(e.message))
 }
 
 /// A case from TOML text, a path (str or os.PathLike) or a dict of the case file's shape.
@@ -92,12 +98,18 @@ fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Case> {
         let s: String = case.extract()?;
         let looks_like_path = !s.contains('\n') && !s.contains('=');
         if looks_like_path {
-            (s.clone(), read(Path::new(&s))?)
+            (
+                s.clone(),
+                read(Path::new(&s), pim_data::case::MAX_CASE_BYTES)?,
+            )
         } else {
             ("<text>".to_string(), s)
         }
     } else if let Ok(p) = case.extract::<std::path::PathBuf>() {
-        (p.display().to_string(), read(&p)?)
+        (
+            p.display().to_string(),
+            read(&p, pim_data::case::MAX_CASE_BYTES)?,
+        )
     } else {
         return Err(input_error(
             "case: give TOML text, a path to a case file, or a dict of the same shape",
@@ -279,8 +291,8 @@ fn batch(
     .map_err(input_error)?
     .with_models(&models);
     let file = path.display().to_string();
-    let mut rows =
-        pim_data::ricsac::parse(&file, &read(&path)?).map_err(|e| input_error(e.message))?;
+    let mut rows = pim_data::ricsac::parse(&file, &read(&path, pim_data::ricsac::MAX_DATA_BYTES)?)
+        .map_err(|e| input_error(e.message))?;
     if let Some(keep) = tests {
         for t in &keep {
             if !rows.iter().any(|r| r.test == *t) {
@@ -337,8 +349,8 @@ fn uncertainty(
 #[pyo3(text_signature = "(path='data/ricsac.csv', e=0.0)")]
 fn predict_dv(py: Python<'_>, path: std::path::PathBuf, e: f64) -> PyResult<Py<PyAny>> {
     let file = path.display().to_string();
-    let tests =
-        pim_data::ricsac::parse(&file, &read(&path)?).map_err(|e| input_error(e.message))?;
+    let tests = pim_data::ricsac::parse(&file, &read(&path, pim_data::ricsac::MAX_DATA_BYTES)?)
+        .map_err(|e| input_error(e.message))?;
     let rows =
         pim_data::predict::predict_all(&file, &tests, e).map_err(|e| input_error(e.message))?;
     to_py(py, &serde_json::json!({ "tests": rows }))

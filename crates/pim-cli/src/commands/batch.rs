@@ -97,7 +97,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .parent()
         .map(|d| d.join("reference").join("brach1984_table1.csv"))
         .filter(|p| p.is_file())
-        .and_then(|p| std::fs::read_to_string(p).ok())
+        .and_then(|p| crate::inputs::read_text_file(&p, pim_data::ricsac::MAX_DATA_BYTES).ok())
         .and_then(|t| parse_brach(&t).ok());
     // The PIM tables and figures read PIM's records; the models side by side read all.
     let pim_records: Vec<batch::BatchRecord> = records

@@ -55,3 +55,29 @@ pub fn scratch_file(group: &str, name: &str, content: impl AsRef<[u8]>) -> Strin
     std::fs::write(&p, content).unwrap();
     p.display().to_string()
 }
+
+/// Runs `pim` with `args` and fails the test if it has not finished within `seconds` (a hang is
+/// a defect, not a slow test): the process is killed and the test panics.
+pub fn pim_within(args: &[&str], seconds: u64) -> Output {
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(args)
+        .current_dir(repo())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run pim");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
+    loop {
+        if child.try_wait().expect("wait for pim").is_some() {
+            return child.wait_with_output().expect("pim's output");
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("pim {} did not finish within {seconds} s", args.join(" "));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}

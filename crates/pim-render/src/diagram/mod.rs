@@ -224,7 +224,19 @@ impl Diagram {
     }
 
     /// The diagram as SVG text.
+    ///
+    /// A diagram whose extent is not finite (a non-finite dimension or velocity that reached it
+    /// without validation) is an error, never handed to the plotting library, whose axis ticks
+    /// would not end.
     pub fn svg(&self) -> Result<String, String> {
+        let (lo, hi) = self.extent();
+        if !lo.iter().chain(&hi).all(|x| x.is_finite()) {
+            return Err(
+                "the plan view has a dimension or velocity that is not a finite number \
+                        (check length, width, cg_to_front and the velocities)"
+                    .to_string(),
+            );
+        }
         let mut buf = String::new();
         self.draw_into(&mut buf)?;
         Ok(buf)

@@ -1,0 +1,94 @@
+//! Hostile and careless input, by class: every run ends within its time limit, with exit status
+//! 2 and one message that names the file and field; none crashes, hangs or answers with exit 0.
+mod common;
+use common::*;
+
+const LIMIT: u64 = 20;
+
+/// Exit status 2 and a message containing every `words`.
+fn refused(args: &[&str], words: &[&str]) {
+    let out = pim_within(args, LIMIT);
+    let msg = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "pim {}: {msg}", args.join(" "));
+    for w in words {
+        assert!(
+            msg.contains(w),
+            "pim {}: {msg:?} lacks {w:?}",
+            args.join(" ")
+        );
+    }
+    assert!(!msg.contains("panicked"), "{msg}");
+}
+
+#[test]
+fn devices_and_pipes_are_refused_before_they_are_read() {
+    for dev in ["/dev/zero", "/dev/null", "/dev/urandom"] {
+        refused(&["solve", dev], &[dev, "not a regular file"]);
+        refused(&["batch", dev], &[dev, "not a regular file"]);
+        refused(
+            &["draw", dev, "-o", "/dev/null"],
+            &[dev, "not a regular file"],
+        );
+    }
+    let dir = scratch_dir("hostile", "fifo");
+    let fifo = dir.join("case.toml");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        let f = fifo.display().to_string();
+        refused(&["solve", &f], &[&f, "not a regular file"]);
+        refused(&["uncertainty", &f], &[&f, "not a regular file"]);
+    }
+}
+
+#[test]
+fn unbounded_draws_and_threads_are_refused_with_the_range() {
+    let case = "examples/cases/ricsac7_uncertainty.toml";
+    for n in ["1000000000", "18446744073709551615", "0", "-5", "1e9"] {
+        let arg = format!("--draws={n}");
+        refused(&["uncertainty", case, &arg], &["--draws", "1 to 1000000"]);
+    }
+    for n in ["1000000000", "18446744073709551615", "1e9"] {
+        refused(
+            &["batch", "examples/cases", "--draws", n],
+            &["--draws", "0 to 1000000"],
+        );
+    }
+    for n in ["100000", "0", "257"] {
+        refused(
+            &["batch", "--threads", n],
+            &["--threads", "1 to 256", "cores"],
+        );
+        refused(
+            &["uncertainty", case, "--threads", n],
+            &["--threads", "1 to 256"],
+        );
+    }
+}
+
+#[test]
+fn non_finite_and_impossible_drawing_dimensions_are_refused() {
+    let text = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    for field in ["length", "width", "cg_to_front"] {
+        for bad in ["inf", "-inf", "nan", "-3.0", "0.0", "1e300"] {
+            let line = text
+                .lines()
+                .find(|l| l.starts_with(&format!("{field} =")))
+                .unwrap();
+            let case = text.replacen(line, &format!("{field} = {bad}"), 1);
+            let path = scratch_file("hostile", &format!("{field}_{bad}.toml"), &case);
+            for cmd in [
+                vec!["draw", path.as_str(), "-o", "/dev/null"],
+                vec!["solve", path.as_str()],
+            ] {
+                refused(&cmd, &[&path, &format!("[vehicle1] {field}")]);
+            }
+        }
+    }
+    // A CG outside the vehicle.
+    let case = text.replacen("cg_to_front = 2.0", "cg_to_front = 9.0", 1);
+    let path = scratch_file("hostile", "cg_outside.toml", &case);
+    refused(
+        &["draw", &path, "-o", "/dev/null"],
+        &["cg_to_front", "length"],
+    );
+}
