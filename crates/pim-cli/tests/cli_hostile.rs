@@ -92,3 +92,28 @@ fn non_finite_and_impossible_drawing_dimensions_are_refused() {
         &["cg_to_front", "length"],
     );
 }
+
+#[test]
+fn data_rows_outside_their_physical_range_are_refused() {
+    let good = std::fs::read_to_string(repo().join("data/ricsac.csv")).unwrap();
+    let header: Vec<&str> = good.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = good.lines().nth(1).unwrap().split(',').collect();
+    for (column, value, range) in [
+        ("mass1_kg", "1e-300", "between 100 and 60000 kg"),
+        ("yaw_inertia2_kgm2", "-5", "between 10 and 2000000 kg m^2"),
+        ("vi1x_mps", "1e308", "between -100 and 100 m/s"),
+        ("wf2_radps", "90", "between -15 and 15 rad/s"),
+        ("heading1_deg", "3.6e17", "between -360 and 360 deg"),
+        ("d2_m", "-1", "between 0 and 30 m"),
+        ("dv1_measured_mps", "-3", "between 0 and 100 m/s"),
+    ] {
+        let k = header.iter().position(|h| *h == column).unwrap();
+        let mut bad = row.clone();
+        bad[k] = value;
+        let text = good.replacen(&row.join(","), &bad.join(","), 1);
+        let path = scratch_file("hostile", &format!("{column}.csv"), &text);
+        for cmd in ["batch", "predict-dv"] {
+            refused(&[cmd, &path], &[&path, ":2:", column, range]);
+        }
+    }
+}

@@ -26,6 +26,7 @@ pub mod fitcase;
 pub mod input;
 pub mod parse;
 pub mod predict;
+pub mod ranges;
 pub mod records;
 pub mod reference;
 pub mod ricsac;

@@ -250,6 +250,20 @@ impl RicsacTest {
     }
 }
 
+/// The physical range of a numeric column.
+fn range_of(column: &str) -> crate::ranges::Range {
+    use crate::ranges::*;
+    match column {
+        c if c.starts_with("mass") => MASS,
+        c if c.starts_with("yaw_inertia") => YAW_INERTIA,
+        c if c.starts_with("d1") || c.starts_with("d2") => DISTANCE,
+        c if c.starts_with("dv") => DELTA_V,
+        c if c.ends_with("_deg") => ANGLE,
+        c if c.ends_with("_radps") => YAW_RATE,
+        _ => SPEED,
+    }
+}
+
 /// Maps a pim-core field name (`vehicle1.mass`) to the column of this file.
 fn column_of(field: &str) -> &'static str {
     match field {
@@ -346,11 +360,11 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>> {
         })?;
         row.line = line;
         for (name, value) in row.numeric() {
-            if !value.is_finite() {
+            if let Err(why) = range_of(name).check(value) {
                 return Err(InputError::located(
                     file,
                     format!(
-                        "{file}:{line}: column {} `{name}`: must be a finite number, got {value}",
+                        "{file}:{line}: column {} `{name}`: {why}",
                         column_number(name)
                     ),
                 ));

@@ -1,0 +1,109 @@
+//! The physical range of every kind of number the toolkit reads, written once: an input outside
+//! its range is refused with the range in the message (it is a mistake of units, a typo or a
+//! careless script, never a crash to reconstruct).
+
+/// A closed range of accepted values, with its unit and what it covers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Range {
+    /// Smallest accepted value.
+    pub lo: f64,
+    /// Largest accepted value.
+    pub hi: f64,
+    /// Unit of both ends.
+    pub unit: &'static str,
+}
+
+/// Vehicle mass, kg: from a light motorcycle to a loaded heavy truck.
+pub const MASS: Range = Range {
+    lo: 100.0,
+    hi: 60_000.0,
+    unit: "kg",
+};
+
+/// Yaw moment of inertia, kg m^2.
+pub const YAW_INERTIA: Range = Range {
+    lo: 10.0,
+    hi: 2.0e6,
+    unit: "kg m^2",
+};
+
+/// Distance from a CG to the impact centre, m.
+pub const DISTANCE: Range = Range {
+    lo: 0.0,
+    hi: 30.0,
+    unit: "m",
+};
+
+/// An angle, degrees (headings, impact-centre angles, the crush-surface angle): one turn either
+/// way; larger values are a mistake, not an angle to wrap.
+pub const ANGLE: Range = Range {
+    lo: -360.0,
+    hi: 360.0,
+    unit: "deg",
+};
+
+/// A velocity component, m/s (360 km/h).
+pub const SPEED: Range = Range {
+    lo: -100.0,
+    hi: 100.0,
+    unit: "m/s",
+};
+
+/// A yaw rate, rad/s (about 860 deg/s).
+pub const YAW_RATE: Range = Range {
+    lo: -15.0,
+    hi: 15.0,
+    unit: "rad/s",
+};
+
+/// A measured delta-V (a magnitude), m/s.
+pub const DELTA_V: Range = Range {
+    lo: 0.0,
+    hi: 100.0,
+    unit: "m/s",
+};
+
+impl Range {
+    /// `Err` with the words "must be between lo and hi unit" when `x` is not a finite number in
+    /// the range.
+    pub fn check(&self, x: f64) -> Result<(), String> {
+        if x.is_finite() && x >= self.lo && x <= self.hi {
+            Ok(())
+        } else {
+            Err(format!(
+                "must be a number between {} and {} {}, got {}",
+                self.lo,
+                self.hi,
+                self.unit,
+                short(x)
+            ))
+        }
+    }
+}
+
+/// A number as a person reads it: plain when moderate, in exponent form when huge or tiny.
+pub fn short(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-3..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_accept_their_ends_and_refuse_beyond_and_non_finite() {
+        assert!(MASS.check(100.0).is_ok() && MASS.check(60_000.0).is_ok());
+        for bad in [99.9, 1e-300, f64::NAN, f64::INFINITY, -1.0] {
+            assert!(MASS.check(bad).is_err(), "{bad}");
+        }
+        assert!(SPEED
+            .check(1e308)
+            .unwrap_err()
+            .contains("between -100 and 100 m/s"));
+        assert!(DELTA_V.check(-3.0).is_err());
+    }
+}
