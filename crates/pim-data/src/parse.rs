@@ -17,7 +17,21 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
         return Err(InputError::new(file, "the file is empty"));
     }
     let located = |e: &toml::de::Error, field: Option<String>| {
-        let msg = plain_words(e.message().trim());
+        let mut msg = plain_words(e.message().trim());
+        if msg.starts_with("duplicate key") {
+            // Name the key: the span covers it.
+            let key = e
+                .span()
+                .and_then(|s| text.get(s))
+                .map(|k| k.trim().trim_matches('"').to_string())
+                .unwrap_or_default();
+            msg = format!("duplicate key `{key}`: it is given twice in its table; give it once");
+        } else if msg.contains("untagged enum Spread") {
+            msg = "expected a standard deviation (a number) or { uniform = [low, high] }"
+                .to_string();
+        } else if msg.contains("recursion limit") || msg.contains("cannot recurse") {
+            msg = "tables or lists nested too deeply for a case file".to_string();
+        }
         let what = match field {
             Some(f) if !f.is_empty() && f != "." => format!("{f}: {msg}"),
             _ => msg,

@@ -122,6 +122,15 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         )
     })?;
     bar.finish_and_clear();
+    if study.feasible_draws == 0 {
+        return Err(Failure::NoAnswer(format!(
+            "{}: none of the {} draws has an admissible fit, so there are no intervals (the \
+             nominal fit and the spread of the inputs leave nothing feasible: check [bounds], \
+             [sigma] and [uncertainty])",
+            case.file, study.draws
+        ))
+        .into());
+    }
     let record = json(&study)?;
     let text = table(&title_of(&case), &study);
     if let Some(dir) = &a.out {
