@@ -117,3 +117,33 @@ fn data_rows_outside_their_physical_range_are_refused() {
         }
     }
 }
+
+#[test]
+fn control_characters_in_free_text_reach_no_output_raw() {
+    let text = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    let case = text
+        .replace(
+            "title = \"Side impact, SI units\"",
+            "title = \"Side \\u001b[31mimpact\\u0007\"",
+        )
+        .replace(
+            "description = \"striking car\"",
+            "description = \"striking \\u0001car\"",
+        );
+    let path = scratch_file("hostile", "control.toml", &case);
+    let dir = scratch_dir("hostile", "control_out");
+    let out_dir = dir.join("out").display().to_string();
+    let out = pim_within(&["solve", &path, "--out", &out_dir], LIMIT);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let raw = |b: &[u8]| {
+        b.iter()
+            .any(|&c| c < 0x20 && c != b'\n' && c != b'\t' && c != b'\r')
+    };
+    assert!(!raw(&out.stdout), "a control character on the terminal");
+    for f in ["diagram.svg", "report.md", "result.json"] {
+        let bytes = std::fs::read(dir.join("out").join(f)).unwrap();
+        assert!(!raw(&bytes), "{f} holds a raw control character");
+    }
+    let table = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(table.contains("\\u{1b}[31mimpact"), "{table}");
+}

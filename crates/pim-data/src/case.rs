@@ -82,6 +82,20 @@ pub struct Case {
     pub content: CaseFile,
 }
 
+/// Free text from a case made safe for every output: control characters (an escape sequence
+/// for the terminal, a character XML forbids) are written as their `\u{..}` escapes.
+pub fn printable(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
 fn finite(file: &str, path: &str, value: f64) -> Result<()> {
     if value.is_finite() {
         Ok(())
@@ -102,6 +116,10 @@ impl Case {
             file: file.to_string(),
             content,
         };
+        case.content.title = case.content.title.as_deref().map(printable);
+        for v in [&mut case.content.vehicle1, &mut case.content.vehicle2] {
+            v.description = v.description.as_deref().map(printable);
+        }
         case.resolve_barrier()?;
         case.check_states()?;
         case.resolve_impact_points()?;

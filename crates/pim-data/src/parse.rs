@@ -27,8 +27,8 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
                 .unwrap_or_default();
             msg = format!("duplicate key `{key}`: it is given twice in its table; give it once");
         } else if msg.contains("untagged enum Spread") {
-            msg = "expected a standard deviation (a number) or { uniform = [low, high] }"
-                .to_string();
+            msg =
+                "expected a standard deviation (a number) or { uniform = [low, high] }".to_string();
         } else if msg.contains("recursion limit") || msg.contains("cannot recurse") {
             msg = "tables or lists nested too deeply for a case file".to_string();
         }

@@ -28,9 +28,11 @@ fn index(name: &str) -> usize {
 /// The figures `histograms.svg`, `speeds.svg` and `tornado.svg`.
 pub fn figures(s: &Study) -> Result<Vec<Figure>, String> {
     if s.samples.is_empty() || s.samples.iter().flatten().any(|x| !x.is_finite()) {
-        return Err("no feasible draw, or a draw with a value that is not a number: nothing to \
+        return Err(
+            "no feasible draw, or a draw with a value that is not a number: nothing to \
                     draw"
-            .to_string());
+                .to_string(),
+        );
     }
     let mut figures = Vec::new();
     let figure =
