@@ -147,3 +147,57 @@ fn control_characters_in_free_text_reach_no_output_raw() {
     let table = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(table.contains("\\u{1b}[31mimpact"), "{table}");
 }
+
+#[test]
+fn an_output_folder_is_replaced_as_a_whole_and_never_a_users_folder() {
+    let dir = scratch_dir("hostile", "outdir");
+    let out = dir.join("results");
+    let o = out.display().to_string();
+    let run = |args: &[&str]| pim_within(args, LIMIT);
+    let first = run(&["predict-dv", "--out", &o]);
+    assert!(first.status.success(), "{}", stderr(&first));
+    std::fs::write(out.join("stale.txt"), "from an earlier, different run").unwrap();
+    // A second run replaces the folder as a whole: the stale file does not survive beside the
+    // new results.
+    let second = run(&["solve", "examples/cases/side_impact.toml", "--out", &o]);
+    assert!(second.status.success(), "{}", stderr(&second));
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        !names
+            .iter()
+            .any(|n| n == "stale.txt" || n.starts_with("predict")),
+        "{names:?}"
+    );
+    assert!(names.iter().any(|n| n == "result.json"), "{names:?}");
+    // A run that fails on its input leaves the folder as it was.
+    let before = std::fs::read(out.join("result.json")).unwrap();
+    let bad = run(&["solve", "/dev/null", "--out", &o]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert_eq!(std::fs::read(out.join("result.json")).unwrap(), before);
+    // A folder that pim did not write is never replaced.
+    let mine = dir.join("mine");
+    std::fs::create_dir_all(&mine).unwrap();
+    std::fs::write(mine.join("thesis.tex"), "years of work").unwrap();
+    let m = mine.display().to_string();
+    let refused = run(&["solve", "examples/cases/side_impact.toml", "--out", &m]);
+    assert_eq!(refused.status.code(), Some(4), "{}", stderr(&refused));
+    assert!(
+        stderr(&refused).contains("did not write"),
+        "{}",
+        stderr(&refused)
+    );
+    assert_eq!(
+        std::fs::read_to_string(mine.join("thesis.tex")).unwrap(),
+        "years of work"
+    );
+    // No staging folder is left behind.
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}

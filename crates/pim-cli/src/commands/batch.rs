@@ -1,7 +1,7 @@
 //! `pim batch` and `pim compare-costs`: the refit of a data file.
 
 use super::batch_plan::plan;
-use super::{json, print_out, write_file};
+use super::{json, print_out};
 use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::load_ricsac;
@@ -139,35 +139,36 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     };
     print_out(&text)?;
     if let Some(dir) = &a.out {
-        super::create_dir(dir)?;
-        write_file(&dir.join("records.csv"), &records_csv)?;
-        write_file(&dir.join("records.json"), &records_json)?;
+        let out = super::output::OutDir::create(dir)?;
+        out.write("records.csv", &records_csv)?;
+        out.write("records.json", &records_json)?;
         let mut tables = 2;
         let mut figs = Vec::new();
         if !pim_records.is_empty() {
-            write_file(
-                &dir.join("velocity_errors.csv"),
+            out.write(
+                "velocity_errors.csv",
                 &batch_tables::errors_csv(&pim_records),
             )?;
-            write_file(&dir.join("summary.txt"), &summary)?;
-            write_file(&dir.join("compare_costs.txt"), &compare_text)?;
+            out.write("summary.txt", &summary)?;
+            out.write("compare_costs.txt", &compare_text)?;
             tables += 3;
             figs = figures::all(&pim_records, &plan.costs, &plan.settings)
                 .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
         }
         if let Some(b) = &brach_text {
-            write_file(&dir.join("brach1984.txt"), b)?;
+            out.write("brach1984.txt", b)?;
             tables += 1;
         }
         if let Some(m) = &models_text {
-            write_file(&dir.join("models.txt"), m)?;
+            out.write("models.txt", m)?;
             tables += 1;
             figs.push(
                 figures::models(&records, &plan.costs, &plan.models)
                     .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?,
             );
         }
-        super::write_figures(dir, &figs)?;
+        super::write_figures(&out, &figs)?;
+        out.commit()?;
         if a.format != BatchFormat::Json {
             eprintln!(
                 "pim: wrote {tables} tables and {} figures to {}",

@@ -127,15 +127,19 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
     // Outputs, opened before any work so that an unwritable directory fails at once.
     let mut csv_file = None;
     let mut jsonl_file = None;
-    if let Some(dir) = &a.out {
-        super::create_dir(dir)?;
-        let p = dir.join("records.csv");
+    let out = a
+        .out
+        .as_deref()
+        .map(super::output::OutDir::create)
+        .transpose()?;
+    if let Some(out) = &out {
+        let p = out.file("records.csv");
         let mut w = csv::Writer::from_path(&p)
             .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
         w.write_record(CaseRecord::CSV_HEADER)
             .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
         csv_file = Some((p, w));
-        let p = dir.join("records.jsonl");
+        let p = out.file("records.jsonl");
         let f = std::fs::File::create(&p).map_err(|e| out_err(&p, e))?;
         jsonl_file = Some((p, std::io::BufWriter::new(f)));
     }
@@ -238,8 +242,10 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
     if let Some((p, mut w)) = jsonl_file {
         w.flush().map_err(|e| out_err(&p, e))?;
     }
-    if let Some(dir) = &a.out {
-        super::write_file(&dir.join("summary.txt"), &summary)?;
+    if let Some(out) = out {
+        out.write("summary.txt", &summary)?;
+        let dir = out.target().to_path_buf();
+        out.commit()?;
         eprintln!(
             "pim: wrote records.csv, records.jsonl and summary.txt to {}",
             dir.display()

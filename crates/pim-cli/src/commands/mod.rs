@@ -5,6 +5,7 @@ pub mod batch_cases;
 pub mod batch_plan;
 pub mod draw;
 pub mod fit;
+pub mod output;
 pub mod predict;
 pub mod solve;
 pub mod uncertainty;
@@ -61,15 +62,31 @@ pub fn create_dir(dir: &std::path::Path) -> Result<()> {
     })
 }
 
-/// Writes an output file; failures are exit status 4.
+/// Writes an output file under its final name only when it is complete (written beside it,
+/// then renamed); failures are exit status 4 and leave an earlier file as it was.
 pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| {
+    let fail = |e: std::io::Error| -> anyhow::Error {
         Failure::Output(format!(
             "{}: cannot write: {}",
             path.display(),
             io_reason(&e)
         ))
         .into()
+    };
+    if path.is_dir() {
+        return Err(
+            Failure::Output(format!("{}: is a folder; give a file name", path.display())).into(),
+        );
+    }
+    let tmp =
+        std::path::PathBuf::from(format!("{}.pim-{}.tmp", path.display(), std::process::id()));
+    if let Err(e) = std::fs::write(&tmp, text) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(fail(e));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        fail(e)
     })
 }
 
@@ -96,12 +113,17 @@ pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
     write_file(path, &svg)
 }
 
-/// Writes `result.json`, `report.md` and `diagram.svg` into `dir`.
+/// Writes `result.json`, `report.md` and `diagram.svg` into the folder `dir` (as a whole, see
+/// [`output::OutDir`]).
 pub fn write_result_dir(dir: &Path, json: &str, markdown: &str, d: &Diagram) -> Result<()> {
-    create_dir(dir)?;
-    write_file(&dir.join("result.json"), json)?;
-    write_file(&dir.join("report.md"), markdown)?;
-    write_diagram(d, &dir.join("diagram.svg"))?;
+    let out = output::OutDir::create(dir)?;
+    out.write("result.json", json)?;
+    out.write("report.md", markdown)?;
+    let svg = d
+        .svg()
+        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+    out.write("diagram.svg", &svg)?;
+    out.commit()?;
     eprintln!(
         "pim: wrote result.json, report.md and diagram.svg to {}",
         dir.display()
@@ -109,10 +131,10 @@ pub fn write_result_dir(dir: &Path, json: &str, markdown: &str, d: &Diagram) -> 
     Ok(())
 }
 
-/// Writes figures into `dir`; returns how many.
-pub fn write_figures(dir: &Path, figures: &[pim_render::Figure]) -> Result<usize> {
+/// Writes figures into an output folder; returns how many.
+pub fn write_figures(out: &output::OutDir, figures: &[pim_render::Figure]) -> Result<usize> {
     for f in figures {
-        write_file(&dir.join(&f.name), &f.svg)?;
+        out.write(&f.name, &f.svg)?;
     }
     Ok(figures.len())
 }

@@ -1,6 +1,6 @@
 //! `pim predict-dv`: Brach 1984's delta-V prediction for every test of a data file.
 
-use super::{json, print_out, write_file};
+use super::{json, print_out};
 use crate::args::{Format, PredictArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_ricsac;
@@ -56,12 +56,13 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     let record = json(&serde_json::json!({ "tests": rows }))?;
     let text = table(&file, a.e, &rows);
     if let Some(dir) = &a.out {
-        super::create_dir(dir)?;
-        write_file(&dir.join("predict_dv.json"), &record)?;
-        write_file(&dir.join("predict_dv.txt"), &text)?;
+        let out = super::output::OutDir::create(dir)?;
+        out.write("predict_dv.json", &record)?;
+        out.write("predict_dv.txt", &text)?;
         let figure = pim_render::predict_figure::figure(&rows)
             .map_err(|e| Failure::Output(format!("{}: figure: {e}", dir.display())))?;
-        super::write_figures(dir, &[figure])?;
+        super::write_figures(&out, &[figure])?;
+        out.commit()?;
     }
     print_out(match a.format {
         Format::Json => &record,

@@ -1,6 +1,6 @@
 //! `pim uncertainty`: the seeded parametric bootstrap of a fit case.
 
-use super::{json, print_out, title_of, write_file};
+use super::{json, print_out, title_of};
 use crate::args::{Format, UncertaintyArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::{checked_impact, load_case};
@@ -134,12 +134,13 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     let record = json(&study)?;
     let text = table(&title_of(&case), &study);
     if let Some(dir) = &a.out {
-        super::create_dir(dir)?;
-        write_file(&dir.join("uncertainty.json"), &record)?;
-        write_file(&dir.join("uncertainty.txt"), &text)?;
+        let out = super::output::OutDir::create(dir)?;
+        out.write("uncertainty.json", &record)?;
+        out.write("uncertainty.txt", &text)?;
         let figures = pim_render::uncertainty_figures::figures(&study)
             .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
-        super::write_figures(dir, &figures)?;
+        super::write_figures(&out, &figures)?;
+        out.commit()?;
     }
     print_out(match a.format {
         Format::Json => &record,
