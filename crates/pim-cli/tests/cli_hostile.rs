@@ -201,3 +201,23 @@ fn an_output_folder_is_replaced_as_a_whole_and_never_a_users_folder() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+#[test]
+fn a_directory_batch_names_links_that_lead_nowhere() {
+    let dir = scratch_dir("hostile", "links");
+    std::fs::copy(
+        repo().join("examples/cases/side_impact.toml"),
+        dir.join("a.toml"),
+    )
+    .unwrap();
+    let d = dir.display().to_string();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("nowhere.toml", dir.join("dangling.toml")).unwrap();
+        refused(&["batch", &d], &["dangling.toml", "leads nowhere"]);
+        std::fs::remove_file(dir.join("dangling.toml")).unwrap();
+        std::os::unix::fs::symlink("loop2.toml", dir.join("loop1.toml")).unwrap();
+        std::os::unix::fs::symlink("loop1.toml", dir.join("loop2.toml")).unwrap();
+        refused(&["batch", &d], &["loop", "fix or remove it"]);
+    }
+}

@@ -18,18 +18,44 @@ use std::process::ExitCode;
 const CHUNK: usize = 256;
 
 /// The case files named on the command line: files as given, directories as their `*.toml`
-/// files in name order.
+/// files in name order. A `*.toml` entry that is not a readable regular file (a link that leads
+/// nowhere or in a loop, a folder, a device) is an input error naming it, not skipped in
+/// silence.
 fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
     let mut out = Vec::new();
     for p in inputs {
         if p.is_dir() {
-            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| {
-                    Failure::Input(format!("{}: cannot read: {}", p.display(), io_reason(&e)))
-                })?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|x| x == "toml") && f.is_file())
-                .collect();
+            let mut found: Vec<PathBuf> = Vec::new();
+            let entries = std::fs::read_dir(p).map_err(|e| {
+                Failure::Input(format!("{}: cannot read: {}", p.display(), io_reason(&e)))
+            })?;
+            for entry in entries {
+                let f = entry
+                    .map_err(|e| {
+                        Failure::Input(format!("{}: cannot read: {}", p.display(), io_reason(&e)))
+                    })?
+                    .path();
+                if f.extension().is_none_or(|x| x != "toml") {
+                    continue;
+                }
+                match std::fs::metadata(&f) {
+                    Ok(m) if m.is_file() => found.push(f),
+                    Ok(_) => {
+                        return Err(Failure::Input(format!(
+                            "{}: is not a regular file; a case file is expected",
+                            f.display()
+                        )))
+                    }
+                    Err(e) => {
+                        return Err(Failure::Input(format!(
+                            "{}: cannot be read ({}): a link that leads nowhere or in a loop? \
+                             fix or remove it",
+                            f.display(),
+                            io_reason(&e)
+                        )))
+                    }
+                }
+            }
             found.sort();
             if found.is_empty() {
                 return Err(Failure::Input(format!(
