@@ -221,3 +221,56 @@ fn a_directory_batch_names_links_that_lead_nowhere() {
         refused(&["batch", &d], &["loop", "fix or remove it"]);
     }
 }
+
+#[test]
+fn bounds_spreads_and_sigmas_outside_their_domains_are_refused() {
+    let base =
+        std::fs::read_to_string(repo().join("examples/cases/ricsac7_uncertainty.toml")).unwrap();
+    let with = |extra: &str| format!("{base}\n{extra}\n");
+    let cases: [(&str, String, &[&str]); 6] = [
+        (
+            "three_values",
+            with("[bounds]\ne = [0.0, 0.1, 0.2]"),
+            &["bounds.e", "two numbers; got 3 values"],
+        ),
+        (
+            "huge_crush_bounds",
+            with("[bounds]\ncrush_angle = [-1e300, 1e300]"),
+            &["[bounds] crush_angle", "-360 <= low <= high <= 360"],
+        ),
+        (
+            "reversed_bounds",
+            with("[bounds]\nmu = [0.9, 0.1]"),
+            &["mu = [0.9, 0.1]", "low <= high"],
+        ),
+        (
+            "huge_uniform",
+            base.replace("uniform = [58.0, 62.0]", "uniform = [-1e308, 1e308]"),
+            &["vehicle2.heading", "within -360 and 360 deg"],
+        ),
+        (
+            "mass_sd",
+            base.replace("mass = 50.0, d = 0.2", "mass = 5000.0, d = 0.2"),
+            &["vehicle1.mass", "not smaller than the value"],
+        ),
+        (
+            "tiny_sigma",
+            base.replacen(
+                "vehicle1 = { vx = 0.5, vy = 0.5, omega = 0.1 }",
+                "vehicle1 = { vx = 1e-300, vy = 0.5, omega = 0.1 }",
+                1,
+            ),
+            &["[sigma] initial.vehicle1.vx = 1e-300", "at least 0.000001"],
+        ),
+    ];
+    for (name, text, words) in cases {
+        assert_ne!(
+            text, base,
+            "{name}: the mistake was not written into the case"
+        );
+        let path = scratch_file("hostile", &format!("{name}.toml"), &text);
+        let mut all = vec![path.as_str()];
+        all.extend_from_slice(words);
+        refused(&["uncertainty", &path, "--draws", "5"], &all);
+    }
+}

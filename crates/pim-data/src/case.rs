@@ -125,6 +125,9 @@ impl Case {
         case.resolve_impact_points()?;
         case.convert_to_si();
         case.check_outlines()?;
+        if let Some(b) = &case.content.bounds {
+            b.check(&case.file)?;
+        }
         Ok(case)
     }
 

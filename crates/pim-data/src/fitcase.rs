@@ -21,6 +21,10 @@ fn input(case: &Case, what: String) -> InputError {
     InputError::new(&case.file, what)
 }
 
+/// Smallest standard deviation accepted, m/s or rad/s: below it the inverse-variance weights
+/// lose their meaning in floating point (a sigma of 1e-300 would be an infinite weight).
+pub const SIGMA_MIN: f64 = 1e-6;
+
 /// When the case gives standard deviations (`[sigma]`, `sigma` on observations): the common
 /// unit `u` of its inverse-variance weights `w = u / sigma^2`, the smallest sigma squared
 /// (m^2/s^2 or rad^2/s^2), so that every weight is in (0, 1] and the cost over `u` is a
@@ -41,10 +45,14 @@ pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
         return Ok(None);
     }
     for (what, s) in &all {
-        if !(s.is_finite() && *s > 0.0) {
+        if !(s.is_finite() && *s >= SIGMA_MIN) {
             return Err(input(
                 case,
-                format!("{what} = {s} must be a positive number"),
+                format!(
+                    "{what} = {}: a standard deviation must be a number of at least {SIGMA_MIN} \
+                     (m/s or rad/s)",
+                    crate::ranges::short(*s)
+                ),
             ));
         }
     }

@@ -299,12 +299,16 @@ impl PartialStates {
 #[serde(deny_unknown_fields)]
 pub struct BoundsSection {
     /// [low, high] of e (default [0, 0.2]).
+    #[serde(default, deserialize_with = "pair")]
     pub e: Option<[f64; 2]>,
     /// [low, high] of mu (default [-1.2, 1.2]); mu is always also between 0 and mu_max.
+    #[serde(default, deserialize_with = "pair")]
     pub mu: Option<[f64; 2]>,
     /// [low, high] of the tangential model's et (default [-1, 1]; `pim fit --model tangential`).
+    #[serde(default, deserialize_with = "pair")]
     pub et: Option<[f64; 2]>,
     /// [low, high] of the tangential model's friction limit (default [0, 1.2]).
+    #[serde(default, deserialize_with = "pair")]
     pub friction: Option<[f64; 2]>,
     /// Bound on each linear velocity component, m/s (default 20).
     pub velocity: Option<f64>,
@@ -315,6 +319,7 @@ pub struct BoundsSection {
     /// Vehicle 2's impact centre, likewise.
     pub vehicle2: Option<CentreBounds>,
     /// The crush-surface angle, estimated within `[low, high]` degrees.
+    #[serde(default, deserialize_with = "pair")]
     pub crush_angle: Option<[f64; 2]>,
 }
 
@@ -324,8 +329,10 @@ pub struct BoundsSection {
 #[serde(deny_unknown_fields)]
 pub struct CentreBounds {
     /// `[low, high]` of the CG-to-impact-centre distance.
+    #[serde(default, deserialize_with = "pair")]
     pub d: Option<[f64; 2]>,
     /// `[low, high]` of the angle from the nose, degrees.
+    #[serde(default, deserialize_with = "pair")]
     pub phi: Option<[f64; 2]>,
     /// Bounds of the impact point's coordinates in the vehicle frame.
     pub impact_point: Option<PointBounds>,
@@ -336,8 +343,10 @@ pub struct CentreBounds {
 #[serde(deny_unknown_fields)]
 pub struct PointBounds {
     /// `[low, high]` along the forward axis.
+    #[serde(default, deserialize_with = "pair")]
     pub x: Option<[f64; 2]>,
     /// `[low, high]` along the left axis.
+    #[serde(default, deserialize_with = "pair")]
     pub y: Option<[f64; 2]>,
 }
 
@@ -368,3 +377,89 @@ pub const MAX_VEHICLE_LENGTH: f64 = 50.0;
 
 /// Largest drawing width accepted, m.
 pub const MAX_VEHICLE_WIDTH: f64 = 10.0;
+
+/// `[low, high]` in `[bounds]`: exactly two numbers (a third is a mistake, not ignored).
+fn pair<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Option<[f64; 2]>, D::Error> {
+    let v: Option<Vec<f64>> = Option::deserialize(d)?;
+    match v {
+        None => Ok(None),
+        Some(v) if v.len() == 2 => Ok(Some([v[0], v[1]])),
+        Some(v) => Err(serde::de::Error::custom(format!(
+            "expected [low, high], two numbers; got {} values",
+            v.len()
+        ))),
+    }
+}
+
+impl BoundsSection {
+    /// Checks the geometry bounds and velocity limits: finite, low <= high, angles within one
+    /// turn, limits above 0 (the coefficient boxes are checked with the fit's settings).
+    pub fn check(&self, file: &str) -> Result<()> {
+        // The coefficient boxes (e, mu, et, friction) are checked with the fit's settings,
+        // against the coefficient domains (pim-fit's `FitSettings::check`).
+        let pairs: [(&str, Option<[f64; 2]>, f64, f64); 3] = [
+            ("crush_angle", self.crush_angle, -360.0, 360.0),
+            (
+                "vehicle1.phi",
+                self.vehicle1.and_then(|v| v.phi),
+                -360.0,
+                360.0,
+            ),
+            (
+                "vehicle2.phi",
+                self.vehicle2.and_then(|v| v.phi),
+                -360.0,
+                360.0,
+            ),
+        ];
+        let lengths = [
+            ("vehicle1.d", self.vehicle1.and_then(|v| v.d)),
+            ("vehicle2.d", self.vehicle2.and_then(|v| v.d)),
+            (
+                "vehicle1.impact_point.x",
+                self.vehicle1.and_then(|v| v.impact_point).and_then(|p| p.x),
+            ),
+            (
+                "vehicle1.impact_point.y",
+                self.vehicle1.and_then(|v| v.impact_point).and_then(|p| p.y),
+            ),
+            (
+                "vehicle2.impact_point.x",
+                self.vehicle2.and_then(|v| v.impact_point).and_then(|p| p.x),
+            ),
+            (
+                "vehicle2.impact_point.y",
+                self.vehicle2.and_then(|v| v.impact_point).and_then(|p| p.y),
+            ),
+        ];
+        let all = pairs
+            .iter()
+            .map(|&(n, v, lo, hi)| (n, v, lo, hi))
+            .chain(lengths.iter().map(|&(n, v)| (n, v, -1e3, 1e3)));
+        for (name, value, lo, hi) in all {
+            let Some([a, b]) = value else { continue };
+            if !(a.is_finite() && b.is_finite() && lo <= a && a <= b && b <= hi) {
+                return Err(InputError::new(
+                    file,
+                    format!(
+                        "[bounds] {name} = [{}, {}]: give [low, high] with {lo} <= low <= high \
+                         <= {hi}",
+                        crate::ranges::short(a),
+                        crate::ranges::short(b)
+                    ),
+                ));
+            }
+        }
+        for (name, value) in [("velocity", self.velocity), ("yaw_rate", self.yaw_rate)] {
+            if let Some(x) = value {
+                if !(x.is_finite() && x > 0.0) {
+                    return Err(InputError::new(
+                        file,
+                        format!("[bounds] {name} = {x}: must be a number above 0"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,6 +1,7 @@
 //! The `[uncertainty]` section of a case file: the spread of each input the fit takes as exact.
 
 use crate::error::{InputError, Result};
+use crate::ranges::short;
 use crate::sections::PointSection;
 use rand::Rng;
 use serde::Deserialize;
@@ -41,6 +42,47 @@ impl Spread {
         match self {
             Spread::Normal(s) => s,
             Spread::Uniform { uniform: [a, b] } => (b - a) / 12f64.sqrt(),
+        }
+    }
+
+    /// Checks the spread against the value it qualifies (in SI): a positive quantity (mass,
+    /// inertia, distance) needs a standard deviation smaller than the value and a uniform range
+    /// above 0; an angle a standard deviation of at most 90 deg and a range within one turn.
+    pub(crate) fn check_against(
+        self,
+        what: &str,
+        file: &str,
+        nominal: f64,
+        positive: bool,
+    ) -> Result<()> {
+        self.check(what, file)?;
+        let bad = match (positive, self) {
+            (true, Spread::Normal(s)) => (s >= nominal).then(|| {
+                format!(
+                    "standard deviation {s} is not smaller than the value {nominal}: most draws \
+                     would not be a {what} at all"
+                )
+            }),
+            (true, Spread::Uniform { uniform: [a, _] }) => {
+                (a <= 0.0).then(|| format!("uniform = [{}, ...] must lie above 0", short(a)))
+            }
+            (false, Spread::Normal(s)) => {
+                (s > 90.0).then(|| format!("standard deviation {s} deg is more than 90 deg"))
+            }
+            (false, Spread::Uniform { uniform: [a, b] }) => (a < -360.0 || b > 360.0).then(|| {
+                format!(
+                    "uniform = [{}, {}] deg must lie within -360 and 360 deg",
+                    short(a),
+                    short(b)
+                )
+            }),
+        };
+        match bad {
+            Some(why) => Err(InputError::new(
+                file,
+                format!("[uncertainty] {what}: {why}"),
+            )),
+            None => Ok(()),
         }
     }
 

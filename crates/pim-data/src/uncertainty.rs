@@ -242,7 +242,8 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
         ];
         for (field, sp, nominal, set) in fields {
             if let Some(sp) = sp {
-                sp.check(&format!("{name}.{field}"), &case.file)?;
+                let positive = !matches!(field, "heading" | "phi");
+                sp.check_against(&format!("{name}.{field}"), &case.file, nominal, positive)?;
                 out.push(Input {
                     name: format!("{name}.{field}"),
                     spread: sp,
@@ -281,7 +282,12 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
         }
     }
     if let Some(sp) = unc.impact.crush_angle {
-        sp.check("impact.crush_angle", &case.file)?;
+        sp.check_against(
+            "impact.crush_angle",
+            &case.file,
+            c.impact.crush_angle,
+            false,
+        )?;
         out.push(Input {
             name: "impact.crush_angle".into(),
             spread: sp,
