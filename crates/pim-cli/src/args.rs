@@ -429,8 +429,8 @@ convention), without [coefficients], [initial], [final], plus:
   mu = [-1.2, 1.2]                 # and always between 0 and mu_max
   et = [-1.0, 1.0]                 # --model tangential: tangential restitution
   friction = [0.0, 1.2]            # --model tangential: friction limit of |Pt/Pn|
-  velocity = 20.0                  # m/s, every linear component
-  yaw_rate = 5.0                   # rad/s
+  velocity = 100.0                 # m/s, every linear component (RICSAC refits state 20)
+  yaw_rate = 15.0                  # rad/s (RICSAC refits state 5)
   vehicle1 = { d = [1.6, 2.0], phi = [-10.0, 10.0] }   # optional: estimate the impact centre
   vehicle2 = { impact_point = { x = [-0.5, 0.5], y = [-0.9, -0.7] } }   # (either form)
   crush_angle = [-35.0, -25.0]     # and the crush-surface angle, degrees

@@ -226,7 +226,7 @@ fn a_directory_batch_names_links_that_lead_nowhere() {
 fn bounds_spreads_and_sigmas_outside_their_domains_are_refused() {
     let base =
         std::fs::read_to_string(repo().join("examples/cases/ricsac7_uncertainty.toml")).unwrap();
-    let with = |extra: &str| format!("{base}\n{extra}\n");
+    let with = |extra: &str| base.replacen("[bounds]\n", &format!("{extra}\n"), 1);
     let cases: [(&str, String, &[&str]); 6] = [
         (
             "three_values",

@@ -281,9 +281,15 @@ pub fn settings(
     )
 }
 
-/// The case's `[bounds]` applied on top of `base`, checked.
+/// The case's settings on top of `base`, checked: the velocity limits of a case file (the
+/// physical ranges of `crate::ranges` unless `[bounds]` sets them), then its `[bounds]`.
 pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSettings> {
     let mut s = base;
+    // A case file's crash is whatever the user brings: its velocities are bounded by the
+    // physical ranges of the inputs (100 m/s, 15 rad/s), not by the RICSAC setting of Vossou &
+    // Koulocheris (20 m/s, 5 rad/s), unless its [bounds] say otherwise.
+    s.velocity_bound = crate::ranges::SPEED.hi;
+    s.yaw_rate_bound = crate::ranges::YAW_RATE.hi;
     if let Some(b) = case.content.bounds {
         if let Some(e) = b.e {
             s.e = e;
