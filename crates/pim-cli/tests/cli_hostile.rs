@@ -80,7 +80,7 @@ fn non_finite_and_impossible_drawing_dimensions_are_refused() {
                 vec!["draw", path.as_str(), "-o", "/dev/null"],
                 vec!["solve", path.as_str()],
             ] {
-                refused(&cmd, &[&path, &format!("[vehicle1] {field}")]);
+                refused(&cmd, &[&path, &format!(": vehicle1.{field}: ")]);
             }
         }
     }
@@ -236,7 +236,7 @@ fn bounds_spreads_and_sigmas_outside_their_domains_are_refused() {
         (
             "huge_crush_bounds",
             with("[bounds]\ncrush_angle = [-1e300, 1e300]"),
-            &["[bounds] crush_angle", "-360 <= low <= high <= 360"],
+            &[": bounds.crush_angle: ", "-360 <= low <= high <= 360"],
         ),
         (
             "reversed_bounds",
@@ -260,7 +260,7 @@ fn bounds_spreads_and_sigmas_outside_their_domains_are_refused() {
                 "vehicle1 = { vx = 1e-300, vy = 0.5, omega = 0.1 }",
                 1,
             ),
-            &["[sigma] initial.vehicle1.vx = 1e-300", "at least 0.000001"],
+            &[": sigma.initial.vehicle1.vx: 1e-300", "at least 0.000001"],
         ),
     ];
     for (name, text, words) in cases {

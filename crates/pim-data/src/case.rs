@@ -80,6 +80,8 @@ pub struct Case {
     pub file: String,
     /// The parsed content.
     pub content: CaseFile,
+    /// The text it was parsed from (to say where a field is written).
+    pub source: String,
 }
 
 /// Free text from a case made safe for every output: control characters (an escape sequence
@@ -115,6 +117,7 @@ impl Case {
         let mut case = Case {
             file: file.to_string(),
             content,
+            source: text.to_string(),
         };
         case.content.title = case.content.title.as_deref().map(printable);
         for v in [&mut case.content.vehicle1, &mut case.content.vehicle2] {
@@ -126,7 +129,8 @@ impl Case {
         case.convert_to_si();
         case.check_outlines()?;
         if let Some(b) = &case.content.bounds {
-            b.check(&case.file)?;
+            b.check()
+                .map_err(|(path, what)| case.error_at(&path, what))?;
         }
         Ok(case)
     }
@@ -134,8 +138,24 @@ impl Case {
     /// Checks the drawing dimensions (in SI) of both vehicles.
     fn check_outlines(&self) -> Result<()> {
         let c = &self.content;
-        c.vehicle1.check_outline(&self.file, "vehicle1")?;
-        c.vehicle2.check_outline(&self.file, "vehicle2")
+        for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
+            v.check_outline()
+                .map_err(|(field, what)| self.error_at(&format!("{name}.{field}"), what))?;
+        }
+        Ok(())
+    }
+
+    /// An input error at the field `path` (dotted, as in the file: `vehicle1.width`), in the one
+    /// form `FILE:LINE:COL: FIELD: what is wrong` (`FILE: FIELD: ...` when the field is not
+    /// written in the file).
+    pub fn error_at(&self, path: &str, what: impl std::fmt::Display) -> InputError {
+        match crate::parse::locate(&self.source, path) {
+            Some((line, col)) => InputError::located(
+                &self.file,
+                format!("{}:{line}:{col}: {path}: {what}", self.file),
+            ),
+            None => InputError::new(&self.file, format!("{path}: {what}")),
+        }
     }
 
     /// True when vehicle 2 is a fixed barrier (`[vehicle2] barrier = true`).

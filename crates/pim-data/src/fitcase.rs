@@ -35,7 +35,7 @@ pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
     let all: Vec<(String, f64)> = sig
         .iter()
         .enumerate()
-        .filter_map(|(k, s)| s.map(|s| (format!("[sigma] {}", COMPONENT_NAMES[k]), s)))
+        .filter_map(|(k, s)| s.map(|s| (format!("sigma.{}", COMPONENT_NAMES[k]), s)))
         .chain(c.observations.iter().enumerate().filter_map(|(i, o)| {
             o.sigma
                 .map(|s| (format!("[[observations]] entry {}: sigma", i + 1), s))
@@ -46,11 +46,11 @@ pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
     }
     for (what, s) in &all {
         if !(s.is_finite() && *s >= SIGMA_MIN) {
-            return Err(input(
-                case,
+            return Err(case.error_at(
+                what,
                 format!(
-                    "{what} = {}: a standard deviation must be a number of at least {SIGMA_MIN} \
-                     (m/s or rad/s)",
+                    "{}: a standard deviation must be a number of at least {SIGMA_MIN} (m/s or \
+                     rad/s)",
                     crate::ranges::short(*s)
                 ),
             ));

@@ -83,3 +83,37 @@ fn plain_words(msg: &str) -> String {
     };
     format!("expected {want}, got {got}")
 }
+
+/// Where the value at a dotted path (`vehicle1.width`, `bounds.crush_angle`) is written in a
+/// TOML text, as `(line, column)`; `None` when the path is not written there (a default).
+pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
+    use toml::de::{DeTable, DeValue};
+    let root = DeTable::parse(text).ok()?;
+    let mut table: &DeTable = root.get_ref();
+    let keys: Vec<&str> = path.split('.').collect();
+    let mut start = None;
+    for (i, key) in keys.iter().enumerate() {
+        let (_, value) = table.iter().find(|(k, _)| k.get_ref().as_ref() == *key)?;
+        start = Some(value.span().start);
+        if i + 1 < keys.len() {
+            match value.get_ref() {
+                DeValue::Table(t) => table = t,
+                _ => return None,
+            }
+        }
+    }
+    start.map(|s| line_col(text, s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_dotted_path_is_found_in_sections_and_inline_tables() {
+        let text = "title = \"t\"\n[vehicle1]\nmass = 1.0\nwidth = 2.0\n[bounds]\nvehicle1 = { d = [1.0, 2.0] }\n";
+        assert_eq!(locate(text, "vehicle1.width"), Some((4, 9)));
+        assert_eq!(locate(text, "bounds.vehicle1.d"), Some((6, 18)));
+        assert_eq!(locate(text, "vehicle1.length"), None);
+    }
+}

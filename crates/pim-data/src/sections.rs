@@ -1,7 +1,6 @@
 //! The sections of a TOML case file: vehicles, impact, coefficients, states, partial states,
 //! bounds and observations, as written (in the file's units).
 
-use crate::error::{InputError, Result};
 use pim_core::{Coefficients, VehicleVelocity, Velocities};
 use serde::Deserialize;
 
@@ -79,7 +78,8 @@ impl VehicleSection {
 
     /// Checks the drawing dimensions (in SI): finite, positive and of a road vehicle's size,
     /// with the CG inside the length, so that no drawing is made of an outline that cannot be.
-    pub fn check_outline(&self, file: &str, name: &str) -> Result<()> {
+    /// The error is the field (`length`, `width`, `cg_to_front`) and what is wrong with it.
+    pub fn check_outline(&self) -> std::result::Result<(), (&'static str, String)> {
         for (field, value, max) in [
             ("length", self.length, MAX_VEHICLE_LENGTH),
             ("width", self.width, MAX_VEHICLE_WIDTH),
@@ -87,22 +87,22 @@ impl VehicleSection {
         ] {
             let Some(x) = value else { continue };
             if !(x.is_finite() && x > 0.0 && x <= max) {
-                return Err(InputError::new(
-                    file,
+                return Err((
+                    field,
                     format!(
-                        "[{name}] {field} = {x} m (in SI): must be a number above 0 and at most \
-                         {max} m"
+                        "{} m (in SI): must be a number above 0 and at most {max} m",
+                        crate::ranges::short(x)
                     ),
                 ));
             }
         }
         if let (Some(l), Some(f)) = (self.length, self.cg_to_front) {
             if f > l {
-                return Err(InputError::new(
-                    file,
+                return Err((
+                    "cg_to_front",
                     format!(
-                        "[{name}] cg_to_front = {f} m is longer than length = {l} m: the centre \
-                         of gravity must lie within the vehicle"
+                        "{f} m is longer than length = {l} m: the centre of gravity must lie \
+                         within the vehicle"
                     ),
                 ));
             }
@@ -394,7 +394,7 @@ fn pair<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Option<[f
 impl BoundsSection {
     /// Checks the geometry bounds and velocity limits: finite, low <= high, angles within one
     /// turn, limits above 0 (the coefficient boxes are checked with the fit's settings).
-    pub fn check(&self, file: &str) -> Result<()> {
+    pub fn check(&self) -> std::result::Result<(), (String, String)> {
         // The coefficient boxes (e, mu, et, friction) are checked with the fit's settings,
         // against the coefficient domains (pim-fit's `FitSettings::check`).
         let pairs: [(&str, Option<[f64; 2]>, f64, f64); 3] = [
@@ -439,11 +439,10 @@ impl BoundsSection {
         for (name, value, lo, hi) in all {
             let Some([a, b]) = value else { continue };
             if !(a.is_finite() && b.is_finite() && lo <= a && a <= b && b <= hi) {
-                return Err(InputError::new(
-                    file,
+                return Err((
+                    format!("bounds.{name}"),
                     format!(
-                        "[bounds] {name} = [{}, {}]: give [low, high] with {lo} <= low <= high \
-                         <= {hi}",
+                        "[{}, {}]: give [low, high] with {lo} <= low <= high <= {hi}",
                         crate::ranges::short(a),
                         crate::ranges::short(b)
                     ),
@@ -453,9 +452,9 @@ impl BoundsSection {
         for (name, value) in [("velocity", self.velocity), ("yaw_rate", self.yaw_rate)] {
             if let Some(x) = value {
                 if !(x.is_finite() && x > 0.0) {
-                    return Err(InputError::new(
-                        file,
-                        format!("[bounds] {name} = {x}: must be a number above 0"),
+                    return Err((
+                        format!("bounds.{name}"),
+                        format!("{x}: must be a number above 0"),
                     ));
                 }
             }

@@ -51,11 +51,10 @@ impl Spread {
     pub(crate) fn check_against(
         self,
         what: &str,
-        file: &str,
         nominal: f64,
         positive: bool,
-    ) -> Result<()> {
-        self.check(what, file)?;
+    ) -> std::result::Result<(), String> {
+        self.check_own()?;
         let bad = match (positive, self) {
             (true, Spread::Normal(s)) => (s >= nominal).then(|| {
                 format!(
@@ -77,12 +76,19 @@ impl Spread {
                 )
             }),
         };
-        match bad {
-            Some(why) => Err(InputError::new(
-                file,
-                format!("[uncertainty] {what}: {why}"),
-            )),
-            None => Ok(()),
+        bad.map_or(Ok(()), Err)
+    }
+
+    /// A standard deviation >= 0, or a uniform range with low <= high, both finite.
+    pub(crate) fn check_own(self) -> std::result::Result<(), String> {
+        let ok = match self {
+            Spread::Normal(s) => s.is_finite() && s >= 0.0,
+            Spread::Uniform { uniform: [a, b] } => a.is_finite() && b.is_finite() && a <= b,
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err("a standard deviation >= 0 or { uniform = [lo, hi] } with lo <= hi".to_string())
         }
     }
 

@@ -243,7 +243,8 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
         for (field, sp, nominal, set) in fields {
             if let Some(sp) = sp {
                 let positive = !matches!(field, "heading" | "phi");
-                sp.check_against(&format!("{name}.{field}"), &case.file, nominal, positive)?;
+                sp.check_against(&format!("{name}.{field}"), nominal, positive)
+                    .map_err(|why| case.error_at(&format!("uncertainty.{name}.{field}"), why))?;
                 out.push(Input {
                     name: format!("{name}.{field}"),
                     spread: sp,
@@ -282,12 +283,8 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
         }
     }
     if let Some(sp) = unc.impact.crush_angle {
-        sp.check_against(
-            "impact.crush_angle",
-            &case.file,
-            c.impact.crush_angle,
-            false,
-        )?;
+        sp.check_against("impact.crush_angle", c.impact.crush_angle, false)
+            .map_err(|why| case.error_at("uncertainty.impact.crush_angle", why))?;
         out.push(Input {
             name: "impact.crush_angle".into(),
             spread: sp,
