@@ -93,21 +93,8 @@ impl Spread {
     }
 
     pub(crate) fn check(self, what: &str, file: &str) -> Result<()> {
-        let ok = match self {
-            Spread::Normal(s) => s.is_finite() && s >= 0.0,
-            Spread::Uniform { uniform: [a, b] } => a.is_finite() && b.is_finite() && a <= b,
-        };
-        if ok {
-            Ok(())
-        } else {
-            Err(InputError::new(
-                file,
-                format!(
-                    "[uncertainty] {what}: a standard deviation >= 0 or {{ uniform = [lo, hi] }} \
-                     with lo <= hi"
-                ),
-            ))
-        }
+        self.check_own()
+            .map_err(|why| InputError::new(file, format!("[uncertainty] {what}: {why}")))
     }
 }
 
