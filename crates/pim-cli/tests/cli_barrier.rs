@@ -211,7 +211,7 @@ fn barrier_mistakes_are_named() {
                     "[vehicle2]\nbarrier = true",
                     "[vehicle2]\nheading = 0.0\nd = 0.0\nphi = 0.0\nyaw_inertia = 5.0",
                 ),
-            "[vehicle2] mass: missing or not a number; give the vehicle's mass (or barrier = true",
+            "vehicle2.mass: missing or not a number; give the vehicle's mass (or barrier = true",
         ),
     ];
     for (i, (text, want)) in cases.iter().enumerate() {

@@ -98,13 +98,26 @@ pub fn printable(s: &str) -> String {
         .collect()
 }
 
-fn finite(file: &str, path: &str, value: f64) -> Result<()> {
+/// An input error at the dotted field `path` of the text `source` of `file` (see
+/// [`Case::error_at`]).
+fn error_at(file: &str, source: &str, path: &str, what: impl std::fmt::Display) -> InputError {
+    match crate::parse::locate(source, path) {
+        Some((line, col)) => {
+            InputError::located(file, format!("{file}:{line}:{col}: {path}: {what}"))
+        }
+        None => InputError::new(file, format!("{path}: {what}")),
+    }
+}
+
+fn finite(file: &str, source: &str, path: &str, value: f64) -> Result<()> {
     if value.is_finite() {
         Ok(())
     } else {
-        Err(InputError::new(
+        Err(error_at(
             file,
-            format!("{path} must be a finite number, got {value}"),
+            source,
+            path,
+            format!("must be a finite number, got {value}"),
         ))
     }
 }
@@ -149,13 +162,7 @@ impl Case {
     /// form `FILE:LINE:COL: FIELD: what is wrong` (`FILE: FIELD: ...` when the field is not
     /// written in the file).
     pub fn error_at(&self, path: &str, what: impl std::fmt::Display) -> InputError {
-        match crate::parse::locate(&self.source, path) {
-            Some((line, col)) => InputError::located(
-                &self.file,
-                format!("{}:{line}:{col}: {path}: {what}", self.file),
-            ),
-            None => InputError::new(&self.file, format!("{path}: {what}")),
-        }
+        error_at(&self.file, &self.source, path, what)
     }
 
     /// True when vehicle 2 is a fixed barrier (`[vehicle2] barrier = true`).
@@ -236,12 +243,14 @@ impl Case {
                     } else {
                         ""
                     };
-                    return Err(InputError::new(
+                    return Err(error_at(
                         &file,
-                        format!("[{name}] {field}: missing or not a number; give {what}{hint}"),
+                        &self.source,
+                        &format!("{name}.{field}"),
+                        format!("missing or not a number; give {what}{hint}"),
                     ));
                 }
-                finite(&file, &format!("{name}.{field}"), x)?;
+                finite(&file, &self.source, &format!("{name}.{field}"), x)?;
             }
         }
         for (name, st) in [("initial", &c.initial), ("final", &c.final_)] {
@@ -269,8 +278,9 @@ impl Case {
         ] {
             match (v.impact_point, v.d, v.phi) {
                 (Some(p), None, None) => {
-                    finite(&file, &format!("[{name}] impact_point.x"), p.x)?;
-                    finite(&file, &format!("[{name}] impact_point.y"), p.y)?;
+                    let source = &self.source;
+                    finite(&file, source, &format!("{name}.impact_point.x"), p.x)?;
+                    finite(&file, source, &format!("{name}.impact_point.y"), p.y)?;
                     let (d, phi) = pim_core::impact_point_polar(p.x, p.y);
                     v.d = Some(d);
                     v.phi = Some(phi);
@@ -380,7 +390,12 @@ impl Case {
                 let vehicle2 = s.vehicle2.unwrap_or(AT_REST);
                 for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", vehicle2)] {
                     for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
-                        finite(&self.file, &format!("[{name}] {veh}.{field}"), x)?;
+                        finite(
+                            &self.file,
+                            &self.source,
+                            &format!("{name}.{veh}.{field}"),
+                            x,
+                        )?;
                     }
                 }
             }
