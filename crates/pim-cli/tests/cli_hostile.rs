@@ -274,3 +274,16 @@ fn bounds_spreads_and_sigmas_outside_their_domains_are_refused() {
         refused(&["uncertainty", &path, "--draws", "5"], &all);
     }
 }
+
+#[test]
+#[cfg(unix)]
+fn writing_to_a_device_leaves_the_device() {
+    use std::os::unix::fs::FileTypeExt;
+    let out = pim_within(
+        &["draw", "examples/cases/side_impact.toml", "-o", "/dev/null"],
+        LIMIT,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let t = std::fs::metadata("/dev/null").unwrap().file_type();
+    assert!(t.is_char_device(), "/dev/null is no longer a device");
+}

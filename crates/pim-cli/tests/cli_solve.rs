@@ -378,11 +378,11 @@ fn plausibility_warnings_go_to_stderr_and_the_solve_still_runs() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let msg = stderr(&out);
     assert!(
-        msg.contains("heading = 1.047 is read as degrees; it looks like radians"),
+        msg.contains("vehicle2.heading: 1.047 is read as degrees; it looks like radians"),
         "{msg}"
     );
     assert!(msg.contains("yaw_inertia / mass = 19.04 m^2"), "{msg}");
-    assert!(msg.contains("[initial] vehicle1: speed 80.0 m/s"), "{msg}");
+    assert!(msg.contains("initial.vehicle1.vx: speed 80.0 m/s"), "{msg}");
     // The example itself is plausible: no warning.
     let out = pim(&[
         "solve",

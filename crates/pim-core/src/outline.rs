@@ -43,6 +43,18 @@ pub enum Face {
     Right,
 }
 
+/// Typical length and width of a passenger vehicle of this mass, m (small car, compact,
+/// mid-size, full-size / light truck): for a drawing or a plausibility check when the case gives
+/// no dimensions.
+pub fn typical_dimensions(mass: f64) -> (f64, f64) {
+    match mass {
+        m if m < 1100.0 => (3.9, 1.65),
+        m if m < 1500.0 => (4.4, 1.75),
+        m if m < 2000.0 => (4.85, 1.85),
+        _ => (5.3, 2.0),
+    }
+}
+
 impl Outline {
     /// Overall length, m.
     pub fn length(&self) -> f64 {

@@ -7,17 +7,6 @@ use crate::units::UnitsSection;
 use pim_core::{Coefficients, Collision, Convention, Vehicle, VehicleId, Velocities};
 use serde::Deserialize;
 
-/// Speeds above this (m/s, 252 km/h) draw a plausibility warning.
-pub const PLAUSIBLE_SPEED: f64 = 70.0;
-
-/// The range of yaw inertia over mass (m^2) of road vehicles; outside it, a warning.
-pub const INERTIA_PER_MASS: (f64, f64) = (1.0, 3.5);
-
-/// An angle in degrees that looks like radians: not zero, within 2 pi, not a whole number.
-fn looks_like_radians(a: f64) -> bool {
-    a != 0.0 && a.abs() <= std::f64::consts::TAU && a.fract() != 0.0
-}
-
 /// Largest case file accepted, bytes (a case is a few hundred bytes).
 pub const MAX_CASE_BYTES: u64 = 1 << 20;
 
@@ -163,6 +152,14 @@ impl Case {
     /// written in the file).
     pub fn error_at(&self, path: &str, what: impl std::fmt::Display) -> InputError {
         error_at(&self.file, &self.source, path, what)
+    }
+
+    /// Where the dotted field `path` is written: `FILE:LINE:COL: FIELD`, or `FILE: FIELD`.
+    pub fn at(&self, path: &str) -> String {
+        match crate::parse::locate(&self.source, path) {
+            Some((line, col)) => format!("{}:{line}:{col}: {path}", self.file),
+            None => format!("{}: {path}", self.file),
+        }
     }
 
     /// True when vehicle 2 is a fixed barrier (`[vehicle2] barrier = true`).
@@ -479,73 +476,6 @@ impl Case {
             }
         }
         Some(text)
-    }
-
-    /// Plausibility warnings (not errors): speeds above [`PLAUSIBLE_SPEED`], headings and angles
-    /// that look like radians, yaw inertias far from mass x (1.0 .. 3.5) m^2.
-    pub fn warnings(&self) -> Vec<String> {
-        let mut out = Vec::new();
-        let c = &self.content;
-        let f = &self.file;
-        for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
-            for (field, a) in [("heading", Some(v.heading)), ("phi", v.phi)] {
-                if let Some(a) = a {
-                    if (field == "heading" || v.impact_point.is_none()) && looks_like_radians(a) {
-                        out.push(format!(
-                            "{f}: [{name}] {field} = {a} is read as degrees; it looks like radians \
-                             ({:.1} deg)",
-                            a.to_degrees()
-                        ));
-                    }
-                }
-            }
-            let k = v.yaw_inertia / v.mass;
-            if !v.barrier && !(INERTIA_PER_MASS.0..=INERTIA_PER_MASS.1).contains(&k) {
-                out.push(format!(
-                    "{f}: [{name}] yaw_inertia / mass = {k:.2} m^2, outside the {} .. {} m^2 of \
-                     road vehicles: check the units of mass and yaw_inertia",
-                    INERTIA_PER_MASS.0, INERTIA_PER_MASS.1
-                ));
-            }
-        }
-        if looks_like_radians(c.impact.crush_angle) {
-            out.push(format!(
-                "{f}: [impact] crush_angle = {} is read as degrees; it looks like radians",
-                c.impact.crush_angle
-            ));
-        }
-        let mut speeds: Vec<(String, f64)> = Vec::new();
-        for (sec, st) in [("initial", &c.initial), ("final", &c.final_)] {
-            if let Some(st) = st {
-                let vehicle2 = st.vehicle2.unwrap_or(AT_REST);
-                for (veh, v) in [("vehicle1", st.vehicle1), ("vehicle2", vehicle2)] {
-                    speeds.push((format!("[{sec}] {veh}"), v.vx.hypot(v.vy)));
-                }
-            }
-        }
-        if let Some(e) = &c.estimates {
-            for (sec, st) in [
-                ("estimates.initial", &e.initial),
-                ("estimates.final", &e.final_),
-            ] {
-                if let Some(st) = st {
-                    for (veh, v) in [("vehicle1", st.vehicle1), ("vehicle2", st.vehicle2)] {
-                        let sp = v.vx.unwrap_or(0.0).hypot(v.vy.unwrap_or(0.0));
-                        speeds.push((format!("[{sec}] {veh}"), sp));
-                    }
-                }
-            }
-        }
-        for (what, sp) in speeds {
-            if sp > PLAUSIBLE_SPEED {
-                out.push(format!(
-                    "{f}: {what}: speed {sp:.1} m/s ({:.0} km/h) is above {PLAUSIBLE_SPEED} m/s: \
-                     check [units] speed",
-                    sp * 3.6
-                ));
-            }
-        }
-        out
     }
 
     /// The `[coefficients]` section, required and checked.

@@ -25,6 +25,7 @@ mod error;
 pub mod fitcase;
 pub mod input;
 pub mod parse;
+pub mod plausibility;
 pub mod predict;
 pub mod ranges;
 pub mod records;

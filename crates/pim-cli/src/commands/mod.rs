@@ -63,7 +63,8 @@ pub fn create_dir(dir: &std::path::Path) -> Result<()> {
 }
 
 /// Writes an output file under its final name only when it is complete (written beside it,
-/// then renamed); failures are exit status 4 and leave an earlier file as it was.
+/// then renamed; a device or pipe is written directly); failures are exit status 4 and leave an
+/// earlier file as it was.
 pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
     let fail = |e: std::io::Error| -> anyhow::Error {
         Failure::Output(format!(
@@ -77,6 +78,11 @@ pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
         return Err(
             Failure::Output(format!("{}: is a folder; give a file name", path.display())).into(),
         );
+    }
+    // A device or pipe (`-o /dev/stdout`) is written as it is: it holds no half-written file,
+    // and renaming over it would replace the device itself.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        return std::fs::write(path, text).map_err(fail);
     }
     let tmp =
         std::path::PathBuf::from(format!("{}.pim-{}.tmp", path.display(), std::process::id()));

@@ -13,17 +13,6 @@ pub struct Outline {
     pub defaulted: bool,
 }
 
-/// Typical length and width of a passenger vehicle of this mass, m (small car, compact,
-/// mid-size, full-size / light truck).
-fn class_dimensions(mass: f64) -> (f64, f64) {
-    match mass {
-        m if m < 1100.0 => (3.9, 1.65),
-        m if m < 1500.0 => (4.4, 1.75),
-        m if m < 2000.0 => (4.85, 1.85),
-        _ => (5.3, 2.0),
-    }
-}
-
 impl Outline {
     /// The case's outline, or the default of its mass class enlarged (if needed) to reach the
     /// impact centre at `point` (body frame, m).
@@ -41,7 +30,7 @@ impl Outline {
                 }
             }
             (length, width) => {
-                let (l, w) = class_dimensions(v.mass);
+                let (l, w) = pim_core::outline::typical_dimensions(v.mass);
                 let length = length.unwrap_or(l);
                 let width = width.unwrap_or(w);
                 let front = v.cg_to_front.unwrap_or(length / 2.0);

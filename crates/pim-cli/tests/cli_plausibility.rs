@@ -1,0 +1,75 @@
+//! Plausibility warnings: each fires on a made-up mistake, naming the field and its line, and
+//! none fires on any example case.
+mod common;
+use common::*;
+
+fn warnings(text: &str, name: &str) -> String {
+    let path = scratch_file("plausibility", name, text);
+    let out = pim(&["solve", &path, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    stderr(&out)
+}
+
+#[test]
+fn each_warning_fires_on_its_mistake_and_names_the_line() {
+    let side = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    let cases: [(&str, String, &str); 4] = [
+        (
+            "point_ahead.toml",
+            side.replace(
+                "impact_point = { x = 2.0, y = 0.0 }",
+                "impact_point = { x = 4.6, y = 0.0 }",
+            ),
+            ":13:16: vehicle1.impact_point: the impact centre (4.60, 0.00) m from the CG lies 2.60 m outside",
+        ),
+        (
+            "deg_per_s.toml",
+            side.replace(
+                "vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }",
+                "vehicle2 = { vx = 0.0, vy = 0.0, omega = 90.0 }",
+            ),
+            "initial.vehicle2.omega: a yaw rate of 90.00 rad/s (5157 deg/s)",
+        ),
+        (
+            "sideways.toml",
+            side.replace(
+                "vehicle1 = { vx = 15.0, vy = 0.0, omega = 0.0 }",
+                "vehicle1 = { vx = 15.0, vy = -12.0, omega = 0.0 }",
+            ),
+            "initial.vehicle1.vx: the vehicle moves 39 deg off its heading with no yaw rate",
+        ),
+        (
+            "radians.toml",
+            side.replace("heading = 90.0", "heading = 1.5708"),
+            "vehicle2.heading: 1.5708 is read as degrees; it looks like radians (90.0 deg)",
+        ),
+    ];
+    for (name, text, want) in cases {
+        assert_ne!(text, side, "{name}: the mistake was not written");
+        let msg = warnings(&text, name);
+        assert!(msg.contains(want), "{name}: {msg}");
+    }
+    // A small crush angle in degrees is not taken for radians.
+    let small = side.replace("crush_angle = 0.0", "crush_angle = 3.4");
+    assert_ne!(small, side);
+    let msg = warnings(&small, "crush_small.toml");
+    assert!(!msg.contains("radians"), "{msg}");
+}
+
+#[test]
+fn no_example_case_draws_a_warning() {
+    let mut n = 0;
+    for entry in std::fs::read_dir(repo().join("examples/cases")).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|x| x == "toml") {
+            let f = p.display().to_string();
+            let dir = scratch_dir("plausibility", "draws");
+            let svg = dir.join("x.svg").display().to_string();
+            let out = pim(&["draw", &f, "-o", &svg]);
+            assert!(out.status.success(), "{f}: {}", stderr(&out));
+            assert!(!stderr(&out).contains("warning"), "{f}: {}", stderr(&out));
+            n += 1;
+        }
+    }
+    assert!(n >= 10, "{n} examples");
+}

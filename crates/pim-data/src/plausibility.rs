@@ -1,0 +1,183 @@
+//! Plausibility warnings of a case: values that are valid but look like a mistake of units,
+//! form or geometry. Each names the field and where it is written; none is an error, and none
+//! fires on the example cases (tested).
+
+use crate::case::Case;
+use crate::sections::AT_REST;
+use pim_core::{impact_point_cartesian, wrap_degrees, Convention};
+
+/// Speeds above this (m/s, 252 km/h) draw a plausibility warning.
+pub const PLAUSIBLE_SPEED: f64 = 70.0;
+
+/// The range of yaw inertia over mass (m^2) of road vehicles; outside it, a warning.
+pub const INERTIA_PER_MASS: (f64, f64) = (1.0, 3.5);
+
+/// How far outside the vehicle's outline an impact centre may lie before it draws a warning, m
+/// (the deepest crush of a road vehicle is about this).
+pub const CRUSH_MARGIN: f64 = 1.0;
+
+/// Yaw rates above this (rad/s, about 290 deg/s) look like degrees per second.
+pub const PLAUSIBLE_YAW_RATE: f64 = 5.0;
+
+/// A sideslip above this (degrees) with no yaw rate draws a warning.
+pub const PLAUSIBLE_SIDESLIP: f64 = 30.0;
+
+/// An angle in degrees that looks like radians: not zero, within 2 pi, not a whole number.
+fn looks_like_radians(a: f64) -> bool {
+    a != 0.0 && a.abs() <= std::f64::consts::TAU && a.fract() != 0.0
+}
+
+impl Case {
+    /// Plausibility warnings (not errors): headings that look like radians (other angles when
+    /// every non-zero angle of the case does), yaw inertias far from mass x (1.0 .. 3.5) m^2, impact centres outside
+    /// the outline (the case's, or typical for the mass) by more than [`CRUSH_MARGIN`], speeds
+    /// above [`PLAUSIBLE_SPEED`], yaw rates above [`PLAUSIBLE_YAW_RATE`] (degrees per second
+    /// meant?), and a contact velocity more than [`PLAUSIBLE_SIDESLIP`] from the vehicle's
+    /// heading with no yaw rate.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let c = &self.content;
+        let vehicles = [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)];
+        // Radians: when every non-zero angle of the case looks like radians (a single small
+        // angle in degrees, such as a crush angle of 3.4, is common).
+        let mut angles: Vec<(String, f64)> = Vec::new();
+        for (name, v) in vehicles {
+            if v.barrier {
+                continue;
+            }
+            angles.push((format!("{name}.heading"), v.heading));
+            if v.impact_point.is_none() {
+                if let Some(phi) = v.phi {
+                    angles.push((format!("{name}.phi"), phi));
+                }
+            }
+        }
+        angles.push(("impact.crush_angle".into(), c.impact.crush_angle));
+        // A heading is warned on its own (a heading in radians is the common slip); an impact
+        // centre angle or a crush angle only when every non-zero angle of the case looks like
+        // radians (a small crush angle in degrees, such as 3.4, is common).
+        let nonzero: Vec<&(String, f64)> = angles.iter().filter(|(_, a)| *a != 0.0).collect();
+        let all = !nonzero.is_empty() && nonzero.iter().all(|(_, a)| looks_like_radians(*a));
+        for (path, a) in nonzero {
+            if looks_like_radians(*a) && (all || path.ends_with(".heading")) {
+                out.push(format!(
+                    "{}: {a} is read as degrees; it looks like radians ({:.1} deg)",
+                    self.at(path),
+                    a.to_degrees()
+                ));
+            }
+        }
+        for (name, v) in vehicles {
+            if v.barrier {
+                continue;
+            }
+            let k = v.yaw_inertia / v.mass;
+            if !(INERTIA_PER_MASS.0..=INERTIA_PER_MASS.1).contains(&k) {
+                out.push(format!(
+                    "{}: yaw_inertia / mass = {k:.2} m^2, outside the {} .. {} m^2 of road \
+                     vehicles: check the units of mass and yaw_inertia",
+                    self.at(&format!("{name}.yaw_inertia")),
+                    INERTIA_PER_MASS.0,
+                    INERTIA_PER_MASS.1
+                ));
+            }
+            // The impact centre against the outline (in SI, the vehicle's own frame).
+            let (x, y) = impact_point_cartesian(v.d(), v.phi());
+            let (length, width) = match (v.length, v.width) {
+                (Some(l), Some(w)) => (l, w),
+                (l, w) => {
+                    let (tl, tw) = pim_core::outline::typical_dimensions(v.mass);
+                    (l.unwrap_or(tl), w.unwrap_or(tw))
+                }
+            };
+            let front = v.cg_to_front.unwrap_or(length / 2.0);
+            let rear = length - front;
+            let outside = (x - front).max(-rear - x).max(y.abs() - width / 2.0);
+            if outside > CRUSH_MARGIN {
+                let field = if v.impact_point.is_some() {
+                    "impact_point"
+                } else {
+                    "d"
+                };
+                out.push(format!(
+                    "{}: the impact centre ({x:.2}, {y:.2}) m from the CG lies {outside:.2} m \
+                     outside the vehicle ({length:.2} x {width:.2} m, front {front:.2} m ahead \
+                     of the CG{}): check the impact point and [units] length",
+                    self.at(&format!("{name}.{field}")),
+                    if v.length.is_some() {
+                        ""
+                    } else {
+                        "; typical for its mass"
+                    }
+                ));
+            }
+        }
+        // States and estimates: speeds, yaw rates, sideslip.
+        let mut states: Vec<(String, f64, f64, Option<f64>, usize)> = Vec::new();
+        for (sec, st) in [("initial", &c.initial), ("final", &c.final_)] {
+            if let Some(st) = st {
+                let vehicle2 = st.vehicle2.unwrap_or(AT_REST);
+                for (k, v) in [st.vehicle1, vehicle2].into_iter().enumerate() {
+                    states.push((
+                        format!("{sec}.vehicle{}", k + 1),
+                        v.vx,
+                        v.vy,
+                        Some(v.omega),
+                        k,
+                    ));
+                }
+            }
+        }
+        if let Some(e) = &c.estimates {
+            for (sec, st) in [
+                ("estimates.initial", &e.initial),
+                ("estimates.final", &e.final_),
+            ] {
+                if let Some(st) = st {
+                    for (k, v) in [st.vehicle1, st.vehicle2].into_iter().enumerate() {
+                        if let (Some(vx), Some(vy)) = (v.vx, v.vy) {
+                            states.push((format!("{sec}.vehicle{}", k + 1), vx, vy, v.omega, k));
+                        }
+                    }
+                }
+            }
+        }
+        for (path, vx, vy, omega, k) in states {
+            let speed = vx.hypot(vy);
+            if speed > PLAUSIBLE_SPEED {
+                out.push(format!(
+                    "{}: speed {speed:.1} m/s ({:.0} km/h) is above {PLAUSIBLE_SPEED} m/s: check \
+                     [units] speed",
+                    self.at(&format!("{path}.vx")),
+                    speed * 3.6
+                ));
+            }
+            if let Some(w) = omega.filter(|w| w.abs() > PLAUSIBLE_YAW_RATE) {
+                out.push(format!(
+                    "{}: a yaw rate of {w:.2} rad/s ({:.0} deg/s) is above {PLAUSIBLE_YAW_RATE} \
+                     rad/s: degrees per second meant? check [units] yaw_rate",
+                    self.at(&format!("{path}.omega")),
+                    w.to_degrees()
+                ));
+            }
+            // Sideslip at contact, for a vehicle that is not turning.
+            let v = vehicles[k].1;
+            let at_contact = path.ends_with(&format!("initial.vehicle{}", k + 1));
+            if at_contact && !v.barrier && omega == Some(0.0) && speed > 1.0 {
+                let nose = match (c.convention, k) {
+                    (Convention::Brach, 0) => v.heading + 180.0,
+                    _ => v.heading,
+                };
+                let slip = wrap_degrees(vy.atan2(vx).to_degrees() - nose).abs();
+                if slip > PLAUSIBLE_SIDESLIP && slip < 180.0 - PLAUSIBLE_SIDESLIP {
+                    out.push(format!(
+                        "{}: the vehicle moves {slip:.0} deg off its heading with no yaw rate: \
+                         check the heading, the velocity components and [convention]",
+                        self.at(&format!("{path}.vx"))
+                    ));
+                }
+            }
+        }
+        out
+    }
+}
