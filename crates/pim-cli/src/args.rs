@@ -180,7 +180,7 @@ pub struct SolveArgs {
     #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
     pub units: UnitsArg,
     /// Also write into this directory (created if needed): result.json, report.md and the
-    /// scale diagram diagram.svg.
+    /// scale diagram diagram.svg (`pim sensitivity`: sensitivity.json and sensitivity.txt).
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

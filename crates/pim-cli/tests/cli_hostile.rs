@@ -287,3 +287,27 @@ fn writing_to_a_device_leaves_the_device() {
     let t = std::fs::metadata("/dev/null").unwrap().file_type();
     assert!(t.is_char_device(), "/dev/null is no longer a device");
 }
+
+#[test]
+fn sensitivity_out_writes_its_results() {
+    let dir = scratch_dir("hostile", "sensitivity");
+    let o = dir.join("out").display().to_string();
+    let out = pim_within(
+        &[
+            "sensitivity",
+            "examples/cases/ricsac7_brach1983.toml",
+            "--percent",
+            "10",
+            "--out",
+            &o,
+        ],
+        LIMIT,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("out/sensitivity.json")).unwrap()).unwrap();
+    assert_eq!(json["combinations"].as_array().unwrap().len(), 8);
+    assert_eq!(json["averages"].as_array().unwrap().len(), 6);
+    let table = std::fs::read_to_string(dir.join("out/sensitivity.txt")).unwrap();
+    assert_eq!(table, String::from_utf8_lossy(&out.stdout));
+}

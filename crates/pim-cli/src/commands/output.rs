@@ -18,7 +18,7 @@ const MARKER: &str = ".pim-output";
 
 /// Every file name `pim` writes into an output folder: a folder holding only these (from a
 /// version before the marker) is pim's too.
-const OUTPUT_FILES: [&str; 24] = [
+const OUTPUT_FILES: [&str; 26] = [
     "records.csv",
     "records.json",
     "records.jsonl",
@@ -43,6 +43,8 @@ const OUTPUT_FILES: [&str; 24] = [
     "predict_dv.json",
     "predict_dv.txt",
     "predict_dv.svg",
+    "sensitivity.json",
+    "sensitivity.txt",
 ];
 
 /// An output folder being written.

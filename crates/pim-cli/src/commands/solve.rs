@@ -66,10 +66,21 @@ pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
     }
     let study = pim_core::sensitivity(&impact, &coefficients, &state, &options(a), percent)
         .map_err(|e| Failure::from_core(&case.file, e))?;
-    let text = match a.format {
-        Format::Json => json(&records::SensitivityOut::new(&impact, &study))?,
-        Format::Table => tables::sensitivity_table(&title_of(&case), &study),
-    };
-    print_out(&text)?;
+    let record = json(&records::SensitivityOut::new(&impact, &study))?;
+    let table = tables::sensitivity_table(&title_of(&case), &study);
+    if let Some(dir) = &a.out {
+        let out = super::output::OutDir::create(dir)?;
+        out.write("sensitivity.json", &record)?;
+        out.write("sensitivity.txt", &table)?;
+        out.commit()?;
+        eprintln!(
+            "pim: wrote sensitivity.json and sensitivity.txt to {}",
+            dir.display()
+        );
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &table,
+    })?;
     Ok(ExitCode::from(EXIT_OK))
 }
