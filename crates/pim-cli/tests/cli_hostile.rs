@@ -311,3 +311,31 @@ fn sensitivity_out_writes_its_results() {
     let table = std::fs::read_to_string(dir.join("out/sensitivity.txt")).unwrap();
     assert_eq!(table, String::from_utf8_lossy(&out.stdout));
 }
+
+#[test]
+fn weights_on_components_held_fixed_are_said_to_have_no_effect() {
+    let case = "examples/cases/ricsac7_uncertainty.toml";
+    let out = pim_within(&["fit", case, "--cost", "q1", "--format", "json"], LIMIT);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let notes: Vec<String> = j["notes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap().to_string())
+        .collect();
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("[sigma] of final.vehicle1.vx")
+                && n.contains("cost q1 holds these components fixed")),
+        "{notes:?}"
+    );
+    // Q3 holds nothing fixed: no such note.
+    let out = pim_within(&["fit", case, "--cost", "q3", "--format", "json"], LIMIT);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(
+        !j["notes"].to_string().contains("no effect"),
+        "{}",
+        j["notes"]
+    );
+}

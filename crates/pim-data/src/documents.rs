@@ -142,8 +142,12 @@ pub fn fit(
     let problem = fitcase::problem(case, choice)?;
     let branches = model.branches(&branches);
     let settings = fitcase::settings(case, model, moment_form, branches)?;
-    let report = fitcase::fit(case, &problem, &settings)?;
+    let mut report = fitcase::fit(case, &problem, &settings)?;
     let unit = fitcase::sigma_unit(case)?;
+    if let Some(preset) = cost {
+        report.notes.extend(ignored_weights(case, preset));
+    }
+    let notes = report.notes.clone();
     let document = FitOut {
         model: model.name(),
         cost_function: name.to_string(),
@@ -153,11 +157,38 @@ pub fn fit(
             .map(|b| BranchRecord::new(b).with_chi_square(&problem, unit))
             .collect(),
         best: report.best,
-        notes: report.notes.clone(),
+        notes,
     };
     Ok(Fitted {
         problem,
         report,
         document,
     })
+}
+
+/// The weights and standard deviations a case gives for components that the cost function
+/// holds fixed at their estimates, which therefore have no effect (said, not ignored in silence).
+fn ignored_weights(case: &Case, preset: CostPreset) -> Vec<String> {
+    let c = &case.content;
+    let mut out = Vec::new();
+    for (section, given) in [("weights", c.weights), ("sigma", c.sigma)] {
+        let Some(given) = given else { continue };
+        let fixed: Vec<&str> = given
+            .components()
+            .iter()
+            .enumerate()
+            .filter(|(k, w)| w.is_some() && preset.holds_fixed(*k))
+            .map(|(k, _)| pim_fit::COMPONENT_NAMES[k])
+            .collect();
+        if !fixed.is_empty() {
+            out.push(format!(
+                "{}: [{section}] of {} has no effect: cost {} holds these components fixed at \
+                 their estimates",
+                case.file,
+                fixed.join(", "),
+                preset.name()
+            ));
+        }
+    }
+    out
 }
