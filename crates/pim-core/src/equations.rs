@@ -7,9 +7,9 @@
 
 use crate::coefficients::{Coefficients, MomentForm, SolveOptions, TangentialCondition};
 use crate::error::Equation;
-use crate::friction::FrictionSign;
+use crate::friction::{CriticalImpulse, FrictionSign};
 use crate::model::Impact;
-use nalgebra::{Matrix6, RowVector6};
+use nalgebra::{Matrix6, RowVector6, Vector6};
 
 /// One equation: coefficients of the separation state (`f`) and of the contact state (`g`).
 pub type Row = (RowVector6<f64>, RowVector6<f64>);
@@ -133,6 +133,16 @@ pub fn impulse_rows(impact: &Impact) -> (RowVector6<f64>, RowVector6<f64>) {
         RowVector6::new(m1 * nx, m1 * ny, 0.0, 0.0, 0.0, 0.0),
         RowVector6::new(m1 * tx, m1 * ty, 0.0, 0.0, 0.0, 0.0),
     )
+}
+
+/// The normal and tangential impulse on vehicle 1 of a velocity change `D = X - x`, through
+/// [`impulse_rows`].
+pub fn impulse_of(impact: &Impact, change: &Vector6<f64>) -> CriticalImpulse {
+    let (pn, pt) = impulse_rows(impact);
+    CriticalImpulse {
+        normal: (pn * change)[0],
+        tangential: (pt * change)[0],
+    }
 }
 
 /// Equation 5a: `Vt = 0`.

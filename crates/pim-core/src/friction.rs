@@ -153,7 +153,8 @@ impl<'de> Deserialize<'de> for FrictionSign {
     }
 }
 
-/// The impulse on vehicle 1 of the no-slip solution (sliding ends exactly at separation), N s.
+/// An impulse on vehicle 1 in crush-surface components, N s: of a solution, or of the no-slip
+/// solution (sliding ends exactly at separation), whose ratio gives mu_max.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CriticalImpulse {
     /// Normal impulse `Pn = P . n`.

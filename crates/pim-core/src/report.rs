@@ -1,7 +1,7 @@
 //! Derived results of a solve: impulses, delta-V, energy, mu_max, sliding and admissibility.
 
 use crate::coefficients::{Coefficients, SolveOptions, TangentialCondition};
-use crate::equations::{assemble, impulse_rows, LinearSystem};
+use crate::equations::{assemble, impulse_of, LinearSystem};
 use crate::error::{Equation, VehicleId};
 use crate::friction::{
     classify_friction, creates_energy, FrictionBasis, FrictionSign, TangentialOutcome, REPORT_TOL,
@@ -367,14 +367,13 @@ pub(crate) fn build_report(
     let dv2 = delta_v(&initial.vehicle2, &separation.vehicle2);
     let px = m1 * dv1.dvx;
     let py = m1 * dv1.dvy;
-    let change = separation.to_vector() - initial.to_vector();
-    let (pn_row, pt_row) = impulse_rows(impact);
+    let p = impulse_of(impact, &(separation.to_vector() - initial.to_vector()));
     let [r1, _] = impact.lever_arms();
     let impulse = Impulse {
         px,
         py,
-        normal: (pn_row * change)[0],
-        tangential: (pt_row * change)[0],
+        normal: p.normal,
+        tangential: p.tangential,
         moment: i1 * dv1.domega - (r1[0] * py - r1[1] * px),
     };
     let t0 = initial.kinetic_energy(impact);

@@ -1,7 +1,7 @@
 //! Forward and backward solution of the six equations.
 
 use crate::coefficients::{Coefficients, SolveOptions, TangentialCondition};
-use crate::equations::{assemble, impulse_rows, tangential_velocity_row, LinearSystem};
+use crate::equations::{assemble, impulse_of, tangential_velocity_row, LinearSystem};
 use crate::error::{Equation, PimError, Result};
 use crate::friction::{friction_direction, CriticalImpulse, FrictionBasis, FrictionSign};
 use crate::model::{Impact, Velocities};
@@ -145,13 +145,7 @@ fn critical_ratio(
     no_slip_sep: &Vector6<f64>,
     sign: FrictionSign,
 ) -> Option<f64> {
-    let (pn, pt) = impulse_rows(impact);
-    let change = no_slip_sep - x;
-    CriticalImpulse {
-        normal: (pn * change)[0],
-        tangential: (pt * change)[0],
-    }
-    .mu_max(sign)
+    impulse_of(impact, &(no_slip_sep - x)).mu_max(sign)
 }
 
 /// The no-slip impulse on vehicle 1 of a contact state (equation 5a instead of 5; the friction
@@ -169,12 +163,7 @@ fn no_slip_impulse(
     let system = assemble(impact, coefficients, FrictionSign::Positive, &opts);
     let factor = Factor::new(&system.f).ok()?;
     let sep = factor.solve(&-(system.g * x));
-    let (pn, pt) = impulse_rows(impact);
-    let change = sep - x;
-    Some(CriticalImpulse {
-        normal: (pn * change)[0],
-        tangential: (pt * change)[0],
-    })
+    Some(impulse_of(impact, &(sep - x)))
 }
 
 /// The sign factor of equation 5 for a contact state, by the one friction rule

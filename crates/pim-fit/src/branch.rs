@@ -13,12 +13,11 @@ use crate::settings::{FitModel, FitSettings};
 use pim_core::{SolveOptions, Velocities};
 
 fn certificate(out: &Outcome) -> Certificate {
-    if let Some(c) = out.convex {
-        return Certificate {
-            method: method(
-                out,
-                format!(
-                    "convex decomposition: over the contact state and the impulse every condition \
+    let (route, description) = if let Some(c) = out.convex {
+        (
+            Route::Convex,
+            format!(
+                "convex decomposition: over the contact state and the impulse every condition \
                  but the energy is linear once the signs of the friction, of the normal and \
                  tangential impulse, of the frictionless and no-slip normal impulses, of the \
                  final tangential velocity and (free branch) of the linear-impulse yaw rate are \
@@ -26,73 +25,46 @@ fn certificate(out: &Outcome) -> Certificate {
                  optimum by a dual active-set method ({} patterns over {} e_m intervals of a \
                  branch-and-bound, {} solved, {} stopped by their lower bound or found \
                  empty); the best checked by the exact constraint set",
-                    c.patterns, c.intervals, c.solved, c.pruned
-                ),
+                c.patterns, c.intervals, c.solved, c.pruned
             ),
-            ..certificate_counts(out)
-        };
-    }
-    if out.friction_max.is_some() {
-        return Certificate {
-            method: method(
-                out,
-                "grid over the coefficient box per contact mode of the tangential model \
-                     (sticking over e and et; sliding over e, friction and et), every grid \
-                     point whose lower bound could beat the incumbent solved exactly, then \
-                     Nelder-Mead from the best grid points of distinct cells, the results near \
-                     the best polished by a compass search"
-                    .to_string(),
-            ),
-            ..certificate_counts(out)
-        };
-    }
-    let profile = if out.profiled_e {
-        " (e minimised exactly at every point: with one state known, both states are affine in \
-         e or in 1 + 1/e)"
+        )
+    } else if out.friction_max.is_some() {
+        (
+            Route::Grid,
+            "grid over the coefficient box per contact mode of the tangential model (sticking \
+             over e and et; sliding over e, friction and et), every grid point whose lower bound \
+             could beat the incumbent solved exactly, then Nelder-Mead from the best grid points \
+             of distinct cells, the results near the best polished by a compass search"
+                .to_string(),
+        )
     } else {
-        ""
-    };
-    Certificate {
-        method: method(
-            out,
+        let profile = if out.profiled_e {
+            " (e minimised exactly at every point: with one state known, both states are affine \
+             in e or in 1 + 1/e)"
+        } else {
+            ""
+        };
+        (
+            Route::Grid,
             format!(
                 "grid over the coefficient box per tangential mode (sliding; sticking at \
-             mu = mu_max){profile}, every grid point whose lower bound could beat the incumbent \
-             solved exactly, then Nelder-Mead from the best grid points of distinct cells, the \
-             results near the best polished by a compass search"
+                 mu = mu_max){profile}, every grid point whose lower bound could beat the \
+                 incumbent solved exactly, then Nelder-Mead from the best grid points of distinct \
+                 cells, the results near the best polished by a compass search"
             ),
-        ),
-        ..certificate_counts(out)
-    }
-}
-
-/// The method of an outcome: its route and fallback reason as the search recorded them, and the
-/// description (with the reason for a fallback).
-fn method(out: &Outcome, description: String) -> Method {
-    let (route, fallback) = match (out.convex, out.fallback) {
-        (Some(_), _) => (Route::Convex, None),
-        (None, why) => (Route::Grid, why),
+        )
     };
+    // The reason for a fallback, as the search recorded it, only on the grid route.
+    let fallback = out.fallback.filter(|_| route == Route::Grid);
     let description = match fallback {
-        Some(why) if route == Route::Grid => {
-            format!("{description} (not the convex route: {})", why.words())
-        }
-        _ => description,
+        Some(why) => format!("{description} (not the convex route: {})", why.words()),
+        None => description,
     };
-    Method {
-        route,
-        fallback,
-        description,
-    }
-}
-
-/// The counts of a certificate (its method left to the caller).
-fn certificate_counts(out: &Outcome) -> Certificate {
     Certificate {
         method: Method {
-            route: Route::Grid,
-            fallback: None,
-            description: String::new(),
+            route,
+            fallback,
+            description,
         },
         grid_points: out.grid_points,
         evaluations: out.evaluations,

@@ -121,7 +121,7 @@ impl ConstraintSet<'_> {
     fn ratio_holds(&self, r: &Ratio, p: Option<CriticalImpulse>) -> bool {
         if r.inverse {
             // sign Pt / Pn >= friction: the sticking impulse exceeds the limit on the side of
-            // the sign (a relative 1e-9 of slack, as below).
+            // the sign (the slack of the forward model's own stick/slide decision).
             let s = self.sign.value();
             return p.is_some_and(|p| {
                 let n = p.normal.abs();
@@ -327,11 +327,8 @@ impl ConstraintSet<'_> {
             };
             // The ratio is num / den: sign Pt / Pn, or Pn / (sign Pt) for an inverse ratio.
             let s = self.sign.value();
-            let (den, num) = if r.inverse {
-                (combo(s, pt, 0.0, pt), pn)
-            } else {
-                (pn, combo(s, pt, 0.0, pt))
-            };
+            let spt = pt.map(|c| s * c);
+            let (den, num) = if r.inverse { (spt, pn) } else { (pn, spt) };
             roots.extend(quadratic_roots(den));
             if r.lo.is_finite() {
                 roots.extend(quadratic_roots(combo(1.0, num, -r.lo, den)));

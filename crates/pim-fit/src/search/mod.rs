@@ -282,28 +282,29 @@ fn refine_from_grid(
             starts.push(i);
         }
     }
-    // The first steps along the axes of a start: the grid's; a band sample is refined with
-    // those and again with its band's width along mu (a simplex inside the band).
-    let first_steps = |i: usize| -> Vec<Vec<f64>> {
-        let mut all = vec![spacing.clone()];
+    // The first simplex of a start: the grid's; a band sample is refined from that and again
+    // from one of its band's width along mu (a simplex inside the band), marked narrow.
+    let first_steps = |i: usize| -> Vec<(Vec<f64>, bool)> {
+        let mut all = vec![(spacing.clone(), false)];
         if let Some(k) = space.mu_axis() {
             if grid.bands[i] > 0.0 && grid.bands[i] < spacing[k] {
                 let mut narrow = spacing.clone();
                 narrow[k] = grid.bands[i];
-                all.push(narrow);
+                all.push((narrow, true));
             }
         }
         all
     };
-    let mut refined: Vec<(Vec<f64>, f64, bool, Vec<f64>)> = Vec::new();
+    // (point, cost, iteration limit hit, started inside a narrow band)
+    let mut refined: Vec<(Vec<f64>, f64, bool, bool)> = Vec::new();
     for &i in &starts {
         let tol = s.nelder_mead_tolerance * (1.0 + values[i].unwrap_or(0.0));
-        for steps in first_steps(i) {
+        for (steps, narrow) in first_steps(i) {
             out.refinements += 1;
             let (best, hit) = refine::nelder_mead(inner, space, &pts[i], &steps, tol, s, out);
             if let Some(b) = best {
                 if let Some(p) = out.exact(inner, space, &b) {
-                    refined.push((b, p.candidate.cost, hit, steps));
+                    refined.push((b, p.candidate.cost, hit, narrow));
                 }
             }
         }
@@ -319,15 +320,14 @@ fn refine_from_grid(
             .all(|((x, y), sp)| (x - y).abs() <= 1e-3 * sp)
     };
     let mut polished: Vec<(Vec<f64>, f64)> = Vec::new();
-    for (p, cost, hit, steps) in refined {
-        let narrow = steps.iter().zip(&spacing).any(|(a, b)| a < b);
+    for (p, cost, hit, narrow) in refined {
         if narrow || cost <= lead + s.polish_within * (1.0 + lead.abs()) {
             if let Some((_, value)) = polished.iter().find(|(q, _)| twin(&p, q)) {
                 let value = value.min(cost);
                 out.finals.push((value, hit && value >= cost));
                 continue;
             }
-            let (_, value) = refine::compass(inner, space, p.clone(), cost, &spacing, s, out);
+            let (_, value) = refine::compass(inner, space, p.clone(), cost, s, out);
             out.finals.push((value, hit && value >= cost));
             polished.push((p, value));
         } else {

@@ -77,25 +77,21 @@ pub(crate) fn nelder_mead(
     }
 }
 
-/// Compass (pattern) search with step halving, inside the box, with first steps a fraction
-/// `polish_first_step` of `steps` (the grid spacing, or a narrow band's width); returns the
-/// point and its cost.
+/// Compass (pattern) search with step halving, inside the box; returns the point and its cost.
 pub(crate) fn compass(
     inner: &Inner,
     space: &Space,
     mut p: Vec<f64>,
     mut cost: f64,
-    steps: &[f64],
     settings: &SearchSettings,
     out: &mut Outcome,
 ) -> (Vec<f64>, f64) {
     let mut step: Vec<f64> = space
         .dims
         .iter()
-        .zip(steps)
-        .map(|(d, s)| {
+        .map(|d| {
             if d.n > 1 {
-                s * settings.polish_first_step
+                d.spacing() * settings.polish_first_step
             } else {
                 0.0
             }
