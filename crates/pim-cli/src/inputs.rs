@@ -12,13 +12,7 @@ pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, Failure> {
     let name = path.display().to_string();
     let meta = std::fs::metadata(path)
         .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    pim_data::input::check_regular(&name, &meta)?;
-    if meta.len() > max_bytes {
-        return Err(Failure::Input(format!(
-            "{name}: is {} bytes, larger than the {max_bytes} bytes accepted for this kind of file",
-            meta.len()
-        )));
-    }
+    pim_data::input::check_file(&name, &meta, max_bytes)?;
     let file = std::fs::File::open(path)
         .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
     Ok(pim_data::input::read_text(&name, file, max_bytes)?)

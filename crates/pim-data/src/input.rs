@@ -20,6 +20,22 @@ pub fn check_regular(name: &str, meta: &std::fs::Metadata) -> Result<()> {
     Ok(())
 }
 
+/// Refuses what is not a regular file, and a file larger than `max_bytes` by its own account
+/// (the read is capped anyway: [`read_text`]).
+pub fn check_file(name: &str, meta: &std::fs::Metadata, max_bytes: u64) -> Result<()> {
+    check_regular(name, meta)?;
+    if meta.len() > max_bytes {
+        return Err(InputError::new(
+            name,
+            format!(
+                "is {} bytes, larger than the {max_bytes} bytes accepted for this kind of file",
+                meta.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The UTF-8 text of `reader`, at most `max_bytes` long.
 pub fn read_text(name: &str, reader: impl Read, max_bytes: u64) -> Result<String> {
     let mut bytes = Vec::new();

@@ -112,37 +112,35 @@ impl Case {
                 ));
             }
         }
-        // States and estimates: speeds, yaw rates, sideslip.
-        let mut states: Vec<(String, f64, f64, Option<f64>, usize)> = Vec::new();
-        for (sec, st) in [("initial", &c.initial), ("final", &c.final_)] {
+        // States and estimates: speeds, yaw rates, sideslip. Each entry: the path of the
+        // vehicle's state, vx, vy, omega, the vehicle, and whether it is the contact state.
+        type State = (String, f64, f64, Option<f64>, usize, bool);
+        let mut states: Vec<State> = Vec::new();
+        for (sec, st, contact) in [("initial", &c.initial, true), ("final", &c.final_, false)] {
             if let Some(st) = st {
                 let vehicle2 = st.vehicle2.unwrap_or(AT_REST);
                 for (k, v) in [st.vehicle1, vehicle2].into_iter().enumerate() {
-                    states.push((
-                        format!("{sec}.vehicle{}", k + 1),
-                        v.vx,
-                        v.vy,
-                        Some(v.omega),
-                        k,
-                    ));
+                    let path = format!("{sec}.vehicle{}", k + 1);
+                    states.push((path, v.vx, v.vy, Some(v.omega), k, contact));
                 }
             }
         }
         if let Some(e) = &c.estimates {
-            for (sec, st) in [
-                ("estimates.initial", &e.initial),
-                ("estimates.final", &e.final_),
+            for (sec, st, contact) in [
+                ("estimates.initial", &e.initial, true),
+                ("estimates.final", &e.final_, false),
             ] {
                 if let Some(st) = st {
                     for (k, v) in [st.vehicle1, st.vehicle2].into_iter().enumerate() {
                         if let (Some(vx), Some(vy)) = (v.vx, v.vy) {
-                            states.push((format!("{sec}.vehicle{}", k + 1), vx, vy, v.omega, k));
+                            let path = format!("{sec}.vehicle{}", k + 1);
+                            states.push((path, vx, vy, v.omega, k, contact));
                         }
                     }
                 }
             }
         }
-        for (path, vx, vy, omega, k) in states {
+        for (path, vx, vy, omega, k, at_contact) in states {
             let speed = vx.hypot(vy);
             if speed > PLAUSIBLE_SPEED {
                 out.push(format!(
@@ -162,7 +160,6 @@ impl Case {
             }
             // Sideslip at contact, for a vehicle that is not turning.
             let v = vehicles[k].1;
-            let at_contact = path.ends_with(&format!("initial.vehicle{}", k + 1));
             if at_contact && !v.barrier && omega == Some(0.0) && speed > 1.0 {
                 let nose = match (c.convention, k) {
                     (Convention::Brach, 0) => v.heading + 180.0,

@@ -397,46 +397,32 @@ impl BoundsSection {
     pub fn check(&self) -> std::result::Result<(), (String, String)> {
         // The coefficient boxes (e, mu, et, friction) are checked with the fit's settings,
         // against the coefficient domains (pim-fit's `FitSettings::check`).
-        let pairs: [(&str, Option<[f64; 2]>, f64, f64); 3] = [
-            ("crush_angle", self.crush_angle, -360.0, 360.0),
+        let angle = [crate::ranges::ANGLE.lo, crate::ranges::ANGLE.hi];
+        let length = [-pim_core::MAX_DISTANCE, pim_core::MAX_DISTANCE];
+        let vehicles = [("vehicle1", self.vehicle1), ("vehicle2", self.vehicle2)]
+            .map(|(name, v)| (name, v.unwrap_or_default()));
+        type Field = fn(&CentreBounds) -> Option<[f64; 2]>;
+        let fields: [(&str, Field, [f64; 2]); 4] = [
+            ("phi", |v| v.phi, angle),
+            ("d", |v| v.d, length),
             (
-                "vehicle1.phi",
-                self.vehicle1.and_then(|v| v.phi),
-                -360.0,
-                360.0,
+                "impact_point.x",
+                |v| v.impact_point.and_then(|p| p.x),
+                length,
             ),
             (
-                "vehicle2.phi",
-                self.vehicle2.and_then(|v| v.phi),
-                -360.0,
-                360.0,
-            ),
-        ];
-        let lengths = [
-            ("vehicle1.d", self.vehicle1.and_then(|v| v.d)),
-            ("vehicle2.d", self.vehicle2.and_then(|v| v.d)),
-            (
-                "vehicle1.impact_point.x",
-                self.vehicle1.and_then(|v| v.impact_point).and_then(|p| p.x),
-            ),
-            (
-                "vehicle1.impact_point.y",
-                self.vehicle1.and_then(|v| v.impact_point).and_then(|p| p.y),
-            ),
-            (
-                "vehicle2.impact_point.x",
-                self.vehicle2.and_then(|v| v.impact_point).and_then(|p| p.x),
-            ),
-            (
-                "vehicle2.impact_point.y",
-                self.vehicle2.and_then(|v| v.impact_point).and_then(|p| p.y),
+                "impact_point.y",
+                |v| v.impact_point.and_then(|p| p.y),
+                length,
             ),
         ];
-        let all = pairs
-            .iter()
-            .map(|&(n, v, lo, hi)| (n, v, lo, hi))
-            .chain(lengths.iter().map(|&(n, v)| (n, v, -1e3, 1e3)));
-        for (name, value, lo, hi) in all {
+        let mut all = vec![("crush_angle".to_string(), self.crush_angle, angle)];
+        for (field, get, range) in fields {
+            for (name, v) in &vehicles {
+                all.push((format!("{name}.{field}"), get(v), range));
+            }
+        }
+        for (name, value, [lo, hi]) in all {
             let Some([a, b]) = value else { continue };
             if !(a.is_finite() && b.is_finite() && lo <= a && a <= b && b <= hi) {
                 return Err((

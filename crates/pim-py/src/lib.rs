@@ -72,7 +72,7 @@ fn read(path: &Path, max_bytes: u64) -> PyResult<String> {
     let name = path.display().to_string();
     let meta =
         std::fs::metadata(path).map_err(|e| input_error(format!("{name}: cannot read: {e}")))?;
-    pim_data::input::check_regular(&name, &meta).map_err(|e| input_error(e.message))?;
+    pim_data::input::check_file(&name, &meta, max_bytes).map_err(|e| input_error(e.message))?;
     let file =
         std::fs::File::open(path).map_err(|e| input_error(format!("{name}: cannot read: {e}")))?;
     pim_data::input::read_text(&name, file, max_bytes).map_err(|e| input_error(e.message))

@@ -39,12 +39,9 @@ fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
                     continue;
                 }
                 match std::fs::metadata(&f) {
-                    Ok(m) if m.is_file() => found.push(f),
-                    Ok(_) => {
-                        return Err(Failure::Input(format!(
-                            "{}: is not a regular file; a case file is expected",
-                            f.display()
-                        )))
+                    Ok(m) => {
+                        pim_data::input::check_regular(&f.display().to_string(), &m)?;
+                        found.push(f);
                     }
                     Err(e) => {
                         return Err(Failure::Input(format!(
