@@ -170,14 +170,20 @@ pub fn moment_b_row(impact: &Impact) -> RowVector6<f64> {
     )
 }
 
-/// Equation 6. Corrected (1984): `(W2 - W1)(1 - em) = em B`; 1983 listing: `(W1 - W2)(1 - em) = em B`.
-pub fn moment_restitution(impact: &Impact, em: f64, form: MomentForm) -> Row {
-    let b = moment_b_row(impact);
+/// The relative yaw rate of equation 6 over the separation state: `W2 - W1` in the corrected
+/// form (1984), `W1 - W2` in the 1983 listing.
+pub fn relative_yaw_row(form: MomentForm) -> RowVector6<f64> {
     let sign = match form {
         MomentForm::Corrected => 1.0,
         MomentForm::Brach1983 => -1.0,
     };
-    let w = RowVector6::new(0.0, 0.0, -sign, 0.0, 0.0, sign) * (1.0 - em);
+    RowVector6::new(0.0, 0.0, -sign, 0.0, 0.0, sign)
+}
+
+/// Equation 6. Corrected (1984): `(W2 - W1)(1 - em) = em B`; 1983 listing: `(W1 - W2)(1 - em) = em B`.
+pub fn moment_restitution(impact: &Impact, em: f64, form: MomentForm) -> Row {
+    let b = moment_b_row(impact);
+    let w = relative_yaw_row(form) * (1.0 - em);
     (w - b * em, b * em)
 }
 

@@ -9,7 +9,7 @@ use crate::report::{
     BranchReport, Identifiability, Limits, Quantity, Reason, Solution, Status, TangentialFit,
 };
 use crate::search::{near_limit, Outcome, Point, Sample};
-use crate::settings::{FitModel, FitSettings};
+use crate::settings::FitSettings;
 use pim_core::{SolveOptions, Velocities};
 
 fn certificate(out: &Outcome) -> Certificate {
@@ -154,7 +154,7 @@ fn solution(
     let initial = Velocities::from_vector(&c.x);
     let separation = Velocities::from_vector(&c.xf);
     let mut problems = Vec::new();
-    let (r, tangential) = if inner.model == FitModel::Tangential {
+    let (r, tangential) = if inner.family.friction() == crate::family::Friction::Limit {
         let (r, t, mut more) = tangential_check(inner, settings, best, &initial)?;
         problems.append(&mut more);
         (r, Some(t))

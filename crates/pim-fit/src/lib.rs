@@ -18,7 +18,7 @@
 //!
 //! ## Modules, and the path of one fit through them
 //! ```text
-//! fit (run.rs) ── per moment branch, side by side ──> search::search_branch   (the route)
+//! fit (run.rs) ── per moment branch (FitModel::family().branches), side by side ──> search::search_branch   (the route)
 //!   │                                                   │
 //!   │                 ┌── convex::solve ─ Verdict::Optimal ───────────────────┐
 //!   │                 │     (sign patterns, dual active-set QPs,               │
@@ -35,7 +35,13 @@
 //! every tolerance with its default; problem.rs the data and cost presets.
 //! ```
 //! Every equation row, the reduction to three unknowns, the impulse projection and the
-//! friction rule come from pim-core.
+//! friction rule come from pim-core. What differs between models (a moment impulse or none,
+//! equivalent friction or a friction limit, how sticking maps a contact state, whether the
+//! convex route is written for it) is asked of the model's `family` (one file per model,
+//! registered in [`FitModel`]); no other module names a model. The linear conditions (bounds,
+//! approach, sliding direction) are written once in `inner/constraints.rs` as rows over the
+//! twelve components, which the QPs read over the contact state and the convex route over
+//! its own variables.
 //!
 //! ## Which route a problem takes
 //! `search::search_branch` decides, once per branch, and the certificate says which route ran and, when
@@ -139,6 +145,7 @@ mod branch;
 mod certificate;
 mod convex;
 mod error;
+mod family;
 mod geometry;
 mod inner;
 mod problem;

@@ -23,33 +23,28 @@ impl FitModel {
     /// Both models, PIM first.
     pub const ALL: [FitModel; 2] = [FitModel::Pim, FitModel::Tangential];
 
-    /// What the model fits, in a line.
-    pub fn description(self) -> &'static str {
+    /// What the fit asks of the model (the one place a model is registered for the fit).
+    pub(crate) fn family(self) -> &'static dyn crate::family::Family {
         match self {
-            FitModel::Pim => "Planar Impact Mechanics: e, mu, em (both moment branches)",
-            FitModel::Tangential => {
-                "Normal and tangential restitution with a friction limit: e, et, friction (no \
-                 moment impulse; one branch)"
-            }
+            FitModel::Pim => &crate::family::Pim,
+            FitModel::Tangential => &crate::family::Tangential,
         }
     }
 
-    /// The moment branches the model fits, of those asked: PIM all of them; the tangential
-    /// model, which has no moment impulse, only the zero branch (the one place this rule is
-    /// written).
+    /// What the model fits, in a line.
+    pub fn description(self) -> &'static str {
+        self.family().description()
+    }
+
+    /// The moment branches the model fits, of those asked: all of them for a model with a
+    /// moment impulse (PIM), only the zero branch for one without (the tangential model).
     pub fn branches(self, asked: &[MomentBranch]) -> Vec<MomentBranch> {
-        match self {
-            FitModel::Pim => asked.to_vec(),
-            FitModel::Tangential => vec![MomentBranch::Zero],
-        }
+        self.family().branches(asked)
     }
 
     /// The model's name in case files and on the command line.
     pub fn name(self) -> &'static str {
-        match self {
-            FitModel::Pim => "pim",
-            FitModel::Tangential => "tangential",
-        }
+        self.family().name()
     }
 }
 

@@ -40,17 +40,18 @@ mod form;
 mod verdict;
 
 use crate::certificate::Fallback;
-use crate::inner::{At, Candidate, Inner};
+use crate::inner::{At, Candidate, Inner, RowU};
 use crate::problem::MomentBranch;
+use crate::report::Violation;
 use crate::settings::FitSettings;
 use dual::{Row, N};
 use form::{add, dot, scaled, Form};
 use nalgebra::{Matrix6, RowVector6, SymmetricEigen};
 use pim_core::equations::{
     angular_momentum, impulse_rows, moment_b_row, momentum_x, momentum_y, normal_velocity_row,
-    tangential_velocity_row,
+    relative_yaw_row, tangential_velocity_row,
 };
-use pim_core::{Coefficients, FrictionSign, MomentForm, TangentialCondition};
+use pim_core::{Coefficients, FrictionSign, TangentialCondition};
 pub(crate) use verdict::{Counts, Verdict};
 
 /// One sign pattern over an e_m interval.
@@ -83,11 +84,12 @@ struct Formulation {
     /// Rows every pattern shares, and the largest of their single-row lower bounds.
     common: Vec<Row>,
     common_bound: f64,
+    /// The sliding-direction rows of each friction sign (positive, negative).
+    sliding: [Vec<Row>; 2],
     vn: Form,
     big_vn: Form,
     pn: Form,
     pt: Form,
-    vt: Form,
     big_vt: Form,
     w_final: Form,
     w_lin: Form,
@@ -182,17 +184,29 @@ impl Formulation {
             a[i] = -2.0 * (0..12).map(|p| t[p][i] * gu[p]).sum::<f64>();
         }
         let objective = dual::Objective::new(n, g, a).ok_or(Fallback::DegenerateGeometry)?;
-        let tol = inner.tolerance();
-        let mut common = Vec::new();
-        for k in 0..12 {
-            let limit = if k % 3 == 2 {
-                settings.yaw_rate_bound
-            } else {
-                settings.velocity_bound
-            } - tol;
-            common.push(Row::new(scaled(&t[k], -1.0), -limit).ok_or(Fallback::DegenerateGeometry)?);
-            common.push(Row::new(t[k], -limit).ok_or(Fallback::DegenerateGeometry)?);
-        }
+        // The inner problem's linear rows `row . U <= rhs` over U = T z, as `-row T z >= -rhs`:
+        // bounds and approach common to every pattern, the sliding direction per sign.
+        let over_z = |(u, rhs, _): &RowU| {
+            let f = std::array::from_fn(|i| -(0..12).map(|p| u[p] * t[p][i]).sum::<f64>());
+            Row::new(f, -rhs).ok_or(Fallback::DegenerateGeometry)
+        };
+        let mut common = inner
+            .linear_rows(None)
+            .iter()
+            .map(over_z)
+            .collect::<Result<Vec<Row>, Fallback>>()?;
+        let sliding = |sign: FrictionSign| {
+            inner
+                .linear_rows(Some(sign))
+                .iter()
+                .filter(|r| r.2 == Violation::SlidingDirection)
+                .map(over_z)
+                .collect::<Result<Vec<Row>, Fallback>>()
+        };
+        let sliding = [
+            sliding(FrictionSign::Positive)?,
+            sliding(FrictionSign::Negative)?,
+        ];
         let side = if impact.side() == 0.0 {
             1.0
         } else {
@@ -202,11 +216,6 @@ impl Formulation {
         let trow = tangential_velocity_row(impact);
         let vn = over_x(&nrow);
         let big_vn = over_final(&nrow);
-        // Approach: -side vn >= min_approach + tol.
-        common.push(
-            Row::new(scaled(&vn, -side), settings.search.min_approach_speed + tol)
-                .ok_or(Fallback::DegenerateGeometry)?,
-        );
         // Restitution within [e_min, e_max]: a = -side vn, b = side Vn.
         let (fa, fb) = (scaled(&vn, -side), scaled(&big_vn, side));
         common.push(
@@ -217,11 +226,7 @@ impl Formulation {
                 .ok_or(Fallback::DegenerateGeometry)?,
         );
         let (pn_row, pt_row) = impulse_rows(impact);
-        let w_sign = match settings.moment_form {
-            MomentForm::Corrected => 1.0,
-            MomentForm::Brach1983 => -1.0,
-        };
-        let w = RowVector6::new(0.0, 0.0, -w_sign, 0.0, 0.0, w_sign);
+        let w = relative_yaw_row(settings.moment_form);
         let w_final = over_final(&w);
         let w_lin = add(&w_final, &over_d(&b_row), 1.0);
         let common_bound = common
@@ -239,7 +244,7 @@ impl Formulation {
             big_vn,
             pn: over_d(&pn_row),
             pt: over_d(&pt_row),
-            vt: over_x(&trow),
+            sliding,
             big_vt: over_final(&trow),
             w_final,
             w_lin,
@@ -374,7 +379,7 @@ impl Formulation {
         let s = p.sign.value();
         // Sliding direction: sgn(vt) = -s side, or vt = 0 (closed: there the friction rule takes
         // the no-slip impulse's side, which the friction rows of this sign check).
-        rows.push(Row::new(scaled(&self.vt, -s * self.side), 0.0)?);
+        rows.extend_from_slice(&self.sliding[usize::from(p.sign == FrictionSign::Negative)]);
         // mu = s Pt / Pn within the bounds, for the sign s_n of Pn.
         let [mlo, mhi] = inner.mu_bounds;
         let spt = scaled(&self.pt, s);
@@ -558,8 +563,8 @@ struct Node {
 /// optimum that passes the exact check is feasible; one that fails splits its interval at its
 /// e_m, with its value as the children's lower bound, until no interval can beat the best.
 pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Verdict {
-    if inner.model != crate::FitModel::Pim {
-        return Verdict::Search(Fallback::Model);
+    if let Err(why) = inner.family.convex_route() {
+        return Verdict::Search(why);
     }
     if !settings.search.convex {
         return Verdict::Search(Fallback::Disabled);

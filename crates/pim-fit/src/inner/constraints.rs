@@ -96,6 +96,38 @@ pub(crate) struct ConstraintSet<'a> {
 /// A row over x and its right-hand side: `row . x <= rhs`.
 pub(crate) type RowX = (RowVector6<f64>, f64, Violation);
 
+/// A row over the twelve components `U = (x, X)` and its right-hand side: `row . U <= rhs`.
+pub(crate) type RowU = ([f64; 12], f64, Violation);
+
+/// Linear conditions as rows over `U = (x, X)`, aimed inside by the tolerance `tol`; the sliding
+/// direction is closed (`vt = 0` is admissible by the friction rule). Every solve path that
+/// writes rows (the QPs over x, the convex route over its own variables) reads them here.
+pub(crate) fn rows_over_u(linear: &[Linear], tol: f64) -> Vec<RowU> {
+    let mut out = Vec::with_capacity(linear.len() + 1);
+    for c in linear {
+        match *c {
+            Linear::Bound { k, limit } => {
+                let mut row = [0.0; 12];
+                row[k] = 1.0;
+                let v = Violation::Bound(Component(k));
+                out.push((row, limit - tol, v));
+                out.push((row.map(|x| -x), limit - tol, v));
+            }
+            Linear::Contact { row, rhs, kind } => {
+                let mut u = [0.0; 12];
+                u[..6].copy_from_slice(row.as_slice());
+                let aimed = if kind == Violation::SlidingDirection {
+                    rhs
+                } else {
+                    rhs - tol
+                };
+                out.push((u, aimed, kind));
+            }
+        }
+    }
+    out
+}
+
 impl ConstraintSet<'_> {
     fn impulses(
         &self,
@@ -191,30 +223,17 @@ impl ConstraintSet<'_> {
 
     /// The linear conditions as rows over x for `X = R x`, aimed inside by the tolerance.
     pub fn rows_over_x(&self, r: &Matrix6<f64>) -> Vec<RowX> {
-        let mut out = Vec::with_capacity(self.linear.len() + 1);
-        for c in self.linear {
-            match *c {
-                Linear::Bound { k, limit } => {
-                    let row: RowVector6<f64> = if k < 6 {
-                        let mut e = RowVector6::zeros();
-                        e[k] = 1.0;
-                        e
-                    } else {
-                        r.row(k - 6).into_owned()
-                    };
-                    let v = Violation::Bound(Component(k));
-                    out.push((row, limit - self.tol, v));
-                    out.push((-row, limit - self.tol, v));
-                }
-                // The sliding direction is closed (vt = 0 is admissible by the friction rule);
-                // the other contact rows are aimed inside.
-                Linear::Contact { row, rhs, kind } if kind == Violation::SlidingDirection => {
-                    out.push((row, rhs, kind))
-                }
-                Linear::Contact { row, rhs, kind } => out.push((row, rhs - self.tol, kind)),
-            }
-        }
-        out
+        rows_over_u(self.linear, self.tol)
+            .into_iter()
+            .map(|(u, rhs, kind)| {
+                let (first, second) = (
+                    RowVector6::from_row_slice(&u[..6]),
+                    RowVector6::from_row_slice(&u[6..]),
+                );
+                // Exact where one half is zero (a row on x alone, or a bound on X).
+                (first + second * r, rhs, kind)
+            })
+            .collect()
     }
 
     /// `(Pn, sign Pt)` of the ratio condition as rows over x, for `X = R x` at restitution e

@@ -74,7 +74,7 @@ impl Inner {
         }
         let [mlo, mhi] = self.mu_bounds;
         let mu_box = (mhi - mlo).max(1e-3);
-        if self.model == crate::FitModel::Tangential {
+        if self.family.friction() == crate::family::Friction::Limit {
             // The coefficient that decides the answer: the friction limit when sliding, et when
             // sticking (the other only bounds it).
             let (v, [lo, hi], low, high) = match at.mode {

@@ -13,7 +13,9 @@ impl Inner {
     /// decides).
     pub(super) fn evaluate_known(&self, at: &At) -> Option<Eval> {
         let known = self.known.as_ref()?;
-        if self.model == crate::FitModel::Tangential && at.mode == TangentialCondition::NoSlip {
+        if self.family.sticking() == crate::family::Sticking::Restitution
+            && at.mode == TangentialCondition::NoSlip
+        {
             // The tangential model's sticking: its own transfer matrix, X = R x.
             let (v, contact) = self.known_state?;
             let r = self.transfer(at)?;

@@ -1,11 +1,12 @@
 //! The inner problem prepared once per fit (everything that does not depend on the
 //! coefficients), the point where it is evaluated and what an evaluation returns.
 
-use super::constraints::{ConstraintSet, Impulses, Linear, Ratio};
+use super::constraints::{rows_over_u, ConstraintSet, Impulses, Linear, Ratio, RowU};
 use super::objective::Objective;
+use crate::family::{Family, Friction, Sticking};
 use crate::problem::FitProblem;
 use crate::report::Violation;
-use crate::settings::{FitModel, FitSettings, SearchSettings};
+use crate::settings::{FitSettings, SearchSettings};
 use nalgebra::{Matrix2x6, Matrix6, RowVector6, Vector6};
 use pim_core::equations::{impulse_rows, normal_velocity_row, tangential_velocity_row};
 use pim_core::reduction::{CriticalRows, KnownState, Reduction};
@@ -77,8 +78,8 @@ pub(crate) struct Inner {
     pub(super) mass: Vector6<f64>,
     pub mu_bounds: [f64; 2],
     pub e_range: [f64; 2],
-    /// The model fitted.
-    pub model: FitModel,
+    /// What the fit asks of the model fitted.
+    pub family: &'static dyn Family,
     /// Friction-limit range of the tangential model.
     pub friction: [f64; 2],
     /// et range of the tangential model.
@@ -100,15 +101,11 @@ impl Inner {
     pub fn new(problem: &FitProblem, settings: &FitSettings) -> Self {
         let impact = problem.impact;
         let objective = Objective::new(problem);
-        let tangential = settings.model == FitModel::Tangential;
+        let family = settings.model.family();
         // The tangential model has no moment impulse: its sliding mode is PIM's with e_m = 1,
         // where the moment forms agree (and so is its reduced known-state solve); its sticking
         // mode solves a known state through its own transfer matrix.
-        let moment_form = if tangential {
-            pim_core::MomentForm::Corrected
-        } else {
-            settings.moment_form
-        };
+        let moment_form = family.moment_form(settings.moment_form);
         let known_state = objective.known_state();
         let known =
             known_state.map(|(v, forward)| KnownState::new(&impact, moment_form, v, forward));
@@ -182,7 +179,7 @@ impl Inner {
             mass: Vector6::new(m1, m1, i1, m2, m2, i2),
             mu_bounds: settings.mu,
             e_range: settings.e,
-            model: settings.model,
+            family,
             friction: settings.friction,
             et_range: settings.et,
             settings: settings.search,
@@ -197,9 +194,15 @@ impl Inner {
         1e-9 * self.mass[0] * self.objective.scale
     }
 
-    /// The feasibility tolerance of the linear conditions, m/s.
-    pub fn tolerance(&self) -> f64 {
-        self.tol
+    /// The linear conditions as rows over `U = (x, X)` (see [`rows_over_u`]): of a friction
+    /// sign (bounds, approach and the sliding direction of that sign), or without a sign (bounds
+    /// and approach only).
+    pub(crate) fn linear_rows(&self, sign: Option<FrictionSign>) -> Vec<RowU> {
+        let linear = match sign {
+            Some(s) => &self.linear[sign_index(s)],
+            None => &self.linear_any,
+        };
+        rows_over_u(linear, self.tol)
     }
 
     /// Sum of weight x target^2 over the data.
@@ -212,17 +215,20 @@ impl Inner {
     /// which the ratio condition of each sign decides; the tangential model's sliding sign is
     /// the side of its sticking impulse, so it always tries both).
     pub fn signs(&self) -> &'static [FrictionSign] {
-        match (self.model, self.known_sign) {
-            (FitModel::Pim, Some(FrictionSign::Positive)) => &[FrictionSign::Positive],
-            (FitModel::Pim, Some(FrictionSign::Negative)) => &[FrictionSign::Negative],
-            _ => &FrictionSign::BOTH,
+        match self
+            .known_sign
+            .filter(|_| self.family.sign_follows_sliding())
+        {
+            Some(FrictionSign::Positive) => &[FrictionSign::Positive],
+            Some(FrictionSign::Negative) => &[FrictionSign::Negative],
+            None => &FrictionSign::BOTH,
         }
     }
 
     /// The transfer matrix `X = R x` of a candidate point.
     pub fn transfer(&self, at: &At) -> Option<Matrix6<f64>> {
-        match (self.model, at.mode) {
-            (FitModel::Tangential, TangentialCondition::NoSlip) => {
+        match (self.family.sticking(), at.mode) {
+            (Sticking::Restitution, TangentialCondition::NoSlip) => {
                 pim_core::stick_transfer(&self.impact, at.c.e, at.et)
             }
             _ => self.reduction.transfer(&at.c, at.mode, at.sign),
@@ -279,7 +285,7 @@ impl Inner {
     /// The constraint set of a candidate point.
     pub fn constraints(&self, at: &At) -> ConstraintSet<'_> {
         let ratio = match at.mode {
-            _ if self.model == FitModel::Tangential => Some(self.tangential_ratio(at)),
+            _ if self.family.friction() == Friction::Limit => Some(self.tangential_ratio(at)),
             TangentialCondition::NoSlip => Some(Ratio {
                 source: Impulses::Actual,
                 lo: self.mu_bounds[0],
@@ -311,7 +317,7 @@ impl Inner {
             }
         };
         let tangential_sliding =
-            self.model == FitModel::Tangential && at.mode == TangentialCondition::Sliding;
+            self.family.friction() == Friction::Limit && at.mode == TangentialCondition::Sliding;
         ConstraintSet {
             linear: if tangential_sliding {
                 &self.linear_any
@@ -346,7 +352,7 @@ impl Inner {
 
     /// mu_max of a candidate's contact state at its e and em (`None` when undefined).
     pub fn mu_max(&self, at: &At, c: &Candidate) -> Option<f64> {
-        if self.model == FitModel::Tangential {
+        if self.family.friction() != Friction::Equivalent {
             return None;
         }
         self.reduction
@@ -369,13 +375,13 @@ impl Inner {
     pub fn singular_faces(&self) -> pim_core::reduction::SingularFaces {
         self.known
             .as_ref()
-            .filter(|_| self.model == FitModel::Pim)
+            .filter(|_| self.family.moment_impulse())
             .map(|k| k.singular_faces())
             .unwrap_or_default()
     }
 
     /// True when the search may profile e out (see [`Inner::evaluate_profile`]; PIM only).
     pub fn profiles(&self) -> bool {
-        self.model == FitModel::Pim && self.known.as_ref().is_some_and(|d| d.profiles())
+        self.family.moment_impulse() && self.known.as_ref().is_some_and(|d| d.profiles())
     }
 }

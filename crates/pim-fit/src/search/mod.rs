@@ -37,7 +37,8 @@ pub(crate) fn search_branch(
     let mut out = Outcome {
         data_scale: inner.data_scale(),
         profiled_e: inner.profiles(),
-        friction_max: (inner.model == crate::FitModel::Tangential).then_some(settings.friction[1]),
+        friction_max: (inner.family.friction() == crate::family::Friction::Limit)
+            .then_some(settings.friction[1]),
         ..Outcome::default()
     };
     let verdict = crate::convex::solve(inner, settings, branch);

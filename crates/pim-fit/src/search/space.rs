@@ -7,7 +7,7 @@
 
 use crate::inner::{At, Eval, Inner, LineAt};
 use crate::problem::MomentBranch;
-use crate::settings::{FitModel, FitSettings};
+use crate::settings::FitSettings;
 use pim_core::reduction::SingularFaces;
 use pim_core::{Coefficients, FrictionSign, TangentialCondition};
 
@@ -212,7 +212,7 @@ pub(crate) fn spaces(
         ..e
     };
     let free = branch == MomentBranch::Free;
-    if s.model == FitModel::Tangential {
+    if s.model.family().sticking() == crate::family::Sticking::Restitution {
         return tangential_spaces(e, fine_e, s);
     }
     let mut faces_at: Vec<(Option<f64>, Option<f64>)> = vec![(None, None)];
