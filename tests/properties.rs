@@ -428,3 +428,90 @@ fn tangential_model_is_pim_in_its_two_limits() {
         })
         .unwrap();
 }
+
+/// Every number of two JSON values equal to `tol` relative to the largest of its kind.
+fn json_close(
+    a: &serde_json::Value,
+    b: &serde_json::Value,
+    path: &str,
+    tol: f64,
+) -> std::result::Result<(), String> {
+    use serde_json::Value as V;
+    match (a, b) {
+        (V::Number(x), V::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            if (x - y).abs() <= tol * x.abs().max(y.abs()).max(1.0) {
+                Ok(())
+            } else {
+                Err(format!("{path}: {x} against {y}"))
+            }
+        }
+        (V::Object(x), V::Object(y)) => x
+            .iter()
+            .try_for_each(|(k, v)| json_close(v, &y[k], &format!("{path}.{k}"), tol)),
+        (V::Array(x), V::Array(y)) => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .try_for_each(|(i, (v, w))| json_close(v, w, &format!("{path}[{i}]"), tol)),
+        _ if a == b => Ok(()),
+        _ => Err(format!("{path}: {a} against {b}")),
+    }
+}
+
+#[test]
+fn the_mirrored_collision_has_the_mirrored_solution() {
+    // Reflection (y, angles, rotations change sign) maps a solution to the solution of the
+    // mirrored collision with the same coefficients: `ImpactReport::mirrored` states which
+    // result changes sign (how an SAE case is answered in its own frame).
+    runner(2000)
+        .run(
+            &(
+                arb_collision(),
+                arb_state(),
+                0.0..1.0f64,
+                -1.2..1.2f64,
+                arb_em(),
+            ),
+            |(c, x, e, mu, em)| {
+                let Ok(impact) = Impact::new(c) else {
+                    return Ok(());
+                };
+                if impact.check_approach(&x).is_err() {
+                    return Ok(());
+                }
+                let m = |v: Vehicle| Vehicle {
+                    heading: -v.heading,
+                    phi: -v.phi,
+                    ..v
+                };
+                let mirror = Impact::new(Collision {
+                    vehicle1: m(c.vehicle1),
+                    vehicle2: m(c.vehicle2),
+                    crush_angle: -c.crush_angle,
+                })
+                .unwrap();
+                let coefficients = Coefficients { e, mu, em };
+                let opts = SolveOptions::default();
+                let (Ok(a), Ok(b)) = (
+                    solve_forward(&impact, &coefficients, &x, &opts),
+                    solve_forward(&mirror, &coefficients, &x.mirrored(), &opts),
+                ) else {
+                    return Ok(());
+                };
+                // The PDOF is stated clockwise from the nose in both frames, so it is a
+                // physical direction: the mirror crash's PDOF is the mirror image of ours.
+                let mut b = b;
+                for v in &mut b.vehicles {
+                    v.pdof = wrap_degrees(-v.pdof);
+                    v.clock = if v.clock == 12 { 12 } else { 12 - v.clock };
+                }
+                let (a, b) = (
+                    serde_json::to_value(a.mirrored()).unwrap(),
+                    serde_json::to_value(&b).unwrap(),
+                );
+                json_close(&a, &b, "report", 1e-9).map_err(TestCaseError::fail)
+            },
+        )
+        .unwrap();
+}

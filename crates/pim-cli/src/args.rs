@@ -176,9 +176,10 @@ pub struct SolveArgs {
     /// ignored and the friction it implies is reported as mu_max.
     #[arg(long)]
     pub no_slip: bool,
-    /// Units of the table (JSON is always SI).
-    #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
-    pub units: UnitsArg,
+    /// Units of the table and report.md (default: the case's [units], by its speed unit; JSON
+    /// is always SI).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
     /// Also write into this directory (created if needed): result.json, report.md and the
     /// scale diagram diagram.svg (`pim sensitivity`: sensitivity.json and sensitivity.txt).
     #[arg(long)]
@@ -479,9 +480,10 @@ pub struct FitArgs {
     /// Form of the moment equation (6).
     #[arg(long, value_parser = moment_form(), default_value = "corrected")]
     pub moment_form: MomentForm,
-    /// Units of the table (JSON is always SI).
-    #[arg(long, value_enum, default_value_t = UnitsArg::Si)]
-    pub units: UnitsArg,
+    /// Units of the table and report.md (default: the case's [units], by its speed unit; JSON
+    /// is always SI).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
     /// Also write into this directory (created if needed): result.json, report.md and the
     /// scale diagram diagram.svg of the best branch.
     #[arg(long)]

@@ -502,3 +502,47 @@ fn every_example_case_runs_as_its_header_says() {
         );
     }
 }
+
+#[test]
+fn an_sae_case_in_us_units_is_answered_in_its_own_frame_and_units() {
+    let out = pim(&["solve", "examples/cases/tbone_sae_us.toml"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let table = String::from_utf8(out.stdout).unwrap();
+    for needle in [
+        "frame: SAE J670",
+        "vx [mph]",
+        "omega [deg/s]",
+        "heading of the nose [deg, clockwise]",
+        "lateral, right + [mph]",
+        "ft lbf",
+        "lbf s",
+    ] {
+        assert!(table.contains(needle), "{needle}:\n{table}");
+    }
+    // The pickup's nose is dragged to its right by the sedan crossing from its left: in SAE's
+    // frame its lateral delta-V and its yaw rate after the impact are positive (right,
+    // clockwise), and the JSON (SI, natural frame) has them with the opposite sign.
+    let sep = table
+        .lines()
+        .find(|l| l.starts_with("vehicle1  separation"))
+        .unwrap();
+    let v: Vec<f64> = sep
+        .split_whitespace()
+        .skip(2)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(v[1] > 0.0 && v[2] > 0.0, "{sep}");
+    let json = pim(&[
+        "solve",
+        "examples/cases/tbone_sae_us.toml",
+        "--format",
+        "json",
+    ]);
+    let doc: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let w = doc["final"]["vehicle1"]["omega"].as_f64().unwrap();
+    assert!(
+        (w.to_degrees() + v[2]).abs() < 1e-3 * v[2].abs(),
+        "{w} against {}",
+        v[2]
+    );
+}

@@ -146,6 +146,7 @@ mod error;
 mod friction;
 mod impact_model;
 mod impc;
+mod mirror;
 mod model;
 mod names;
 pub mod outline;

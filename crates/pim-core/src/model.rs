@@ -161,6 +161,11 @@ pub enum Convention {
     /// direction of its tail, its nose points along theta1 + 180 deg; vehicle 2's heading is its
     /// nose.
     Brach,
+    /// SAE J670, the frame of US reconstruction and of EDR data: x forward, y to the right,
+    /// angles and yaw rates clockwise (seen from above). A case written so is mirrored into the
+    /// natural form when it is read (`y`, headings, angles and yaw rates change sign); its
+    /// headings are where the noses point.
+    Sae,
 }
 
 impl Convention {
@@ -169,23 +174,27 @@ impl Convention {
     pub fn theta(self, id: VehicleId, heading: f64) -> f64 {
         match (self, id) {
             (Convention::Natural, VehicleId::One) => wrap_degrees(heading + 180.0),
+            (Convention::Sae, VehicleId::One) => wrap_degrees(180.0 - heading),
+            (Convention::Sae, VehicleId::Two) => wrap_degrees(-heading),
             _ => heading,
         }
     }
 
-    /// The other convention.
+    /// The other reading of vehicle 1's heading (nose or tail): natural and SAE read the nose,
+    /// the papers' form the tail.
     pub fn other(self) -> Self {
         match self {
-            Convention::Natural => Convention::Brach,
+            Convention::Natural | Convention::Sae => Convention::Brach,
             Convention::Brach => Convention::Natural,
         }
     }
 
-    /// The name used in case files: `natural` or `brach`.
+    /// The name used in case files: `natural`, `brach` or `sae`.
     pub fn name(self) -> &'static str {
         match self {
             Convention::Natural => "natural",
             Convention::Brach => "brach",
+            Convention::Sae => "sae",
         }
     }
 }

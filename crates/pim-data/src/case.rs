@@ -71,6 +71,12 @@ pub struct Case {
     pub content: CaseFile,
     /// The text it was parsed from (to say where a field is written).
     pub source: String,
+    /// The convention the file was written in (`content.convention` is the one its numbers
+    /// are in after loading: an SAE file is mirrored into the natural form).
+    pub written: Convention,
+    /// The file's `[units]` as written (`content.units` is SI after loading): the units its
+    /// results are shown in by default.
+    pub written_units: UnitsSection,
 }
 
 /// Free text from a case made safe for every output: control characters (an escape sequence
@@ -89,7 +95,12 @@ pub fn printable(s: &str) -> String {
 
 /// An input error at the dotted field `path` of the text `source` of `file` (see
 /// [`Case::error_at`]).
-fn error_at(file: &str, source: &str, path: &str, what: impl std::fmt::Display) -> InputError {
+pub(crate) fn error_at(
+    file: &str,
+    source: &str,
+    path: &str,
+    what: impl std::fmt::Display,
+) -> InputError {
     match crate::parse::locate(source, path) {
         Some((line, col)) => {
             InputError::located(file, format!("{file}:{line}:{col}: {path}: {what}"))
@@ -118,6 +129,8 @@ impl Case {
         let content: CaseFile = parse_toml(file, text)?;
         let mut case = Case {
             file: file.to_string(),
+            written: content.convention,
+            written_units: content.units,
             content,
             source: text.to_string(),
         };
@@ -126,6 +139,7 @@ impl Case {
             v.description = v.description.as_deref().map(printable);
         }
         case.resolve_barrier()?;
+        case.resolve_forms()?;
         case.check_states()?;
         case.resolve_impact_points()?;
         case.convert_to_si();
@@ -438,16 +452,21 @@ impl Case {
         let n = impact.normal();
         let (vn, _) = impact.relative_velocity(v);
         let conv = self.content.convention;
+        let mirrored = if self.written == Convention::Sae {
+            " (read from SAE: y and angles mirrored)"
+        } else {
+            ""
+        };
         let z = |x: f64| if x.abs() < 5e-3 { 0.0 } else { x };
         let mut text = format!(
-            "with convention = \"{}\" ({}) the case puts, in the fixed frame with the impact \
-             centre C at (0, 0) m: vehicle 1's CG at ({:.2}, {:.2}) m, nose towards {:.1} deg; \
+            "with convention = \"{}\" ({}) the case puts, in the fixed frame{mirrored} with the \
+             impact centre C at (0, 0) m: vehicle 1's CG at ({:.2}, {:.2}) m, nose towards {:.1} deg; \
              vehicle 2's CG at ({:.2}, {:.2}) m, nose towards {:.1} deg; crush-surface normal \
              ({:.3}, {:.3}); the velocity of vehicle 1's point at C relative to vehicle 2's along \
              that normal is {:.3} m/s, away from vehicle 2's side of the crush surface",
             conv.name(),
             match conv {
-                Convention::Natural => "headings are where the noses point",
+                Convention::Natural | Convention::Sae => "headings are where the noses point",
                 Convention::Brach => "vehicle 1's heading is the direction of its tail",
             },
             z(g1[0]),
@@ -468,7 +487,8 @@ impl Case {
                      check which form the headings were written in",
                     other.name(),
                     match other {
-                        Convention::Natural => "vehicle 1's heading is where its nose points",
+                        Convention::Natural | Convention::Sae =>
+                            "vehicle 1's heading is where its nose points",
                         Convention::Brach =>
                             "vehicle 1's heading is its tail, as in Brach's papers and the RICSAC tables",
                     }

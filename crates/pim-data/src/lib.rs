@@ -23,6 +23,7 @@ pub mod case;
 pub mod documents;
 mod error;
 pub mod fitcase;
+mod forms;
 pub mod input;
 pub mod parse;
 pub mod plausibility;

@@ -48,6 +48,10 @@ pub struct VehicleSection {
     /// The impact centre in the vehicle's frame (x forward, y left), instead of `d`, `phi`.
     #[serde(default)]
     pub impact_point: Option<PointSection>,
+    /// The CG's position in the case's fixed frame (length unit), with `[impact] centre`:
+    /// the impact centre in the vehicle's frame follows from both and the heading.
+    #[serde(default)]
+    pub position: Option<PointSection>,
     /// Overall length, for drawings (m after loading).
     #[serde(default)]
     pub length: Option<f64>,
@@ -115,8 +119,17 @@ impl VehicleSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ImpactSection {
-    /// Gamma, degrees.
+    /// Gamma, degrees in the case's fixed frame.
+    #[serde(default = "unset")]
     pub crush_angle: f64,
+    /// The same angle measured from vehicle 1's nose instead of the fixed x axis, degrees
+    /// (instead of `crush_angle`).
+    #[serde(default)]
+    pub crush_angle_from_vehicle1: Option<f64>,
+    /// The impact centre in the case's fixed frame (length unit), with each vehicle's
+    /// `position`, instead of each vehicle's `impact_point` or `d` and `phi`.
+    #[serde(default)]
+    pub centre: Option<PointSection>,
 }
 
 /// `[coefficients]`.
@@ -176,16 +189,33 @@ impl CaseModel {
     }
 }
 
-/// One vehicle's velocity, `{ vx, vy, omega }`.
+/// One vehicle's velocity: `{ vx, vy, omega }` in the case's fixed frame, or `{ speed,
+/// direction, omega }` (direction in degrees in the case's frame), or `{ forward, lateral,
+/// omega }` in the vehicle's own frame (lateral to the left; to the right under
+/// `convention = "sae"`). After loading only `vx`, `vy`, `omega` are set (SI, natural frame).
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VelocitySection {
     /// m/s.
+    #[serde(default = "unset")]
     pub vx: f64,
     /// m/s.
+    #[serde(default = "unset")]
     pub vy: f64,
     /// rad/s.
     pub omega: f64,
+    /// Speed of the CG (speed unit), with `direction`.
+    #[serde(default)]
+    pub speed: Option<f64>,
+    /// Direction of travel of the CG, degrees in the case's frame, with `speed`.
+    #[serde(default)]
+    pub direction: Option<f64>,
+    /// Velocity along the vehicle's nose (speed unit), with `lateral`.
+    #[serde(default)]
+    pub forward: Option<f64>,
+    /// Velocity across the vehicle (speed unit), with `forward`.
+    #[serde(default)]
+    pub lateral: Option<f64>,
 }
 
 /// `[initial]` or `[final]`.
@@ -204,6 +234,10 @@ pub(crate) const AT_REST: VelocitySection = VelocitySection {
     vx: 0.0,
     vy: 0.0,
     omega: 0.0,
+    speed: None,
+    direction: None,
+    forward: None,
+    lateral: None,
 };
 
 impl StateSection {
@@ -221,7 +255,9 @@ impl StateSection {
     }
 }
 
-/// A vehicle's velocity where every component is optional.
+/// A vehicle's velocity where every component is optional. Estimates and known components may
+/// also be given as `speed` and `direction` or `forward` and `lateral` (both of a pair, as for
+/// [`VelocitySection`]); weights and standard deviations only as `vx`, `vy`, `omega`.
 #[derive(Debug, Clone, Copy, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PartialVelocity {
@@ -231,6 +267,18 @@ pub struct PartialVelocity {
     pub vy: Option<f64>,
     /// rad/s.
     pub omega: Option<f64>,
+    /// Speed (with `direction`).
+    #[serde(default)]
+    pub speed: Option<f64>,
+    /// Direction of travel, degrees (with `speed`).
+    #[serde(default)]
+    pub direction: Option<f64>,
+    /// Along the nose (with `lateral`).
+    #[serde(default)]
+    pub forward: Option<f64>,
+    /// Across the vehicle (with `forward`).
+    #[serde(default)]
+    pub lateral: Option<f64>,
 }
 
 /// Both vehicles, optional components.

@@ -12,8 +12,10 @@ pub const POUND: f64 = 0.453_592_37;
 pub const MPH: f64 = 0.447_04;
 /// Metres per second per kilometre per hour.
 pub const KMH: f64 = 1.0 / 3.6;
-/// Kilograms per slug (one pound-force second squared per foot: lbf = 4.4482216152605 N).
-pub const SLUG: f64 = 4.448_221_615_260_5 / FOOT;
+/// Newtons per pound-force (exact).
+pub const POUND_FORCE: f64 = 4.448_221_615_260_5;
+/// Kilograms per slug (one pound-force second squared per foot).
+pub const SLUG: f64 = POUND_FORCE / FOOT;
 
 /// Speed unit of a case file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -164,6 +166,15 @@ pub enum UnitSystem {
 }
 
 impl UnitSystem {
+    /// The system a case's `[units]` reads in, by its speed unit (mph: US; km/h: km/h; else SI).
+    pub fn of(units: &UnitsSection) -> Self {
+        match units.speed {
+            SpeedUnit::MilesPerHour => UnitSystem::Us,
+            SpeedUnit::KilometresPerHour => UnitSystem::Kmh,
+            _ => UnitSystem::Si,
+        }
+    }
+
     /// A speed in m/s in this system, and its label.
     pub fn speed(self, v: f64) -> f64 {
         match self {
@@ -227,6 +238,38 @@ impl UnitSystem {
         match self {
             UnitSystem::Si => "rad/s",
             _ => "deg/s",
+        }
+    }
+
+    /// An energy in J in this system (US: ft lbf).
+    pub fn energy(self, e: f64) -> f64 {
+        match self {
+            UnitSystem::Us => e / (FOOT * POUND_FORCE),
+            _ => e,
+        }
+    }
+
+    /// Label of energies.
+    pub fn energy_label(self) -> &'static str {
+        match self {
+            UnitSystem::Us => "ft lbf",
+            _ => "J",
+        }
+    }
+
+    /// An impulse in N s in this system (US: lbf s).
+    pub fn impulse(self, p: f64) -> f64 {
+        match self {
+            UnitSystem::Us => p / POUND_FORCE,
+            _ => p,
+        }
+    }
+
+    /// Label of impulses (and, times a length, of moment impulses).
+    pub fn impulse_label(self) -> &'static str {
+        match self {
+            UnitSystem::Us => "lbf s",
+            _ => "N s",
         }
     }
 }

@@ -167,6 +167,17 @@ pub enum ObservationKind {
     LateralVelocity,
 }
 
+impl ObservationKind {
+    /// Whether the observed quantity lies across the vehicle (its sign follows the side the
+    /// lateral axis points to, and changes with a mirrored frame).
+    pub fn is_lateral(self) -> bool {
+        matches!(
+            self,
+            ObservationKind::DeltaVLateral | ObservationKind::LateralVelocity
+        )
+    }
+}
+
 /// An observation: a linear function of U with a target and a weight.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Observation {

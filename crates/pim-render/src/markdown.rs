@@ -1,14 +1,14 @@
 //! The short Markdown reports of `pim solve --out` and `pim fit --out`.
 
 use crate::tables::{tangential_words, vehicle_rows};
-use pim_core::{ImpactReport, VehicleResult};
+use pim_core::{Convention, ImpactReport, VehicleResult};
 use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 
 /// The per-vehicle table (the rows of the text tables).
-fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem) {
+fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem, frame: Convention) {
     let _ = writeln!(s, "| | vehicle 1 | vehicle 2 |\n|---|---:|---:|");
-    for (label, [a, b]) in vehicle_rows(v, u) {
+    for (label, [a, b]) in vehicle_rows(v, u, frame) {
         let label = match label.strip_prefix("  ") {
             Some(part) => format!("delta-V {part}"),
             None => label,
@@ -17,8 +17,14 @@ fn vehicles(s: &mut String, v: &[VehicleResult; 2], u: UnitSystem) {
     }
 }
 
-/// The report of a solve.
-pub fn solve(title: &str, r: &ImpactReport, forward: bool, u: UnitSystem) -> String {
+/// The report of a solve, in the unit system `u` and the frame `frame` (`r` already in it).
+pub fn solve(
+    title: &str,
+    r: &ImpactReport,
+    forward: bool,
+    u: UnitSystem,
+    frame: Convention,
+) -> String {
     let mut s = String::new();
     let c = &r.coefficients;
     let _ = writeln!(s, "# {}\n", title.lines().next().unwrap_or(title));
@@ -33,7 +39,8 @@ pub fn solve(title: &str, r: &ImpactReport, forward: bool, u: UnitSystem) -> Str
         c.mu,
         c.em
     );
-    vehicles(&mut s, &r.vehicles, u);
+    let _ = writeln!(s, "{}.\n", crate::tables::frame_line(frame));
+    vehicles(&mut s, &r.vehicles, u, frame);
     let e = &r.energy;
     let _ = writeln!(
         s,
@@ -68,7 +75,7 @@ pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> St
             s,
             "\n## Best branch\n\n![plan view at contact, fitted velocities](diagram.svg)\n"
         );
-        vehicles(&mut s, &sol.vehicles, u);
+        vehicles(&mut s, &sol.vehicles, u, Convention::Natural);
         let _ = writeln!(
             s,
             "\nKinetic energy loss {:.0} J ({:.2} %).",

@@ -1,5 +1,6 @@
 //! Human-readable tables of `pim solve`, `pim sensitivity` and `pim fit`.
 
+use pim_core::Convention;
 use pim_core::ImpactReport;
 use pim_core::SensitivityStudy;
 use pim_data::units::UnitSystem;
@@ -40,13 +41,34 @@ pub fn tangential_words(r: &ImpactReport) -> String {
     }
 }
 
-/// The reconstructionist's rows per vehicle, in the unit system `u`: label and the two
-/// vehicles' values (speeds, delta-V in the vehicle's axes, PDOF, yaw-rate change).
-pub fn vehicle_rows(v: &[pim_core::VehicleResult; 2], u: UnitSystem) -> Vec<(String, [String; 2])> {
+/// The line that says which frame a table's signs are in.
+pub fn frame_line(frame: Convention) -> &'static str {
+    match frame {
+        Convention::Sae => {
+            "frame: SAE J670 (x forward, y to the right, headings, angles and yaw rates clockwise)"
+        }
+        _ => {
+            "frame: x, y with y to the left of x; headings, angles and yaw rates counter-clockwise"
+        }
+    }
+}
+
+/// The reconstructionist's rows per vehicle, in the unit system `u` and the frame `frame`
+/// (the values already in it, see `ImpactReport::mirrored`): label and the two vehicles'
+/// values (speeds, delta-V in the vehicle's axes, PDOF, yaw-rate change).
+pub fn vehicle_rows(
+    v: &[pim_core::VehicleResult; 2],
+    u: UnitSystem,
+    frame: Convention,
+) -> Vec<(String, [String; 2])> {
     let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
+    let (heading, lateral) = match frame {
+        Convention::Sae => ("heading of the nose [deg, clockwise]", "right"),
+        _ => ("heading of the nose [deg]", "left"),
+    };
     type Cell<'a> = &'a dyn Fn(&pim_core::VehicleResult) -> String;
     let rows: [(String, Cell); 9] = [
-        ("heading of the nose [deg]".into(), &|r| num(r.heading, 1)),
+        (heading.into(), &|r| num(r.heading, 1)),
         (format!("speed at contact [{sp}]"), &|r| {
             num(u.speed(r.speed_initial), 2)
         }),
@@ -57,7 +79,7 @@ pub fn vehicle_rows(v: &[pim_core::VehicleResult; 2], u: UnitSystem) -> Vec<(Str
         (format!("  longitudinal, forward + [{sp}]"), &|r| {
             num(u.speed(r.delta_v_longitudinal), 2)
         }),
-        (format!("  lateral, left + [{sp}]"), &|r| {
+        (format!("  lateral, {lateral} + [{sp}]"), &|r| {
             num(u.speed(r.delta_v_lateral), 2)
         }),
         ("PDOF, clockwise from nose [deg]".into(), &|r| {
@@ -76,20 +98,27 @@ pub fn vehicle_rows(v: &[pim_core::VehicleResult; 2], u: UnitSystem) -> Vec<(Str
 }
 
 /// The reconstructionist's block of a table (see [`vehicle_rows`]).
-pub fn vehicle_block(s: &mut String, v: &[pim_core::VehicleResult; 2], u: UnitSystem) {
+pub fn vehicle_block(
+    s: &mut String,
+    v: &[pim_core::VehicleResult; 2],
+    u: UnitSystem,
+    frame: Convention,
+) {
     let _ = writeln!(s, "{:<34} {:>12} {:>12}", "", "vehicle1", "vehicle2");
-    for (label, [a, b]) in vehicle_rows(v, u) {
+    for (label, [a, b]) in vehicle_rows(v, u, frame) {
         let _ = writeln!(s, "{label:<34} {a:>12} {b:>12}");
     }
 }
 
-/// The human-readable table of one solve, in the unit system `u`.
+/// The human-readable table of one solve, in the unit system `u` and the frame `frame` (`r`
+/// already in it).
 pub fn solve_table(
     title: &str,
     impact: &pim_core::Impact,
     r: &ImpactReport,
     forward: bool,
     u: UnitSystem,
+    frame: Convention,
 ) -> String {
     let mut s = String::new();
     let c = &r.coefficients;
@@ -117,6 +146,7 @@ pub fn solve_table(
              energy is vehicle 1's"
         );
     }
+    let _ = writeln!(s, "{}", frame_line(frame));
     let _ = writeln!(s);
     let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
     let _ = writeln!(
@@ -143,23 +173,29 @@ pub fn solve_table(
         }
     }
     let _ = writeln!(s);
-    vehicle_block(&mut s, &r.vehicles, u);
+    vehicle_block(&mut s, &r.vehicles, u, frame);
     let _ = writeln!(s);
     let e = &r.energy;
+    let el = u.energy_label();
     let _ = writeln!(
         s,
-        "kinetic energy      {:.0} J at contact, {:.0} J at separation: loss {:.0} J ({:.2} %)",
-        e.initial, e.final_, e.loss, e.loss_percent
+        "kinetic energy      {:.0} {el} at contact, {:.0} {el} at separation: loss {:.0} {el} \
+         ({:.2} %)",
+        u.energy(e.initial),
+        u.energy(e.final_),
+        u.energy(e.loss),
+        e.loss_percent
     );
     let p = &r.impulse;
+    let (pl, ll) = (u.impulse_label(), u.length_label());
     let _ = writeln!(
         s,
-        "impulse on veh. 1   Px {}, Py {}, Pn {}, Pt {} N s; moment M {} N m s",
-        num(p.px, 1),
-        num(p.py, 1),
-        num(p.normal, 1),
-        num(p.tangential, 1),
-        num(p.moment, 1)
+        "impulse on veh. 1   Px {}, Py {}, Pn {}, Pt {} {pl}; moment M {} {pl} {ll}",
+        num(u.impulse(p.px), 1),
+        num(u.impulse(p.py), 1),
+        num(u.impulse(p.normal), 1),
+        num(u.impulse(p.tangential), 1),
+        num(u.length(u.impulse(p.moment)), 1)
     );
     let rv = &r.relative;
     let _ = writeln!(
@@ -180,7 +216,12 @@ pub fn solve_table(
     let _ = writeln!(
         s,
         "equation residual   {:.1e} (largest, relative to the size of its terms)",
-        r.residuals(impact).max_relative()
+        // The residual of the solution as solved (mirroring twice is the identity).
+        match frame {
+            Convention::Sae => r.mirrored().residuals(impact),
+            _ => r.residuals(impact),
+        }
+        .max_relative()
     );
     if r.admissibility.admissible {
         let _ = writeln!(s, "admissible          yes");
@@ -325,7 +366,7 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
                 }
             }
             let mut block = String::new();
-            vehicle_block(&mut block, &sol.vehicles, u);
+            vehicle_block(&mut block, &sol.vehicles, u, Convention::Natural);
             for line in block.lines() {
                 let _ = writeln!(s, "  {line}");
             }

@@ -32,7 +32,18 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         .map_err(Failure::from)?;
     let record = json(&document)?;
     let branch_records = &document.branches;
-    let mut table = tables::fit_table(&title_of(&case), name, &report, a.units.into());
+    let units = a.units.map_or_else(
+        || pim_data::units::UnitSystem::of(&case.written_units),
+        Into::into,
+    );
+    let mut table = tables::fit_table(&title_of(&case), name, &report, units);
+    if case.written == pim_core::Convention::Sae {
+        // The fit runs and reports in the natural form the SAE case was mirrored into.
+        table.push_str(&format!(
+            "{} (the case is written in SAE's frame and fitted mirrored into this one)\n",
+            tables::frame_line(pim_core::Convention::Natural)
+        ));
+    }
     for r in branch_records {
         if let Some(c) = &r.chi_square {
             table.push_str(&format!(
@@ -62,7 +73,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             contact.as_ref(),
             best.map(pim_render::diagram::Solved::of_fit),
         );
-        let md = markdown::fit(&title_of(&case), name, &report, a.units.into());
+        let md = markdown::fit(&title_of(&case), name, &report, units);
         super::write_result_dir(dir, &record, &md, &d)?;
     }
     print_out(match a.format {

@@ -5,7 +5,8 @@ use crate::args::{Format, SolveArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_case;
 use anyhow::Result;
-use pim_core::SolveOptions;
+use pim_core::{Convention, SolveOptions};
+use pim_data::units::UnitSystem;
 use pim_data::{documents, records};
 use pim_render::{markdown, tables};
 use std::process::ExitCode;
@@ -25,8 +26,18 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         document,
     } = documents::solve(&case, &options(a)).map_err(Failure::from)?;
     let record = json(&document)?;
-    let mut table =
-        tables::solve_table(&title_of(&case), &impact, &report, forward, a.units.into());
+    // Shown in the case's own units and frame (an SAE case was solved mirrored into the
+    // natural form; the JSON stays SI and natural, and says so).
+    let units = a
+        .units
+        .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
+    let frame = case.written;
+    let shown = if frame == Convention::Sae {
+        report.mirrored()
+    } else {
+        report.clone()
+    };
+    let mut table = tables::solve_table(&title_of(&case), &impact, &shown, forward, units, frame);
     if let Some(m) = &document.model {
         let line = tables::model_line(m);
         if let Some(at) = table.find("solved forwards") {
@@ -41,7 +52,7 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
             contact.as_ref(),
             Some(pim_render::diagram::Solved::of_report(&report)),
         );
-        let md = markdown::solve(&title_of(&case), &report, forward, a.units.into());
+        let md = markdown::solve(&title_of(&case), &shown, forward, units, frame);
         super::write_result_dir(dir, &record, &md, &d)?;
     }
     print_out(match a.format {

@@ -1,0 +1,337 @@
+//! Every form a crash may be written in loads to the same collision and the same answer: the
+//! natural form in SI with `{ vx, vy }` against SAE in US units with speeds and directions,
+//! vehicle-frame velocities, the impact centre from CG positions and the crush angle from
+//! vehicle 1's nose. Tolerance 1e-12 (relative to the size of each number): only round-off of
+//! the unit factors and of one rotation separates the forms.
+
+use pim_core::{wrap_degrees, SolveOptions, Velocities};
+use pim_data::case::Case;
+
+use pim_data::units::{FOOT as FT, MPH, POUND as LB, SLUG};
+
+/// kg m^2 per slug ft^2 (the `[units] yaw_inertia = "slug ft^2"` factor).
+const SLUG_FT2: f64 = SLUG * FT * FT;
+
+/// A T-bone at highway speed: vehicle 1 (a pickup, 60 mph) into the left side of vehicle 2
+/// (30 mph), crossing at 90 degrees, in the natural form and SI.
+const NATURAL: &str = r#"
+title = "T-bone, natural SI"
+[vehicle1]
+mass = 2268.0
+yaw_inertia = 4800.0
+heading = 20.0
+impact_point = { x = 2.9, y = 0.25 }
+[vehicle2]
+mass = 1450.0
+yaw_inertia = 2300.0
+heading = 110.0
+impact_point = { x = 0.4, y = 0.85 }
+[impact]
+crush_angle = 20.0
+[coefficients]
+e = 0.1
+mu = 0.3
+em = 1.0
+"#;
+
+/// The natural twin's velocities: 60 mph along the nose, 30 mph along the nose, slight yaw.
+fn natural_text() -> String {
+    let v = |s: f64, deg: f64, w: f64| {
+        let r = f64::to_radians(deg);
+        format!(
+            "{{ vx = {:?}, vy = {:?}, omega = {w:?} }}",
+            s * r.cos(),
+            s * r.sin()
+        )
+    };
+    format!(
+        "{NATURAL}[initial]\nvehicle1 = {}\nvehicle2 = {}\n",
+        v(60.0 * MPH, 20.0, 0.1),
+        v(30.0 * MPH, 110.0, -0.05)
+    )
+}
+
+/// The same crash as a US reconstructionist writes it: SAE (y right, angles and yaw
+/// clockwise), US units, speeds with directions and vehicle-frame components, the impact
+/// centre from the CG positions, the crush plane from vehicle 1's nose.
+fn sae_text() -> String {
+    // Natural -> SAE: y, angles and yaw change sign. CG positions in the fixed frame with the
+    // impact centre at the origin: P = C - R(nose) p.
+    let pos = |nose: f64, p: [f64; 2]| {
+        let r = f64::to_radians(nose);
+        let (x, y) = (
+            -(r.cos() * p[0] - r.sin() * p[1]),
+            -(r.sin() * p[0] + r.cos() * p[1]),
+        );
+        format!("{{ x = {:?}, y = {:?} }}", x / FT, -y / FT)
+    };
+    format!(
+        r#"
+title = "T-bone, SAE US"
+convention = "sae"
+[units]
+speed = "mph"
+length = "ft"
+mass = "lb"
+yaw_inertia = "slug ft^2"
+yaw_rate = "deg/s"
+[vehicle1]
+mass = {m1:?}
+yaw_inertia = {i1:?}
+heading = -20.0
+position = {p1}
+[vehicle2]
+mass = {m2:?}
+yaw_inertia = {i2:?}
+heading = 250.0
+position = {p2}
+[impact]
+centre = {{ x = 0.0, y = 0.0 }}
+crush_angle_from_vehicle1 = 0.0
+[coefficients]
+e = 0.1
+mu = 0.3
+em = 1.0
+[initial]
+vehicle1 = {{ speed = 60.0, direction = -20.0, omega = {w1:?} }}
+vehicle2 = {{ forward = 30.0, lateral = 0.0, omega = {w2:?} }}
+"#,
+        m1 = 2268.0 / LB,
+        i1 = 4800.0 / SLUG_FT2,
+        m2 = 1450.0 / LB,
+        i2 = 2300.0 / SLUG_FT2,
+        p1 = pos(20.0, [2.9, 0.25]),
+        p2 = pos(110.0, [0.4, 0.85]),
+        w1 = -f64::to_degrees(0.1),
+        w2 = -f64::to_degrees(-0.05),
+    )
+}
+
+fn close(a: f64, b: f64, what: &str) {
+    let tol = 1e-12 * a.abs().max(b.abs()).max(1.0);
+    assert!((a - b).abs() <= tol, "{what}: {a} against {b}");
+}
+
+fn close_angle(a: f64, b: f64, what: &str) {
+    close(wrap_degrees(a - b), 0.0, what);
+}
+
+fn load(text: &str) -> Case {
+    Case::from_text("case.toml", text).unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+fn states_close(a: &Velocities, b: &Velocities, what: &str) {
+    for (k, (x, y)) in a.to_vector().iter().zip(b.to_vector().iter()).enumerate() {
+        close(*x, *y, &format!("{what} component {k}"));
+    }
+}
+
+fn solve(case: &Case) -> pim_core::ImpactReport {
+    let impact = case.impact().unwrap();
+    let initial = case.content.initial.unwrap().to_velocities();
+    let model = case.model().unwrap();
+    model
+        .impact_model(&SolveOptions::default())
+        .solve(&impact, &initial)
+        .unwrap()
+        .report
+}
+
+#[test]
+fn sae_us_speed_and_direction_equals_the_natural_si_twin() {
+    let (a, b) = (load(&natural_text()), load(&sae_text()));
+    let (va, vb) = (&a.content.vehicle1, &b.content.vehicle1);
+    let (wa, wb) = (&a.content.vehicle2, &b.content.vehicle2);
+    close(va.mass, vb.mass, "mass 1");
+    close(va.yaw_inertia, vb.yaw_inertia, "inertia 1");
+    close(wa.mass, wb.mass, "mass 2");
+    close(wa.yaw_inertia, wb.yaw_inertia, "inertia 2");
+    close_angle(va.heading, vb.heading, "heading 1");
+    close_angle(wa.heading, wb.heading, "heading 2");
+    close(va.d(), vb.d(), "d1");
+    close_angle(va.phi(), vb.phi(), "phi1");
+    close(wa.d(), wb.d(), "d2");
+    close_angle(wa.phi(), wb.phi(), "phi2");
+    close_angle(
+        a.content.impact.crush_angle,
+        b.content.impact.crush_angle,
+        "crush angle",
+    );
+    let (sa, sb) = (
+        a.content.initial.unwrap().to_velocities(),
+        b.content.initial.unwrap().to_velocities(),
+    );
+    states_close(&sa, &sb, "contact state");
+    let (ra, rb) = (solve(&a), solve(&b));
+    states_close(&ra.separation, &rb.separation, "separation state");
+    close(ra.energy.loss, rb.energy.loss, "energy loss");
+    for k in 0..2 {
+        close(
+            ra.delta_v[k].magnitude,
+            rb.delta_v[k].magnitude,
+            "delta-V magnitude",
+        );
+    }
+    // The answer is not trivial: the pickup is slowed by several m/s.
+    assert!(ra.delta_v[0].magnitude > 3.0, "{}", ra.delta_v[0].magnitude);
+    assert_eq!(b.written, pim_core::Convention::Sae);
+}
+
+/// Replaces one line of the natural twin (by its start) with another.
+fn with_line(start: &str, line: &str) -> String {
+    natural_text()
+        .lines()
+        .map(|l| if l.starts_with(start) { line } else { l })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn vehicle_frame_velocities_equal_fixed_frame_ones() {
+    let a = load(&natural_text());
+    // Vehicle 1 at 60 mph along its nose (20 deg) and 1 m/s to its left.
+    let r = f64::to_radians(20.0);
+    let (f, l) = (60.0 * MPH, 1.0);
+    let fixed = with_line(
+        "vehicle1 = {",
+        &format!(
+            "vehicle1 = {{ vx = {:?}, vy = {:?}, omega = 0.1 }}",
+            f * r.cos() - l * r.sin(),
+            f * r.sin() + l * r.cos()
+        ),
+    );
+    let body = with_line(
+        "vehicle1 = {",
+        &format!("vehicle1 = {{ forward = {f:?}, lateral = {l:?}, omega = 0.1 }}"),
+    );
+    let polar = with_line(
+        "vehicle1 = {",
+        &format!(
+            "vehicle1 = {{ speed = {:?}, direction = {:?}, omega = 0.1 }}",
+            f.hypot(l),
+            20.0 + l.atan2(f).to_degrees()
+        ),
+    );
+    let s = |t: &str| load(t).content.initial.unwrap().to_velocities();
+    states_close(&s(&fixed), &s(&body), "forward/lateral");
+    states_close(&s(&fixed), &s(&polar), "speed/direction");
+    assert!((s(&fixed).vehicle1.vx - a.content.initial.unwrap().vehicle1.vx).abs() > 0.1);
+}
+
+#[test]
+fn brach_form_vehicle_frame_velocity_follows_the_nose_not_the_tail() {
+    // In the papers' form vehicle 1's heading is its tail: forward is heading + 180 deg.
+    let text = natural_text()
+        .replace("title = \"T-bone, natural SI\"", "convention = \"brach\"")
+        .replace("heading = 20.0", "heading = -160.0");
+    let body = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("vehicle1 = {") {
+                format!(
+                    "vehicle1 = {{ forward = {:?}, lateral = 0.0, omega = 0.1 }}",
+                    60.0 * MPH
+                )
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let (a, b) = (load(&text), load(&body));
+    states_close(
+        &a.content.initial.unwrap().to_velocities(),
+        &b.content.initial.unwrap().to_velocities(),
+        "brach forward",
+    );
+    states_close(
+        &solve(&a).separation,
+        &solve(&load(&natural_text())).separation,
+        "brach twin",
+    );
+}
+
+#[test]
+fn estimates_and_known_take_the_forms_too() {
+    let fit = |v1: &str| {
+        format!(
+            r#"
+[vehicle1]
+mass = 1500.0
+yaw_inertia = 2500.0
+heading = 30.0
+impact_point = {{ x = 2.0, y = 0.0 }}
+[vehicle2]
+mass = 1500.0
+yaw_inertia = 2500.0
+heading = 120.0
+impact_point = {{ x = 0.0, y = 0.8 }}
+[impact]
+crush_angle = 30.0
+[estimates.initial]
+vehicle1 = {v1}
+[estimates.final]
+vehicle1 = {{ vx = 5.0, vy = 3.0, omega = 0.2 }}
+"#
+        )
+    };
+    let r = f64::to_radians(30.0);
+    let a = load(&fit(&format!(
+        "{{ vx = {:?}, vy = {:?}, omega = 0.0 }}",
+        15.0 * r.cos(),
+        15.0 * r.sin()
+    )));
+    let b = load(&fit("{ forward = 15.0, lateral = 0.0, omega = 0.0 }"));
+    let c = load(&fit("{ speed = 15.0, direction = 30.0 }"));
+    let comp = |c: &Case| c.content.estimates.unwrap().components();
+    for (x, y) in comp(&a).iter().zip(comp(&b).iter()) {
+        assert_eq!(x.is_some(), y.is_some());
+        if let (Some(x), Some(y)) = (x, y) {
+            close(*x, *y, "estimate");
+        }
+    }
+    // A partial estimate keeps what it does not give absent.
+    assert_eq!(comp(&c)[2], None);
+    close(comp(&c)[0].unwrap(), comp(&a)[0].unwrap(), "estimate vx");
+}
+
+#[test]
+fn mixed_or_half_forms_are_refused_with_the_line_and_field() {
+    let cases = [
+        (
+            "vehicle1 = { vx = 1.0, speed = 2.0, direction = 0.0, omega = 0.0 }",
+            "one form",
+        ),
+        (
+            "vehicle1 = { speed = 2.0, omega = 0.0 }",
+            "give both speed and direction",
+        ),
+        (
+            "vehicle1 = { forward = 2.0, omega = 0.0 }",
+            "give both forward and lateral",
+        ),
+        ("vehicle1 = { vx = 2.0, omega = 0.0 }", "vy: missing"),
+    ];
+    for (line, expect) in cases {
+        let text = with_line("vehicle1 = {", line);
+        let err = Case::from_text("case.toml", &text).unwrap_err().to_string();
+        assert!(err.contains(expect), "{line}: {err}");
+        assert!(err.contains("initial.vehicle1"), "{line}: {err}");
+        let n = text.lines().position(|l| l == line).unwrap() + 1;
+        assert!(err.starts_with(&format!("case.toml:{n}:")), "{line}: {err}");
+    }
+    let both = natural_text().replace(
+        "crush_angle = 20.0",
+        "crush_angle = 20.0\ncrush_angle_from_vehicle1 = 0.0",
+    );
+    let err = Case::from_text("case.toml", &both).unwrap_err().to_string();
+    assert!(err.contains("not both"), "{err}");
+    let position_without_centre = natural_text().replace(
+        "heading = 20.0",
+        "heading = 20.0\nposition = { x = 0.0, y = 0.0 }",
+    );
+    let err = Case::from_text("case.toml", &position_without_centre)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("needs [impact] centre"), "{err}");
+}
