@@ -13,6 +13,7 @@ const CASE_HELP: &str = "\
 CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, counter-clockwise):
   title = \"side impact\"             # optional; top-level keys go before the first [section]
   # convention = \"brach\"           # only for the papers' form: vehicle 1's heading is its tail
+  # convention = \"sae\"             # SAE J670: y to the right, headings, angles, yaw clockwise
   [vehicle1]                       # vehicle2 likewise
   mass = 1500.0                    # kg
   yaw_inertia = 2500.0             # kg m^2, about the vertical axis through the CG
@@ -40,13 +41,19 @@ CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, coun
   [initial]                        # velocities at contact; or [final] to solve backwards
   vehicle1 = { vx = 15.0, vy = 0.0, omega = 0.0 }      # m/s, m/s, rad/s (fixed frame)
   vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }
+  # or { speed = 15.0, direction = 0.0, omega = 0.0 }  # direction: deg in the case's frame
+  # or { forward = 15.0, lateral = 0.0, omega = 0.0 }  # along / across the vehicle (lateral +90
+  #                                # deg from the nose: left, or right under \"sae\")
+  # Impact centre once in the scene instead of impact_point: [impact] centre = { x, y } and
+  # [vehicleN] position = { x, y } (each CG); crush_angle_from_vehicle1 = deg from vehicle 1's nose
   # [units]                        # optional, each defaults to SI:
   # speed = \"mph\"                # m/s, km/h, mph
   # length = \"ft\"                # m, ft
   # mass = \"lb\"                  # kg, lb
   # yaw_inertia = \"slug ft^2\"    # kg m^2, slug ft^2
   # yaw_rate = \"deg/s\"           # rad/s, deg/s
-This example is examples/cases/side_impact.toml (and side_impact_us.toml in US units).";
+This example is examples/cases/side_impact.toml (and side_impact_us.toml in US units;
+tbone_sae_us.toml in SAE's frame with speeds and directions).";
 
 #[derive(Parser, Debug)]
 #[command(name = "pim", version, about = ABOUT, after_help = EXIT_CODES_HELP)]
