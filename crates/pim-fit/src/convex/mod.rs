@@ -40,7 +40,7 @@ mod form;
 mod verdict;
 
 use crate::certificate::Fallback;
-use crate::inner::{At, Candidate, Inner, RowU};
+use crate::inner::{At, Candidate, Inner, RowOf, RowU};
 use crate::problem::MomentBranch;
 use crate::report::Violation;
 use crate::settings::FitSettings;
@@ -186,8 +186,11 @@ impl Formulation {
         let objective = dual::Objective::new(n, g, a).ok_or(Fallback::DegenerateGeometry)?;
         // The inner problem's linear rows `row . U <= rhs` over U = T z, as `-row T z >= -rhs`:
         // bounds and approach common to every pattern, the sliding direction per sign.
-        let over_z = |(u, rhs, _): &RowU| {
-            let f = std::array::from_fn(|i| -(0..12).map(|p| u[p] * t[p][i]).sum::<f64>());
+        let over_z = |(row, rhs, _): &RowU| {
+            let f = match *row {
+                RowOf::Component { k, sign } => scaled(&t[k], -sign),
+                RowOf::Contact(row) => scaled(&over_x(&row), -1.0),
+            };
             Row::new(f, -rhs).ok_or(Fallback::DegenerateGeometry)
         };
         let mut common = inner

@@ -96,36 +96,43 @@ pub(crate) struct ConstraintSet<'a> {
 /// A row over x and its right-hand side: `row . x <= rhs`.
 pub(crate) type RowX = (RowVector6<f64>, f64, Violation);
 
-/// A row over the twelve components `U = (x, X)` and its right-hand side: `row . U <= rhs`.
-pub(crate) type RowU = ([f64; 12], f64, Violation);
+/// One linear row as the conditions write it: `sign U_k` (a bound) or a row over the contact
+/// state x.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum RowOf {
+    /// `sign` times component k of `U = (x, X)`.
+    Component { k: usize, sign: f64 },
+    /// A row over x.
+    Contact(RowVector6<f64>),
+}
+
+/// A row over U and its right-hand side: `row . U <= rhs`.
+pub(crate) type RowU = (RowOf, f64, Violation);
 
 /// Linear conditions as rows over `U = (x, X)`, aimed inside by the tolerance `tol`; the sliding
 /// direction is closed (`vt = 0` is admissible by the friction rule). Every solve path that
 /// writes rows (the QPs over x, the convex route over its own variables) reads them here.
-pub(crate) fn rows_over_u(linear: &[Linear], tol: f64) -> Vec<RowU> {
-    let mut out = Vec::with_capacity(linear.len() + 1);
-    for c in linear {
-        match *c {
+pub(crate) fn rows_over_u(linear: &[Linear], tol: f64) -> impl Iterator<Item = RowU> + '_ {
+    linear
+        .iter()
+        .flat_map(move |c| match *c {
             Linear::Bound { k, limit } => {
-                let mut row = [0.0; 12];
-                row[k] = 1.0;
                 let v = Violation::Bound(Component(k));
-                out.push((row, limit - tol, v));
-                out.push((row.map(|x| -x), limit - tol, v));
+                [
+                    Some((RowOf::Component { k, sign: 1.0 }, limit - tol, v)),
+                    Some((RowOf::Component { k, sign: -1.0 }, limit - tol, v)),
+                ]
             }
             Linear::Contact { row, rhs, kind } => {
-                let mut u = [0.0; 12];
-                u[..6].copy_from_slice(row.as_slice());
                 let aimed = if kind == Violation::SlidingDirection {
                     rhs
                 } else {
                     rhs - tol
                 };
-                out.push((u, aimed, kind));
+                [Some((RowOf::Contact(row), aimed, kind)), None]
             }
-        }
-    }
-    out
+        })
+        .flatten()
 }
 
 impl ConstraintSet<'_> {
@@ -224,14 +231,17 @@ impl ConstraintSet<'_> {
     /// The linear conditions as rows over x for `X = R x`, aimed inside by the tolerance.
     pub fn rows_over_x(&self, r: &Matrix6<f64>) -> Vec<RowX> {
         rows_over_u(self.linear, self.tol)
-            .into_iter()
-            .map(|(u, rhs, kind)| {
-                let (first, second) = (
-                    RowVector6::from_row_slice(&u[..6]),
-                    RowVector6::from_row_slice(&u[6..]),
-                );
-                // Exact where one half is zero (a row on x alone, or a bound on X).
-                (first + second * r, rhs, kind)
+            .map(|(row, rhs, kind)| {
+                let row = match row {
+                    RowOf::Component { k, sign } if k < 6 => {
+                        let mut e = RowVector6::zeros();
+                        e[k] = sign;
+                        e
+                    }
+                    RowOf::Component { k, sign } => r.row(k - 6) * sign,
+                    RowOf::Contact(row) => row,
+                };
+                (row, rhs, kind)
             })
             .collect()
     }

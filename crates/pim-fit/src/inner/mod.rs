@@ -20,7 +20,7 @@ mod prepared;
 mod profile;
 mod qp;
 
-pub(crate) use constraints::RowU;
+pub(crate) use constraints::{RowOf, RowU};
 pub(crate) use diagnosis::explain_infeasible;
 pub(crate) use prepared::{At, Candidate, Eval, Inner};
 pub(crate) use profile::LineAt;

@@ -202,7 +202,7 @@ impl Inner {
             Some(s) => &self.linear[sign_index(s)],
             None => &self.linear_any,
         };
-        rows_over_u(linear, self.tol)
+        rows_over_u(linear, self.tol).collect()
     }
 
     /// Sum of weight x target^2 over the data.
