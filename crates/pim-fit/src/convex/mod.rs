@@ -184,8 +184,7 @@ impl Formulation {
             a[i] = -2.0 * (0..12).map(|p| t[p][i] * gu[p]).sum::<f64>();
         }
         let objective = dual::Objective::new(n, g, a).ok_or(Fallback::DegenerateGeometry)?;
-        // The inner problem's linear rows `row . U <= rhs` over U = T z, as `-row T z >= -rhs`:
-        // bounds and approach common to every pattern, the sliding direction per sign.
+        // The inner problem's rows `row . U <= rhs` over U = T z (as `-row T z >= -rhs`).
         let over_z = |(row, rhs, _): &RowU| {
             let f = match *row {
                 RowOf::Component { k, sign } => scaled(&t[k], -sign),
@@ -380,8 +379,7 @@ impl Formulation {
     fn pattern_rows(&self, inner: &Inner, p: &Pattern, branch: MomentBranch) -> Option<Vec<Row>> {
         let mut rows = Vec::with_capacity(12);
         let s = p.sign.value();
-        // Sliding direction: sgn(vt) = -s side, or vt = 0 (closed: there the friction rule takes
-        // the no-slip impulse's side, which the friction rows of this sign check).
+        // Sliding direction of this sign, closed (vt = 0: the no-slip impulse's side decides).
         rows.extend_from_slice(&self.sliding[usize::from(p.sign == FrictionSign::Negative)]);
         // mu = s Pt / Pn within the bounds, for the sign s_n of Pn.
         let [mlo, mhi] = inner.mu_bounds;

@@ -15,6 +15,7 @@ mod constraints;
 mod diagnosis;
 mod general;
 mod known;
+mod linear;
 mod objective;
 mod prepared;
 mod profile;
