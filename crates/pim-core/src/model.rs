@@ -180,6 +180,15 @@ impl Convention {
         }
     }
 
+    /// The direction a vehicle's nose points, degrees in the case's own frame, for a heading
+    /// written in this convention (the papers' form gives vehicle 1's tail).
+    pub fn nose(self, id: VehicleId, heading: f64) -> f64 {
+        match (self, id) {
+            (Convention::Brach, VehicleId::One) => wrap_degrees(heading + 180.0),
+            _ => heading,
+        }
+    }
+
     /// The other reading of vehicle 1's heading (nose or tail): natural and SAE read the nose,
     /// the papers' form the tail.
     pub fn other(self) -> Self {

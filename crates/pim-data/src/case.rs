@@ -62,6 +62,26 @@ pub struct CaseFile {
     pub uncertainty: Option<crate::spread::UncertaintySection>,
 }
 
+impl CaseFile {
+    /// Vehicle `k` (0 or 1).
+    pub fn vehicle(&self, k: usize) -> &VehicleSection {
+        if k == 0 {
+            &self.vehicle1
+        } else {
+            &self.vehicle2
+        }
+    }
+
+    /// Vehicle `k` (0 or 1), to change.
+    pub fn vehicle_mut(&mut self, k: usize) -> &mut VehicleSection {
+        if k == 0 {
+            &mut self.vehicle1
+        } else {
+            &mut self.vehicle2
+        }
+    }
+}
+
 /// A loaded case: the file name (for messages) and its content.
 #[derive(Debug, Clone)]
 pub struct Case {

@@ -18,7 +18,7 @@ use crate::case::Case;
 use crate::error::Result;
 use crate::sections::{PartialState, PartialStates, PartialVelocity, PointSection, StateSection};
 use crate::spread::Spread;
-use pim_core::{wrap_degrees, Convention};
+use pim_core::{wrap_degrees, Convention, VehicleId};
 
 /// `(cos, sin)` of an angle in degrees.
 fn unit(deg: f64) -> [f64; 2] {
@@ -26,21 +26,13 @@ fn unit(deg: f64) -> [f64; 2] {
     [r.cos(), r.sin()]
 }
 
-/// The velocity `(vx, vy)` of a form, given the nose direction of the vehicle (degrees in the
-/// file's frame): `Ok(None)` when no alternative form is written, an error text when a form is
-/// half-given or two are mixed.
-fn velocity_of(
-    vx: Option<f64>,
-    vy: Option<f64>,
-    speed: Option<f64>,
-    direction: Option<f64>,
-    forward: Option<f64>,
-    lateral: Option<f64>,
-    nose: f64,
-) -> std::result::Result<Option<[f64; 2]>, String> {
-    let cartesian = vx.is_some() || vy.is_some();
-    let polar = speed.is_some() || direction.is_some();
-    let body = forward.is_some() || lateral.is_some();
+/// Reduces a velocity written as `{ speed, direction }` or `{ forward, lateral }` to `vx`, `vy`,
+/// given the direction the vehicle's nose points (degrees in the file's frame), and clears the
+/// alternative fields. An error text when a form is half-given or two are mixed.
+fn resolve_velocity(v: &mut PartialVelocity, nose: f64) -> std::result::Result<(), String> {
+    let cartesian = v.vx.is_some() || v.vy.is_some();
+    let polar = v.speed.is_some() || v.direction.is_some();
+    let body = v.forward.is_some() || v.lateral.is_some();
     if usize::from(cartesian) + usize::from(polar) + usize::from(body) > 1 {
         return Err(
             "give the velocity in one form: { vx, vy }, { speed, direction } or \
@@ -53,16 +45,21 @@ fn velocity_of(
         _ => Err(format!("give both {names}")),
     };
     if polar {
-        let (s, d) = both(speed, direction, "speed and direction")?;
+        let (s, d) = both(v.speed, v.direction, "speed and direction")?;
         let [c, n] = unit(d);
-        return Ok(Some([s * c, s * n]));
-    }
-    if body {
-        let (f, l) = both(forward, lateral, "forward and lateral")?;
+        (v.vx, v.vy) = (Some(s * c), Some(s * n));
+    } else if body {
+        let (f, l) = both(v.forward, v.lateral, "forward and lateral")?;
         let [c, n] = unit(nose);
-        return Ok(Some([f * c - l * n, f * n + l * c]));
+        (v.vx, v.vy) = (Some(f * c - l * n), Some(f * n + l * c));
     }
-    Ok(None)
+    *v = PartialVelocity {
+        vx: v.vx,
+        vy: v.vy,
+        omega: v.omega,
+        ..PartialVelocity::default()
+    };
+    Ok(())
 }
 
 /// Negates and swaps a `[low, high]` range (a mirrored angle or coordinate).
@@ -84,19 +81,14 @@ fn mirror_spread(s: &mut Option<Spread>) {
 impl Case {
     /// The direction each vehicle's nose points, degrees in the file's frame (0 for a barrier).
     fn noses(&self) -> [f64; 2] {
-        let c = &self.content;
-        let nose = |h: f64, one: bool| match (self.written, one) {
-            (Convention::Brach, true) => wrap_degrees(h + 180.0),
-            _ => h,
-        };
-        [
-            nose(c.vehicle1.heading, true),
-            if c.vehicle2.barrier {
+        [VehicleId::One, VehicleId::Two].map(|id| {
+            let v = self.content.vehicle(id.index());
+            if v.barrier {
                 0.0
             } else {
-                nose(c.vehicle2.heading, false)
-            },
-        ]
+                self.written.nose(id, v.heading)
+            }
+        })
     }
 
     /// Reduces every alternative form to `{ vx, vy }`, the impact centre to each vehicle's
@@ -145,11 +137,7 @@ impl Case {
     fn resolve_centre(&mut self, noses: [f64; 2]) -> Result<()> {
         let centre = self.content.impact.centre;
         for (k, name) in ["vehicle1", "vehicle2"].into_iter().enumerate() {
-            let v = if k == 0 {
-                &self.content.vehicle1
-            } else {
-                &self.content.vehicle2
-            };
+            let v = self.content.vehicle(k);
             if v.barrier {
                 if v.position.is_some() {
                     return Err(self.error_at(
@@ -199,12 +187,7 @@ impl Case {
                 }
                 _ => continue,
             };
-            let v = if k == 0 {
-                &mut self.content.vehicle1
-            } else {
-                &mut self.content.vehicle2
-            };
-            v.impact_point = Some(point);
+            self.content.vehicle_mut(k).impact_point = Some(point);
         }
         Ok(())
     }
@@ -228,24 +211,18 @@ impl Case {
                         || crate::parse::locate(&source, &format!("{path}.{field}")).is_some())
                     .then_some(x)
                 };
-                let form = velocity_of(
-                    given("vx", v.vx),
-                    given("vy", v.vy),
-                    v.speed,
-                    v.direction,
-                    v.forward,
-                    v.lateral,
-                    noses[k],
-                )
-                .map_err(|w| at(&path, w))?;
-                if let Some([x, y]) = form {
-                    (v.vx, v.vy) = (x, y);
-                } else if given("vx", v.vx).is_none() || given("vy", v.vy).is_none() {
-                    let missing = if given("vx", v.vx).is_none() {
-                        "vx"
-                    } else {
-                        "vy"
-                    };
+                let mut p = PartialVelocity {
+                    vx: given("vx", v.vx),
+                    vy: given("vy", v.vy),
+                    omega: Some(v.omega),
+                    speed: v.speed,
+                    direction: v.direction,
+                    forward: v.forward,
+                    lateral: v.lateral,
+                };
+                resolve_velocity(&mut p, noses[k]).map_err(|w| at(&path, w))?;
+                let (Some(x), Some(y)) = (p.vx, p.vy) else {
+                    let missing = if p.vx.is_none() { "vx" } else { "vy" };
                     return Err(at(
                         &path,
                         format!(
@@ -253,7 +230,8 @@ impl Case {
                              omega }} or {{ forward, lateral, omega }}"
                         ),
                     ));
-                }
+                };
+                (v.vx, v.vy) = (x, y);
                 (v.speed, v.direction, v.forward, v.lateral) = (None, None, None, None);
             }
         }
@@ -285,25 +263,7 @@ impl Case {
                             ),
                         ));
                     }
-                    let form = velocity_of(
-                        v.vx,
-                        v.vy,
-                        v.speed,
-                        v.direction,
-                        v.forward,
-                        v.lateral,
-                        noses[k],
-                    )
-                    .map_err(|w| at(&path, w))?;
-                    if let Some([x, y]) = form {
-                        (v.vx, v.vy) = (Some(x), Some(y));
-                    }
-                    *v = PartialVelocity {
-                        vx: v.vx,
-                        vy: v.vy,
-                        omega: v.omega,
-                        ..PartialVelocity::default()
-                    };
+                    resolve_velocity(v, noses[k]).map_err(|w| at(&path, w))?;
                 }
             }
         }

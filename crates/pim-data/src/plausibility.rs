@@ -4,7 +4,7 @@
 
 use crate::case::Case;
 use crate::sections::AT_REST;
-use pim_core::{impact_point_cartesian, wrap_degrees, Convention};
+use pim_core::{impact_point_cartesian, wrap_degrees, VehicleId};
 
 /// Speeds above this (m/s, 252 km/h) draw a plausibility warning.
 pub const PLAUSIBLE_SPEED: f64 = 70.0;
@@ -161,10 +161,7 @@ impl Case {
             // Sideslip at contact, for a vehicle that is not turning.
             let v = vehicles[k].1;
             if at_contact && !v.barrier && omega == Some(0.0) && speed > 1.0 {
-                let nose = match (c.convention, k) {
-                    (Convention::Brach, 0) => v.heading + 180.0,
-                    _ => v.heading,
-                };
+                let nose = c.convention.nose(VehicleId::from_index(k), v.heading);
                 let slip = wrap_degrees(vy.atan2(vx).to_degrees() - nose).abs();
                 if slip > PLAUSIBLE_SIDESLIP && slip < 180.0 - PLAUSIBLE_SIDESLIP {
                     out.push(format!(

@@ -249,7 +249,7 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
                     name: format!("{name}.{field}"),
                     spread: sp,
                     nominal,
-                    apply: Box::new(move |case: &mut Case, x| set(vehicle_mut(case, id), x)),
+                    apply: Box::new(move |case: &mut Case, x| set(case.content.vehicle_mut(id), x)),
                 });
             }
         }
@@ -267,7 +267,7 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
                     spread: Spread::Normal(sd),
                     nominal,
                     apply: Box::new(move |case: &mut Case, value| {
-                        let v = vehicle_mut(case, id);
+                        let v = case.content.vehicle_mut(id);
                         let (mut x, mut y) = pim_core::impact_point_cartesian(v.d(), v.phi());
                         if axis == "x" {
                             x = value
@@ -293,15 +293,6 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
         });
     }
     Ok(out)
-}
-
-/// Vehicle `id` (0 or 1) of a case.
-fn vehicle_mut(case: &mut Case, id: usize) -> &mut crate::case::VehicleSection {
-    if id == 0 {
-        &mut case.content.vehicle1
-    } else {
-        &mut case.content.vehicle2
-    }
 }
 
 fn set_estimate(case: &mut Case, k: usize, x: f64) {

@@ -32,12 +32,9 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
     let frame = case.written;
-    let shown = if frame == Convention::Sae {
-        report.mirrored()
-    } else {
-        report.clone()
-    };
-    let mut table = tables::solve_table(&title_of(&case), &impact, &shown, forward, units, frame);
+    let mirrored = (frame == Convention::Sae).then(|| report.mirrored());
+    let shown = mirrored.as_ref().unwrap_or(&report);
+    let mut table = tables::solve_table(&title_of(&case), &impact, shown, forward, units, frame);
     if let Some(m) = &document.model {
         let line = tables::model_line(m);
         if let Some(at) = table.find("solved forwards") {
@@ -52,7 +49,7 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
             contact.as_ref(),
             Some(pim_render::diagram::Solved::of_report(&report)),
         );
-        let md = markdown::solve(&title_of(&case), &shown, forward, units, frame);
+        let md = markdown::solve(&title_of(&case), shown, forward, units, frame);
         super::write_result_dir(dir, &record, &md, &d)?;
     }
     print_out(match a.format {
