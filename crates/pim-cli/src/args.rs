@@ -191,6 +191,10 @@ pub struct SolveArgs {
     /// scale diagram diagram.svg (`pim sensitivity`: sensitivity.json and sensitivity.txt).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Exit with status 1 (after the output) when the case draws a plausibility warning
+    /// (for scripts and signed reports).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -206,6 +210,9 @@ pub struct DrawArgs {
     /// Solve with the no-slip condition (5a) instead of friction (5).
     #[arg(long)]
     pub no_slip: bool,
+    /// Units of the axes and labels (default: the case's [units], by its speed unit).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
 }
 
 const UNCERTAINTY_HELP: &str = "\
@@ -241,11 +248,20 @@ pub struct UncertaintyArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    /// Units of the table and figures (default: the case's [units], by its speed unit; JSON
+    /// is always SI).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
     /// Also write uncertainty.json, uncertainty.txt and the figures histograms.svg (speeds and
     /// delta-V with their 90 % bands), speeds.svg (speed 1 against speed 2) and tornado.svg
     /// (dominant inputs) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Exit with status 1 (after the output) when the case draws a plausibility warning, or an
+    /// interval reaches a bound the case does not set (a default)
+    /// (for scripts and signed reports).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -495,6 +511,11 @@ pub struct FitArgs {
     /// scale diagram diagram.svg of the best branch.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Exit with status 1 (after the output) when the case draws a plausibility warning, or the best
+    /// branch rests on a bound the case does not set (a default)
+    /// (for scripts and signed reports).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// The distinct values of a list of arguments, in their first order.

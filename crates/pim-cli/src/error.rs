@@ -4,9 +4,13 @@ use std::fmt;
 
 /// Exit status: success.
 pub const EXIT_OK: u8 = 0;
+/// Exit status with --strict: the answer came with a warning (solve, fit, uncertainty: a
+/// plausibility warning, or an answer that rests on a bound no one set for the crash; batch:
+/// some records are infeasible or failed). The output was written all the same.
+pub const EXIT_STRICT: u8 = 1;
 /// Exit status (batch with --strict): some records are infeasible or failed; the others were
 /// written.
-pub const EXIT_SOME_FAILED: u8 = 1;
+pub const EXIT_SOME_FAILED: u8 = EXIT_STRICT;
 /// Exit status: bad input (command line, file, field, value); nothing was computed.
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status: valid input for which the model has no answer (singular or inconsistent system).
@@ -18,8 +22,10 @@ pub const EXIT_IO: u8 = 4;
 pub const EXIT_CODES_HELP: &str = "\
 EXIT STATUS:
   0  success (batch: it ran and wrote its results; infeasible records are counted in it)
-  1  batch and compare-costs with --strict: some records are infeasible or failed (their rows
-     say why); the others are complete
+  1  with --strict, an answer that came with a warning: solve, fit and uncertainty when the
+     case drew a plausibility warning or (fit, uncertainty) the answer rests on a bound the
+     case does not set (a default); batch and compare-costs when some records are infeasible
+     or failed (their rows say why). The output is complete all the same
   2  bad input: a command-line flag, a file that cannot be read, or a field with a bad value;
      the message names the file, line and field
   3  the input is valid but the model has no answer: singular or inconsistent equations, or

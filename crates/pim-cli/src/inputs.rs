@@ -34,13 +34,27 @@ pub fn load_case(path: &Path) -> Result<Case, Failure> {
 }
 
 /// The collision of a case, checked; then its plausibility warnings go to stderr (only for a
-/// valid collision, so that an error is never preceded by noise).
-pub fn checked_impact(case: &Case) -> Result<pim_core::Impact, Failure> {
+/// valid collision, so that an error is never preceded by noise). Also returns how many
+/// warnings there were (for `--strict`).
+pub fn checked_impact(case: &Case) -> Result<(pim_core::Impact, usize), Failure> {
     let impact = case.impact()?;
-    for w in case.warnings() {
+    let warnings = case.warnings();
+    for w in &warnings {
         eprintln!("pim: warning: {w}");
     }
-    Ok(impact)
+    Ok((impact, warnings.len()))
+}
+
+/// The exit status of a command that produced its answer: 0, or under `--strict` 1 when
+/// there were warnings or the answer rests on a bound no one set (`why` lists those, and is
+/// printed).
+pub fn strict_status(strict: bool, why: &[String]) -> std::process::ExitCode {
+    use crate::error::{EXIT_OK, EXIT_STRICT};
+    if strict && !why.is_empty() {
+        eprintln!("pim: --strict: {}", why.join("; "));
+        return std::process::ExitCode::from(EXIT_STRICT);
+    }
+    std::process::ExitCode::from(EXIT_OK)
 }
 
 /// Reads and parses a RICSAC data file.

@@ -144,7 +144,7 @@ fn bad_fit_cases_exit_2_naming_the_culprit() {
         ("obskind.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_sideways\"\nvehicle = 1\nvalue = 1.0\n"), vec!["--cost", "q2"], "delta_v_sideways"),
         ("both.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec![], "both in [known] and in [estimates]"),
         ("known_with_cost.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec!["--cost", "q3"], "[known] is for fits without --cost"),
-        ("coef.toml", format!("{base}\n[coefficients]\ne = 0.1\nmu = 0.5\nem = 1.0\n"), vec!["--cost", "q2"], "[coefficients] is for `pim solve`"),
+        ("coef.toml", format!("{}\n[coefficients]\ne = 0.1\nmu = 0.5\nem = 1.0\n", base.replace("[estimates.", "[")), vec!["--cost", "q2"], "[coefficients] is for `pim solve`"),
         ("bounds.toml", base.replace("e = [0.0, 0.2]", "e = [0.3, 0.2]"), vec!["--cost", "q2"], "[bounds] e = [0.3, 0.2]"),
         ("nan.toml", base.replace("vx = -7.74", "vx = nan"), vec!["--cost", "q2"], "final.vehicle1.vx"),
         ("over.toml", format!("{}\n[known.final]\nvehicle1 = {{ vx = -7.74, vy = 1.48, omega = -0.52 }}\nvehicle2 = {{ vx = -2.22 }}\n", base.replace("[estimates.final]\nvehicle1 = { vx = -7.74, vy = 1.48, omega = -0.52 }\nvehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }", "").replace("[estimates.initial]", "[known.initial]")), vec![], "at most six components"),
@@ -286,4 +286,104 @@ fn impact_point_bounds_in_the_natural_form_and_bad_geometry_bounds() {
         let err = stderr(&out);
         assert!(err.contains(name) && err.contains(says), "{name}: {err}");
     }
+}
+
+#[test]
+fn one_file_holds_a_solve_and_a_fit_of_the_same_crash() {
+    // The fit case plus what `pim solve` needs: each command reads its own sections, and each
+    // answer is the one of the file without the other's sections.
+    let base = case_text();
+    let solve_part = "\n[coefficients]\ne = 0.1\nmu = 0.3\nem = 1.0\n\n[initial]\n\
+                      vehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }\n\
+                      vehicle2 = { vx = 6.50, vy = 11.27, omega = 0.0 }\n";
+    let both = write_case("both_solve_and_fit.toml", &format!("{base}{solve_part}"));
+    let fit_only = write_case("fit_only.toml", &base);
+    let header: String = base
+        .lines()
+        .take_while(|l| !l.starts_with("[estimates") && !l.starts_with("[bounds"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let solve_only = write_case("solve_only.toml", &format!("{header}{solve_part}"));
+    let json = |args: &[&str]| -> Value {
+        let out = pim(args);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    for cost in ["q1", "q2", "q3"] {
+        assert_eq!(
+            json(&["fit", &both, "--cost", cost, "--format", "json"]),
+            json(&["fit", &fit_only, "--cost", cost, "--format", "json"]),
+            "{cost}"
+        );
+    }
+    assert_eq!(
+        json(&["solve", &both, "--format", "json"]),
+        json(&["solve", &solve_only, "--format", "json"])
+    );
+}
+
+#[test]
+fn an_answer_on_a_default_bound_says_so_and_fails_under_strict() {
+    // A sideswipe whose friction is 1.5 (mu_max 1.86, still sliding at separation): the
+    // velocities of the forward solve as estimates, fitted without [bounds] mu, rest on the
+    // default mu <= 1.2. The table and the JSON say so and --strict exits 1; the same fit with
+    // the bound set in the file says it was set there and --strict accepts it.
+    let side = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    let geometry: String = side
+        .lines()
+        .take_while(|l| !l.starts_with("[coefficients]"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let estimates = "[estimates.initial]\n\
+                     vehicle1 = { vx = 5.0, vy = 0.0, omega = 0.0 }\n\
+                     vehicle2 = { vx = 0.0, vy = 25.0, omega = 0.0 }\n\
+                     [estimates.final]\n\
+                     vehicle1 = { vx = 2.25, vy = 4.125, omega = 4.95 }\n\
+                     vehicle2 = { vx = 2.75, vy = 20.875, omega = 2.2275 }\n";
+    let by_default = write_case("mu_default.toml", &format!("{geometry}{estimates}"));
+    let by_case = write_case(
+        "mu_set.toml",
+        &format!("{geometry}{estimates}[bounds]\nmu = [0.0, 1.2]\n"),
+    );
+    let best_bounds = |path: &str| -> Vec<Value> {
+        let out = pim(&["fit", path, "--cost", "q3", "--format", "json"]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+        let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let best = j["branches"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|b| b["moment"] == j["best"])
+            .unwrap()
+            .clone();
+        best["bounds_reached"]
+            .as_array()
+            .cloned()
+            .unwrap_or_default()
+    };
+    let mu = |source: &str| {
+        serde_json::json!({
+            "bound": "mu", "limit": 1.2, "at": "mu=max", "source": source
+        })
+    };
+    assert_eq!(best_bounds(&by_default), vec![mu("default")]);
+    assert_eq!(best_bounds(&by_case), vec![mu("case")]);
+    let strict = pim(&["fit", &by_default, "--cost", "q3", "--strict"]);
+    assert_eq!(strict.status.code(), Some(1), "{}", stderr(&strict));
+    assert!(
+        stderr(&strict).contains("--strict: the best branch rests on a default bound"),
+        "{}",
+        stderr(&strict)
+    );
+    assert!(
+        String::from_utf8_lossy(&strict.stdout).contains(
+            "(best) rests on a bound (the bound, not the data, ends it): mu=max at [bounds] mu = \
+             1.200 (the default, not set for this crash)"
+        ),
+        "{}",
+        String::from_utf8_lossy(&strict.stdout)
+    );
+    let strict = pim(&["fit", &by_case, "--cost", "q3", "--strict"]);
+    assert_eq!(strict.status.code(), Some(0), "{}", stderr(&strict));
+    assert!(String::from_utf8_lossy(&strict.stdout).contains("mu = 1.200 (set in [bounds])"));
 }

@@ -52,3 +52,76 @@ fn a_sixty_mph_side_impact_is_fitted_at_sixty_mph() {
     assert!(b["cost"].as_f64().unwrap() < 1e-10, "{}", b["cost"]);
     assert!(!stderr(&out).contains("bound"), "{}", stderr(&out));
 }
+
+#[test]
+fn the_sixty_mph_tbone_reads_in_mph_and_no_bound_cuts_its_intervals() {
+    // examples/cases/tbone_sae_us.toml: SAE frame, US units, speeds and directions; one file
+    // for its solve and its fit. Its uncertainty table is in mph, no interval reaches a bound
+    // and --strict accepts it.
+    let case = "examples/cases/tbone_sae_us.toml";
+    let args = [
+        "uncertainty",
+        case,
+        "--cost",
+        "q3",
+        "--draws",
+        "100",
+        "--strict",
+    ];
+    let out = pim(&args);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let table = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        table.contains("speeds at contact and delta-V in mph"),
+        "{table}"
+    );
+    assert!(!table.contains("ENDED BY"), "{table}");
+    let speed1 = table
+        .lines()
+        .find(|l| l.starts_with("speed1"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|x| x.parse::<f64>().ok())
+        .unwrap();
+    assert!((speed1 - 60.0).abs() < 1.0, "nominal speed 1 {speed1} mph");
+    let mut json_args = args.to_vec();
+    json_args.extend(["--format", "json"]);
+    let j: serde_json::Value = serde_json::from_slice(&pim_ok(&json_args).stdout).unwrap();
+    // JSON stays SI.
+    let p50 = j["quantities"]["speed1"]["p50"].as_f64().unwrap();
+    assert!((p50 / 0.44704 - 60.0).abs() < 2.0, "{p50} m/s");
+    for (q, s) in j["quantities"].as_object().unwrap() {
+        assert!(s["reaches_bound"].is_null(), "{q}: {s}");
+    }
+
+    // The same crash under a velocity bound of 40 mph set in the file: the speed intervals are
+    // ended by it, the table, the JSON and the histogram say so, and --strict accepts the
+    // bound because the file sets it.
+    let text = std::fs::read_to_string(repo().join(case)).unwrap();
+    let bounded = scratch_file(
+        "highway",
+        "tbone_bounded.toml",
+        format!("{text}\n[bounds]\nvelocity = 40.0\n"),
+    );
+    let dir = scratch_dir("highway", "tbone_bounded_out");
+    let out = pim(&[
+        "uncertainty",
+        &bounded,
+        "--cost",
+        "q3",
+        "--draws",
+        "60",
+        "--strict",
+        "--out",
+        &dir.display().to_string(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let table = String::from_utf8_lossy(&out.stdout).to_string();
+    let row = table.lines().find(|l| l.starts_with("speed1")).unwrap();
+    assert!(
+        row.contains("ENDED BY the velocity bound (set in [bounds]"),
+        "{row}"
+    );
+    let svg = std::fs::read_to_string(dir.join("histograms.svg")).unwrap();
+    assert!(svg.contains("(ended by the velocity bound)"));
+    assert!(svg.contains("[mph]"));
+}

@@ -10,7 +10,7 @@
 //! (already stated clockwise from the nose, the SAE sense) keep.
 
 use crate::model::{wrap_degrees, VehicleVelocity, Velocities};
-use crate::report::ImpactReport;
+use crate::report::{ImpactReport, VehicleResult};
 
 impl VehicleVelocity {
     /// In the mirrored frame: `vy` and `omega` change sign.
@@ -29,6 +29,19 @@ impl Velocities {
         Velocities {
             vehicle1: self.vehicle1.mirrored(),
             vehicle2: self.vehicle2.mirrored(),
+        }
+    }
+}
+
+impl VehicleResult {
+    /// In the mirrored frame: the heading, the lateral delta-V and the yaw-rate change change
+    /// sign; speeds, delta-V magnitudes and the PDOF (clockwise from the nose) keep.
+    pub fn mirrored(&self) -> Self {
+        VehicleResult {
+            heading: wrap_degrees(-self.heading),
+            delta_v_lateral: -self.delta_v_lateral,
+            yaw_rate_change: -self.yaw_rate_change,
+            ..*self
         }
     }
 }
@@ -59,9 +72,7 @@ impl ImpactReport {
             d.direction = wrap_degrees(-d.direction);
         }
         for v in &mut r.vehicles {
-            v.heading = wrap_degrees(-v.heading);
-            v.delta_v_lateral = -v.delta_v_lateral;
-            v.yaw_rate_change = -v.yaw_rate_change;
+            *v = v.mirrored();
         }
         r.friction_sign = r.friction_sign.flipped();
         r

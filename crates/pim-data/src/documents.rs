@@ -122,16 +122,24 @@ pub fn fit(
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<Fitted, DocumentError> {
-    for (name, present) in [
-        ("[coefficients]", case.content.coefficients.is_some()),
-        ("[initial]", case.content.initial.is_some()),
-        ("[final]", case.content.final_.is_some()),
-    ] {
-        if present {
-            return Err(DocumentError::Input(format!(
-                "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / [estimates.final]",
-                case.file
-            )));
+    // One file may hold both a solve and a fit of the same crash: the fit reads its
+    // estimates, observations and bounds and leaves [coefficients], [initial] and [final] to
+    // `pim solve`. A file with only those is a solve case.
+    let c = &case.content;
+    let fit_sections = c.estimates.is_some() || c.known.is_some() || !c.observations.is_empty();
+    if !fit_sections {
+        for (name, present) in [
+            ("[coefficients]", c.coefficients.is_some()),
+            ("[initial]", c.initial.is_some()),
+            ("[final]", c.final_.is_some()),
+        ] {
+            if present {
+                return Err(DocumentError::Input(format!(
+                    "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / \
+                     [estimates.final] (both may live in one file)",
+                    case.file
+                )));
+            }
         }
     }
     let (choice, name) = match cost {
@@ -154,7 +162,11 @@ pub fn fit(
         branches: report
             .branches
             .iter()
-            .map(|b| BranchRecord::new(b).with_chi_square(&problem, unit))
+            .map(|b| {
+                BranchRecord::new(b)
+                    .with_chi_square(&problem, unit)
+                    .with_bounds(b, settings.get(), &|bound| fitcase::sets_bound(case, bound))
+            })
             .collect(),
         best: report.best,
         notes,

@@ -281,6 +281,27 @@ pub fn settings(
     )
 }
 
+/// The range of e of a case file without `[bounds] e`: e's physical range (a RICSAC refit
+/// states Brach's and Vossou & Koulocheris' [0, 0.2]).
+pub const CASE_E_RANGE: [f64; 2] = [0.0, 1.0];
+
+/// True when the case's `[bounds]` sets `bound` itself (rather than leaving it to the
+/// default).
+pub fn sets_bound(case: &Case, bound: pim_fit::SearchBound) -> bool {
+    use pim_fit::SearchBound as B;
+    let Some(b) = case.content.bounds else {
+        return false;
+    };
+    match bound {
+        B::E => b.e.is_some(),
+        B::Mu => b.mu.is_some(),
+        B::Et => b.et.is_some(),
+        B::Friction => b.friction.is_some(),
+        B::Velocity => b.velocity.is_some(),
+        B::YawRate => b.yaw_rate.is_some(),
+    }
+}
+
 /// The case's settings on top of `base`, checked: the velocity limits of a case file (the
 /// physical ranges of `crate::ranges` unless `[bounds]` sets them), then its `[bounds]`.
 pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSettings> {
@@ -290,6 +311,9 @@ pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSet
     // Koulocheris (20 m/s, 5 rad/s), unless its [bounds] say otherwise.
     s.velocity_bound = crate::ranges::SPEED.hi;
     s.yaw_rate_bound = crate::ranges::YAW_RATE.hi;
+    // Likewise e: its physical range, from perfectly plastic to perfectly elastic, not the
+    // [0, 0.2] that suits RICSAC's speeds.
+    s.e = CASE_E_RANGE;
     if let Some(b) = case.content.bounds {
         if let Some(e) = b.e {
             s.e = e;

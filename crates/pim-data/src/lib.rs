@@ -25,6 +25,7 @@ mod error;
 pub mod fitcase;
 mod forms;
 pub mod input;
+pub mod intervals;
 pub mod parse;
 pub mod plausibility;
 pub mod predict;

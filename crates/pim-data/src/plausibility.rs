@@ -150,7 +150,12 @@ impl Case {
                     speed * 3.6
                 ));
             }
-            if let Some(w) = omega.filter(|w| w.abs() > PLAUSIBLE_YAW_RATE) {
+            // The slip this catches is a number in degrees per second in a file read in rad/s;
+            // a file that says `yaw_rate = "deg/s"` cannot make it (a violent spin is then
+            // simply a fast one; the range check refuses what no vehicle does).
+            let in_degrees =
+                self.written_units.yaw_rate == crate::units::YawRateUnit::DegreesPerSecond;
+            if let Some(w) = omega.filter(|w| w.abs() > PLAUSIBLE_YAW_RATE && !in_degrees) {
                 out.push(format!(
                     "{}: a yaw rate of {w:.2} rad/s ({:.0} deg/s) is above {PLAUSIBLE_YAW_RATE} \
                      rad/s: degrees per second meant? check [units] yaw_rate",

@@ -271,6 +271,34 @@ pub struct BranchRecord {
     /// `mu` its impulse ratio relative to the sliding direction and `em` = 1.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tangential: Option<pim_fit::TangentialFit>,
+    /// The search bounds the answer rests on (a bound, not the data, ends it), each with
+    /// where it came from; absent when none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bounds_reached: Vec<BoundReached>,
+}
+
+/// Where a search bound came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundSource {
+    /// The case's `[bounds]` (or a batch's stated conditions) set it.
+    Case,
+    /// The program's default: no one chose it for this crash.
+    Default,
+}
+
+/// A search bound a fitted answer rests on.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundReached {
+    /// The `[bounds]` key: `e`, `mu`, `et`, `friction`, `velocity`, `yaw_rate`, or a geometry
+    /// input (`vehicle1.d`, `crush_angle`, ...).
+    pub bound: String,
+    /// The limit reached, SI (m/s, rad/s, m; the coefficients as they are; angles in degrees).
+    pub limit: f64,
+    /// What is at the limit (`|vi1x|=bound`, `e=max`, the geometry input).
+    pub at: String,
+    /// Who set the bound.
+    pub source: BoundSource,
 }
 
 impl BranchRecord {
@@ -319,7 +347,55 @@ impl BranchRecord {
             chi_square: None,
             geometry: b.geometry.clone(),
             tangential: s.and_then(|s| s.tangential.clone()),
+            bounds_reached: Vec::new(),
         }
+    }
+
+    /// Adds the search bounds the branch's answer rests on: the active constraints that are
+    /// search bounds under `settings`, and the geometry estimates that lie on their bounds
+    /// (always the case's own). `set_by_case` says which bounds the case itself sets.
+    pub fn with_bounds(
+        mut self,
+        b: &pim_fit::BranchReport,
+        settings: &pim_fit::FitSettings,
+        set_by_case: &dyn Fn(pim_fit::SearchBound) -> bool,
+    ) -> Self {
+        let source = |set: bool| {
+            if set {
+                BoundSource::Case
+            } else {
+                BoundSource::Default
+            }
+        };
+        for a in &self.active_constraints {
+            if let Some((bound, limit)) = a.search_bound(settings) {
+                self.bounds_reached.push(BoundReached {
+                    bound: bound.name().to_string(),
+                    limit,
+                    at: a.short(),
+                    source: source(set_by_case(bound)),
+                });
+            }
+        }
+        for r in b.geometry.iter().flat_map(|g| &g.ranges) {
+            if r.at_bound {
+                let lower = (r.value - r.bounds[0]).abs() <= (r.value - r.bounds[1]).abs();
+                self.bounds_reached.push(BoundReached {
+                    bound: r.input.clone(),
+                    limit: if lower { r.bounds[0] } else { r.bounds[1] },
+                    at: r.input.clone(),
+                    source: BoundSource::Case,
+                });
+            }
+        }
+        self
+    }
+
+    /// True when the answer rests on a bound that no one set for this crash.
+    pub fn rests_on_default_bound(&self) -> bool {
+        self.bounds_reached
+            .iter()
+            .any(|b| b.source == BoundSource::Default)
     }
 }
 

@@ -9,6 +9,8 @@
 use crate::case::Case;
 use crate::error::{InputError, Result};
 use crate::fitcase::{self, CostChoice};
+use crate::intervals::{correlation_ratio, percentile};
+pub use crate::intervals::{BoundHit, Summary};
 pub use crate::spread::{standard_normal, ImpactSpread, Spread, UncertaintySection, VehicleSpread};
 use pim_fit::{FitSettings, MomentBranch, Quantity, Status};
 use rand::SeedableRng;
@@ -120,27 +122,8 @@ pub struct DrawResult {
     pub branch: MomentBranch,
     /// The values of [`QUANTITIES`].
     pub values: [f64; 8],
-}
-
-/// Summary of one quantity over the feasible draws.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Summary {
-    /// 5th percentile.
-    pub p05: f64,
-    /// Median.
-    pub p50: f64,
-    /// 95th percentile.
-    pub p95: f64,
-    /// Mean.
-    pub mean: f64,
-    /// Standard deviation.
-    pub sd: f64,
-    /// The nominal fit does not determine this quantity (its range within the identifiability
-    /// tolerance is open or wide): the interval is not a confidence statement.
-    pub not_determined: bool,
-    /// The 90 % interval reaches a bound of the search (e or mu): the bound, not the data, ends
-    /// it.
-    pub reaches_bound: bool,
+    /// The search bounds the draw's answer rests on.
+    pub bounds: Vec<pim_fit::SearchBound>,
 }
 
 /// One input's share of a quantity's spread.
@@ -165,6 +148,11 @@ pub struct Study {
     pub nominal: BTreeMap<String, f64>,
     /// The nominal best branch.
     pub nominal_branch: Option<MomentBranch>,
+    /// The search bounds the nominal fit rests on (absent when none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub nominal_bounds: Vec<crate::records::BoundReached>,
+    /// Share of the feasible draws whose fit rests on each search bound (only those reached).
+    pub bound_share: BTreeMap<String, f64>,
     /// Summaries by quantity.
     pub quantities: BTreeMap<String, Summary>,
     /// Share of the feasible draws whose best branch is each branch.
@@ -181,6 +169,43 @@ pub struct Study {
     /// serialised).
     #[serde(skip)]
     pub samples: Vec<[f64; 8]>,
+}
+
+/// The quantities of [`QUANTITIES`] that are speeds (m/s in a study).
+pub const SPEEDS: [&str; 4] = ["speed1", "speed2", "delta_v1", "delta_v2"];
+
+impl Study {
+    /// The same study with its speeds (see [`SPEEDS`]) multiplied by `per_mps`: in a display
+    /// unit, e.g. `1 / 0.44704` for mph. Everything else keeps.
+    pub fn in_speed_unit(&self, per_mps: f64) -> Study {
+        let mut s = self.clone();
+        let is_speed = |q: &str| SPEEDS.contains(&q);
+        for (q, v) in s.nominal.iter_mut() {
+            if is_speed(q) {
+                *v *= per_mps;
+            }
+        }
+        for (q, v) in s.linearised_sd.iter_mut() {
+            if is_speed(q) {
+                *v *= per_mps;
+            }
+        }
+        for (q, x) in s.quantities.iter_mut() {
+            if is_speed(q) {
+                for v in [&mut x.p05, &mut x.p50, &mut x.p95, &mut x.mean, &mut x.sd] {
+                    *v *= per_mps;
+                }
+            }
+        }
+        for (i, q) in QUANTITIES.iter().enumerate() {
+            if is_speed(q) {
+                for d in &mut s.samples {
+                    d[i] *= per_mps;
+                }
+            }
+        }
+        s
+    }
 }
 
 /// Writes a drawn value into a copy of the case.
@@ -324,17 +349,25 @@ fn fit_once(
     settings: &pim_fit::ValidSettings,
 ) -> Option<DrawResult> {
     let problem = fitcase::problem(case, choice).ok()?;
-    best_of(&pim_fit::fit(&problem, settings).ok()?)
+    best_of(&pim_fit::fit(&problem, settings).ok()?, settings.get())
 }
 
 /// The quantities of a fit's best branch, when it has an answer.
-fn best_of(report: &pim_fit::FitReport) -> Option<DrawResult> {
+fn best_of(report: &pim_fit::FitReport, settings: &FitSettings) -> Option<DrawResult> {
     let b = report.best_branch()?;
     if !matches!(b.status, Status::Optimal | Status::LimitReached) {
         return None;
     }
     let s = b.solution.as_ref()?;
+    let mut bounds: Vec<pim_fit::SearchBound> = s
+        .active_constraints
+        .iter()
+        .filter_map(|a| a.search_bound(settings).map(|(b, _)| b))
+        .collect();
+    bounds.sort();
+    bounds.dedup();
     Some(DrawResult {
+        bounds,
         branch: b.moment,
         values: [
             s.e,
@@ -347,43 +380,6 @@ fn best_of(report: &pim_fit::FitReport) -> Option<DrawResult> {
             s.energy_loss_percent,
         ],
     })
-}
-
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let h = p * (sorted.len() - 1) as f64;
-    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
-    sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
-}
-
-/// The correlation ratio of `y` on `x` with ten quantile bins of `x`: `Var(E[y | bin]) / Var(y)`.
-fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len();
-    if n < 20 {
-        return 0.0;
-    }
-    let mut idx: Vec<usize> = (0..n).collect();
-    idx.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
-    let mean = y.iter().sum::<f64>() / n as f64;
-    let total: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
-    if total <= 0.0 {
-        return 0.0;
-    }
-    let bins = 10;
-    let mut between = 0.0;
-    for b in 0..bins {
-        let part = &idx[b * n / bins..(b + 1) * n / bins];
-        if part.is_empty() {
-            continue;
-        }
-        let m = part.iter().map(|&i| y[i]).sum::<f64>() / part.len() as f64;
-        between += part.len() as f64 * (m - mean).powi(2);
-    }
-    // Bias correction: with a constant y given x the binned ratio still picks up noise of
-    // about (bins - 1) / n.
-    ((between / total) - (bins as f64 - 1.0) / n as f64).clamp(0.0, 1.0)
 }
 
 /// The smallest compass step of a draw's fit, as a fraction of the coefficient box.
@@ -419,7 +415,16 @@ pub fn run(
     // The nominal fit: also says which quantities the data do not determine.
     let problem = fitcase::problem(case, choice)?;
     let report = pim_fit::fit(&problem, &settings).map_err(|e| InputError::new(&case.file, e))?;
-    let nominal = best_of(&report);
+    let nominal = best_of(&report, settings.get());
+    let set_by_case = |b| fitcase::sets_bound(case, b);
+    let nominal_bounds = report
+        .best_branch()
+        .map(|b| {
+            crate::records::BranchRecord::new(b)
+                .with_bounds(b, settings.get(), &set_by_case)
+                .bounds_reached
+        })
+        .unwrap_or_default();
     let mut undetermined = [false; 8];
     if let Some(b) = report.best_branch() {
         for i in &b.identifiability {
@@ -477,6 +482,24 @@ pub fn run(
         .iter()
         .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
         .collect();
+    let shares: Vec<(pim_fit::SearchBound, f64)> = pim_fit::SearchBound::ALL
+        .iter()
+        .map(|&b| {
+            let k = feasible
+                .iter()
+                .filter(|(_, r)| r.bounds.contains(&b))
+                .count();
+            (b, k as f64 / feasible.len().max(1) as f64)
+        })
+        .filter(|(_, share)| *share > 0.0)
+        .collect();
+    let source = |b| {
+        if set_by_case(b) {
+            crate::records::BoundSource::Case
+        } else {
+            crate::records::BoundSource::Default
+        }
+    };
     let mut quantities = BTreeMap::new();
     let mut sensitivity = Vec::new();
     for (q, name) in QUANTITIES.iter().enumerate() {
@@ -496,12 +519,7 @@ pub fn run(
                 mean,
                 sd,
                 not_determined: undetermined[q],
-                reaches_bound: match q {
-                    0 => Some(settings.get().e),
-                    1 => Some(settings.get().mu),
-                    _ => None,
-                }
-                .is_some_and(|[lo, hi]| p05 <= lo + 1e-9 || p95 >= hi - 1e-9),
+                reaches_bound: crate::intervals::bound_hit(name, &shares, &source),
             },
         );
         let mut shares: Vec<(String, f64)> = inputs
@@ -543,6 +561,11 @@ pub fn run(
             })
             .unwrap_or_default(),
         nominal_branch: nominal.map(|r| r.branch),
+        nominal_bounds,
+        bound_share: shares
+            .iter()
+            .map(|(b, share)| (b.name().to_string(), *share))
+            .collect(),
         quantities,
         branch_share,
         sensitivity,
@@ -591,16 +614,6 @@ fn linearised(
 mod tests {
     use super::*;
     use rand::Rng;
-
-    #[test]
-    fn correlation_ratio_of_a_function_and_of_noise() {
-        let x: Vec<f64> = (0..1000).map(|i| i as f64 / 1000.0).collect();
-        let y: Vec<f64> = x.iter().map(|v| v * v).collect();
-        assert!(correlation_ratio(&x, &y) > 0.95);
-        let mut rng = stream(1, 0);
-        let noise: Vec<f64> = (0..1000).map(|_| standard_normal(&mut rng)).collect();
-        assert!(correlation_ratio(&x, &noise) < 0.02);
-    }
 
     #[test]
     fn streams_differ_and_repeat() {

@@ -141,6 +141,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bounds;
 mod branch;
 mod certificate;
 mod convex;
@@ -154,6 +155,7 @@ mod run;
 mod search;
 mod settings;
 
+pub use bounds::SearchBound;
 pub use certificate::{Certificate, Fallback, Method, Route};
 pub use error::{FitError, Result};
 pub use geometry::{

@@ -405,7 +405,7 @@ pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64) -> Stri
                         |x| {
                             let flag = if x.not_determined {
                                 "?"
-                            } else if x.reaches_bound {
+                            } else if x.reaches_bound.is_some() {
                                 "|"
                             } else {
                                 ""

@@ -61,7 +61,13 @@ pub fn solve(
 }
 
 /// The report of a fit.
-pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> String {
+pub fn fit(
+    title: &str,
+    cost: &str,
+    r: &pim_fit::FitReport,
+    u: UnitSystem,
+    frame: Convention,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# {}\n", title.lines().next().unwrap_or(title));
     let _ = writeln!(s, "Fit with cost function {cost}.\n");
@@ -75,11 +81,14 @@ pub fn fit(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> St
             s,
             "\n## Best branch\n\n![plan view at contact, fitted velocities](diagram.svg)\n"
         );
-        vehicles(&mut s, &sol.vehicles, u, Convention::Natural);
+        let (_, _, shown) = crate::tables::in_frame(sol, frame);
+        vehicles(&mut s, &shown, u, frame);
         let _ = writeln!(
             s,
-            "\nKinetic energy loss {:.0} J ({:.2} %).",
-            sol.energy_loss, sol.energy_loss_percent
+            "\nKinetic energy loss {:.0} {} ({:.2} %).",
+            u.energy(sol.energy_loss),
+            u.energy_label(),
+            sol.energy_loss_percent
         );
     } else {
         let _ = writeln!(s, "\nNo branch has an admissible solution.");

@@ -295,7 +295,13 @@ fn opt3(x: Option<f64>) -> String {
 }
 
 /// The human-readable table of a fit.
-pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem) -> String {
+pub fn fit_table(
+    title: &str,
+    cost: &str,
+    r: &pim_fit::FitReport,
+    u: UnitSystem,
+    frame: Convention,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "{title}\nfit with cost function {cost}\n");
     for b in &r.branches {
@@ -341,9 +347,14 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
             }
             let _ = writeln!(
                 s,
-                "  cost {:.5}   energy loss {:.0} J ({:.2} %)   residual {:.1e}",
-                sol.cost, sol.energy_loss, sol.energy_loss_percent, sol.max_residual
+                "  cost {:.5}   energy loss {:.0} {} ({:.2} %)   residual {:.1e}",
+                sol.cost,
+                u.energy(sol.energy_loss),
+                u.energy_label(),
+                sol.energy_loss_percent,
+                sol.max_residual
             );
+            let (initial, separation, vehicles) = in_frame(sol, frame);
             let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
             let _ = writeln!(
                 s,
@@ -353,7 +364,7 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
                 format!("vy [{sp}]"),
                 format!("omega [{yr}]")
             );
-            for (name, st) in [("contact", &sol.initial), ("separation", &sol.separation)] {
+            for (name, st) in [("contact", &initial), ("separation", &separation)] {
                 for (k, v) in [&st.vehicle1, &st.vehicle2].iter().enumerate() {
                     let _ = writeln!(
                         s,
@@ -366,7 +377,7 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
                 }
             }
             let mut block = String::new();
-            vehicle_block(&mut block, &sol.vehicles, u, Convention::Natural);
+            vehicle_block(&mut block, &vehicles, u, frame);
             for line in block.lines() {
                 let _ = writeln!(s, "  {line}");
             }
@@ -405,7 +416,29 @@ pub fn fit_table(title: &str, cost: &str, r: &pim_fit::FitReport, u: UnitSystem)
     for n in &r.notes {
         let _ = writeln!(s, "note: {n}");
     }
+    let _ = writeln!(s, "{}", frame_line(frame));
     s
+}
+
+/// A fitted solution's velocities and per-vehicle results in the frame `frame` (the fit runs
+/// in the natural one; an SAE case reads them mirrored).
+pub fn in_frame(
+    sol: &pim_fit::Solution,
+    frame: Convention,
+) -> (
+    pim_core::Velocities,
+    pim_core::Velocities,
+    [pim_core::VehicleResult; 2],
+) {
+    if frame == Convention::Sae {
+        (
+            sol.initial.mirrored(),
+            sol.separation.mirrored(),
+            sol.vehicles.map(|v| v.mirrored()),
+        )
+    } else {
+        (sol.initial, sol.separation, sol.vehicles)
+    }
 }
 
 /// The tangential model's coefficients of a fitted solution, in words.
@@ -509,4 +542,56 @@ pub fn model_line(m: &pim_data::records::ModelOut) -> String {
         m.description,
         coefficients.join(", ")
     )
+}
+
+/// One line per search bound a fitted branch rests on, in `u`'s units, saying who set it: the
+/// reader learns that the bound, not the data, decides that part of the answer (empty when
+/// none).
+pub fn bounds_lines(
+    records: &[pim_data::records::BranchRecord],
+    best: Option<pim_fit::MomentBranch>,
+    u: UnitSystem,
+) -> String {
+    use pim_data::records::BoundSource;
+    let mut s = String::new();
+    for r in records.iter().filter(|r| !r.bounds_reached.is_empty()) {
+        let items: Vec<String> = r
+            .bounds_reached
+            .iter()
+            .map(|b| {
+                let limit = match b.bound.as_str() {
+                    "velocity" => format!("{} {}", num(u.speed(b.limit), 2), u.speed_label()),
+                    "yaw_rate" => format!("{} {}", num(u.yaw_rate(b.limit), 2), u.yaw_rate_label()),
+                    g if g.ends_with(".d") || g.contains("impact_point") => {
+                        format!("{} {}", num(u.length(b.limit), 3), u.length_label())
+                    }
+                    g if g.ends_with(".phi") || g == "crush_angle" => {
+                        format!("{} deg", num(b.limit, 2))
+                    }
+                    _ => num(b.limit, 3),
+                };
+                let who = match b.source {
+                    BoundSource::Case => "set in [bounds]",
+                    BoundSource::Default => "the default, not set for this crash",
+                };
+                if b.at == b.bound {
+                    format!("{} = {limit} ({who})", b.bound)
+                } else {
+                    format!("{} at [bounds] {} = {limit} ({who})", b.at, b.bound)
+                }
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "branch {}{} rests on a bound (the bound, not the data, ends it): {}",
+            r.moment.name(),
+            if Some(r.moment) == best {
+                " (best)"
+            } else {
+                ""
+            },
+            items.join("; ")
+        );
+    }
+    s
 }

@@ -4,6 +4,7 @@
 
 use crate::{svg_figure, Figure};
 use pim_data::uncertainty::{Study, QUANTITIES};
+use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 const BAR: RGBColor = RGBColor(31, 119, 180);
@@ -13,20 +14,23 @@ fn err<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
-/// The four quantities drawn, with their labels.
+/// The four quantities drawn, with their labels (without the unit).
 const SHOWN: [(&str, &str); 4] = [
-    ("speed1", "vehicle 1 speed at contact [m/s]"),
-    ("speed2", "vehicle 2 speed at contact [m/s]"),
-    ("delta_v1", "vehicle 1 delta-V [m/s]"),
-    ("delta_v2", "vehicle 2 delta-V [m/s]"),
+    ("speed1", "vehicle 1 speed at contact"),
+    ("speed2", "vehicle 2 speed at contact"),
+    ("delta_v1", "vehicle 1 delta-V"),
+    ("delta_v2", "vehicle 2 delta-V"),
 ];
 
 fn index(name: &str) -> usize {
     QUANTITIES.iter().position(|q| *q == name).unwrap_or(0)
 }
 
-/// The figures `histograms.svg`, `speeds.svg` and `tornado.svg`.
-pub fn figures(s: &Study) -> Result<Vec<Figure>, String> {
+/// The figures `histograms.svg`, `speeds.svg` and `tornado.svg`, speeds in the unit system
+/// `u`.
+pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, String> {
+    let speed = u.speed_label();
+    let s = &s.in_speed_unit(u.speed(1.0));
     if s.samples.is_empty() || s.samples.iter().flatten().any(|x| !x.is_finite()) {
         return Err(
             "no feasible draw, or a draw with a value that is not a number: nothing to \
@@ -55,9 +59,14 @@ pub fn figures(s: &Study) -> Result<Vec<Figure>, String> {
                     counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
                 }
                 let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
+                let label = format!("{label} [{speed}]");
+                let ended = sum
+                    .reaches_bound
+                    .map(|h| format!(" (ended by the {} bound)", h.bound))
+                    .unwrap_or_default();
                 let mut chart = ChartBuilder::on(area)
                     .caption(
-                        format!("{label}: 90 % {:.2} .. {:.2}", sum.p05, sum.p95),
+                        format!("{label}: 90 % {:.2} .. {:.2}{ended}", sum.p05, sum.p95),
                         ("sans-serif", 15),
                     )
                     .margin(10)
@@ -67,7 +76,7 @@ pub fn figures(s: &Study) -> Result<Vec<Figure>, String> {
                     .map_err(err)?;
                 chart
                     .configure_mesh()
-                    .x_desc(label)
+                    .x_desc(&label)
                     .y_desc("draws")
                     .draw()
                     .map_err(err)?;
@@ -125,8 +134,8 @@ pub fn figures(s: &Study) -> Result<Vec<Figure>, String> {
             .map_err(err)?;
         chart
             .configure_mesh()
-            .x_desc("vehicle 1 speed at contact [m/s]")
-            .y_desc("vehicle 2 speed at contact [m/s]")
+            .x_desc(format!("vehicle 1 speed at contact [{speed}]"))
+            .y_desc(format!("vehicle 2 speed at contact [{speed}]"))
             .draw()
             .map_err(err)?;
         chart

@@ -11,9 +11,12 @@ use std::process::ExitCode;
 /// estimated contact velocities when it is a fit case.
 pub fn run(a: &DrawArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    crate::inputs::checked_impact(&case)?;
+    let _ = crate::inputs::checked_impact(&case)?;
     let opts = super::options_of(a.moment_form, a.no_slip);
-    let diagram = pim_render::diagram::case_diagram(&case, &opts).map_err(Failure::from)?;
+    let mut diagram = pim_render::diagram::case_diagram(&case, &opts).map_err(Failure::from)?;
+    if let Some(u) = a.units {
+        diagram.units = u.into();
+    }
     write_diagram(&diagram, &a.output)?;
     eprintln!("pim: wrote {}", a.output.display());
     Ok(ExitCode::from(EXIT_OK))

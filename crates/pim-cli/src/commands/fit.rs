@@ -2,7 +2,7 @@
 
 use super::{json, print_out, title_of};
 use crate::args::{unique, FitArgs, Format};
-use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
+use crate::error::{Failure, EXIT_NO_ANSWER};
 use crate::inputs::load_case;
 use anyhow::Result;
 use pim_data::documents;
@@ -14,7 +14,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
     let cost = a.cost;
     let name = cost.map_or("custom", |p| p.name());
-    crate::inputs::checked_impact(&case)?;
+    let (_, warnings) = crate::inputs::checked_impact(&case)?;
     if let Some(why) =
         pim_render::diagram::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
     {
@@ -36,14 +36,11 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         || pim_data::units::UnitSystem::of(&case.written_units),
         Into::into,
     );
-    let mut table = tables::fit_table(&title_of(&case), name, &report, units);
-    if case.written == pim_core::Convention::Sae {
-        // The fit runs and reports in the natural form the SAE case was mirrored into.
-        table.push_str(&format!(
-            "{} (the case is written in SAE's frame and fitted mirrored into this one)\n",
-            tables::frame_line(pim_core::Convention::Natural)
-        ));
-    }
+    // Shown in the case's own frame and units (an SAE case is fitted mirrored into the natural
+    // form; the JSON stays SI and natural).
+    let mut table = tables::fit_table(&title_of(&case), name, &report, units, case.written);
+    let bounds = tables::bounds_lines(branch_records, report.best, units);
+    table.push_str(&bounds);
     for r in branch_records {
         if let Some(c) = &r.chi_square {
             table.push_str(&format!(
@@ -73,7 +70,10 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             contact.as_ref(),
             best.map(pim_render::diagram::Solved::of_fit),
         );
-        let md = markdown::fit(&title_of(&case), name, &report, units);
+        let mut md = markdown::fit(&title_of(&case), name, &report, units, case.written);
+        if !bounds.is_empty() {
+            md.push_str(&format!("\n## Bounds reached\n\n{bounds}"));
+        }
         super::write_result_dir(dir, &record, &md, &d)?;
     }
     print_out(match a.format {
@@ -118,5 +118,18 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         );
         return Ok(ExitCode::from(EXIT_NO_ANSWER));
     }
-    Ok(ExitCode::from(EXIT_OK))
+    let mut why = Vec::new();
+    if warnings > 0 {
+        why.push(format!("{warnings} plausibility warning(s)"));
+    }
+    if branch_records
+        .iter()
+        .filter(|r| Some(r.moment) == report.best)
+        .any(|r| r.rests_on_default_bound())
+    {
+        why.push(
+            "the best branch rests on a default bound (set it in [bounds] to choose it)".into(),
+        );
+    }
+    Ok(crate::inputs::strict_status(a.strict, &why))
 }

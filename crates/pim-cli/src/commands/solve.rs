@@ -2,7 +2,7 @@
 
 use super::{json, print_out, title_of};
 use crate::args::{Format, SolveArgs};
-use crate::error::{Failure, EXIT_OK};
+use crate::error::Failure;
 use crate::inputs::load_case;
 use anyhow::Result;
 use pim_core::{Convention, SolveOptions};
@@ -18,7 +18,7 @@ fn options(a: &SolveArgs) -> SolveOptions {
 /// `pim solve`.
 pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    crate::inputs::checked_impact(&case)?;
+    let (_, warnings) = crate::inputs::checked_impact(&case)?;
     let documents::Solved {
         impact,
         report,
@@ -56,13 +56,22 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &table,
     })?;
-    Ok(ExitCode::from(EXIT_OK))
+    Ok(crate::inputs::strict_status(a.strict, &warned(warnings)))
+}
+
+/// The `--strict` reasons of a solve.
+fn warned(warnings: usize) -> Vec<String> {
+    if warnings == 0 {
+        Vec::new()
+    } else {
+        vec![format!("{warnings} plausibility warning(s)")]
+    }
 }
 
 /// `pim sensitivity`.
 pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    let impact = crate::inputs::checked_impact(&case)?;
+    let (impact, warnings) = crate::inputs::checked_impact(&case)?;
     let coefficients = case.coefficients()?;
     let (state, forward) = case.known_state()?;
     if !forward {
@@ -90,5 +99,5 @@ pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &table,
     })?;
-    Ok(ExitCode::from(EXIT_OK))
+    Ok(crate::inputs::strict_status(a.strict, &warned(warnings)))
 }

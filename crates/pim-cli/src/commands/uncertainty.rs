@@ -2,16 +2,19 @@
 
 use super::{json, print_out, title_of};
 use crate::args::{Format, UncertaintyArgs};
-use crate::error::{Failure, EXIT_OK};
+use crate::error::Failure;
 use crate::inputs::{checked_impact, load_case};
 use anyhow::Result;
 use pim_data::fitcase::CostChoice;
+use pim_data::records::BoundSource;
 use pim_data::uncertainty::{self, Study, QUANTITIES};
+use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
-/// The table of a study.
-fn table(title: &str, s: &Study) -> String {
+/// The table of a study, its speeds in the unit system `u`.
+fn table(title: &str, s: &Study, u: UnitSystem) -> String {
+    let s = &s.in_speed_unit(u.speed(1.0));
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -42,18 +45,35 @@ fn table(title: &str, s: &Study) -> String {
             q.mean,
             q.sd,
             if q.not_determined {
-                "  NOT DETERMINED by the data: not a confidence interval"
-            } else if q.reaches_bound {
-                "  reaches a search bound: the bound, not the data, ends it"
+                "  NOT DETERMINED by the data: not a confidence interval".to_string()
+            } else if let Some(h) = q.reaches_bound {
+                format!(
+                    "  ENDED BY the {} bound ({}; {:.0} % of the draws rest on it), not by the data",
+                    h.bound,
+                    match h.source {
+                        BoundSource::Case => "set in [bounds]",
+                        BoundSource::Default => "a default: set [bounds] to choose it",
+                    },
+                    100.0 * h.share
+                )
             } else {
-                ""
+                String::new()
             }
         );
     }
     let _ = writeln!(
         t,
-        "(speeds at contact and delta-V in m/s, energy loss in %; sd (lin.): delta method)\n"
+        "(speeds at contact and delta-V in {}, energy loss in %; sd (lin.): delta method)\n",
+        u.speed_label()
     );
+    if !s.nominal_bounds.is_empty() {
+        let list: Vec<String> = s
+            .nominal_bounds
+            .iter()
+            .map(|b| format!("{} ({})", b.at, b.bound))
+            .collect();
+        let _ = writeln!(t, "the nominal fit rests on bounds: {}", list.join(", "));
+    }
     let shares: Vec<String> = s
         .branch_share
         .iter()
@@ -88,7 +108,7 @@ fn table(title: &str, s: &Study) -> String {
 /// `pim uncertainty`.
 pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
-    checked_impact(&case)?;
+    let (_, warnings) = checked_impact(&case)?;
     if a.draws == 0 {
         return Err(Failure::Input("--draws must be at least 1".into()).into());
     }
@@ -132,12 +152,15 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         .into());
     }
     let record = json(&study)?;
-    let text = table(&title_of(&case), &study);
+    let units = a
+        .units
+        .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
+    let text = table(&title_of(&case), &study, units);
     if let Some(dir) = &a.out {
         let out = super::output::OutDir::create(dir)?;
         out.write("uncertainty.json", &record)?;
         out.write("uncertainty.txt", &text)?;
-        let figures = pim_render::uncertainty_figures::figures(&study)
+        let figures = pim_render::uncertainty_figures::figures(&study, units)
             .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
         super::write_figures(&out, &figures)?;
         out.commit()?;
@@ -146,5 +169,31 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &text,
     })?;
-    Ok(ExitCode::from(EXIT_OK))
+    let mut why = Vec::new();
+    if warnings > 0 {
+        why.push(format!("{warnings} plausibility warning(s)"));
+    }
+    let ended: Vec<&str> = QUANTITIES
+        .iter()
+        .filter(|q| {
+            study.quantities[**q]
+                .reaches_bound
+                .is_some_and(|h| h.source == BoundSource::Default)
+        })
+        .copied()
+        .collect();
+    if !ended.is_empty() {
+        why.push(format!(
+            "the intervals of {} are ended by a default bound (set it in [bounds] to choose it)",
+            ended.join(", ")
+        ));
+    }
+    if study
+        .nominal_bounds
+        .iter()
+        .any(|b| b.source == BoundSource::Default)
+    {
+        why.push("the nominal fit rests on a default bound".into());
+    }
+    Ok(crate::inputs::strict_status(a.strict, &why))
 }

@@ -6,8 +6,9 @@
 //! (and at separation when solved), the impulse on each vehicle at C, the PDOF arrows, a scale
 //! bar and the axes; the thick edge of each outline is its front. A key on the right names every element and states the arrow scales.
 
-use pim_core::{Impact, VehicleId, VehicleResult, Velocities};
+use pim_core::{Convention, Impact, VehicleId, VehicleResult, Velocities};
 use pim_data::case::VehicleSection;
+use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 mod outline;
@@ -31,6 +32,11 @@ pub struct Diagram {
     pub vehicles: [DrawnVehicle; 2],
     /// Unit normal of the crush surface.
     pub normal: [f64; 2],
+    /// Units of the axes and labels (the geometry stays in metres; the drawing converts).
+    pub units: UnitSystem,
+    /// The frame the labels speak in: natural, or SAE's (the same picture, with y to the right
+    /// of x and headings clockwise).
+    pub frame: Convention,
 }
 
 /// The states and results of a solved (or fitted) collision.
@@ -125,7 +131,31 @@ impl Diagram {
                 [first, second]
             },
             normal: impact.normal(),
+            units: UnitSystem::Si,
+            frame: Convention::Natural,
         }
+    }
+
+    /// The same diagram labelled in the units `units` and the frame `frame`.
+    pub fn labelled(mut self, units: UnitSystem, frame: Convention) -> Self {
+        self.units = units;
+        self.frame = frame;
+        self
+    }
+
+    /// The geometry in the display length unit (velocities and impulses keep their SI values;
+    /// their arrows scale with the vehicles).
+    fn in_display_units(&self) -> Self {
+        let k = self.units.length(1.0);
+        let mut d = self.clone();
+        for v in &mut d.vehicles {
+            v.cg = [k * v.cg[0], k * v.cg[1]];
+            let b = &mut v.outline.body;
+            b.cg_to_front *= k;
+            b.cg_to_rear *= k;
+            b.width *= k;
+        }
+        d
     }
 
     /// The PDOF arrow of vehicle `k`: along the force, from outside the outline to its edge,
@@ -238,7 +268,7 @@ impl Diagram {
             );
         }
         let mut buf = String::new();
-        self.draw_into(&mut buf)?;
+        self.in_display_units().draw_into(&mut buf)?;
         Ok(buf)
     }
 }
@@ -250,7 +280,7 @@ pub fn estimated_contact(case: &pim_data::case::Case) -> Option<Velocities> {
     v.map(|v| Velocities::from_vector(&nalgebra::Vector6::new(v[0], v[1], v[2], v[3], v[4], v[5])))
 }
 
-/// The diagram of a case, solved or not.
+/// The diagram of a case, solved or not, labelled in the case's own units and frame.
 pub fn diagram(
     case: &pim_data::case::Case,
     impact: &Impact,
@@ -268,6 +298,7 @@ pub fn diagram(
         contact,
         solved,
     )
+    .labelled(UnitSystem::of(&case.written_units), case.written)
 }
 
 /// The diagram of `pim draw`: the case at contact, solved with `options` when it has

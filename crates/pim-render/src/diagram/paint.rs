@@ -7,7 +7,10 @@ impl Diagram {
     pub(super) fn draw_into(&self, buf: &mut String) -> Result<(), String> {
         let err = |e: &dyn std::fmt::Display| e.to_string();
         let (lo, hi) = self.extent();
-        let pad = 0.08 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + 0.5;
+        let units = self.units;
+        let len = units.length_label();
+        let sae = self.frame == pim_core::Convention::Sae;
+        let pad = 0.08 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + units.length(0.5);
         let (x0, x1) = (lo[0] - pad, hi[0] + pad);
         let (y0, y1) = (lo[1] - pad, hi[1] + pad);
         // Equal scale on both axes: the plot's pixel size follows the extent.
@@ -34,10 +37,18 @@ impl Diagram {
             .y_label_area_size(margin_left)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(|e| err(&e))?;
+        // SAE's y is to the right of x: the same picture, its y ticks counted the other way.
+        let y_tick = |y: &f64| crate::tables::num(if sae { -*y } else { *y }, 1);
+        let y_desc = if sae {
+            format!("y [{len}], SAE: to the right of x")
+        } else {
+            format!("y [{len}]")
+        };
         chart
             .configure_mesh()
-            .x_desc("x [m]")
-            .y_desc("y [m]")
+            .x_desc(format!("x [{len}]"))
+            .y_desc(y_desc)
+            .y_label_formatter(&y_tick)
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(225, 225, 225))
             .draw()
@@ -101,20 +112,20 @@ impl Diagram {
         for (k, v) in self.vehicles.iter().enumerate() {
             let color = VEHICLE_COLORS[k];
             // The nose is marked by the thick front edge of the outline.
-            if let Some(u) = v.contact {
+            if let Some(w) = v.contact {
                 draw_arrow(
                     &mut chart,
                     v.cg,
-                    [v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]],
+                    [v.cg[0] + sv * w[0], v.cg[1] + sv * w[1]],
                     color,
                     3,
                 )?;
             }
-            if let Some(u) = v.separation {
+            if let Some(w) = v.separation {
                 draw_arrow(
                     &mut chart,
                     v.cg,
-                    [v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]],
+                    [v.cg[0] + sv * w[0], v.cg[1] + sv * w[1]],
                     SEPARATION_COLORS[k],
                     3,
                 )?;
@@ -186,12 +197,12 @@ impl Diagram {
         chart
             .draw_series(std::iter::once(label("C", [0.03 * l, -0.07 * l], BLACK)))
             .map_err(|e| err(&e))?;
-        // Scale bar: 1, 2 or 5 m, about a fifth of the width, bottom left.
+        // Scale bar: 1, 2 or 5 length units, about a fifth of the width, bottom left.
         let span = x1 - x0;
-        let bar = [1.0, 2.0, 5.0, 10.0]
+        let bar = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
             .into_iter()
             .find(|b| *b >= 0.15 * span)
-            .unwrap_or(20.0);
+            .unwrap_or(100.0);
         let bx = x0 + 0.04 * span;
         let by = y0 + 0.05 * (y1 - y0);
         chart
@@ -202,13 +213,15 @@ impl Diagram {
             .map_err(|e| err(&e))?;
         chart
             .draw_series(std::iter::once(label(
-                &format!("{bar} m"),
+                &format!("{bar} {len}"),
                 [bx, by + 0.03 * (y1 - y0)],
                 BLACK,
             )))
             .map_err(|e| err(&e))?;
 
         // The key.
+        let u = units;
+        let u_speed = |v: f64| u.speed(v);
         let mut key = Key {
             area: &key_area,
             y: 30,
@@ -230,7 +243,7 @@ impl Diagram {
             let o = &v.outline;
             line(
                 format!(
-                    "  {:.2} x {:.2} m{}",
+                    "  {:.2} x {:.2} {len}{}",
                     o.length(),
                     o.width(),
                     if o.defaulted {
@@ -242,24 +255,46 @@ impl Diagram {
                 None,
                 false,
             )?;
-            line(format!("  nose towards {:.1} deg", v.heading), None, false)?;
-            if let Some(u) = v.contact {
+            line(
+                if sae {
+                    format!(
+                        "  nose towards {} deg clockwise",
+                        crate::tables::num(pim_core::wrap_degrees(-v.heading), 1)
+                    )
+                } else {
+                    format!("  nose towards {} deg", crate::tables::num(v.heading, 1))
+                },
+                None,
+                false,
+            )?;
+            if let Some(w) = v.contact {
                 line(
-                    format!("  contact {:.2} m/s", u[0].hypot(u[1])),
+                    format!(
+                        "  contact {:.2} {}",
+                        u_speed(w[0].hypot(w[1])),
+                        u.speed_label()
+                    ),
                     Some(VEHICLE_COLORS[k]),
                     false,
                 )?;
             }
-            if let Some(u) = v.separation {
+            if let Some(w) = v.separation {
                 line(
-                    format!("  separation {:.2} m/s", u[0].hypot(u[1])),
+                    format!(
+                        "  separation {:.2} {}",
+                        u_speed(w[0].hypot(w[1])),
+                        u.speed_label()
+                    ),
                     Some(SEPARATION_COLORS[k]),
                     false,
                 )?;
             }
             if let Some((_, pdof, clock)) = v.pdof {
                 line(
-                    format!("  PDOF {pdof:.0} deg, {clock} o'clock"),
+                    format!(
+                        "  PDOF {} deg, {clock} o'clock",
+                        crate::tables::num(pdof, 0)
+                    ),
                     Some(PDOF_COLOR),
                     false,
                 )?;
@@ -279,19 +314,35 @@ impl Diagram {
         line(String::new(), None, false)?;
         if sv > 0.0 {
             line(
-                format!("velocity arrows: 1 m = {:.2} m/s", 1.0 / sv),
+                format!(
+                    "velocity arrows: 1 {len} = {:.2} {}",
+                    u.speed(1.0 / sv),
+                    u.speed_label()
+                ),
                 None,
                 false,
             )?;
         }
         if si > 0.0 {
             line(
-                format!("impulse arrows: 1 m = {:.0} N s", 1.0 / si),
+                format!(
+                    "impulse arrows: 1 {len} = {:.0} {}",
+                    u.impulse(1.0 / si),
+                    u.impulse_label()
+                ),
                 None,
                 false,
             )?;
         }
-        line("fixed frame, C at the origin".into(), None, false)?;
+        line(
+            if sae {
+                "SAE frame (y right of x), C at the origin".into()
+            } else {
+                "fixed frame, C at the origin".into()
+            },
+            None,
+            false,
+        )?;
         line("outlines undeformed: they overlap".into(), None, false)?;
         line("by about the crush at contact".into(), None, false)?;
         root.present().map_err(|e| err(&e))?;

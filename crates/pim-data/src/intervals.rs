@@ -1,0 +1,143 @@
+//! Summaries of a quantity over the draws of an uncertainty study: percentiles, the share of
+//! an input in the spread, and whether a search bound ends the interval.
+
+use crate::records::BoundSource;
+use pim_fit::SearchBound;
+use serde::Serialize;
+
+/// Summary of one quantity over the feasible draws.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Summary {
+    /// 5th percentile.
+    pub p05: f64,
+    /// Median.
+    pub p50: f64,
+    /// 95th percentile.
+    pub p95: f64,
+    /// Mean.
+    pub mean: f64,
+    /// Standard deviation.
+    pub sd: f64,
+    /// The nominal fit does not determine this quantity (its range within the identifiability
+    /// tolerance is open or wide): the interval is not a confidence statement.
+    pub not_determined: bool,
+    /// The 90 % interval reaches a bound of the search: the bound, not the data, ends it
+    /// (which bound, on what share of the draws, and who set it); `None` when no bound does.
+    pub reaches_bound: Option<BoundHit>,
+}
+
+/// A search bound that ends a quantity's interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BoundHit {
+    /// The bound (its `[bounds]` key).
+    pub bound: SearchBound,
+    /// Share of the feasible draws whose fit rests on it.
+    pub share: f64,
+    /// Who set it: the case, or the default.
+    pub source: BoundSource,
+}
+
+/// Share of the draws at or beyond which a bound ends a 90 % interval: when at least 5 % of the
+/// draws rest on a bound, the 5th or the 95th percentile is one of them.
+pub const BOUND_SHARE: f64 = 0.05;
+
+/// The search bounds a quantity's value depends on directly: e and mu on their ranges, the
+/// speeds, delta-V and energy loss on the velocity and yaw-rate bounds; em's range [-1, 0] is
+/// physics.
+pub fn bounds_of(quantity: &str) -> &'static [SearchBound] {
+    match quantity {
+        "e" => &[SearchBound::E],
+        "mu" => &[SearchBound::Mu],
+        "em" => &[],
+        _ => &[SearchBound::Velocity, SearchBound::YawRate],
+    }
+}
+
+/// The bound that ends the interval of `quantity`, if any: the relevant bound with the largest
+/// share of draws resting on it, when that share reaches [`BOUND_SHARE`]. `shares` gives, per
+/// bound, the share of draws resting on it; `source` who set each bound.
+pub fn bound_hit(
+    quantity: &str,
+    shares: &[(SearchBound, f64)],
+    source: &dyn Fn(SearchBound) -> BoundSource,
+) -> Option<BoundHit> {
+    shares
+        .iter()
+        .filter(|(b, share)| bounds_of(quantity).contains(b) && *share >= BOUND_SHARE)
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|&(bound, share)| BoundHit {
+            bound,
+            share,
+            source: source(bound),
+        })
+}
+
+/// The `p`-quantile (0 to 1) of sorted values, linearly interpolated; NaN when empty.
+pub fn percentile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let h = p * (sorted.len() - 1) as f64;
+    let (lo, hi) = (h.floor() as usize, h.ceil() as usize);
+    sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+}
+
+/// The correlation ratio of `y` on `x` with ten quantile bins of `x`: `Var(E[y | bin]) / Var(y)`.
+pub fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len();
+    if n < 20 {
+        return 0.0;
+    }
+    let mut idx: Vec<usize> = (0..n).collect();
+    idx.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let total: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
+    if total <= 0.0 {
+        return 0.0;
+    }
+    let bins = 10;
+    let mut between = 0.0;
+    for b in 0..bins {
+        let part = &idx[b * n / bins..(b + 1) * n / bins];
+        if part.is_empty() {
+            continue;
+        }
+        let m = part.iter().map(|&i| y[i]).sum::<f64>() / part.len() as f64;
+        between += part.len() as f64 * (m - mean).powi(2);
+    }
+    // Bias correction: with a constant y given x the binned ratio still picks up noise of
+    // about (bins - 1) / n.
+    ((between / total) - (bins as f64 - 1.0) / n as f64).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spread::standard_normal;
+    use rand::SeedableRng;
+
+    #[test]
+    fn correlation_ratio_of_a_function_and_of_noise() {
+        let x: Vec<f64> = (0..1000).map(|i| i as f64 / 1000.0).collect();
+        let y: Vec<f64> = x.iter().map(|v| v * v).collect();
+        assert!(correlation_ratio(&x, &y) > 0.95);
+        let mut rng = rand::rngs::StdRng::seed_from_u64(1);
+        let noise: Vec<f64> = (0..1000).map(|_| standard_normal(&mut rng)).collect();
+        assert!(correlation_ratio(&x, &noise) < 0.02);
+    }
+
+    #[test]
+    fn a_bound_ends_an_interval_from_five_percent_of_the_draws() {
+        let shares = [(SearchBound::Velocity, 0.06), (SearchBound::E, 0.5)];
+        let default = |_| BoundSource::Default;
+        let hit = bound_hit("speed1", &shares, &default).unwrap();
+        assert_eq!((hit.bound, hit.share), (SearchBound::Velocity, 0.06));
+        assert_eq!(
+            bound_hit("e", &shares, &default).unwrap().bound,
+            SearchBound::E
+        );
+        assert_eq!(bound_hit("em", &shares, &default), None);
+        let few = [(SearchBound::Velocity, 0.049)];
+        assert_eq!(bound_hit("speed1", &few, &default), None);
+    }
+}
