@@ -66,6 +66,7 @@ fn bench(c: &mut Criterion) {
         models: vec![pim_fit::FitModel::Pim],
         settings: FitSettings::default(),
         timing: false,
+        case_e_max: None,
     };
     let mut g = c.benchmark_group("batch");
     g.sample_size(20);

@@ -10,6 +10,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         models: vec![pim_fit::FitModel::Pim],
         settings: FitSettings::default(),
         timing: false,
+        case_e_max: None,
     };
     let records = pim_data::batch::run(&tests, &plan, &|| {});
     println!("test  outcome        e      mu     cost  loss %");

@@ -336,8 +336,10 @@ DATA FILE: a CSV with one row per test, columns as in data/ricsac.csv (see data/
 the file's header must match exactly. A row whose physics fails (the vehicles do not approach,
 a singular system) is reported in its records as `failed`; the other rows are still fitted.
 
-CASE FILES: `pim batch cases/*.toml` or `pim batch cases/` fits every case file (as `pim fit
---cost`, with each file's [bounds]) under each --cost and branch. Records stream to the output
+CASE FILES: `pim batch cases/*.toml` or `pim batch cases/` fits every case file with its own
+cost (as `pim fit` without --cost: its [known], estimates, observations, weights or sigmas, and
+its [bounds]), or under each --cost preset when given, for each branch. A file that cannot be
+read or fitted is named on stderr and in the summary with its reason. Records stream to the output
 as they finish, so memory does not grow with the number of files: --format csv or json (one
 JSON record per line) on stdout, and with --out DIR records.csv, records.jsonl and summary.txt.
 A file that cannot be read or fitted is a `failed` record naming the file and field; the
@@ -384,8 +386,9 @@ pub struct BatchArgs {
     /// A RICSAC-style data file (CSV), or case files (TOML) and directories of case files.
     #[arg(default_value = "data/ricsac.csv", num_args = 1..)]
     pub inputs: Vec<PathBuf>,
-    /// Cost functions.
-    #[arg(long, value_parser = cost(), value_delimiter = ',', default_values = ["q1", "q2", "q3"])]
+    /// Cost functions (data file: default q1,q2,q3; case files: default each file's own cost,
+    /// its [known], estimates, observations, weights or sigmas, as `pim fit` without --cost).
+    #[arg(long, value_parser = cost(), value_delimiter = ',')]
     pub cost: Vec<CostPreset>,
     /// Moment branches (of PIM).
     #[arg(long, value_parser = branch(), value_delimiter = ',', default_values = ["free", "zero"])]
@@ -406,9 +409,11 @@ pub struct BatchArgs {
     /// Worker threads (default: all cores; at most 256).
     #[arg(long, value_parser = threads)]
     pub threads: Option<usize>,
-    /// Upper bound of e (default 0.2; Brach 1984 needed up to 0.42).
-    #[arg(long, default_value_t = pim_fit::DEFAULT_E_RANGE[1])]
-    pub e_max: f64,
+    /// Upper bound of e (data file: default 0.2, Brach's and V18's setting; Brach 1984 needed
+    /// up to 0.42. Case files: for those whose [bounds] do not set e, else e's physical range
+    /// [0, 1]).
+    #[arg(long)]
+    pub e_max: Option<f64>,
     /// Form of the moment equation (6).
     #[arg(long, value_parser = moment_form(), default_value = "corrected")]
     pub moment_form: MomentForm,
@@ -449,7 +454,7 @@ convention), without [coefficients], [initial], [final], plus:
   [known.initial]                  # without --cost only: components held fixed
   vehicle1 = { omega = 0.0 }
   [bounds]                         # optional; these are the defaults
-  e = [0.0, 0.2]
+  e = [0.0, 1.0]                   # e's physical range (RICSAC refits state [0, 0.2])
   mu = [-1.2, 1.2]                 # and always between 0 and mu_max
   et = [-1.0, 1.0]                 # --model tangential: tangential restitution
   friction = [0.0, 1.2]            # --model tangential: friction limit of |Pt/Pn|

@@ -291,3 +291,68 @@ fn draws_add_intervals_to_the_best_record_of_each_case() {
     // A data file has no sigmas: --draws is refused.
     assert_eq!(pim(&["batch", "--draws", "10"]).status.code(), Some(2));
 }
+
+#[test]
+fn a_batch_of_case_files_fits_each_with_its_own_cost() {
+    // Two crashes in one folder: an EDR-style case (vehicle 1's contact velocity known, the
+    // rest estimated, a delta-V observation) and a plain one. Without --cost each is fitted as
+    // `pim fit` fits it without --cost; a solve-only file is named on stderr with its reason.
+    let base = std::fs::read_to_string(repo().join("examples/cases/ricsac7_fit.toml")).unwrap();
+    let edr = base.replace(
+        "[estimates.initial]\nvehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }\n",
+        "[known.initial]\nvehicle1 = { vx = -13.01, vy = 0.0, omega = 0.0 }\n\
+         [estimates.initial]\n",
+    )
+        + "\n[[observations]]\nkind = \"delta_v_longitudinal\"\nvehicle = 2\nvalue = -4.0\n";
+    assert_ne!(edr, base);
+    let dir = scratch_dir("batch", "own_costs");
+    std::fs::write(dir.join("a_edr.toml"), &edr).unwrap();
+    std::fs::write(dir.join("b_plain.toml"), &base).unwrap();
+    std::fs::copy(
+        repo().join("examples/cases/side_impact.toml"),
+        dir.join("c_solve_only.toml"),
+    )
+    .unwrap();
+    let d = dir.display().to_string();
+    let out = pim(&["batch", &d, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(
+        err.contains("c_solve_only.toml: [coefficients] is for `pim solve`"),
+        "{err}"
+    );
+    let records: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    for name in ["a_edr.toml", "b_plain.toml"] {
+        let path = dir.join(name).display().to_string();
+        let fit: serde_json::Value =
+            serde_json::from_slice(&pim_ok(&["fit", &path, "--format", "json"]).stdout).unwrap();
+        for b in fit["branches"].as_array().unwrap() {
+            let r = records
+                .iter()
+                .find(|r| r["file"] == path.as_str() && r["moment_branch"] == b["moment"])
+                .unwrap_or_else(|| panic!("{path}: no record"));
+            assert_eq!(r["cost_function"], "custom");
+            for k in ["e", "mu", "em", "cost"] {
+                assert_eq!(r[k], b[k], "{name} {k}");
+            }
+        }
+    }
+    // The EDR case's known component stays at its value.
+    let edr_best = records
+        .iter()
+        .find(|r| r["file"].as_str().unwrap().ends_with("a_edr.toml") && r["best"] == true)
+        .unwrap();
+    assert_eq!(edr_best["initial"]["vehicle1"]["vx"], -13.01);
+    // With --cost the presets override the files' own costs.
+    let out = pim(&["batch", &d, "--cost", "q2", "--format", "csv"]);
+    let csv = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        csv.lines()
+            .skip(1)
+            .all(|l| l.split(',').nth(1) == Some("q2")),
+        "{csv}"
+    );
+}

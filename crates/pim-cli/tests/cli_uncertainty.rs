@@ -151,6 +151,12 @@ vehicle2 = { vx = 0.0, vy = 9.48, omega = 0.0 }
 [estimates.final]
 vehicle1 = { vx = -0.86, vy = 4.52, omega = -3.14 }
 vehicle2 = { vx = -3.02, vy = 7.38, omega = 0.79 }
+# The bounds a RICSAC batch states for its tests (Vossou & Koulocheris' setting).
+[bounds]
+e = [0.0, 0.2]
+mu = [-1.2, 1.2]
+velocity = 20.0
+yaw_rate = 5.0
 "#;
 
 #[test]

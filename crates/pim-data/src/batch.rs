@@ -1,6 +1,7 @@
 //! The RICSAC batch refit: every (test, cost function, moment branch) fitted, as flat, typed
 //! records.
 
+use crate::fitcase::CostChoice;
 use crate::records::BranchRecord;
 use crate::ricsac::RicsacTest;
 use crate::uncertainty::{Summary, Tolerances};
@@ -71,9 +72,41 @@ pub struct BatchPlan {
     pub settings: FitSettings,
     /// Record the wall time of each fit (makes the output differ from run to run).
     pub timing: bool,
+    /// The upper bound of e given for the batch (`--e-max`), which case files without
+    /// `[bounds] e` take instead of e's physical range; `None` when not given.
+    pub case_e_max: Option<f64>,
 }
 
 impl BatchPlan {
+    /// The settings a case of the batch starts from (its `[bounds]` then apply, see
+    /// [`crate::fitcase::settings_from`]): the plan's branches and moment form.
+    pub fn case_settings(&self) -> FitSettings {
+        FitSettings {
+            branches: self.branches.clone(),
+            ..self.settings.clone()
+        }
+    }
+
+    /// A case file of the batch with what the batch states for every case: e's upper bound
+    /// `--e-max`, when given, where the file's `[bounds]` does not set e.
+    pub fn apply_to_case_file(&self, case: &mut crate::case::Case) {
+        if let Some(hi) = self.case_e_max {
+            let b = case.content.bounds.get_or_insert_with(Default::default);
+            b.e.get_or_insert([0.0, hi]);
+        }
+    }
+
+    /// A data-file test as a case with the batch's bounds stated (V18's velocity and yaw-rate
+    /// bounds, e and mu of the plan), so that its draws search what its fit searched.
+    pub fn apply_to_data_case(&self, case: &mut crate::case::Case) {
+        let s = &self.settings;
+        let b = case.content.bounds.get_or_insert_with(Default::default);
+        b.e = Some(s.e);
+        b.mu = Some(s.mu);
+        b.velocity = Some(s.velocity_bound);
+        b.yaw_rate = Some(s.yaw_rate_bound);
+    }
+
     /// A plan with the default fit settings except the upper bound of e and the moment form,
     /// checked once (a bad value is an error, not a failed record per fit). Repeated costs and
     /// branches are kept once, in their first order.
@@ -107,6 +140,7 @@ impl BatchPlan {
             models: vec![FitModel::Pim],
             settings,
             timing: false,
+            case_e_max: None,
         })
     }
 
@@ -317,25 +351,14 @@ fn fit_one(
 /// branches and settings.
 fn intervals(
     case: &crate::case::Case,
-    cost: CostPreset,
+    cost: CostChoice,
     plan: &BatchPlan,
     draws: usize,
     seed: u64,
 ) -> crate::error::Result<BTreeMap<String, Summary>> {
     let unc = case.content.uncertainty.unwrap_or_default();
-    crate::uncertainty::run(
-        case,
-        &unc,
-        crate::fitcase::CostChoice::Preset(cost),
-        FitSettings {
-            branches: plan.branches.clone(),
-            ..plan.settings.clone()
-        },
-        draws,
-        seed,
-        &|| {},
-    )
-    .map(|s| s.quantities)
+    crate::uncertainty::run(case, &unc, cost, plan.case_settings(), draws, seed, &|| {})
+        .map(|s| s.quantities)
 }
 
 /// Adds the bootstrap intervals of `pim uncertainty` to the best record of each (test, cost) of
@@ -362,8 +385,15 @@ pub fn add_data_intervals(
         let study = t
             .case(&format!("{file} test {}", t.test))
             .and_then(|mut case| {
+                plan.apply_to_data_case(&mut case);
                 tolerances.apply(&mut case);
-                intervals(&case, r.cost_function, plan, draws, seed)
+                intervals(
+                    &case,
+                    CostChoice::Preset(r.cost_function),
+                    plan,
+                    draws,
+                    seed,
+                )
             });
         match study {
             Ok(s) => r.intervals = Some(s),
@@ -377,8 +407,9 @@ pub fn add_data_intervals(
 pub struct CaseRecord {
     /// The case file.
     pub file: String,
-    /// Cost function.
-    pub cost_function: CostPreset,
+    /// Cost function: a preset of `--cost`, or `custom` (the file's own `[known]`,
+    /// estimates, observations, weights or sigmas).
+    pub cost_function: CostChoice,
     /// `optimal`, `infeasible`, `limit_reached`, `check_failed` or `failed`.
     pub outcome: Outcome,
     /// The branch of this record.
@@ -483,8 +514,10 @@ impl CaseRecord {
 
     /// Adds the bootstrap intervals of `pim uncertainty` (`draws` draws, `seed`) to this record.
     pub fn add_intervals(&mut self, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
-        let study = crate::case::Case::from_text(&self.file, text)
-            .and_then(|case| intervals(&case, self.cost_function, plan, draws, seed));
+        let study = crate::case::Case::from_text(&self.file, text).and_then(|mut case| {
+            plan.apply_to_case_file(&mut case);
+            intervals(&case, self.cost_function, plan, draws, seed)
+        });
         match study {
             Ok(s) => self.intervals = Some(s),
             Err(e) => self.intervals_error = Some(e.message),
@@ -498,7 +531,7 @@ impl CaseRecord {
 pub fn fit_case_text(
     file: &str,
     text: &str,
-    cost: CostPreset,
+    cost: CostChoice,
     plan: &BatchPlan,
 ) -> Vec<CaseRecord> {
     let failed = |msg: String| -> Vec<CaseRecord> {
@@ -518,20 +551,20 @@ pub fn fit_case_text(
             .collect()
     };
     let case = match crate::case::Case::from_text(file, text) {
-        Ok(c) => c,
+        Ok(mut c) => {
+            plan.apply_to_case_file(&mut c);
+            c
+        }
         Err(e) => return failed(e.message),
     };
-    let problem = match crate::fitcase::problem(&case, crate::fitcase::CostChoice::Preset(cost)) {
+    if let Err(e) = crate::fitcase::check_fit_sections(&case) {
+        return failed(e.message);
+    }
+    let problem = match crate::fitcase::problem(&case, cost) {
         Ok(p) => p,
         Err(e) => return failed(e.message),
     };
-    let settings = match crate::fitcase::settings_from(
-        &case,
-        FitSettings {
-            branches: plan.branches.clone(),
-            ..plan.settings.clone()
-        },
-    ) {
+    let settings = match crate::fitcase::settings_from(&case, plan.case_settings()) {
         Ok(s) => s,
         Err(e) => return failed(e.message),
     };
@@ -549,7 +582,11 @@ pub fn fit_case_text(
             moment_branch: b.moment,
             best: report.best == Some(b.moment),
             error: None,
-            branch: Some(BranchRecord::new(b)),
+            branch: Some(
+                BranchRecord::new(b).with_bounds(b, settings.get(), &|bound| {
+                    crate::fitcase::sets_bound(&case, bound)
+                }),
+            ),
             intervals: None,
             intervals_error: None,
         })

@@ -122,26 +122,7 @@ pub fn fit(
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<Fitted, DocumentError> {
-    // One file may hold both a solve and a fit of the same crash: the fit reads its
-    // estimates, observations and bounds and leaves [coefficients], [initial] and [final] to
-    // `pim solve`. A file with only those is a solve case.
-    let c = &case.content;
-    let fit_sections = c.estimates.is_some() || c.known.is_some() || !c.observations.is_empty();
-    if !fit_sections {
-        for (name, present) in [
-            ("[coefficients]", c.coefficients.is_some()),
-            ("[initial]", c.initial.is_some()),
-            ("[final]", c.final_.is_some()),
-        ] {
-            if present {
-                return Err(DocumentError::Input(format!(
-                    "{}: {name} is for `pim solve`; a fit takes [estimates.initial] / \
-                     [estimates.final] (both may live in one file)",
-                    case.file
-                )));
-            }
-        }
-    }
+    fitcase::check_fit_sections(case)?;
     let (choice, name) = match cost {
         Some(p) => (fitcase::CostChoice::Preset(p), p.name()),
         None => (fitcase::CostChoice::Custom, "custom"),

@@ -17,6 +17,22 @@ pub enum CostChoice {
     Custom,
 }
 
+impl CostChoice {
+    /// `q1`, `q2`, `q3`, or `custom` for the case's own cost.
+    pub fn name(self) -> &'static str {
+        match self {
+            CostChoice::Preset(p) => p.name(),
+            CostChoice::Custom => "custom",
+        }
+    }
+}
+
+impl serde::Serialize for CostChoice {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 fn input(case: &Case, what: String) -> InputError {
     InputError::new(&case.file, what)
 }
@@ -279,6 +295,33 @@ pub fn settings(
             ..Default::default()
         },
     )
+}
+
+/// Checks that a case has something to fit. One file may hold both a solve and a fit of the
+/// same crash: a fit reads its estimates, observations and bounds and leaves
+/// `[coefficients]`, `[initial]` and `[final]` to `pim solve`; a file with only those is a
+/// solve case, which the error says.
+pub fn check_fit_sections(case: &Case) -> Result<()> {
+    let c = &case.content;
+    if c.estimates.is_some() || c.known.is_some() || !c.observations.is_empty() {
+        return Ok(());
+    }
+    for (name, present) in [
+        ("[coefficients]", c.coefficients.is_some()),
+        ("[initial]", c.initial.is_some()),
+        ("[final]", c.final_.is_some()),
+    ] {
+        if present {
+            return Err(input(
+                case,
+                format!(
+                    "{name} is for `pim solve`; a fit takes [estimates.initial] / \
+                     [estimates.final] (both may live in one file)"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The range of e of a case file without `[bounds] e`: e's physical range (a RICSAC refit

@@ -7,6 +7,7 @@ use crate::inputs::{io_reason, read_text_file};
 use anyhow::Result;
 use pim_data::batch::{fit_case_text, CaseRecord, Outcome};
 use pim_data::case::MAX_CASE_BYTES;
+use pim_data::fitcase::CostChoice;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -75,6 +76,8 @@ struct Tally {
     records: usize,
     unsolved: usize,
     files_failed: usize,
+    /// Each file that could not be read or fitted, with its reason.
+    failed: Vec<String>,
 }
 
 impl Tally {
@@ -99,10 +102,16 @@ impl Tally {
             self.unsolved,
             self.files_failed
         );
-        s.push_str("cost  outcome          records\n");
+        s.push_str("cost    outcome          records\n");
         for (cost, outcomes) in &self.by_cost {
             for (o, n) in outcomes {
-                s.push_str(&format!("{cost:<5} {o:<16} {n:>7}\n"));
+                s.push_str(&format!("{cost:<7} {o:<16} {n:>7}\n"));
+            }
+        }
+        if !self.failed.is_empty() {
+            s.push_str("\nfiles that could not be read or fitted:\n");
+            for f in &self.failed {
+                s.push_str(&format!("  {f}\n"));
             }
         }
         s
@@ -142,6 +151,12 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         .into());
     }
     let plan = super::batch_plan::plan(a)?;
+    // Each file's own cost, unless --cost names presets.
+    let choices: Vec<CostChoice> = if a.cost.is_empty() {
+        vec![CostChoice::Custom]
+    } else {
+        plan.costs.iter().map(|&c| CostChoice::Preset(c)).collect()
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
@@ -188,8 +203,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                 .map(|path| {
                     let name = path.display().to_string();
                     let out = match read_text_file(path, MAX_CASE_BYTES) {
-                        Ok(text) => plan
-                            .costs
+                        Ok(text) => choices
                             .iter()
                             .flat_map(|&c| {
                                 let mut recs = fit_case_text(&name, &text, c, &plan);
@@ -201,8 +215,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                                 recs
                             })
                             .collect(),
-                        Err(e) => plan
-                            .costs
+                        Err(e) => choices
                             .iter()
                             .flat_map(|&c| plan.branches.iter().map(move |&m| (c, m)))
                             .map(|(c, m)| CaseRecord {
@@ -226,6 +239,16 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         for file_records in records {
             if file_records.iter().all(|r| r.outcome == Outcome::Failed) {
                 tally.files_failed += 1;
+                // The error names the file (and line and field).
+                let mut reasons: Vec<&str> = file_records
+                    .iter()
+                    .filter_map(|r| r.error.as_deref())
+                    .collect();
+                reasons.dedup();
+                for why in reasons {
+                    eprintln!("pim: {why}");
+                    tally.failed.push(why.to_string());
+                }
             }
             for r in &file_records {
                 tally.add(r);
