@@ -140,8 +140,8 @@ fn bad_fit_cases_exit_2_naming_the_culprit() {
     let cases: Vec<(&str, String, Vec<&str>, &str)> = vec![
         ("missing.toml", base.replace("vehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }", "vehicle2 = { vx = -2.22, vy = 8.64 }"), vec!["--cost", "q2"], "final.vehicle2.omega is missing"),
         ("weight.toml", format!("{base}\n[weights.final]\nvehicle1 = {{ vx = 1.5 }}\n"), vec!["--cost", "q2"], "[weights] final.vehicle1.vx: weight 1.5"),
-        ("obs.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_longitudinal\"\nvehicle = 3\nvalue = 1.0\n"), vec!["--cost", "q2"], "vehicle = 3"),
-        ("obskind.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_sideways\"\nvehicle = 1\nvalue = 1.0\n"), vec!["--cost", "q2"], "delta_v_sideways"),
+        ("obs.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_longitudinal\"\nvehicle = 3\nvalue = 1.0\n"), vec!["--cost", "q2"], ":44:11: observation 1: vehicle: 3; accepted: 1 or 2"),
+        ("obskind.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_sideways\"\nvehicle = 1\nvalue = 1.0\n"), vec!["--cost", "q2"], "observation 1: kind: `delta_v_sideways` is not an accepted value; accepted: `delta_v_longitudinal`"),
         ("both.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec![], "both in [known] and in [estimates]"),
         ("known_with_cost.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec!["--cost", "q3"], "[known] is for fits without --cost"),
         ("coef.toml", format!("{}\n[coefficients]\ne = 0.1\nmu = 0.5\nem = 1.0\n", base.replace("[estimates.", "[")), vec!["--cost", "q2"], "[coefficients] is for `pim solve`"),
@@ -386,4 +386,46 @@ fn an_answer_on_a_default_bound_says_so_and_fails_under_strict() {
     let strict = pim(&["fit", &by_case, "--cost", "q3", "--strict"]);
     assert_eq!(strict.status.code(), Some(0), "{}", stderr(&strict));
     assert!(String::from_utf8_lossy(&strict.stdout).contains("mu = 1.200 (set in [bounds])"));
+}
+
+#[test]
+fn an_observation_is_named_the_same_way_everywhere() {
+    // By its `name`, else by its 1-based position, in parse errors and semantic errors alike
+    // (the uncertainty study names its inputs with the same label).
+    let base = case_text();
+    let obs = |name: &str, extra: &str| {
+        format!(
+            "{base}\n[[observations]]\nkind = \"delta_v_lateral\"\nvehicle = 1\nvalue = 1.0\n\
+             \n[[observations]]\n{name}kind = \"delta_v_longitudinal\"\nvehicle = 2\n{extra}"
+        )
+    };
+    let run = |file: &str, text: String| {
+        let path = write_case(file, &text);
+        let out = pim(&["fit", &path, "--cost", "q2"]);
+        assert_eq!(out.status.code(), Some(2), "{file}");
+        stderr(&out)
+    };
+    // A parse error (a value that is not a number) and a semantic one (a sigma of 0), each
+    // with its line and column.
+    let text = obs("", "value = \"x\"\n");
+    let line = text.lines().position(|l| l == "value = \"x\"").unwrap() + 1;
+    let msg = run("obs_parse.toml", text);
+    assert!(
+        msg.contains(&format!(
+            ":{line}:9: observation 2: value: expected a number"
+        )),
+        "{msg}"
+    );
+    let text = obs("name = \"EDR rear\"\n", "value = -3.0\nsigma = 0.0\n");
+    let line = text.lines().position(|l| l == "sigma = 0.0").unwrap() + 1;
+    let msg = run("obs_sigma.toml", text);
+    assert!(
+        msg.contains(&format!(
+            ":{line}:9: observation \"EDR rear\": sigma: 0: a standard"
+        )),
+        "{msg}"
+    );
+    let text = obs("name = \"EDR rear\"\n", "value = \"x\"\n");
+    let msg = run("obs_parse_named.toml", text);
+    assert!(msg.contains("observation \"EDR rear\": value"), "{msg}");
 }

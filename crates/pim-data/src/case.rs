@@ -99,19 +99,7 @@ pub struct Case {
     pub written_units: UnitsSection,
 }
 
-/// Free text from a case made safe for every output: control characters (an escape sequence
-/// for the terminal, a character XML forbids) are written as their `\u{..}` escapes.
-pub fn printable(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_unicode().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
-}
+pub use crate::parse::printable;
 
 /// An input error at the dotted field `path` of the text `source` of `file` (see
 /// [`Case::error_at`]).
@@ -121,11 +109,12 @@ pub(crate) fn error_at(
     path: &str,
     what: impl std::fmt::Display,
 ) -> InputError {
+    let shown = crate::parse::display_path(source, path);
     match crate::parse::locate(source, path) {
         Some((line, col)) => {
-            InputError::located(file, format!("{file}:{line}:{col}: {path}: {what}"))
+            InputError::located(file, format!("{file}:{line}:{col}: {shown}: {what}"))
         }
-        None => InputError::new(file, format!("{path}: {what}")),
+        None => InputError::new(file, format!("{shown}: {what}")),
     }
 }
 
@@ -157,6 +146,9 @@ impl Case {
         case.content.title = case.content.title.as_deref().map(printable);
         for v in [&mut case.content.vehicle1, &mut case.content.vehicle2] {
             v.description = v.description.as_deref().map(printable);
+        }
+        for o in &mut case.content.observations {
+            o.name = o.name.as_deref().map(printable);
         }
         case.resolve_barrier()?;
         case.resolve_forms()?;
@@ -190,9 +182,24 @@ impl Case {
 
     /// Where the dotted field `path` is written: `FILE:LINE:COL: FIELD`, or `FILE: FIELD`.
     pub fn at(&self, path: &str) -> String {
+        let shown = crate::parse::display_path(&self.source, path);
         match crate::parse::locate(&self.source, path) {
-            Some((line, col)) => format!("{}:{line}:{col}: {path}", self.file),
-            None => format!("{}: {path}", self.file),
+            Some((line, col)) => format!("{}:{line}:{col}: {shown}", self.file),
+            None => format!("{}: {shown}", self.file),
+        }
+    }
+
+    /// How the `i`-th (0-based) observation is named in messages, tables and figures: by its
+    /// `name`, or `observation N` (1-based).
+    pub fn observation_label(&self, i: usize) -> String {
+        match self
+            .content
+            .observations
+            .get(i)
+            .and_then(|o| o.name.as_ref())
+        {
+            Some(n) => format!("observation {n:?}"),
+            None => format!("observation {}", i + 1),
         }
     }
 

@@ -52,10 +52,12 @@ pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
         .iter()
         .enumerate()
         .filter_map(|(k, s)| s.map(|s| (format!("sigma.{}", COMPONENT_NAMES[k]), s)))
-        .chain(c.observations.iter().enumerate().filter_map(|(i, o)| {
-            o.sigma
-                .map(|s| (format!("[[observations]] entry {}: sigma", i + 1), s))
-        }))
+        .chain(
+            c.observations
+                .iter()
+                .enumerate()
+                .filter_map(|(i, o)| o.sigma.map(|s| (format!("observations[{i}].sigma"), s))),
+        )
         .collect();
     if all.is_empty() {
         return Ok(None);
@@ -160,13 +162,9 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             }
         }
         if let Some(i) = c.observations.iter().position(|o| o.vehicle == 2) {
-            return Err(input(
-                case,
-                format!(
-                    "[[observations]] entry {}: vehicle = 2 is a fixed barrier, which has no \
-                     delta-V or speed to observe",
-                    i + 1
-                ),
+            return Err(case.error_at(
+                &format!("observations[{i}].vehicle"),
+                "vehicle = 2 is a fixed barrier, which has no delta-V or speed to observe",
             ));
         }
     }
@@ -227,25 +225,19 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             1 => VehicleId::One,
             2 => VehicleId::Two,
             n => {
-                return Err(input(
-                    case,
-                    format!(
-                        "[[observations]] entry {}: vehicle = {n}, expected 1 or 2",
-                        i + 1
-                    ),
+                return Err(case.error_at(
+                    &format!("observations[{i}].vehicle"),
+                    format!("{n}; accepted: 1 or 2"),
                 ))
             }
         };
         let weight = match (unit, o.sigma) {
             (Some(u), Some(s)) => u / (s * s),
             (Some(_), None) => {
-                return Err(input(
-                    case,
-                    format!(
-                        "[[observations]] entry {}: sigma missing; with [sigma] every estimate and \
-                         observation needs a standard deviation",
-                        i + 1
-                    ),
+                return Err(case.error_at(
+                    &format!("observations[{i}]"),
+                    "sigma missing; with [sigma] every estimate and observation needs a \
+                     standard deviation",
                 ))
             }
             (None, _) => o.weight,

@@ -2,6 +2,20 @@
 
 use crate::error::{InputError, Result};
 
+/// Free text from a case made safe for every output: control characters (an escape sequence
+/// for the terminal, a character XML forbids) are written as their `\u{..}` escapes.
+pub fn printable(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
 /// Line and column (1-based) of a byte offset.
 pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     let upto = &text[..offset.min(text.len())];
@@ -46,14 +60,96 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
     };
     let de = toml::Deserializer::parse(text).map_err(|e| located(&e, None))?;
     serde_path_to_error::deserialize(de).map_err(|e| {
-        let field = e.path().to_string();
+        let field = display_path(text, &e.path().to_string());
         located(e.inner(), Some(field))
     })
+}
+
+/// A field's path as a case file's reader names it: `observations[1].sigma` (0-based, as the
+/// parser counts) is `observation 2: sigma`, or `observation "EDR front": sigma` when the entry
+/// has a `name`; other paths are as they are.
+pub fn display_path(text: &str, path: &str) -> String {
+    let Some(rest) = path.strip_prefix("observations[") else {
+        return path.to_string();
+    };
+    let Some((index, tail)) = rest.split_once(']') else {
+        return path.to_string();
+    };
+    let Ok(i) = index.parse::<usize>() else {
+        return path.to_string();
+    };
+    let label = observation_label(text, i);
+    match tail.strip_prefix('.') {
+        Some(field) if !field.is_empty() => format!("{label}: {field}"),
+        _ => label,
+    }
+}
+
+/// How the `i`-th (0-based) `[[observations]]` entry of a case text is named: by its `name`,
+/// or by its 1-based position.
+pub fn observation_label(text: &str, i: usize) -> String {
+    use toml::de::{DeTable, DeValue};
+    let name = DeTable::parse(text).ok().and_then(|root| {
+        let (_, list) = root
+            .get_ref()
+            .iter()
+            .find(|(k, _)| k.get_ref().as_ref() == "observations")?;
+        let DeValue::Array(items) = list.get_ref() else {
+            return None;
+        };
+        let DeValue::Table(entry) = items.get(i)?.get_ref() else {
+            return None;
+        };
+        let (_, name) = entry.iter().find(|(k, _)| k.get_ref().as_ref() == "name")?;
+        match name.get_ref() {
+            DeValue::String(s) => Some(printable(s)),
+            _ => None,
+        }
+    });
+    match name {
+        Some(n) => format!("observation {n:?}"),
+        None => format!("observation {}", i + 1),
+    }
 }
 
 /// serde's type messages in the words of a case file: `invalid type: string "heavy", expected
 /// f64` becomes `expected a number, got the text "heavy"`.
 fn plain_words(msg: &str) -> String {
+    // `unknown variant `sea`, expected one of `natural`, `brach`, `sae``, and the same of a
+    // field: what is wrong; what is accepted.
+    for (prefix, what) in [
+        ("unknown variant ", "is not an accepted value"),
+        ("unknown field ", "is not a field of this table"),
+    ] {
+        if let Some(rest) = msg.strip_prefix(prefix) {
+            if let Some((got, want)) = rest.split_once(", expected ") {
+                let want = want.strip_prefix("one of ").unwrap_or(want);
+                return format!("{got} {what}; accepted: {want}");
+            }
+            if let Some((got, _)) = rest.split_once(", there are no ") {
+                return format!("{got} {what}; this table takes none");
+            }
+        }
+    }
+    // A whole number that does not fit the field (`invalid value: integer `300`, expected
+    // u8`, or one beyond 64 bits, which the TOML reader reports `as i128`).
+    if let Some(rest) = msg
+        .strip_prefix("invalid value: integer ")
+        .or_else(|| msg.strip_prefix("invalid type: integer "))
+    {
+        if let Some((got, want)) = rest.split_once(", expected ") {
+            let got = got.trim_end_matches(" as i128").trim_matches('`');
+            let range = match want {
+                "u8" => "a whole number from 0 to 255".to_string(),
+                "u32" => "a whole number from 0 to 4294967295".to_string(),
+                "u64" | "usize" => "a whole number from 0 to 18446744073709551615".to_string(),
+                "i64" => "a whole number that fits in 64 bits".to_string(),
+                "f64" | "f32" => "a number".to_string(),
+                w => w.to_string(),
+            };
+            return format!("{got} is out of range; accepted: {range}");
+        }
+    }
     let Some(rest) = msg.strip_prefix("invalid type: ") else {
         return msg.to_string();
     };
@@ -93,7 +189,18 @@ pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
     let keys: Vec<&str> = path.split('.').collect();
     let mut start = None;
     for (i, key) in keys.iter().enumerate() {
-        let (_, value) = table.iter().find(|(k, _)| k.get_ref().as_ref() == *key)?;
+        // `observations[2]`: the third entry of an array of tables.
+        let (key, index) = match key.split_once('[') {
+            Some((k, rest)) => (k, Some(rest.trim_end_matches(']').parse::<usize>().ok()?)),
+            None => (*key, None),
+        };
+        let (_, mut value) = table.iter().find(|(k, _)| k.get_ref().as_ref() == key)?;
+        if let Some(n) = index {
+            match value.get_ref() {
+                DeValue::Array(items) => value = items.get(n)?,
+                _ => return None,
+            }
+        }
         start = Some(value.span().start);
         if i + 1 < keys.len() {
             match value.get_ref() {

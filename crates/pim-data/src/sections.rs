@@ -399,9 +399,13 @@ pub struct PointBounds {
 }
 
 /// One `[[observations]]` entry.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObservationSection {
+    /// A name for messages, tables and figures (e.g. "EDR front"); without it the entry is
+    /// `observation N`, its 1-based position.
+    #[serde(default)]
+    pub name: Option<String>,
     /// `delta_v_longitudinal`, `delta_v_lateral`, `speed_along_heading` or `lateral_velocity`.
     pub kind: pim_fit::ObservationKind,
     /// 1 or 2.

@@ -237,7 +237,7 @@ fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
     for (i, o) in c.observations.iter().enumerate() {
         if let Some(s) = o.sigma {
             out.push(Input {
-                name: format!("observation {}", i + 1),
+                name: case.observation_label(i),
                 spread: Spread::Normal(s),
                 nominal: o.value,
                 apply: Box::new(move |case: &mut Case, x| case.content.observations[i].value = x),
