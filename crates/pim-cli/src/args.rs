@@ -466,7 +466,7 @@ convention), without [coefficients], [initial], [final], plus:
                                    # (the case's values are the start; each branch then reports
                                    # its geometry with ranges; see the README, Unknown geometry)
   [[observations]]                 # optional, e.g. what an event data recorder gave
-  name = \"EDR front\"             # optional: how messages and tables name it (else its number)
+  name = \"EDR front\"              # optional: how messages and tables name it (else its number)
   kind = \"delta_v_longitudinal\"   # delta_v_lateral, speed_along_heading, lateral_velocity
   vehicle = 1
   value = -5.1                     # m/s, along the vehicle's own axes

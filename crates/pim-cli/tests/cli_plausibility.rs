@@ -26,9 +26,9 @@ fn each_warning_fires_on_its_mistake_and_names_the_line() {
             "deg_per_s.toml",
             side.replace(
                 "vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }",
-                "vehicle2 = { vx = 0.0, vy = 0.0, omega = 90.0 }",
+                "vehicle2 = { vx = 0.0, vy = 0.0, omega = 9.0 }",
             ),
-            "initial.vehicle2.omega: a yaw rate of 90.00 rad/s (5157 deg/s)",
+            "initial.vehicle2.omega: a yaw rate of 9.00 rad/s (516 deg/s)",
         ),
         (
             "sideways.toml",
@@ -49,6 +49,25 @@ fn each_warning_fires_on_its_mistake_and_names_the_line() {
         let msg = warnings(&text, name);
         assert!(msg.contains(want), "{name}: {msg}");
     }
+    // Beyond what any vehicle does (15 rad/s) it is refused, with the same hint.
+    let path = scratch_file(
+        "plausibility",
+        "deg_per_s_refused.toml",
+        side.replace(
+            "vehicle2 = { vx = 0.0, vy = 0.0, omega = 0.0 }",
+            "vehicle2 = { vx = 0.0, vy = 0.0, omega = 90.0 }",
+        ),
+    );
+    let out = pim(&["solve", &path]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains(
+            "initial.vehicle2.omega: must be a number between -15 and 15 rad/s, got 90 (in SI, \
+             after [units]); degrees per second meant? set [units] yaw_rate = \"deg/s\""
+        ),
+        "{}",
+        stderr(&out)
+    );
     // A small crush angle in degrees is not taken for radians.
     let small = side.replace("crush_angle = 0.0", "crush_angle = 3.4");
     assert_ne!(small, side);

@@ -96,29 +96,29 @@ fn implausible_values_are_input_errors() {
         (
             "mass.toml",
             case.replace("mass = 1955.0", "mass = 1e308"),
-            "vehicle1.mass = 100000000000000000000",
+            "vehicle1.mass: must be a number between 100 and 60000 kg, got 1e308",
         ),
         (
             "speed.toml",
             case.replace("vx = -13.01", "vx = -1e9"),
-            "vehicle1.vx = -1000000000",
+            "initial.vehicle1.vx: must be a number between -100 and 100 m/s, got -1e9",
         ),
         (
             "d.toml",
             case.replace("d = 0.9", "d = 5e3"),
-            "vehicle2.d = 5000",
+            "vehicle2.d: must be a number between 0 and 30 m, got 5000",
         ),
     ] {
         let path = scratch(name, text.as_bytes());
         let out = pim(&["solve", &path]);
         assert_eq!(out.status.code(), Some(2), "{name}: {}", err(&out));
+        let line = text
+            .lines()
+            .position(|l| l.contains("1e308") || l.contains("-1e9") || l.contains("5e3"))
+            .unwrap()
+            + 1;
         assert!(
-            err(&out).contains("beyond the plausible range"),
-            "{name}: {}",
-            err(&out)
-        );
-        assert!(
-            err(&out).contains(needle.split(" = ").next().unwrap()),
+            err(&out).contains(&format!(":{line}:")) && err(&out).contains(needle),
             "{name}: {}",
             err(&out)
         );

@@ -110,7 +110,18 @@ pub(crate) fn error_at(
     what: impl std::fmt::Display,
 ) -> InputError {
     let shown = crate::parse::display_path(source, path);
-    match crate::parse::locate(source, path) {
+    // A field the file does not write itself (`vx` of a velocity given as speed and
+    // direction) is placed at the nearest enclosing one it does write.
+    let mut at = path;
+    let mut place = crate::parse::locate(source, at);
+    while place.is_none() {
+        let Some((parent, _)) = at.rsplit_once('.') else {
+            break;
+        };
+        at = parent;
+        place = crate::parse::locate(source, at);
+    }
+    match place {
         Some((line, col)) => {
             InputError::located(file, format!("{file}:{line}:{col}: {shown}: {what}"))
         }
@@ -118,7 +129,7 @@ pub(crate) fn error_at(
     }
 }
 
-fn finite(file: &str, source: &str, path: &str, value: f64) -> Result<()> {
+pub(crate) fn finite(file: &str, source: &str, path: &str, value: f64) -> Result<()> {
     if value.is_finite() {
         Ok(())
     } else {
@@ -155,22 +166,13 @@ impl Case {
         case.check_states()?;
         case.resolve_impact_points()?;
         case.convert_to_si();
+        case.check_ranges()?;
         case.check_outlines()?;
         if let Some(b) = &case.content.bounds {
             b.check()
                 .map_err(|(path, what)| case.error_at(&path, what))?;
         }
         Ok(case)
-    }
-
-    /// Checks the drawing dimensions (in SI) of both vehicles.
-    fn check_outlines(&self) -> Result<()> {
-        let c = &self.content;
-        for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
-            v.check_outline()
-                .map_err(|(field, what)| self.error_at(&format!("{name}.{field}"), what))?;
-        }
-        Ok(())
     }
 
     /// An input error at the field `path` (dotted, as in the file: `vehicle1.width`), in the one
@@ -417,28 +419,6 @@ impl Case {
         }
         // Converted once: the content is SI from here on.
         c.units = UnitsSection::default();
-    }
-
-    fn check_states(&self) -> Result<()> {
-        for (name, s) in [
-            ("initial", &self.content.initial),
-            ("final", &self.content.final_),
-        ] {
-            if let Some(s) = s {
-                let vehicle2 = s.vehicle2.unwrap_or(AT_REST);
-                for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", vehicle2)] {
-                    for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
-                        finite(
-                            &self.file,
-                            &self.source,
-                            &format!("{name}.{veh}.{field}"),
-                            x,
-                        )?;
-                    }
-                }
-            }
-        }
-        Ok(())
     }
 
     /// The collision in the papers' form (pim-core's [`Vehicle`]) for a given convention.

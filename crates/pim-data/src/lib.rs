@@ -20,6 +20,7 @@
 
 pub mod batch;
 pub mod case;
+mod checks;
 pub mod documents;
 mod error;
 pub mod fitcase;

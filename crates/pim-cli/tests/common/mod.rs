@@ -57,8 +57,10 @@ pub fn scratch_file(group: &str, name: &str, content: impl AsRef<[u8]>) -> Strin
 }
 
 /// Runs `pim` with `args` and fails the test if it has not finished within `seconds` (a hang is
-/// a defect, not a slow test): the process is killed and the test panics.
+/// a defect, not a slow test): the process is killed and the test panics. Its output is read
+/// while it runs, so that a large output cannot block it.
 pub fn pim_within(args: &[&str], seconds: u64) -> Output {
+    use std::io::Read;
     use std::process::Stdio;
     let mut child = Command::new(env!("CARGO_BIN_EXE_pim"))
         .args(args)
@@ -68,16 +70,29 @@ pub fn pim_within(args: &[&str], seconds: u64) -> Output {
         .stderr(Stdio::piped())
         .spawn()
         .expect("run pim");
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut buf = Vec::new();
+            let _ = r.read_to_end(&mut buf);
+            buf
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().expect("stdout")));
+    let err = drain(Box::new(child.stderr.take().expect("stderr")));
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
     loop {
-        if child.try_wait().expect("wait for pim").is_some() {
-            return child.wait_with_output().expect("pim's output");
+        if let Some(status) = child.try_wait().expect("wait for pim") {
+            return Output {
+                status,
+                stdout: out.join().expect("stdout reader"),
+                stderr: err.join().expect("stderr reader"),
+            };
         }
         if std::time::Instant::now() > deadline {
             let _ = child.kill();
             let _ = child.wait();
             panic!("pim {} did not finish within {seconds} s", args.join(" "));
         }
-        std::thread::sleep(std::time::Duration::from_millis(20));
+        std::thread::sleep(std::time::Duration::from_millis(5));
     }
 }
