@@ -111,13 +111,7 @@ fn choice<T: Copy + Send + Sync + 'static>(
     })
 }
 
-/// Largest number of draws a run accepts (each draw is a full fit: a million Q3 draws take about
-/// a minute on two cores, and the draws' results are kept in memory).
-pub const MAX_DRAWS: usize = 1_000_000;
-
-/// Largest number of worker threads accepted (more only adds overhead on any machine this
-/// runs on; the default is the machine's cores).
-pub const MAX_THREADS: usize = 256;
+pub use pim_data::ranges::{MAX_DRAWS, MAX_THREADS};
 
 /// A count between `lo` and `hi`.
 fn count(s: &str, lo: usize, hi: usize, what: &str) -> Result<usize, String> {

@@ -63,6 +63,14 @@ pub const DELTA_V: Range = Range {
     unit: "m/s",
 };
 
+/// Largest number of draws a run accepts (each draw is a full fit: a million Q3 draws take about
+/// a minute on two cores, and the draws' results are kept in memory).
+pub const MAX_DRAWS: usize = 1_000_000;
+
+/// Largest number of worker threads accepted (more only adds overhead on any machine this
+/// runs on; the default is the machine's cores).
+pub const MAX_THREADS: usize = 256;
+
 impl Range {
     /// `Err` with the words "must be between lo and hi unit" when `x` is not a finite number in
     /// the range.

@@ -8,7 +8,7 @@ use pim_data::case::Case;
 use pim_data::documents::{self, DocumentError};
 use pim_fit::{CostPreset, MomentBranch};
 use pyo3::create_exception;
-use pyo3::exceptions::PyException;
+use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use std::path::Path;
@@ -16,9 +16,10 @@ use std::path::Path;
 create_exception!(
     _pim,
     InputError,
-    PyException,
-    "Bad input: a case or data file that cannot be read, or a field with a bad value. The message \
-     is the command line's: it names the file and the field."
+    PyValueError,
+    "Bad input: a case or data file that cannot be read, a field with a bad value, or an \
+     argument out of its range. The message is the command line's: it names the file, line and \
+     field. A ValueError."
 );
 create_exception!(
     _pim,
@@ -165,14 +166,40 @@ fn branches(names: Vec<String>) -> PyResult<Vec<MomentBranch>> {
 }
 
 /// Runs `f` on a rayon pool of `threads` (default: all cores) without holding the GIL.
+/// A whole-number argument in `lo..=hi`, or InputError naming it and the range (never
+/// Python's bare OverflowError or TypeError).
+fn whole(value: &Bound<'_, PyAny>, name: &str, lo: u64, hi: u64) -> PyResult<u64> {
+    let bad = || {
+        input_error(format!(
+            "{name} = {}: expected a whole number from {lo} to {hi}",
+            value
+                .repr()
+                .map_or_else(|_| "?".to_string(), |r| r.to_string())
+        ))
+    };
+    if value.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(bad());
+    }
+    let n: i128 = value.extract().map_err(|_| bad())?;
+    if n < i128::from(lo) || n > i128::from(hi) {
+        return Err(bad());
+    }
+    Ok(n as u64)
+}
+
+/// The `threads` argument: None (all cores) or 1 to the largest accepted.
+fn threads_arg(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    threads
+        .filter(|t| !t.is_none())
+        .map(|t| whole(t, "threads", 1, pim_data::ranges::MAX_THREADS as u64).map(|n| n as usize))
+        .transpose()
+}
+
 fn detached<T: Send>(
     py: Python<'_>,
     threads: Option<usize>,
     f: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
-    if threads == Some(0) {
-        return Err(input_error("threads must be at least 1"));
-    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
@@ -268,7 +295,7 @@ fn batch(
     path: std::path::PathBuf,
     costs: Vec<String>,
     branches: Vec<String>,
-    threads: Option<usize>,
+    threads: Option<Bound<'_, PyAny>>,
     e_max: f64,
     moment_form: &str,
     tests: Option<Vec<u32>>,
@@ -301,6 +328,7 @@ fn batch(
         }
         rows.retain(|r| keep.contains(&r.test));
     }
+    let threads = threads_arg(threads.as_ref())?;
     let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;
     to_py(py, &records)
 }
@@ -308,20 +336,27 @@ fn batch(
 /// Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit by a
 /// seeded parametric bootstrap; the document of `pim uncertainty --format json`.
 #[pyfunction]
-#[pyo3(signature = (case, cost = None, draws = 200, seed = 1, threads = None))]
+#[pyo3(signature = (case, cost = None, draws = None, seed = None, threads = None))]
+#[pyo3(text_signature = "(case, cost=None, draws=200, seed=1, threads=None)")]
 fn uncertainty(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
     cost: Option<&str>,
-    draws: usize,
-    seed: u64,
-    threads: Option<usize>,
+    draws: Option<Bound<'_, PyAny>>,
+    seed: Option<Bound<'_, PyAny>>,
+    threads: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
+    let draws = match draws.filter(|d| !d.is_none()) {
+        Some(d) => whole(&d, "draws", 1, pim_data::ranges::MAX_DRAWS as u64)? as usize,
+        None => 200,
+    };
+    let seed = match seed.filter(|s| !s.is_none()) {
+        Some(s) => whole(&s, "seed", 0, u64::MAX)?,
+        None => 1,
+    };
+    let threads = threads_arg(threads.as_ref())?;
     let case = load_case(py, case)?;
     case.impact().map_err(|e| input_error(e.message))?;
-    if draws == 0 {
-        return Err(input_error("draws must be at least 1"));
-    }
     let choice = match cost {
         Some(c) => pim_data::fitcase::CostChoice::Preset(self::cost(c)?),
         None => pim_data::fitcase::CostChoice::Custom,

@@ -101,6 +101,29 @@ def test_input_errors_carry_the_cli_message(tmp_path):
         pim.batch("missing.csv")
 
 
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"draws": -5}, "draws = -5: expected a whole number from 1 to 1000000"),
+        ({"draws": 0}, "draws = 0: expected a whole number from 1 to 1000000"),
+        ({"draws": 2**64}, "draws = 18446744073709551616: expected a whole number"),
+        ({"draws": 2.5}, "draws = 2.5: expected a whole number"),
+        ({"draws": True}, "draws = True: expected a whole number"),
+        ({"seed": -1}, "seed = -1: expected a whole number from 0 to 18446744073709551615"),
+        ({"threads": 0}, "threads = 0: expected a whole number from 1 to 256"),
+        ({"threads": 100000}, "threads = 100000: expected a whole number from 1 to 256"),
+    ],
+)
+def test_arguments_out_of_range_are_input_errors_and_value_errors(kwargs, words):
+    # Checked before any work, with the range; an InputError is a ValueError.
+    assert issubclass(pim.InputError, ValueError)
+    with pytest.raises(pim.InputError) as err:
+        pim.uncertainty(R7_FIT, **kwargs)
+    assert words in str(err.value)
+    with pytest.raises(ValueError):
+        pim.uncertainty(R7_FIT, **kwargs)
+
+
 def test_no_solution_is_an_exception_with_the_document(tmp_path):
     # RICSAC 6 under Q1: no admissible solution in either branch (as in the batch).
     case = "examples/cases/ricsac6_geometry.toml"

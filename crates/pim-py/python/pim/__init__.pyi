@@ -9,8 +9,8 @@ Branch = Literal["free", "zero"]
 MomentForm = Literal["corrected", "brach1983"]
 Model = Literal["pim", "tangential"]
 
-class InputError(Exception):
-    """Bad input; the message names the file and the field."""
+class InputError(ValueError):
+    """Bad input or an argument out of range; the message names the file, line and field."""
 
 class NoSolution(Exception):
     """The model has no answer; for a fit, ``document`` holds the fit's document."""
