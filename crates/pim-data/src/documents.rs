@@ -138,6 +138,7 @@ pub fn fit(
     }
     let notes = report.notes.clone();
     let document = FitOut {
+        units: crate::records::SiUnits,
         model: model.name(),
         cost_function: name.to_string(),
         branches: report

@@ -68,9 +68,41 @@ pub struct EnergyOut {
     pub loss_percent: f64,
 }
 
+/// The units of every number of a JSON document: SI, angles in degrees, in the natural frame
+/// (x, y with y to the left of x, angles and yaw counter-clockwise), whatever the case's
+/// `[units]` and `convention` (the tables and figures show those).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SiUnits;
+
+impl Serialize for SiUnits {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(9))?;
+        for (k, v) in [
+            ("system", "SI"),
+            ("speed", "m/s"),
+            ("length", "m"),
+            ("mass", "kg"),
+            ("yaw_rate", "rad/s"),
+            ("energy", "J"),
+            ("impulse", "N s"),
+            ("angle", "deg"),
+            (
+                "frame",
+                "natural: y to the left of x, angles and yaw counter-clockwise",
+            ),
+        ] {
+            m.serialize_entry(k, v)?;
+        }
+        m.end()
+    }
+}
+
 /// The JSON record of one forward or backward solve.
 #[derive(Debug, Clone, Serialize)]
 pub struct SolveOut {
+    /// The units of the document's numbers (always SI; see [`SiUnits`]).
+    pub units: SiUnits,
     /// `forward` or `backward`.
     pub direction: &'static str,
     /// With `[coefficients] e, et, friction`: the tangential-restitution model, its mode and
@@ -132,6 +164,7 @@ impl SolveOut {
     /// Builds the record from a pim-core report.
     pub fn new(impact: &pim_core::Impact, r: &ImpactReport, forward: bool) -> Self {
         SolveOut {
+            units: SiUnits,
             direction: if forward { "forward" } else { "backward" },
             model: None,
             barrier: impact.is_barrier(),
@@ -402,6 +435,8 @@ impl BranchRecord {
 /// The JSON of `pim fit`.
 #[derive(Debug, Clone, Serialize)]
 pub struct FitOut {
+    /// The units of the document's numbers (always SI; see [`SiUnits`]).
+    pub units: SiUnits,
     /// The model fitted: `pim` or `tangential`.
     pub model: &'static str,
     /// `q1`, `q2`, `q3` or `custom`.

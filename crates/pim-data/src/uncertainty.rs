@@ -138,6 +138,8 @@ pub struct Sensitivity {
 /// The whole study.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Study {
+    /// The units of the document's numbers (always SI: speeds and delta-V in m/s).
+    pub units: crate::records::SiUnits,
     /// Draws asked for.
     pub draws: usize,
     /// Seed of the random streams.
@@ -547,6 +549,7 @@ pub fn run(
         );
     }
     Ok(Study {
+        units: crate::records::SiUnits,
         draws,
         seed,
         feasible_draws: feasible.len(),

@@ -393,19 +393,35 @@ fn predict_dv(py: Python<'_>, path: std::path::PathBuf, e: f64) -> PyResult<Py<P
 
 /// The scale diagram of `pim draw` as SVG text: the case at contact (outlines, CGs, impact
 /// centre, crush surface), solved with its [coefficients] when it has them and a state, with
-/// the estimated contact velocities of a fit case. Write it to a file or show it with
-/// IPython.display.SVG.
+/// the estimated contact velocities of a fit case. Labelled in the case's units and frame, or
+/// in `units` ("si", "us" or "kmh"). Write it to a file or show it with IPython.display.SVG.
 #[pyfunction]
-#[pyo3(signature = (case, no_slip = false, moment_form = "corrected"))]
+#[pyo3(signature = (case, no_slip = false, moment_form = "corrected", units = None))]
 fn draw(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
     no_slip: bool,
     moment_form: &str,
+    units: Option<&str>,
 ) -> PyResult<String> {
+    use pim_data::units::UnitSystem;
+    let units = match units {
+        None => None,
+        Some("si") => Some(UnitSystem::Si),
+        Some("us") => Some(UnitSystem::Us),
+        Some("kmh") => Some(UnitSystem::Kmh),
+        Some(other) => {
+            return Err(input_error(format!(
+                "units = {other:?}: not an accepted value; accepted: \"si\", \"us\", \"kmh\""
+            )))
+        }
+    };
     let case = load_case(py, case)?;
-    let diagram = pim_render::diagram::case_diagram(&case, &options(no_slip, moment_form)?)
+    let mut diagram = pim_render::diagram::case_diagram(&case, &options(no_slip, moment_form)?)
         .map_err(DocumentErrorPy)?;
+    if let Some(u) = units {
+        diagram.units = u;
+    }
     diagram
         .svg()
         .map_err(pyo3::exceptions::PyRuntimeError::new_err)

@@ -207,3 +207,14 @@ def test_a_barrier_case_solves_and_draws_as_on_the_command_line():
     assert got["barrier"] is True
     assert got["final"]["vehicle2"] == {"vx": 0.0, "vy": 0.0, "omega": 0.0}
     assert "barrier (fixed, rigid)" in pim.draw(case)
+
+
+def test_documents_say_they_are_si_and_draw_takes_units():
+    doc = pim.solve("examples/cases/tbone_sae_us.toml")
+    assert doc["units"]["system"] == "SI" and doc["units"]["speed"] == "m/s"
+    assert pim.fit(R7_FIT, cost="q2")["units"]["energy"] == "J"
+    us = pim.draw("examples/cases/tbone_sae_us.toml")
+    si = pim.draw("examples/cases/tbone_sae_us.toml", units="si")
+    assert "60.00 mph" in us and "26.82 m/s" in si
+    with pytest.raises(pim.InputError, match="accepted"):
+        pim.draw(R7_FIT, units="furlongs")

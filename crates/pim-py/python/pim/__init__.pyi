@@ -53,8 +53,13 @@ def uncertainty(
 def predict_dv(path: Union[str, "os.PathLike[str]"] = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:
     """Brach (1984) section 6: delta-V predicted for every test of a data file."""
 
-def draw(case: Case, no_slip: bool = False, moment_form: MomentForm = "corrected") -> str:
-    """The scale diagram of ``pim draw`` as SVG text."""
+def draw(
+    case: Case,
+    no_slip: bool = False,
+    moment_form: MomentForm = "corrected",
+    units: Optional[Literal["si", "us", "kmh"]] = None,
+) -> str:
+    """The scale diagram of ``pim draw`` as SVG text, labelled in the case's units or ``units``."""
 
 def records_frame(records: Union[List[Dict[str, Any]], Dict[str, Any]]) -> Any:
     """A pandas DataFrame with one row per record and flat, unit-suffixed columns."""
