@@ -339,3 +339,31 @@ fn weights_on_components_held_fixed_are_said_to_have_no_effect() {
         j["notes"]
     );
 }
+
+#[test]
+fn a_full_disk_is_an_output_error_naming_the_file() {
+    // /dev/full fails every write with "no space left on device", as a full disk does.
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let out = pim_within(
+        &["draw", "examples/cases/side_impact.toml", "-o", "/dev/full"],
+        20,
+    );
+    assert_eq!(out.status.code(), Some(4), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("/dev/full: cannot write: No space left on device"),
+        "{}",
+        stderr(&out)
+    );
+    // Standard output on a full disk: exit 4 with the reason, not a panic.
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_pim"))
+        .args(["solve", "examples/cases/side_impact.toml", "--format", "json"])
+        .current_dir(repo())
+        .stdout(std::fs::File::create("/dev/full").unwrap())
+        .stderr(std::process::Stdio::piped())
+        .output()
+        .unwrap();
+    assert_eq!(status.status.code(), Some(4));
+    assert!(stderr(&status).contains("cannot write to stdout: No space left on device"));
+}
