@@ -29,6 +29,37 @@ fn run(cli: Cli) -> Result<ExitCode> {
     }
 }
 
+/// A bad value of a flag in the one form of every message, `pim: FLAG: what is wrong; what
+/// is accepted` (clap's own rendering, with its usage, for everything else).
+fn flag_message(e: &clap::Error) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let text = |k: ContextKind| match e.get(k) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        Some(ContextValue::Strings(v)) => Some(v.join(", ")),
+        _ => None,
+    };
+    let flag = text(ContextKind::InvalidArg)?;
+    let flag = flag.split_whitespace().next().unwrap_or(&flag).to_string();
+    let value = text(ContextKind::InvalidValue).unwrap_or_default();
+    match e.kind() {
+        ErrorKind::ValueValidation => {
+            let why = std::error::Error::source(e).map(|s| s.to_string())?;
+            if why.contains(&value) {
+                Some(format!("pim: {flag}: {why}"))
+            } else {
+                Some(format!("pim: {flag}: {value:?}: {why}; expected a number"))
+            }
+        }
+        ErrorKind::InvalidValue => {
+            let accepted = text(ContextKind::ValidValue).unwrap_or_default();
+            Some(format!(
+                "pim: {flag}: {value:?} is not an accepted value; accepted: {accepted}"
+            ))
+        }
+        _ => None,
+    }
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -38,7 +69,12 @@ fn main() -> ExitCode {
             } else {
                 EXIT_OK
             };
-            let _ = e.print();
+            match flag_message(&e) {
+                Some(m) => eprintln!("{m}"),
+                None => {
+                    let _ = e.print();
+                }
+            }
             return ExitCode::from(code);
         }
     };

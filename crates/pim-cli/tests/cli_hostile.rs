@@ -358,7 +358,12 @@ fn a_full_disk_is_an_output_error_naming_the_file() {
     );
     // Standard output on a full disk: exit 4 with the reason, not a panic.
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_pim"))
-        .args(["solve", "examples/cases/side_impact.toml", "--format", "json"])
+        .args([
+            "solve",
+            "examples/cases/side_impact.toml",
+            "--format",
+            "json",
+        ])
         .current_dir(repo())
         .stdout(std::fs::File::create("/dev/full").unwrap())
         .stderr(std::process::Stdio::piped())

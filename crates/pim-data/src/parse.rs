@@ -46,6 +46,21 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
         } else if msg.contains("recursion limit") || msg.contains("cannot recurse") {
             msg = "tables or lists nested too deeply for a case file".to_string();
         }
+        // A TOML date or time reaches serde as a table: name it for what it is.
+        if msg.ends_with("got a table") {
+            let written = e.span().and_then(|s| text.get(s)).unwrap_or("").trim();
+            let date_like = !written.is_empty()
+                && written.chars().next().is_some_and(|c| c.is_ascii_digit())
+                && written
+                    .chars()
+                    .all(|c| c.is_ascii_digit() || "-:.TZ+ ".contains(c));
+            if date_like {
+                msg = format!(
+                    "{}got a date or time, {written}",
+                    &msg[..msg.len() - "got a table".len()]
+                );
+            }
+        }
         let what = match field {
             Some(f) if !f.is_empty() && f != "." => format!("{f}: {msg}"),
             _ => msg,

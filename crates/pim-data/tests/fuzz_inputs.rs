@@ -136,6 +136,9 @@ fn corpus_of_past_failures_replays_cleanly() {
     let mut n = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let p = entry.unwrap().path();
+        if !p.is_file() {
+            continue; // tests/fuzz-corpus/slow: valid inputs too slow to replay in every run
+        }
         let text = std::fs::read_to_string(&p).unwrap();
         match p.extension().and_then(|e| e.to_str()) {
             Some("toml") => exercise_case(&text),
