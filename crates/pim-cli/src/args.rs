@@ -397,6 +397,10 @@ pub struct BatchArgs {
     /// Output format on stdout.
     #[arg(long, value_enum, default_value_t = BatchFormat::Table)]
     pub format: BatchFormat,
+    /// Units of a data file's tables (delta-V, velocity errors, intervals; default SI). Records
+    /// (JSON, CSV) are always SI.
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
     /// Also write CSV tables and SVG figures into this directory (created if needed).
     #[arg(long)]
     pub out: Option<PathBuf>,

@@ -356,3 +356,39 @@ fn a_batch_of_case_files_fits_each_with_its_own_cost() {
         "{csv}"
     );
 }
+
+#[test]
+fn a_data_file_batch_reads_in_the_units_asked_for() {
+    // --units us: the delta-V columns in mph (SI / 0.44704), the legend says so; the default
+    // stays SI.
+    let row = |units: Option<&str>| -> (f64, f64, String) {
+        let mut args = vec!["batch", "data/ricsac.csv", "--tests", "9", "--cost", "q2"];
+        if let Some(u) = units {
+            args.extend(["--units", u]);
+        }
+        let text = String::from_utf8_lossy(&pim_ok(&args).stdout).to_string();
+        let line = text
+            .lines()
+            .find(|l| l.trim_start().starts_with("9 zero"))
+            .unwrap()
+            .to_string();
+        let cells: Vec<&str> = line.split_whitespace().collect();
+        let slash = cells.iter().position(|c| *c == "/").unwrap();
+        (
+            cells[slash - 1].parse().unwrap(),
+            cells[slash + 1].parse().unwrap(),
+            text,
+        )
+    };
+    let (fit_si, meas_si, si) = row(None);
+    let (fit_us, meas_us, us) = row(Some("us"));
+    assert!(
+        (fit_us - fit_si / 0.44704).abs() < 0.006,
+        "{fit_si} {fit_us}"
+    );
+    assert!(
+        (meas_us - meas_si / 0.44704).abs() < 0.006,
+        "{meas_si} {meas_us}"
+    );
+    assert!(us.contains("delta-V in mph") && !si.contains("delta-V in"));
+}

@@ -4,6 +4,7 @@ use pim_data::batch::{BatchRecord, Outcome};
 use pim_data::records::BranchRecord;
 use pim_data::reference::BrachRow;
 use pim_data::uncertainty::Summary;
+use pim_data::units::UnitSystem;
 use pim_fit::{CostPreset, MomentBranch, COMPONENT_NAMES};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -27,7 +28,7 @@ fn f3(x: Option<f64>) -> String {
 }
 
 /// The summary table: one block per cost function (like Brach 1984 Table 1 and Vossou Table 3).
-pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
+pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset], u: UnitSystem) -> String {
     let mut s = String::new();
     for &c in costs {
         let _ = writeln!(s, "{}", cost_title(c));
@@ -52,10 +53,10 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
                         f3(b.mu_ratio),
                         b.cost.unwrap_or(f64::NAN),
                         b.energy_loss_percent.unwrap_or(f64::NAN),
-                        dv.map_or(f64::NAN, |d| d.vehicle1),
-                        r.delta_v_measured[0],
-                        dv.map_or(f64::NAN, |d| d.vehicle2),
-                        r.delta_v_measured[1],
+                        u.speed(dv.map_or(f64::NAN, |d| d.vehicle1)),
+                        u.speed(r.delta_v_measured[0]),
+                        u.speed(dv.map_or(f64::NAN, |d| d.vehicle2)),
+                        u.speed(r.delta_v_measured[1]),
                         b.active_constraints
                             .iter()
                             .map(|a| a.short())
@@ -86,7 +87,12 @@ pub fn summary_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
         let _ = writeln!(
             s,
             "(* = the branch with the lower cost; active: constraints and coefficient bounds that \
-             hold with equality at the optimum)\n"
+             hold with equality at the optimum{})\n",
+            if u == UnitSystem::Si {
+                String::new()
+            } else {
+                format!("; delta-V in {}, the cost in (m/s)^2", u.speed_label())
+            }
         );
     }
     s
@@ -212,13 +218,15 @@ const SHORT: [&str; 12] = [
 
 /// Per test, the cost functions side by side (best branch of each) and the error of every
 /// velocity component against the measurement, the largest flagged (Vossou Tables 4-6).
-pub fn compare_costs_table(records: &[BatchRecord], costs: &[CostPreset]) -> String {
+pub fn compare_costs_table(records: &[BatchRecord], costs: &[CostPreset], u: UnitSystem) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "Fitted minus measured velocity per component (m/s, rad/s), best branch of each cost \
+        "Fitted minus measured velocity per component ({}, {}), best branch of each cost \
          function; * marks the largest |error| of a fit; '=' a component held fixed by that cost \
-         function.\n"
+         function.\n",
+        u.speed_label(),
+        u.yaw_rate_label()
     );
     let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
     tests.dedup();
@@ -254,7 +262,12 @@ pub fn compare_costs_table(records: &[BatchRecord], costs: &[CostPreset]) -> Str
                         if fixed {
                             "=".to_string()
                         } else {
-                            format!("{:+.2}{star}", e[k])
+                            let x = if k % 3 == 2 {
+                                u.yaw_rate(e[k])
+                            } else {
+                                u.speed(e[k])
+                            };
+                            format!("{x:+.2}{star}")
                         }
                     }
                     None => "-".to_string(),
@@ -375,12 +388,17 @@ fn band(r: &BatchRecord, q: &str, end: fn(&Summary) -> f64) -> Option<f64> {
 /// branch), the fitted value and the 5th-95th percentile range of the impact speeds, delta-V,
 /// e and the energy loss. `?` marks a quantity the data do not determine (the range is not a
 /// confidence statement), `|` a range that a bound of the search ends.
-pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64) -> String {
+pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64, u: UnitSystem) -> String {
+    let sp = u.speed_label();
     let mut s = format!(
         "\n90 % intervals from {draws} draws (seed {seed}) of the stated tolerances, best branch of \
          each test and cost function: p05 - p95\n\
          ? = not determined by the data, | = ended by a search bound\n\
-         test cost  branch   speed1 m/s      speed2 m/s      |dV1| m/s       |dV2| m/s       e               loss %\n"
+         test cost  branch   {:<16}{:<16}{:<16}{:<16}e               loss %\n",
+        format!("speed1 {sp}"),
+        format!("speed2 {sp}"),
+        format!("|dV1| {sp}"),
+        format!("|dV2| {sp}"),
     );
     for r in records.iter().filter(|r| r.best) {
         let _ = write!(
@@ -411,7 +429,12 @@ pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64) -> Stri
                                 ""
                             };
                             let d = if q == "e" { 3 } else { 2 };
-                            format!("{:.d$} - {:.d$}{flag}", x.p05, x.p95)
+                            let k = if q.starts_with("speed") || q.starts_with("delta_v") {
+                                u.speed(1.0)
+                            } else {
+                                1.0
+                            };
+                            format!("{:.d$} - {:.d$}{flag}", k * x.p05, k * x.p95)
                         },
                     );
                     let _ = write!(s, "  {cell:<14}");

@@ -65,6 +65,9 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         tests.retain(|r| a.tests.contains(&r.test));
     }
     let plan = plan(a)?;
+    // A data file has no [units]: its tables are SI unless --units says otherwise.
+    let units: pim_data::units::UnitSystem =
+        a.units.map_or(pim_data::units::UnitSystem::Si, Into::into);
     let n_jobs = (tests.len() * plan.costs.len()) as u64;
     let show =
         a.format != BatchFormat::Json && std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -107,11 +110,13 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .collect();
     let several = plan.models != [pim_fit::FitModel::Pim];
     let models_text = several.then(|| batch_tables::models_table(&records, &plan.costs));
-    let mut summary = batch_tables::summary_table(&pim_records, &plan.costs);
+    let mut summary = batch_tables::summary_table(&pim_records, &plan.costs, units);
     if tolerances.is_some() {
-        summary.push_str(&batch_tables::intervals_table(&records, a.draws, a.seed));
+        summary.push_str(&batch_tables::intervals_table(
+            &records, a.draws, a.seed, units,
+        ));
     }
-    let compare_text = batch_tables::compare_costs_table(&pim_records, &plan.costs);
+    let compare_text = batch_tables::compare_costs_table(&pim_records, &plan.costs, units);
     let brach_text = brach
         .as_ref()
         .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2) && !pim_records.is_empty())
