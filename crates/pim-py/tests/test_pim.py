@@ -218,3 +218,23 @@ def test_documents_say_they_are_si_and_draw_takes_units():
     assert "60.00 mph" in us and "26.82 m/s" in si
     with pytest.raises(pim.InputError, match="accepted"):
         pim.draw(R7_FIT, units="furlongs")
+
+
+def test_records_frame_in_us_units_converts_the_suffixed_columns():
+    pytest.importorskip("pandas")
+    fit = pim.fit("examples/cases/tbone_sae_us.toml", cost="q3")
+    si = pim.records_frame(fit)
+    us = pim.records_frame(fit, units="us")
+    assert "vehicle1_speed_initial_mph" in us.columns and "vehicle1_speed_initial_mps" not in us.columns
+    assert us["vehicle1_speed_initial_mph"].tolist() == pytest.approx(
+        (si["vehicle1_speed_initial_mps"] / 0.44704).tolist(), rel=1e-12
+    )
+    assert us["energy_loss_ftlbf"].tolist() == pytest.approx(
+        (si["energy_loss_j"] / (4.4482216152605 * 0.3048)).tolist(), rel=1e-12
+    )
+    assert us["e"].tolist() == si["e"].tolist()
+    # The best branch's contact speed of the 60 mph pickup reads in mph.
+    best = us[us.moment == fit["best"]]
+    assert abs(best["vehicle1_speed_initial_mph"].iloc[0] - 59.86) < 0.01
+    with pytest.raises(pim.InputError, match="accepted"):
+        pim.records_frame(fit, units="furlongs")

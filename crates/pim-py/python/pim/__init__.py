@@ -100,14 +100,38 @@ def _with_unit(name):
     return name
 
 
-def records_frame(records):
+# Conversions of the SI suffixes for ``records_frame(..., units=)``: suffix -> (new suffix,
+# factor). Exact definitions: 1 mph = 0.44704 m/s, 1 ft = 0.3048 m, 1 lbf = 4.4482216152605 N.
+_LBF = 4.4482216152605
+_CONVERT = {
+    "si": {},
+    "us": {
+        "mps": ("mph", 1.0 / 0.44704),
+        "radps": ("degps", 180.0 / 3.141592653589793),
+        "j": ("ftlbf", 1.0 / (_LBF * 0.3048)),
+        "ns": ("lbfs", 1.0 / _LBF),
+        "nms": ("lbfsft", 1.0 / (_LBF * 0.3048)),
+        "m": ("ft", 1.0 / 0.3048),
+    },
+    "kmh": {
+        "mps": ("kmh", 3.6),
+        "radps": ("degps", 180.0 / 3.141592653589793),
+    },
+}
+
+
+def records_frame(records, units="si"):
     """A pandas DataFrame with one row per record and flat, unit-suffixed columns.
 
     ``records`` is the list that :func:`batch` returns, a fit document (its branches become
     the rows), or any list of flat or nested dicts. Nested fields are joined with ``_``
     (``initial_vehicle1_vx_mps``, ``vehicles_1_delta_v_mps``); lists of numbers become one
     column per element. Units: ``_mps`` m/s, ``_radps`` rad/s, ``_deg`` degrees, ``_j``
-    joules, ``_pct`` percent.
+    joules, ``_ns`` newton seconds, ``_m`` metres, ``_pct`` percent.
+
+    ``units="us"`` converts those columns to mph (``_mph``), deg/s (``_degps``), ft lbf
+    (``_ftlbf``), lbf s (``_lbfs``) and feet (``_ft``); ``units="kmh"`` speeds to km/h and yaw
+    rates to deg/s. The documents themselves are always SI (their ``units`` says so).
 
     pandas is optional for the package and needed here: ``pip install pandas``.
     """
@@ -118,6 +142,9 @@ def records_frame(records):
             "pim.records_frame needs pandas, which is not installed: pip install pandas "
             "(or pip install 'pim[pandas]')"
         ) from exc
+    if units not in _CONVERT:
+        raise InputError(f"units = {units!r}: not an accepted value; accepted: 'si', 'us', 'kmh'")
+    convert = _CONVERT[units]
     if isinstance(records, dict) and "branches" in records:
         records = [dict(b, cost_function=records.get("cost_function")) for b in records["branches"]]
     rows = []
@@ -129,5 +156,15 @@ def records_frame(records):
                     _flatten(f"vehicle{i}", veh, flat)
             else:
                 _flatten(k, v, flat)
-        rows.append({_with_unit(k): v for k, v in flat.items()})
+        row = {}
+        for k, v in flat.items():
+            name = _with_unit(k)
+            suffix = name.rsplit("_", 1)[-1]
+            if suffix in convert and name != k:
+                new, factor = convert[suffix]
+                name = name[: -len(suffix)] + new
+                if isinstance(v, (int, float)) and not isinstance(v, bool):
+                    v = v * factor
+            row[name] = v
+        rows.append(row)
     return pd.DataFrame(rows)

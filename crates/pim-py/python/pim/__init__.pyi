@@ -61,5 +61,9 @@ def draw(
 ) -> str:
     """The scale diagram of ``pim draw`` as SVG text, labelled in the case's units or ``units``."""
 
-def records_frame(records: Union[List[Dict[str, Any]], Dict[str, Any]]) -> Any:
-    """A pandas DataFrame with one row per record and flat, unit-suffixed columns."""
+def records_frame(
+    records: Union[List[Dict[str, Any]], Dict[str, Any]],
+    units: Literal["si", "us", "kmh"] = "si",
+) -> Any:
+    """A pandas DataFrame with one row per record and flat, unit-suffixed columns (SI, or
+    converted to ``units`` with the suffixes renamed: ``_mph``, ``_degps``, ``_ftlbf``, ...)."""
