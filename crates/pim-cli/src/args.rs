@@ -266,6 +266,9 @@ pub struct PredictArgs {
     /// Restitution used in eq. 17 (Brach: 0 unless known).
     #[arg(long, default_value_t = 0.0)]
     pub e: f64,
+    /// Units of the table (default SI; a data file has no [units]). JSON is always SI.
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,

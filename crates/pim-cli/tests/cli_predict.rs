@@ -1,4 +1,6 @@
-//! End-to-end test of `pim predict-dv`: the JSON document of the schema.
+//! End-to-end test of `pim predict-dv`: the JSON document and the table.
+mod common;
+use common::pim_ok;
 use serde_json::Value;
 use std::path::Path;
 use std::process::Command;
@@ -41,4 +43,27 @@ fn out_writes_the_figure() {
     assert!(out.status.success());
     let svg = std::fs::read_to_string(dir.join("predict_dv.svg")).unwrap();
     assert!(svg.contains("m1 / m2 = 1") && svg.contains("eq. 17, point mass"));
+}
+
+#[test]
+fn the_prediction_table_reads_in_the_units_asked_for() {
+    let si = String::from_utf8_lossy(&pim_ok(&["predict-dv"]).stdout).to_string();
+    let kmh =
+        String::from_utf8_lossy(&pim_ok(&["predict-dv", "--units", "kmh"]).stdout).to_string();
+    let measured = |t: &str| -> f64 {
+        let line = t
+            .lines()
+            .find(|l| l.trim_start().starts_with("1 "))
+            .unwrap();
+        line.split('|')
+            .nth(1)
+            .unwrap()
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!((measured(&kmh) - 3.6 * measured(&si)).abs() < 0.006);
+    assert!(kmh.contains("delta-V in km/h") && si.contains("delta-V in m/s"));
 }

@@ -546,3 +546,25 @@ fn an_sae_case_in_us_units_is_answered_in_its_own_frame_and_units() {
         v[2]
     );
 }
+
+#[test]
+fn the_sensitivity_table_of_a_us_case_reads_in_mph() {
+    let us = String::from_utf8_lossy(
+        &pim_ok(&["sensitivity", "examples/cases/side_impact_us.toml"]).stdout,
+    )
+    .to_string();
+    // e low (0.09): |dV1| 8.175 m/s = 18.287 mph.
+    assert!(us.contains("|dV1| mph"), "{us}");
+    assert!(us.contains("e     low       0.0900 |    18.287"), "{us}");
+    let si = String::from_utf8_lossy(
+        &pim_ok(&[
+            "sensitivity",
+            "examples/cases/side_impact_us.toml",
+            "--units",
+            "si",
+        ])
+        .stdout,
+    )
+    .to_string();
+    assert!(si.contains("e     low       0.0900 |     8.175"), "{si}");
+}

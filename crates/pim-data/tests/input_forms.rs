@@ -396,14 +396,11 @@ fn with_fit_sections(natural: bool) -> String {
     }
 }
 
-#[test]
-fn the_fit_and_the_uncertainty_of_the_sae_us_twin_equal_the_natural_si_ones() {
+/// The fits (Q1, Q2, Q3, both branches) and a short uncertainty study of two forms of one
+/// crash agree (see the tolerances below).
+fn fits_and_draws_agree(a: &Case, b: &Case) {
     use pim_data::documents;
     use pim_fit::{CostPreset, FitModel, MomentBranch};
-    let (a, b) = (
-        load(&with_fit_sections(true)),
-        load(&with_fit_sections(false)),
-    );
     for cost in [CostPreset::Q1, CostPreset::Q2, CostPreset::Q3] {
         let fit = |c: &Case| {
             documents::fit(
@@ -416,7 +413,7 @@ fn the_fit_and_the_uncertainty_of_the_sae_us_twin_equal_the_natural_si_ones() {
             .unwrap()
             .report
         };
-        let (ra, rb) = (fit(&a), fit(&b));
+        let (ra, rb) = (fit(a), fit(b));
         assert_eq!(ra.best, rb.best, "{cost:?}");
         for (x, y) in ra.branches.iter().zip(&rb.branches) {
             let (Some(x), Some(y)) = (&x.solution, &y.solution) else {
@@ -468,7 +465,7 @@ fn the_fit_and_the_uncertainty_of_the_sae_us_twin_equal_the_natural_si_ones() {
         )
         .unwrap()
     };
-    let (sa, sb) = (study(&a), study(&b));
+    let (sa, sb) = (study(a), study(b));
     assert_eq!(sa.feasible_draws, sb.feasible_draws);
     for (q, x) in &sa.quantities {
         let y = &sb.quantities[q];
@@ -480,4 +477,99 @@ fn the_fit_and_the_uncertainty_of_the_sae_us_twin_equal_the_natural_si_ones() {
         }
         assert_eq!(x.reaches_bound, y.reaches_bound, "{q}");
     }
+}
+
+#[test]
+fn the_fit_and_the_uncertainty_of_the_sae_us_twin_equal_the_natural_si_ones() {
+    fits_and_draws_agree(
+        &load(&with_fit_sections(true)),
+        &load(&with_fit_sections(false)),
+    );
+}
+
+/// examples/cases/oblique_sae_us.toml written in the natural form and SI, by hand: headings,
+/// directions and yaw rates change sign, y changes sign, the CG positions become impact points
+/// in each vehicle's frame, mph / ft / lb / slug ft^2 / deg/s become SI.
+fn oblique_natural_si() -> String {
+    // SAE scene: C at the origin; CG1 (-7, -1) ft, heading 0; CG2 (5.682, -5.359) ft, heading
+    // 150 deg clockwise. Body coordinates (SAE: x forward, y right) of C from each CG.
+    let body = |cg: [f64; 2], heading: f64| {
+        let r = heading.to_radians();
+        let (nose, right) = ([r.cos(), r.sin()], [-r.sin(), r.cos()]);
+        let d = [-cg[0], -cg[1]];
+        // Natural body frame: y to the left.
+        [
+            (d[0] * nose[0] + d[1] * nose[1]) * FT,
+            -(d[0] * right[0] + d[1] * right[1]) * FT,
+        ]
+    };
+    let (p1, p2) = (body([-7.0, -1.0], 0.0), body([5.682, -5.359], 150.0));
+    let v = |speed: f64, direction: f64, w: f64| {
+        let r = (-direction).to_radians();
+        format!(
+            "{{ vx = {:?}, vy = {:?}, omega = {:?} }}",
+            speed * MPH * r.cos(),
+            speed * MPH * r.sin(),
+            -w.to_radians()
+        )
+    };
+    let sig = |s: f64, w: f64| {
+        format!(
+            "{{ vx = {:?}, vy = {:?}, omega = {:?} }}",
+            s * MPH,
+            s * MPH,
+            w.to_radians()
+        )
+    };
+    format!(
+        "[vehicle1]\nmass = {:?}\nyaw_inertia = {:?}\nheading = 0.0\n\
+         impact_point = {{ x = {:?}, y = {:?} }}\n\
+         [vehicle2]\nmass = {:?}\nyaw_inertia = {:?}\nheading = -150.0\n\
+         impact_point = {{ x = {:?}, y = {:?} }}\n\
+         [impact]\ncrush_angle = 0.0\n\
+         [coefficients]\ne = 0.15\nmu = 0.12\nem = 1.0\n\
+         [initial]\nvehicle1 = {}\nvehicle2 = {}\n\
+         [estimates.initial]\nvehicle1 = {}\nvehicle2 = {}\n\
+         [estimates.final]\nvehicle1 = {}\nvehicle2 = {}\n\
+         [sigma.initial]\nvehicle1 = {}\nvehicle2 = {}\n\
+         [sigma.final]\nvehicle1 = {}\nvehicle2 = {}\n",
+        3400.0 * LB,
+        1800.0 * SLUG_FT2,
+        p1[0],
+        p1[1],
+        4600.0 * LB,
+        2900.0 * SLUG_FT2,
+        p2[0],
+        p2[1],
+        v(45.0, 0.0, 0.0),
+        v(35.0, 150.0, 0.0),
+        v(45.0, 0.0, 0.0),
+        v(35.0, 150.0, 0.0),
+        v(14.0, 15.5, 280.0),
+        v(16.5, 116.0, -450.0),
+        sig(1.5, 5.0),
+        sig(5.0, 5.0),
+        sig(3.0, 60.0),
+        sig(3.0, 60.0),
+    )
+}
+
+#[test]
+fn the_oblique_example_in_sae_and_us_units_equals_its_natural_si_twin() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/cases/oblique_sae_us.toml");
+    let sae = load(&std::fs::read_to_string(path).unwrap());
+    let natural = load(&oblique_natural_si());
+    assert_eq!(sae.written, pim_core::Convention::Sae);
+    // The solve to 1e-12.
+    let (ra, rb) = (solve(&natural), solve(&sae));
+    states_close(&ra.separation, &rb.separation, "separation state");
+    close(ra.energy.loss, rb.energy.loss, "energy loss");
+    assert!(
+        ra.admissibility.admissible,
+        "the example solve is admissible"
+    );
+    // The sedan loses about 31.6 mph (14.1 m/s).
+    assert!((ra.delta_v[0].magnitude / MPH - 31.60).abs() < 0.01);
+    fits_and_draws_agree(&natural, &sae);
 }

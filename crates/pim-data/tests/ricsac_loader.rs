@@ -139,3 +139,15 @@ fn structural_problems_are_reported() {
     // Not CSV at all.
     assert!(err("\u{0}\u{1}binary junk").contains("d.csv:1:"));
 }
+
+#[test]
+fn no_ricsac_test_draws_a_plausibility_warning() {
+    // Each test of the bundled data as a case (as the batch's draws see it): real crashes,
+    // so any warning would be a false alarm.
+    let tests = pim_data::ricsac::parse("data/ricsac.csv", &good()).unwrap();
+    assert!(tests.len() >= 10);
+    for t in &tests {
+        let case = t.case(&format!("data/ricsac.csv test {}", t.test)).unwrap();
+        assert_eq!(case.warnings(), Vec::<String>::new(), "test {}", t.test);
+    }
+}

@@ -235,7 +235,12 @@ pub fn solve_table(
 }
 
 /// The human-readable table of a sensitivity study (as Brach 1983 Tables 4-6).
-pub fn sensitivity_table(title: &str, st: &SensitivityStudy) -> String {
+pub fn sensitivity_table(
+    title: &str,
+    st: &SensitivityStudy,
+    u: UnitSystem,
+    frame: Convention,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -246,8 +251,10 @@ pub fn sensitivity_table(title: &str, st: &SensitivityStudy) -> String {
         s,
         "      e       mu       em |  V1x     V1y     W1   |dV1| |  V2x     V2y     W2   |dV2| | loss % | adm."
     );
+    let (v, w) = (|x: f64| u.speed(x), |x: f64| u.yaw_rate(x));
     for c in &st.cases {
-        let r = &c.report;
+        let mirrored = (frame == Convention::Sae).then(|| c.report.mirrored());
+        let r = mirrored.as_ref().unwrap_or(&c.report);
         let a = &r.separation.vehicle1;
         let b = &r.separation.vehicle2;
         let _ = writeln!(
@@ -256,22 +263,35 @@ pub fn sensitivity_table(title: &str, st: &SensitivityStudy) -> String {
             c.coefficients.e,
             c.coefficients.mu,
             c.coefficients.em,
-            a.vx,
-            a.vy,
-            a.omega,
-            r.delta_v[0].magnitude,
-            b.vx,
-            b.vy,
-            b.omega,
-            r.delta_v[1].magnitude,
+            v(a.vx),
+            v(a.vy),
+            w(a.omega),
+            v(r.delta_v[0].magnitude),
+            v(b.vx),
+            v(b.vy),
+            w(b.omega),
+            v(r.delta_v[1].magnitude),
             r.energy.loss_percent,
             if r.admissibility.admissible { "yes" } else { "NO" }
+        );
+    }
+    if u != UnitSystem::Si || frame == Convention::Sae {
+        let _ = writeln!(
+            s,
+            "(separation velocities V in {}, yaw rates W in {}; {})",
+            u.speed_label(),
+            u.yaw_rate_label(),
+            frame_line(frame)
         );
     }
     let _ = writeln!(s, "\naverage effect of each coefficient level");
     let _ = writeln!(
         s,
-        "coef  level      value | |dV1| m/s |dV2| m/s |dW1| rad/s |dW2| rad/s | loss %"
+        "coef  level      value | {:>9} {:>9} {:>11} {:>11} | loss %",
+        format!("|dV1| {}", u.speed_label()),
+        format!("|dV2| {}", u.speed_label()),
+        format!("|dW1| {}", u.yaw_rate_label()),
+        format!("|dW2| {}", u.yaw_rate_label()),
     );
     for a in &st.averages {
         let _ = writeln!(
@@ -280,10 +300,10 @@ pub fn sensitivity_table(title: &str, st: &SensitivityStudy) -> String {
             format!("{:?}", a.coefficient).to_lowercase(),
             format!("{:?}", a.level).to_lowercase(),
             a.value,
-            a.delta_v1,
-            a.delta_v2,
-            a.delta_omega1,
-            a.delta_omega2,
+            v(a.delta_v1),
+            v(a.delta_v2),
+            w(a.delta_omega1),
+            w(a.delta_omega2),
             a.energy_loss_percent
         );
     }

@@ -64,12 +64,28 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             impact = pim_core::Impact::new(c)
                 .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
         }
-        let d = pim_render::diagram::diagram(
+        let mut d = pim_render::diagram::diagram(
             &case,
             &impact,
             contact.as_ref(),
             best.map(pim_render::diagram::Solved::of_fit),
         );
+        // The bounds the drawn (best) answer rests on, in the key.
+        for b in branch_records
+            .iter()
+            .filter(|r| Some(r.moment) == report.best)
+            .flat_map(|r| &r.bounds_reached)
+        {
+            d.notes.push(format!(
+                "rests on [bounds] {} ({}, {})",
+                b.bound,
+                b.at,
+                match b.source {
+                    pim_data::records::BoundSource::Case => "set in the case",
+                    pim_data::records::BoundSource::Default => "a default",
+                }
+            ));
+        }
         let mut md = markdown::fit(&title_of(&case), name, &report, units, case.written);
         if !bounds.is_empty() {
             md.push_str(&format!("\n## Bounds reached\n\n{bounds}"));

@@ -6,10 +6,12 @@ use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_ricsac;
 use anyhow::Result;
 use pim_data::predict::TestPrediction;
+use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
-fn table(file: &str, e: f64, rows: &[TestPrediction]) -> String {
+fn table(file: &str, e: f64, rows: &[TestPrediction], u: UnitSystem) -> String {
+    let v = |x: f64| u.speed(x);
     let mut t = format!(
         "{file}: delta-V predicted from the impact speeds, masses and energy loss (Brach 1984 \
          eq. 14, 16, 17; e = {e} in eq. 17)\n\n"
@@ -27,20 +29,21 @@ fn table(file: &str, e: f64, rows: &[TestPrediction]) -> String {
             r.l,
             r.energy_loss_fraction,
             r.mu_m_point_mass,
-            a.measured,
-            a.eq14,
-            a.eq14_two_thirds,
-            a.eq17,
-            b.measured,
-            b.eq14,
-            b.eq14_two_thirds,
-            b.eq17
+            v(a.measured),
+            v(a.eq14),
+            v(a.eq14_two_thirds),
+            v(a.eq17),
+            v(b.measured),
+            v(b.eq14),
+            v(b.eq14_two_thirds),
+            v(b.eq17)
         );
     }
     let _ = writeln!(
         t,
-        "(delta-V in m/s; loss: fraction of the kinetic energy, rotation included, lost between \
-         the measured contact and separation velocities)"
+        "(delta-V in {}; loss: fraction of the kinetic energy, rotation included, lost between \
+         the measured contact and separation velocities)",
+        u.speed_label()
     );
     t
 }
@@ -54,7 +57,8 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     let tests = load_ricsac(&a.data)?;
     let rows = pim_data::predict::predict_all(&file, &tests, a.e)?;
     let record = json(&serde_json::json!({ "tests": rows }))?;
-    let text = table(&file, a.e, &rows);
+    let units = a.units.map_or(UnitSystem::Si, Into::into);
+    let text = table(&file, a.e, &rows, units);
     if let Some(dir) = &a.out {
         let out = super::output::OutDir::create(dir)?;
         out.write("predict_dv.json", &record)?;

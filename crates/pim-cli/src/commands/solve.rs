@@ -84,7 +84,10 @@ pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
     let study = pim_core::sensitivity(&impact, &coefficients, &state, &options(a), percent)
         .map_err(|e| Failure::from_core(&case.file, e))?;
     let record = json(&records::SensitivityOut::new(&impact, &study))?;
-    let table = tables::sensitivity_table(&title_of(&case), &study);
+    let units = a
+        .units
+        .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
+    let table = tables::sensitivity_table(&title_of(&case), &study, units, case.written);
     if let Some(dir) = &a.out {
         let out = super::output::OutDir::create(dir)?;
         out.write("sensitivity.json", &record)?;

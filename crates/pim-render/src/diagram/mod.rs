@@ -37,6 +37,8 @@ pub struct Diagram {
     /// The frame the labels speak in: natural, or SAE's (the same picture, with y to the right
     /// of x and headings clockwise).
     pub frame: Convention,
+    /// Lines the key shows under the title (e.g. the bounds a fitted answer rests on).
+    pub notes: Vec<String>,
 }
 
 /// The states and results of a solved (or fitted) collision.
@@ -133,6 +135,7 @@ impl Diagram {
             normal: impact.normal(),
             units: UnitSystem::Si,
             frame: Convention::Natural,
+            notes: Vec::new(),
         }
     }
 

@@ -231,6 +231,11 @@ impl Diagram {
         for (i, part) in wrap(&self.title, 36).into_iter().enumerate() {
             line(part, None, i == 0)?;
         }
+        for note in &self.notes {
+            for part in wrap(note, 40) {
+                line(part, Some(RGBColor(180, 0, 0)), false)?;
+            }
+        }
         line(String::new(), None, false)?;
         for (k, v) in self.vehicles.iter().enumerate() {
             line(v.label.clone(), Some(VEHICLE_COLORS[k]), true)?;
