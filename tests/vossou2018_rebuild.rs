@@ -1,0 +1,191 @@
+//! Vossou & Koulocheris (2018) print, per RICSAC test and cost function, the error of every
+//! fitted velocity component (their Tables 4-6, `data/reference/vossou2018_table{4,5,6}.csv`),
+//! not the fitted velocities. This test rebuilds those velocities from the printed errors and the
+//! measured ones (their Table 1 = `data/ricsac.csv`) and checks what the columns are: read as
+//! `|fitted| - |measured|`, the rebuilt velocities conserve linear momentum (as any solution of
+//! the impact equations must); read as `fitted - measured`, they do not.
+//!
+//! Rebuilding: a component with error `d` and measurement `m` has `|fitted| = |m| + d`; its sign
+//! is not printed, so each rebuilt state takes the signs (the measured sign unless a flip lets
+//! the state conserve momentum better) that minimise the momentum residual. The residual is
+//! stated as the velocity vehicle 2 would need to change to close it:
+//! `|m1 dV1 + m2 dV2| / m2`, m/s, in x and y.
+mod common;
+use common::*;
+use pim_fit::CostPreset;
+use std::collections::HashMap;
+
+/// The printed errors of one cost function: test -> (component index 0..12 -> error).
+fn printed(preset: CostPreset) -> HashMap<u32, Vec<(usize, f64)>> {
+    let file = match preset {
+        // The paper's Table 5 holds the contact components (Q1 by its equations), Table 4 the
+        // separation components (Q2); see the files' comments.
+        CostPreset::Q1 => "data/reference/vossou2018_table5.csv",
+        CostPreset::Q2 => "data/reference/vossou2018_table4.csv",
+        CostPreset::Q3 => "data/reference/vossou2018_table6.csv",
+    };
+    let names = [
+        "vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2", "vf1x", "vf1y", "wf1", "vf2x", "vf2y", "wf2",
+    ];
+    read_reference(file)
+        .iter()
+        .map(|r| {
+            let errors = names
+                .iter()
+                .enumerate()
+                .filter(|(_, n)| r.0.contains_key(**n))
+                .map(|(k, n)| (k, r.num(n)))
+                .collect();
+            (r.num("test") as u32, errors)
+        })
+        .collect()
+}
+
+/// The twelve measured components of a test.
+fn measured(t: &pim_data::ricsac::RicsacTest) -> [f64; 12] {
+    let (a, b) = (t.initial().to_vector(), t.separation().to_vector());
+    std::array::from_fn(|k| if k < 6 { a[k] } else { b[k - 6] })
+}
+
+/// The linear-momentum residual of a 12-vector (contact, separation) in x and y, as the change
+/// of vehicle 2's velocity that would close it, m/s.
+fn momentum_miss(t: &pim_data::ricsac::RicsacTest, u: &[f64; 12]) -> [f64; 2] {
+    let (m1, m2) = (t.mass1_kg, t.mass2_kg);
+    let p = |k1: usize, k2: usize| (m1 * (u[6 + k1] - u[k1]) + m2 * (u[6 + k2] - u[k2])) / m2;
+    [p(0, 3).abs(), p(1, 4).abs()]
+}
+
+/// The rebuilt state under one reading: `abs` reads the errors as `|fitted| - |measured|`
+/// (signs chosen to conserve momentum best), otherwise as `fitted - measured`.
+fn rebuild(
+    t: &pim_data::ricsac::RicsacTest,
+    errors: &[(usize, f64)],
+    abs: bool,
+) -> ([f64; 12], usize) {
+    let m = measured(t);
+    let mut base = m;
+    for &(k, d) in errors {
+        base[k] = if abs {
+            m[k].signum() * (m[k].abs() + d)
+        } else {
+            m[k] + d
+        };
+    }
+    if !abs {
+        return (base, 0);
+    }
+    // Flips of the linear components only (the yaw rates do not enter linear momentum).
+    let linear: Vec<usize> = errors
+        .iter()
+        .map(|&(k, _)| k)
+        .filter(|k| k % 3 != 2)
+        .collect();
+    let mut best = (base, 0usize, f64::INFINITY);
+    for mask in 0..(1u32 << linear.len()) {
+        let mut u = base;
+        for (i, &k) in linear.iter().enumerate() {
+            if mask & (1 << i) != 0 {
+                u[k] = -u[k];
+            }
+        }
+        let [x, y] = momentum_miss(t, &u);
+        let flips = mask.count_ones() as usize;
+        // A flip must buy a clearly better balance (1 cm/s) to be taken.
+        let score = x.max(y) + 0.01 * flips as f64;
+        if score < best.2 {
+            best = (u, flips, score);
+        }
+    }
+    (best.0, best.1)
+}
+
+/// e implied by a 12-vector: `-Vn / vn` at the impact centre.
+fn implied_e(t: &pim_data::ricsac::RicsacTest, u: &[f64; 12]) -> f64 {
+    let impact = t.impact().unwrap();
+    let row = pim_core::equations::normal_velocity_row(&impact);
+    let x = nalgebra::Vector6::from_column_slice(&u[..6]);
+    let y = nalgebra::Vector6::from_column_slice(&u[6..]);
+    -(row * y)[0] / (row * x)[0]
+}
+
+#[test]
+fn vossou_columns_are_differences_of_magnitudes() {
+    let tests = ricsac_tests();
+    let mut rows = Vec::new();
+    println!(
+        "test cost  printed rebuilt flips | momentum miss |u|-|m| (x, y) | fitted-measured | e"
+    );
+    for preset in CostPreset::ALL {
+        let table = printed(preset);
+        for t in &tests {
+            let Some(errors) = table.get(&t.test) else {
+                continue;
+            };
+            let printed_cost: f64 = errors.iter().map(|(_, d)| d * d).sum();
+            let (abs, flips) = rebuild(t, errors, true);
+            let (plain, _) = rebuild(t, errors, false);
+            let m = measured(t);
+            let rebuilt_cost: f64 = (0..12).map(|k| (abs[k] - m[k]).powi(2)).sum();
+            let miss_abs = momentum_miss(t, &abs);
+            let miss_plain = momentum_miss(t, &plain);
+            let e = implied_e(t, &abs);
+            println!(
+                "{:>4} {}  {:>7.2} {:>7.2} {:>5} | {:>6.3} {:>6.3} | {:>6.3} {:>6.3} | {:+.3}",
+                t.test,
+                preset.name(),
+                printed_cost,
+                rebuilt_cost,
+                flips,
+                miss_abs[0],
+                miss_abs[1],
+                miss_plain[0],
+                miss_plain[1],
+                e
+            );
+            rows.push((
+                t.test,
+                preset,
+                printed_cost,
+                rebuilt_cost,
+                miss_abs,
+                miss_plain,
+                e,
+            ));
+        }
+    }
+    let q2 = |test: u32| {
+        rows.iter()
+            .find(|r| r.0 == test && r.1 == CostPreset::Q2)
+            .unwrap()
+    };
+    // Read as |fitted| - |measured|, V18's Q2 velocities conserve momentum to 4 cm/s in tests
+    // 1, 3, 4, 6, 8 and 11 (measured: at most 0.034 m/s, test 1 in x); read as fitted -
+    // measured, they miss by metres per second. Test 10 misses y-momentum by 0.30 m/s under both
+    // readings with the data file's masses (1046 / 2141 kg): its fitted y-velocities need a mass
+    // ratio of 0.455 against 0.489; test 12 misses x by 0.50 m/s and test 7 x by 1.43 m/s (a mass
+    // ratio of about 1.41 against the data's 1.63): inputs V18 does not print.
+    for test in [1, 3, 4, 6, 8, 11] {
+        let r = q2(test);
+        assert!(r.4[0].max(r.4[1]) < 0.04, "test {test}: {:?}", r.4);
+    }
+    assert!((q2(10).4[1] - 0.298).abs() < 0.005, "{:?}", q2(10).4);
+    assert!((q2(12).4[0] - 0.497).abs() < 0.005, "{:?}", q2(12).4);
+    // Where a fitted component changes sign, the printed squares understate V18's cost: test
+    // 12 under Q1 prints 13.28, its rebuilt velocities cost 23.04.
+    let q1_12 = rows
+        .iter()
+        .find(|r| r.0 == 12 && r.1 == CostPreset::Q1)
+        .unwrap();
+    assert!(
+        (q1_12.2 - 13.28).abs() < 0.01 && (q1_12.3 - 23.04).abs() < 0.01,
+        "{q1_12:?}"
+    );
+    let worst_plain = rows
+        .iter()
+        .filter(|r| r.1 == CostPreset::Q2)
+        .map(|r| r.5[0].max(r.5[1]))
+        .fold(0.0, f64::max);
+    assert!(worst_plain > 5.0, "{worst_plain}");
+    // Test 11 under Q2 needs e slightly below 0: the vehicles still approach at separation.
+    assert!(q2(11).6 < 0.0 && q2(11).6 > -0.05, "{}", q2(11).6);
+}
