@@ -68,6 +68,7 @@ fn grouped_bars(
         .configure_mesh()
         .x_desc("RICSAC test")
         .y_desc(y_label)
+        .y_label_formatter(&|y| tick(*y))
         .x_labels(n)
         .x_label_formatter(&|x| {
             let i = x.round();
@@ -431,4 +432,16 @@ pub fn all(
     })?;
     figures.push(figure);
     Ok(figures)
+}
+
+/// An axis tick as a person writes it: at most four decimals, no trailing zeros, and never
+/// "-0" (a tick at -1e-17 is 0).
+fn tick(y: f64) -> String {
+    let s = format!("{y:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" || s.is_empty() {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
 }
