@@ -191,12 +191,20 @@ pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, String> {
             let (_, h) = right.dim_in_pixel();
             let plot_top = 8 + 22;
             let plot_h = h as i32 - plot_top - 8 - 30;
+            // Right-aligned against the bars, each on its bar's middle.
+            let (strip_w, _) = left.dim_in_pixel();
+            let style = TextStyle::from(("sans-serif", 12).into_font()).pos(
+                plotters::style::text_anchor::Pos::new(
+                    plotters::style::text_anchor::HPos::Right,
+                    plotters::style::text_anchor::VPos::Center,
+                ),
+            );
             for (i, (input, v)) in inputs.iter().enumerate() {
-                let y = plot_top + ((i as f64 + 0.4) / n as f64 * plot_h as f64) as i32;
+                let y = plot_top + ((i as f64 + 0.5) / n as f64 * plot_h as f64) as i32;
                 left.draw(&Text::new(
                     format!("{input} ({v:.2})"),
-                    (6, y),
-                    ("sans-serif", 12),
+                    (strip_w as i32 - 2, y),
+                    style.clone(),
                 ))
                 .map_err(err)?;
             }
