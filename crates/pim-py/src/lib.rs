@@ -431,6 +431,7 @@ fn draw(
 #[pymodule]
 fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("NoSolution", py.get_type::<NoSolution>())?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;

@@ -238,3 +238,7 @@ def test_records_frame_in_us_units_converts_the_suffixed_columns():
     assert abs(best["vehicle1_speed_initial_mph"].iloc[0] - 59.86) < 0.01
     with pytest.raises(pim.InputError, match="accepted"):
         pim.records_frame(fit, units="furlongs")
+
+
+def test_the_package_has_a_version():
+    assert pim.__version__ == "0.1.0"

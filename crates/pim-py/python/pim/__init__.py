@@ -39,6 +39,7 @@ field), :class:`NoSolution` when the model has no answer.
 """
 
 from ._pim import (  # noqa: F401
+    __version__,
     InputError,
     NoSolution,
     batch,
@@ -50,6 +51,7 @@ from ._pim import (  # noqa: F401
 )
 
 __all__ = [
+    "__version__",
     "InputError",
     "NoSolution",
     "batch",

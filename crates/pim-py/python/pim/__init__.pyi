@@ -3,6 +3,8 @@
 import os
 from typing import Any, Dict, List, Literal, Optional, Sequence, Union
 
+__version__: str
+
 Case = Union[str, "os.PathLike[str]", Dict[str, Any]]
 Cost = Literal["q1", "q2", "q3"]
 Branch = Literal["free", "zero"]
