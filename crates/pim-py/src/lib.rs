@@ -31,14 +31,39 @@ create_exception!(
 );
 
 fn input_error(message: impl Into<String>) -> PyErr {
-    InputError::new_err(message.into())
+    InputError::new_err(without_dict_lines(message.into()))
+}
+
+/// A dict case is read as TOML written from it, whose lines and columns mean nothing to the
+/// caller: `<dict>:2:8: vehicle1.mass: ...` is said `<dict>: vehicle1.mass: ...`.
+fn without_dict_lines(message: String) -> String {
+    const DICT: &str = "<dict>:";
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message.as_str();
+    while let Some(at) = rest.find(DICT) {
+        out.push_str(&rest[..at + DICT.len()]);
+        rest = &rest[at + DICT.len()..];
+        // `LINE:COL:` right after the name.
+        let digits = |s: &str| s.find(|c: char| !c.is_ascii_digit()).unwrap_or(s.len());
+        let (l, after) = rest.split_at(digits(rest));
+        if !l.is_empty() {
+            if let Some(after) = after.strip_prefix(':') {
+                let (c, after) = after.split_at(digits(after));
+                if !c.is_empty() && after.starts_with(':') {
+                    rest = &after[1..];
+                }
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 impl From<DocumentErrorPy> for PyErr {
     fn from(e: DocumentErrorPy) -> Self {
         match e.0 {
-            DocumentError::Input(m) => InputError::new_err(m),
-            DocumentError::NoAnswer(m) => NoSolution::new_err(m),
+            DocumentError::Input(m) => input_error(m),
+            DocumentError::NoAnswer(m) => NoSolution::new_err(without_dict_lines(m)),
         }
     }
 }

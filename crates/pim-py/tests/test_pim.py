@@ -242,3 +242,12 @@ def test_records_frame_in_us_units_converts_the_suffixed_columns():
 
 def test_the_package_has_a_version():
     assert pim.__version__ == "0.1.0"
+
+
+def test_a_dict_case_is_named_without_lines_of_a_text_the_caller_never_wrote():
+    case = tomllib.loads((REPO / R7_FIT).read_text())
+    case["vehicle1"]["mass"] = -5.0
+    with pytest.raises(pim.InputError) as err:
+        pim.fit(case, cost="q2")
+    message = str(err.value)
+    assert message.startswith("<dict>: vehicle1.mass: must be a number between 100 and 60000 kg")
