@@ -164,6 +164,14 @@ def test_records_frame_of_the_batch():
     r = next(x for x in records if x["test"] == 9 and x["cost_function"] == "q2" and x["best"])
     row = q2[q2.test == 9].iloc[0]
     assert row.e == r["e"] and row.delta_v_vehicle1_mps == r["delta_v"]["vehicle1"]
+    # Named velocity errors; no placeholder or twin columns.
+    assert row.velocity_error_vf1x_mps == r["velocity_error"][6]
+    assert row.velocity_error_wf2_radps == r["velocity_error"][11]
+    for gone in ["initial", "final", "vehicles", "impulse", "moment_branch",
+                 "vehicle1_delta_v_mps", "velocity_error_1"]:
+        assert gone not in frame.columns, gone
+    assert not [c for c in frame.columns if frame[c].isna().all() and c != "error"
+                and c not in ("delta_v_relative_error", "velocity_error")]
 
 
 def test_records_frame_without_pandas_says_how_to_get_it(monkeypatch):

@@ -64,7 +64,16 @@ __all__ = [
 ]
 
 
+# The twelve velocity components, in the order of the records' 12-element lists.
+_COMPONENTS = ["vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2",
+               "vf1x", "vf1y", "wf1", "vf2x", "vf2y", "wf2"]
+
+
 def _flatten(prefix, value, out):
+    if prefix == "velocity_error" and isinstance(value, list) and len(value) == 12:
+        for name, v in zip(_COMPONENTS, value):
+            out[f"velocity_error_{name}"] = v
+        return
     if isinstance(value, dict):
         for k, v in value.items():
             _flatten(f"{prefix}_{k}" if prefix else str(k), v, out)
@@ -82,6 +91,8 @@ def _flatten(prefix, value, out):
 # degrees, velocities m/s, yaw rates rad/s, energies J, impulses N s (moment: N m s).
 _UNIT_RULES = [
     (lambda n: n.endswith("_percent"), "pct"),
+    (lambda n: n.startswith("velocity_error_w"), "radps"),
+    (lambda n: n.startswith("velocity_error_v"), "mps"),
     (lambda n: n.endswith(("heading", "pdof", "_phi", "crush_angle")), "deg"),
     (lambda n: n.endswith(("omega", "yaw_rate_change")), "radps"),
     (lambda n: n.endswith(("_vx", "_vy", "speed_initial", "speed_final")), "mps"),
@@ -131,6 +142,10 @@ def records_frame(records, units="si"):
     column per element. Units: ``_mps`` m/s, ``_radps`` rad/s, ``_deg`` degrees, ``_j``
     joules, ``_ns`` newton seconds, ``_m`` metres, ``_pct`` percent.
 
+    Columns that repeat another (``moment_branch``) or only stand for a nested field absent
+    from every row are left out; the velocity errors are named by component
+    (``velocity_error_vf1x_mps``).
+
     ``units="us"`` converts those columns to mph (``_mph``), deg/s (``_degps``), ft lbf
     (``_ftlbf``), lbf s (``_lbfs``) and feet (``_ft``); ``units="kmh"`` speeds to km/h and yaw
     rates to deg/s. The documents themselves are always SI (their ``units`` says so).
@@ -169,4 +184,35 @@ def records_frame(records, units="si"):
                     v = v * factor
             row[name] = v
         rows.append(row)
-    return pd.DataFrame(rows)
+    frame = pd.DataFrame(rows)
+    return _without_placeholders_and_twins(frame)
+
+
+def _without_placeholders_and_twins(frame):
+    """Drops the columns that say nothing the others do not: a nested field absent from every
+    row (``initial`` of records whose others have ``initial_vehicle1_vx_mps``), and the
+    records' duplicates (``moment_branch`` beside ``moment``, ``vehicle1_delta_v_*`` beside
+    ``delta_v_vehicle1_*``) when equal in every row."""
+    drop = []
+    columns = list(frame.columns)
+    for c in columns:
+        if frame[c].isna().all():
+            base = c.rsplit("_", 1)[0] if c.rsplit("_", 1)[-1] in _SUFFIXES else c
+            # `vehicles` is flattened as vehicle1_*, vehicle2_*.
+            stem = "vehicle1" if base == "vehicles" else base
+            if any(o != c and o.startswith(stem + "_") for o in columns):
+                drop.append(c)
+    twins = [("moment_branch", "moment")]
+    for c in columns:
+        for k in ("1", "2"):
+            prefix = f"vehicle{k}_delta_v_"
+            if c.startswith(prefix) and c.count("_") == 3:
+                twins.append((c, f"delta_v_vehicle{k}_" + c[len(prefix):]))
+    for twin, kept in twins:
+        if twin in frame and kept in frame and frame[twin].equals(frame[kept]):
+            drop.append(twin)
+    return frame.drop(columns=sorted(set(drop)))
+
+
+_SUFFIXES = {"mps", "radps", "deg", "j", "ns", "nms", "m", "pct",
+             "mph", "kmh", "degps", "ftlbf", "lbfs", "lbfsft", "ft"}
