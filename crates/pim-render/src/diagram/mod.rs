@@ -161,22 +161,17 @@ impl Diagram {
         d
     }
 
-    /// The PDOF arrow of vehicle `k`: along the force, from outside the outline to its edge,
-    /// aimed at the CG.
+    /// The PDOF arrow of vehicle `k`, on its own body: along the force, from just inside the
+    /// outline on the side the force comes from, towards the CG (stopping short of it, where
+    /// the velocity arrows start).
     fn pdof_arrow(&self, k: usize) -> Option<([f64; 2], [f64; 2])> {
         let v = &self.vehicles[k];
         let (u, _, _) = v.pdof?;
         let back = rotate([-u[0], -u[1]], -v.heading);
-        let edge = v.outline.exit(back) + 0.05 * self.longest();
-        let len = 0.35 * self.longest();
-        // Beside the line through the CG, where the velocity arrows often lie.
-        let off = 0.06 * self.longest();
-        let side = [-u[1] * off, u[0] * off];
-        let end = [
-            v.cg[0] - edge * u[0] + side[0],
-            v.cg[1] - edge * u[1] + side[1],
-        ];
-        let start = [end[0] - len * u[0], end[1] - len * u[1]];
+        let edge = v.outline.exit(back);
+        let (a, b) = (0.9 * edge, 0.25 * edge);
+        let start = [v.cg[0] - a * u[0], v.cg[1] - a * u[1]];
+        let end = [v.cg[0] - b * u[0], v.cg[1] - b * u[1]];
         Some((start, end))
     }
 

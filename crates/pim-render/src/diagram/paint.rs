@@ -131,13 +131,16 @@ impl Diagram {
                 )?;
             }
             if let Some(p) = v.impulse {
-                draw_arrow(
-                    &mut chart,
-                    [0.0, 0.0],
-                    [si * p[0], si * p[1]],
-                    IMPULSE_COLOR,
-                    2,
-                )?;
+                // Each vehicle's impulse in its colour, labelled at its tip.
+                let tip = [si * p[0], si * p[1]];
+                draw_arrow(&mut chart, [0.0, 0.0], tip, color, 2)?;
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        format!("on vehicle {}", k + 1),
+                        (tip[0], tip[1]),
+                        ("sans-serif", 13).into_font().color(&color),
+                    )))
+                    .map_err(|e| err(&e))?;
             }
             if let Some((from, to)) = self.pdof_arrow(k) {
                 draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?;
@@ -311,7 +314,7 @@ impl Diagram {
         line("crush surface, n and t".into(), Some(SURFACE_COLOR), false)?;
         if si > 0.0 {
             line(
-                "impulse on each vehicle at C".into(),
+                "impulse at C, on vehicle 1 / on vehicle 2".into(),
                 Some(IMPULSE_COLOR),
                 false,
             )?;
