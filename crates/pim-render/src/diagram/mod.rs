@@ -107,6 +107,7 @@ impl Diagram {
                 cg: cgs[k],
                 contact: solved.as_ref().map(|s| v(s.initial)).or(contact.map(&v)),
                 separation: solved.as_ref().map(|s| v(s.separation)),
+                yaw_separation: solved.as_ref().map(|s| s.separation.vehicle(id).omega),
                 impulse: solved
                     .as_ref()
                     .map(|s| [sign * s.impulse[0], sign * s.impulse[1]]),

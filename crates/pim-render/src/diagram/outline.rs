@@ -82,6 +82,8 @@ pub struct DrawnVehicle {
     pub contact: Option<[f64; 2]>,
     /// CG velocity at separation, m/s.
     pub separation: Option<[f64; 2]>,
+    /// Yaw rate at separation, rad/s (counter-clockwise positive), when solved.
+    pub yaw_separation: Option<f64>,
     /// Impulse on this vehicle, N s.
     pub impulse: Option<[f64; 2]>,
     /// Delta-V direction (fixed frame, unit) with PDOF and clock, when solved.
@@ -117,6 +119,7 @@ pub(super) fn barrier_wall(impact: &Impact, vehicle1: &DrawnVehicle) -> DrawnVeh
         cg: [-towards[0] * thick / 2.0, -towards[1] * thick / 2.0],
         contact: None,
         separation: None,
+        yaw_separation: None,
         impulse: None,
         pdof: None,
         barrier: true,

@@ -142,6 +142,52 @@ impl Diagram {
                     )))
                     .map_err(|e| err(&e))?;
             }
+            // The yaw rate at separation: an arc about the CG in the sense of rotation, its
+            // arrowhead at the end, the rate beside it (a rate below 0.01 rad/s is not drawn).
+            if let Some(w) = v.yaw_separation.filter(|w| w.abs() >= 0.01) {
+                let r = 0.11 * l;
+                let sweep = 200f64.to_radians() * w.signum();
+                let a0 = (v.heading + 90.0).to_radians();
+                let pts: Vec<(f64, f64)> = (0..=24)
+                    .map(|i| {
+                        let a = a0 + sweep * i as f64 / 24.0;
+                        (v.cg[0] + r * a.cos(), v.cg[1] + r * a.sin())
+                    })
+                    .collect();
+                let n = pts.len();
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        pts[..n - 1].to_vec(),
+                        SEPARATION_COLORS[k].stroke_width(2),
+                    )))
+                    .map_err(|e| err(&e))?;
+                let (p, q) = (pts[n - 3], pts[n - 1]);
+                arrow(
+                    &mut chart,
+                    0.6 * head,
+                    [p.0, p.1],
+                    [q.0, q.1],
+                    SEPARATION_COLORS[k],
+                    2,
+                )?;
+                let shown = if self.frame == pim_core::Convention::Sae {
+                    -w
+                } else {
+                    w
+                };
+                let a = a0 + 0.5 * sweep;
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        format!(
+                            "{} {}",
+                            crate::tables::num(self.units.yaw_rate(shown), 2),
+                            self.units.yaw_rate_label()
+                        ),
+                        (v.cg[0] + 1.25 * r * a.cos(), v.cg[1] + 1.25 * r * a.sin()),
+                        ("sans-serif", 12).into_font().color(&SEPARATION_COLORS[k]),
+                    )))
+                    .map_err(|e| err(&e))?;
+            }
             if let Some((from, to)) = self.pdof_arrow(k) {
                 draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?;
                 chart
@@ -297,6 +343,18 @@ impl Diagram {
                     false,
                 )?;
             }
+            if let Some(w) = v.yaw_separation {
+                let shown = if sae { -w } else { w };
+                line(
+                    format!(
+                        "  separation yaw {} {} (arc)",
+                        crate::tables::num(u.yaw_rate(shown), 2),
+                        u.yaw_rate_label()
+                    ),
+                    Some(SEPARATION_COLORS[k]),
+                    false,
+                )?;
+            }
             if let Some((_, pdof, clock)) = v.pdof {
                 line(
                     format!(
@@ -347,6 +405,15 @@ impl Diagram {
                 "SAE frame (y right of x), C at the origin".into()
             } else {
                 "fixed frame, C at the origin".into()
+            },
+            None,
+            false,
+        )?;
+        line(
+            if sae {
+                "yaw rates clockwise +".into()
+            } else {
+                "yaw rates counter-clockwise +".into()
             },
             None,
             false,
