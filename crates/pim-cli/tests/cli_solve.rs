@@ -568,3 +568,52 @@ fn the_sensitivity_table_of_a_us_case_reads_in_mph() {
     .to_string();
     assert!(si.contains("e     low       0.0900 |     8.175"), "{si}");
 }
+
+#[test]
+fn every_diagram_key_stays_on_its_canvas() {
+    // Each example drawn (solved, fitted cases with their estimates): every text of the SVG
+    // starts inside the canvas, the key's last line included.
+    let mut n = 0;
+    for entry in std::fs::read_dir(repo().join("examples/cases")).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        let dir = scratch_dir("key_on_canvas", &p.file_stem().unwrap().to_string_lossy());
+        let svg_path = dir.join("d.svg");
+        pim_ok(&[
+            "draw",
+            &p.display().to_string(),
+            "-o",
+            &svg_path.display().to_string(),
+        ]);
+        let svg = std::fs::read_to_string(&svg_path).unwrap();
+        let attr = |tag: &str, name: &str| -> Vec<f64> {
+            svg.split(&format!("<{tag} "))
+                .skip(1)
+                .filter_map(|t| {
+                    let v = t.split(&format!(" {name}=\"")).nth(1)?;
+                    v.split('"').next()?.parse().ok()
+                })
+                .collect()
+        };
+        let height = attr("svg", "height")[0];
+        let width = attr("svg", "width")[0];
+        for y in attr("text", "y") {
+            assert!(
+                y > 0.0 && y + 6.0 < height,
+                "{}: text at y {y} of {height}",
+                p.display()
+            );
+        }
+        for x in attr("text", "x") {
+            assert!(
+                x >= 0.0 && x < width,
+                "{}: text at x {x} of {width}",
+                p.display()
+            );
+        }
+        n += 1;
+    }
+    assert!(n >= 13, "{n} examples");
+}

@@ -70,6 +70,22 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             contact.as_ref(),
             best.map(pim_render::diagram::Solved::of_fit),
         );
+        if let Some(b) = report.best_branch() {
+            d.subtitle = Some(match (report.model, b.solution.as_ref()) {
+                (pim_fit::FitModel::Tangential, Some(s)) => {
+                    format!("fit, cost {name}: tangential model, cost {:.4}", s.cost)
+                }
+                (_, Some(s)) => format!(
+                    "fit, cost {name}: best branch {} (e {:.3}, mu {:.3}, em {:.3}), cost {:.4}",
+                    b.moment.name(),
+                    s.e,
+                    s.mu,
+                    s.em,
+                    s.cost
+                ),
+                (_, None) => format!("fit, cost {name}: no admissible branch"),
+            });
+        }
         // The bounds the drawn (best) answer rests on, in the key.
         for b in branch_records
             .iter()

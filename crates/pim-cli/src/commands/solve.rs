@@ -43,12 +43,20 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     }
     if let Some(dir) = &a.out {
         let contact = pim_render::diagram::estimated_contact(&case);
-        let d = pim_render::diagram::diagram(
+        let mut d = pim_render::diagram::diagram(
             &case,
             &impact,
             contact.as_ref(),
             Some(pim_render::diagram::Solved::of_report(&report)),
         );
+        let c = &report.coefficients;
+        d.subtitle = Some(format!(
+            "solved {}: e {}, mu {}, em {}",
+            if forward { "forwards" } else { "backwards" },
+            c.e,
+            c.mu,
+            c.em
+        ));
         let md = markdown::solve(&title_of(&case), shown, forward, units, frame);
         super::write_result_dir(dir, &record, &md, &d)?;
     }

@@ -37,6 +37,9 @@ pub struct Diagram {
     /// The frame the labels speak in: natural, or SAE's (the same picture, with y to the right
     /// of x and headings clockwise).
     pub frame: Convention,
+    /// What the drawing shows, under the title: a solve (its coefficients), a fit (its cost
+    /// function, branch and cost) or the case alone.
+    pub subtitle: Option<String>,
     /// Lines the key shows under the title (e.g. the bounds a fitted answer rests on).
     pub notes: Vec<String>,
 }
@@ -136,6 +139,7 @@ impl Diagram {
             normal: impact.normal(),
             units: UnitSystem::Si,
             frame: Convention::Natural,
+            subtitle: None,
             notes: Vec::new(),
         }
     }

@@ -26,7 +26,12 @@ impl Diagram {
         let margin_bottom = 45u32;
         let key_w = 350u32;
         let width = plot_w as u32 + margin_left + 20 + key_w;
-        let height = (plot_h as u32 + margin_bottom + 40).max(560);
+        // Tall enough for the key, whatever the plot's shape.
+        let mut probe = Key { area: None, y: 30 };
+        self.key(&mut probe, self.velocity_scale(), self.impulse_scale())?;
+        let height = (plot_h as u32 + margin_bottom + 40)
+            .max(560)
+            .max(probe.y as u32 + 20);
         let root = SVGBackend::with_string(buf, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let (plot_area, key_area) = root.split_horizontally(width - key_w);
@@ -268,17 +273,32 @@ impl Diagram {
             )))
             .map_err(|e| err(&e))?;
 
-        // The key.
-        let u = units;
-        let u_speed = |v: f64| u.speed(v);
+        // The key, beside the plot.
         let mut key = Key {
-            area: &key_area,
+            area: Some(&key_area),
             y: 30,
         };
+        self.key(&mut key, sv, si)?;
+        root.present().map_err(|e| err(&e))?;
+        Ok(())
+    }
+
+    /// Writes the key's lines (or, with a key without an area, only measures them).
+    fn key(&self, key: &mut Key, sv: f64, si: f64) -> Result<(), String> {
+        let u = self.units;
+        let units = u;
+        let len = units.length_label();
+        let sae = self.frame == pim_core::Convention::Sae;
+        let u_speed = |v: f64| u.speed(v);
         let mut line =
             |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
         for (i, part) in wrap(&self.title, 36).into_iter().enumerate() {
             line(part, None, i == 0)?;
+        }
+        if let Some(sub) = &self.subtitle {
+            for part in wrap(sub, 40) {
+                line(part, None, false)?;
+            }
         }
         for note in &self.notes {
             for part in wrap(note, 40) {
@@ -420,7 +440,6 @@ impl Diagram {
         )?;
         line("outlines undeformed: they overlap".into(), None, false)?;
         line("by about the crush at contact".into(), None, false)?;
-        root.present().map_err(|e| err(&e))?;
         Ok(())
     }
 }
@@ -470,7 +489,8 @@ fn arrow(
 
 /// The key beside the plot: one line per element, with its colour.
 struct Key<'a, 'b> {
-    area: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    /// Where to draw; `None` measures only.
+    area: Option<&'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>>,
     y: i32,
 }
 
@@ -482,21 +502,23 @@ impl Key<'_, '_> {
             self.y += 8;
             return Ok(());
         }
+        let Some(area) = self.area else {
+            self.y += 20;
+            return Ok(());
+        };
         if let Some(c) = color {
-            self.area
-                .draw(&PathElement::new(
-                    vec![(x, y + 7), (x + 26, y + 7)],
-                    c.stroke_width(3),
-                ))
-                .map_err(|e| e.to_string())?;
+            area.draw(&PathElement::new(
+                vec![(x, y + 7), (x + 26, y + 7)],
+                c.stroke_width(3),
+            ))
+            .map_err(|e| e.to_string())?;
         }
         let f = if bold {
             ("sans-serif", 15).into_font().style(FontStyle::Bold)
         } else {
             ("sans-serif", 14).into_font()
         };
-        self.area
-            .draw(&Text::new(text, (x + 34, y), f))
+        area.draw(&Text::new(text, (x + 34, y), f))
             .map_err(|e| e.to_string())?;
         self.y += 20;
         Ok(())
