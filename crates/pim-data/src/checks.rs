@@ -3,52 +3,49 @@
 
 use crate::case::{finite, Case};
 use crate::error::Result;
+use crate::ranges::{Range, ANGLE, DISTANCE, MASS, SPEED, YAW_INERTIA, YAW_RATE};
 use crate::sections::AT_REST;
 
 impl Case {
-    pub(crate) fn check_states(&self) -> Result<()> {
-        // Every velocity the case gives is a number (its range is checked in SI, see
-        // `check_ranges`).
-        let mut given: Vec<(String, f64)> = Vec::new();
-        for (name, s) in [
-            ("initial", &self.content.initial),
-            ("final", &self.content.final_),
-        ] {
-            if let Some(s) = s {
-                let vehicle2 = s.vehicle2.unwrap_or(AT_REST);
-                for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", vehicle2)] {
-                    for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
-                        given.push((format!("{name}.{veh}.{field}"), x));
-                    }
+    /// Every velocity component the case gives (its states, estimates and known components)
+    /// and every observation value, with its path and its physical range.
+    fn velocities(&self) -> Vec<(String, f64, Range)> {
+        let c = &self.content;
+        let range = |field: &str| if field == "omega" { YAW_RATE } else { SPEED };
+        let mut out = Vec::new();
+        for (name, s) in [("initial", &c.initial), ("final", &c.final_)] {
+            let Some(s) = s else { continue };
+            let vehicle2 = s.vehicle2.unwrap_or(AT_REST);
+            for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", vehicle2)] {
+                for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
+                    out.push((format!("{name}.{veh}.{field}"), x, range(field)));
                 }
             }
         }
-        for (name, s) in [
-            ("estimates", &self.content.estimates),
-            ("known", &self.content.known),
-        ] {
+        for (name, s) in [("estimates", &c.estimates), ("known", &c.known)] {
             let Some(s) = s else { continue };
             for (state, st) in [("initial", &s.initial), ("final", &s.final_)] {
                 let Some(st) = st else { continue };
                 for (veh, v) in [("vehicle1", st.vehicle1), ("vehicle2", st.vehicle2)] {
                     for (field, x) in [("vx", v.vx), ("vy", v.vy), ("omega", v.omega)] {
                         if let Some(x) = x {
-                            given.push((format!("{name}.{state}.{veh}.{field}"), x));
+                            out.push((format!("{name}.{state}.{veh}.{field}"), x, range(field)));
                         }
                     }
                 }
             }
         }
-        for (path, x) in given {
-            finite(&self.file, &self.source, &path, x)?;
+        for (i, o) in c.observations.iter().enumerate() {
+            out.push((format!("observations[{i}].value"), o.value, SPEED));
         }
-        for (i, o) in self.content.observations.iter().enumerate() {
-            finite(
-                &self.file,
-                &self.source,
-                &format!("observations[{i}].value"),
-                o.value,
-            )?;
+        out
+    }
+
+    /// Every velocity the case gives is a number (its range is checked in SI, see
+    /// `check_ranges`).
+    pub(crate) fn check_states(&self) -> Result<()> {
+        for (path, x, _) in self.velocities() {
+            finite(&self.file, &self.source, &path, x)?;
         }
         Ok(())
     }
@@ -57,9 +54,8 @@ impl Case {
     /// [`crate::ranges`]): masses, yaw inertias, headings, impact centres, the crush angle and
     /// every velocity and observation.
     pub(crate) fn check_ranges(&self) -> Result<()> {
-        use crate::ranges::{ANGLE, DISTANCE, MASS, SPEED, YAW_INERTIA, YAW_RATE};
         let c = &self.content;
-        let mut checks: Vec<(String, f64, crate::ranges::Range)> = Vec::new();
+        let mut checks: Vec<(String, f64, Range)> = Vec::new();
         for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
             if v.barrier {
                 continue;
@@ -75,35 +71,7 @@ impl Case {
             }
         }
         checks.push(("impact.crush_angle".into(), c.impact.crush_angle, ANGLE));
-        for (name, s) in [("initial", &c.initial), ("final", &c.final_)] {
-            let Some(s) = s else { continue };
-            let vehicle2 = s.vehicle2.unwrap_or(AT_REST);
-            for (veh, v) in [("vehicle1", s.vehicle1), ("vehicle2", vehicle2)] {
-                checks.push((format!("{name}.{veh}.vx"), v.vx, SPEED));
-                checks.push((format!("{name}.{veh}.vy"), v.vy, SPEED));
-                checks.push((format!("{name}.{veh}.omega"), v.omega, YAW_RATE));
-            }
-        }
-        for (name, s) in [("estimates", &c.estimates), ("known", &c.known)] {
-            let Some(s) = s else { continue };
-            for (state, st) in [("initial", &s.initial), ("final", &s.final_)] {
-                let Some(st) = st else { continue };
-                for (veh, v) in [("vehicle1", st.vehicle1), ("vehicle2", st.vehicle2)] {
-                    for (field, x, range) in [
-                        ("vx", v.vx, SPEED),
-                        ("vy", v.vy, SPEED),
-                        ("omega", v.omega, YAW_RATE),
-                    ] {
-                        if let Some(x) = x {
-                            checks.push((format!("{name}.{state}.{veh}.{field}"), x, range));
-                        }
-                    }
-                }
-            }
-        }
-        for (i, o) in c.observations.iter().enumerate() {
-            checks.push((format!("observations[{i}].value"), o.value, SPEED));
-        }
+        checks.extend(self.velocities());
         for (path, x, range) in checks {
             range.check(x).map_err(|why| {
                 let si = if matches!(range.unit, "deg") {

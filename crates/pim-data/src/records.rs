@@ -320,6 +320,50 @@ pub enum BoundSource {
     Default,
 }
 
+impl BoundSource {
+    /// `Case` when the case sets the bound itself, else `Default`.
+    pub fn of(set_by_case: bool) -> Self {
+        if set_by_case {
+            BoundSource::Case
+        } else {
+            BoundSource::Default
+        }
+    }
+}
+
+/// The search bounds a fitted branch rests on: its active constraints that are search bounds
+/// under `settings`, and the geometry estimates that lie on their bounds (always the case's
+/// own). `set_by_case` says which bounds the case itself sets.
+pub fn bounds_reached(
+    b: &pim_fit::BranchReport,
+    settings: &pim_fit::FitSettings,
+    set_by_case: &dyn Fn(pim_fit::SearchBound) -> bool,
+) -> Vec<BoundReached> {
+    let mut out = Vec::new();
+    for a in b.solution.iter().flat_map(|s| &s.active_constraints) {
+        if let Some((bound, limit)) = a.search_bound(settings) {
+            out.push(BoundReached {
+                bound: bound.name().to_string(),
+                limit,
+                at: a.short(),
+                source: BoundSource::of(set_by_case(bound)),
+            });
+        }
+    }
+    for r in b.geometry.iter().flat_map(|g| &g.ranges) {
+        if r.at_bound {
+            let lower = (r.value - r.bounds[0]).abs() <= (r.value - r.bounds[1]).abs();
+            out.push(BoundReached {
+                bound: r.input.clone(),
+                limit: if lower { r.bounds[0] } else { r.bounds[1] },
+                at: r.input.clone(),
+                source: BoundSource::Case,
+            });
+        }
+    }
+    out
+}
+
 /// A search bound a fitted answer rests on.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BoundReached {
@@ -384,43 +428,14 @@ impl BranchRecord {
         }
     }
 
-    /// Adds the search bounds the branch's answer rests on: the active constraints that are
-    /// search bounds under `settings`, and the geometry estimates that lie on their bounds
-    /// (always the case's own). `set_by_case` says which bounds the case itself sets.
+    /// Adds the search bounds the branch's answer rests on (see [`bounds_reached`]).
     pub fn with_bounds(
         mut self,
         b: &pim_fit::BranchReport,
         settings: &pim_fit::FitSettings,
         set_by_case: &dyn Fn(pim_fit::SearchBound) -> bool,
     ) -> Self {
-        let source = |set: bool| {
-            if set {
-                BoundSource::Case
-            } else {
-                BoundSource::Default
-            }
-        };
-        for a in &self.active_constraints {
-            if let Some((bound, limit)) = a.search_bound(settings) {
-                self.bounds_reached.push(BoundReached {
-                    bound: bound.name().to_string(),
-                    limit,
-                    at: a.short(),
-                    source: source(set_by_case(bound)),
-                });
-            }
-        }
-        for r in b.geometry.iter().flat_map(|g| &g.ranges) {
-            if r.at_bound {
-                let lower = (r.value - r.bounds[0]).abs() <= (r.value - r.bounds[1]).abs();
-                self.bounds_reached.push(BoundReached {
-                    bound: r.input.clone(),
-                    limit: if lower { r.bounds[0] } else { r.bounds[1] },
-                    at: r.input.clone(),
-                    source: BoundSource::Case,
-                });
-            }
-        }
+        self.bounds_reached = bounds_reached(b, settings, set_by_case);
         self
     }
 

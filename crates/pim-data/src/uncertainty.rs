@@ -421,11 +421,7 @@ pub fn run(
     let set_by_case = |b| fitcase::sets_bound(case, b);
     let nominal_bounds = report
         .best_branch()
-        .map(|b| {
-            crate::records::BranchRecord::new(b)
-                .with_bounds(b, settings.get(), &set_by_case)
-                .bounds_reached
-        })
+        .map(|b| crate::records::bounds_reached(b, settings.get(), &set_by_case))
         .unwrap_or_default();
     let mut undetermined = [false; 8];
     if let Some(b) = report.best_branch() {
@@ -495,13 +491,7 @@ pub fn run(
         })
         .filter(|(_, share)| *share > 0.0)
         .collect();
-    let source = |b| {
-        if set_by_case(b) {
-            crate::records::BoundSource::Case
-        } else {
-            crate::records::BoundSource::Default
-        }
-    };
+    let source = |b| crate::records::BoundSource::of(set_by_case(b));
     let mut quantities = BTreeMap::new();
     let mut sensitivity = Vec::new();
     for (q, name) in QUANTITIES.iter().enumerate() {
