@@ -46,10 +46,17 @@ pub fn checked_impact(case: &Case) -> Result<(pim_core::Impact, usize), Failure>
 }
 
 /// The exit status of a command that produced its answer: 0, or under `--strict` 1 when
-/// there were warnings or the answer rests on a bound no one set (`why` lists those, and is
-/// printed).
-pub fn strict_status(strict: bool, why: &[String]) -> std::process::ExitCode {
+/// the case drew plausibility warnings (`warnings`) or for any other reason in `why` (an
+/// answer on a bound no one set); the reasons are printed.
+pub fn strict_status(
+    strict: bool,
+    warnings: usize,
+    mut why: Vec<String>,
+) -> std::process::ExitCode {
     use crate::error::{EXIT_OK, EXIT_STRICT};
+    if warnings > 0 {
+        why.insert(0, format!("{warnings} plausibility warning(s)"));
+    }
     if strict && !why.is_empty() {
         eprintln!("pim: --strict: {}", why.join("; "));
         return std::process::ExitCode::from(EXIT_STRICT);

@@ -32,6 +32,9 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         .map_err(Failure::from)?;
     let record = json(&document)?;
     let branch_records = &document.branches;
+    let best_record = branch_records
+        .iter()
+        .find(|r| Some(r.moment) == report.best);
     let units = a.units.map_or_else(
         || pim_data::units::UnitSystem::of(&case.written_units),
         Into::into,
@@ -87,11 +90,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             });
         }
         // The bounds the drawn (best) answer rests on, in the key.
-        for b in branch_records
-            .iter()
-            .filter(|r| Some(r.moment) == report.best)
-            .flat_map(|r| &r.bounds_reached)
-        {
+        for b in best_record.iter().flat_map(|r| &r.bounds_reached) {
             d.notes.push(format!(
                 "rests on [bounds] {} ({}, {})",
                 b.bound,
@@ -151,17 +150,10 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         return Ok(ExitCode::from(EXIT_NO_ANSWER));
     }
     let mut why = Vec::new();
-    if warnings > 0 {
-        why.push(format!("{warnings} plausibility warning(s)"));
-    }
-    if branch_records
-        .iter()
-        .filter(|r| Some(r.moment) == report.best)
-        .any(|r| r.rests_on_default_bound())
-    {
+    if best_record.is_some_and(|r| r.rests_on_default_bound()) {
         why.push(
             "the best branch rests on a default bound (set it in [bounds] to choose it)".into(),
         );
     }
-    Ok(crate::inputs::strict_status(a.strict, &why))
+    Ok(crate::inputs::strict_status(a.strict, warnings, why))
 }

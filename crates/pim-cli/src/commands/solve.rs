@@ -64,16 +64,7 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &table,
     })?;
-    Ok(crate::inputs::strict_status(a.strict, &warned(warnings)))
-}
-
-/// The `--strict` reasons of a solve.
-fn warned(warnings: usize) -> Vec<String> {
-    if warnings == 0 {
-        Vec::new()
-    } else {
-        vec![format!("{warnings} plausibility warning(s)")]
-    }
+    Ok(crate::inputs::strict_status(a.strict, warnings, Vec::new()))
 }
 
 /// `pim sensitivity`.
@@ -110,5 +101,5 @@ pub fn sensitivity(a: &SolveArgs, percent: f64) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &table,
     })?;
-    Ok(crate::inputs::strict_status(a.strict, &warned(warnings)))
+    Ok(crate::inputs::strict_status(a.strict, warnings, Vec::new()))
 }

@@ -170,9 +170,6 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         Format::Table => &text,
     })?;
     let mut why = Vec::new();
-    if warnings > 0 {
-        why.push(format!("{warnings} plausibility warning(s)"));
-    }
     let ended: Vec<&str> = QUANTITIES
         .iter()
         .filter(|q| {
@@ -195,5 +192,5 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     {
         why.push("the nominal fit rests on a default bound".into());
     }
-    Ok(crate::inputs::strict_status(a.strict, &why))
+    Ok(crate::inputs::strict_status(a.strict, warnings, why))
 }

@@ -28,7 +28,8 @@ impl Diagram {
         let width = plot_w as u32 + margin_left + 20 + key_w;
         // Tall enough for the key, whatever the plot's shape.
         let mut probe = Key { area: None, y: 30 };
-        self.key(&mut probe, self.velocity_scale(), self.impulse_scale())?;
+        let (sv, si) = (self.velocity_scale(), self.impulse_scale());
+        self.key(&mut probe, sv, si)?;
         let height = (plot_h as u32 + margin_bottom + 40)
             .max(560)
             .max(probe.y as u32 + 20);
@@ -111,8 +112,6 @@ impl Diagram {
                 )))
                 .map_err(|e| err(&e))?;
         }
-        let sv = self.velocity_scale();
-        let si = self.impulse_scale();
         let l = self.longest();
         for (k, v) in self.vehicles.iter().enumerate() {
             let color = VEHICLE_COLORS[k];
