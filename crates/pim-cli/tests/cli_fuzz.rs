@@ -10,7 +10,11 @@
 //! Each failing input is written to `target/tmp/cli_fuzz/failures/` (add it to
 //! `tests/fuzz-corpus/`, which is replayed through the command first, every run).
 mod common;
+// The mutations of the parsers' fuzz tests.
+#[path = "../../pim-data/tests/mutate/mod.rs"]
+mod mutate;
 use common::*;
+use mutate::{hostile_number, replace_number};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -18,50 +22,6 @@ use serde_json::Value;
 
 /// Time limit of one run of the command, s.
 const RUN_LIMIT: u64 = 20;
-
-fn hostile_number() -> impl Strategy<Value = String> {
-    prop_oneof![
-        Just("nan".to_string()),
-        Just("inf".to_string()),
-        Just("-inf".to_string()),
-        Just("1e308".to_string()),
-        Just("-1e308".to_string()),
-        Just("5e-324".to_string()),
-        Just("0.0".to_string()),
-        Just("-0.0".to_string()),
-        Just("1e-300".to_string()),
-        Just("99999999999999999999".to_string()),
-        Just("\"12\"".to_string()),
-        Just("[1.0, 2.0, 3.0]".to_string()),
-        Just("{ uniform = [-1e308, 1e308] }".to_string()),
-        Just("".to_string()),
-        (-1e4..1e4f64).prop_map(|v| format!("{v:?}")),
-        (-100.0..100.0f64).prop_map(|v| format!("{v:?}")),
-    ]
-}
-
-/// Byte ranges of the numbers of a text.
-fn numbers(text: &str) -> Vec<(usize, usize)> {
-    let b = text.as_bytes();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < b.len() {
-        if (b[i].is_ascii_digit() || b[i] == b'-') && (i == 0 || !b[i - 1].is_ascii_alphanumeric())
-        {
-            let start = i;
-            i += 1;
-            while i < b.len()
-                && (b[i].is_ascii_digit() || b[i] == b'.' || b[i] == b'e' || b[i] == b'-')
-            {
-                i += 1;
-            }
-            out.push((start, i));
-        } else {
-            i += 1;
-        }
-    }
-    out
-}
 
 /// One edit of a case text.
 #[derive(Debug, Clone)]
@@ -73,14 +33,7 @@ enum Edit {
 
 fn apply(text: &str, edit: &Edit) -> String {
     match edit {
-        Edit::Number(k, new) => {
-            let n = numbers(text);
-            if n.is_empty() {
-                return text.to_string();
-            }
-            let (a, b) = n[k % n.len()];
-            format!("{}{}{}", &text[..a], new, &text[b..])
-        }
+        Edit::Number(k, new) => replace_number(text, *k, new),
         Edit::DropLine(k) | Edit::DoubleLine(k) => {
             let mut lines: Vec<&str> = text.lines().collect();
             if lines.is_empty() {

@@ -4,6 +4,8 @@
 use pim_core::*;
 use pim_data::case::Case;
 use pim_data::{fitcase, ricsac};
+mod mutate;
+use mutate::{hostile_number, replace_number};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use std::path::Path;
@@ -78,56 +80,6 @@ fn exercise_case(text: &str) {
             }
         }
     }
-}
-
-fn hostile_number() -> impl Strategy<Value = String> {
-    prop_oneof![
-        Just("nan".to_string()),
-        Just("inf".to_string()),
-        Just("-inf".to_string()),
-        Just("1e308".to_string()),
-        Just("-1e308".to_string()),
-        Just("5e-324".to_string()),
-        Just("0.0".to_string()),
-        Just("-0.0".to_string()),
-        Just("\"12\"".to_string()),
-        Just("[1.0, 2.0]".to_string()),
-        Just("{ a = 1 }".to_string()),
-        Just("".to_string()),
-        (-1e4..1e4f64).prop_map(|v| format!("{v:?}")),
-        any::<i64>().prop_map(|v| v.to_string()),
-    ]
-}
-
-/// Replaces the `k`-th number of a text by `new`.
-fn replace_number(text: &str, k: usize, new: &str) -> String {
-    let re_positions: Vec<(usize, usize)> = {
-        let b = text.as_bytes();
-        let mut out = Vec::new();
-        let mut i = 0;
-        while i < b.len() {
-            if (b[i].is_ascii_digit() || b[i] == b'-')
-                && (i == 0 || !b[i - 1].is_ascii_alphanumeric())
-            {
-                let start = i;
-                i += 1;
-                while i < b.len()
-                    && (b[i].is_ascii_digit() || b[i] == b'.' || b[i] == b'e' || b[i] == b'-')
-                {
-                    i += 1;
-                }
-                out.push((start, i));
-            } else {
-                i += 1;
-            }
-        }
-        out
-    };
-    if re_positions.is_empty() {
-        return text.to_string();
-    }
-    let (a, b) = re_positions[k % re_positions.len()];
-    format!("{}{}{}", &text[..a], new, &text[b..])
 }
 
 #[test]
