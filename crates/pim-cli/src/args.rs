@@ -231,13 +231,13 @@ pub struct UncertaintyArgs {
     #[arg(long, value_parser = cost())]
     pub cost: Option<CostPreset>,
     /// Number of draws (1 to 1,000,000).
-    #[arg(long, default_value_t = 200, value_parser = draws)]
+    #[arg(long, default_value_t = 200, value_parser = draws, allow_negative_numbers = true)]
     pub draws: usize,
     /// Seed of the random streams.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Worker threads (default: all cores; at most 256).
-    #[arg(long, value_parser = threads)]
+    #[arg(long, value_parser = threads, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
@@ -264,7 +264,7 @@ pub struct PredictArgs {
     #[arg(default_value = "data/ricsac.csv")]
     pub data: PathBuf,
     /// Restitution used in eq. 17 (Brach: 0 unless known).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub e: f64,
     /// Units of the table (default SI; a data file has no [units]). JSON is always SI.
     #[arg(long, value_enum)]
@@ -292,7 +292,7 @@ pub enum Command {
         #[command(flatten)]
         solve: SolveArgs,
         /// The variation P in percent (0 <= P < 100).
-        #[arg(long, default_value_t = 10.0)]
+        #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
         percent: f64,
     },
     /// Fit e, mu, em and the twelve velocities to estimates and observations (weighted least
@@ -408,12 +408,12 @@ pub struct BatchArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Worker threads (default: all cores; at most 256).
-    #[arg(long, value_parser = threads)]
+    #[arg(long, value_parser = threads, allow_negative_numbers = true)]
     pub threads: Option<usize>,
     /// Upper bound of e (data file: default 0.2, Brach's and V18's setting; Brach 1984 needed
     /// up to 0.42. Case files: for those whose [bounds] do not set e, else e's physical range
     /// [0, 1]).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub e_max: Option<f64>,
     /// Form of the moment equation (6).
     #[arg(long, value_parser = moment_form(), default_value = "corrected")]
@@ -426,10 +426,10 @@ pub struct BatchArgs {
     pub strict: bool,
     /// Case files only: add the 90 % intervals of `pim uncertainty` (this many draws) to the
     /// best record of each file and cost function (the case needs [sigma] and/or [uncertainty]).
-    #[arg(long, default_value_t = 0, value_parser = batch_draws)]
+    #[arg(long, default_value_t = 0, value_parser = batch_draws, allow_negative_numbers = true)]
     pub draws: usize,
     /// Seed of the draws (with --draws).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Data file only, with --draws: a TOML file of standard deviations applied to every test
     /// ([units], [sigma.initial], [sigma.final], [uncertainty]; see below).

@@ -372,3 +372,18 @@ fn a_full_disk_is_an_output_error_naming_the_file() {
     assert_eq!(status.status.code(), Some(4));
     assert!(stderr(&status).contains("cannot write to stdout: No space left on device"));
 }
+
+#[test]
+fn negative_numbers_for_flags_reach_their_check() {
+    // A negative value is the flag's value, refused by its own check in the one message form,
+    // not taken for an unknown flag.
+    let case = "examples/cases/oblique_sae_us.toml";
+    refused(
+        &["uncertainty", case, "--draws", "-5"],
+        &["pim: --draws: \"-5\" is not a whole number; --draws takes 1 to 1000000"],
+    );
+    refused(&["uncertainty", case, "--seed", "-1"], &["pim: --seed: \"-1\""]);
+    refused(&["batch", "--threads", "-2"], &["pim: --threads: \"-2\""]);
+    refused(&["predict-dv", "--e", "-0.5"], &["--e -0.5: must be in [0, 1]"]);
+    refused(&["batch", "--e-max", "-1"], &["pim: --e-max -1"]);
+}
