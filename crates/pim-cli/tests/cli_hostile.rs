@@ -382,8 +382,14 @@ fn negative_numbers_for_flags_reach_their_check() {
         &["uncertainty", case, "--draws", "-5"],
         &["pim: --draws: \"-5\" is not a whole number; --draws takes 1 to 1000000"],
     );
-    refused(&["uncertainty", case, "--seed", "-1"], &["pim: --seed: \"-1\""]);
+    refused(
+        &["uncertainty", case, "--seed", "-1"],
+        &["pim: --seed: \"-1\""],
+    );
     refused(&["batch", "--threads", "-2"], &["pim: --threads: \"-2\""]);
-    refused(&["predict-dv", "--e", "-0.5"], &["--e -0.5: must be in [0, 1]"]);
+    refused(
+        &["predict-dv", "--e", "-0.5"],
+        &["--e -0.5: must be in [0, 1]"],
+    );
     refused(&["batch", "--e-max", "-1"], &["pim: --e-max -1"]);
 }
