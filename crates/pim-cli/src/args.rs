@@ -259,6 +259,47 @@ pub struct UncertaintyArgs {
 }
 
 #[derive(clap::Args, Debug)]
+pub struct ReportArgs {
+    /// The case file (TOML): a fit case (estimates, known values, observations) is fitted, a
+    /// solve case ([coefficients] and [initial] or [final]) is solved.
+    pub case: PathBuf,
+    /// Cost function of a fit; without it the case's [known] and [estimates] define the
+    /// problem.
+    #[arg(long, value_parser = cost())]
+    pub cost: Option<CostPreset>,
+    /// The model fitted (the uncertainty study runs for `pim` only).
+    #[arg(long, value_parser = model(), default_value = "pim")]
+    pub model: FitModel,
+    /// Refits of the uncertainty study that gives the answer's ranges (0: none; default 200
+    /// when the case gives [sigma] or [uncertainty], else 0).
+    #[arg(long, value_parser = batch_draws, allow_negative_numbers = true)]
+    pub draws: Option<usize>,
+    /// Seed of the study's random streams.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
+    pub seed: u64,
+    /// Worker threads of the study (default: all cores; at most 256).
+    #[arg(long, value_parser = threads, allow_negative_numbers = true)]
+    pub threads: Option<usize>,
+    /// Units of the report (default: the case's [units], by its speed unit).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
+    /// Write the HTML report to this file (default: stdout).
+    #[arg(long, short = 'o', conflicts_with = "out")]
+    pub output: Option<PathBuf>,
+    /// Write the whole report into this directory instead: report.html, report.md beside its
+    /// figures (diagram.svg, momentum.svg and the study's), result.json and uncertainty.json.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Report the solve ([coefficients] and [initial] or [final]) of a case that also holds a
+    /// fit.
+    #[arg(long, conflicts_with_all = ["cost", "draws"])]
+    pub solve: bool,
+    /// Exit with status 1 (after the output) when the case draws a plausibility warning.
+    #[arg(long)]
+    pub strict: bool,
+}
+
+#[derive(clap::Args, Debug)]
 pub struct PredictArgs {
     /// The data file.
     #[arg(default_value = "data/ricsac.csv")]
@@ -312,6 +353,13 @@ pub enum Command {
     /// dominate each quantity. Bit-identical for any --threads.
     #[command(after_help = UNCERTAINTY_HELP)]
     Uncertainty(UncertaintyArgs),
+    /// One self-contained document for a crash, HTML with its figures inline (prints to PDF
+    /// from any browser), or with --out a folder with Markdown beside the figures: the inputs
+    /// as given, the method, the answer with its ranges, each value given against the fit,
+    /// the fit statistics, what the data do not determine, every warning, the plan view and
+    /// the momentum diagram.
+    #[command(after_help = format!("{CASE_HELP}\n\n{EXIT_CODES_HELP}"))]
+    Report(ReportArgs),
     /// Brach 1984 section 6: predict each test's delta-V from its impact speeds, masses and
     /// energy loss (eq. 14 with L from eq. 16 and with L = 2/3) and from the point-mass
     /// solution at the critical friction (eq. 17), beside the measured delta-V.

@@ -102,7 +102,7 @@ fn fit_tangential_is_the_models_own_answer() {
     ]);
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(
-        md.contains("| status | mode | e | et | friction limit |"),
+        md.contains("| status | mode | e | et | friction limit | cost | energy lost [%] |"),
         "{md}"
     );
     assert!(dir.join("diagram.svg").is_file());

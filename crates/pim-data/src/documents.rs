@@ -145,9 +145,13 @@ pub fn fit(
             .branches
             .iter()
             .map(|b| {
-                BranchRecord::new(b)
+                let mut r = BranchRecord::new(b)
                     .with_chi_square(&problem, unit)
-                    .with_bounds(b, settings.get(), &|bound| fitcase::sets_bound(case, bound))
+                    .with_bounds(b, settings.get(), &|bound| fitcase::sets_bound(case, bound));
+                if let Some(sol) = &b.solution {
+                    r.residuals = crate::residuals::residuals(case, &problem, sol, unit);
+                }
+                r
             })
             .collect(),
         best: report.best,

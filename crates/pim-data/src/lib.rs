@@ -33,6 +33,7 @@ pub mod predict;
 pub mod ranges;
 pub mod records;
 pub mod reference;
+pub mod residuals;
 pub mod ricsac;
 pub mod sections;
 pub mod spread;

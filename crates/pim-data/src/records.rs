@@ -308,6 +308,10 @@ pub struct BranchRecord {
     /// where it came from; absent when none.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub bounds_reached: Vec<BoundReached>,
+    /// Each estimate and observation against its fitted value (see
+    /// [`crate::residuals`]); absent in batch records and without a solution.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub residuals: Vec<crate::residuals::Residual>,
 }
 
 /// Where a search bound came from.
@@ -425,6 +429,7 @@ impl BranchRecord {
             geometry: b.geometry.clone(),
             tangential: s.and_then(|s| s.tangential.clone()),
             bounds_reached: Vec::new(),
+            residuals: Vec::new(),
         }
     }
 

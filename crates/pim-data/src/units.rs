@@ -153,6 +153,29 @@ pub struct UnitsSection {
     pub yaw_rate: YawRateUnit,
 }
 
+impl UnitsSection {
+    /// The units in a line: `speed mph, length ft, mass lb, yaw inertia slug ft^2, yaw rate
+    /// deg/s`.
+    pub fn describe(&self) -> String {
+        let v = toml::Value::try_from(self).ok();
+        let name = |k: &str| {
+            v.as_ref()
+                .and_then(|v| v.get(k))
+                .and_then(|x| x.as_str())
+                .unwrap_or("?")
+                .to_string()
+        };
+        format!(
+            "speed {}, length {}, mass {}, yaw inertia {}, yaw rate {}",
+            name("speed"),
+            name("length"),
+            name("mass"),
+            name("yaw_inertia"),
+            name("yaw_rate")
+        )
+    }
+}
+
 /// The unit system of printed tables (`--units`). JSON and CSV output stay SI.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum UnitSystem {

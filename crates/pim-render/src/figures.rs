@@ -436,7 +436,7 @@ pub fn all(
 
 /// An axis tick as a person writes it: at most four decimals, no trailing zeros, and never
 /// "-0" (a tick at -1e-17 is 0).
-fn tick(y: f64) -> String {
+pub(crate) fn tick(y: f64) -> String {
     let s = format!("{y:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" || s.is_empty() {

@@ -1,6 +1,6 @@
 //! # pim-render: what the PIM toolkit shows a person
 //!
-//! Tables, Markdown reports, the scale plan-view diagram and the SVG figures of the `pim`
+//! Tables, the report of a crash (HTML and Markdown), the scale plan-view diagram and the SVG figures of the `pim`
 //! command, shared by every front end (the command line and the Python package), so that each
 //! draws and prints exactly the same thing. Everything is returned as text: an SVG document, a
 //! table, a CSV or Markdown string; the caller writes files.
@@ -10,7 +10,9 @@
 //!        \__________________________________|________________________________/
 //!                                           |
 //!                                      pim-render
-//!      tables ---- markdown (solve and fit reports; uses tables' rows and words)
+//!      tables (text tables and the words shared by every output)
+//!      report (the document of a crash: HTML and Markdown from one content; build, html)
+//!      momentum (the momentum diagram)
 //!      batch_tables (summary, models, costs, Brach 1984 Table 1, intervals, CSV)
 //!      diagram (plan view at contact: outlines, C, crush surface, velocities, impulses)
 //!      figures (batch), uncertainty_figures, predict_figure (plotters, SVG strings)
@@ -24,8 +26,9 @@
 pub mod batch_tables;
 pub mod diagram;
 pub mod figures;
-pub mod markdown;
+pub mod momentum;
 pub mod predict_figure;
+pub mod report;
 pub mod tables;
 pub mod uncertainty_figures;
 

@@ -328,18 +328,13 @@ pub fn fit_table(
         let tangential = r.model == pim_fit::FitModel::Tangential;
         let _ = writeln!(
             s,
-            "{} ({}): {:?}{}",
+            "{}: {:?}{}",
             if tangential {
-                "tangential model".to_string()
+                "tangential model (normal and tangential restitution, friction limit, no moment \
+                 impulse)"
+                    .to_string()
             } else {
-                format!("branch {:<4}", b.moment.name())
-            },
-            if tangential {
-                "normal and tangential restitution, friction limit, no moment impulse"
-            } else if b.moment == pim_fit::MomentBranch::Zero {
-                "em = 1"
-            } else {
-                "em in [-1, 0]"
+                branch_words(b.moment)
             },
             b.status,
             if Some(b.moment) == r.best {
@@ -407,7 +402,7 @@ pub fn fit_table(
                     .iter()
                     .map(|a| a.to_string())
                     .collect();
-                let _ = writeln!(s, "  active: {}", active.join("; "));
+                let _ = writeln!(s, "  at the end of its range: {}", active.join("; "));
             }
             for i in &b.identifiability {
                 if !i.identifiable {
@@ -426,17 +421,50 @@ pub fn fit_table(
         if let Some(g) = &b.geometry {
             geometry_block(&mut s, g, u);
         }
-        let c = &b.certificate;
-        let _ = writeln!(
-            s,
-            "  search: {} grid points, {} inner solves ({} exact, {} by QP), {}/{} refinements agree\n",
-            c.grid_points, c.evaluations, c.exact_solves, c.qp_solves, c.refinements_agreeing, c.refinements
-        );
+        let _ = writeln!(s, "  {}\n", how_found(&b.certificate));
     }
     for n in &r.notes {
         let _ = writeln!(s, "note: {n}");
     }
     let _ = writeln!(s, "{}", frame_line(frame));
+    s
+}
+
+/// A moment branch in words: `moment impulse free (em in [-1, 0])` or `no moment impulse (em
+/// = 1)`, with the name the JSON and `--branch` use.
+pub fn branch_words(b: pim_fit::MomentBranch) -> String {
+    match b {
+        pim_fit::MomentBranch::Free => {
+            "moment impulse free (em in [-1, 0]; branch \"free\")".into()
+        }
+        pim_fit::MomentBranch::Zero => "no moment impulse (em = 1; branch \"zero\")".into(),
+    }
+}
+
+/// A moment branch in two or three words: `moment impulse free`, `no moment impulse`.
+pub fn branch_short(b: pim_fit::MomentBranch) -> &'static str {
+    match b {
+        pim_fit::MomentBranch::Free => "moment impulse free",
+        pim_fit::MomentBranch::Zero => "no moment impulse",
+    }
+}
+
+/// How a branch's optimum was found, in a sentence a reader can follow.
+pub fn how_found(c: &pim_fit::Certificate) -> String {
+    let mut s = format!(
+        "how found: {}; {} fits of the velocities ({} exact, {} by quadratic programming)",
+        c.method.description, c.evaluations, c.exact_solves, c.qp_solves
+    );
+    if c.grid_points > 0 {
+        let _ = write!(s, " over a grid of {} coefficient points", c.grid_points);
+    }
+    if c.refinements > 0 {
+        let _ = write!(
+            s,
+            "; {} of {} local searches from the best grid points end at the same optimum",
+            c.refinements_agreeing, c.refinements
+        );
+    }
     s
 }
 
@@ -603,8 +631,8 @@ pub fn bounds_lines(
             .collect();
         let _ = writeln!(
             s,
-            "branch {}{} rests on a bound (the bound, not the data, ends it): {}",
-            r.moment.name(),
+            "{}{} rests on a bound (the bound, not the data, ends it): {}",
+            branch_short(r.moment),
             if Some(r.moment) == best {
                 " (best)"
             } else {

@@ -6,7 +6,7 @@ use crate::error::{Failure, EXIT_NO_ANSWER};
 use crate::inputs::load_case;
 use anyhow::Result;
 use pim_data::documents;
-use pim_render::{markdown, tables};
+use pim_render::tables;
 use std::process::ExitCode;
 
 /// `pim fit`.
@@ -24,13 +24,10 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             case.file
         );
     }
-    let documents::Fitted {
-        problem,
-        report,
-        document,
-    } = documents::fit(&case, cost, a.model, a.moment_form, unique(&a.branch))
+    let fitted = documents::fit(&case, cost, a.model, a.moment_form, unique(&a.branch))
         .map_err(Failure::from)?;
-    let record = json(&document)?;
+    let (report, document) = (&fitted.report, &fitted.document);
+    let record = json(document)?;
     let branch_records = &document.branches;
     let best_record = branch_records
         .iter()
@@ -41,14 +38,14 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     );
     // Shown in the case's own frame and units (an SAE case is fitted mirrored into the natural
     // form; the JSON stays SI and natural).
-    let mut table = tables::fit_table(&title_of(&case), name, &report, units, case.written);
+    let mut table = tables::fit_table(&title_of(&case), name, report, units, case.written);
     let bounds = tables::bounds_lines(branch_records, report.best, units);
     table.push_str(&bounds);
     for r in branch_records {
         if let Some(c) = &r.chi_square {
             table.push_str(&format!(
-                "branch {}: chi-square {:.3} with {} degrees of freedom, p = {}\n",
-                r.moment.name(),
+                "{}: chi-square {:.3} with {} degrees of freedom, p = {}\n",
+                tables::branch_short(r.moment),
                 c.value,
                 c.degrees_of_freedom,
                 c.p_value
@@ -57,55 +54,9 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         }
     }
     if let Some(dir) = &a.out {
-        let contact = pim_render::diagram::estimated_contact(&case);
-        let best = report.best_branch().and_then(|b| b.solution.as_ref());
-        // With estimated geometry, the collision at the best branch's estimate.
-        let mut impact = problem.impact;
-        if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
-            let mut c = *impact.collision();
-            g.apply(&mut c);
-            impact = pim_core::Impact::new(c)
-                .map_err(|e| Failure::Input(format!("{}: {e}", case.file)))?;
-        }
-        let mut d = pim_render::diagram::diagram(
-            &case,
-            &impact,
-            contact.as_ref(),
-            best.map(pim_render::diagram::Solved::of_fit),
-        );
-        if let Some(b) = report.best_branch() {
-            d.subtitle = Some(match (report.model, b.solution.as_ref()) {
-                (pim_fit::FitModel::Tangential, Some(s)) => {
-                    format!("fit, cost {name}: tangential model, cost {:.4}", s.cost)
-                }
-                (_, Some(s)) => format!(
-                    "fit, cost {name}: best branch {} (e {:.3}, mu {:.3}, em {:.3}), cost {:.4}",
-                    b.moment.name(),
-                    s.e,
-                    s.mu,
-                    s.em,
-                    s.cost
-                ),
-                (_, None) => format!("fit, cost {name}: no admissible branch"),
-            });
-        }
-        // The bounds the drawn (best) answer rests on, in the key.
-        for b in best_record.iter().flat_map(|r| &r.bounds_reached) {
-            d.notes.push(format!(
-                "rests on [bounds] {} ({}, {})",
-                b.bound,
-                b.at,
-                match b.source {
-                    pim_data::records::BoundSource::Case => "set in the case",
-                    pim_data::records::BoundSource::Default => "a default",
-                }
-            ));
-        }
-        let mut md = markdown::fit(&title_of(&case), name, &report, units, case.written);
-        if !bounds.is_empty() {
-            md.push_str(&format!("\n## Bounds reached\n\n{bounds}"));
-        }
-        super::write_result_dir(dir, &record, &md, &d)?;
+        let doc = pim_render::report::build::fit(&case, &fitted, name, None, units)
+            .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+        super::write_result_dir(dir, &record, &doc, &[])?;
     }
     print_out(match a.format {
         Format::Json => &record,

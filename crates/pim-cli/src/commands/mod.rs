@@ -7,6 +7,7 @@ pub mod draw;
 pub mod fit;
 pub mod output;
 pub mod predict;
+pub mod report;
 pub mod solve;
 pub mod uncertainty;
 
@@ -119,21 +120,31 @@ pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
     write_file(path, &svg)
 }
 
-/// Writes `result.json`, `report.md` and `diagram.svg` into the folder `dir` (as a whole, see
-/// [`output::OutDir`]).
-pub fn write_result_dir(dir: &Path, json: &str, markdown: &str, d: &Diagram) -> Result<()> {
+/// Writes `result.json` (and any `extra` files), the report as `report.html` and
+/// `report.md`, and the report's figures (`diagram.svg`, `momentum.svg`, ...) into the folder
+/// `dir` (as a whole, see [`output::OutDir`]).
+pub fn write_result_dir(
+    dir: &Path,
+    json: &str,
+    doc: &pim_render::report::Document,
+    extra: &[(&str, &str)],
+) -> Result<()> {
     let out = output::OutDir::create(dir)?;
     out.write("result.json", json)?;
-    out.write("report.md", markdown)?;
-    let svg = d
-        .svg()
-        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
-    out.write("diagram.svg", &svg)?;
+    for (name, text) in extra {
+        out.write(name, text)?;
+    }
+    out.write("report.html", &doc.html())?;
+    out.write("report.md", &doc.markdown())?;
+    let mut names = vec!["result.json".to_string()];
+    names.extend(extra.iter().map(|(n, _)| n.to_string()));
+    names.extend(["report.html".to_string(), "report.md".to_string()]);
+    for f in doc.figures() {
+        out.write(&f.name, &f.svg)?;
+        names.push(f.name.clone());
+    }
     out.commit()?;
-    eprintln!(
-        "pim: wrote result.json, report.md and diagram.svg to {}",
-        dir.display()
-    );
+    eprintln!("pim: wrote {} to {}", names.join(", "), dir.display());
     Ok(())
 }
 

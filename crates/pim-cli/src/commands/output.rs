@@ -18,7 +18,7 @@ const MARKER: &str = ".pim-output";
 
 /// Every file name `pim` writes into an output folder: a folder holding only these (from a
 /// version before the marker) is pim's too.
-const OUTPUT_FILES: [&str; 26] = [
+const OUTPUT_FILES: [&str; 28] = [
     "records.csv",
     "records.json",
     "records.jsonl",
@@ -34,6 +34,8 @@ const OUTPUT_FILES: [&str; 26] = [
     "models.svg",
     "result.json",
     "report.md",
+    "report.html",
+    "momentum.svg",
     "diagram.svg",
     "uncertainty.json",
     "uncertainty.txt",

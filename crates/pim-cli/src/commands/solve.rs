@@ -8,7 +8,7 @@ use anyhow::Result;
 use pim_core::{Convention, SolveOptions};
 use pim_data::units::UnitSystem;
 use pim_data::{documents, records};
-use pim_render::{markdown, tables};
+use pim_render::tables;
 use std::process::ExitCode;
 
 fn options(a: &SolveArgs) -> SolveOptions {
@@ -19,12 +19,14 @@ fn options(a: &SolveArgs) -> SolveOptions {
 pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
     let (_, warnings) = crate::inputs::checked_impact(&case)?;
+    let solved = documents::solve(&case, &options(a)).map_err(Failure::from)?;
     let documents::Solved {
         impact,
         report,
         forward,
         document,
-    } = documents::solve(&case, &options(a)).map_err(Failure::from)?;
+    } = &solved;
+    let forward = *forward;
     let record = json(&document)?;
     // Shown in the case's own units and frame (an SAE case was solved mirrored into the
     // natural form; the JSON stays SI and natural, and says so).
@@ -33,8 +35,8 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
     let frame = case.written;
     let mirrored = (frame == Convention::Sae).then(|| report.mirrored());
-    let shown = mirrored.as_ref().unwrap_or(&report);
-    let mut table = tables::solve_table(&title_of(&case), &impact, shown, forward, units, frame);
+    let shown = mirrored.as_ref().unwrap_or(report);
+    let mut table = tables::solve_table(&title_of(&case), impact, shown, forward, units, frame);
     if let Some(m) = &document.model {
         let line = tables::model_line(m);
         if let Some(at) = table.find("solved forwards") {
@@ -42,23 +44,9 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
         }
     }
     if let Some(dir) = &a.out {
-        let contact = pim_render::diagram::estimated_contact(&case);
-        let mut d = pim_render::diagram::diagram(
-            &case,
-            &impact,
-            contact.as_ref(),
-            Some(pim_render::diagram::Solved::of_report(&report)),
-        );
-        let c = &report.coefficients;
-        d.subtitle = Some(format!(
-            "solved {}: e {}, mu {}, em {}",
-            if forward { "forwards" } else { "backwards" },
-            c.e,
-            c.mu,
-            c.em
-        ));
-        let md = markdown::solve(&title_of(&case), shown, forward, units, frame);
-        super::write_result_dir(dir, &record, &md, &d)?;
+        let doc = pim_render::report::build::solve(&case, &solved, units)
+            .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+        super::write_result_dir(dir, &record, &doc, &[])?;
     }
     print_out(match a.format {
         Format::Json => &record,

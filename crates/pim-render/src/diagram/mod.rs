@@ -11,6 +11,7 @@ use pim_data::case::VehicleSection;
 use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
+mod labels;
 mod outline;
 mod paint;
 
@@ -324,4 +325,79 @@ pub fn case_diagram(
         contact.as_ref(),
         solved.as_ref().map(Solved::of_report),
     ))
+}
+
+/// The diagram of a solved case (`pim solve --out`, the report): the solved states, with a
+/// subtitle saying it is a solve and with which coefficients.
+pub fn of_solve(case: &pim_data::case::Case, s: &pim_data::documents::Solved) -> Diagram {
+    let contact = estimated_contact(case);
+    let mut d = diagram(
+        case,
+        &s.impact,
+        contact.as_ref(),
+        Some(Solved::of_report(&s.report)),
+    );
+    let c = &s.report.coefficients;
+    d.subtitle = Some(format!(
+        "solved {}: e {}, mu {}, em {}",
+        if s.forward { "forwards" } else { "backwards" },
+        c.e,
+        c.mu,
+        c.em
+    ));
+    d
+}
+
+/// The diagram of a fitted case (`pim fit --out`, the report): the best branch's fitted states
+/// at its own geometry, with a subtitle naming the fit, its cost function, branch and cost, and
+/// the bounds the answer rests on in the key. `cost` is the cost function's name.
+pub fn of_fit(
+    case: &pim_data::case::Case,
+    f: &pim_data::documents::Fitted,
+    cost: &str,
+) -> Result<Diagram, String> {
+    let report = &f.report;
+    let contact = estimated_contact(case);
+    let best = report.best_branch().and_then(|b| b.solution.as_ref());
+    // With estimated geometry, the collision at the best branch's estimate.
+    let mut impact = f.problem.impact;
+    if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
+        let mut c = *impact.collision();
+        g.apply(&mut c);
+        impact = Impact::new(c).map_err(|e| format!("{}: {e}", case.file))?;
+    }
+    let mut d = diagram(case, &impact, contact.as_ref(), best.map(Solved::of_fit));
+    if let Some(b) = report.best_branch() {
+        d.subtitle = Some(match (report.model, b.solution.as_ref()) {
+            (pim_fit::FitModel::Tangential, Some(s)) => {
+                format!("fit, cost {cost}: tangential model, cost {:.4}", s.cost)
+            }
+            (_, Some(s)) => format!(
+                "fit, cost {cost}: {} (e {:.3}, mu {:.3}, em {:.3}), cost {:.4}",
+                crate::tables::branch_short(b.moment),
+                s.e,
+                s.mu,
+                s.em,
+                s.cost
+            ),
+            (_, None) => format!("fit, cost {cost}: no admissible answer"),
+        });
+    }
+    let best_record = f
+        .document
+        .branches
+        .iter()
+        .find(|r| Some(r.moment) == report.best);
+    for b in best_record.iter().flat_map(|r| &r.bounds_reached) {
+        d.notes.push(format!(
+            "rests on [bounds] {} ({}, {})",
+            b.bound,
+            b.at,
+            match b.source {
+                pim_data::records::BoundSource::Case => "set in the case",
+                pim_data::records::BoundSource::Default => "a default",
+            }
+        ));
+    }
+    Ok(d)
 }

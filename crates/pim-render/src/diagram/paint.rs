@@ -60,11 +60,13 @@ impl Diagram {
             .draw()
             .map_err(|e| err(&e))?;
         let head = 0.035 * (x1 - x0);
-        let span_m = x1 - x0;
         let draw_arrow =
             |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
                 arrow(chart, head, from, to, color, width)
             };
+        // Labels are placed at the end, clear of each other and of the arrowheads and marks.
+        let mut heads: Vec<Vec<(f64, f64)>> = Vec::new();
+        let mut labels: Vec<(String, [f64; 2], f64, RGBColor)> = Vec::new();
         // Outlines, noses and CGs.
         let series: Vec<(Vec<(f64, f64)>, RGBColor)> = VEHICLE_COLORS
             .iter()
@@ -104,47 +106,35 @@ impl Diagram {
                     color.filled(),
                 )))
                 .map_err(|e| err(&e))?;
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    format!("CG{}", k + 1),
-                    (v.cg[0] + 0.02 * span_m, v.cg[1] + 0.045 * span_m),
-                    ("sans-serif", 14).into_font().color(color),
-                )))
-                .map_err(|e| err(&e))?;
+            labels.push((format!("CG{}", k + 1), v.cg, 14.0, *color));
         }
         let l = self.longest();
         for (k, v) in self.vehicles.iter().enumerate() {
             let color = VEHICLE_COLORS[k];
             // The nose is marked by the thick front edge of the outline.
             if let Some(w) = v.contact {
-                draw_arrow(
+                heads.push(draw_arrow(
                     &mut chart,
                     v.cg,
                     [v.cg[0] + sv * w[0], v.cg[1] + sv * w[1]],
                     color,
                     3,
-                )?;
+                )?);
             }
             if let Some(w) = v.separation {
-                draw_arrow(
+                heads.push(draw_arrow(
                     &mut chart,
                     v.cg,
                     [v.cg[0] + sv * w[0], v.cg[1] + sv * w[1]],
                     SEPARATION_COLORS[k],
                     3,
-                )?;
+                )?);
             }
             if let Some(p) = v.impulse {
                 // Each vehicle's impulse in its colour, labelled at its tip.
                 let tip = [si * p[0], si * p[1]];
-                draw_arrow(&mut chart, [0.0, 0.0], tip, color, 2)?;
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        format!("on vehicle {}", k + 1),
-                        (tip[0], tip[1]),
-                        ("sans-serif", 13).into_font().color(&color),
-                    )))
-                    .map_err(|e| err(&e))?;
+                heads.push(draw_arrow(&mut chart, [0.0, 0.0], tip, color, 2)?);
+                labels.push((format!("on vehicle {}", k + 1), tip, 13.0, color));
             }
             // The yaw rate at separation: an arc about the CG in the sense of rotation, its
             // arrowhead at the end, the rate beside it (a rate below 0.01 rad/s is not drawn).
@@ -166,41 +156,34 @@ impl Diagram {
                     )))
                     .map_err(|e| err(&e))?;
                 let (p, q) = (pts[n - 3], pts[n - 1]);
-                arrow(
+                heads.push(arrow(
                     &mut chart,
                     0.6 * head,
                     [p.0, p.1],
                     [q.0, q.1],
                     SEPARATION_COLORS[k],
                     2,
-                )?;
+                )?);
                 let shown = if self.frame == pim_core::Convention::Sae {
                     -w
                 } else {
                     w
                 };
                 let a = a0 + 0.5 * sweep;
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        format!(
-                            "{} {}",
-                            crate::tables::num(self.units.yaw_rate(shown), 2),
-                            self.units.yaw_rate_label()
-                        ),
-                        (v.cg[0] + 1.25 * r * a.cos(), v.cg[1] + 1.25 * r * a.sin()),
-                        ("sans-serif", 12).into_font().color(&SEPARATION_COLORS[k]),
-                    )))
-                    .map_err(|e| err(&e))?;
+                labels.push((
+                    format!(
+                        "{} {}",
+                        crate::tables::num(self.units.yaw_rate(shown), 2),
+                        self.units.yaw_rate_label()
+                    ),
+                    [v.cg[0] + r * a.cos(), v.cg[1] + r * a.sin()],
+                    12.0,
+                    SEPARATION_COLORS[k],
+                ));
             }
             if let Some((from, to)) = self.pdof_arrow(k) {
-                draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?;
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        format!("PDOF {}", k + 1),
-                        (from[0], from[1]),
-                        ("sans-serif", 13).into_font().color(&PDOF_COLOR),
-                    )))
-                    .map_err(|e| err(&e))?;
+                heads.push(draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?);
+                labels.push((format!("PDOF {}", k + 1), from, 13.0, PDOF_COLOR));
             }
         }
         // Crush surface through C, n and t.
@@ -213,33 +196,32 @@ impl Diagram {
                 ShapeStyle::from(SURFACE_COLOR).stroke_width(3),
             ))
             .map_err(|e| err(&e))?;
-        draw_arrow(
+        heads.push(draw_arrow(
             &mut chart,
             [0.0; 2],
             [0.2 * l * n[0], 0.2 * l * n[1]],
             SURFACE_COLOR,
             1,
-        )?;
-        draw_arrow(
+        )?);
+        heads.push(draw_arrow(
             &mut chart,
             [0.0; 2],
             [0.12 * l * t[0], 0.12 * l * t[1]],
             SURFACE_COLOR,
             1,
-        )?;
-        let label = |text: &str, at: [f64; 2], color: RGBColor| {
-            Text::new(
-                text.to_string(),
-                (at[0], at[1]),
-                ("sans-serif", 14).into_font().color(&color),
-            )
-        };
-        chart
-            .draw_series([
-                label("n", [0.22 * l * n[0], 0.22 * l * n[1]], SURFACE_COLOR),
-                label("t", [0.14 * l * t[0], 0.14 * l * t[1]], SURFACE_COLOR),
-            ])
-            .map_err(|e| err(&e))?;
+        )?);
+        labels.push((
+            "n".into(),
+            [0.2 * l * n[0], 0.2 * l * n[1]],
+            14.0,
+            SURFACE_COLOR,
+        ));
+        labels.push((
+            "t".into(),
+            [0.12 * l * t[0], 0.12 * l * t[1]],
+            14.0,
+            SURFACE_COLOR,
+        ));
         chart
             .draw_series(std::iter::once(Cross::new(
                 (0.0, 0.0),
@@ -247,9 +229,7 @@ impl Diagram {
                 BLACK.stroke_width(2),
             )))
             .map_err(|e| err(&e))?;
-        chart
-            .draw_series(std::iter::once(label("C", [0.03 * l, -0.07 * l], BLACK)))
-            .map_err(|e| err(&e))?;
+        labels.push(("C".into(), [0.0, 0.0], 14.0, BLACK));
         // Scale bar: 1, 2 or 5 length units, about a fifth of the width, bottom left.
         let span = x1 - x0;
         let bar = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
@@ -265,12 +245,77 @@ impl Diagram {
             ))
             .map_err(|e| err(&e))?;
         chart
-            .draw_series(std::iter::once(label(
-                &format!("{bar} {len}"),
-                [bx, by + 0.03 * (y1 - y0)],
-                BLACK,
+            .draw_series(std::iter::once(Text::new(
+                format!("{bar} {len}"),
+                (bx, by + 0.03 * (y1 - y0)),
+                ("sans-serif", 14).into_font().color(&BLACK),
             )))
             .map_err(|e| err(&e))?;
+        // The labels, each clear of the others, the arrowheads and the marks (CGs, C).
+        let px = |p: (f64, f64)| chart.backend_coord(&p);
+        let mut obstacles: Vec<super::labels::PixelBox> = heads
+            .iter()
+            .filter(|h| !h.is_empty())
+            .map(|h| {
+                let pts: Vec<(i32, i32)> = h.iter().map(|p| px(*p)).collect();
+                let xs = pts.iter().map(|p| f64::from(p.0));
+                let ys = pts.iter().map(|p| f64::from(p.1));
+                [
+                    xs.clone().fold(f64::INFINITY, f64::min),
+                    ys.clone().fold(f64::INFINITY, f64::min),
+                    xs.fold(f64::NEG_INFINITY, f64::max),
+                    ys.fold(f64::NEG_INFINITY, f64::max),
+                ]
+            })
+            .collect();
+        for p in self
+            .vehicles
+            .iter()
+            .filter(|v| !v.barrier)
+            .map(|v| (v.cg[0], v.cg[1]))
+            .chain([(0.0, 0.0)])
+        {
+            let (x, y) = px(p);
+            let (x, y) = (f64::from(x), f64::from(y));
+            obstacles.push([x - 7.0, y - 7.0, x + 7.0, y + 7.0]);
+        }
+        // The scale bar's label.
+        {
+            let (x, y) = px((bx, by + 0.03 * (y1 - y0)));
+            let text = format!("{bar} {len}");
+            let w = super::labels::text_width(&text, super::labels::svg_size(14.0));
+            obstacles.push([
+                f64::from(x),
+                f64::from(y),
+                f64::from(x) + w,
+                f64::from(y) + 14.0,
+            ]);
+        }
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let area = [
+            f64::from(xr.start),
+            f64::from(yr.start),
+            f64::from(xr.end),
+            f64::from(yr.end),
+        ];
+        let to_place: Vec<super::labels::PlotLabel> = labels
+            .iter()
+            .map(|(text, at, size, color)| super::labels::PlotLabel {
+                text: text.clone(),
+                at: px((at[0], at[1])),
+                size: *size,
+                color: *color,
+            })
+            .collect();
+        let spots = super::labels::place(&to_place, &obstacles, area);
+        for (l, at) in to_place.iter().zip(spots) {
+            root.draw(&Text::new(
+                l.text.clone(),
+                at,
+                ("sans-serif", l.size).into_font().color(&l.color),
+            ))
+            .map_err(|e| err(&e))?;
+        }
 
         // The key, beside the plot.
         let mut key = Key {
@@ -449,7 +494,8 @@ type Chart<'a, 'b> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-/// Draws an arrow from `from` to `to` (m) with a filled head of length `head` (m).
+/// Draws an arrow from `from` to `to` (m) with a filled head of length `head` (m); returns the
+/// head's corners (none for an arrow of no length).
 fn arrow(
     chart: &mut Chart,
     head: f64,
@@ -457,11 +503,11 @@ fn arrow(
     to: [f64; 2],
     color: RGBColor,
     width: u32,
-) -> Result<(), String> {
+) -> Result<Vec<(f64, f64)>, String> {
     let d = [to[0] - from[0], to[1] - from[1]];
     let len = d[0].hypot(d[1]);
     if len <= 0.0 {
-        return Ok(());
+        return Ok(Vec::new());
     }
     let u = [d[0] / len, d[1] / len];
     let h = head.min(0.5 * len);
@@ -473,17 +519,18 @@ fn arrow(
             color.stroke_width(width),
         )))
         .map_err(|e| e.to_string())?;
+    let triangle = vec![
+        (to[0], to[1]),
+        (base[0] + side[0], base[1] + side[1]),
+        (base[0] - side[0], base[1] - side[1]),
+    ];
     chart
         .draw_series(std::iter::once(Polygon::new(
-            vec![
-                (to[0], to[1]),
-                (base[0] + side[0], base[1] + side[1]),
-                (base[0] - side[0], base[1] - side[1]),
-            ],
+            triangle.clone(),
             color.filled(),
         )))
         .map_err(|e| e.to_string())?;
-    Ok(())
+    Ok(triangle)
 }
 
 /// The key beside the plot: one line per element, with its colour.

@@ -1,0 +1,111 @@
+//! Each estimate and observation of a fit against its fitted value: the table a reader judges
+//! a fit by.
+//!
+//! For every term of the cost, `residual = fitted - given`; with standard deviations (`[sigma]`
+//! or an observation's `sigma`) the normalised residual `residual / sigma` is a number of
+//! standard deviations, and the squares of the normalised residuals add up to the chi-square.
+//! `share` is the term's part of the cost, `weight residual^2 / cost`. All values SI (m/s,
+//! rad/s) in the natural frame, like the rest of the JSON.
+
+use crate::case::Case;
+use pim_fit::{FitProblem, Knowledge, ObservationKind, COMPONENT_NAMES};
+use serde::Serialize;
+
+/// One term of the cost: an estimated component or an observation, against the fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Residual {
+    /// What was given: a velocity component (`final.vehicle1.vx`) or an observation by its
+    /// label (`observation "EDR"`, `observation 2`).
+    pub name: String,
+    /// `estimate`, or the observation's kind (`delta_v_longitudinal`, `speed_along_heading`,
+    /// ...).
+    pub kind: String,
+    /// `m/s`, or `rad/s` for a yaw rate.
+    pub unit: &'static str,
+    /// The given value.
+    pub given: f64,
+    /// The fitted value.
+    pub fitted: f64,
+    /// `fitted - given`.
+    pub residual: f64,
+    /// The term's weight in the cost.
+    pub weight: f64,
+    /// The standard deviation the case gives (none when it gives weights).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<f64>,
+    /// `residual / sigma`: how many standard deviations the fit is from the value given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normalised: Option<f64>,
+    /// The term's part of the cost, `weight residual^2 / cost` (none when the cost is 0).
+    pub share: Option<f64>,
+    /// True when the value is across the x axis or a yaw rate: its sign changes in SAE's
+    /// mirrored frame.
+    pub lateral: bool,
+}
+
+/// The residual table of a fitted solution of `problem` (the problem built from `case`, whose
+/// observations it names); `unit` is the weight of one standard deviation when the case gives
+/// sigmas (see [`crate::fitcase::sigma_unit`]).
+pub fn residuals(
+    case: &Case,
+    problem: &FitProblem,
+    solution: &pim_fit::Solution,
+    unit: Option<f64>,
+) -> Vec<Residual> {
+    let u = pim_fit::state_vector(&solution.initial, &solution.separation);
+    let mut out = Vec::new();
+    let mut push =
+        |name: String, kind: String, yaw: bool, lateral, given: f64, fitted: f64, w: f64| {
+            let sigma = unit.map(|unit| (unit / w).sqrt());
+            let r = fitted - given;
+            out.push(Residual {
+                name,
+                kind,
+                unit: if yaw { "rad/s" } else { "m/s" },
+                given,
+                fitted,
+                residual: r,
+                weight: w,
+                sigma,
+                normalised: sigma.map(|s| r / s),
+                share: (solution.cost > 0.0).then(|| w * r * r / solution.cost),
+                lateral,
+            });
+        };
+    for (k, know) in problem.components.iter().enumerate() {
+        if let Knowledge::Estimated { value, weight } = *know {
+            push(
+                COMPONENT_NAMES[k].to_string(),
+                "estimate".into(),
+                k % 3 == 2,
+                k % 3 != 0,
+                value,
+                u[k],
+                weight,
+            );
+        }
+    }
+    for (i, o) in problem.observations.iter().enumerate() {
+        let fitted = o.row(&problem.impact).dot(&u);
+        push(
+            case.observation_label(i),
+            kind_name(o.kind).into(),
+            false,
+            o.kind.is_lateral(),
+            o.value,
+            fitted,
+            o.weight,
+        );
+    }
+    out
+}
+
+/// An observation kind as the case file writes it.
+fn kind_name(k: ObservationKind) -> &'static str {
+    match k {
+        ObservationKind::DeltaVLongitudinal => "delta_v_longitudinal",
+        ObservationKind::DeltaVLateral => "delta_v_lateral",
+        ObservationKind::SpeedAlongHeading => "speed_along_heading",
+        ObservationKind::LateralVelocity => "lateral_velocity",
+    }
+}

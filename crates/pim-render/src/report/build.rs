@@ -1,0 +1,359 @@
+//! The content of a crash's report, from a solve or a fit (and its uncertainty study).
+//!
+//! Numbers are shown in the unit system the caller asks for and in the case's own frame (an
+//! SAE case reads SAE's signs); every number printed is one of the JSON document's, converted
+//! and rounded, nothing recomputed.
+
+use super::doc::{Block, Document, Section, Table};
+use super::fit_sections::{branches_table, ranges, residual_section, undetermined};
+use crate::tables::{branch_short, branch_words, how_found, in_frame, num, vehicle_rows};
+use pim_core::{Convention, VehicleResult};
+use pim_data::case::Case;
+use pim_data::documents::{Fitted, Solved};
+use pim_data::uncertainty::Study;
+use pim_data::units::UnitSystem;
+
+/// The references the method cites.
+const REFERENCES: [&str; 3] = [
+    "R. M. Brach, Analysis of planar vehicle collisions using equations of impulse and \
+     momentum, Accident Analysis & Prevention (1983): the six equations.",
+    "R. M. Brach, Momentum and energy analysis of automobile collisions, Structural Impact and \
+     Crashworthiness (1984): the corrected moment equation, mu_max.",
+    "C. G. Vossou, D. V. Koulocheris, A computational model for the reconstruction of vehicle \
+     collisions (2018): the cost functions Q1, Q2, Q3.",
+];
+
+/// How to read the report, the same for every crash.
+const HOW_TO_READ: [&str; 5] = [
+    "Velocities are those of each vehicle's centre of gravity at contact (the moment the \
+     crush begins) and at separation; delta-V is the change between them, PDOF the direction \
+     of the impulse on the vehicle.",
+    "A fit's answer satisfies the six impulse-momentum equations exactly; what it cannot match \
+     of the values given shows as residuals. A residual of more than 2 standard deviations, or \
+     a p value below 0.05, says the data and the model disagree more than the stated \
+     uncertainties allow.",
+    "A coefficient that the data do not pin down is listed under 'What the data do not \
+     determine': its value is one of many that fit equally well, not a measurement.",
+    "An answer that rests on a search bound is ended by that bound, not by the data; a bound \
+     marked 'default' was not chosen for this crash.",
+    "Every number here is in result.json (SI units, natural frame) with more digits.",
+];
+
+/// The report of a solve of `case`, in the units `u`.
+pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String> {
+    let frame = case.written;
+    let r = if frame == Convention::Sae {
+        s.report.mirrored()
+    } else {
+        s.report.clone()
+    };
+    let c = &r.coefficients;
+    let mut answer = Section::new("Answer");
+    answer.text(format!(
+        "Solved {} with restitution e = {}, impulse ratio mu = {}, moment restitution em = {}.",
+        if s.forward {
+            "forwards from the velocities at contact"
+        } else {
+            "backwards from the velocities at separation"
+        },
+        c.e,
+        c.mu,
+        c.em
+    ));
+    answer
+        .blocks
+        .push(Block::Table(vehicle_table(&r.vehicles, u, frame)));
+    let e = &r.energy;
+    answer.text(format!(
+        "Kinetic energy {} {lab} at contact, {} {lab} at separation: {} {lab} lost ({} %).",
+        num(u.energy(e.initial), 0),
+        num(u.energy(e.final_), 0),
+        num(u.energy(e.loss), 0),
+        num(e.loss_percent, 2),
+        lab = u.energy_label()
+    ));
+    answer.text(format!(
+        "Along the crush surface: {}.",
+        crate::tables::tangential_words(&r)
+    ));
+    let mut warnings = case.warnings();
+    if !r.admissibility.admissible {
+        for reason in r.inadmissibility_reasons() {
+            warnings.push(format!("not physically admissible: {reason}"));
+        }
+    }
+    let diagram = crate::diagram::of_solve(case, s);
+    let momentum = crate::momentum::figure(
+        case,
+        &s.report.initial,
+        &s.report.separation,
+        "momentum.svg",
+    )?;
+    let mut doc = header(case, "Solve", u);
+    doc.sections.push(answer);
+    doc.sections.push(warnings_section(warnings));
+    doc.sections
+        .push(figures(diagram.svg()?, momentum, Vec::new()));
+    doc.sections.push(method(None));
+    doc.sections.push(inputs(case, u));
+    Ok(doc)
+}
+
+/// The report of a fit of `case` under the cost function `cost` (its name), with the
+/// uncertainty study when one was run, in the units `u`.
+pub fn fit(
+    case: &Case,
+    f: &Fitted,
+    cost: &str,
+    study: Option<&Study>,
+    u: UnitSystem,
+) -> Result<Document, String> {
+    let frame = case.written;
+    let report = &f.report;
+    let best = report.best_branch();
+    let record = f
+        .document
+        .branches
+        .iter()
+        .find(|r| Some(r.moment) == report.best);
+    let mut doc = header(case, &format!("Fit, cost function {cost}"), u);
+    let mut answer = Section::new("Answer");
+    let mut warnings = case.warnings();
+    warnings.extend(report.notes.iter().cloned());
+    match (best, best.and_then(|b| b.solution.as_ref())) {
+        (Some(b), Some(sol)) => {
+            answer.text(format!(
+                "Best fit: {} with restitution e = {}, impulse ratio mu = {} ({} of the \
+                 largest that the contact allows, mu_max; {}), moment restitution em = {}; \
+                 cost {}.",
+                if report.model == pim_fit::FitModel::Tangential {
+                    "the tangential-restitution model".to_string()
+                } else {
+                    branch_words(b.moment)
+                },
+                num(sol.e, 4),
+                num(sol.mu, 4),
+                sol.mu_ratio.map_or_else(
+                    || "undefined".into(),
+                    |r| format!("{} %", num(100.0 * r, 1))
+                ),
+                if sol.sticking {
+                    "the contact point stops sliding"
+                } else {
+                    "the contact point slides throughout"
+                },
+                num(sol.em, 4),
+                num(sol.cost, 5)
+            ));
+            let (_, _, shown) = in_frame(sol, frame);
+            answer
+                .blocks
+                .push(Block::Table(vehicle_table(&shown, u, frame)));
+            answer.text(format!(
+                "Kinetic energy lost: {} {} ({} % of that at contact).",
+                num(u.energy(sol.energy_loss), 0),
+                u.energy_label(),
+                num(sol.energy_loss_percent, 2)
+            ));
+            if let Some(study) = study {
+                ranges(&mut answer, study, u);
+            }
+        }
+        _ => {
+            answer.text("No answer: no moment branch has a physically admissible solution.");
+            for b in &report.branches {
+                if let Some(reason) = &b.reason {
+                    warnings.push(format!("{}: {reason}", branch_short(b.moment)));
+                }
+            }
+        }
+    }
+    answer
+        .blocks
+        .push(Block::Table(branches_table(report, &f.document.branches)));
+    doc.sections.push(answer);
+    if let Some(r) = record {
+        doc.sections.push(residual_section(r, u, frame));
+    }
+    doc.sections
+        .push(undetermined(report, record, study, u, &mut warnings));
+    doc.sections.push(warnings_section(warnings));
+    let diagram = crate::diagram::of_fit(case, f, cost)?;
+    let momentum = match best.and_then(|b| b.solution.as_ref()) {
+        Some(sol) => Some(crate::momentum::figure(
+            case,
+            &sol.initial,
+            &sol.separation,
+            "momentum.svg",
+        )?),
+        None => None,
+    };
+    let extra = match study {
+        Some(s) => crate::uncertainty_figures::figures(s, u)?,
+        None => Vec::new(),
+    };
+    let mut figs = figures(
+        diagram.svg()?,
+        momentum.unwrap_or_else(empty_momentum),
+        extra,
+    );
+    figs.blocks
+        .retain(|b| !matches!(b, Block::Figure(f, _) if f.svg.is_empty()));
+    doc.sections.push(figs);
+    doc.sections.push(method(Some((cost, f))));
+    doc.sections.push(inputs(case, u));
+    Ok(doc)
+}
+
+fn empty_momentum() -> crate::Figure {
+    crate::Figure {
+        name: "momentum.svg".into(),
+        svg: String::new(),
+    }
+}
+
+/// Title, what was done, and how to read the report.
+fn header(case: &Case, what: &str, u: UnitSystem) -> Document {
+    let title = case
+        .content
+        .title
+        .clone()
+        .unwrap_or_else(|| case.file.clone());
+    let c = &case.content;
+    let mut subtitle = vec![format!("{what} of {}.", case.file)];
+    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
+        subtitle.push(format!("Vehicle 1: {a}; vehicle 2: {b}."));
+    }
+    subtitle.push(format!(
+        "Shown in {} units; {}. Computed by pim {}.",
+        match u {
+            UnitSystem::Si => "SI",
+            UnitSystem::Us => "US",
+            UnitSystem::Kmh => "km/h and metric",
+        },
+        crate::tables::frame_line(case.written),
+        env!("CARGO_PKG_VERSION")
+    ));
+    let mut read = Section::new("How to read this");
+    read.blocks.push(Block::List(
+        HOW_TO_READ.iter().map(|s| s.to_string()).collect(),
+    ));
+    Document {
+        title,
+        subtitle,
+        sections: vec![read],
+    }
+}
+
+/// The per-vehicle table (speeds, delta-V, PDOF, yaw-rate change).
+fn vehicle_table(v: &[VehicleResult; 2], u: UnitSystem, frame: Convention) -> Table {
+    let mut t = Table::new(&["", "vehicle 1", "vehicle 2"]);
+    for (label, [a, b]) in vehicle_rows(v, u, frame) {
+        let label = match label.strip_prefix("  ") {
+            Some(part) => format!("delta-V {part}"),
+            None => label,
+        };
+        t.row(vec![label, a, b]);
+    }
+    t
+}
+
+fn warnings_section(w: Vec<String>) -> Section {
+    let mut s = Section::new("Warnings");
+    if w.is_empty() {
+        s.text("None.");
+    } else {
+        s.blocks.push(Block::Warnings(w));
+    }
+    s
+}
+
+fn figures(diagram: String, momentum: crate::Figure, extra: Vec<crate::Figure>) -> Section {
+    let mut s = Section::new("Figures");
+    s.blocks.push(Block::Figure(
+        crate::Figure {
+            name: "diagram.svg".into(),
+            svg: diagram,
+        },
+        "Plan view at contact, to scale: outlines, impact centre, crush surface, velocities \
+         at contact and separation, the impulse on each vehicle and the separation yaw rates."
+            .into(),
+    ));
+    s.blocks.push(Block::Figure(
+        momentum,
+        "Momentum diagram, to scale: each vehicle's momentum at contact and at separation, \
+         placed head to tail; both chains end at the same total momentum, which the impact \
+         does not change."
+            .into(),
+    ));
+    for f in extra {
+        let caption = match f.name.as_str() {
+            "histograms.svg" => "The refits' answers: histograms of each quantity.",
+            "speeds.svg" => "The refits' speeds at contact, one point per refit.",
+            "tornado.svg" => "Which inputs move each answer most (first-order sensitivity).",
+            _ => "The uncertainty study.",
+        };
+        s.blocks.push(Block::Figure(f, caption.into()));
+    }
+    s
+}
+
+fn method(fit: Option<(&str, &Fitted)>) -> Section {
+    let mut s = Section::new("Method");
+    s.text(
+        "Planar impact mechanics (PIM): six impulse-momentum equations relate the velocities of \
+         the two vehicles at contact to those at separation through restitution e, the impulse \
+         ratio mu and moment restitution em, with the moment equation as corrected by Brach \
+         (1984).",
+    );
+    if let Some((cost, f)) = fit {
+        let description = match pim_fit::CostPreset::ALL.iter().find(|p| p.name() == cost) {
+            Some(p) => p.description().to_string(),
+            None => "the case's own known and estimated values".to_string(),
+        };
+        s.text(format!(
+            "The fit finds the coefficients and the twelve velocities that satisfy the \
+             equations exactly, keep friction within what the contact allows (mu <= mu_max) and \
+             create no energy, and that are closest, in weighted least squares, to the values \
+             given (cost function {cost}: {description}); each moment branch is searched for \
+             its global optimum ({} branch(es)).",
+            f.report.branches.len()
+        ));
+        if let Some(b) = f.report.best_branch() {
+            s.text(format!("{}.", how_found(&b.certificate)));
+        }
+    }
+    s.blocks.push(Block::List(
+        REFERENCES.iter().map(|r| r.to_string()).collect(),
+    ));
+    s
+}
+
+/// The inputs as given: the file, verbatim, and its units and frame.
+fn inputs(case: &Case, u: UnitSystem) -> Section {
+    let mut s = Section::new("Inputs as given");
+    let v = [&case.content.vehicle1, &case.content.vehicle2];
+    let mut t = Table::new(&["", "vehicle 1", "vehicle 2"]);
+    t.row(vec![
+        "description".into(),
+        v[0].description.clone().unwrap_or_default(),
+        v[1].description.clone().unwrap_or_default(),
+    ]);
+    t.row(vec![
+        format!("mass [{}]", u.mass_label()),
+        num(u.mass(v[0].mass), 1),
+        if case.is_barrier() {
+            "fixed barrier".into()
+        } else {
+            num(u.mass(v[1].mass), 1)
+        },
+    ]);
+    s.blocks.push(Block::Table(t));
+    s.text(format!(
+        "The case file, exactly as given (its own units: {}):",
+        case.written_units.describe()
+    ));
+    s.blocks
+        .push(Block::Source(case.file.clone(), case.source.clone()));
+    s
+}
