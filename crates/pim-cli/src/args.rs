@@ -181,8 +181,9 @@ pub struct SolveArgs {
     /// is always SI).
     #[arg(long, value_enum)]
     pub units: Option<UnitsArg>,
-    /// Also write into this directory (created if needed): result.json, report.md and the
-    /// scale diagram diagram.svg (`pim sensitivity`: sensitivity.json and sensitivity.txt).
+    /// Also write into this directory (created if needed): result.json, the report
+    /// (report.html, report.md) and its figures diagram.svg and momentum.svg (`pim
+    /// sensitivity`: sensitivity.json and sensitivity.txt).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Exit with status 1 (after the output) when the case draws a plausibility warning
@@ -246,9 +247,10 @@ pub struct UncertaintyArgs {
     /// is always SI).
     #[arg(long, value_enum)]
     pub units: Option<UnitsArg>,
-    /// Also write uncertainty.json, uncertainty.txt and the figures histograms.svg (speeds and
+    /// Also write uncertainty.json, uncertainty.txt, the figures histograms.svg (speeds and
     /// delta-V with their 90 % bands), speeds.svg (speed 1 against speed 2) and tornado.svg
-    /// (dominant inputs) into this directory.
+    /// (dominant inputs), and the crash's report (report.html, report.md, diagram.svg,
+    /// momentum.svg) with the ranges into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Exit with status 1 (after the output) when the case draws a plausibility warning, or an
@@ -562,8 +564,8 @@ pub struct FitArgs {
     /// is always SI).
     #[arg(long, value_enum)]
     pub units: Option<UnitsArg>,
-    /// Also write into this directory (created if needed): result.json, report.md and the
-    /// scale diagram diagram.svg of the best branch.
+    /// Also write into this directory (created if needed): result.json, the report
+    /// (report.html, report.md) and its figures diagram.svg and momentum.svg of the best branch.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Exit with status 1 (after the output) when the case draws a plausibility warning, or the best

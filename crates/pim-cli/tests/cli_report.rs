@@ -267,3 +267,34 @@ fn check_in_chromium(page: &Path) {
         bytes.len()
     );
 }
+
+#[test]
+fn uncertainty_out_writes_the_report_with_its_ranges() {
+    let dir = scratch_dir("cli_report", "uncertainty");
+    let d = dir.display().to_string();
+    pim_ok(&[
+        "uncertainty",
+        "examples/cases/ricsac7_uncertainty.toml",
+        "--cost",
+        "q2",
+        "--draws",
+        "40",
+        "--out",
+        &d,
+    ]);
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    let study: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("uncertainty.json")).unwrap())
+            .unwrap();
+    let q = &study["quantities"]["delta_v1"];
+    let cell = |key: &str| fixed(q[key].as_f64().unwrap(), 2);
+    assert!(html.contains(&format!(
+        "<td class=\"n\">{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td>",
+        cell("p05"),
+        cell("p50"),
+        cell("p95")
+    )));
+    for f in ["diagram.svg", "momentum.svg", "histograms.svg", "report.md"] {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+}

@@ -157,12 +157,26 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
     let text = table(&title_of(&case), &study, units);
     if let Some(dir) = &a.out {
+        // The report of the nominal fit with the study's ranges and figures.
+        let fitted = pim_data::documents::fit(
+            &case,
+            a.cost,
+            pim_fit::FitModel::Pim,
+            pim_core::MomentForm::Corrected,
+            pim_fit::MomentBranch::ALL.to_vec(),
+        )
+        .map_err(Failure::from)?;
+        let name = a.cost.map_or("custom", |p| p.name());
+        let doc = pim_render::report::build::fit(&case, &fitted, name, Some(&study), units)
+            .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
         let out = super::output::OutDir::create(dir)?;
         out.write("uncertainty.json", &record)?;
         out.write("uncertainty.txt", &text)?;
-        let figures = pim_render::uncertainty_figures::figures(&study, units)
-            .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?;
-        super::write_figures(&out, &figures)?;
+        out.write("report.html", &doc.html())?;
+        out.write("report.md", &doc.markdown())?;
+        for f in doc.figures() {
+            out.write(&f.name, &f.svg)?;
+        }
         out.commit()?;
     }
     print_out(match a.format {
