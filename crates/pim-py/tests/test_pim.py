@@ -194,6 +194,8 @@ def test_draw_equals_the_svg_of_pim_draw(case, tmp_path):
     svg = pim.draw(case)
     assert svg == out.read_text()
     assert svg.startswith("<svg") and "impact centre" in svg
+    # A notebook shows it as a picture.
+    assert isinstance(svg, pim.SVG) and svg._repr_svg_() == str(svg)
 
 
 def test_the_second_model_solves_as_on_the_command_line(tmp_path):
@@ -259,3 +261,11 @@ def test_a_dict_case_is_named_without_lines_of_a_text_the_caller_never_wrote():
         pim.fit(case, cost="q2")
     message = str(err.value)
     assert message.startswith("<dict>: vehicle1.mass: must be a number between 100 and 60000 kg")
+
+
+def test_every_docstring_example_runs(monkeypatch):
+    import doctest
+
+    monkeypatch.chdir(REPO)
+    failures, tried = doctest.testmod(pim)
+    assert tried >= 2 and failures == 0

@@ -43,17 +43,18 @@ from ._pim import (  # noqa: F401
     InputError,
     NoSolution,
     batch,
-    draw,
     fit,
     predict_dv,
     solve,
     uncertainty,
 )
+from ._pim import draw as _draw
 
 __all__ = [
     "__version__",
     "InputError",
     "NoSolution",
+    "SVG",
     "batch",
     "draw",
     "fit",
@@ -62,6 +63,24 @@ __all__ = [
     "solve",
     "uncertainty",
 ]
+
+
+class SVG(str):
+    """SVG text that a notebook shows as a picture (``_repr_svg_``); otherwise a ``str``."""
+
+    def _repr_svg_(self):
+        return str(self)
+
+
+def draw(case, no_slip=False, moment_form="corrected", units=None):
+    """The scale diagram of ``pim draw`` as :class:`SVG` text (a ``str`` a notebook shows as a
+    picture), labelled in the case's units or ``units`` (``"si"``, ``"us"``, ``"kmh"``).
+
+    >>> svg = draw("examples/cases/side_impact.toml")
+    >>> svg.startswith("<svg"), svg._repr_svg_() == svg
+    (True, True)
+    """
+    return SVG(_draw(case, no_slip=no_slip, moment_form=moment_form, units=units))
 
 
 # The twelve velocity components, in the order of the records' 12-element lists.

@@ -55,12 +55,17 @@ def uncertainty(
 def predict_dv(path: Union[str, "os.PathLike[str]"] = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:
     """Brach (1984) section 6: delta-V predicted for every test of a data file."""
 
+class SVG(str):
+    """SVG text that a notebook shows as a picture; otherwise a ``str``."""
+
+    def _repr_svg_(self) -> str: ...
+
 def draw(
     case: Case,
     no_slip: bool = False,
     moment_form: MomentForm = "corrected",
     units: Optional[Literal["si", "us", "kmh"]] = None,
-) -> str:
+) -> SVG:
     """The scale diagram of ``pim draw`` as SVG text, labelled in the case's units or ``units``."""
 
 def records_frame(
