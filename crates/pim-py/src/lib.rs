@@ -232,6 +232,57 @@ fn detached<T: Send>(
     Ok(py.detach(|| pool.install(f)))
 }
 
+/// A `units` argument: `"si"`, `"us"`, `"kmh"` or `None` (the case's own).
+fn units_of(units: Option<&str>) -> PyResult<Option<pim_data::units::UnitSystem>> {
+    use pim_data::units::UnitSystem;
+    Ok(match units {
+        None => None,
+        Some("si") => Some(UnitSystem::Si),
+        Some("us") => Some(UnitSystem::Us),
+        Some("kmh") => Some(UnitSystem::Kmh),
+        Some(other) => {
+            return Err(input_error(format!(
+                "units = {other:?}: not an accepted value; accepted: \"si\", \"us\", \"kmh\""
+            )))
+        }
+    })
+}
+
+/// The report of `pim report` for a case: its HTML page and its Markdown, as a pair (the
+/// figures are inline in the HTML).
+#[pyfunction]
+#[pyo3(signature = (case, cost = None, draws = None, seed = None, units = None, solve = false))]
+fn report(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    cost: Option<&str>,
+    draws: Option<Bound<'_, PyAny>>,
+    seed: Option<Bound<'_, PyAny>>,
+    units: Option<&str>,
+    solve: bool,
+) -> PyResult<(String, String)> {
+    let draws = match draws.filter(|d| !d.is_none()) {
+        Some(d) => Some(whole(&d, "draws", 0, pim_data::ranges::MAX_DRAWS as u64)? as usize),
+        None => None,
+    };
+    let seed = match seed.filter(|s| !s.is_none()) {
+        Some(s) => whole(&s, "seed", 0, u64::MAX)?,
+        None => 1,
+    };
+    let options = pim_render::report::make::Options {
+        cost: cost.map(self::cost).transpose()?,
+        model: pim_fit::FitModel::Pim,
+        solve,
+        draws,
+        seed,
+        units: units_of(units)?,
+    };
+    let case = load_case(py, case)?;
+    let made = detached(py, None, || pim_render::report::make::make(&case, &options))?
+        .map_err(DocumentErrorPy)?;
+    Ok((made.document.html(), made.document.markdown()))
+}
+
 /// Solves a case forwards ([initial] given) or backwards ([final] given) with its
 /// [coefficients]; the document of `pim solve --format json`.
 #[pyfunction]
@@ -429,18 +480,7 @@ fn draw(
     moment_form: &str,
     units: Option<&str>,
 ) -> PyResult<String> {
-    use pim_data::units::UnitSystem;
-    let units = match units {
-        None => None,
-        Some("si") => Some(UnitSystem::Si),
-        Some("us") => Some(UnitSystem::Us),
-        Some("kmh") => Some(UnitSystem::Kmh),
-        Some(other) => {
-            return Err(input_error(format!(
-                "units = {other:?}: not an accepted value; accepted: \"si\", \"us\", \"kmh\""
-            )))
-        }
-    };
+    let units = units_of(units)?;
     let case = load_case(py, case)?;
     let mut diagram = pim_render::diagram::case_diagram(&case, &options(no_slip, moment_form)?)
         .map_err(DocumentErrorPy)?;
@@ -460,6 +500,7 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("InputError", py.get_type::<InputError>())?;
     m.add("NoSolution", py.get_type::<NoSolution>())?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(report, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(batch, m)?)?;
     m.add_function(wrap_pyfunction!(uncertainty, m)?)?;

@@ -269,3 +269,15 @@ def test_every_docstring_example_runs(monkeypatch):
     monkeypatch.chdir(REPO)
     failures, tried = doctest.testmod(pim)
     assert tried >= 2 and failures == 0
+
+
+def test_report_is_the_page_of_pim_report(tmp_path):
+    case = "examples/cases/tbone_sae_us.toml"
+    out = tmp_path / "r.html"
+    args = ("--cost", "q3", "--draws", "30")
+    assert run_cli("report", case, *args, "-o", str(out)).returncode == 0
+    r = pim.report(case, cost="q3", draws=30)
+    assert r.html == out.read_text()
+    assert r._repr_html_() == r.html and "Each value given against the fit" in r.markdown
+    with pytest.raises(pim.InputError, match="draws = -1"):
+        pim.report(case, draws=-1)

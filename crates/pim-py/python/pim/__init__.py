@@ -49,17 +49,20 @@ from ._pim import (  # noqa: F401
     uncertainty,
 )
 from ._pim import draw as _draw
+from ._pim import report as _report
 
 __all__ = [
     "__version__",
     "InputError",
     "NoSolution",
+    "Report",
     "SVG",
     "batch",
     "draw",
     "fit",
     "predict_dv",
     "records_frame",
+    "report",
     "solve",
     "uncertainty",
 ]
@@ -81,6 +84,36 @@ def draw(case, no_slip=False, moment_form="corrected", units=None):
     (True, True)
     """
     return SVG(_draw(case, no_slip=no_slip, moment_form=moment_form, units=units))
+
+
+class Report:
+    """The report of a crash, as ``pim report`` writes it: ``html`` (one self-contained page,
+    figures inline) and ``markdown``; a notebook shows the page (``_repr_html_``)."""
+
+    def __init__(self, html, markdown):
+        self.html = html
+        self.markdown = markdown
+
+    def _repr_html_(self):
+        return self.html
+
+    def save(self, path):
+        """Writes the HTML page to ``path``."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.html)
+
+
+def report(case, cost=None, draws=None, seed=None, units=None, solve=False):
+    """The report of a crash (``pim report``): a fit case is fitted under ``cost``, a solve
+    case solved (``solve=True`` picks the solve of a case that holds both); with [sigma] or
+    [uncertainty] the answer's ranges come from ``draws`` refits (default 200, 0 for none).
+
+    >>> r = report("examples/cases/side_impact.toml")
+    >>> r.html.startswith("<!DOCTYPE html>"), "## Answer" in r.markdown
+    (True, True)
+    """
+    html, markdown = _report(case, cost=cost, draws=draws, seed=seed, units=units, solve=solve)
+    return Report(html, markdown)
 
 
 # The twelve velocity components, in the order of the records' 12-element lists.

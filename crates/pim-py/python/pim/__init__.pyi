@@ -55,6 +55,24 @@ def uncertainty(
 def predict_dv(path: Union[str, "os.PathLike[str]"] = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:
     """Brach (1984) section 6: delta-V predicted for every test of a data file."""
 
+class Report:
+    """The report of a crash: ``html`` (one self-contained page) and ``markdown``."""
+
+    html: str
+    markdown: str
+    def _repr_html_(self) -> str: ...
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> None: ...
+
+def report(
+    case: Case,
+    cost: Optional[Literal["q1", "q2", "q3"]] = None,
+    draws: Optional[int] = None,
+    seed: Optional[int] = None,
+    units: Optional[Literal["si", "us", "kmh"]] = None,
+    solve: bool = False,
+) -> Report:
+    """The report of ``pim report`` for a case (HTML and Markdown)."""
+
 class SVG(str):
     """SVG text that a notebook shows as a picture; otherwise a ``str``."""
 

@@ -12,5 +12,6 @@ pub mod build;
 mod doc;
 mod fit_sections;
 mod html;
+pub mod make;
 
 pub use doc::{Block, Document, Section, Table};
