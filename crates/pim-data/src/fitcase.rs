@@ -289,15 +289,22 @@ pub fn settings(
     )
 }
 
+/// True when the case gives something to fit: estimates, known components or observations
+/// (a case may also hold a solve's `[coefficients]` and state).
+pub fn is_fit_case(case: &Case) -> bool {
+    let c = &case.content;
+    c.estimates.is_some() || c.known.is_some() || !c.observations.is_empty()
+}
+
 /// Checks that a case has something to fit. One file may hold both a solve and a fit of the
 /// same crash: a fit reads its estimates, observations and bounds and leaves
 /// `[coefficients]`, `[initial]` and `[final]` to `pim solve`; a file with only those is a
 /// solve case, which the error says.
 pub fn check_fit_sections(case: &Case) -> Result<()> {
-    let c = &case.content;
-    if c.estimates.is_some() || c.known.is_some() || !c.observations.is_empty() {
+    if is_fit_case(case) {
         return Ok(());
     }
+    let c = &case.content;
     for (name, present) in [
         ("[coefficients]", c.coefficients.is_some()),
         ("[initial]", c.initial.is_some()),

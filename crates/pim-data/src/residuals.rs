@@ -77,7 +77,7 @@ pub fn residuals(
             push(
                 COMPONENT_NAMES[k].to_string(),
                 "estimate".into(),
-                k % 3 == 2,
+                pim_fit::Component(k).is_yaw_rate(),
                 k % 3 != 0,
                 value,
                 u[k],

@@ -190,7 +190,21 @@ fn branches(names: Vec<String>) -> PyResult<Vec<MomentBranch>> {
     Ok(out)
 }
 
-/// Runs `f` on a rayon pool of `threads` (default: all cores) without holding the GIL.
+/// A `draws` argument: `None` when not given, else a whole number from `lo` to the largest
+/// study.
+fn draws_arg(draws: Option<&Bound<'_, PyAny>>, lo: u64) -> PyResult<Option<usize>> {
+    draws
+        .filter(|d| !d.is_none())
+        .map(|d| Ok(whole(d, "draws", lo, pim_data::ranges::MAX_DRAWS as u64)? as usize))
+        .transpose()
+}
+
+/// A `seed` argument: 1 when not given, else any whole number that fits 64 bits.
+fn seed_arg(seed: Option<&Bound<'_, PyAny>>) -> PyResult<u64> {
+    seed.filter(|s| !s.is_none())
+        .map_or(Ok(1), |s| whole(s, "seed", 0, u64::MAX))
+}
+
 /// A whole-number argument in `lo..=hi`, or InputError naming it and the range (never
 /// Python's bare OverflowError or TypeError).
 fn whole(value: &Bound<'_, PyAny>, name: &str, lo: u64, hi: u64) -> PyResult<u64> {
@@ -220,6 +234,7 @@ fn threads_arg(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
         .transpose()
 }
 
+/// Runs `f` on a rayon pool of `threads` (default: all cores) without holding the GIL.
 fn detached<T: Send>(
     py: Python<'_>,
     threads: Option<usize>,
@@ -261,14 +276,8 @@ fn report(
     units: Option<&str>,
     solve: bool,
 ) -> PyResult<(String, String)> {
-    let draws = match draws.filter(|d| !d.is_none()) {
-        Some(d) => Some(whole(&d, "draws", 0, pim_data::ranges::MAX_DRAWS as u64)? as usize),
-        None => None,
-    };
-    let seed = match seed.filter(|s| !s.is_none()) {
-        Some(s) => whole(&s, "seed", 0, u64::MAX)?,
-        None => 1,
-    };
+    let draws = draws_arg(draws.as_ref(), 0)?;
+    let seed = seed_arg(seed.as_ref())?;
     let options = pim_render::report::make::Options {
         cost: cost.map(self::cost).transpose()?,
         model: pim_fit::FitModel::Pim,
@@ -422,14 +431,8 @@ fn uncertainty(
     seed: Option<Bound<'_, PyAny>>,
     threads: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
-    let draws = match draws.filter(|d| !d.is_none()) {
-        Some(d) => whole(&d, "draws", 1, pim_data::ranges::MAX_DRAWS as u64)? as usize,
-        None => 200,
-    };
-    let seed = match seed.filter(|s| !s.is_none()) {
-        Some(s) => whole(&s, "seed", 0, u64::MAX)?,
-        None => 1,
-    };
+    let draws = draws_arg(draws.as_ref(), 1)?.unwrap_or(200);
+    let seed = seed_arg(seed.as_ref())?;
     let threads = threads_arg(threads.as_ref())?;
     let case = load_case(py, case)?;
     case.impact().map_err(|e| input_error(e.message))?;

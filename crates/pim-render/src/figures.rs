@@ -1,7 +1,7 @@
 //! SVG figures of a batch run (plotters): cost per test and cost function, the coefficients, the
 //! relative delta-V error per vehicle, and fitted against measured separation velocities.
 
-use crate::{svg_figure, Figure};
+use crate::{err, svg_figure, Figure};
 use pim_data::batch::BatchRecord;
 use plotters::prelude::*;
 
@@ -23,10 +23,6 @@ struct Series {
 type Getter = dyn Fn(&BatchRecord) -> Option<f64>;
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
-
-fn err<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
-}
 
 /// A horizontal reference line (a bound) with its label.
 struct Bound {

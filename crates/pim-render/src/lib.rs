@@ -41,6 +41,11 @@ pub struct Figure {
     pub svg: String,
 }
 
+/// A plotting error as text (the figures' error type).
+pub(crate) fn err<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
 /// A figure drawn by `draw` on a white SVG canvas of `size` pixels.
 pub(crate) fn svg_figure(
     name: &str,

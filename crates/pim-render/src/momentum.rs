@@ -7,7 +7,7 @@
 //! Drawn in the case's frame (SAE's y axis points to the right of x, so its plot is the
 //! natural one mirrored) and impulse unit.
 
-use crate::{svg_figure, Figure};
+use crate::{err, svg_figure, Figure};
 use pim_core::{Convention, Velocities};
 use pim_data::case::Case;
 use pim_data::units::UnitSystem;
@@ -15,10 +15,6 @@ use plotters::prelude::*;
 
 const COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
 const LIGHT: [RGBColor; 2] = [RGBColor(120, 170, 215), RGBColor(240, 140, 140)];
-
-fn err<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
-}
 
 /// One arrow of the diagram: from, to, colour, dashed, its label in the key.
 struct Arrow {

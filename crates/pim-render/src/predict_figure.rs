@@ -1,7 +1,7 @@
 //! The figure of `pim predict-dv --out` (as Brach 1984 Fig. 3): L of eq. 16 against the speed
 //! ratio for several mass ratios, and predicted against measured delta-V.
 
-use crate::{svg_figure, Figure};
+use crate::{err, svg_figure, Figure};
 use pim_core::prediction::l_factor;
 use pim_data::predict::TestPrediction;
 use plotters::coord::Shift;
@@ -14,10 +14,6 @@ const COLORS: [RGBColor; 5] = [
     RGBColor(214, 39, 40),
     RGBColor(148, 103, 189),
 ];
-
-fn err<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
-}
 
 /// The figure `predict_dv.svg`.
 pub fn figure(rows: &[TestPrediction]) -> Result<Figure, String> {

@@ -433,12 +433,11 @@ pub fn fit_table(
 /// A moment branch in words: `moment impulse free (em in [-1, 0])` or `no moment impulse (em
 /// = 1)`, with the name the JSON and `--branch` use.
 pub fn branch_words(b: pim_fit::MomentBranch) -> String {
-    match b {
-        pim_fit::MomentBranch::Free => {
-            "moment impulse free (em in [-1, 0]; branch \"free\")".into()
-        }
-        pim_fit::MomentBranch::Zero => "no moment impulse (em = 1; branch \"zero\")".into(),
-    }
+    let em = match b {
+        pim_fit::MomentBranch::Free => "em in [-1, 0]",
+        pim_fit::MomentBranch::Zero => "em = 1",
+    };
+    format!("{} ({em}; branch {:?})", branch_short(b), b.name())
 }
 
 /// A moment branch in two or three words: `moment impulse free`, `no moment impulse`.

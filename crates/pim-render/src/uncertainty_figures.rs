@@ -2,17 +2,13 @@
 //! delta-V with their 90 % bands, speed 1 against speed 2, and a tornado chart of the inputs
 //! that dominate each of them.
 
-use crate::{svg_figure, Figure};
+use crate::{err, svg_figure, Figure};
 use pim_data::uncertainty::{Study, QUANTITIES};
 use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 const BAR: RGBColor = RGBColor(31, 119, 180);
 const BAND: RGBColor = RGBColor(255, 127, 14);
-
-fn err<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
-}
 
 /// The four quantities drawn, with their labels (without the unit).
 const SHOWN: [(&str, &str); 4] = [

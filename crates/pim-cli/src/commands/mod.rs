@@ -120,9 +120,24 @@ pub fn write_diagram(d: &Diagram, path: &Path) -> Result<()> {
     write_file(path, &svg)
 }
 
-/// Writes `result.json` (and any `extra` files), the report as `report.html` and
-/// `report.md`, and the report's figures (`diagram.svg`, `momentum.svg`, ...) into the folder
-/// `dir` (as a whole, see [`output::OutDir`]).
+/// Writes the report into an output folder: `report.html`, `report.md` and the report's
+/// figures (`diagram.svg`, `momentum.svg`, ...); returns the names written.
+pub fn write_report(
+    out: &output::OutDir,
+    doc: &pim_render::report::Document,
+) -> Result<Vec<String>> {
+    out.write("report.html", &doc.html())?;
+    out.write("report.md", &doc.markdown())?;
+    let mut names = vec!["report.html".to_string(), "report.md".to_string()];
+    for f in doc.figures() {
+        out.write(&f.name, &f.svg)?;
+        names.push(f.name.clone());
+    }
+    Ok(names)
+}
+
+/// Writes `result.json` (and any `extra` files) and the report (see [`write_report`]) into
+/// the folder `dir` (as a whole, see [`output::OutDir`]).
 pub fn write_result_dir(
     dir: &Path,
     json: &str,
@@ -131,18 +146,12 @@ pub fn write_result_dir(
 ) -> Result<()> {
     let out = output::OutDir::create(dir)?;
     out.write("result.json", json)?;
+    let mut names = vec!["result.json".to_string()];
     for (name, text) in extra {
         out.write(name, text)?;
+        names.push(name.to_string());
     }
-    out.write("report.html", &doc.html())?;
-    out.write("report.md", &doc.markdown())?;
-    let mut names = vec!["result.json".to_string()];
-    names.extend(extra.iter().map(|(n, _)| n.to_string()));
-    names.extend(["report.html".to_string(), "report.md".to_string()]);
-    for f in doc.figures() {
-        out.write(&f.name, &f.svg)?;
-        names.push(f.name.clone());
-    }
+    names.extend(write_report(&out, doc)?);
     out.commit()?;
     eprintln!("pim: wrote {} to {}", names.join(", "), dir.display());
     Ok(())

@@ -5,6 +5,7 @@ use crate::args::ReportArgs;
 use crate::error::{Failure, EXIT_NO_ANSWER};
 use crate::inputs::{checked_impact, load_case};
 use anyhow::Result;
+use pim_render::report::make::Basis;
 use std::process::ExitCode;
 
 /// `pim report`.
@@ -28,10 +29,9 @@ pub fn run(a: &ReportArgs) -> Result<ExitCode> {
         .map_err(Failure::from)?;
     let doc = &made.document;
     let answered = made.answered();
-    let record = match (&made.fitted, &made.solved) {
-        (Some(f), _) => json(&f.document)?,
-        (None, Some(s)) => json(&s.document)?,
-        (None, None) => unreachable!("a made report has a fit or a solve"),
+    let record = match &made.basis {
+        Basis::Fit(f) => json(&f.document)?,
+        Basis::Solve(s) => json(&s.document)?,
     };
     let extra = match &made.study {
         Some(s) => vec![("uncertainty.json".to_string(), json(s)?)],

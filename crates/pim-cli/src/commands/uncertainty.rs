@@ -172,11 +172,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         let out = super::output::OutDir::create(dir)?;
         out.write("uncertainty.json", &record)?;
         out.write("uncertainty.txt", &text)?;
-        out.write("report.html", &doc.html())?;
-        out.write("report.md", &doc.markdown())?;
-        for f in doc.figures() {
-            out.write(&f.name, &f.svg)?;
-        }
+        super::write_report(&out, &doc)?;
         out.commit()?;
     }
     print_out(match a.format {

@@ -244,9 +244,10 @@ impl Diagram {
                 BLACK.stroke_width(4),
             ))
             .map_err(|e| err(&e))?;
+        let bar_label = format!("{bar} {len}");
         chart
             .draw_series(std::iter::once(Text::new(
-                format!("{bar} {len}"),
+                bar_label.clone(),
                 (bx, by + 0.03 * (y1 - y0)),
                 ("sans-serif", 14).into_font().color(&BLACK),
             )))
@@ -282,8 +283,7 @@ impl Diagram {
         // The scale bar's label.
         {
             let (x, y) = px((bx, by + 0.03 * (y1 - y0)));
-            let text = format!("{bar} {len}");
-            let w = super::labels::text_width(&text, super::labels::svg_size(14.0));
+            let w = super::labels::text_width(&bar_label, super::labels::svg_size(14.0));
             obstacles.push([
                 f64::from(x),
                 f64::from(y),

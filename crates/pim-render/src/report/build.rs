@@ -93,7 +93,7 @@ pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String>
     doc.sections.push(answer);
     doc.sections.push(warnings_section(warnings));
     doc.sections
-        .push(figures(diagram.svg()?, momentum, Vec::new()));
+        .push(figures(diagram.svg()?, Some(momentum), Vec::new()));
     doc.sections.push(method(None));
     doc.sections.push(inputs(case, u));
     Ok(doc)
@@ -192,24 +192,10 @@ pub fn fit(
         Some(s) => crate::uncertainty_figures::figures(s, u)?,
         None => Vec::new(),
     };
-    let mut figs = figures(
-        diagram.svg()?,
-        momentum.unwrap_or_else(empty_momentum),
-        extra,
-    );
-    figs.blocks
-        .retain(|b| !matches!(b, Block::Figure(f, _) if f.svg.is_empty()));
-    doc.sections.push(figs);
+    doc.sections.push(figures(diagram.svg()?, momentum, extra));
     doc.sections.push(method(Some((cost, f))));
     doc.sections.push(inputs(case, u));
     Ok(doc)
-}
-
-fn empty_momentum() -> crate::Figure {
-    crate::Figure {
-        name: "momentum.svg".into(),
-        svg: String::new(),
-    }
 }
 
 /// Title, what was done, and how to read the report.
@@ -268,7 +254,8 @@ fn warnings_section(w: Vec<String>) -> Section {
     s
 }
 
-fn figures(diagram: String, momentum: crate::Figure, extra: Vec<crate::Figure>) -> Section {
+/// The plan view, the momentum diagram (none without an answer) and the study's figures.
+fn figures(diagram: String, momentum: Option<crate::Figure>, extra: Vec<crate::Figure>) -> Section {
     let mut s = Section::new("Figures");
     s.blocks.push(Block::Figure(
         crate::Figure {
@@ -279,13 +266,15 @@ fn figures(diagram: String, momentum: crate::Figure, extra: Vec<crate::Figure>) 
          at contact and separation, the impulse on each vehicle and the separation yaw rates."
             .into(),
     ));
-    s.blocks.push(Block::Figure(
-        momentum,
-        "Momentum diagram, to scale: each vehicle's momentum at contact and at separation, \
+    s.blocks.extend(momentum.map(|m| {
+        Block::Figure(
+            m,
+            "Momentum diagram, to scale: each vehicle's momentum at contact and at separation, \
          placed head to tail; both chains end at the same total momentum, which the impact \
          does not change."
-            .into(),
-    ));
+                .into(),
+        )
+    }));
     for f in extra {
         let caption = match f.name.as_str() {
             "histograms.svg" => "The refits' answers: histograms of each quantity.",

@@ -44,15 +44,22 @@ impl Default for Options {
     }
 }
 
+/// What a report was made from: a fit or a solve.
+#[derive(Debug, Clone)]
+pub enum Basis {
+    /// The fit of a fit case.
+    Fit(Box<Fitted>),
+    /// The solve of a solve case.
+    Solve(Box<Solved>),
+}
+
 /// A made report: the document, and what it was made from.
 #[derive(Debug, Clone)]
 pub struct Made {
     /// The document.
     pub document: Document,
-    /// The fit, for a fit case.
-    pub fitted: Option<Fitted>,
-    /// The solve, for a solve case.
-    pub solved: Option<Solved>,
+    /// The fit or solve it reports.
+    pub basis: Basis,
     /// The uncertainty study, when one ran and had admissible draws.
     pub study: Option<Study>,
 }
@@ -60,11 +67,10 @@ pub struct Made {
 impl Made {
     /// True when the report has an answer (a solve, or a fit with an admissible branch).
     pub fn answered(&self) -> bool {
-        self.solved.is_some()
-            || self
-                .fitted
-                .as_ref()
-                .is_some_and(|f| f.report.best.is_some())
+        match &self.basis {
+            Basis::Fit(f) => f.report.best.is_some(),
+            Basis::Solve(_) => true,
+        }
     }
 }
 
@@ -74,16 +80,14 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         .units
         .unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let c = &case.content;
-    let is_fit =
-        !o.solve && (c.estimates.is_some() || c.known.is_some() || !c.observations.is_empty());
+    let is_fit = !o.solve && pim_data::fitcase::is_fit_case(case);
     let cannot = |e: String| DocumentError::Input(format!("{}: cannot draw: {e}", case.file));
     if !is_fit {
         let solved = documents::solve(case, &pim_core::SolveOptions::default())?;
         let document = super::build::solve(case, &solved, units).map_err(cannot)?;
         return Ok(Made {
             document,
-            fitted: None,
-            solved: Some(solved),
+            basis: Basis::Solve(Box::new(solved)),
             study: None,
         });
     }
@@ -114,8 +118,7 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
     let document = super::build::fit(case, &fitted, name, study.as_ref(), units).map_err(cannot)?;
     Ok(Made {
         document,
-        fitted: Some(fitted),
-        solved: None,
+        basis: Basis::Fit(Box::new(fitted)),
         study,
     })
 }
