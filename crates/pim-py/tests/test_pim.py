@@ -38,14 +38,15 @@ R7_FIT = "examples/cases/ricsac7_fit.toml"
 
 @pytest.mark.parametrize("cost", ["q1", "q2", "q3"])
 def test_fit_equals_the_cli_document(cost):
-    assert pim.fit(R7_FIT, cost=cost) == cli_json("fit", R7_FIT, "--cost", cost)
+    assert pim.fit(R7_FIT, cost=cost).to_dict() == cli_json("fit", R7_FIT, "--cost", cost)
 
 
 def test_the_second_model_fits_as_on_the_command_line():
     got = pim.fit(R7_FIT, cost="q2", model="tangential")
-    assert got == cli_json("fit", R7_FIT, "--cost", "q2", "--model", "tangential")
-    assert got["model"] == "tangential" and len(got["branches"]) == 1
-    assert got["branches"][0]["tangential"]["mode"] in ("stick", "slide")
+    assert got.to_dict() == cli_json("fit", R7_FIT, "--cost", "q2", "--model", "tangential")
+    assert got.model == "tangential" and len(got.branches) == 1
+    assert got.branches[0].tangential is not None
+    assert got.branches[0].tangential["mode"] in ("stick", "slide")
     records = pim.batch(costs=("q2",), tests=[7], models=("pim", "tangential"))
     assert records == cli_json(
         "batch", "--cost", "q2", "--tests", "7", "--model", "pim,tangential"
@@ -58,15 +59,15 @@ def test_the_second_model_fits_as_on_the_command_line():
 def test_a_case_as_path_text_or_dict_is_the_same_case():
     text = (REPO / R7_FIT).read_text()
     by_path = pim.fit(Path(R7_FIT), cost="q2", branches=("zero",))
-    assert pim.fit(text, cost="q2", branches=["zero"]) == by_path
+    assert pim.fit(text, cost="q2", branches=["zero"]).to_dict() == by_path.to_dict()
     assert pim.fit(tomllib.loads(text), cost="q2", branches=["zero"]) == by_path
-    assert [b["moment"] for b in by_path["branches"]] == ["zero"]
+    assert [b.moment for b in by_path.branches] == ["zero"]
 
 
 def test_solve_equals_the_cli_document_both_moment_forms():
     case = "examples/cases/ricsac7_brach1983.toml"
-    assert pim.solve(case) == cli_json("solve", case)
-    got = pim.solve(case, no_slip=True, moment_form="brach1983")
+    assert pim.solve(case).to_dict() == cli_json("solve", case)
+    got = pim.solve(case, no_slip=True, moment_form="brach1983").to_dict()
     assert got == cli_json("solve", case, "--no-slip", "--moment-form", "brach1983")
 
 
@@ -82,8 +83,9 @@ def test_batch_records_equal_the_cli_records_for_any_thread_count():
 def test_uncertainty_and_predict_dv_equal_the_cli_documents():
     case = "examples/cases/ricsac7_uncertainty.toml"
     got = pim.uncertainty(case, cost="q2", draws=40, seed=3, threads=2)
-    assert got == cli_json("uncertainty", case, "--cost", "q2", "--draws", "40", "--seed", "3")
-    assert got["draws"] == 40 and set(got["quantities"]) >= {"speed1", "speed2", "delta_v1"}
+    doc = cli_json("uncertainty", case, "--cost", "q2", "--draws", "40", "--seed", "3")
+    assert got.to_dict() == doc
+    assert got.draws == 40 and set(got.quantities) >= {"speed1", "speed2", "delta_v1"}
     assert pim.predict_dv(e=0.1) == cli_json("predict-dv", "--e", "0.1")
 
 
@@ -203,26 +205,27 @@ def test_the_second_model_solves_as_on_the_command_line(tmp_path):
     case = tomllib.loads(text)
     case["coefficients"] = {"e": 0.1, "et": 0.0, "friction": 0.5}
     got = pim.solve(case)
-    assert got["model"]["name"] == "tangential" and got["model"]["mode"] == "slide"
+    assert got.model is not None
+    assert got.model["name"] == "tangential" and got.model["mode"] == "slide"
     path = tmp_path / "t.toml"
     path.write_text(text.replace("e = 0.015", "e = 0.1").replace("mu = 0.968", "et = 0.0")
                     .replace("em = -0.774", "friction = 0.5"))
-    assert got == cli_json("solve", str(path))
+    assert got.to_dict() == cli_json("solve", str(path))
 
 
 def test_a_barrier_case_solves_and_draws_as_on_the_command_line():
     case = "examples/cases/barrier_small_overlap.toml"
     got = pim.solve(case)
-    assert got == cli_json("solve", case)
-    assert got["barrier"] is True
-    assert got["final"]["vehicle2"] == {"vx": 0.0, "vy": 0.0, "omega": 0.0}
+    assert got.to_dict() == cli_json("solve", case)
+    assert got.barrier is True and got.model is None
+    assert got.final.vehicle2 == pim.Motion(0.0, 0.0, 0.0)
     assert "barrier (fixed, rigid)" in pim.draw(case)
 
 
 def test_documents_say_they_are_si_and_draw_takes_units():
     doc = pim.solve("examples/cases/tbone_sae_us.toml")
-    assert doc["units"]["system"] == "SI" and doc["units"]["speed"] == "m/s"
-    assert pim.fit(R7_FIT, cost="q2")["units"]["energy"] == "J"
+    assert doc.units["system"] == "SI" and doc.units["speed"] == "m/s"
+    assert pim.fit(R7_FIT, cost="q2").units["energy"] == "J"
     us = pim.draw("examples/cases/tbone_sae_us.toml")
     si = pim.draw("examples/cases/tbone_sae_us.toml", units="si")
     assert "60.00 mph" in us and "26.82 m/s" in si
@@ -244,7 +247,8 @@ def test_records_frame_in_us_units_converts_the_suffixed_columns():
     )
     assert us["e"].tolist() == si["e"].tolist()
     # The best branch's contact speed of the 60 mph pickup reads in mph.
-    best = us[us.moment == fit["best"]]
+    assert fit.best is not None
+    best = us[us.moment == fit.best.moment]
     assert abs(best["vehicle1_speed_initial_mph"].iloc[0] - 59.86) < 0.01
     with pytest.raises(pim.InputError, match="accepted"):
         pim.records_frame(fit, units="furlongs")

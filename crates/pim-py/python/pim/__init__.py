@@ -1,9 +1,19 @@
 """Planar Impact Mechanics (Brach) for two-vehicle collision reconstruction, from Python.
 
-The same solver, certified fit and documents as the ``pim`` command: every function returns
-the document that ``pim <command> --format json`` prints for the same input, made by the same
-Rust code (nothing is re-implemented here). Units are SI in every document: m/s, rad/s, kg,
-m, J, degrees for angles.
+The same solver, certified fit and documents as the ``pim`` command, made by the same Rust
+code (nothing is re-implemented here). Results are typed objects read from the document that
+``pim <command> --format json`` prints for the same input: :func:`fit` returns a
+:class:`FitResult` (its ``branches`` and ``best``, each a :class:`Branch` with ``e``, ``mu``,
+``em``, ``cost``, ``vehicles``, ``residuals``, ...), :func:`solve` a :class:`SolveResult`,
+:func:`uncertainty` an :class:`Uncertainty`, :func:`batch` :class:`Records`. Each has
+``to_dict()`` (the document, unchanged), ``to_frame()`` (a pandas DataFrame) and an HTML
+table for notebooks; :func:`draw` returns an :class:`SVG` a notebook shows as a picture, and
+:mod:`pim.plot` draws intervals and batch results with matplotlib. Units are SI: m/s,
+rad/s, kg, m, J, degrees for angles.
+
+    >>> best = fit("examples/cases/ricsac7_fit.toml", cost="q3").best
+    >>> best.moment, round(best.e, 3), round(best.vehicles[0].delta_v, 2)
+    ('zero', 0.051, 5.36)
 
 A *case* is a case file of the ``pim`` command, given as TOML text, as a path (``str`` or
 ``os.PathLike``), or as a dict of the same shape::
@@ -38,25 +48,44 @@ Errors: :class:`InputError` for bad input (the command line's message, naming th
 field), :class:`NoSolution` when the model has no answer.
 """
 
-from ._pim import (  # noqa: F401
-    __version__,
-    InputError,
-    NoSolution,
-    batch,
-    fit,
-    predict_dv,
-    solve,
-    uncertainty,
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union
+
+from . import _pim
+from ._pim import InputError, NoSolution, __version__
+from ._results import (
+    Branch,
+    ChiSquare,
+    FitResult,
+    Interval,
+    Motion,
+    Records,
+    Residual,
+    SolveResult,
+    Uncertainty,
+    Vehicle,
+    Velocities,
 )
-from ._pim import draw as _draw
-from ._pim import report as _report
 
 __all__ = [
     "__version__",
+    "Branch",
+    "ChiSquare",
+    "FitResult",
     "InputError",
+    "Interval",
+    "Motion",
     "NoSolution",
+    "Records",
     "Report",
+    "Residual",
     "SVG",
+    "SolveResult",
+    "Uncertainty",
+    "Vehicle",
+    "Velocities",
     "batch",
     "draw",
     "fit",
@@ -67,15 +96,129 @@ __all__ = [
     "uncertainty",
 ]
 
+Case = Union[str, "os.PathLike[str]", Dict[str, Any]]
+"""A case: TOML text, a path to a case file, or a dict of the same shape."""
+PathArg = Union[str, "os.PathLike[str]"]
+Cost = Literal["q1", "q2", "q3"]
+MomentBranch = Literal["free", "zero"]
+MomentForm = Literal["corrected", "brach1983"]
+Model = Literal["pim", "tangential"]
+Units = Literal["si", "us", "kmh"]
+
+
+def solve(case: Case, no_slip: bool = False, moment_form: MomentForm = "corrected") -> SolveResult:
+    """Solves a case forwards ([initial] given) or backwards ([final] given) with its
+    [coefficients] (``pim solve``). ``no_slip=True`` uses the no-slip friction basis;
+    ``moment_form="brach1983"`` Brach's 1983 moment equation (with its sign error), for
+    reproducing old results. Raises :class:`NoSolution` when the model has no answer.
+
+    >>> s = solve("examples/cases/ricsac7_brach1983.toml")
+    >>> round(s.vehicles[0].delta_v, 3), s.admissible
+    (7.79, False)
+    >>> s.reasons[0][:32]
+    'mu = 0.968 is not between 0 and '
+    """
+    return SolveResult._read(_pim.solve(case, no_slip=no_slip, moment_form=moment_form))
+
+
+def fit(
+    case: Case,
+    cost: Optional[Cost] = None,
+    branches: Sequence[MomentBranch] = ("free", "zero"),
+    moment_form: MomentForm = "corrected",
+    model: Model = "pim",
+) -> FitResult:
+    """Fits the coefficients and the twelve velocities of a case (``pim fit``) under a cost
+    function, certifying the global optimum of each moment branch (``branches``: ``"free"``,
+    e_m in [-1, 0]; ``"zero"``, e_m = 1). ``cost``: ``"q1"`` (separation velocities known,
+    contact velocities estimated), ``"q2"`` (contact known, separation estimated), ``"q3"``
+    (all twelve estimated) or ``None`` (the case's own [known] components, its
+    [estimates.initial] / [estimates.final], observations and sigmas).
+    ``model="tangential"`` fits the second model.
+
+    Raises :class:`NoSolution` when no branch has a solution; its ``document`` is the fit's
+    document and its ``result`` the :class:`FitResult` read from it.
+
+    >>> f = fit("examples/cases/ricsac7_fit.toml", cost="q2")
+    >>> f.best.moment, round(f.best.cost, 4), round(f.branch("free").mu, 4)
+    ('zero', 1.0694, 0.8874)
+    >>> [b.status for b in f.branches]
+    ['optimal', 'optimal']
+    """
+    try:
+        document = _pim.fit(case, cost=cost, branches=list(branches), moment_form=moment_form,
+                            model=model)
+    except NoSolution as err:
+        doc = getattr(err, "document", None)
+        if isinstance(doc, dict):
+            err.result = FitResult._read(doc)  # type: ignore[attr-defined]
+        raise
+    return FitResult._read(document)
+
+
+def batch(
+    path: PathArg = "data/ricsac.csv",
+    costs: Sequence[Cost] = ("q1", "q2", "q3"),
+    branches: Sequence[MomentBranch] = ("free", "zero"),
+    threads: Optional[int] = None,
+    e_max: float = 0.2,
+    moment_form: MomentForm = "corrected",
+    tests: Optional[Sequence[int]] = None,
+    models: Sequence[Model] = ("pim",),
+) -> Records:
+    """Refits every test of a RICSAC-style data file (``pim batch``): one record per test,
+    cost function, model and branch, as :class:`Records` (a list of dicts with
+    ``to_frame()``), in the same order for any ``threads``.
+
+    >>> r = batch(costs=["q3"], tests=[7])
+    >>> [(x["moment"], x["status"]) for x in r]
+    [('free', 'optimal'), ('zero', 'optimal')]
+    """
+    return Records(_pim.batch(path, costs=list(costs), branches=list(branches), threads=threads,
+                              e_max=e_max, moment_form=moment_form,
+                              tests=None if tests is None else list(tests),
+                              models=list(models)))
+
+
+def uncertainty(
+    case: Case,
+    cost: Optional[Cost] = None,
+    draws: Optional[int] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+) -> Uncertainty:
+    """Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit
+    by a seeded parametric bootstrap (``pim uncertainty``): ``draws`` refits (default 200)
+    from ``seed`` (default 1), the same numbers for any ``threads``.
+
+    >>> u = uncertainty("examples/cases/ricsac7_uncertainty.toml", cost="q2", draws=20)
+    >>> u.feasible_draws, u["speed1"].unit, u["speed1"].p05 < u["speed1"].p95
+    (20, 'm/s', True)
+    """
+    return Uncertainty._read(_pim.uncertainty(case, cost=cost, draws=draws, seed=seed,
+                                              threads=threads))
+
+
+def predict_dv(path: PathArg = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:
+    """Brach (1984) section 6: delta-V predicted from the impact speeds, masses and energy
+    loss for every test of a data file (``pim predict-dv``), as its document (``tests``: one
+    dict per test)."""
+    return _pim.predict_dv(path, e=e)
+
 
 class SVG(str):
     """SVG text that a notebook shows as a picture (``_repr_svg_``); otherwise a ``str``."""
 
-    def _repr_svg_(self):
+    def _repr_svg_(self) -> str:
         return str(self)
 
 
-def draw(case, no_slip=False, moment_form="corrected", units=None):
+def draw(
+    case: Case,
+    no_slip: bool = False,
+    moment_form: MomentForm = "corrected",
+    units: Optional[Units] = None,
+) -> SVG:
     """The scale diagram of ``pim draw`` as :class:`SVG` text (a ``str`` a notebook shows as a
     picture), labelled in the case's units or ``units`` (``"si"``, ``"us"``, ``"kmh"``).
 
@@ -83,27 +226,34 @@ def draw(case, no_slip=False, moment_form="corrected", units=None):
     >>> svg.startswith("<svg"), svg._repr_svg_() == svg
     (True, True)
     """
-    return SVG(_draw(case, no_slip=no_slip, moment_form=moment_form, units=units))
+    return SVG(_pim.draw(case, no_slip=no_slip, moment_form=moment_form, units=units))
 
 
 class Report:
     """The report of a crash, as ``pim report`` writes it: ``html`` (one self-contained page,
     figures inline) and ``markdown``; a notebook shows the page (``_repr_html_``)."""
 
-    def __init__(self, html, markdown):
+    def __init__(self, html: str, markdown: str) -> None:
         self.html = html
         self.markdown = markdown
 
-    def _repr_html_(self):
+    def _repr_html_(self) -> str:
         return self.html
 
-    def save(self, path):
+    def save(self, path: PathArg) -> None:
         """Writes the HTML page to ``path``."""
         with open(path, "w", encoding="utf-8") as f:
             f.write(self.html)
 
 
-def report(case, cost=None, draws=None, seed=None, units=None, solve=False):
+def report(
+    case: Case,
+    cost: Optional[Cost] = None,
+    draws: Optional[int] = None,
+    seed: Optional[int] = None,
+    units: Optional[Units] = None,
+    solve: bool = False,
+) -> Report:
     """The report of a crash (``pim report``): a fit case is fitted under ``cost``, a solve
     case solved (``solve=True`` picks the solve of a case that holds both); with [sigma] or
     [uncertainty] the answer's ranges come from ``draws`` refits (default 200, 0 for none).
@@ -112,7 +262,8 @@ def report(case, cost=None, draws=None, seed=None, units=None, solve=False):
     >>> r.html.startswith("<!DOCTYPE html>"), "## Answer" in r.markdown
     (True, True)
     """
-    html, markdown = _report(case, cost=cost, draws=draws, seed=seed, units=units, solve=solve)
+    html, markdown = _pim.report(case, cost=cost, draws=draws, seed=seed, units=units,
+                                 solve=solve)
     return Report(html, markdown)
 
 
@@ -121,7 +272,7 @@ _COMPONENTS = ["vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2",
                "vf1x", "vf1y", "wf1", "vf2x", "vf2y", "wf2"]
 
 
-def _flatten(prefix, value, out):
+def _flatten(prefix: str, value: Any, out: Dict[str, Any]) -> None:
     if prefix == "velocity_error" and isinstance(value, list) and len(value) == 12:
         for name, v in zip(_COMPONENTS, value):
             out[f"velocity_error_{name}"] = v
@@ -141,7 +292,7 @@ def _flatten(prefix, value, out):
 
 # Unit suffixes of the flat columns: (test on the name, suffix), first match wins. Angles are
 # degrees, velocities m/s, yaw rates rad/s, energies J, impulses N s (moment: N m s).
-_UNIT_RULES = [
+_UNIT_RULES: List[Any] = [
     (lambda n: n.endswith("_percent"), "pct"),
     (lambda n: n.startswith("velocity_error_w"), "radps"),
     (lambda n: n.startswith("velocity_error_v"), "mps"),
@@ -156,7 +307,7 @@ _UNIT_RULES = [
 ]
 
 
-def _with_unit(name):
+def _with_unit(name: str) -> str:
     for test, unit in _UNIT_RULES:
         if test(name):
             if unit == "pct":
@@ -168,7 +319,7 @@ def _with_unit(name):
 # Conversions of the SI suffixes for ``records_frame(..., units=)``: suffix -> (new suffix,
 # factor). Exact definitions: 1 mph = 0.44704 m/s, 1 ft = 0.3048 m, 1 lbf = 4.4482216152605 N.
 _LBF = 4.4482216152605
-_CONVERT = {
+_CONVERT: Dict[str, Dict[str, Any]] = {
     "si": {},
     "us": {
         "mps": ("mph", 1.0 / 0.44704),
@@ -185,11 +336,14 @@ _CONVERT = {
 }
 
 
-def records_frame(records, units="si"):
+def records_frame(
+    records: Union[Iterable[Mapping[str, Any]], Mapping[str, Any], FitResult, Records],
+    units: str = "si",
+) -> Any:
     """A pandas DataFrame with one row per record and flat, unit-suffixed columns.
 
-    ``records`` is the list that :func:`batch` returns, a fit document (its branches become
-    the rows), or any list of flat or nested dicts. Nested fields are joined with ``_``
+    ``records`` is what :func:`batch` returns, a :class:`FitResult` or fit document (its
+    branches become the rows), or any list of flat or nested dicts. Nested fields are joined with ``_``
     (``initial_vehicle1_vx_mps``, ``vehicles_1_delta_v_mps``); lists of numbers become one
     column per element. Units: ``_mps`` m/s, ``_radps`` rad/s, ``_deg`` degrees, ``_j``
     joules, ``_ns`` newton seconds, ``_m`` metres, ``_pct`` percent.
@@ -214,18 +368,26 @@ def records_frame(records, units="si"):
     if units not in _CONVERT:
         raise InputError(f"units = {units!r}: not an accepted value; accepted: 'si', 'us', 'kmh'")
     convert = _CONVERT[units]
-    if isinstance(records, dict) and "branches" in records:
-        records = [dict(b, cost_function=records.get("cost_function")) for b in records["branches"]]
+    if isinstance(records, FitResult):
+        records = records.to_dict()
+    given: Iterable[Mapping[str, Any]]
+    if isinstance(records, Mapping):
+        if "branches" not in records:
+            raise InputError("records: a dict must be a fit document (with 'branches'); give "
+                             "other records as a list of dicts")
+        given = [dict(b, cost_function=records.get("cost_function")) for b in records["branches"]]
+    else:
+        given = records
     rows = []
-    for r in records:
-        flat = {}
+    for r in given:
+        flat: Dict[str, Any] = {}
         for k, v in r.items():
             if k == "vehicles" and isinstance(v, list):
                 for i, veh in enumerate(v, start=1):
                     _flatten(f"vehicle{i}", veh, flat)
             else:
                 _flatten(k, v, flat)
-        row = {}
+        row: Dict[str, Any] = {}
         for k, v in flat.items():
             name = _with_unit(k)
             suffix = name.rsplit("_", 1)[-1]
@@ -240,12 +402,12 @@ def records_frame(records, units="si"):
     return _without_placeholders_and_twins(frame)
 
 
-def _without_placeholders_and_twins(frame):
+def _without_placeholders_and_twins(frame: Any) -> Any:
     """Drops the columns that say nothing the others do not: a nested field absent from every
     row (``initial`` of records whose others have ``initial_vehicle1_vx_mps``), and the
     records' duplicates (``moment_branch`` beside ``moment``, ``vehicle1_delta_v_*`` beside
     ``delta_v_vehicle1_*``) when equal in every row."""
-    drop = []
+    drop: List[str] = []
     columns = list(frame.columns)
     for c in columns:
         if frame[c].isna().all():

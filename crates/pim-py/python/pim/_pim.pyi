@@ -1,0 +1,72 @@
+"""Type stubs of the compiled part of the package (``pim._pim``); users call the wrappers
+of the package ``pim``, which return typed results."""
+
+import os
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+__all__ = [
+    "__version__",
+    "InputError",
+    "NoSolution",
+    "solve",
+    "report",
+    "fit",
+    "batch",
+    "uncertainty",
+    "predict_dv",
+    "draw",
+]
+
+__version__: str
+
+_Case = Union[str, "os.PathLike[str]", Dict[str, Any]]
+_PathArg = Union[str, "os.PathLike[str]"]
+
+class InputError(ValueError):
+    """Bad input or an argument out of range; the message names the file, line and field."""
+
+class NoSolution(Exception):
+    """The model has no answer; for a fit, ``document`` holds the fit's document."""
+
+    document: Dict[str, Any]
+
+def solve(case: _Case, no_slip: bool = ..., moment_form: str = ...) -> Dict[str, Any]: ...
+def fit(
+    case: _Case,
+    cost: Optional[str] = ...,
+    branches: Sequence[str] = ...,
+    moment_form: str = ...,
+    model: str = ...,
+) -> Dict[str, Any]: ...
+def batch(
+    path: _PathArg = ...,
+    costs: Sequence[str] = ...,
+    branches: Sequence[str] = ...,
+    threads: Optional[int] = ...,
+    e_max: float = ...,
+    moment_form: str = ...,
+    tests: Optional[Sequence[int]] = ...,
+    models: Sequence[str] = ...,
+) -> List[Dict[str, Any]]: ...
+def uncertainty(
+    case: _Case,
+    cost: Optional[str] = ...,
+    draws: Optional[int] = ...,
+    seed: Optional[int] = ...,
+    threads: Optional[int] = ...,
+) -> Dict[str, Any]: ...
+def predict_dv(path: _PathArg = ..., e: float = ...) -> Dict[str, Any]: ...
+def report(
+    case: _Case,
+    cost: Optional[str] = ...,
+    draws: Optional[int] = ...,
+    seed: Optional[int] = ...,
+    units: Optional[str] = ...,
+    solve: bool = ...,
+) -> Tuple[str, str]: ...
+def draw(
+    case: _Case,
+    no_slip: bool = ...,
+    moment_form: str = ...,
+    units: Optional[str] = ...,
+) -> str: ...

@@ -1,0 +1,43 @@
+"""A script as a user writes it against the package, type-checked with ``mypy --strict`` by
+the test suite (not run as a test itself)."""
+
+from typing import List, Optional
+
+import pim
+
+
+def best_delta_v(case: str) -> Optional[List[float]]:
+    fit: pim.FitResult = pim.fit(case, cost="q3")
+    best: Optional[pim.Branch] = fit.best
+    if best is None:
+        return None
+    return [v.delta_v for v in best.vehicles]
+
+
+def speeds(case: str) -> List[float]:
+    solved: pim.SolveResult = pim.solve(case)
+    return [solved.initial.vehicle1.speed, solved.final.vehicle2.speed]
+
+
+def range_of_speed1(case: str) -> Optional[float]:
+    study: pim.Uncertainty = pim.uncertainty(case, draws=50, seed=2)
+    q: pim.Interval = study["speed1"]
+    if q.p05 is None or q.p95 is None:
+        return None
+    return q.p95 - q.p05
+
+
+def worst_residual(case: str) -> str:
+    best = pim.fit(case).best
+    assert best is not None
+    worst: pim.Residual = max(best.residuals, key=lambda r: abs(r.normalised or 0.0))
+    return worst.name
+
+
+def costs(path: str) -> List[float]:
+    records: pim.Records = pim.batch(path, costs=["q2"])
+    return [float(r["cost"]) for r in records if r["best"]]
+
+
+svg: pim.SVG = pim.draw("examples/cases/side_impact.toml", units="kmh")
+report: pim.Report = pim.report("examples/cases/side_impact.toml")
