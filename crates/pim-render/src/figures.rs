@@ -43,10 +43,19 @@ fn grouped_bars(
 ) -> Result<(), String> {
     let (w_px, _) = area.dim_in_pixel();
     let (plot, key) = area.split_horizontally(w_px.saturating_sub(KEY_WIDTH));
-    let vals: Vec<f64> = series
+    let data: Vec<f64> = series
         .iter()
         .flat_map(|s| s.values.iter().flatten().copied())
-        .chain(bounds.iter().map(|b| b.value))
+        .collect();
+    // A bound far from every value would only stretch the axis into empty space: it is
+    // drawn when some value comes within a tenth of the values' span of it, and otherwise
+    // named in the key as not reached.
+    let span = data.iter().fold(0.0_f64, |m, v| m.max(v.abs())).max(1e-9);
+    let reached = |b: &Bound| data.iter().any(|v| (v - b.value).abs() <= 0.1 * span);
+    let vals: Vec<f64> = data
+        .iter()
+        .copied()
+        .chain(bounds.iter().filter(|b| reached(b)).map(|b| b.value))
         .collect();
     let lo = vals.iter().copied().fold(0.0_f64, f64::min);
     let hi = vals.iter().copied().fold(0.0_f64, f64::max);
@@ -65,6 +74,7 @@ fn grouped_bars(
         .x_desc("RICSAC test")
         .y_desc(y_label)
         .y_label_formatter(&|y| tick(*y))
+        .max_light_lines(1)
         .x_labels(n)
         .x_label_formatter(&|x| {
             let i = x.round();
@@ -87,7 +97,11 @@ fn grouped_bars(
             let x1 = x0 + w * 0.9;
             match v {
                 Some(v) => {
-                    if *v != 0.0 {
+                    // A bar less than a pixel high has no area to draw (and an SVG rect of
+                    // height 0 is invalid): the line on the axis below shows it.
+                    let tall =
+                        chart.backend_coord(&(x0, 0.0)).1 != chart.backend_coord(&(x0, *v)).1;
+                    if tall {
                         chart
                             .draw_series(std::iter::once(Rectangle::new(
                                 [(x0, 0.0), (x1, *v)],
@@ -118,7 +132,7 @@ fn grouped_bars(
             }
         }
     }
-    for b in bounds {
+    for b in bounds.iter().filter(|b| reached(b)) {
         chart
             .draw_series(DashedLineSeries::new(
                 [(-0.5, b.value), (n as f64 - 0.5, b.value)],
@@ -145,13 +159,24 @@ fn grouped_bars(
         .map_err(err)?;
     y += 24;
     for b in bounds {
-        key.draw(&PathElement::new(
-            [(6, y + 6), (20, y + 6)],
-            BLACK.mix(0.6).stroke_width(1),
-        ))
-        .map_err(err)?;
-        key.draw(&Text::new(b.label.clone(), (26, y), ("sans-serif", 13)))
+        if reached(b) {
+            key.draw(&PathElement::new(
+                [(6, y + 6), (20, y + 6)],
+                BLACK.mix(0.6).stroke_width(1),
+            ))
             .map_err(err)?;
+            key.draw(&Text::new(b.label.clone(), (26, y), ("sans-serif", 13)))
+                .map_err(err)?;
+        } else {
+            // Two lines, so that the key stays inside its strip.
+            for line in [b.label.as_str(), "  (not reached)"] {
+                key.draw(&Text::new(line, (6, y), ("sans-serif", 13)))
+                    .map_err(err)?;
+                y += 16;
+            }
+            y += 4;
+            continue;
+        }
         y += 18;
     }
     Ok(())
@@ -347,12 +372,12 @@ pub fn all(
         let panels = root.split_evenly((1, 2));
         for (panel, (title, unit, comps)) in panels.iter().zip([
             (
-                "Separation velocities: fitted vs measured (Q1 holds them fixed: not shown)",
+                "Separation velocities: fitted against measured",
                 "m/s",
                 [6usize, 7, 9, 10].as_slice(),
             ),
             (
-                "Separation yaw rates: fitted vs measured (Q1 holds them fixed: not shown)",
+                "Separation yaw rates: fitted against measured",
                 "rad/s",
                 [8usize, 11].as_slice(),
             ),
@@ -394,6 +419,9 @@ pub fn all(
                 .configure_mesh()
                 .x_desc(format!("measured [{unit}]"))
                 .y_desc(format!("fitted [{unit}]"))
+                .x_label_formatter(&|x| tick(*x))
+                .y_label_formatter(&|y| tick(*y))
+                .max_light_lines(1)
                 .draw()
                 .map_err(err)?;
             chart
@@ -403,6 +431,15 @@ pub fn all(
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 12, y)], BLACK.mix(0.4)));
             for (j, &c) in costs.iter().enumerate() {
                 if comps.iter().all(|&k| c.holds_fixed(k)) {
+                    // Said in the key: the cost function reproduces these exactly.
+                    chart
+                        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                        .map_err(err)?
+                        .label(format!(
+                            "{}: held fixed, not shown",
+                            c.name().to_uppercase()
+                        ))
+                        .legend(|(x, y)| PathElement::new([(x, y), (x, y)], WHITE));
                     continue;
                 }
                 let color = COLORS[j % COLORS.len()];
