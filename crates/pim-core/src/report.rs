@@ -196,7 +196,8 @@ pub struct Residuals {
     pub equations: [Equation; 6],
     /// `F X + G x`, row by row.
     pub values: [f64; 6],
-    /// Each residual divided by the size of its terms (`|F||X| + |G||x|`), dimensionless.
+    /// Each residual divided by the size of its terms (`|F||X| + |G||x|`), at least a millionth
+    /// of the largest equation's size; dimensionless.
     pub relative: [f64; 6],
 }
 
@@ -286,9 +287,14 @@ fn residuals_of(system: &LinearSystem, initial: &Velocities, separation: &Veloci
     let size = system.f.abs() * xf.abs() + system.g.abs() * x.abs();
     let mut values = [0.0; 6];
     let mut relative = [0.0; 6];
+    // Each residual relative to the size of its own terms, but never to less than a millionth
+    // of the largest equation's: an equation whose terms are all round-off (no tangential
+    // impulse and no tangential velocity, say) would otherwise call its round-off 100 %.
+    let floor = 1e-6 * size.max();
     for i in 0..6 {
         values[i] = r[i];
-        relative[i] = if size[i] > 0.0 { r[i] / size[i] } else { r[i] };
+        let scale = size[i].max(floor);
+        relative[i] = if scale > 0.0 { r[i] / scale } else { r[i] };
     }
     Residuals {
         equations: system.equations,

@@ -39,6 +39,12 @@ pub enum Fallback {
     ExactCheckFailed,
     /// No sign pattern is feasible: the grid search decides (and explains) infeasibility.
     NoPatternFeasible,
+    /// The components known exactly contradict the momentum equations: the grid search
+    /// decides (and explains) infeasibility.
+    KnownInconsistent,
+    /// Components are known exactly (Q1, Q2) and the branch is the free one, whose e_m
+    /// relaxation the convex route does not certify with a known state.
+    KnownFreeBranch,
 }
 
 impl Fallback {
@@ -48,8 +54,15 @@ impl Fallback {
             Fallback::Model => "the tangential model is not written over the convex variables",
             Fallback::Disabled => "the convex route is turned off in the settings",
             Fallback::NotStrictlyConvex => {
-                "a component is known exactly or unweighted, so the cost is not strictly convex \
-                 in the velocities"
+                "a direction of the velocities that the known components leave free carries no \
+                 weight, so the cost is not strictly convex there"
+            }
+            Fallback::KnownFreeBranch => {
+                "with a state known exactly, the free branch's e_m relaxation is not certified \
+                 by the convex route"
+            }
+            Fallback::KnownInconsistent => {
+                "the components known exactly contradict the momentum equations"
             }
             Fallback::Barrier => "vehicle 2 is a barrier",
             Fallback::DegenerateGeometry => {
