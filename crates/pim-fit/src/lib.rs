@@ -47,11 +47,14 @@
 //! `search::search_branch` decides, once per branch, and the certificate says which route ran and, when
 //! the grid search decided, why ([`Method`], [`Fallback`]):
 //! - **convex decomposition** (exact): PIM with every component estimated with a positive
-//!   weight (Q3, custom costs that weigh each component), no barrier. Its cost is strictly
-//!   convex over the contact state and the impulse, and every condition but the energy is
-//!   linear once a few signs are fixed.
-//! - **grid search** (certified by lower bounds and refinements), otherwise: a component held
-//!   fixed or unweighted (Q1, Q2: [`Fallback::NotStrictlyConvex`]), the tangential model
+//!   weight (Q3, custom costs that weigh each component), and the zero branch of problems
+//!   with components known exactly (Q1, Q2, `[known]`), no barrier. The cost is strictly
+//!   convex over the contact state and the impulse, on the affine subspace the known
+//!   components leave, and every condition but the energy is linear once a few signs are
+//!   fixed.
+//! - **grid search** (certified by lower bounds and refinements), otherwise: a component
+//!   neither known nor weighted ([`Fallback::NotStrictlyConvex`]), the free branch with a
+//!   known state ([`Fallback::KnownFreeBranch`]), the tangential model
 //!   ([`Fallback::Model`]), a barrier, a degenerate geometry, or where the convex route cannot
 //!   certify its answer (its best point creates energy, a QP fails its KKT check, the equations
 //!   are singular there, the branch-and-bound runs out of intervals, no pattern is feasible).

@@ -23,7 +23,9 @@
 //!   in x and X.
 //!
 //! With every weight of the cost positive (Q3 and custom costs that weigh each component) the
-//! cost is strictly convex in z, so each sign pattern (friction sign, `s_n`, `s_t`, and in the
+//! cost is strictly convex in z; with components known exactly (Q1, Q2) it is strictly convex
+//! on the affine subspace they leave, over which [`subspace`] solves (zero branch only: the free
+//! branch's relaxation is not certified with a known state). Each sign pattern (friction sign, `s_n`, `s_t`, and in the
 //! free branch the e_m piece and `s_w`) is a strictly convex QP, solved exactly by a dual
 //! active-set method ([`dual`]) whose value only rises, so a pattern stops as soon as it
 //! cannot beat the best one found. The minimum over the patterns is the global optimum over
