@@ -8,7 +8,12 @@
 //!   90 % of the branches itself (the others: its optimum creates energy, whose condition is
 //!   not convex over these variables, or lies where the six equations are singular).
 //!
-//! The independent reference search of `fit_stress.rs` checks the same path on its Q3 cases.
+//! - with one state known (Q1, Q2) the zero branch takes the same route over the subspace the
+//!   known components leave: on the 22 RICSAC Q1/Q2 zero-branch problems and on random noisy
+//!   ones it is never above the grid search by more than 1e-6 relative, and says infeasible
+//!   exactly where the grid search does; the free branch stays on the grid search.
+//!
+//! The independent reference search of `fit_stress.rs` checks the same path on its cases.
 mod common;
 use pim_core::*;
 use pim_fit::*;
@@ -67,6 +72,10 @@ fn ricsac_q3_equals_the_grid_search() {
 
 /// A random collision with noisy estimates of both states (`None`: draw again).
 fn draw(seed: u64) -> Option<FitProblem> {
+    draw_as(seed, CostPreset::Q3)
+}
+
+fn draw_as(seed: u64, preset: CostPreset) -> Option<FitProblem> {
     let mut rng = StdRng::seed_from_u64(seed);
     let common::RandomImpact {
         impact,
@@ -88,11 +97,7 @@ fn draw(seed: u64) -> Option<FitProblem> {
     };
     let (x_est, xf_est) = (noisy(&x, &mut rng), noisy(&r.separation, &mut rng));
     Some(FitProblem::from_preset(
-        impact,
-        CostPreset::Q3,
-        &x_est,
-        &xf_est,
-        None,
+        impact, preset, &x_est, &xf_est, None,
     ))
 }
 
@@ -115,5 +120,72 @@ fn random_q3_never_above_the_grid_search() {
     assert!(
         decided * 10 >= branches * 9,
         "the convex solve decided {decided} of {branches} branches"
+    );
+}
+
+/// `(cost, route)` of the zero branch alone.
+fn zero_branch(problem: &FitProblem, convex: bool) -> (f64, Route) {
+    let mut s = FitSettings::default();
+    s.search.convex = convex;
+    s.ranges = false;
+    s.branches = vec![MomentBranch::Zero];
+    let report = fit(problem, &s.check().unwrap()).unwrap();
+    let b = &report.branches[0];
+    (
+        b.solution.as_ref().map_or(f64::INFINITY, |s| s.cost),
+        b.certificate.method.route,
+    )
+}
+
+fn agree(what: &str, fast: (f64, Route), grid: (f64, Route)) -> bool {
+    let ((c, route), (g, _)) = (fast, grid);
+    if g.is_infinite() {
+        assert!(c.is_infinite(), "{what}: convex {c}, grid infeasible");
+        return false;
+    }
+    assert!(
+        c <= g * (1.0 + 1e-6) + 1e-9,
+        "{what}: convex {c} above grid {g}"
+    );
+    assert!(
+        g - c <= 1e-6 * g + 1e-9,
+        "{what}: convex {c} below grid {g}"
+    );
+    route == Route::Convex
+}
+
+#[test]
+fn q1_q2_zero_branch_equals_the_grid_search() {
+    let mut decided = 0;
+    let mut solved = 0;
+    for t in common::ricsac_tests() {
+        let impact = t.impact().unwrap();
+        for preset in [CostPreset::Q1, CostPreset::Q2] {
+            let p = FitProblem::from_preset(impact, preset, &t.initial(), &t.separation(), None);
+            let (fast, grid) = (zero_branch(&p, true), zero_branch(&p, false));
+            solved += usize::from(grid.0.is_finite());
+            decided += usize::from(agree(&format!("test {} {preset:?}", t.test), fast, grid));
+        }
+    }
+    // Q1 of tests 1, 6, 7, 10 and 11 has no admissible solution in this branch either way.
+    assert_eq!(
+        decided, solved,
+        "solved problems decided by the convex solve"
+    );
+    assert!(solved >= 17, "{solved}");
+    let mut random = 0;
+    for preset in [CostPreset::Q1, CostPreset::Q2] {
+        for (i, p) in (9_000..)
+            .filter_map(|s| draw_as(s, preset))
+            .take(40)
+            .enumerate()
+        {
+            let (fast, grid) = (zero_branch(&p, true), zero_branch(&p, false));
+            random += usize::from(agree(&format!("{preset:?} problem {i}"), fast, grid));
+        }
+    }
+    assert!(
+        random >= 60,
+        "the convex solve decided {random} of 80 random problems"
     );
 }
