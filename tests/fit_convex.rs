@@ -21,9 +21,14 @@ use rand::rngs::StdRng;
 use rand::SeedableRng;
 
 fn settings(convex: bool) -> ValidSettings {
+    settings_of(convex, &MomentBranch::ALL)
+}
+
+fn settings_of(convex: bool, branches: &[MomentBranch]) -> ValidSettings {
     let mut s = FitSettings::default();
     s.search.convex = convex;
     s.ranges = false;
+    s.branches = branches.to_vec();
     s.check().unwrap()
 }
 
@@ -125,11 +130,7 @@ fn random_q3_never_above_the_grid_search() {
 
 /// `(cost, route)` of the zero branch alone.
 fn zero_branch(problem: &FitProblem, convex: bool) -> (f64, Route) {
-    let mut s = FitSettings::default();
-    s.search.convex = convex;
-    s.ranges = false;
-    s.branches = vec![MomentBranch::Zero];
-    let report = fit(problem, &s.check().unwrap()).unwrap();
+    let report = fit(problem, &settings_of(convex, &[MomentBranch::Zero])).unwrap();
     let b = &report.branches[0];
     (
         b.solution.as_ref().map_or(f64::INFINITY, |s| s.cost),

@@ -17,6 +17,7 @@
 //! back, so callers see z and the cost's value, never w.
 
 use super::dual::{self, Outcome, Row, N};
+use super::form::dot;
 use crate::certificate::Fallback;
 use nalgebra::{DMatrix, DVector};
 
@@ -39,10 +40,6 @@ struct Map {
     basis: [[f64; N]; N],
     /// `f(z0)`: the value over z is the value over w plus this.
     offset: f64,
-}
-
-fn dot(a: &[f64; N], b: &[f64; N]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl Qp {

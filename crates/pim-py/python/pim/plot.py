@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
+from . import _CONVERT
 from ._results import Records, Uncertainty, _fmt
 
 _SPEEDS = ("speed1", "speed2", "delta_v1", "delta_v2")
@@ -33,8 +34,12 @@ _LABELS = {
     "em": "em",
     "energy_loss_percent": "energy loss",
 }
-# Speed units of `units=`: (factor from m/s, label).
-_SPEED_UNITS = {"si": (1.0, "m/s"), "kmh": (3.6, "km/h"), "us": (1.0 / 0.44704, "mph")}
+# Speed units of `units=`: (factor from m/s, label), the factors those of records_frame.
+_SPEED_UNITS = {
+    "si": (1.0, "m/s"),
+    "kmh": (_CONVERT["kmh"]["mps"][1], "km/h"),
+    "us": (_CONVERT["us"]["mps"][1], "mph"),
+}
 _VALUE_LABELS = {
     "cost": "minimum cost (weighted sum of squares)",
     "energy_loss_percent": "energy loss [%]",
