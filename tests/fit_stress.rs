@@ -107,9 +107,12 @@ struct Verdict {
     q3_energy_active: usize,
     /// Of those, with a negative mu_max.
     q3_energy_negative_mu_max: usize,
-    /// Q3 branches and those the convex solve decided (the others fell back to the grid search).
-    q3_branches: usize,
-    q3_convex: usize,
+    /// Branches per cost function (Q1, Q2, Q3) and those the convex solve decided (the others
+    /// fell back to the grid search).
+    branches: [usize; 3],
+    convex: [usize; 3],
+    /// Why the others fell back, per cost function.
+    fallbacks: Vec<(CostPreset, Fallback)>,
 }
 
 /// pim-core's independent check of a fitted solution: the equations from scratch and
@@ -169,11 +172,14 @@ fn check(case: &StressCase, settings: &ValidSettings) -> Verdict {
         bounds: Box3::default(),
     };
     for b in &report.branches {
-        if case.preset == CostPreset::Q3 {
-            v.q3_branches += 1;
-            if b.certificate.method.route == Route::Convex {
-                v.q3_convex += 1;
-            }
+        let i = CostPreset::ALL
+            .iter()
+            .position(|p| *p == case.preset)
+            .unwrap_or(0);
+        v.branches[i] += 1;
+        v.convex[i] += usize::from(b.certificate.method.route == Route::Convex);
+        if let Some(why) = b.certificate.method.fallback {
+            v.fallbacks.push((case.preset, why));
         }
         let ours = match (&b.status, &b.solution) {
             (Status::Optimal, Some(s)) => {
@@ -244,9 +250,23 @@ fn run(first: u64, n: usize) {
         .iter()
         .map(|(_, v)| v.q3_energy_negative_mu_max)
         .sum();
-    let q3: usize = verdicts.iter().map(|(_, v)| v.q3_branches).sum();
-    let q3_convex: usize = verdicts.iter().map(|(_, v)| v.q3_convex).sum();
-    println!("Q3 branches {q3}, decided by the convex solve {q3_convex}");
+    for (i, p) in CostPreset::ALL.iter().enumerate() {
+        let all: usize = verdicts.iter().map(|(_, v)| v.branches[i]).sum();
+        let convex: usize = verdicts.iter().map(|(_, v)| v.convex[i]).sum();
+        let mut why: Vec<(String, usize)> = Vec::new();
+        for (_, f) in verdicts
+            .iter()
+            .flat_map(|(_, v)| &v.fallbacks)
+            .filter(|(q, _)| q == p)
+        {
+            let name = format!("{f:?}");
+            match why.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, k)) => *k += 1,
+                None => why.push((name, 1)),
+            }
+        }
+        println!("{p:?} branches {all}, decided by the convex solve {convex}; the others: {why:?}");
+    }
     println!(
         "{n} cases: side +/- {sides:?}, mu_max +/- {signs:?}, em free/one {branches:?}, \
          Q1/Q2/Q3 {presets:?}, sticking truths {sticking}; branches optimal {optimal}, \

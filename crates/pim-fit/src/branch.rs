@@ -4,9 +4,9 @@
 use crate::certificate::{Certificate, Method, Route};
 use crate::error::Result;
 use crate::inner::Inner;
-use crate::problem::{FitProblem, MomentBranch};
+use crate::problem::MomentBranch;
 use crate::report::{
-    BranchReport, Identifiability, Limits, Quantity, Reason, Solution, Status, TangentialFit,
+    BranchReport, Identifiability, Quantity, Reason, Solution, Status, TangentialFit,
 };
 use crate::search::{near_limit, Outcome, Point, Sample};
 use crate::settings::FitSettings;
@@ -24,8 +24,20 @@ fn certificate(out: &Outcome) -> Certificate {
                  fixed; each sign pattern is a strictly convex QP solved to its KKT-verified \
                  optimum by a dual active-set method ({} patterns over {} e_m intervals of a \
                  branch-and-bound, {} solved, {} stopped by their lower bound or found \
-                 empty); the best checked by the exact constraint set",
-                c.patterns, c.intervals, c.solved, c.pruned
+                 empty); {}",
+                c.patterns,
+                c.intervals,
+                c.solved,
+                c.pruned,
+                if out.best.is_some() {
+                    "the best checked by the exact constraint set"
+                } else if c.patterns == 0 {
+                    "the conditions all patterns share (bounds, approach, restitution range, the \
+                     known components) have no common point: the branch has no feasible point"
+                } else {
+                    "every pattern is empty, and together they contain the feasible set: the \
+                     branch has no feasible point"
+                }
             ),
         )
     } else if out.friction_max.is_some() {
@@ -79,27 +91,18 @@ fn certificate(out: &Outcome) -> Certificate {
 /// The report of one branch.
 pub(crate) fn report(
     inner: &Inner,
-    problem: &FitProblem,
     settings: &FitSettings,
     branch: MomentBranch,
     out: &Outcome,
 ) -> Result<BranchReport> {
     let certificate = certificate(out);
     let Some(best) = out.best else {
-        let limits = Limits {
-            velocity: settings.velocity_bound,
-            yaw_rate: settings.yaw_rate_bound,
-            mu: settings.mu,
-            e: settings.e,
-            friction: settings.friction,
-        };
         return Ok(BranchReport {
             moment: branch,
             status: Status::Infeasible,
             reason: Some(crate::inner::explain_infeasible(
                 inner,
-                problem,
-                limits,
+                crate::report::Limits::of(settings),
                 &out.violations,
             )),
             solution: None,

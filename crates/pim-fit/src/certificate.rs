@@ -32,19 +32,21 @@ pub enum Fallback {
     NodeLimit,
     /// A pattern's optimum lies where the six equations are singular.
     Singular,
+    /// The best pattern's point lies where the six equations are so ill-conditioned that its
+    /// coefficients, read to round-off, do not reproduce its velocities through the forward
+    /// model (to 1e-9 relative).
+    IllConditioned,
     /// A QP's answer did not pass its KKT verification.
     QpFailed,
     /// The best pattern's point fails the exact constraint set (it creates energy, whose
     /// condition is not convex over these variables, or its normal impulse changes sign).
     ExactCheckFailed,
-    /// No sign pattern is feasible: the grid search decides (and explains) infeasibility.
+    /// No sign pattern is feasible (the branch is infeasible) and the data alone do not say
+    /// why: the grid search decides and explains which conditions the candidates violate.
     NoPatternFeasible,
     /// The components known exactly contradict the momentum equations: the grid search
     /// decides (and explains) infeasibility.
     KnownInconsistent,
-    /// Components are known exactly (Q1, Q2) and the branch is the free one, whose e_m
-    /// relaxation the convex route does not certify with a known state.
-    KnownFreeBranch,
 }
 
 impl Fallback {
@@ -57,10 +59,6 @@ impl Fallback {
                 "a direction of the velocities that the known components leave free carries no \
                  weight, so the cost is not strictly convex there"
             }
-            Fallback::KnownFreeBranch => {
-                "with a state known exactly, the free branch's e_m relaxation is not certified \
-                 by the convex route"
-            }
             Fallback::KnownInconsistent => {
                 "the components known exactly contradict the momentum equations"
             }
@@ -70,6 +68,10 @@ impl Fallback {
             }
             Fallback::NodeLimit => "the branch-and-bound over e_m reached its interval limit",
             Fallback::Singular => "a pattern's optimum lies where the six equations are singular",
+            Fallback::IllConditioned => {
+                "the best pattern's point lies where the six equations are so ill-conditioned \
+                 that its coefficients do not reproduce its velocities"
+            }
             Fallback::QpFailed => "a QP's answer failed its KKT verification",
             Fallback::ExactCheckFailed => "the best pattern's point fails the exact constraints",
             Fallback::NoPatternFeasible => "no sign pattern is feasible",

@@ -20,7 +20,7 @@
 //! ```text
 //! fit (run.rs) ── per moment branch (FitModel::family().branches), side by side ──> search::search_branch   (the route)
 //!   │                                                   │
-//!   │                 ┌── convex::solve ─ Verdict::Optimal ───────────────────┐
+//!   │                 ┌── convex::bnb::solve ─ Verdict::Optimal / Infeasible ─┐
 //!   │                 │     (sign patterns, dual active-set QPs,               │
 //!   │                 │      branch-and-bound over e_m)                        │
 //!   │                 └── Verdict::Search(Fallback) ──> grid over the box      │
@@ -47,17 +47,19 @@
 //! `search::search_branch` decides, once per branch, and the certificate says which route ran and, when
 //! the grid search decided, why ([`Method`], [`Fallback`]):
 //! - **convex decomposition** (exact): PIM with every component estimated with a positive
-//!   weight (Q3, custom costs that weigh each component), and the zero branch of problems
-//!   with components known exactly (Q1, Q2, `[known]`), no barrier. The cost is strictly
+//!   weight (Q3, custom costs that weigh each component) and problems with components known
+//!   exactly (Q1, Q2, `[known]`), both moment branches, no barrier. The cost is strictly
 //!   convex over the contact state and the impulse, on the affine subspace the known
 //!   components leave, and every condition but the energy is linear once a few signs are
 //!   fixed.
 //! - **grid search** (certified by lower bounds and refinements), otherwise: a component
-//!   neither known nor weighted ([`Fallback::NotStrictlyConvex`]), the free branch with a
-//!   known state ([`Fallback::KnownFreeBranch`]), the tangential model
+//!   neither known nor weighted ([`Fallback::NotStrictlyConvex`]), the tangential model
 //!   ([`Fallback::Model`]), a barrier, a degenerate geometry, or where the convex route cannot
 //!   certify its answer (its best point creates energy, a QP fails its KKT check, the equations
-//!   are singular there, the branch-and-bound runs out of intervals, no pattern is feasible).
+//!   are singular or so ill-conditioned there that its coefficients do not reproduce its
+//!   velocities, the branch-and-bound runs out of intervals), and where the convex route proves
+//!   a branch infeasible but the data alone do not say why (the grid search's statistics of
+//!   the violated conditions explain it; [`Fallback::NoPatternFeasible`]).
 //!
 //! The observation rows `a_j` cover EDR-style data: delta-V along and across a vehicle's axis,
 //! the speed along its heading ([`ObservationKind`]). Presets Q1, Q2, Q3 ([`CostPreset`]) are the

@@ -83,6 +83,19 @@ pub struct Limits {
     pub friction: [f64; 2],
 }
 
+impl Limits {
+    /// The bounds of a fit's settings.
+    pub fn of(settings: &crate::settings::FitSettings) -> Limits {
+        Limits {
+            velocity: settings.velocity_bound,
+            yaw_rate: settings.yaw_rate_bound,
+            mu: settings.mu,
+            e: settings.e,
+            friction: settings.friction,
+        }
+    }
+}
+
 impl Violation {
     /// The violation in words.
     pub fn describe(self, limits: &Limits) -> String {

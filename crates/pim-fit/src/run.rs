@@ -31,7 +31,7 @@ pub fn fit(problem: &FitProblem, settings: &ValidSettings) -> Result<FitReport> 
     };
     let mut branches = Vec::with_capacity(s.branches.len());
     for (&branch, out) in s.branches.iter().zip(&outcomes) {
-        branches.push(branch::report(&inner, problem, s, branch, out)?);
+        branches.push(branch::report(&inner, s, branch, out)?);
     }
     let (best, more) = choose_best(&branches, s);
     notes.extend(more);

@@ -24,19 +24,28 @@
 //!
 //! With every weight of the cost positive (Q3 and custom costs that weigh each component) the
 //! cost is strictly convex in z; with components known exactly (Q1, Q2) it is strictly convex
-//! on the affine subspace they leave, over which [`subspace`] solves (zero branch only: the free
-//! branch's relaxation is not certified with a known state). Each sign pattern (friction sign, `s_n`, `s_t`, and in the
-//! free branch the e_m piece and `s_w`) is a strictly convex QP, solved exactly by a dual
-//! active-set method ([`dual`]) whose value only rises, so a pattern stops as soon as it
-//! cannot beat the best one found. The minimum over the patterns is the global optimum over
-//! the union; the best point is then checked against the search's own constraint set
-//! (pim-core's friction classification and energy test). Where that check fails (the optimum
-//! creates energy, whose condition is not convex here, or its normal impulse changes sign on
-//! the way to mu_max), or a QP does not verify, the general search decides instead.
+//! on the affine subspace they leave (every direction the known state leaves free moves the
+//! other, estimated, state), over which [`subspace`] solves. Each sign pattern (friction sign,
+//! `s_n`, `s_t`, and in the free branch the e_m piece and `s_w`) is a strictly convex QP,
+//! solved exactly by a dual active-set method ([`dual`]) whose value only rises, so a pattern
+//! stops as soon as it cannot beat the best one found. The minimum over the patterns is the
+//! global optimum over the union; each pattern's optimum is checked against the search's own
+//! constraint set (pim-core's friction classification and energy test).
+//!
+//! In the free branch [`bnb`] splits the e_m interval where a pattern's optimum fails the
+//! friction ratio (its ratios relaxed over the interval) and closes an interval once its
+//! lower bound is within 1e-7 of the best admissible cost (relative): the answer is proven
+//! optimal to that gap. Where a pattern's optimum below the best creates energy (whose
+//! condition is not convex here), or the normal impulse changes sign on the way to mu_max in
+//! the zero branch, or a QP does not verify, or the best point's coefficients do not
+//! reproduce its velocities through the forward model (next to a singular point of the six
+//! equations), the general search decides instead. Where every pattern is empty the branch
+//! is proven infeasible.
 
 // Dense linear algebra on index ranges reads best with explicit indices.
 #![allow(clippy::needless_range_loop)]
 
+pub(crate) mod bnb;
 mod candidate;
 mod dual;
 mod form;
@@ -44,7 +53,7 @@ mod subspace;
 mod verdict;
 
 use crate::certificate::Fallback;
-use crate::inner::{At, Candidate, Inner, RowOf, RowU};
+use crate::inner::{Inner, RowOf, RowU};
 use crate::problem::MomentBranch;
 use crate::report::Violation;
 use crate::settings::FitSettings;
@@ -109,12 +118,6 @@ impl Formulation {
         branch: MomentBranch,
     ) -> Result<Formulation, Fallback> {
         let impact = &inner.impact;
-        // With components known exactly, the free branch's relaxation of the e_m ratios over
-        // an interval has missed the optimum in the 3,000-case stress corpus (Q1, 2 cases), so
-        // it is left to the grid search; the zero branch has no such relaxation.
-        if !inner.objective.fixed.is_empty() && branch == MomentBranch::Free {
-            return Err(Fallback::KnownFreeBranch);
-        }
         if impact.is_barrier() {
             return Err(Fallback::Barrier);
         }
@@ -438,170 +441,6 @@ impl Formulation {
             }
         }
         Some(rows)
-    }
-
-    /// Solves the patterns of one e_m interval with the incumbent as cutoff, updating it with
-    /// every optimum that passes the exact check. Returns the lowest value among the optima
-    /// that fail it, with its e_m (the relaxation is not exact there), or why the general
-    /// search must decide.
-    #[allow(clippy::type_complexity)]
-    fn interval(
-        &self,
-        inner: &Inner,
-        branch: MomentBranch,
-        em: [f64; 2],
-        best: &mut Option<(f64, At, Candidate)>,
-        counts: &mut Counts,
-    ) -> Result<Option<(f64, f64)>, Fallback> {
-        let mut work: Vec<(f64, Pattern, Vec<Row>)> = Vec::new();
-        for p in self.patterns(inner, branch, em) {
-            let rows = self
-                .pattern_rows(inner, &p, branch)
-                .ok_or(Fallback::DegenerateGeometry)?;
-            let bound = rows
-                .iter()
-                .map(|r| self.objective.bound(r))
-                .fold(self.common_bound, f64::max);
-            work.push((bound, p, rows));
-        }
-        work.sort_by(|a, b| a.0.total_cmp(&b.0));
-        counts.patterns += work.len();
-        let mut failed: Option<(f64, f64)> = None;
-        let mut all_rows: Vec<Row> = Vec::with_capacity(self.common.len() + 12);
-        for (bound, p, rows) in &work {
-            let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
-            if *bound >= incumbent {
-                counts.pruned += 1;
-                continue;
-            }
-            all_rows.clear();
-            all_rows.extend_from_slice(&self.common);
-            all_rows.extend_from_slice(rows);
-            match self.objective.solve(&all_rows, incumbent) {
-                dual::Outcome::Solved { z, f, .. } => {
-                    counts.solved += 1;
-                    let (at, candidate) = self.candidate(inner, p, &z);
-                    // A point where the six equations are singular is no answer of PIM's
-                    // forward solve; the general search, which works through the transfer
-                    // matrix, stays off it.
-                    if inner.transfer(&at).is_none() {
-                        return Err(Fallback::Singular);
-                    }
-                    let ok = inner
-                        .constraints(&at)
-                        .check(at.c.e, &candidate.x, &candidate.xf)
-                        .ok();
-                    if ok {
-                        if f < incumbent {
-                            *best = Some((f, at, candidate));
-                        }
-                    } else if failed.is_none_or(|(g, _)| f < g) {
-                        failed = Some((f, at.c.em));
-                    }
-                }
-                dual::Outcome::Cutoff(_) | dual::Outcome::Infeasible => counts.pruned += 1,
-                dual::Outcome::Failed => return Err(Fallback::QpFailed),
-            }
-        }
-        Ok(failed)
-    }
-}
-
-/// Intervals of e_m solved at most, per branch, before the general search decides.
-const MAX_NODES: usize = 200;
-
-/// An e_m interval and a lower bound of the cost over it (in the QP's value, cost - c0).
-#[derive(Debug, Clone, Copy)]
-struct Node {
-    em: [f64; 2],
-    bound: f64,
-}
-
-/// Solves a branch as the union of its sign patterns' QPs: in the zero branch one set of
-/// patterns, exact; in the free branch a branch-and-bound over e_m intervals, whose patterns
-/// relax the two ratios that depend on e_m to their range over the interval. A pattern's
-/// optimum that passes the exact check is feasible; one that fails splits its interval at its
-/// e_m, with its value as the children's lower bound, until no interval can beat the best.
-pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch) -> Verdict {
-    if let Err(why) = inner.family.convex_route() {
-        return Verdict::Search(why);
-    }
-    if !settings.search.convex {
-        return Verdict::Search(Fallback::Disabled);
-    }
-    let form = match Formulation::new(inner, settings, branch) {
-        Ok(form) => form,
-        Err(why) => return Verdict::Search(why),
-    };
-    let mut queue: Vec<Node> = form
-        .pieces(branch)
-        .into_iter()
-        .map(|em| Node {
-            em,
-            bound: form.common_bound,
-        })
-        .collect();
-    let mut counts = Counts::default();
-    let mut best: Option<(f64, At, Candidate)> = None;
-    let margin = |f: f64| 1e-9 * (form.c0 + f).abs().max(1.0);
-    let mut nodes = 0;
-    while !queue.is_empty() {
-        // Best-first.
-        let i = (0..queue.len())
-            .min_by(|&a, &b| queue[a].bound.total_cmp(&queue[b].bound))
-            .unwrap_or(0);
-        let node = queue.swap_remove(i);
-        let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
-        if node.bound >= incumbent - margin(incumbent) {
-            continue;
-        }
-        nodes += 1;
-        if nodes > MAX_NODES {
-            return Verdict::Search(Fallback::NodeLimit);
-        }
-        let failed = match form.interval(inner, branch, node.em, &mut best, &mut counts) {
-            Ok(failed) => failed,
-            Err(why) => return Verdict::Search(why),
-        };
-        let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
-        if let Some((f, em)) = failed.filter(|(f, _)| *f < incumbent - margin(incumbent)) {
-            // The relaxation is not exact here: split the interval (at the failing optimum's
-            // e_m, unless that is next to an end).
-            let [lo, hi] = node.em;
-            let width = hi - lo;
-            if branch == MomentBranch::Zero || width <= 1e-9 {
-                return Verdict::Search(Fallback::ExactCheckFailed);
-            }
-            let cut = if em > lo + 0.05 * width && em < hi - 0.05 * width {
-                em
-            } else {
-                0.5 * (lo + hi)
-            };
-            // A feasible point near the failing one, at its e_m held fixed (where the patterns
-            // are exact), so that the incumbent follows an optimum approached towards an end
-            // of the interval (a pole of mu_max) and the children can be closed.
-            let probe = em.clamp(lo + 1e-9 * width, hi - 1e-9 * width);
-            if let Err(why) = form.interval(inner, branch, [probe, probe], &mut best, &mut counts) {
-                return Verdict::Search(why);
-            }
-            queue.push(Node {
-                em: [lo, cut],
-                bound: f,
-            });
-            queue.push(Node {
-                em: [cut, hi],
-                bound: f,
-            });
-        }
-    }
-    counts.intervals = nodes;
-    let Some((_, at, candidate)) = best else {
-        return Verdict::Search(Fallback::NoPatternFeasible);
-    };
-    Verdict::Optimal {
-        at,
-        candidate,
-        counts,
     }
 }
 

@@ -12,6 +12,9 @@ pub(crate) enum Verdict {
         candidate: Candidate,
         counts: Counts,
     },
+    /// No point of the branch is feasible: every sign pattern of every e_m interval is empty
+    /// (the patterns together contain the feasible set).
+    Infeasible { counts: Counts },
     /// The general search must decide (see the module documentation), with the reason.
     Search(Fallback),
 }

@@ -3,13 +3,24 @@
 
 use super::qp::{to6, MAX_ITER};
 use super::{At, Candidate, Inner};
-use crate::problem::{Component, FitProblem, Knowledge};
+use crate::problem::Component;
 use crate::report::{ActiveConstraint, Limits, Reason, Violation};
 use nalgebra::Vector6;
 use pim_core::{TangentialCondition, Velocities};
 use std::collections::BTreeMap;
 
 impl Inner {
+    /// The contact state (`start` 0) or the separation state (`start` 6) when all six of its
+    /// components are known exactly.
+    pub(crate) fn fixed_state(&self, start: usize) -> Option<Vector6<f64>> {
+        let mut v = Vector6::zeros();
+        for k in 0..6 {
+            let &(_, value) = self.objective.fixed.iter().find(|(i, _)| *i == start + k)?;
+            v[k] = value;
+        }
+        Some(v)
+    }
+
     /// Velocity components that the data leave undetermined at a point: directions in which the
     /// reduced cost is flat (its Hessian is singular).
     pub fn undetermined_components(&self, at: &At) -> Vec<Component> {
@@ -119,48 +130,54 @@ impl Inner {
     }
 }
 
-/// Why no candidate of a branch is admissible, from the data and the violations the search met.
-pub(crate) fn explain_infeasible(
-    inner: &Inner,
-    problem: &FitProblem,
-    limits: Limits,
-    violations: &BTreeMap<Violation, usize>,
-) -> Reason {
+/// A reason the data alone give for a branch to have no solution, whatever the search finds:
+/// fixed separation velocities that still approach at the impact centre while e may not be
+/// negative (`e = -Vn / vn >= e_min >= 0` needs them not to approach), or fixed contact
+/// velocities that do not approach. Each is a proof of infeasibility, not a statistic.
+pub(crate) fn direct_reason(inner: &Inner, limits: Limits) -> Option<Reason> {
     let impact = &inner.impact;
     let side = if impact.side() == 0.0 {
         1.0
     } else {
         impact.side()
     };
-    let fixed = |range: std::ops::Range<usize>| -> Option<Vector6<f64>> {
-        let mut v = Vector6::zeros();
-        for k in range.clone() {
-            match problem.components[k] {
-                Knowledge::Known { value } => v[k - range.start] = value,
-                _ => return None,
-            }
-        }
-        Some(v)
-    };
-    // Separation velocities fixed: say what is wrong with them directly.
-    if let Some(xf) = fixed(6..12) {
-        let (vn, vt) = impact.relative_velocity(&Velocities::from_vector(&xf));
-        if side * vn < -1e-9 {
-            return Reason::SeparationApproaches {
+    if let Some(xf) = inner.fixed_state(6) {
+        let (vn, _) = impact.relative_velocity(&Velocities::from_vector(&xf));
+        if side * vn < -1e-9 && limits.e[0] >= 0.0 {
+            return Some(Reason::SeparationApproaches {
                 normal_velocity: vn,
                 e_range: limits.e,
-            };
+            });
         }
+    }
+    if let Some(x) = inner.fixed_state(0) {
+        if let Err(e) = impact.check_approach(&Velocities::from_vector(&x)) {
+            return Some(Reason::ContactNotApproaching(e));
+        }
+    }
+    None
+}
+
+/// Why no candidate of a branch is admissible, from the data and the violations the search met.
+pub(crate) fn explain_infeasible(
+    inner: &Inner,
+    limits: Limits,
+    violations: &BTreeMap<Violation, usize>,
+) -> Reason {
+    if let Some(reason) = direct_reason(inner, limits) {
+        return reason;
+    }
+    // Separation velocities fixed and the search stopped by the sliding direction: the
+    // collision would have to reverse the sliding at the impact centre.
+    if let Some(xf) = inner.fixed_state(6) {
+        let (_, vt) = inner
+            .impact
+            .relative_velocity(&Velocities::from_vector(&xf));
         let top = violations.iter().max_by_key(|(_, n)| **n).map(|(v, _)| *v);
         if matches!(top, Some(Violation::SlidingDirection | Violation::Friction)) {
             return Reason::SeparationReversesSliding {
                 tangential_velocity: vt,
             };
-        }
-    }
-    if let Some(x) = fixed(0..6) {
-        if let Err(e) = impact.check_approach(&Velocities::from_vector(&x)) {
-            return Reason::ContactNotApproaching(e);
         }
     }
     if violations.is_empty() {

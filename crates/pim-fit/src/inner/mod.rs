@@ -22,7 +22,7 @@ mod profile;
 mod qp;
 
 pub(crate) use constraints::{RowOf, RowU};
-pub(crate) use diagnosis::explain_infeasible;
+pub(crate) use diagnosis::{direct_reason, explain_infeasible};
 pub(crate) use prepared::{At, Candidate, Eval, Inner};
 pub(crate) use profile::LineAt;
 

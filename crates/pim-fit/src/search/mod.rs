@@ -20,6 +20,7 @@ mod space;
 pub(crate) use outcome::{near_limit, Outcome, Point, Sample};
 pub(crate) use space::product;
 
+use crate::certificate::Fallback;
 use crate::inner::{Eval, Inner};
 use crate::problem::MomentBranch;
 use crate::report::Violation;
@@ -41,9 +42,19 @@ pub(crate) fn search_branch(
             .then_some(settings.friction[1]),
         ..Outcome::default()
     };
-    let verdict = crate::convex::solve(inner, settings, branch);
+    let verdict = crate::convex::bnb::solve(inner, settings, branch);
     if let crate::convex::Verdict::Search(why) = verdict {
         out.fallback = Some(why);
+    }
+    if let crate::convex::Verdict::Infeasible { counts } = verdict {
+        // Proven infeasible. Where the data alone say why, that is the answer; otherwise the
+        // grid search runs for the statistics of the violations that explain it.
+        if crate::inner::direct_reason(inner, crate::report::Limits::of(settings)).is_some() {
+            out.convex = Some(counts);
+            out.evaluations = counts.patterns;
+            return out;
+        }
+        out.fallback = Some(Fallback::NoPatternFeasible);
     }
     if let crate::convex::Verdict::Optimal {
         at,
