@@ -364,6 +364,32 @@ fn fit(
     Ok(document)
 }
 
+/// The plan of a batch from the Python arguments.
+fn batch_plan(
+    costs: Vec<String>,
+    branches: Vec<String>,
+    e_max: f64,
+    moment_form: &str,
+    models: Vec<String>,
+) -> PyResult<pim_data::batch::BatchPlan> {
+    let costs = costs
+        .iter()
+        .map(|c| cost(c))
+        .collect::<PyResult<Vec<_>>>()?;
+    let models = models
+        .iter()
+        .map(|m| model(m))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(pim_data::batch::BatchPlan::new(
+        &costs,
+        &self::branches(branches)?,
+        e_max,
+        self::moment_form(moment_form)?,
+    )
+    .map_err(input_error)?
+    .with_models(&models))
+}
+
 /// Refits every test of a RICSAC-style data file under each cost function and branch; the
 /// records of `pim batch DATA --format json` (a list, one dict per test, cost function and
 /// branch). The fits run on `threads` cores (default all) without holding the GIL; the records
@@ -386,22 +412,7 @@ fn batch(
     tests: Option<Vec<u32>>,
     models: Vec<String>,
 ) -> PyResult<Py<PyAny>> {
-    let costs = costs
-        .iter()
-        .map(|c| cost(c))
-        .collect::<PyResult<Vec<_>>>()?;
-    let models = models
-        .iter()
-        .map(|m| model(m))
-        .collect::<PyResult<Vec<_>>>()?;
-    let plan = pim_data::batch::BatchPlan::new(
-        &costs,
-        &self::branches(branches)?,
-        e_max,
-        self::moment_form(moment_form)?,
-    )
-    .map_err(input_error)?
-    .with_models(&models);
+    let plan = batch_plan(costs, branches, e_max, moment_form, models)?;
     let file = path.display().to_string();
     let mut rows = pim_data::ricsac::parse(&file, &read(&path, pim_data::ricsac::MAX_DATA_BYTES)?)
         .map_err(|e| input_error(e.message))?;
@@ -416,6 +427,34 @@ fn batch(
     let threads = threads_arg(threads.as_ref())?;
     let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;
     to_py(py, &records)
+}
+
+/// Refits every row of RICSAC-style CSV text (the header and columns of data/ricsac.csv) under
+/// each cost function, model and branch; the CSV of `pim batch DATA --format csv` (one row per
+/// test, cost function, model and branch, fixed columns). `name` names the text in error
+/// messages. The frame-in, frame-out `pim.fit_frame` is built on it.
+#[pyfunction]
+#[pyo3(signature = (text, name = "<frame>", costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = pim_fit::DEFAULT_E_RANGE[1], moment_form = "corrected", models = vec!["pim".to_string()]))]
+#[pyo3(
+    text_signature = "(text, name='<frame>', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', models=('pim',))"
+)]
+#[allow(clippy::too_many_arguments)]
+fn batch_csv(
+    py: Python<'_>,
+    text: &str,
+    name: &str,
+    costs: Vec<String>,
+    branches: Vec<String>,
+    threads: Option<Bound<'_, PyAny>>,
+    e_max: f64,
+    moment_form: &str,
+    models: Vec<String>,
+) -> PyResult<String> {
+    let plan = batch_plan(costs, branches, e_max, moment_form, models)?;
+    let rows = pim_data::ricsac::parse(name, text).map_err(|e| input_error(e.message))?;
+    let threads = threads_arg(threads.as_ref())?;
+    let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;
+    pim_render::batch_tables::records_csv(&records).map_err(input_error)
 }
 
 /// Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit by a
@@ -506,6 +545,7 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(report, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch_csv, m)?)?;
     m.add_function(wrap_pyfunction!(uncertainty, m)?)?;
     m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
     m.add_function(wrap_pyfunction!(draw, m)?)?;

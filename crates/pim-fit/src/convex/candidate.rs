@@ -37,7 +37,13 @@ impl Formulation {
             if wl.abs() <= 1e-12 * (scale + wf.abs()) {
                 0.5 * (p.em[0] + p.em[1])
             } else {
-                (wf / wl).clamp(p.em[0], p.em[1])
+                // A ratio at round-off from an end of the branch's box is that end (-6e-17
+                // is e_m = 0).
+                let em = (wf / wl).clamp(p.em[0], p.em[1]);
+                [-1.0, 0.0]
+                    .into_iter()
+                    .find(|end| (em - end).abs() <= 1e-12)
+                    .unwrap_or(em)
             }
         };
         let (pn, pt) = (dot(&self.pn, z), dot(&self.pt, z));

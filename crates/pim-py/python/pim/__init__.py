@@ -54,6 +54,7 @@ import os
 from typing import Any, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union
 
 from . import _pim
+from ._frame import COLUMNS, fit_frame
 from ._pim import InputError, NoSolution, __version__
 from ._results import (
     Branch,
@@ -71,6 +72,7 @@ from ._results import (
 
 __all__ = [
     "__version__",
+    "COLUMNS",
     "Branch",
     "ChiSquare",
     "FitResult",
@@ -89,6 +91,7 @@ __all__ = [
     "batch",
     "draw",
     "fit",
+    "fit_frame",
     "predict_dv",
     "records_frame",
     "report",

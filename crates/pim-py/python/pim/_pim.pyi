@@ -12,6 +12,7 @@ __all__ = [
     "report",
     "fit",
     "batch",
+    "batch_csv",
     "uncertainty",
     "predict_dv",
     "draw",
@@ -48,6 +49,16 @@ def batch(
     tests: Optional[Sequence[int]] = ...,
     models: Sequence[str] = ...,
 ) -> List[Dict[str, Any]]: ...
+def batch_csv(
+    text: str,
+    name: str = ...,
+    costs: Sequence[str] = ...,
+    branches: Sequence[str] = ...,
+    threads: Optional[int] = ...,
+    e_max: float = ...,
+    moment_form: str = ...,
+    models: Sequence[str] = ...,
+) -> str: ...
 def uncertainty(
     case: _Case,
     cost: Optional[str] = ...,
