@@ -418,6 +418,16 @@ no solution; the reason is in the record) and are counted in the summary; the ex
 when the batch ran and wrote its results, or with --strict 1 when any record is infeasible or
 failed. For the RICSAC data, Q1 is infeasible for tests 1, 6, 7, 10 and 11.";
 
+/// The conditions of a batch's fits (`--conditions`).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Conditions {
+    /// The corrected moment equation and mu between 0 and mu_max, both branches.
+    Corrected,
+    /// Vossou & Koulocheris (2018): Brach's 1983 moment equation, mu in [0, 1.2] by its box
+    /// alone, e_m in [-1, 0].
+    V18,
+}
+
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BatchFormat {
     /// Human-readable tables.
@@ -468,6 +478,16 @@ pub struct BatchArgs {
     /// Form of the moment equation (6).
     #[arg(long, value_parser = moment_form(), default_value = "corrected")]
     pub moment_form: MomentForm,
+    /// The conditions of the fit. `corrected` (default): the corrected moment equation, mu
+    /// between 0 and mu_max (the tangential impulse may not reverse the sliding), both
+    /// branches. `v18`: Vossou & Koulocheris (2018)'s setting made explicit, to compare with
+    /// their Tables 4-6: Brach's 1983 moment equation (with its sign error), mu in [0, 1.2]
+    /// bounded by that box alone (no mu <= mu_max), e in [0, 0.2] (or --e-max), e_m in [-1, 0]
+    /// (the free branch only), |v| <= 20 m/s, |omega| <= 5 rad/s; a data file with
+    /// reference/vossou2018_table{4,5,6}.csv next to it gets v18.txt (their printed costs
+    /// beside ours) in the table and with --out. Overrides --moment-form and --branch.
+    #[arg(long, value_enum, default_value_t = Conditions::Corrected)]
+    pub conditions: Conditions,
     /// Add each fit's wall time (`fit_seconds`) to the records (output then varies run to run).
     #[arg(long)]
     pub timing: bool,

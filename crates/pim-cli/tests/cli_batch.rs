@@ -392,3 +392,58 @@ fn a_data_file_batch_reads_in_the_units_asked_for() {
     );
     assert!(us.contains("delta-V in mph") && !si.contains("delta-V in"));
 }
+
+/// `--conditions v18`: Vossou & Koulocheris (2018)'s setting (Brach's 1983 moment equation, mu
+/// in [0, 1.2] without mu <= mu_max, the free branch), with their printed costs beside ours.
+#[test]
+fn v18_conditions_reproduce_their_setting_beside_their_costs() {
+    let out_dir = scratch("v18");
+    let out = pim(&[
+        "batch",
+        "data/ricsac.csv",
+        "--conditions",
+        "v18",
+        "--format",
+        "json",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let recs = j["records"].as_array().unwrap();
+    // 11 tests x Q1, Q2, Q3, the free branch only.
+    assert_eq!(recs.len(), 33);
+    assert!(recs.iter().all(|r| r["moment"] == "free"));
+    let rec = |test: u64, cost: &str| {
+        recs.iter()
+            .find(|r| r["test"] == test && r["cost_function"] == cost)
+            .unwrap()
+    };
+    // Test 10 refitted under V18's conditions: below V18's printed 7.02 (Q2) and 5.36 (Q3);
+    // its friction exceeds mu_max (the sliding reverses), which the record says.
+    let q2 = rec(10, "q2");
+    assert!((q2["cost"].as_f64().unwrap() - 6.91).abs() < 0.005, "{q2}");
+    assert!((rec(10, "q3")["cost"].as_f64().unwrap() - 4.13).abs() < 0.005);
+    assert_eq!(q2["status"], "optimal");
+    assert_eq!(q2["admissible"], false);
+    assert!(q2["mu"].as_f64().unwrap() > q2["mu_max"].as_f64().unwrap());
+    // Every mu inside [0, 1.2], every e inside [0, 0.2].
+    for r in recs.iter().filter(|r| r["status"] == "optimal") {
+        let (mu, e) = (r["mu"].as_f64().unwrap(), r["e"].as_f64().unwrap());
+        assert!((0.0..=1.2).contains(&mu) && (0.0..=0.2).contains(&e), "{r}");
+    }
+    // The table of their printed costs beside ours.
+    let v18 = std::fs::read_to_string(out_dir.join("v18.txt")).unwrap();
+    let row = v18.lines().find(|l| l.starts_with("  10 q2")).unwrap();
+    assert!(row.contains("7.02") && row.contains("6.91"), "{row}");
+    assert_eq!(v18.lines().filter(|l| l.contains(" q")).count(), 33);
+    // The default keeps the corrected equations and mu <= mu_max: test 10 Q2 costs 29.22.
+    let out = pim(&["batch", "--tests", "10", "--cost", "q2", "--format", "json"]);
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let free = &j["records"][0];
+    assert_eq!(free["moment"], "free");
+    assert!(
+        (free["cost"].as_f64().unwrap() - 29.22).abs() < 0.005,
+        "{free}"
+    );
+}

@@ -107,6 +107,18 @@ impl BatchPlan {
         b.yaw_rate = Some(s.yaw_rate_bound);
     }
 
+    /// Vossou & Koulocheris (2018)'s conditions: Brach's 1983 moment equation, mu in
+    /// [0, 1.2] bounded by that box alone (no mu <= mu_max), e_m in [-1, 0] (the free branch
+    /// only); e, the velocity and yaw-rate bounds as the plan has them (V18's are the defaults:
+    /// e in [0, 0.2], 20 m/s, 5 rad/s).
+    pub fn with_v18_conditions(mut self) -> Self {
+        self.settings.moment_form = pim_core::MomentForm::Brach1983;
+        self.settings.mu = [0.0, 1.2];
+        self.settings.mu_max_condition = false;
+        self.branches = vec![MomentBranch::Free];
+        self
+    }
+
     /// A plan with the default fit settings except the upper bound of e and the moment form,
     /// checked once (a bad value is an error, not a failed record per fit). Repeated costs and
     /// branches are kept once, in their first order.

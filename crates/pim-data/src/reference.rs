@@ -19,6 +19,30 @@ pub struct BrachRow {
     pub mu: f64,
 }
 
+/// The costs Vossou & Koulocheris (2018) print for one cost function: per test, the sum of the
+/// squares of the errors in one of their Tables 4-6 (`data/reference/vossou2018_table*.csv`:
+/// a `test` column and one column per fitted component, errors in m/s and rad/s).
+pub fn parse_vossou(text: &str) -> Result<Vec<(u32, f64)>, String> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let mut out = Vec::new();
+    for (i, row) in rdr.records().enumerate() {
+        let row = row.map_err(|e| e.to_string())?;
+        let number = |j: usize| -> Result<f64, String> {
+            let cell = row.get(j).unwrap_or("").trim();
+            cell.parse::<f64>()
+                .map_err(|_| format!("row {}: column {}: not a number: {cell:?}", i + 1, j + 1))
+        };
+        let test = number(0)?;
+        let cost = (1..row.len())
+            .map(number)
+            .try_fold(0.0, |acc, v| v.map(|v| acc + v * v))?;
+        out.push((test as u32, cost));
+    }
+    Ok(out)
+}
+
 /// Parses the Brach 1984 Table 1 reference file.
 pub fn parse_brach(text: &str) -> Result<Vec<BrachRow>, csv::Error> {
     let mut rdr = csv::ReaderBuilder::new()

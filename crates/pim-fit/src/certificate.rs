@@ -26,6 +26,9 @@ pub enum Fallback {
     NotStrictlyConvex,
     /// Vehicle 2 is a barrier.
     Barrier,
+    /// mu is bounded by its box alone, without mu <= mu_max (`mu_max_condition` off): the
+    /// convex route's patterns are written for the friction rule.
+    NoMuMaxCondition,
     /// The momentum equations do not leave a velocity-change space of the expected dimension.
     DegenerateGeometry,
     /// The branch-and-bound over e_m needed more intervals than it allows.
@@ -63,6 +66,10 @@ impl Fallback {
                 "the components known exactly contradict the momentum equations"
             }
             Fallback::Barrier => "vehicle 2 is a barrier",
+            Fallback::NoMuMaxCondition => {
+                "mu is bounded by its box alone (no mu <= mu_max), for which the convex route \
+                 is not written"
+            }
             Fallback::DegenerateGeometry => {
                 "the momentum equations leave a velocity-change space of unexpected dimension"
             }

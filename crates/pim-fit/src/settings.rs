@@ -57,8 +57,16 @@ pub const DEFAULT_E_RANGE: [f64; 2] = [0.0, 0.2];
 pub struct FitSettings {
     /// Range of e (default [0, 0.2]).
     pub e: [f64; 2],
-    /// Range of mu (default [-1.2, 1.2]); mu must also lie between 0 and mu_max.
+    /// Range of mu (default [-1.2, 1.2]); mu must also lie between 0 and mu_max unless
+    /// `mu_max_condition` is off.
     pub mu: [f64; 2],
+    /// Whether mu must lie between 0 and mu_max (default true: a larger tangential impulse
+    /// than sticking needs would reverse the sliding at the impact centre, pushing one surface
+    /// back along the other). Off reproduces fits that bound mu by a box alone, as Vossou &
+    /// Koulocheris (2018) did; their answers may then reverse the sliding, which the reports
+    /// say (`admissible: false`) without rejecting them.
+    #[serde(default = "yes")]
+    pub mu_max_condition: bool,
     /// The model fitted (default PIM).
     #[serde(default)]
     pub model: FitModel,
@@ -95,6 +103,7 @@ impl Default for FitSettings {
         FitSettings {
             e: DEFAULT_E_RANGE,
             mu: [-1.2, 1.2],
+            mu_max_condition: true,
             model: FitModel::Pim,
             et: et_default(),
             friction: friction_default(),

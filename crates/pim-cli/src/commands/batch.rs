@@ -102,6 +102,32 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .filter(|p| p.is_file())
         .and_then(|p| crate::inputs::read_text_file(&p, pim_data::ricsac::MAX_DATA_BYTES).ok())
         .and_then(|t| parse_brach(&t).ok());
+    // V18's printed costs, per cost function (their Table 5 holds Q1, Table 4 Q2, Table 6 Q3;
+    // see the files' comments), when the batch runs under their conditions.
+    let v18 = (a.conditions == crate::args::Conditions::V18)
+        .then(|| {
+            let mut printed = Vec::new();
+            for (cost, table) in [
+                (pim_fit::CostPreset::Q1, 5),
+                (pim_fit::CostPreset::Q2, 4),
+                (pim_fit::CostPreset::Q3, 6),
+            ] {
+                if !plan.costs.contains(&cost) {
+                    continue;
+                }
+                let path = data
+                    .parent()?
+                    .join("reference")
+                    .join(format!("vossou2018_table{table}.csv"));
+                let text =
+                    crate::inputs::read_text_file(&path, pim_data::ricsac::MAX_DATA_BYTES).ok()?;
+                let rows = pim_data::reference::parse_vossou(&text).ok()?;
+                printed.push((cost, rows));
+            }
+            Some(printed)
+        })
+        .flatten();
+    let brach = brach.filter(|_| v18.is_none());
     // The PIM tables and figures read PIM's records; the models side by side read all.
     let pim_records: Vec<batch::BatchRecord> = records
         .iter()
@@ -122,6 +148,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2) && !pim_records.is_empty())
         .map(|b| batch_tables::brach_table(&pim_records, b));
     let records_json = json(&serde_json::json!({ "data": file, "records": records }))?;
+    let v18_text = v18.map(|p| batch_tables::v18_table(&pim_records, &p));
     let records_csv =
         batch_tables::records_csv(&records).map_err(|e| Failure::Output(e.to_string()))?;
     let text = match a.format {
@@ -138,6 +165,9 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             }
             if let Some(b) = &brach_text {
                 t.push_str(b);
+            }
+            if let Some(v) = &v18_text {
+                t.push_str(v);
             }
             t
         }
@@ -162,6 +192,10 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         }
         if let Some(b) = &brach_text {
             out.write("brach1984.txt", b)?;
+            tables += 1;
+        }
+        if let Some(v) = &v18_text {
+            out.write("v18.txt", v)?;
             tables += 1;
         }
         if let Some(m) = &models_text {

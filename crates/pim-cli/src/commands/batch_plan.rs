@@ -21,6 +21,9 @@ pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
     let e_max = a.e_max.unwrap_or(pim_fit::DEFAULT_E_RANGE[1]);
     let mut plan = batch::BatchPlan::new(&costs, &branches, e_max, a.moment_form)
         .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
+    if a.conditions == crate::args::Conditions::V18 {
+        plan = plan.with_v18_conditions();
+    }
     plan.timing = a.timing;
     plan.case_e_max = a.e_max;
     let models: Vec<pim_fit::FitModel> = a.model.to_vec();

@@ -121,6 +121,9 @@ impl Formulation {
         if impact.is_barrier() {
             return Err(Fallback::Barrier);
         }
+        if !settings.mu_max_condition {
+            return Err(Fallback::NoMuMaxCondition);
+        }
         // Basis of the velocity changes allowed by equations 1-3 (and B = 0 in the zero branch).
         let mut rows: Vec<RowVector6<f64>> = vec![
             momentum_x(impact).0,

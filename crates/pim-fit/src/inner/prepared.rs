@@ -77,6 +77,8 @@ pub(crate) struct Inner {
     pub(super) impulse: (RowVector6<f64>, RowVector6<f64>),
     pub(super) mass: Vector6<f64>,
     pub mu_bounds: [f64; 2],
+    /// Whether mu must lie between 0 and mu_max (`FitSettings::mu_max_condition`).
+    pub mu_max_condition: bool,
     pub e_range: [f64; 2],
     /// What the fit asks of the model fitted.
     pub family: &'static dyn Family,
@@ -178,6 +180,7 @@ impl Inner {
             impulse: impulse_rows(&impact),
             mass: Vector6::new(m1, m1, i1, m2, m2, i2),
             mu_bounds: settings.mu,
+            mu_max_condition: settings.mu_max_condition,
             e_range: settings.e,
             family,
             friction: settings.friction,
@@ -294,7 +297,7 @@ impl Inner {
                 mu: 0.0,
                 inverse: false,
             }),
-            TangentialCondition::Sliding if at.c.mu == 0.0 => None,
+            TangentialCondition::Sliding if at.c.mu == 0.0 || !self.mu_max_condition => None,
             TangentialCondition::Sliding => {
                 let source = match self.reduction.critical_rows(at.c.em) {
                     Some(rows) => Impulses::Critical(rows),
