@@ -231,6 +231,10 @@ pub struct UncertaintyArgs {
     /// Cost function; without it the case's [known] and [estimates] define the problem.
     #[arg(long, value_parser = cost())]
     pub cost: Option<CostPreset>,
+    /// The model every draw fits: `pim` (e, mu, em) or `tangential` (e, et and the friction
+    /// limit in their places).
+    #[arg(long, value_parser = model(), default_value = "pim")]
+    pub model: FitModel,
     /// Number of draws (1 to 1,000,000).
     #[arg(long, default_value_t = 200, value_parser = draws, allow_negative_numbers = true)]
     pub draws: usize,
@@ -269,7 +273,7 @@ pub struct ReportArgs {
     /// problem.
     #[arg(long, value_parser = cost())]
     pub cost: Option<CostPreset>,
-    /// The model fitted (the uncertainty study runs for `pim` only).
+    /// The model fitted (also by every draw of the uncertainty study).
     #[arg(long, value_parser = model(), default_value = "pim")]
     pub model: FitModel,
     /// Refits of the uncertainty study that gives the answer's ranges (0: none; default 200

@@ -249,3 +249,143 @@ fn data_file_draws_need_tolerances_and_only_standard_deviations() {
         assert!(says.iter().all(|s| err.contains(s)), "{args:?}: {err}");
     }
 }
+
+/// `--model tangential`: every draw fits the second model; its coefficients e, et and the
+/// friction limit stand in the places of PIM's e, mu and em, the speeds and delta-V are the
+/// same quantities, and the study says which model it is.
+#[test]
+fn the_tangential_model_is_drawn_like_pim() {
+    let run = |model: &str| {
+        let out = pim(&[
+            "uncertainty",
+            CASE,
+            "--cost",
+            "q2",
+            "--model",
+            model,
+            "--draws",
+            "100",
+            "--format",
+            "json",
+        ]);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<Value>(&out.stdout).unwrap()
+    };
+    let (t, p) = (run("tangential"), run("pim"));
+    assert_eq!(t["model"], "tangential");
+    assert_eq!(p["model"], "pim");
+    let names = |j: &Value| {
+        let mut n: Vec<String> = j["quantities"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .cloned()
+            .collect();
+        n.sort();
+        n
+    };
+    assert!(names(&t).contains(&"et".to_string()) && names(&t).contains(&"friction".to_string()));
+    assert!(!names(&t).contains(&"mu".to_string()));
+    assert_eq!(t["feasible_draws"], 100);
+    // RICSAC 7 slides under Q2 with either model: the friction limit is PIM's mu (the sliding
+    // forms agree, em = 1), so both nominal fits give the same speed, and the limit's
+    // interval is ended by its default bound 1.2, as PIM's mu is.
+    let nominal = |j: &Value, q: &str| j["nominal"][q].as_f64().unwrap();
+    assert!((nominal(&t, "friction") - nominal(&p, "mu")).abs() < 1e-6);
+    assert!((nominal(&t, "speed1") - nominal(&p, "speed1")).abs() < 1e-6);
+    assert_eq!(
+        t["quantities"]["friction"]["reaches_bound"]["bound"],
+        "friction"
+    );
+    for q in ["speed1", "delta_v1"] {
+        let (lo, hi) = (
+            t["quantities"][q]["p05"].as_f64().unwrap(),
+            t["quantities"][q]["p95"].as_f64().unwrap(),
+        );
+        assert!(lo < nominal(&t, q) && nominal(&t, q) < hi, "{q}: {lo} {hi}");
+    }
+}
+
+/// A case whose [bounds] estimate the geometry: each draw is a full fit over the geometry box.
+/// A geometry input both estimated and drawn is refused, naming it.
+#[test]
+fn geometry_bounds_are_searched_by_every_draw() {
+    let dir = scratch("geometry");
+    let base =
+        std::fs::read_to_string(repo().join("examples/cases/ricsac6_geometry.toml")).unwrap();
+    let case = dir.join("geometry.toml");
+    std::fs::write(
+        &case,
+        format!(
+            "{base}\n[sigma.final]\nvehicle1 = {{ vx = 0.3, vy = 0.3, omega = 0.1 }}\n\
+             vehicle2 = {{ vx = 0.3, vy = 0.3, omega = 0.1 }}\n"
+        ),
+    )
+    .unwrap();
+    let out = pim(&[
+        "uncertainty",
+        case.to_str().unwrap(),
+        "--cost",
+        "q2",
+        "--draws",
+        "20",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let j: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["feasible_draws"], 20);
+    // The nominal fit is the geometry fit of `pim fit` on the same case.
+    let fit = pim(&[
+        "fit",
+        case.to_str().unwrap(),
+        "--cost",
+        "q2",
+        "--format",
+        "json",
+    ]);
+    let f: Value = serde_json::from_slice(&fit.stdout).unwrap();
+    let best = f["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["moment"] == f["best"])
+        .unwrap();
+    assert!((j["nominal"]["e"].as_f64().unwrap() - best["e"].as_f64().unwrap()).abs() < 1e-9);
+    let both = dir.join("both.toml");
+    std::fs::write(
+        &both,
+        format!(
+            "{}\n[uncertainty]\nvehicle1 = {{ d = 0.05 }}\n",
+            std::fs::read_to_string(&case).unwrap()
+        ),
+    )
+    .unwrap();
+    let out = pim(&[
+        "uncertainty",
+        both.to_str().unwrap(),
+        "--cost",
+        "q2",
+        "--draws",
+        "5",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains(
+            "vehicle1.d is estimated by [bounds] (an unknown of every draw's fit) and drawn by \
+             [uncertainty]"
+        ),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

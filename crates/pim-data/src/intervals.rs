@@ -48,6 +48,8 @@ pub fn bounds_of(quantity: &str) -> &'static [SearchBound] {
     match quantity {
         "e" => &[SearchBound::E],
         "mu" => &[SearchBound::Mu],
+        "et" => &[SearchBound::Et],
+        "friction" => &[SearchBound::Friction],
         "em" => &[],
         _ => &[SearchBound::Velocity, SearchBound::YawRate],
     }
@@ -92,7 +94,8 @@ pub fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
     idx.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
     let mean = y.iter().sum::<f64>() / n as f64;
     let total: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
-    if total <= 0.0 {
+    // A quantity the draws do not move (a known speed, to round-off) has no share to give.
+    if (total / n as f64).sqrt() <= 1e-9 * mean.abs() || total <= 0.0 {
         return 0.0;
     }
     let bins = 10;
@@ -124,6 +127,10 @@ mod tests {
         let mut rng = rand::rngs::StdRng::seed_from_u64(1);
         let noise: Vec<f64> = (0..1000).map(|_| standard_normal(&mut rng)).collect();
         assert!(correlation_ratio(&x, &noise) < 0.02);
+        // A quantity the draws leave unchanged but for round-off (a known speed) is driven by
+        // no input, not by every one.
+        let known: Vec<f64> = x.iter().map(|v| 13.01 + 1e-15 * v).collect();
+        assert!(correlation_ratio(&x, &known) < 1e-12);
     }
 
     #[test]

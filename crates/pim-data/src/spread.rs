@@ -141,6 +141,18 @@ pub struct UncertaintySection {
 }
 
 impl UncertaintySection {
+    /// Whether these spreads draw a geometry input (`vehicle1.d`, the crush angle, ...).
+    pub fn draws_geometry(&self, input: pim_fit::GeometryInput) -> bool {
+        use pim_fit::GeometryInput as G;
+        let vehicle = |v: u8| if v == 1 { self.vehicle1 } else { self.vehicle2 };
+        match input {
+            G::D(v) => vehicle(v).d.is_some(),
+            G::Phi(v) => vehicle(v).phi.is_some(),
+            G::X(v) | G::Y(v) => vehicle(v).impact_point.is_some(),
+            G::CrushAngle => self.impact.crush_angle.is_some(),
+        }
+    }
+
     /// Converts the file's units to SI (factors: mass, inertia, length).
     pub fn to_si(self, mass: f64, inertia: f64, length: f64) -> Self {
         let v = |s: VehicleSpread| VehicleSpread {

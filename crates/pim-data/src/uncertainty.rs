@@ -12,7 +12,7 @@ use crate::fitcase::{self, CostChoice};
 use crate::intervals::{correlation_ratio, percentile};
 pub use crate::intervals::{BoundHit, Summary};
 pub use crate::spread::{standard_normal, ImpactSpread, Spread, UncertaintySection, VehicleSpread};
-use pim_fit::{FitSettings, MomentBranch, Quantity, Status};
+use pim_fit::{FitModel, FitSettings, MomentBranch, Quantity, Status};
 use rand::SeedableRng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -103,7 +103,7 @@ fn stream(seed: u64, i: u64) -> rand::rngs::StdRng {
     rand::rngs::StdRng::seed_from_u64(z ^ (z >> 31))
 }
 
-/// The names of the summarised quantities, in output order.
+/// The names of the summarised quantities of a PIM fit, in output order.
 pub const QUANTITIES: [&str; 8] = [
     "e",
     "mu",
@@ -115,12 +115,34 @@ pub const QUANTITIES: [&str; 8] = [
     "energy_loss_percent",
 ];
 
+/// The names of the summarised quantities of the tangential model's fit: its coefficients e,
+/// et and the friction limit (sticking: the smallest limit that sticks, the impulse ratio)
+/// in the places of PIM's e, mu and em.
+pub const TANGENTIAL_QUANTITIES: [&str; 8] = [
+    "e",
+    "et",
+    "friction",
+    "speed1",
+    "speed2",
+    "delta_v1",
+    "delta_v2",
+    "energy_loss_percent",
+];
+
+/// The names of the summarised quantities of a model's fit.
+pub fn quantities(model: FitModel) -> &'static [&'static str; 8] {
+    match model {
+        FitModel::Pim => &QUANTITIES,
+        FitModel::Tangential => &TANGENTIAL_QUANTITIES,
+    }
+}
+
 /// One draw's answer (best branch), or `None` when no branch was admissible.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DrawResult {
     /// The best branch.
     pub branch: MomentBranch,
-    /// The values of [`QUANTITIES`].
+    /// The values of the model's [`quantities`].
     pub values: [f64; 8],
     /// The search bounds the draw's answer rests on.
     pub bounds: Vec<pim_fit::SearchBound>,
@@ -140,6 +162,8 @@ pub struct Sensitivity {
 pub struct Study {
     /// The units of the document's numbers (always SI: speeds and delta-V in m/s).
     pub units: crate::records::SiUnits,
+    /// The model fitted by every draw; it names the coefficients ([`quantities`]).
+    pub model: FitModel,
     /// Draws asked for.
     pub draws: usize,
     /// Seed of the random streams.
@@ -167,16 +191,21 @@ pub struct Study {
     /// `sqrt(sum (dq/dx_i sd_i)^2)`, independent inputs; a uniform input counts with its
     /// standard deviation `(hi - lo) / sqrt 12`. Absent when a refit at a step fails.
     pub linearised_sd: BTreeMap<String, f64>,
-    /// The values of [`QUANTITIES`] of every feasible draw, in draw order (for figures; not
+    /// The values of [`Study::names`] of every feasible draw, in draw order (for figures; not
     /// serialised).
     #[serde(skip)]
     pub samples: Vec<[f64; 8]>,
 }
 
-/// The quantities of [`QUANTITIES`] that are speeds (m/s in a study).
+/// The quantities that are speeds (m/s in a study).
 pub const SPEEDS: [&str; 4] = ["speed1", "speed2", "delta_v1", "delta_v2"];
 
 impl Study {
+    /// The names of this study's quantities, in output order.
+    pub fn names(&self) -> &'static [&'static str; 8] {
+        quantities(self.model)
+    }
+
     /// The same study with its speeds (see [`SPEEDS`]) multiplied by `per_mps`: in a display
     /// unit, e.g. `1 / 0.44704` for mph. Everything else keeps.
     pub fn in_speed_unit(&self, per_mps: f64) -> Study {
@@ -199,7 +228,7 @@ impl Study {
                 }
             }
         }
-        for (i, q) in QUANTITIES.iter().enumerate() {
+        for (i, q) in self.names().iter().enumerate() {
             if is_speed(q) {
                 for d in &mut s.samples {
                     d[i] *= per_mps;
@@ -351,7 +380,11 @@ fn fit_once(
     settings: &pim_fit::ValidSettings,
 ) -> Option<DrawResult> {
     let problem = fitcase::problem(case, choice).ok()?;
-    best_of(&pim_fit::fit(&problem, settings).ok()?, settings.get())
+    // With [bounds] on the geometry, each draw is a full fit over the geometry box.
+    best_of(
+        &fitcase::fit(case, &problem, settings).ok()?,
+        settings.get(),
+    )
 }
 
 /// The quantities of a fit's best branch, when it has an answer.
@@ -373,8 +406,8 @@ fn best_of(report: &pim_fit::FitReport, settings: &FitSettings) -> Option<DrawRe
         branch: b.moment,
         values: [
             s.e,
-            s.mu,
-            s.em,
+            s.tangential.as_ref().map_or(s.mu, |t| t.et),
+            s.tangential.as_ref().map_or(s.em, |t| t.friction),
             s.vehicles[0].speed_initial,
             s.vehicles[1].speed_initial,
             s.vehicles[0].delta_v,
@@ -398,12 +431,19 @@ pub fn run(
     seed: u64,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Study> {
-    if !fitcase::geometry(case)?.is_empty() {
-        return Err(InputError::new(
-            &case.file,
-            "[bounds] estimates the impact geometry, which the draws do not search: give its \
-             spread in [uncertainty] instead (e.g. vehicle1 = { d = 0.1 })",
-        ));
+    // The geometry [bounds] estimates is an unknown of every draw's fit (a full fit over the
+    // geometry box); drawing it as well would make it both, so one of the two must go.
+    for g in fitcase::geometry(case)? {
+        if unc.draws_geometry(g.input) {
+            return Err(InputError::new(
+                &case.file,
+                format!(
+                    "{} is estimated by [bounds] (an unknown of every draw's fit) and drawn by \
+                     [uncertainty]: give it one or the other",
+                    g.input.name()
+                ),
+            ));
+        }
     }
     let inputs = inputs(case, unc)?;
     if inputs.is_empty() {
@@ -416,7 +456,7 @@ pub fn run(
     let settings = fitcase::settings_from(case, settings)?;
     // The nominal fit: also says which quantities the data do not determine.
     let problem = fitcase::problem(case, choice)?;
-    let report = pim_fit::fit(&problem, &settings).map_err(|e| InputError::new(&case.file, e))?;
+    let report = fitcase::fit(case, &problem, &settings)?;
     let nominal = best_of(&report, settings.get());
     let set_by_case = |b| fitcase::sets_bound(case, b);
     let nominal_bounds = report
@@ -429,12 +469,10 @@ pub fn run(
             if !i.identifiable {
                 let k = match i.coefficient {
                     Quantity::E => 0,
-                    Quantity::Mu => 1,
-                    Quantity::Em => 2,
+                    Quantity::Mu | Quantity::Et => 1,
+                    Quantity::Em | Quantity::Friction => 2,
                     Quantity::Speed1 => 3,
                     Quantity::Speed2 => 4,
-                    // Coefficients of the tangential model, which draws do not fit.
-                    Quantity::Et | Quantity::Friction => continue,
                 };
                 undetermined[k] = true;
             }
@@ -492,9 +530,10 @@ pub fn run(
         .filter(|(_, share)| *share > 0.0)
         .collect();
     let source = |b| crate::records::BoundSource::of(set_by_case(b));
+    let names = self::quantities(settings.get().model);
     let mut quantities = BTreeMap::new();
     let mut sensitivity = Vec::new();
-    for (q, name) in QUANTITIES.iter().enumerate() {
+    for (q, name) in names.iter().enumerate() {
         let y: Vec<f64> = feasible.iter().map(|(_, r)| r.values[q]).collect();
         let mut sorted = y.clone();
         sorted.sort_by(f64::total_cmp);
@@ -540,13 +579,14 @@ pub fn run(
     }
     Ok(Study {
         units: crate::records::SiUnits,
+        model: settings.get().model,
         draws,
         seed,
         feasible_draws: feasible.len(),
         nominal: nominal
             .as_ref()
             .map(|r| {
-                QUANTITIES
+                names
                     .iter()
                     .zip(r.values)
                     .map(|(n, v)| (n.to_string(), v))
@@ -595,7 +635,7 @@ fn linearised(
         .collect();
     let mut out = BTreeMap::new();
     if grads.iter().all(Option::is_some) {
-        for (q, name) in QUANTITIES.iter().enumerate() {
+        for (q, name) in quantities(settings.get().model).iter().enumerate() {
             let var: f64 = grads.iter().flatten().map(|g| g[q] * g[q]).sum();
             out.insert(name.to_string(), var.sqrt());
         }

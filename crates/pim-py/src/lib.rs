@@ -460,8 +460,8 @@ fn batch_csv(
 /// Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit by a
 /// seeded parametric bootstrap; the document of `pim uncertainty --format json`.
 #[pyfunction]
-#[pyo3(signature = (case, cost = None, draws = None, seed = None, threads = None))]
-#[pyo3(text_signature = "(case, cost=None, draws=200, seed=1, threads=None)")]
+#[pyo3(signature = (case, cost = None, draws = None, seed = None, threads = None, model = "pim"))]
+#[pyo3(text_signature = "(case, cost=None, draws=200, seed=1, threads=None, model='pim')")]
 fn uncertainty(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
@@ -469,6 +469,7 @@ fn uncertainty(
     draws: Option<Bound<'_, PyAny>>,
     seed: Option<Bound<'_, PyAny>>,
     threads: Option<Bound<'_, PyAny>>,
+    model: &str,
 ) -> PyResult<Py<PyAny>> {
     let draws = draws_arg(draws.as_ref(), 1)?.unwrap_or(200);
     let seed = seed_arg(seed.as_ref())?;
@@ -480,12 +481,16 @@ fn uncertainty(
         None => pim_data::fitcase::CostChoice::Custom,
     };
     let unc = case.content.uncertainty.unwrap_or_default();
+    let model = self::model(model)?;
     let study = detached(py, threads, || {
         pim_data::uncertainty::run(
             &case,
             &unc,
             choice,
-            pim_fit::FitSettings::default(),
+            pim_fit::FitSettings {
+                model,
+                ..Default::default()
+            },
             draws,
             seed,
             &|| {},

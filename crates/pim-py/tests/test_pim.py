@@ -285,3 +285,13 @@ def test_report_is_the_page_of_pim_report(tmp_path):
     assert r._repr_html_() == r.html and "Each value given against the fit" in r.markdown
     with pytest.raises(pim.InputError, match="draws = -1"):
         pim.report(case, draws=-1)
+
+
+def test_uncertainty_of_the_tangential_model_equals_the_cli():
+    u = pim.uncertainty("examples/cases/ricsac7_uncertainty.toml", cost="q2", draws=30,
+                        model="tangential")
+    assert "et" in u.quantities and "friction" in u.quantities and "mu" not in u.quantities
+    assert u.quantities["friction"].unit == "-"
+    cli = cli_json("uncertainty", "examples/cases/ricsac7_uncertainty.toml", "--cost", "q2",
+                   "--draws", "30", "--model", "tangential")
+    assert u.to_dict() == cli

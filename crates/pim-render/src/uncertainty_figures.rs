@@ -18,6 +18,7 @@ const SHOWN: [(&str, &str); 4] = [
     ("delta_v2", "vehicle 2 delta-V"),
 ];
 
+/// The slot of a quantity both models share (the speeds, delta-V, the energy loss).
 fn index(name: &str) -> usize {
     QUANTITIES.iter().position(|q| *q == name).unwrap_or(0)
 }

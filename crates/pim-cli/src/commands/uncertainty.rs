@@ -7,7 +7,7 @@ use crate::inputs::{checked_impact, load_case};
 use anyhow::Result;
 use pim_data::fitcase::CostChoice;
 use pim_data::records::BoundSource;
-use pim_data::uncertainty::{self, Study, QUANTITIES};
+use pim_data::uncertainty::{self, Study};
 use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -26,7 +26,7 @@ fn table(title: &str, s: &Study, u: UnitSystem) -> String {
         "{:<22} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
         "quantity", "nominal", "p05", "p50", "p95", "mean", "sd", "sd (lin.)"
     );
-    for name in QUANTITIES {
+    for &name in s.names() {
         let q = &s.quantities[name];
         let nominal = s
             .nominal
@@ -135,7 +135,10 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
             &case,
             &unc,
             choice,
-            pim_fit::FitSettings::default(),
+            pim_fit::FitSettings {
+                model: a.model,
+                ..Default::default()
+            },
             a.draws,
             a.seed,
             &tick,
@@ -180,7 +183,8 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         Format::Table => &text,
     })?;
     let mut why = Vec::new();
-    let ended: Vec<&str> = QUANTITIES
+    let ended: Vec<&str> = study
+        .names()
         .iter()
         .filter(|q| {
             study.quantities[**q]

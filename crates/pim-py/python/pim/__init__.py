@@ -189,17 +189,20 @@ def uncertainty(
     draws: Optional[int] = None,
     seed: Optional[int] = None,
     threads: Optional[int] = None,
+    model: Model = "pim",
 ) -> Uncertainty:
     """Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit
     by a seeded parametric bootstrap (``pim uncertainty``): ``draws`` refits (default 200)
-    from ``seed`` (default 1), the same numbers for any ``threads``.
+    from ``seed`` (default 1), the same numbers for any ``threads``. ``model="tangential"``
+    fits the second model in every draw (its quantities ``e``, ``et``, ``friction`` in the
+    places of ``mu`` and ``em``).
 
     >>> u = uncertainty("examples/cases/ricsac7_uncertainty.toml", cost="q2", draws=20)
     >>> u.feasible_draws, u["speed1"].unit, u["speed1"].p05 < u["speed1"].p95
     (20, 'm/s', True)
     """
     return Uncertainty._read(_pim.uncertainty(case, cost=cost, draws=draws, seed=seed,
-                                              threads=threads))
+                                              threads=threads, model=model))
 
 
 def predict_dv(path: PathArg = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:

@@ -65,6 +65,7 @@ def uncertainty(
     draws: Optional[int] = ...,
     seed: Optional[int] = ...,
     threads: Optional[int] = ...,
+    model: str = ...,
 ) -> Dict[str, Any]: ...
 def predict_dv(path: _PathArg = ..., e: float = ...) -> Dict[str, Any]: ...
 def report(

@@ -400,7 +400,7 @@ class SolveResult:
 
 # Units of the quantities of an uncertainty study.
 QUANTITY_UNITS: Dict[str, str] = {
-    "e": "-", "mu": "-", "em": "-",
+    "e": "-", "mu": "-", "em": "-", "et": "-", "friction": "-",
     "speed1": "m/s", "speed2": "m/s", "delta_v1": "m/s", "delta_v2": "m/s",
     "energy_loss_percent": "%",
 }

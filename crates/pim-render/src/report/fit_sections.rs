@@ -6,7 +6,7 @@ use crate::tables::{branch_short, num};
 use pim_core::Convention;
 use pim_data::records::{BoundSource, BranchRecord};
 use pim_data::residuals::Residual;
-use pim_data::uncertainty::{Study, QUANTITIES};
+use pim_data::uncertainty::Study;
 use pim_data::units::UnitSystem;
 
 /// The answer's 90 % ranges from the uncertainty study.
@@ -21,12 +21,14 @@ pub(super) fn ranges(s: &mut Section, study: &Study, u: UnitSystem) {
     let sp = u.speed_label();
     let mut t = Table::new(&["quantity", "fitted", "5 %", "median", "95 %", "note"]);
     t.numeric[5] = false;
-    for name in QUANTITIES {
+    for &name in st.names() {
         let q = &st.quantities[name];
         let label = match name {
             "e" => "restitution e".to_string(),
             "mu" => "impulse ratio mu".to_string(),
             "em" => "moment restitution em".to_string(),
+            "et" => "tangential restitution et".to_string(),
+            "friction" => "friction limit".to_string(),
             "speed1" => format!("vehicle 1 speed at contact [{sp}]"),
             "speed2" => format!("vehicle 2 speed at contact [{sp}]"),
             "delta_v1" => format!("vehicle 1 delta-V [{sp}]"),
@@ -310,7 +312,8 @@ pub(super) fn undetermined(
         }
     }
     if let Some(st) = study {
-        for name in QUANTITIES
+        for name in st
+            .names()
             .iter()
             .filter(|q| st.quantities[**q].not_determined)
         {

@@ -18,7 +18,7 @@ pub const DEFAULT_DRAWS: usize = 200;
 pub struct Options {
     /// The cost function of a fit (`None`: the case's own known and estimated values).
     pub cost: Option<pim_fit::CostPreset>,
-    /// The model fitted (the study runs for PIM only).
+    /// The model fitted (also by every draw of the uncertainty study).
     pub model: pim_fit::FitModel,
     /// Report the solve of a case that also holds a fit.
     pub solve: bool,
@@ -101,12 +101,15 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
     )?;
     let uncertain = c.sigma.is_some() || c.uncertainty.is_some();
     let draws = o.draws.unwrap_or(if uncertain { DEFAULT_DRAWS } else { 0 });
-    let study = if draws > 0 && fitted.report.best.is_some() && o.model == pim_fit::FitModel::Pim {
+    let study = if draws > 0 && fitted.report.best.is_some() {
         let s = pim_data::uncertainty::run(
             case,
             &c.uncertainty.unwrap_or_default(),
             o.cost.map_or(CostChoice::Custom, CostChoice::Preset),
-            pim_fit::FitSettings::default(),
+            pim_fit::FitSettings {
+                model: o.model,
+                ..Default::default()
+            },
             draws,
             o.seed,
             &|| {},
