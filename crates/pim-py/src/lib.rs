@@ -371,6 +371,7 @@ fn batch_plan(
     e_max: f64,
     moment_form: &str,
     models: Vec<String>,
+    conditions: &str,
 ) -> PyResult<pim_data::batch::BatchPlan> {
     let costs = costs
         .iter()
@@ -380,14 +381,21 @@ fn batch_plan(
         .iter()
         .map(|m| model(m))
         .collect::<PyResult<Vec<_>>>()?;
-    Ok(pim_data::batch::BatchPlan::new(
+    let plan = pim_data::batch::BatchPlan::new(
         &costs,
         &self::branches(branches)?,
         e_max,
         self::moment_form(moment_form)?,
     )
     .map_err(input_error)?
-    .with_models(&models))
+    .with_models(&models);
+    match conditions {
+        "corrected" => Ok(plan),
+        "v18" => Ok(plan.with_v18_conditions()),
+        other => Err(input_error(format!(
+            "conditions: expected \"corrected\" or \"v18\", got {other:?}"
+        ))),
+    }
 }
 
 /// Refits every test of a RICSAC-style data file under each cost function and branch; the
@@ -396,9 +404,9 @@ fn batch_plan(
 /// are the same for any thread count. `tests` keeps only those test numbers. `models`:
 /// "pim" and / or "tangential" (each record's `model` says which; `pim batch --model`).
 #[pyfunction]
-#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = pim_fit::DEFAULT_E_RANGE[1], moment_form = "corrected", tests = None, models = vec!["pim".to_string()]))]
+#[pyo3(signature = (path = std::path::PathBuf::from("data/ricsac.csv"), costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = pim_fit::DEFAULT_E_RANGE[1], moment_form = "corrected", tests = None, models = vec!["pim".to_string()], conditions = "corrected"))]
 #[pyo3(
-    text_signature = "(path='data/ricsac.csv', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', tests=None, models=('pim',))"
+    text_signature = "(path='data/ricsac.csv', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', tests=None, models=('pim',), conditions='corrected')"
 )]
 #[allow(clippy::too_many_arguments)]
 fn batch(
@@ -411,8 +419,9 @@ fn batch(
     moment_form: &str,
     tests: Option<Vec<u32>>,
     models: Vec<String>,
+    conditions: &str,
 ) -> PyResult<Py<PyAny>> {
-    let plan = batch_plan(costs, branches, e_max, moment_form, models)?;
+    let plan = batch_plan(costs, branches, e_max, moment_form, models, conditions)?;
     let file = path.display().to_string();
     let mut rows = pim_data::ricsac::parse(&file, &read(&path, pim_data::ricsac::MAX_DATA_BYTES)?)
         .map_err(|e| input_error(e.message))?;
@@ -434,9 +443,9 @@ fn batch(
 /// test, cost function, model and branch, fixed columns). `name` names the text in error
 /// messages. The frame-in, frame-out `pim.fit_frame` is built on it.
 #[pyfunction]
-#[pyo3(signature = (text, name = "<frame>", costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = pim_fit::DEFAULT_E_RANGE[1], moment_form = "corrected", models = vec!["pim".to_string()]))]
+#[pyo3(signature = (text, name = "<frame>", costs = vec!["q1".to_string(), "q2".to_string(), "q3".to_string()], branches = vec!["free".to_string(), "zero".to_string()], threads = None, e_max = pim_fit::DEFAULT_E_RANGE[1], moment_form = "corrected", models = vec!["pim".to_string()], conditions = "corrected"))]
 #[pyo3(
-    text_signature = "(text, name='<frame>', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', models=('pim',))"
+    text_signature = "(text, name='<frame>', costs=('q1', 'q2', 'q3'), branches=('free', 'zero'), threads=None, e_max=0.2, moment_form='corrected', models=('pim',), conditions='corrected')"
 )]
 #[allow(clippy::too_many_arguments)]
 fn batch_csv(
@@ -449,8 +458,9 @@ fn batch_csv(
     e_max: f64,
     moment_form: &str,
     models: Vec<String>,
+    conditions: &str,
 ) -> PyResult<String> {
-    let plan = batch_plan(costs, branches, e_max, moment_form, models)?;
+    let plan = batch_plan(costs, branches, e_max, moment_form, models, conditions)?;
     let rows = pim_data::ricsac::parse(name, text).map_err(|e| input_error(e.message))?;
     let threads = threads_arg(threads.as_ref())?;
     let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;

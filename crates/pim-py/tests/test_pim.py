@@ -295,3 +295,14 @@ def test_uncertainty_of_the_tangential_model_equals_the_cli():
     cli = cli_json("uncertainty", "examples/cases/ricsac7_uncertainty.toml", "--cost", "q2",
                    "--draws", "30", "--model", "tangential")
     assert u.to_dict() == cli
+
+
+def test_batch_under_v18_conditions_equals_the_cli():
+    records = pim.batch(tests=[10], conditions="v18")
+    assert [r["moment"] for r in records] == ["free"] * 3
+    q2 = next(r for r in records if r["cost_function"] == "q2")
+    assert round(q2["cost"], 2) == 6.91 and q2["mu"] > q2["mu_max"]
+    cli = cli_json("batch", "--tests", "10", "--conditions", "v18")
+    assert list(records) == cli["records"]
+    with pytest.raises(pim.InputError, match="conditions"):
+        pim.batch(tests=[10], conditions="v19")  # type: ignore[arg-type]

@@ -168,10 +168,13 @@ def batch(
     moment_form: MomentForm = "corrected",
     tests: Optional[Sequence[int]] = None,
     models: Sequence[Model] = ("pim",),
+    conditions: Literal["corrected", "v18"] = "corrected",
 ) -> Records:
     """Refits every test of a RICSAC-style data file (``pim batch``): one record per test,
     cost function, model and branch, as :class:`Records` (a list of dicts with
-    ``to_frame()``), in the same order for any ``threads``.
+    ``to_frame()``), in the same order for any ``threads``. ``conditions="v18"``: Vossou &
+    Koulocheris (2018)'s setting (``pim batch --conditions v18``: Brach's 1983 moment
+    equation, mu in [0, 1.2] without mu <= mu_max, the free branch only).
 
     >>> r = batch(costs=["q3"], tests=[7])
     >>> [(x["moment"], x["status"]) for x in r]
@@ -180,7 +183,7 @@ def batch(
     return Records(_pim.batch(path, costs=list(costs), branches=list(branches), threads=threads,
                               e_max=e_max, moment_form=moment_form,
                               tests=None if tests is None else list(tests),
-                              models=list(models)))
+                              models=list(models), conditions=conditions))
 
 
 def uncertainty(

@@ -58,6 +58,7 @@ def fit_frame(
     moment_form: str = "corrected",
     models: Sequence[str] = ("pim",),
     threads: Optional[int] = 1,
+    conditions: str = "corrected",
 ) -> Any:
     """Refits every row of ``rows`` (a pandas DataFrame with the columns of
     ``data/ricsac.csv``: ``test``, the vehicles, geometry and velocities) under each cost
@@ -66,7 +67,8 @@ def fit_frame(
     dtypes: ``test`` int64, ``best`` bool, ``sticking`` and ``admissible`` nullable boolean, the
     text columns object, the rest float64, NaN where a record has no value).
 
-    ``threads`` defaults to 1: under a distributed scheduler each worker process runs one
+    ``conditions="v18"`` fits under Vossou & Koulocheris (2018)'s setting, as
+    ``pim batch --conditions v18``. ``threads`` defaults to 1: under a distributed scheduler each worker process runs one
     partition at a time; ``None`` uses every core of the machine. An empty frame gives an
     empty result with the same columns and dtypes (Dask's ``meta``). A row that cannot be read
     raises :class:`InputError` naming the row (its line in the frame's CSV text, the header
@@ -85,7 +87,8 @@ def fit_frame(
     text = rows.to_csv(index=False)
     return _read(_pim.batch_csv(text, name="<frame>", costs=list(costs),
                                 branches=list(branches), threads=threads, e_max=e_max,
-                                moment_form=moment_form, models=list(models)))
+                                moment_form=moment_form, models=list(models),
+                                conditions=conditions))
 
 
 def _read(text: str) -> Any:

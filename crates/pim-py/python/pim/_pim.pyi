@@ -48,6 +48,7 @@ def batch(
     moment_form: str = ...,
     tests: Optional[Sequence[int]] = ...,
     models: Sequence[str] = ...,
+    conditions: str = ...,
 ) -> List[Dict[str, Any]]: ...
 def batch_csv(
     text: str,
@@ -58,6 +59,7 @@ def batch_csv(
     e_max: float = ...,
     moment_form: str = ...,
     models: Sequence[str] = ...,
+    conditions: str = ...,
 ) -> str: ...
 def uncertainty(
     case: _Case,
