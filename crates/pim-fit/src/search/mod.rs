@@ -54,6 +54,23 @@ pub(crate) fn search_branch(
             out.evaluations = counts.patterns;
             return out;
         }
+        // The grid's points count which conditions fail; no refinement is needed for a
+        // verdict already proven. Should a grid point be feasible after all (the routes
+        // disagree), the whole grid search decides.
+        let faces = inner.singular_faces();
+        for space in spaces(branch, settings, out.profiled_e, faces) {
+            grid(inner, &space, &mut out);
+        }
+        if out.best.is_none() {
+            out.convex = Some(counts);
+            return out;
+        }
+        out = Outcome {
+            data_scale: out.data_scale,
+            profiled_e: out.profiled_e,
+            friction_max: out.friction_max,
+            ..Outcome::default()
+        };
         out.fallback = Some(Fallback::NoPatternFeasible);
     }
     if let crate::convex::Verdict::Optimal {
