@@ -137,6 +137,14 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     let several = plan.models != [pim_fit::FitModel::Pim];
     let models_text = several.then(|| batch_tables::models_table(&records, &plan.costs));
     let mut summary = batch_tables::summary_table(&pim_records, &plan.costs, units);
+    if a.conditions == crate::args::Conditions::V18 {
+        summary.insert_str(
+            0,
+            "Conditions: Vossou & Koulocheris 2018 (--conditions v18): Brach's 1983 moment \
+             equation (with its sign error), mu in [0, 1.2] without mu <= mu_max, em in [-1, 0]; \
+             answers with mu above mu_max reverse the sliding (mu/mu_max > 1).\n\n",
+        );
+    }
     if tolerances.is_some() {
         summary.push_str(&batch_tables::intervals_table(
             &records, a.draws, a.seed, units,
