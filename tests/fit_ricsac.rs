@@ -38,17 +38,15 @@ fn branch(r: &FitReport, m: MomentBranch) -> &BranchReport {
 }
 
 /// Sum of squares of a Vossou table's errors per test.
-fn vossou_cost(file: &str) -> HashMap<u32, f64> {
-    read_reference(file)
-        .iter()
-        .map(|r| {
-            let cost =
-                r.0.iter()
-                    .filter(|(k, _)| k.as_str() != "test")
-                    .map(|(_, v)| v.parse::<f64>().unwrap().powi(2))
-                    .sum();
-            (r.text("test").parse().unwrap(), cost)
-        })
+fn vossou_cost(preset: CostPreset) -> HashMap<u32, f64> {
+    let path = format!(
+        "{}/data/reference/{}",
+        env!("CARGO_MANIFEST_DIR"),
+        pim_data::reference::vossou_table(preset)
+    );
+    pim_data::reference::parse_vossou(&std::fs::read_to_string(path).unwrap())
+        .unwrap()
+        .into_iter()
         .collect()
 }
 
@@ -56,20 +54,7 @@ fn vossou_cost(file: &str) -> HashMap<u32, f64> {
 fn ricsac_refit_table_and_consistency() {
     let runs = run_all(&FitSettings::default().check().unwrap());
     let tests = ricsac_tests();
-    let v18 = [
-        (
-            CostPreset::Q1,
-            vossou_cost("data/reference/vossou2018_table5.csv"),
-        ),
-        (
-            CostPreset::Q2,
-            vossou_cost("data/reference/vossou2018_table4.csv"),
-        ),
-        (
-            CostPreset::Q3,
-            vossou_cost("data/reference/vossou2018_table6.csv"),
-        ),
-    ];
+    let v18 = CostPreset::ALL.map(|p| (p, vossou_cost(p)));
     println!("test cost branch status        e      mu      em  mu/mu_max  cost   loss%  |  Vossou's cost");
     for run in &runs {
         for b in &run.report.branches {

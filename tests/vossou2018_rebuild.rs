@@ -17,17 +17,14 @@ use std::collections::HashMap;
 
 /// The printed errors of one cost function: test -> (component index 0..12 -> error).
 fn printed(preset: CostPreset) -> HashMap<u32, Vec<(usize, f64)>> {
-    let file = match preset {
-        // The paper's Table 5 holds the contact components (Q1 by its equations), Table 4 the
-        // separation components (Q2); see the files' comments.
-        CostPreset::Q1 => "data/reference/vossou2018_table5.csv",
-        CostPreset::Q2 => "data/reference/vossou2018_table4.csv",
-        CostPreset::Q3 => "data/reference/vossou2018_table6.csv",
-    };
+    let file = format!(
+        "data/reference/{}",
+        pim_data::reference::vossou_table(preset)
+    );
     let names = [
         "vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2", "vf1x", "vf1y", "wf1", "vf2x", "vf2y", "wf2",
     ];
-    read_reference(file)
+    read_reference(&file)
         .iter()
         .map(|r| {
             let errors = names

@@ -317,39 +317,50 @@ impl ImpactReport {
         )
     }
 
-    /// The failed admissibility conditions, in words (empty when admissible).
+    /// The failed admissibility conditions, in words (empty when admissible): the friction
+    /// condition's ([`ImpactReport::friction_reason`]), then the energy condition's.
     pub fn inadmissibility_reasons(&self) -> Vec<String> {
-        let mut reasons = Vec::new();
-        let mu = self.coefficients.mu;
-        if !self.admissibility.friction_ok {
-            let not_sliding = self.friction_basis == FrictionBasis::NoSlipImpulse;
-            reasons.push(match self.mu_max {
-                Some(m) if not_sliding && m.abs() <= REPORT_TOL => format!(
-                    "mu = {mu} but the vehicles do not slide at contact and the normal impulse \
-                     does not make them slide (mu_max = 0): any tangential impulse is more than \
-                     sticking needs; only mu = 0 (or the no-slip form) is admissible"
-                ),
-                Some(m) => format!(
-                    "mu = {mu} is not between 0 and mu_max = {m:.6}: the tangential impulse {}",
-                    if mu * m < 0.0 {
-                        "pushes the vehicles along their sliding direction instead of against it"
-                    } else {
-                        "is larger than sticking needs and reverses the sliding"
-                    }
-                ),
-                None => {
-                    format!("mu = {mu} but the normal impulse vanishes, so mu_max is undefined")
-                }
-            });
+        self.friction_reason()
+            .into_iter()
+            .chain(self.energy_reason())
+            .collect()
+    }
+
+    /// Why mu is not admissible (not between 0 and mu_max), in words; `None` when it is.
+    pub fn friction_reason(&self) -> Option<String> {
+        if self.admissibility.friction_ok {
+            return None;
         }
-        if !self.admissibility.energy_ok {
-            reasons.push(format!(
+        let mu = self.coefficients.mu;
+        let not_sliding = self.friction_basis == FrictionBasis::NoSlipImpulse;
+        Some(match self.mu_max {
+            Some(m) if not_sliding && m.abs() <= REPORT_TOL => format!(
+                "mu = {mu} but the vehicles do not slide at contact and the normal impulse does \
+                 not make them slide (mu_max = 0): any tangential impulse is more than sticking \
+                 needs; only mu = 0 (or the no-slip form) is admissible"
+            ),
+            Some(m) => format!(
+                "mu = {mu} is not between 0 and mu_max = {m:.6}: the tangential impulse {}",
+                if mu * m < 0.0 {
+                    "pushes the vehicles along their sliding direction instead of against it"
+                } else {
+                    "is larger than sticking needs and reverses the sliding"
+                }
+            ),
+            None => format!("mu = {mu} but the normal impulse vanishes, so mu_max is undefined"),
+        })
+    }
+
+    /// Why the solution is not admissible by its energy (it creates kinetic energy), in
+    /// words; `None` when it is.
+    pub fn energy_reason(&self) -> Option<String> {
+        (!self.admissibility.energy_ok).then(|| {
+            format!(
                 "the solution creates kinetic energy: {:.1} J at separation against {:.1} J at \
                  contact ({:.3} % more)",
                 self.energy.final_, self.energy.initial, -self.energy.loss_percent
-            ));
-        }
-        reasons
+            )
+        })
     }
 }
 

@@ -19,6 +19,18 @@ pub struct BrachRow {
     pub mu: f64,
 }
 
+/// The file (in `data/reference/`) of the table in which Vossou & Koulocheris (2018) print the
+/// errors of a cost function's fits. Their results section swaps the labels of Tables 4 and 5
+/// relative to their equations: Table 5 holds the contact components (Q1), Table 4 the
+/// separation components (Q2), Table 6 all twelve (Q3); see the files' comments.
+pub fn vossou_table(cost: pim_fit::CostPreset) -> &'static str {
+    match cost {
+        pim_fit::CostPreset::Q1 => "vossou2018_table5.csv",
+        pim_fit::CostPreset::Q2 => "vossou2018_table4.csv",
+        pim_fit::CostPreset::Q3 => "vossou2018_table6.csv",
+    }
+}
+
 /// The costs Vossou & Koulocheris (2018) print for one cost function: per test, the sum of the
 /// squares of the errors in one of their Tables 4-6 (`data/reference/vossou2018_table*.csv`:
 /// a `test` column and one column per fitted component, errors in m/s and rad/s).

@@ -186,13 +186,12 @@ fn solution(
     };
     let coefficients = r.coefficients;
     let residuals = r.residuals(&inner.impact);
-    let mut reasons = r.inadmissibility_reasons();
-    if !settings.mu_max_condition && !r.admissibility.friction_ok && !reasons.is_empty() {
-        // Asked for: mu bounded by its box alone. The solution still says it is not
-        // admissible (`admissible`, `mu_ratio`); it is not a failed check.
-        reasons.remove(0);
+    // With mu bounded by its box alone (asked for), mu beyond mu_max is no failed check; the
+    // solution still says it is not admissible (`admissible`, `mu_ratio`).
+    if settings.mu_max_condition {
+        problems.extend(r.friction_reason());
     }
-    problems.extend(reasons);
+    problems.extend(r.energy_reason());
     if residuals.max_relative() > 1e-8 {
         problems.push(format!(
             "the six equations hold only to {:.1e} (relative)",

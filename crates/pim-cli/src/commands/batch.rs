@@ -102,23 +102,18 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .filter(|p| p.is_file())
         .and_then(|p| crate::inputs::read_text_file(&p, pim_data::ricsac::MAX_DATA_BYTES).ok())
         .and_then(|t| parse_brach(&t).ok());
-    // V18's printed costs, per cost function (their Table 5 holds Q1, Table 4 Q2, Table 6 Q3;
-    // see the files' comments), when the batch runs under their conditions.
+    // V18's printed costs, per cost function, when the batch runs under their conditions.
     let v18 = (a.conditions == crate::args::Conditions::V18)
         .then(|| {
             let mut printed = Vec::new();
-            for (cost, table) in [
-                (pim_fit::CostPreset::Q1, 5),
-                (pim_fit::CostPreset::Q2, 4),
-                (pim_fit::CostPreset::Q3, 6),
-            ] {
-                if !plan.costs.contains(&cost) {
-                    continue;
-                }
+            for cost in pim_fit::CostPreset::ALL
+                .into_iter()
+                .filter(|c| plan.costs.contains(c))
+            {
                 let path = data
                     .parent()?
                     .join("reference")
-                    .join(format!("vossou2018_table{table}.csv"));
+                    .join(pim_data::reference::vossou_table(cost));
                 let text =
                     crate::inputs::read_text_file(&path, pim_data::ricsac::MAX_DATA_BYTES).ok()?;
                 let rows = pim_data::reference::parse_vossou(&text).ok()?;

@@ -38,7 +38,7 @@ impl Formulation {
         let mut failed = Failed::default();
         let mut all_rows: Vec<Row> = Vec::with_capacity(self.common.len() + 12);
         for (bound, p, rows) in &work {
-            let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+            let incumbent = value(best);
             if *bound >= incumbent {
                 counts.pruned += 1;
                 continue;
@@ -77,6 +77,11 @@ impl Formulation {
         }
         Ok(failed)
     }
+}
+
+/// The best cost found so far (in the QP's value), infinite before the first.
+fn value(best: &Option<(f64, At, Candidate)>) -> f64 {
+    best.as_ref().map_or(f64::INFINITY, |b| b.0)
 }
 
 /// The pattern optima of an interval that fail the exact check.
@@ -159,7 +164,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
             .min_by(|&a, &b| queue[a].bound.total_cmp(&queue[b].bound))
             .unwrap_or(0);
         let node = queue.swap_remove(i);
-        let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+        let incumbent = value(&best);
         if node.bound >= cutoff(incumbent) {
             continue;
         }
@@ -172,7 +177,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
             Err(why) => return Verdict::Search(why),
         };
         energy = energy.min(failed.energy);
-        let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+        let incumbent = value(&best);
         if let Some((f, em)) = failed.relaxed.filter(|(f, _)| *f < cutoff(incumbent)) {
             // The relaxation is not exact here: split the interval (at the failing optimum's
             // e_m, unless that is next to an end).
@@ -207,7 +212,7 @@ pub(crate) fn solve(inner: &Inner, settings: &FitSettings, branch: MomentBranch)
     counts.intervals = nodes;
     // A pattern whose optimum creates energy may still hold an admissible point below the
     // best one found; the grid search, which enforces the energy condition exactly, decides.
-    if energy < cutoff(best.as_ref().map_or(f64::INFINITY, |b| b.0)) {
+    if energy < cutoff(value(&best)) {
         return Verdict::Search(Fallback::ExactCheckFailed);
     }
     let Some((_, at, candidate)) = best else {

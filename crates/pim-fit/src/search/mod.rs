@@ -21,6 +21,7 @@ pub(crate) use outcome::{near_limit, Outcome, Point, Sample};
 pub(crate) use space::product;
 
 use crate::certificate::Fallback;
+use crate::convex::Verdict;
 use crate::inner::{Eval, Inner};
 use crate::problem::MomentBranch;
 use crate::report::Violation;
@@ -35,58 +36,51 @@ pub(crate) fn search_branch(
     settings: &FitSettings,
     branch: MomentBranch,
 ) -> Outcome {
-    let mut out = Outcome {
+    let fresh = || Outcome {
         data_scale: inner.data_scale(),
         profiled_e: inner.profiles(),
         friction_max: (inner.family.friction() == crate::family::Friction::Limit)
             .then_some(settings.friction[1]),
         ..Outcome::default()
     };
-    let verdict = crate::convex::bnb::solve(inner, settings, branch);
-    if let crate::convex::Verdict::Search(why) = verdict {
-        out.fallback = Some(why);
-    }
-    if let crate::convex::Verdict::Infeasible { counts } = verdict {
-        // Proven infeasible. Where the data alone say why, that is the answer; otherwise the
-        // grid search runs for the statistics of the violations that explain it.
-        if crate::inner::direct_reason(inner, crate::report::Limits::of(settings)).is_some() {
+    let mut out = fresh();
+    match crate::convex::bnb::solve(inner, settings, branch) {
+        Verdict::Optimal {
+            at,
+            candidate,
+            counts,
+        } => {
             out.convex = Some(counts);
             out.evaluations = counts.patterns;
+            out.exact_solves = counts.solved;
+            out.record(Point { at, candidate });
+            if settings.ranges {
+                scan::scan(inner, settings, branch, &mut out);
+            }
             return out;
         }
-        // The grid's points count which conditions fail; no refinement is needed for a
-        // verdict already proven. Should a grid point be feasible after all (the routes
-        // disagree), the whole grid search decides.
-        let faces = inner.singular_faces();
-        for space in spaces(branch, settings, out.profiled_e, faces) {
-            grid(inner, &space, &mut out);
+        Verdict::Infeasible { counts } => {
+            // Proven infeasible. Where the data alone say why, that is the answer.
+            if crate::inner::direct_reason(inner, crate::report::Limits::of(settings)).is_some() {
+                out.convex = Some(counts);
+                out.evaluations = counts.patterns;
+                return out;
+            }
+            // Otherwise the grid's points count which conditions fail, for the reason; no
+            // refinement is needed for a verdict already proven. Should a grid point be
+            // feasible after all (the routes disagree), the whole grid search decides.
+            let faces = inner.singular_faces();
+            for space in spaces(branch, settings, out.profiled_e, faces) {
+                grid(inner, &space, &mut out);
+            }
+            if out.best.is_none() {
+                out.convex = Some(counts);
+                return out;
+            }
+            out = fresh();
+            out.fallback = Some(Fallback::NoPatternFeasible);
         }
-        if out.best.is_none() {
-            out.convex = Some(counts);
-            return out;
-        }
-        out = Outcome {
-            data_scale: out.data_scale,
-            profiled_e: out.profiled_e,
-            friction_max: out.friction_max,
-            ..Outcome::default()
-        };
-        out.fallback = Some(Fallback::NoPatternFeasible);
-    }
-    if let crate::convex::Verdict::Optimal {
-        at,
-        candidate,
-        counts,
-    } = verdict
-    {
-        out.convex = Some(counts);
-        out.evaluations = counts.patterns;
-        out.exact_solves = counts.solved;
-        out.record(Point { at, candidate });
-        if settings.ranges {
-            scan::scan(inner, settings, branch, &mut out);
-        }
-        return out;
+        Verdict::Search(why) => out.fallback = Some(why),
     }
     let faces = inner.singular_faces();
     for space in spaces(branch, settings, out.profiled_e, faces) {
