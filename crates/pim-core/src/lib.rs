@@ -185,5 +185,6 @@ pub use solve::{
     solve_backward_with_sign, solve_forward,
 };
 pub use tangential::{
-    solve_tangential, stick_transfer, ContactMode, TangentialCoefficients, TangentialReport,
+    solve_tangential, stick_transfer, ContactMode, StickMaps, TangentialCoefficients,
+    TangentialReport,
 };

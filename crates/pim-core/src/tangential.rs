@@ -203,6 +203,49 @@ pub fn stick_transfer(impact: &Impact, e: f64, et: f64) -> Option<Matrix6<f64>> 
     Some(r)
 }
 
+/// The sticking mode's transfer matrix as an affine map of its coefficients: the impulse that
+/// gives `vn' = -e vn` and `vt' = et vt` is linear in `(1 + e) vn` and `(1 - et) vt`, so
+/// `R(e, et) = I + (1 + e) A + (1 - et) B` for all e and et (built once per geometry, for
+/// callers that need the transfer at many coefficients).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StickMaps {
+    /// The part proportional to `1 + e`: `R(0, 1) - I`.
+    pub a: Matrix6<f64>,
+    /// The part proportional to `1 - et`: `R(0, 0) - R(0, 1)`.
+    pub b: Matrix6<f64>,
+}
+
+impl StickMaps {
+    /// The maps of an impact; `None` when its collision matrix is singular.
+    ///
+    /// ```
+    /// # use pim_core::*;
+    /// # let v = |mass, yaw_inertia, heading, d, phi| Vehicle { mass, yaw_inertia, heading, d, phi };
+    /// # let impact = Impact::new(Collision {
+    /// #     vehicle1: v(1036.0, 1348.0, 0.0, 1.4, 0.0),
+    /// #     vehicle2: v(2189.0, 5287.0, 90.0, 1.6, -30.0),
+    /// #     crush_angle: 0.0,
+    /// # })?;
+    /// let maps = StickMaps::new(&impact).unwrap();
+    /// let direct = stick_transfer(&impact, 0.3, -0.4).unwrap();
+    /// assert!((maps.transfer(0.3, -0.4) - direct).amax() < 1e-12);
+    /// # Ok::<(), PimError>(())
+    /// ```
+    pub fn new(impact: &Impact) -> Option<StickMaps> {
+        let r01 = stick_transfer(impact, 0.0, 1.0)?;
+        let r00 = stick_transfer(impact, 0.0, 0.0)?;
+        Some(StickMaps {
+            a: r01 - Matrix6::identity(),
+            b: r00 - r01,
+        })
+    }
+
+    /// `R(e, et)`.
+    pub fn transfer(&self, e: f64, et: f64) -> Matrix6<f64> {
+        Matrix6::identity() + self.a * (1.0 + e) + self.b * (1.0 - et)
+    }
+}
+
 /// Solves the tangential-restitution model forwards: the separation velocities from the
 /// velocities at contact. Errors: coefficients outside their domains, invalid velocities,
 /// vehicles that do not approach at C.

@@ -14,17 +14,25 @@ use pim_core::{SolveOptions, Velocities};
 
 fn certificate(out: &Outcome) -> Certificate {
     let (route, description) = if let Some(c) = out.convex {
+        let what = if out.friction_max.is_some() {
+            "the tangential model's modes: over the contact state and the impulse every \
+             condition but the energy is linear once the mode (sticking, or sliding on a side \
+             with the sticking impulse's normal part on either side of its pole) and the sign \
+             of the initial tangential velocity are fixed, the friction rule on the sticking \
+             impulse at some et of the range eliminated exactly"
+        } else {
+            "PIM's sign patterns: over the contact state and the impulse every condition but \
+             the energy is linear once the signs of the friction, of the normal and tangential impulse, of the \
+             frictionless and no-slip normal impulses, of the final tangential velocity and \
+             (free branch) of the linear-impulse yaw rate are fixed"
+        };
         (
             Route::Convex,
             format!(
-                "convex decomposition: over the contact state and the impulse every condition \
-                 but the energy is linear once the signs of the friction, of the normal and \
-                 tangential impulse, of the frictionless and no-slip normal impulses, of the \
-                 final tangential velocity and (free branch) of the linear-impulse yaw rate are \
-                 fixed; each sign pattern is a strictly convex QP solved to its KKT-verified \
-                 optimum by a dual active-set method ({} patterns over {} e_m intervals of a \
-                 branch-and-bound, {} solved, {} stopped by their lower bound or found \
-                 empty); {}",
+                "convex decomposition of {what}; each pattern is a strictly convex QP solved to \
+                 its KKT-verified optimum by a dual active-set method ({} patterns over {} e_m \
+                 intervals of a branch-and-bound, {} solved, {} stopped by their lower bound or \
+                 found empty); {}",
                 c.patterns,
                 c.intervals,
                 c.solved,
@@ -270,10 +278,12 @@ fn tangential_check(
     let fit = TangentialFit {
         mode,
         et: best.at.et,
+        // Sticking: any friction limit from the impulse ratio to the bound (the ratio onto it
+        // against round-off).
         friction: if sliding {
             friction
         } else {
-            t.impulse_ratio.abs()
+            t.impulse_ratio.abs().min(friction)
         },
         friction_max: friction,
         impulse_ratio: t.impulse_ratio,

@@ -17,8 +17,6 @@ pub enum Route {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Fallback {
-    /// The tangential model: its ratio condition is not written over the convex variables.
-    Model,
     /// Turned off in the settings (`SearchSettings::convex = false`).
     Disabled,
     /// A component is known exactly or carries no weight: the cost is not strictly convex in
@@ -56,7 +54,6 @@ impl Fallback {
     /// The reason in words.
     pub fn words(self) -> &'static str {
         match self {
-            Fallback::Model => "the tangential model is not written over the convex variables",
             Fallback::Disabled => "the convex route is turned off in the settings",
             Fallback::NotStrictlyConvex => {
                 "a direction of the velocities that the known components leave free carries no \

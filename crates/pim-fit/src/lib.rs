@@ -48,13 +48,14 @@
 //! the grid search decided, why ([`Method`], [`Fallback`]):
 //! - **convex decomposition** (exact): PIM with every component estimated with a positive
 //!   weight (Q3, custom costs that weigh each component) and problems with components known
-//!   exactly (Q1, Q2, `[known]`), both moment branches, no barrier. The cost is strictly
+//!   exactly (Q1, Q2, `[known]`), both moment branches, no barrier; and the same problems of
+//!   the tangential model (its sticking and sliding modes, the friction rule on the sticking
+//!   impulse at some et of the range written over the same variables). The cost is strictly
 //!   convex over the contact state and the impulse, on the affine subspace the known
 //!   components leave, and every condition but the energy is linear once a few signs are
 //!   fixed.
 //! - **grid search** (certified by lower bounds and refinements), otherwise: a component
-//!   neither known nor weighted ([`Fallback::NotStrictlyConvex`]), the tangential model
-//!   ([`Fallback::Model`]), a barrier, a degenerate geometry, or where the convex route cannot
+//!   neither known nor weighted ([`Fallback::NotStrictlyConvex`]), a barrier, a degenerate geometry, or where the convex route cannot
 //!   certify its answer (its best point creates energy, a QP fails its KKT check, the equations
 //!   are singular or so ill-conditioned there that its coefficients do not reproduce its
 //!   velocities, the branch-and-bound runs out of intervals), and where the convex route proves

@@ -3,7 +3,7 @@
 
 use super::dual::N;
 use super::form::dot;
-use super::{Formulation, Pattern};
+use super::{Formulation, Pattern, Signs};
 use crate::inner::{At, Candidate, Inner};
 use pim_core::{Coefficients, TangentialCondition};
 
@@ -11,6 +11,18 @@ impl Formulation {
     /// The candidate of a pattern's optimum: coefficients read from z (onto their box against
     /// round-off), the states and the cost.
     pub(super) fn candidate(&self, inner: &Inner, p: &Pattern, z: &[f64; N]) -> (At, Candidate) {
+        match p {
+            Pattern::Pim(p) => self.pim_candidate(inner, p, z),
+            Pattern::Tangential(m) => self.mode_candidate(inner, m, z),
+        }
+    }
+
+    /// The states of z (known components at their values).
+    pub(super) fn states(
+        &self,
+        inner: &Inner,
+        z: &[f64; N],
+    ) -> (nalgebra::Vector6<f64>, nalgebra::Vector6<f64>) {
         let r = self.n - 6;
         let mut x = nalgebra::Vector6::zeros();
         let mut xf = nalgebra::Vector6::zeros();
@@ -26,10 +38,22 @@ impl Formulation {
                 xf[k - 6] = v;
             }
         }
-        let scale = inner.objective.scale;
+        (x, xf)
+    }
+
+    /// e of z (onto its box against round-off).
+    pub(super) fn restitution(&self, inner: &Inner, z: &[f64; N]) -> f64 {
         let a = -self.side * dot(&self.vn, z);
         let b = self.side * dot(&self.big_vn, z);
-        let e = (b / a).clamp(inner.e_range[0], inner.e_range[1]);
+        (b / a).clamp(inner.e_range[0], inner.e_range[1])
+    }
+
+    /// The candidate of PIM's sign pattern.
+    fn pim_candidate(&self, inner: &Inner, p: &Signs, z: &[f64; N]) -> (At, Candidate) {
+        let r = self.n - 6;
+        let (x, xf) = self.states(inner, z);
+        let scale = inner.objective.scale;
+        let e = self.restitution(inner, z);
         let em = if r == 2 {
             1.0
         } else {

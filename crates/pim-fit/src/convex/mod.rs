@@ -49,10 +49,13 @@ pub(crate) mod bnb;
 mod candidate;
 mod dual;
 mod form;
+mod modes;
 mod subspace;
+mod tangential;
 mod verdict;
 
 use crate::certificate::Fallback;
+use crate::family::Friction;
 use crate::inner::{Inner, RowOf, RowU};
 use crate::problem::MomentBranch;
 use crate::report::Violation;
@@ -67,9 +70,17 @@ use pim_core::equations::{
 use pim_core::FrictionSign;
 pub(crate) use verdict::{Counts, Verdict};
 
-/// One sign pattern over an e_m interval.
+/// One convex piece of a branch: PIM's signs over an e_m interval, or a contact mode of the
+/// tangential model with its signs.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Pattern {
+enum Pattern {
+    Pim(Signs),
+    Tangential(modes::Mode),
+}
+
+/// PIM's sign pattern over an e_m interval.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Signs {
     sign: FrictionSign,
     /// Signs of Pn, Pt, Vt, of the frictionless normal impulse Pn0 and of the no-slip one Pn*.
     s_n: f64,
@@ -100,6 +111,8 @@ struct Formulation {
     /// The sliding-direction rows of each friction sign (positive, negative).
     sliding: [Vec<Row>; 2],
     vn: Form,
+    /// The tangential relative velocity at C at contact.
+    vt: Form,
     big_vn: Form,
     pn: Form,
     pt: Form,
@@ -107,6 +120,8 @@ struct Formulation {
     w_final: Form,
     w_lin: Form,
     side: f64,
+    /// The tangential model's line of impulses (`None` for PIM).
+    line: Option<modes::Line>,
 }
 
 impl Formulation {
@@ -121,7 +136,8 @@ impl Formulation {
         if impact.is_barrier() {
             return Err(Fallback::Barrier);
         }
-        if !settings.mu_max_condition {
+        let equivalent = inner.family.friction() == Friction::Equivalent;
+        if equivalent && !settings.mu_max_condition {
             return Err(Fallback::NoMuMaxCondition);
         }
         // Basis of the velocity changes allowed by equations 1-3 (and B = 0 in the zero branch).
@@ -255,7 +271,7 @@ impl Formulation {
             .iter()
             .map(|r| objective.bound(r))
             .fold(objective.f0, f64::max);
-        Ok(Formulation {
+        let mut form = Formulation {
             n,
             d,
             objective,
@@ -263,6 +279,7 @@ impl Formulation {
             common,
             common_bound,
             vn,
+            vt: over_x(&trow),
             big_vn,
             pn: over_d(&pn_row),
             pt: over_d(&pt_row),
@@ -271,7 +288,12 @@ impl Formulation {
             w_final,
             w_lin,
             side,
-        })
+            line: None,
+        };
+        if !equivalent {
+            form.line = Some(form.line_of().ok_or(Fallback::DegenerateGeometry)?);
+        }
+        Ok(form)
     }
 
     /// `(Pn, Pt, Vt)` along the direction of the line of impulses at fixed x, e and e_m (its
@@ -327,8 +349,29 @@ impl Formulation {
         cuts.windows(2).map(|w| [w[0], w[1]]).collect()
     }
 
-    /// The sign patterns of an e_m interval (within one piece).
+    /// The convex pieces of an e_m interval (within one piece of the free branch; the whole
+    /// zero branch).
     fn patterns(&self, inner: &Inner, branch: MomentBranch, em: [f64; 2]) -> Vec<Pattern> {
+        match inner.family.friction() {
+            Friction::Equivalent => self
+                .signs(inner, branch, em)
+                .into_iter()
+                .map(Pattern::Pim)
+                .collect(),
+            Friction::Limit => self.modes().into_iter().map(Pattern::Tangential).collect(),
+        }
+    }
+
+    /// The rows of a pattern beyond the common ones.
+    fn pattern_rows(&self, inner: &Inner, p: &Pattern, branch: MomentBranch) -> Option<Vec<Row>> {
+        match p {
+            Pattern::Pim(p) => self.sign_rows(inner, p, branch),
+            Pattern::Tangential(m) => self.mode_rows(inner, m),
+        }
+    }
+
+    /// PIM's sign patterns of an e_m interval (within one piece).
+    fn signs(&self, inner: &Inner, branch: MomentBranch, em: [f64; 2]) -> Vec<Signs> {
         let ends = [self.slopes(em[0]), self.slopes(em[1])];
         let mid = self.slopes(0.5 * (em[0] + em[1]));
         let kappa = if mid[1] * mid[2] < 0.0 { -1.0 } else { 1.0 };
@@ -374,7 +417,7 @@ impl Formulation {
                             for s_t in [1.0, -1.0] {
                                 // mu between 0 and mu_max: kappa s_a s_b s_t s_v <= 0.
                                 let s_v = -kappa * s_a * s_b * s_t;
-                                out.push(Pattern {
+                                out.push(Signs {
                                     sign,
                                     s_n,
                                     s_t,
@@ -395,8 +438,8 @@ impl Formulation {
         out
     }
 
-    /// The rows of a pattern beyond the common ones.
-    fn pattern_rows(&self, inner: &Inner, p: &Pattern, branch: MomentBranch) -> Option<Vec<Row>> {
+    /// The rows of PIM's sign pattern beyond the common ones.
+    fn sign_rows(&self, inner: &Inner, p: &Signs, branch: MomentBranch) -> Option<Vec<Row>> {
         let mut rows = Vec::with_capacity(12);
         let s = p.sign.value();
         // Sliding direction of this sign, closed (vt = 0: the no-slip impulse's side decides).

@@ -86,6 +86,9 @@ pub(crate) struct Inner {
     pub friction: [f64; 2],
     /// et range of the tangential model.
     pub et_range: [f64; 2],
+    /// The tangential model's sticking transfer as an affine map of `(e, et)`, and the impulse
+    /// rows of its two parts (`None` for PIM or a singular collision matrix).
+    stick: Option<(pim_core::StickMaps, Matrix2x6<f64>, Matrix2x6<f64>)>,
     pub settings: SearchSettings,
     /// Feasibility tolerance, m/s.
     pub(super) tol: f64,
@@ -156,6 +159,17 @@ impl Inner {
             (m2, i2)
         };
         let tol = settings.search.feasibility_tolerance * objective.scale;
+        let impulse = impulse_rows(&impact);
+        let rows = |d: &Matrix6<f64>| {
+            let mut m = Matrix2x6::zeros();
+            m.set_row(0, &(impulse.0 * d));
+            m.set_row(1, &(impulse.1 * d));
+            m
+        };
+        let stick = (family.sticking() == Sticking::Restitution)
+            .then(|| pim_core::StickMaps::new(&impact))
+            .flatten()
+            .map(|maps| (maps, rows(&maps.a), rows(&maps.b)));
         Inner {
             reduction: Reduction::new(&impact, moment_form),
             known,
@@ -177,7 +191,8 @@ impl Inner {
                 linear_for(FrictionSign::Positive),
                 linear_for(FrictionSign::Negative),
             ],
-            impulse: impulse_rows(&impact),
+            impulse,
+            stick,
             mass: Vector6::new(m1, m1, i1, m2, m2, i2),
             mu_bounds: settings.mu,
             mu_max_condition: settings.mu_max_condition,
@@ -228,29 +243,34 @@ impl Inner {
         }
     }
 
+    /// The friction signs to try in a mode: those of [`Inner::signs`], except in the tangential
+    /// model's sticking mode, where no sign enters (the contact state may slide either way; one
+    /// evaluation covers both).
+    pub fn signs_in(&self, mode: TangentialCondition) -> &'static [FrictionSign] {
+        if self.family.friction() == Friction::Limit && mode == TangentialCondition::NoSlip {
+            &[FrictionSign::Positive]
+        } else {
+            self.signs()
+        }
+    }
+
     /// The transfer matrix `X = R x` of a candidate point.
     pub fn transfer(&self, at: &At) -> Option<Matrix6<f64>> {
         match (self.family.sticking(), at.mode) {
             (Sticking::Restitution, TangentialCondition::NoSlip) => {
-                pim_core::stick_transfer(&self.impact, at.c.e, at.et)
+                self.stick.map(|(maps, ..)| maps.transfer(at.c.e, at.et))
             }
             _ => self.reduction.transfer(&at.c, at.mode, at.sign),
         }
     }
 
-    /// The tangential model's sticking impulse at `et` as rows over x, `(l0 + e l1) x`.
+    /// The tangential model's sticking impulse at `et` as rows over x, `(l0 + e l1) x`: the
+    /// impulse of `R(e, et) - I = (1 + e) A + (1 - et) B`.
     pub(super) fn stick_rows(&self, et: f64) -> Option<CriticalRows> {
-        let r0 = pim_core::stick_transfer(&self.impact, 0.0, et)?;
-        let r1 = pim_core::stick_transfer(&self.impact, 1.0, et)?;
-        let rows = |d: Matrix6<f64>| {
-            let mut m = Matrix2x6::zeros();
-            m.set_row(0, &(self.impulse.0 * d));
-            m.set_row(1, &(self.impulse.1 * d));
-            m
-        };
+        let (_, a, b) = self.stick?;
         Some(CriticalRows {
-            l0: rows(r0 - Matrix6::identity()),
-            l1: rows(r1 - r0),
+            l0: a + b * (1.0 - et),
+            l1: a,
         })
     }
 
@@ -319,10 +339,10 @@ impl Inner {
                 })
             }
         };
-        let tangential_sliding =
-            self.family.friction() == Friction::Limit && at.mode == TangentialCondition::Sliding;
+        // The tangential model's sign is no sliding direction: in sliding it is the side of
+        // the sticking impulse, in sticking none.
         ConstraintSet {
-            linear: if tangential_sliding {
+            linear: if self.family.friction() == Friction::Limit {
                 &self.linear_any
             } else {
                 &self.linear[sign_index(at.sign)]

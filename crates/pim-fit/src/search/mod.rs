@@ -137,7 +137,7 @@ fn grid(inner: &Inner, space: &Space, out: &mut Outcome) -> Grid {
     let mut found: Vec<(usize, Point)> = Vec::new();
     let mut pending: Vec<(f64, usize, pim_core::FrictionSign)> = Vec::new();
     for (i, p) in pts.iter().enumerate() {
-        for &sign in inner.signs() {
+        for &sign in inner.signs_in(space.mode) {
             out.evaluations += 1;
             let (at, eval) = space.eval(inner, p, sign, false, f64::INFINITY);
             match eval {

@@ -137,7 +137,7 @@ impl Outcome {
         cutoff: f64,
     ) -> Option<Point> {
         let mut best: Option<Point> = None;
-        for &sign in inner.signs() {
+        for &sign in inner.signs_in(space.mode) {
             self.evaluations += 1;
             self.exact_solves += 1;
             let (at, eval) = space.eval(inner, p, sign, true, cutoff);
@@ -161,7 +161,7 @@ impl Outcome {
     pub fn value(&mut self, inner: &Inner, space: &Space, p: &[f64]) -> f64 {
         let incumbent = self.incumbent();
         let mut v = f64::INFINITY;
-        for &sign in inner.signs() {
+        for &sign in inner.signs_in(space.mode) {
             self.evaluations += 1;
             let (at, eval) = space.eval(inner, p, sign, true, incumbent);
             match eval {

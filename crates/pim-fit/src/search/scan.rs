@@ -88,7 +88,7 @@ pub(crate) fn scan(inner: &Inner, settings: &FitSettings, branch: MomentBranch, 
     let mut lines: Vec<(LineAt, f64)> = Vec::new();
     for space in scanned(branch, settings, true, &best) {
         for p in through(&space, &centre(&space, &best), |_| s.scan_points) {
-            for &sign in inner.signs() {
+            for &sign in inner.signs_in(space.mode) {
                 out.evaluations += 1;
                 out.exact_solves += 1;
                 let (at, eval) = space.eval(inner, &p, sign, true, cutoff);
