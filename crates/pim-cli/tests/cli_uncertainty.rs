@@ -309,6 +309,13 @@ fn the_tangential_model_is_drawn_like_pim() {
         );
         assert!(lo < nominal(&t, q) && nominal(&t, q) < hi, "{q}: {lo} {hi}");
     }
+    // The table names moment branches only for the model that has them.
+    let table = |model: &str| {
+        let out = pim(&["uncertainty", CASE, "--model", model, "--draws", "20"]);
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    assert!(!table("tangential").contains("branch"));
+    assert!(table("pim").contains("best branch over the draws"));
 }
 
 /// A case whose [bounds] estimate the geometry: each draw is a full fit over the geometry box.

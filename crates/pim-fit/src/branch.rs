@@ -30,11 +30,14 @@ fn certificate(out: &Outcome) -> Certificate {
             Route::Convex,
             format!(
                 "convex decomposition of {what}; each pattern is a strictly convex QP solved to \
-                 its KKT-verified optimum by a dual active-set method ({} patterns over {} e_m \
-                 intervals of a branch-and-bound, {} solved, {} stopped by their lower bound or \
-                 found empty); {}",
+                 its KKT-verified optimum by a dual active-set method ({} patterns{}, {} solved, \
+                 {} stopped by their lower bound or found empty); {}",
                 c.patterns,
-                c.intervals,
+                if c.intervals > 1 {
+                    format!(" over {} e_m intervals of a branch-and-bound", c.intervals)
+                } else {
+                    String::new()
+                },
                 c.solved,
                 c.pruned,
                 if out.best.is_some() {

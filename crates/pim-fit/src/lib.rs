@@ -107,18 +107,27 @@
 //! ## The second model
 //! With [`FitSettings::model`] = [`FitModel::Tangential`] the fit estimates pim-core's
 //! tangential-restitution model (normal restitution e, tangential restitution et, a friction
-//! limit on `|Pt / Pn|`, no moment impulse) with the same cost, observations and search. Its
-//! answers are PIM's with `e_m = 1` and other admissible impulse ratios, so the inner problem is
-//! the same convex program over x with the model's own transfer matrix and ratio condition:
-//! - sticking, searched over `(e, et)`: `X = R x` with `vn' = -e vn`, `vt' = et vt`
-//!   (pim-core's `stick_transfer`), and the ratio of the impulse within the largest friction
-//!   limit, `|Pt| <= friction_max |Pn|` (two wedges, as PIM's sticking mode);
-//! - sliding, searched over `(e, friction, et)` and the side s of the friction: PIM's sliding
-//!   form with the impulse ratio `s friction`, and the friction rule's condition that sticking
-//!   at et would need more on that side, `s Pt(et) / Pn(et) >= friction`, whose admissible set
-//!   is again two polyhedra, written as `Pn / (s Pt)` within `[0, 1 / friction]` (the answer
-//!   does not depend on et; et only witnesses the condition). The sign of this mode is the side
-//!   of the sticking impulse, not the sliding direction, so it carries no sliding-direction row.
+//! limit on `|Pt / Pn|`, no moment impulse) with the same cost, observations and routes. Its
+//! velocity changes are those of PIM's zero branch (one impulse at C), so over the contact state
+//! and the impulse its modes are convex pieces once a few signs are fixed (the `convex`
+//! module's `tangential` file):
+//! - sticking: `Vn = -e vn` with e in its range, `Vt = et vt` with et in its range (linear for
+//!   the sign of `vt`), and the impulse ratio within the largest friction limit,
+//!   `|Pt| <= friction_max |Pn|`, with the normal impulse pushing the vehicles apart;
+//! - sliding on the side s: `s Pt / Pn` within the friction range, and the friction rule's
+//!   condition that sticking at some et of the range would need at least that ratio on that
+//!   side. Along the line of impulses of a fixed contact state the ratio is monotone on each
+//!   side of its pole, so the condition is an order of the sticking impulse and the actual one
+//!   (or the sticking impulse beyond the pole, on the side where the ratio there exceeds every
+//!   admissible friction), linear in z and `w = et vt`; w is eliminated exactly
+//!   (Fourier-Motzkin). The answer does not depend on et; et only witnesses the condition.
+//!
+//! Each piece is a strictly convex QP, the best one's point is checked by the constraint set of
+//! the grid search, which stays as the fallback: sticking over `(e, et)` through pim-core's
+//! sticking transfer (an affine map of `(e, et)`, `StickMaps`) and sliding over
+//! `(e, friction, et)` with the condition written as `Pn / (s Pt)` of the sticking impulse
+//! within `[0, 1 / friction]`. The sign of the sliding mode is the side of the sticking
+//! impulse, not the sliding direction, so neither mode carries a sliding-direction row.
 //!
 //! The report's [`Solution::tangential`] says which mode acted, et and the friction limits
 //! that give the answer; e, mu and e_m of the solution are then PIM's equivalent (mu the

@@ -74,12 +74,15 @@ fn table(title: &str, s: &Study, u: UnitSystem) -> String {
             .collect();
         let _ = writeln!(t, "the nominal fit rests on bounds: {}", list.join(", "));
     }
-    let shares: Vec<String> = s
-        .branch_share
-        .iter()
-        .map(|(b, v)| format!("{b} {:.1} %", 100.0 * v))
-        .collect();
-    let _ = writeln!(t, "best branch over the draws: {}", shares.join(", "));
+    // Only a model with a moment impulse has branches to choose between.
+    if s.model == pim_fit::FitModel::Pim {
+        let shares: Vec<String> = s
+            .branch_share
+            .iter()
+            .map(|(b, v)| format!("{b} {:.1} %", 100.0 * v))
+            .collect();
+        let _ = writeln!(t, "best branch over the draws: {}", shares.join(", "));
+    }
     let _ = writeln!(
         t,
         "\ndominant inputs (first-order index, correlation ratio):"

@@ -14,13 +14,15 @@ use pim_data::uncertainty::Study;
 use pim_data::units::UnitSystem;
 
 /// The references the method cites.
-const REFERENCES: [&str; 3] = [
+const REFERENCES: [&str; 4] = [
     "R. M. Brach, Analysis of planar vehicle collisions using equations of impulse and \
      momentum, Accident Analysis & Prevention (1983): the six equations.",
     "R. M. Brach, Momentum and energy analysis of automobile collisions, Structural Impact and \
      Crashworthiness (1984): the corrected moment equation, mu_max.",
     "C. G. Vossou, D. V. Koulocheris, A computational model for the reconstruction of vehicle \
      collisions (2018): the cost functions Q1, Q2, Q3.",
+    "J. Kisilowski, J. Zalewski, Analysis of the selected aspects of a crash between two \
+     vehicles: normal and tangential restitution with a friction limit (the second model).",
 ];
 
 /// How to read the report, the same for every crash.
@@ -289,24 +291,44 @@ fn figures(diagram: String, momentum: Option<crate::Figure>, extra: Vec<crate::F
 
 fn method(fit: Option<(&str, &Fitted)>) -> Section {
     let mut s = Section::new("Method");
-    s.text(
+    let tangential = fit.is_some_and(|(_, f)| f.report.model == pim_fit::FitModel::Tangential);
+    s.text(if tangential {
+        "Normal and tangential restitution with a friction limit (Kisilowski & Zalewski; the \
+         family of PC-Crash's and Virtual CRASH's impulse models): one impulse at the impact \
+         centre, no moment impulse, gives the relative velocity there the normal restitution e \
+         and the tangential restitution et, unless that needs more than the friction limit \
+         times the normal impulse, in which case the vehicles slide at the limit."
+    } else {
         "Planar impact mechanics (PIM): six impulse-momentum equations relate the velocities of \
          the two vehicles at contact to those at separation through restitution e, the impulse \
          ratio mu and moment restitution em, with the moment equation as corrected by Brach \
-         (1984).",
-    );
+         (1984)."
+    });
     if let Some((cost, f)) = fit {
         let description = match pim_fit::CostPreset::ALL.iter().find(|p| p.name() == cost) {
             Some(p) => p.description().to_string(),
             None => "the case's own known and estimated values".to_string(),
         };
+        let (friction, branches) = if tangential {
+            (
+                "keep the impulse ratio within the friction limit (sticking) or at it where \
+                 sticking would need more (sliding)",
+                "the model has one branch, searched for its global optimum".to_string(),
+            )
+        } else {
+            (
+                "keep friction within what the contact allows (mu <= mu_max)",
+                format!(
+                    "each moment branch is searched for its global optimum ({} branch(es))",
+                    f.report.branches.len()
+                ),
+            )
+        };
         s.text(format!(
             "The fit finds the coefficients and the twelve velocities that satisfy the \
-             equations exactly, keep friction within what the contact allows (mu <= mu_max) and \
-             create no energy, and that are closest, in weighted least squares, to the values \
-             given (cost function {cost}: {description}); each moment branch is searched for \
-             its global optimum ({} branch(es)).",
-            f.report.branches.len()
+             equations exactly, {friction} and create no energy, and that are closest, in \
+             weighted least squares, to the values given (cost function {cost}: \
+             {description}); {branches}."
         ));
         if let Some(b) = f.report.best_branch() {
             s.text(format!("{}.", how_found(&b.certificate)));
