@@ -113,23 +113,6 @@ fn sliding_data_give_back_e_and_the_friction_limit() {
     }
 }
 
-/// The model's cost of a forward solve against the measured separation state (Q2: unit weights),
-/// when the answer is admissible and within the fit's velocity bounds.
-fn q2_cost(impact: &Impact, c: &TangentialCoefficients, x: &Velocities, xf: &Velocities) -> f64 {
-    let Ok(t) = solve_tangential(impact, c, x) else {
-        return f64::INFINITY;
-    };
-    let sep = t.report.separation.to_vector();
-    let within = sep
-        .iter()
-        .enumerate()
-        .all(|(k, v)| v.abs() <= if k % 3 == 2 { 5.0 } else { 20.0 });
-    if !t.report.admissibility.admissible || !within {
-        return f64::INFINITY;
-    }
-    (sep - xf.to_vector()).norm_squared()
-}
-
 /// Q2 on every RICSAC test: the fit is never beaten by an independent search written with
 /// pim-core's forward solver only (a dense grid over e, et and the friction limit, then a
 /// compass search from its best point).
@@ -144,57 +127,24 @@ fn q2_is_never_beaten_by_a_dense_search_of_the_model() {
             .solution
             .as_ref()
             .map_or(f64::INFINITY, |s| s.cost);
-        let cost = |p: [f64; 3]| {
-            let c = TangentialCoefficients {
-                e: p[0].clamp(0.0, 0.2),
-                et: p[1].clamp(-1.0, 1.0),
-                friction: p[2].clamp(0.0, 1.2),
-            };
-            q2_cost(&impact, &c, &x, &xf)
-        };
-        let mut best = ([0.0; 3], f64::INFINITY);
-        for i in 0..=20 {
-            for j in 0..=40 {
-                for k in 0..=24 {
-                    let p = [0.01 * i as f64, -1.0 + 0.05 * j as f64, 0.05 * k as f64];
-                    let v = cost(p);
-                    if v < best.1 {
-                        best = (p, v);
-                    }
-                }
-            }
-        }
-        let mut step = [0.005, 0.025, 0.025];
-        while step[0] > 1e-9 && best.1.is_finite() {
-            let mut moved = false;
-            for d in 0..3 {
-                for s in [-1.0, 1.0] {
-                    let mut p = best.0;
-                    p[d] += s * step[d];
-                    let v = cost(p);
-                    if v < best.1 {
-                        best = (p, v);
-                        moved = true;
-                    }
-                }
-            }
-            if !moved {
-                step.iter_mut().for_each(|s| *s *= 0.5);
-            }
-        }
+        let best = common::tangential::q2_reference(
+            &impact,
+            &x,
+            &xf,
+            [[0.0, 0.2], [-1.0, 1.0], [0.0, 1.2]],
+        );
         // Q2 keeps the measured contact state: every test has admissible answers.
         assert!(
-            best.1.is_finite(),
+            best.is_finite(),
             "test {}: no admissible grid point",
             t.test
         );
         assert!(
-            fitted <= best.1 * (1.0 + 1e-6) + 1e-9,
-            "test {}: fit {fitted} > reference {}",
-            t.test,
-            best.1
+            fitted <= best * (1.0 + 1e-6) + 1e-9,
+            "test {}: fit {fitted} > reference {best}",
+            t.test
         );
-        eprintln!("test {}: fit {fitted:.6} reference {:.6}", t.test, best.1);
+        eprintln!("test {}: fit {fitted:.6} reference {best:.6}", t.test);
     }
 }
 
