@@ -152,12 +152,25 @@ fn random_problems_equal_the_grid_search() {
 /// independent reference written with pim-core's forward solver only.
 #[test]
 fn random_q2_never_beaten_by_the_forward_model() {
+    q2_against_the_reference(13_000, 40);
+}
+
+/// The same on 1,000 problems per box (`cargo test --release --test fit_convex_tangential --
+/// --ignored`, about a minute).
+#[test]
+#[ignore]
+fn random_q2_never_beaten_by_the_forward_model_1000() {
+    q2_against_the_reference(20_000, 1_000);
+}
+
+fn q2_against_the_reference(first: u64, count: usize) {
     let (mut n, mut infeasible, mut both_infeasible) = (0, 0, 0);
+    let mut routes = std::collections::BTreeMap::new();
     for narrow in [false, true] {
         let s = settings(true, narrow);
         let s = s.get();
         let bx = [s.e, s.et, s.friction];
-        for (i, (impact, x, xf)) in (13_000..).filter_map(draw_states).take(40).enumerate() {
+        for (i, (impact, x, xf)) in (first..).filter_map(draw_states).take(count).enumerate() {
             let p = FitProblem::from_preset(impact, CostPreset::Q2, &x, &xf, None);
             let (fitted, route) = solve(&p, true, narrow);
             let reference = common::tangential::q2_reference(&impact, &x, &xf, bx);
@@ -184,12 +197,14 @@ fn random_q2_never_beaten_by_the_forward_model() {
                 eprintln!("problem {i} narrow {narrow}: fit {fitted} below reference {reference}");
             }
             n += 1;
+            let why = report.branches[0].certificate.method.fallback;
+            *routes.entry(format!("{route:?} {why:?}")).or_insert(0) += 1;
             infeasible += usize::from(reference.is_infinite());
             both_infeasible += usize::from(reference.is_infinite() && fitted.is_infinite());
         }
     }
     eprintln!(
         "{n} problems, {infeasible} without an admissible reference point, {both_infeasible} \
-         of them infeasible for the fit too"
+         of them infeasible for the fit too; routes {routes:?}"
     );
 }
