@@ -29,7 +29,10 @@ pub enum Fallback {
     NoMuMaxCondition,
     /// The momentum equations do not leave a velocity-change space of the expected dimension.
     DegenerateGeometry,
-    /// The branch-and-bound over e_m needed more intervals than it allows.
+    /// The branch-and-bound over e_m needed more intervals than it allows. Where this happens
+    /// the optimum lies, in practice, next to a pole of mu_max (the no-slip normal impulse
+    /// vanishes, |mu_max| of 1e8 to 1e12), where the relaxation of that impulse's sign over an
+    /// e_m interval tightens only in proportion to the interval's width.
     NodeLimit,
     /// A pattern's optimum lies where the six equations are singular.
     Singular,

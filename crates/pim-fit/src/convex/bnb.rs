@@ -104,7 +104,12 @@ impl Default for Failed {
     }
 }
 
-/// Intervals of e_m solved at most, per branch, before the general search decides.
+/// Intervals of e_m solved at most, per branch, before the general search decides. Of the
+/// 5,918 branches of the 3,000-case stress corpus that the convex route decides, 5,889 close
+/// within 11 intervals (the zero branch is one), 29 within 26-292. Those that do not have their optimum next to a pole of
+/// mu_max (the no-slip normal impulse vanishes), where the relaxation of its sign over an
+/// interval tightens only in proportion to the width while the cost is nearly flat in e_m:
+/// one such branch closes after 8,536 intervals (0.6 s) with the grid search's answer.
 const MAX_NODES: usize = 300;
 
 /// The relative gap within which the free branch's branch-and-bound proves its optimum: an
