@@ -298,3 +298,32 @@ fn uncertainty_out_writes_the_report_with_its_ranges() {
         assert!(dir.join(f).is_file(), "{f}");
     }
 }
+
+/// A fit with the impact geometry among the unknowns: the report gives each estimated input
+/// (the JSON's value, its range and bounds) and says what is proven and what is not, as the
+/// table output does.
+#[test]
+fn the_report_of_a_geometry_fit_names_the_geometry_and_what_is_not_proven() {
+    let case = "examples/cases/ricsac6_geometry.toml";
+    let (dir, html, json) = report("geometry", case, &["--cost", "q2"]);
+    let ranges = best(&json)["geometry"]["ranges"].as_array().unwrap();
+    assert_eq!(ranges.len(), 5);
+    for r in ranges {
+        let name = r["input"].as_str().unwrap();
+        let value = r["value"].as_f64().unwrap();
+        let shown = if name.ends_with(".d") {
+            format!("{} m", fixed(value, 3))
+        } else {
+            format!("{} deg", fixed(value, 2))
+        };
+        assert!(
+            html.contains(&format!("<td>{name}</td><td class=\"n\">{shown}</td>")),
+            "{name} {shown}"
+        );
+    }
+    assert!(html.contains("the best point over the geometry is the best found, not proven"));
+    assert!(html.contains("the geometry itself is the best found"));
+    check_in_chromium(&dir.join("report.html"));
+    let table = String::from_utf8(pim_ok(&["fit", case, "--cost", "q2"]).stdout).unwrap();
+    assert!(table.contains("the geometry is the best found over its bounds, not proven"));
+}

@@ -558,7 +558,9 @@ fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem) 
     }
     let _ = writeln!(
         s,
-        "  geometry search: {} grid points ({} per input), {} refinements, {} fits",
+        "  geometry search: {} grid points ({} per input), {} refinements, {} fits; the \
+         coefficients are proven optimal at this geometry, the geometry is the best found over \
+         its bounds, not proven",
         g.search.grid_points, g.search.points_per_input, g.search.refinements, g.search.fits
     );
 }

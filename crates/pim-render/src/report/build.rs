@@ -157,6 +157,16 @@ pub fn fit(
                 u.energy_label(),
                 num(sol.energy_loss_percent, 2)
             ));
+            if let Some(g) = &b.geometry {
+                geometry(&mut answer, g, u);
+                warnings.push(
+                    "The impact geometry was estimated within the case's bounds: the \
+                     coefficients are proven optimal at the reported geometry, but the geometry \
+                     itself is the best found by a grid and refinements over its bounds, not \
+                     proven optimal (see Answer)."
+                        .to_string(),
+                );
+            }
             if let Some(study) = study {
                 ranges(&mut answer, study, u);
             }
@@ -198,6 +208,51 @@ pub fn fit(
     doc.sections.push(method(Some((cost, f))));
     doc.sections.push(inputs(case, u));
     Ok(doc)
+}
+
+/// The estimated impact geometry: each input with the values whose cost stays within the
+/// tolerance, and how the geometry was searched.
+fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem) {
+    let tolerance = g.ranges.first().map_or(0.01, |r| r.tolerance);
+    s.text(format!(
+        "Estimated impact geometry (searched within the case's bounds; the range holds the \
+         values whose cost stays within {} % of the optimum, on scans through it; \
+         \"on a bound\": the bound, not the data, ends the estimate; \"not determined\": the \
+         range covers half of the bounds or more):",
+        num(100.0 * tolerance, 0)
+    ));
+    let mut t = Table::new(&["input", "estimate", "range", "bounds", "note"]);
+    for r in &g.ranges {
+        let length = r.input.ends_with(".d") || r.input.contains("impact_point");
+        let (f, unit): (&dyn Fn(f64) -> String, &str) = if length {
+            (&|x| num(u.length(x), 3), u.length_label())
+        } else {
+            (&|x| num(x, 2), "deg")
+        };
+        let mut note = Vec::new();
+        if r.at_bound {
+            note.push("on a bound");
+        }
+        if !r.identifiable {
+            note.push("not determined");
+        }
+        t.row(vec![
+            r.input.clone(),
+            format!("{} {unit}", f(r.value)),
+            format!("{} .. {}", f(r.low), f(r.high)),
+            format!("{} .. {}", f(r.bounds[0]), f(r.bounds[1])),
+            note.join(", "),
+        ]);
+    }
+    s.blocks.push(Block::Table(t));
+    s.text(format!(
+        "How the geometry was searched: {} ({} complete fits of the coefficients).",
+        g.search
+            .method
+            .strip_prefix("geometry: ")
+            .unwrap_or(&g.search.method),
+        g.search.fits
+    ));
 }
 
 /// Title, what was done, and how to read the report.
