@@ -41,6 +41,11 @@
 //! reproduce its velocities through the forward model (next to a singular point of the six
 //! equations), the general search decides instead. Where every pattern is empty the branch
 //! is proven infeasible.
+//!
+//! The tangential model (no moment impulse: the zero branch's variables) has pieces of its own,
+//! its sticking and sliding modes with the friction rule on the sticking impulse at some et of
+//! the range written over the same variables ([`tangential`]); they are solved, bounded and
+//! checked by the same code.
 
 // Dense linear algebra on index ranges reads best with explicit indices.
 #![allow(clippy::needless_range_loop)]
