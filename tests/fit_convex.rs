@@ -93,14 +93,10 @@ fn draw_as(seed: u64, preset: CostPreset) -> Option<FitProblem> {
     if !r.admissibility.admissible || r.separation.max_speed() > 19.0 {
         return None;
     }
-    let noisy = |v: &Velocities, rng: &mut StdRng| {
-        let mut u = v.to_vector();
-        for k in 0..6 {
-            u[k] += common::normal(rng) * if k % 3 == 2 { 0.08 } else { 0.25 };
-        }
-        Velocities::from_vector(&u)
-    };
-    let (x_est, xf_est) = (noisy(&x, &mut rng), noisy(&r.separation, &mut rng));
+    let (x_est, xf_est) = (
+        common::noisy(&x, &mut rng),
+        common::noisy(&r.separation, &mut rng),
+    );
     Some(FitProblem::from_preset(
         impact, preset, &x_est, &xf_est, None,
     ))

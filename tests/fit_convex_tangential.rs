@@ -164,14 +164,10 @@ fn draw_states(seed: u64) -> Option<(Impact, Velocities, Velocities)> {
     if !t.report.admissibility.admissible || t.report.separation.max_speed() > 19.0 {
         return None;
     }
-    let noisy = |v: &Velocities, rng: &mut StdRng| {
-        let mut u = v.to_vector();
-        for k in 0..6 {
-            u[k] += common::normal(rng) * if k % 3 == 2 { 0.08 } else { 0.25 };
-        }
-        Velocities::from_vector(&u)
-    };
-    let (x_est, xf_est) = (noisy(&x, &mut rng), noisy(&t.report.separation, &mut rng));
+    let (x_est, xf_est) = (
+        common::noisy(&x, &mut rng),
+        common::noisy(&t.report.separation, &mut rng),
+    );
     Some((impact, x_est, xf_est))
 }
 

@@ -109,6 +109,16 @@ pub fn normal(rng: &mut rand::rngs::StdRng) -> f64 {
     pim_data::uncertainty::standard_normal(rng)
 }
 
+/// A state with measurement noise from [`normal`]: standard deviations 0.25 m/s on the
+/// velocities and 0.08 rad/s on the yaw rates.
+pub fn noisy(v: &Velocities, rng: &mut rand::rngs::StdRng) -> Velocities {
+    let mut u = v.to_vector();
+    for k in 0..6 {
+        u[k] += normal(rng) * if k % 3 == 2 { 0.08 } else { 0.25 };
+    }
+    Velocities::from_vector(&u)
+}
+
 /// The geometry of RICSAC 9 (Brach 1983 Table 1) as a natural-form case file fragment.
 pub const RICSAC9_GEOMETRY: &str = r#"
 [vehicle1]

@@ -201,6 +201,11 @@ pub struct Study {
 pub const SPEEDS: [&str; 4] = ["speed1", "speed2", "delta_v1", "delta_v2"];
 
 impl Study {
+    /// Whether the model has moment branches to choose between ([`Study::branch_share`]).
+    pub fn has_branches(&self) -> bool {
+        self.model.branches(&MomentBranch::ALL).len() > 1
+    }
+
     /// The names of this study's quantities, in output order.
     pub fn names(&self) -> &'static [&'static str; 8] {
         quantities(self.model)

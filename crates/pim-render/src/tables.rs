@@ -525,12 +525,12 @@ fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem) 
         g.crush_angle
     );
     for r in &g.ranges {
-        let length = r.input.ends_with(".d") || r.input.contains("impact_point");
-        let (f, unit): (&dyn Fn(f64) -> f64, &str) = if length {
-            (&|x| u.length(x), unit)
-        } else {
-            (&|x| x, "deg")
-        };
+        let (f, unit): (&dyn Fn(f64) -> f64, &str) =
+            if pim_fit::GeometryInput::name_is_length(&r.input) {
+                (&|x| u.length(x), unit)
+            } else {
+                (&|x| x, "deg")
+            };
         let mut flags = Vec::new();
         if r.at_bound {
             flags.push("on a bound");
@@ -611,7 +611,7 @@ pub fn bounds_lines(
                 let limit = match b.bound.as_str() {
                     "velocity" => format!("{} {}", num(u.speed(b.limit), 2), u.speed_label()),
                     "yaw_rate" => format!("{} {}", num(u.yaw_rate(b.limit), 2), u.yaw_rate_label()),
-                    g if g.ends_with(".d") || g.contains("impact_point") => {
+                    g if pim_fit::GeometryInput::name_is_length(g) => {
                         format!("{} {}", num(u.length(b.limit), 3), u.length_label())
                     }
                     g if g.ends_with(".phi") || g == "crush_angle" => {

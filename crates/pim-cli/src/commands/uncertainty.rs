@@ -74,8 +74,7 @@ fn table(title: &str, s: &Study, u: UnitSystem) -> String {
             .collect();
         let _ = writeln!(t, "the nominal fit rests on bounds: {}", list.join(", "));
     }
-    // Only a model with a moment impulse has branches to choose between.
-    if s.model == pim_fit::FitModel::Pim {
+    if s.has_branches() {
         let shares: Vec<String> = s
             .branch_share
             .iter()

@@ -42,6 +42,19 @@ impl GeometryInput {
         }
     }
 
+    /// Whether the input named `name` (as [`GeometryInput::name`] writes it) is a distance, m
+    /// (an impact centre's d or coordinate), rather than an angle, degrees.
+    ///
+    /// ```
+    /// use pim_fit::GeometryInput;
+    /// assert!(GeometryInput::name_is_length(&GeometryInput::D(1).name()));
+    /// assert!(GeometryInput::name_is_length(&GeometryInput::X(2).name()));
+    /// assert!(!GeometryInput::name_is_length(&GeometryInput::CrushAngle.name()));
+    /// ```
+    pub fn name_is_length(name: &str) -> bool {
+        name.ends_with(".d") || name.contains("impact_point")
+    }
+
     /// The input's value in a collision.
     pub fn get(self, c: &Collision) -> f64 {
         let xy = |v: &Vehicle| pim_core::impact_point_cartesian(v.d, v.phi);

@@ -223,12 +223,12 @@ fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem) {
     ));
     let mut t = Table::new(&["input", "estimate", "range", "bounds", "note"]);
     for r in &g.ranges {
-        let length = r.input.ends_with(".d") || r.input.contains("impact_point");
-        let (f, unit): (&dyn Fn(f64) -> String, &str) = if length {
-            (&|x| num(u.length(x), 3), u.length_label())
-        } else {
-            (&|x| num(x, 2), "deg")
-        };
+        let (f, unit): (&dyn Fn(f64) -> String, &str) =
+            if pim_fit::GeometryInput::name_is_length(&r.input) {
+                (&|x| num(u.length(x), 3), u.length_label())
+            } else {
+                (&|x| num(x, 2), "deg")
+            };
         let mut note = Vec::new();
         if r.at_bound {
             note.push("on a bound");

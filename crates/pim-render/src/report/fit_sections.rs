@@ -69,8 +69,7 @@ pub(super) fn ranges(s: &mut Section, study: &Study, u: UnitSystem) {
         ]);
     }
     s.blocks.push(Block::Table(t));
-    // Only a model with a moment impulse has branches to choose between.
-    if st.model != pim_fit::FitModel::Pim {
+    if !st.has_branches() {
         return;
     }
     let shares: Vec<String> = st
