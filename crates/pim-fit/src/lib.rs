@@ -174,7 +174,8 @@ pub use bounds::SearchBound;
 pub use certificate::{Certificate, Fallback, Method, Route};
 pub use error::{FitError, Result};
 pub use geometry::{
-    fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryRange,
+    fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof,
+    GeometryRange, ProofStatus,
     GeometrySearch,
 };
 pub use problem::{

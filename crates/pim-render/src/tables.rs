@@ -419,7 +419,7 @@ pub fn fit_table(
             }
         }
         if let Some(g) = &b.geometry {
-            geometry_block(&mut s, g, u);
+            geometry_block(&mut s, g, u, b.solution.as_ref().map(|x| x.cost));
         }
         let _ = writeln!(s, "  {}\n", how_found(&b.certificate));
     }
@@ -512,7 +512,12 @@ fn tangential_lines(s: &mut String, e: f64, t: &pim_fit::TangentialFit) {
 }
 
 /// The estimated geometry of a branch: each input with its range, and the search over it.
-fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem) {
+fn geometry_block(
+    s: &mut String,
+    g: &pim_fit::GeometryEstimate,
+    u: UnitSystem,
+    cost: Option<f64>,
+) {
     let unit = u.length_label();
     let _ = writeln!(
         s,
@@ -558,10 +563,17 @@ fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem) 
     }
     let _ = writeln!(
         s,
-        "  geometry search: {} grid points ({} per input), {} refinements, {} fits; the \
-         coefficients are proven optimal at this geometry, the geometry is the best found over \
-         its bounds, not proven",
-        g.search.grid_points, g.search.points_per_input, g.search.refinements, g.search.fits
+        "  geometry search: {} grid points ({} per input), {} refinements, {} fits; {}; {}",
+        g.search.grid_points,
+        g.search.points_per_input,
+        g.search.refinements,
+        g.search.fits,
+        if cost.is_some() {
+            "the coefficients are proven optimal at this geometry"
+        } else {
+            "no coefficients admit an answer at this geometry"
+        },
+        g.search.proof.statement(cost)
     );
 }
 

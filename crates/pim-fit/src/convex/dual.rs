@@ -160,6 +160,26 @@ impl Objective {
 
     /// Minimises subject to `rows`, stopping once the value reaches `cutoff`.
     pub fn solve(&self, rows: &[Row], cutoff: f64) -> Outcome {
+        self.run(rows, cutoff, None)
+    }
+
+    /// As [`Objective::solve`], and at the optimum the multipliers of the active rows
+    /// (`(index, multiplier)`, over the unit-length rows).
+    pub fn solve_with_multipliers(
+        &self,
+        rows: &[Row],
+        cutoff: f64,
+        multipliers: &mut Vec<(usize, f64)>,
+    ) -> Outcome {
+        self.run(rows, cutoff, Some(multipliers))
+    }
+
+    fn run(
+        &self,
+        rows: &[Row],
+        cutoff: f64,
+        multipliers: Option<&mut Vec<(usize, f64)>>,
+    ) -> Outcome {
         let n = self.n;
         let mut z = self.z0;
         let mut f = self.f0;
@@ -191,7 +211,12 @@ impl Objective {
                 }
             }
             if p == usize::MAX {
-                return self.verify(rows, &z, &act[..q], &u[..q], scale);
+                let out = self.verify(rows, &z, &act[..q], &u[..q], scale);
+                if let (Some(m), Outcome::Solved { .. }) = (multipliers, &out) {
+                    m.clear();
+                    m.extend(act[..q].iter().copied().zip(u[..q].iter().copied()));
+                }
+                return out;
             }
             let np = rows[p].n;
             u[q] = 0.0;

@@ -52,7 +52,7 @@
 
 pub(crate) mod bnb;
 mod candidate;
-mod dual;
+pub(crate) mod dual;
 mod form;
 mod modes;
 mod subspace;

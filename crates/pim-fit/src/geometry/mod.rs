@@ -26,13 +26,15 @@ use crate::error::{FitError, Result};
 use crate::problem::{FitProblem, MomentBranch};
 use crate::report::{BranchReport, FitReport, Status};
 pub(crate) mod types;
+mod certify;
 use crate::settings::{FitSettings, ValidSettings};
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use pim_core::{Collision, Impact};
 use rayon::prelude::*;
 pub use types::{
-    CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryRange, GeometrySearch,
+    CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof, GeometryRange,
+    GeometrySearch, ProofStatus,
 };
 
 /// Grid points per input for `k` estimated inputs.
@@ -360,8 +362,15 @@ fn branch_search(
         }
     }
     let Some((u, cost)) = best else {
-        // No geometry in the box admits an answer: the complete fit at the case's geometry
-        // gives the reason.
+        // No geometry the search tried admits an answer: the proof says whether any does, and
+        // the complete fit at the case's geometry gives the reason.
+        let (proof, found) = prove(
+            search,
+            settings,
+            branch,
+            (points[case_point].clone(), f64::INFINITY),
+        );
+        fits += found.as_ref().map_or(0, |f| f.2);
         let mut report = complete(search, settings, branch, &points[case_point])?;
         report.geometry = Some(estimate(
             search,
@@ -373,6 +382,7 @@ fn branch_search(
                 grid_points: points.len(),
                 refinements,
                 fits,
+                proof,
             },
         ));
         return Ok(report);
@@ -393,6 +403,14 @@ fn branch_search(
         fits += 1;
         let c = search.cost(&q, branch);
         if c <= cost {
+            (u, cost) = (q, c);
+        }
+    }
+    // The proof over the box (and a better point, should a box's centre give one).
+    let (proof, found) = prove(search, settings, branch, (u.clone(), cost));
+    fits += found.as_ref().map_or(0, |f| f.2);
+    if let Some((q, c, _)) = found {
+        if c < cost {
             (u, cost) = (q, c);
         }
     }
@@ -439,16 +457,70 @@ fn branch_search(
             grid_points: points.len(),
             refinements,
             fits: fits + 1,
+            proof,
         },
     ));
     Ok(report)
+}
+
+/// The proof over the box for one branch, and the best point it met (unit-cube coordinates,
+/// cost, complete fits run).
+fn prove(
+    search: &Search<'_>,
+    settings: &ValidSettings,
+    branch: MomentBranch,
+    best: (Vec<f64>, f64),
+) -> (GeometryProof, Option<(Vec<f64>, f64, usize)>) {
+    let cost_at = |t: &[f64]| search.cost(t, branch);
+    let limit = if best.1.is_finite() {
+        certify::MAX_BOXES
+    } else {
+        certify::MAX_BOXES_NO_ANSWER
+    };
+    let not = |reason: String| GeometryProof {
+        status: ProofStatus::NotAttempted,
+        lower: None,
+        tolerance: certify::TOLERANCE,
+        boxes: 0,
+        reason: Some(reason),
+    };
+    match certify::prove(
+        search.problem,
+        search.geometry,
+        settings.get(),
+        branch,
+        best,
+        &cost_at,
+        limit,
+    ) {
+        Err(reason) => (not(reason), None),
+        Ok(p) => {
+            let status = match (p.closed, p.upper.is_finite()) {
+                (true, true) => ProofStatus::Proven,
+                (true, false) => ProofStatus::ProvenInfeasible,
+                (false, _) => ProofStatus::Bounded,
+            };
+            let reason = (!p.closed).then(|| {
+                format!("the branch-and-bound stopped at its limit of {limit} boxes")
+            });
+            let proof = GeometryProof {
+                status,
+                lower: Some(p.lower),
+                tolerance: certify::TOLERANCE,
+                boxes: p.boxes,
+                reason,
+            };
+            (proof, Some((p.at, p.upper, p.fits)))
+        }
+    }
 }
 
 fn method(k: usize, n: usize, grid: usize, refinements: usize) -> String {
     format!(
         "geometry: {grid} points ({n} per input over {k} input{}, and the case's own geometry), \
          each a certified fit of the coefficients; Nelder-Mead over the geometry from \
-         {refinements} start{}; the best point over the geometry is the best found, not proven",
+         {refinements} start{}; then a branch-and-bound over the geometry box that bounds each \
+         box's optimal cost below by weak duality (see the proof)",
         if k == 1 { "" } else { "s" },
         if refinements == 1 { "" } else { "s" }
     )

@@ -155,8 +155,87 @@ pub struct GeometrySearch {
     pub grid_points: usize,
     /// Nelder-Mead refinements over the geometry.
     pub refinements: usize,
-    /// Complete coefficient fits run for this branch (grid, refinements, scans).
+    /// Complete coefficient fits run for this branch (grid, refinements, scans, proof).
     pub fits: usize,
+    /// What is proven about the optimum over the box.
+    pub proof: GeometryProof,
+}
+
+/// What is proven about a branch's optimum over the geometry box.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProofStatus {
+    /// The reported geometry's cost is within the tolerance of the optimum over the box.
+    Proven,
+    /// No geometry within the bounds admits an answer.
+    ProvenInfeasible,
+    /// The branch-and-bound stopped at its limit of boxes: the optimum over the box lies
+    /// between the proven lower bound and the reported cost.
+    Bounded,
+    /// The bound is not written for this problem (see the reason): the geometry is the best
+    /// found.
+    NotAttempted,
+}
+
+/// The proof of the optimum over the geometry box (branch-and-bound over boxes of the
+/// estimated inputs, each bounded below by weak duality; see the crate docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeometryProof {
+    /// What is proven.
+    pub status: ProofStatus,
+    /// A proven lower bound of the branch's optimal cost over the whole box (`None` when not
+    /// attempted; infinite when no geometry admits an answer).
+    pub lower: Option<f64>,
+    /// The relative tolerance of "proven": the reported cost is at most `lower (1 + tol)`.
+    pub tolerance: f64,
+    /// Boxes bounded.
+    pub boxes: usize,
+    /// Why the proof was not attempted or stopped.
+    pub reason: Option<String>,
+}
+
+impl GeometryProof {
+    /// The proof in words, given the reported cost (`None`: no answer).
+    pub fn statement(&self, cost: Option<f64>) -> String {
+        let lower = self.lower.unwrap_or(f64::NEG_INFINITY);
+        match self.status {
+            ProofStatus::Proven => format!(
+                "the geometry is proven optimal over its bounds to a relative {:e} of the cost \
+                 (lower bound {lower:.6}; branch-and-bound over {} boxes)",
+                self.tolerance, self.boxes
+            ),
+            ProofStatus::ProvenInfeasible => format!(
+                "no geometry within the bounds admits an answer (proven over {} boxes)",
+                self.boxes
+            ),
+            ProofStatus::Bounded if cost.is_none() => format!(
+                "no geometry the search tried admits an answer; that none within the bounds does \
+                 is not proven ({})",
+                self.reason.as_deref().unwrap_or("the branch-and-bound stopped")
+            ),
+            ProofStatus::Bounded => format!(
+                "the geometry is the best found over its bounds; the optimum over them is proven \
+                 at least {lower:.6}{} ({})",
+                cost.map_or(String::new(), |c| format!(
+                    " (relative gap {:.2e})",
+                    (c - lower) / c.abs().max(1e-300)
+                )),
+                self.reason.as_deref().unwrap_or("the branch-and-bound stopped")
+            ),
+            ProofStatus::NotAttempted => format!(
+                "the geometry is the best found over its bounds, not proven ({})",
+                self.reason.as_deref().unwrap_or("no bound for this problem")
+            ),
+        }
+    }
+
+    /// Whether the optimum over the geometry is proven (or proven not to exist).
+    pub fn is_proven(&self) -> bool {
+        matches!(
+            self.status,
+            ProofStatus::Proven | ProofStatus::ProvenInfeasible
+        )
+    }
 }
 
 /// The estimated geometry of one branch.

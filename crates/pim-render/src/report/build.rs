@@ -158,14 +158,15 @@ pub fn fit(
                 num(sol.energy_loss_percent, 2)
             ));
             if let Some(g) = &b.geometry {
-                geometry(&mut answer, g, u);
-                warnings.push(
-                    "The impact geometry was estimated within the case's bounds: the \
-                     coefficients are proven optimal at the reported geometry, but the geometry \
-                     itself is the best found by a grid and refinements over its bounds, not \
-                     proven optimal (see Answer)."
-                        .to_string(),
-                );
+                geometry(&mut answer, g, u, Some(sol.cost));
+                if !g.search.proof.is_proven() {
+                    warnings.push(format!(
+                        "The impact geometry was estimated within the case's bounds: the \
+                         coefficients are proven optimal at the reported geometry, but {} (see \
+                         Answer).",
+                        g.search.proof.statement(Some(sol.cost))
+                    ));
+                }
             }
             if let Some(study) = study {
                 ranges(&mut answer, study, u);
@@ -212,7 +213,7 @@ pub fn fit(
 
 /// The estimated impact geometry: each input with the values whose cost stays within the
 /// tolerance, and how the geometry was searched.
-fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem) {
+fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem, cost: Option<f64>) {
     let tolerance = g.ranges.first().map_or(0.01, |r| r.tolerance);
     s.text(format!(
         "Estimated impact geometry (searched within the case's bounds; the range holds the \
@@ -252,6 +253,10 @@ fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem) {
             .strip_prefix("geometry: ")
             .unwrap_or(&g.search.method),
         g.search.fits
+    ));
+    s.text(format!(
+        "What is proven: the coefficients are optimal at the reported geometry; {}.",
+        g.search.proof.statement(cost)
     ));
 }
 

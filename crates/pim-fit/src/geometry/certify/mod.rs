@@ -1,0 +1,338 @@
+//! A proof of the optimum over the geometry box: branch-and-bound over boxes of the estimated
+//! inputs (and, in the free branch, intervals of e_m), each box bounded below by weak duality.
+//!
+//! For a box, every convex piece of the branch (PIM's sign patterns, written over U with the
+//! geometry's ranges over the box, [`leaf`]) is bounded by the Lagrangian of its own
+//! multipliers at the box's centre, enclosed over the box by the mean-value form ([`bound`]);
+//! the box's bound is the least of its pieces'. A box whose bound is within the tolerance of
+//! the best cost found is closed; otherwise it is halved along its widest side. The best cost
+//! comes from complete fits at the boxes' centres (and from the search before), so when every
+//! box is closed the best point is proven optimal over the whole box to the tolerance. A piece
+//! whose bound already closes a box keeps it for the halves (their pieces are contained in it).
+//!
+//! The bound needs a cost that is strictly convex in the free components and couples none of
+//! them (Q1, Q2, Q3 and weighted estimates; observations such as delta-V couple components)
+//! and PIM with the mu_max condition; other problems are not proven.
+
+mod bound;
+mod enclose;
+mod interval;
+mod leaf;
+mod poly;
+
+use crate::family::Friction;
+use crate::geometry::types::GeometryBound;
+use crate::problem::{FitProblem, MomentBranch};
+use crate::settings::FitSettings;
+use bound::{Around, Cost};
+use enclose::Enclosure;
+use interval::Iv;
+use leaf::{Forms, Leaf};
+use pim_core::Impact;
+use poly::{Inertia, MonoBox};
+use std::cmp::Ordering;
+use rayon::prelude::*;
+use std::collections::{BinaryHeap, HashMap};
+
+/// Relative tolerance of the proof: the best point is within it of the optimum.
+pub(crate) const TOLERANCE: f64 = 1e-4;
+
+/// What the branch-and-bound proved.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Proof {
+    /// A proven lower bound of the branch's optimal cost over the geometry box.
+    pub lower: f64,
+    /// The best cost found (the search's, or better at a box's centre) and where (unit-cube
+    /// coordinates of the inputs).
+    pub upper: f64,
+    pub at: Vec<f64>,
+    /// Boxes bounded, complete fits run at their centres, and whether every box was closed.
+    pub boxes: usize,
+    pub fits: usize,
+    pub closed: bool,
+}
+
+/// Boxes bounded before the branch-and-bound stops (RICSAC 6's five inputs take 150-5,200).
+pub(crate) const MAX_BOXES: usize = 20_000;
+
+/// Boxes bounded when no point of the box has an answer yet: only pieces proven empty close a
+/// box then, and a piece whose relaxation keeps points the fit rejects (the energy condition,
+/// which the bound leaves out) never closes; the effort is kept small.
+pub(crate) const MAX_BOXES_NO_ANSWER: usize = 100;
+
+/// Why a problem's geometry is not proven.
+pub(crate) fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Option<&'static str> {
+    if problem.impact.is_barrier() {
+        return Some("a barrier");
+    }
+    if settings.model.family().friction() != Friction::Equivalent {
+        return Some("the bound over the geometry is written for PIM only");
+    }
+    if !settings.mu_max_condition {
+        return Some("the mu <= mu_max condition is off");
+    }
+    match cost_of(problem) {
+        Some(_) => None,
+        None => Some(
+            "the cost couples components (observations) or leaves a free component unweighted",
+        ),
+    }
+}
+
+fn cost_of(problem: &FitProblem) -> Option<Cost> {
+    let (hu, gu, c0, fixed) = crate::inner::quadratic_of(problem);
+    let mut known = [None; 12];
+    for (k, v) in fixed {
+        known[k] = Some(v);
+    }
+    let diagonal = (0..12).all(|i| (0..12).all(|j| i == j || hu[(i, j)] == 0.0));
+    let weighted = (0..12).all(|k| known[k].is_some() || hu[(k, k)] > 0.0);
+    (diagonal && weighted).then(|| Cost {
+        h: std::array::from_fn(|k| hu[(k, k)]),
+        g: std::array::from_fn(|k| gu[k]),
+        c0,
+        known,
+        limit: [f64::INFINITY; 12],
+    })
+}
+
+/// A box: unit-cube coordinates of the inputs, the e_m interval, the bounds its parent's
+/// pieces proved, and its own bound.
+struct Node {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    em: [f64; 2],
+    inherited: std::sync::Arc<HashMap<Leaf, (f64, Option<bound::Multipliers>)>>,
+    bound: f64,
+    /// Whether the centre's geometry was fitted already (an e_m half of its parent).
+    fitted: bool,
+}
+
+impl PartialEq for Node {
+    fn eq(&self, o: &Self) -> bool {
+        self.bound == o.bound
+    }
+}
+impl Eq for Node {}
+impl PartialOrd for Node {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Node {
+    /// The lowest bound first (a max-heap of the negated bound).
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.bound.total_cmp(&self.bound)
+    }
+}
+
+/// Proves (or bounds) the optimum of one branch over the geometry box.
+///
+/// `cost_at(t)` is the branch's optimal cost at unit-cube point t (a complete fit); `best` the
+/// best point the search found and its cost. Stops after `max_boxes` boxes.
+pub(crate) fn prove(
+    problem: &FitProblem,
+    geometry: &[GeometryBound],
+    settings: &FitSettings,
+    branch: MomentBranch,
+    best: (Vec<f64>, f64),
+    cost_at: &(dyn Fn(&[f64]) -> f64 + Sync),
+    max_boxes: usize,
+) -> Result<Proof, String> {
+    if let Some(why) = unsupported(problem, settings) {
+        return Err(why.to_string());
+    }
+    let unsupported = || "the cost is not one the bound is written for".to_string();
+    let mut cost = cost_of(problem).ok_or_else(unsupported)?;
+    let impact = &problem.impact;
+    let forms = Forms::new(
+        Inertia {
+            m: impact.masses(),
+            i: impact.inertias(),
+        },
+        settings,
+    );
+    let eqs = forms.equalities(branch);
+    cost.limit = forms.limits();
+    let enclosure = Enclosure::new(impact.collision(), geometry);
+    let k = geometry.len();
+    let physical = |t: &[f64]| -> Vec<f64> {
+        geometry
+            .iter()
+            .zip(t)
+            .map(|(g, &v)| g.bounds[0] + v * (g.bounds[1] - g.bounds[0]))
+            .collect()
+    };
+    let (mut at, mut upper) = best;
+    let target = |upper: f64| {
+        if upper.is_finite() {
+            upper - TOLERANCE * upper.abs()
+        } else {
+            f64::INFINITY
+        }
+    };
+    let em0 = match branch {
+        MomentBranch::Zero => [1.0, 1.0],
+        MomentBranch::Free => [-1.0, 0.0],
+    };
+    let mut heap = BinaryHeap::new();
+    heap.push(Node {
+        lo: vec![0.0; k],
+        hi: vec![1.0; k],
+        em: em0,
+        inherited: Default::default(),
+        bound: f64::NEG_INFINITY,
+        fitted: false,
+    });
+    let mut closed_low = f64::INFINITY;
+    let mut boxes = 0;
+    let mut fits = 0;
+    while let Some(node) = heap.pop() {
+        if node.bound >= target(upper) {
+            closed_low = closed_low.min(node.bound);
+            continue;
+        }
+        if boxes >= max_boxes {
+            heap.push(node);
+            break;
+        }
+        boxes += 1;
+        let t_c: Vec<f64> = node.lo.iter().zip(&node.hi).map(|(a, b)| 0.5 * (a + b)).collect();
+        let (plo, phi) = (physical(&node.lo), physical(&node.hi));
+        let u_c = physical(&t_c);
+        let half: Vec<f64> = plo.iter().zip(&phi).map(|(a, b)| 0.5 * (b - a)).collect();
+        let p_at = |u: &[f64]| -> Option<[f64; 6]> {
+            let i = Impact::new(enclosure.collision(u)).ok()?;
+            let (d, n) = (i.levers(), i.normal());
+            Some([d[0], d[1], d[2], d[3], n[0], n[1]])
+        };
+        let pc = p_at(&u_c).ok_or("a box's centre is not a valid collision")?;
+        let pbox = enclosure.over(&plo, &phi);
+        // The centre's geometry (as pim-core rounds it) lies in the box's enclosure.
+        let pbox_p: [Iv; 6] = std::array::from_fn(|j| {
+            Iv::new(pbox.p[j].lo.min(pc[j]), pbox.p[j].hi.max(pc[j]))
+        });
+        let mono = MonoBox::new(&pbox_p);
+        let relax = forms.relax(&mono, branch, node.em);
+        let around = Around {
+            centre: pc,
+            centre_u: &u_c,
+            p_at: &p_at,
+            mono: &mono,
+            dp: &pbox.dp,
+            half: &half,
+        };
+        let reduced = cost.reduce(&eqs, &pc);
+        let goal = target(upper);
+        let bounded: Vec<(Leaf, (f64, Option<bound::Multipliers>))> = forms
+            .leaves(&relax, branch)
+            .into_par_iter()
+            .map(|leaf| {
+                let proved = match node.inherited.get(&leaf) {
+                    Some((b, m)) if *b >= goal => (*b, m.clone()),
+                    other => cost.bound(
+                        &eqs,
+                        &forms.rows(&leaf, &relax, branch),
+                        &around,
+                        goal,
+                        other.and_then(|(_, m)| m.as_ref()),
+                        reduced.as_ref(),
+                    ),
+                };
+                (leaf, proved)
+            })
+            .collect();
+        let low = bounded.iter().map(|(_, (b, _))| *b).fold(f64::INFINITY, f64::min);
+        if low >= goal {
+            closed_low = closed_low.min(low);
+            continue;
+        }
+        // An open box: its centre's complete fit may lower the best cost (once per geometry
+        // box; an e_m half shares its parent's centre).
+        if !node.fitted {
+            let c = cost_at(&t_c);
+            fits += 1;
+            if c < upper {
+                upper = c;
+                at = t_c.clone();
+                if low >= target(upper) {
+                    closed_low = closed_low.min(low);
+                    continue;
+                }
+            }
+        }
+        let proved: HashMap<Leaf, (f64, Option<bound::Multipliers>)> = bounded.into_iter().collect();
+        // Halve the widest side (e_m's range counts as one unit).
+        let mut widest = (0usize, -1.0);
+        for i in 0..k {
+            let w = node.hi[i] - node.lo[i];
+            if geometry[i].bounds[1] > geometry[i].bounds[0] && w > widest.1 {
+                widest = (i, w);
+            }
+        }
+        let inherited = std::sync::Arc::new(proved);
+        let em_width = node.em[1] - node.em[0];
+        // An e_m interval with a pole of the ratios inside (their ranges unbounded, or the
+        // sign of kappa open) is split there first (at the centre's pole).
+        let open = !(relax.rho_a[0].is_finite() && relax.rho_a[1].is_finite())
+            || !(relax.rho_b[0].is_finite() && relax.rho_b[1].is_finite())
+            || relax.kappas.len() > 1;
+        let poles = forms.poles(&MonoBox::new(&pc.map(Iv::point)), node.em);
+        let pole = poles
+            .iter()
+            .copied()
+            .find(|&e| e > node.em[0] + 1e-3 * em_width && e < node.em[1] - 1e-3 * em_width);
+        if branch == MomentBranch::Free
+            && em_width > 1e-9
+            && ((open && pole.is_some()) || em_width > widest.1)
+        {
+            let mid = match pole {
+                Some(e) if open => e,
+                _ => 0.5 * (node.em[0] + node.em[1]),
+            };
+            for em in [[node.em[0], mid], [mid, node.em[1]]] {
+                heap.push(Node {
+                    lo: node.lo.clone(),
+                    hi: node.hi.clone(),
+                    em,
+                    inherited: inherited.clone(),
+                    bound: low,
+                    fitted: true,
+                });
+            }
+        } else {
+            let i = widest.0;
+            let mid = 0.5 * (node.lo[i] + node.hi[i]);
+            let mut left = node.hi.clone();
+            left[i] = mid;
+            let mut right = node.lo.clone();
+            right[i] = mid;
+            heap.push(Node {
+                lo: node.lo.clone(),
+                hi: left,
+                em: node.em,
+                inherited: inherited.clone(),
+                bound: low,
+                fitted: false,
+            });
+            heap.push(Node {
+                lo: right,
+                hi: node.hi.clone(),
+                em: node.em,
+                inherited,
+                bound: low,
+                fitted: false,
+            });
+        }
+    }
+    let open_low = heap.iter().map(|n| n.bound).fold(f64::INFINITY, f64::min);
+    let closed = heap.iter().all(|n| n.bound >= target(upper));
+    Ok(Proof {
+        lower: closed_low.min(open_low).min(upper),
+        upper,
+        at,
+        boxes,
+        fits,
+        closed,
+    })
+}
