@@ -175,8 +175,7 @@ pub use certificate::{Certificate, Fallback, Method, Route};
 pub use error::{FitError, Result};
 pub use geometry::{
     fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof,
-    GeometryRange, ProofStatus,
-    GeometrySearch,
+    GeometryRange, GeometrySearch, ProofStatus,
 };
 pub use problem::{
     forward_axis, state_vector, Component, CostPreset, FitProblem, Knowledge, MomentBranch,

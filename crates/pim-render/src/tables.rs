@@ -512,12 +512,7 @@ fn tangential_lines(s: &mut String, e: f64, t: &pim_fit::TangentialFit) {
 }
 
 /// The estimated geometry of a branch: each input with its range, and the search over it.
-fn geometry_block(
-    s: &mut String,
-    g: &pim_fit::GeometryEstimate,
-    u: UnitSystem,
-    cost: Option<f64>,
-) {
+fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem, cost: Option<f64>) {
     let unit = u.length_label();
     let _ = writeln!(
         s,

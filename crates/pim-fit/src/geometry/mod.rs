@@ -25,8 +25,8 @@
 use crate::error::{FitError, Result};
 use crate::problem::{FitProblem, MomentBranch};
 use crate::report::{BranchReport, FitReport, Status};
-pub(crate) mod types;
 mod certify;
+pub(crate) mod types;
 use crate::settings::{FitSettings, ValidSettings};
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
@@ -484,15 +484,9 @@ fn prove(
         boxes: 0,
         reason: Some(reason),
     };
-    match certify::prove(
-        search.problem,
-        search.geometry,
-        settings.get(),
-        branch,
-        best,
-        &cost_at,
-        limit,
-    ) {
+    let proof = certify::Context::new(search.problem, search.geometry, settings.get(), branch)
+        .and_then(|context| certify::prove(&context, best, &cost_at, limit));
+    match proof {
         Err(reason) => (not(reason), None),
         Ok(p) => {
             let status = match (p.closed, p.upper.is_finite()) {
@@ -500,9 +494,8 @@ fn prove(
                 (true, false) => ProofStatus::ProvenInfeasible,
                 (false, _) => ProofStatus::Bounded,
             };
-            let reason = (!p.closed).then(|| {
-                format!("the branch-and-bound stopped at its limit of {limit} boxes")
-            });
+            let reason = (!p.closed)
+                .then(|| format!("the branch-and-bound stopped at its limit of {limit} boxes"));
             let proof = GeometryProof {
                 status,
                 lower: Some(p.lower),

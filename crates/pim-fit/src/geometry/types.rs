@@ -208,12 +208,15 @@ impl GeometryProof {
                 "no geometry within the bounds admits an answer (proven over {} boxes)",
                 self.boxes
             ),
-            ProofStatus::Bounded if cost.is_none() => format!(
+            ProofStatus::Bounded if cost.is_none() => {
+                format!(
                 "no geometry the search tried admits an answer; that none within the bounds does \
                  is not proven ({})",
                 self.reason.as_deref().unwrap_or("the branch-and-bound stopped")
-            ),
-            ProofStatus::Bounded => format!(
+            )
+            }
+            ProofStatus::Bounded => {
+                format!(
                 "the geometry is the best found over its bounds; the optimum over them is proven \
                  at least {lower:.6}{} ({})",
                 cost.map_or(String::new(), |c| format!(
@@ -221,10 +224,13 @@ impl GeometryProof {
                     (c - lower) / c.abs().max(1e-300)
                 )),
                 self.reason.as_deref().unwrap_or("the branch-and-bound stopped")
-            ),
+            )
+            }
             ProofStatus::NotAttempted => format!(
                 "the geometry is the best found over its bounds, not proven ({})",
-                self.reason.as_deref().unwrap_or("no bound for this problem")
+                self.reason
+                    .as_deref()
+                    .unwrap_or("no bound for this problem")
             ),
         }
     }

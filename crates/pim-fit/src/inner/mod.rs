@@ -37,7 +37,12 @@ pub(crate) fn data_scale_of(problem: &crate::problem::FitProblem) -> f64 {
 /// A problem's cost as `U'HU - 2g'U + c0`, and its components known exactly (index, value).
 pub(crate) fn quadratic_of(
     problem: &crate::problem::FitProblem,
-) -> (nalgebra::SMatrix<f64, 12, 12>, crate::problem::Vector12, f64, Vec<(usize, f64)>) {
+) -> (
+    nalgebra::SMatrix<f64, 12, 12>,
+    crate::problem::Vector12,
+    f64,
+    Vec<(usize, f64)>,
+) {
     let o = objective::Objective::new(problem);
     let (h, g, c0) = o.quadratic();
     (*h, *g, c0, o.fixed.clone())

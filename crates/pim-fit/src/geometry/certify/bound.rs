@@ -22,12 +22,12 @@
 use super::interval::Iv;
 use super::poly::{monomials, MonoBox, Poly};
 use crate::convex::dual::{self, Outcome, Row, N};
-use nalgebra::{DMatrix, DVector};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
     ZeroConeT,
 };
+use nalgebra::{DMatrix, DVector};
 
 /// The cost `U'HU - 2g'U + c0` with H diagonal, and the components known exactly.
 #[derive(Debug, Clone)]
@@ -77,10 +77,16 @@ impl Cost {
         let free = self.free();
         let eqs_c: Vec<[f64; 12]> = eqs.iter().map(|e| e.at(&m)).collect();
         let (ne, nf) = (eqs_c.len(), free.len());
-        let e = DMatrix::from_fn(ne.max(nf), nf, |i, j| if i < ne { eqs_c[i][free[j]] } else { 0.0 });
+        let e = DMatrix::from_fn(
+            ne.max(nf),
+            nf,
+            |i, j| if i < ne { eqs_c[i][free[j]] } else { 0.0 },
+        );
         let rhs = DVector::from_fn(ne.max(nf), |i, _| {
             if i < ne {
-                -(0..12).filter_map(|k| self.known[k].map(|v| eqs_c[i][k] * v)).sum::<f64>()
+                -(0..12)
+                    .filter_map(|k| self.known[k].map(|v| eqs_c[i][k] * v))
+                    .sum::<f64>()
             } else {
                 0.0
             }
@@ -158,7 +164,8 @@ impl Cost {
         }
         let mut mult = Vec::new();
         let Outcome::Solved { z: w, .. } =
-            red.objective.solve_with_multipliers(&over_w, f64::INFINITY, &mut mult)
+            red.objective
+                .solve_with_multipliers(&over_w, f64::INFINITY, &mut mult)
         else {
             return None;
         };
@@ -180,7 +187,11 @@ impl Cost {
         let rhs = DVector::from_fn(free.len(), |j, _| {
             let k = free[j];
             2.0 * (self.h[k] * u[k] - self.g[k])
-                - rows.iter().zip(&lambda).map(|((r, _), l)| l * r[k]).sum::<f64>()
+                - rows
+                    .iter()
+                    .zip(&lambda)
+                    .map(|((r, _), l)| l * r[k])
+                    .sum::<f64>()
         });
         let nu = lhs.svd(true, true).solve(&rhs, 1e-12).ok()?;
         Some((nu.iter().copied().collect(), lambda))
@@ -250,8 +261,10 @@ impl Cost {
                 b.push(self.limit[k]);
             }
         }
-        let cones: Vec<SupportedConeT<f64>> =
-            vec![ZeroConeT(eqs.len()), NonnegativeConeT(rows.len() + m + 2 * n)];
+        let cones: Vec<SupportedConeT<f64>> = vec![
+            ZeroConeT(eqs.len()),
+            NonnegativeConeT(rows.len() + m + 2 * n),
+        ];
         let settings = DefaultSettings {
             verbose: false,
             max_iter: 200,
@@ -363,8 +376,12 @@ impl Cost {
                     None => Iv::point(rb[k].mag()).scale(self.limit[k]),
                 };
         }
-        let margin =
-            1e-12 * rows.iter().zip(lambda).map(|((_, b), l)| (l * b).abs()).sum::<f64>();
+        let margin = 1e-12
+            * rows
+                .iter()
+                .zip(lambda)
+                .map(|((_, b), l)| (l * b).abs())
+                .sum::<f64>();
         most.hi < lb - margin
     }
 
@@ -380,8 +397,12 @@ impl Cost {
         let (r, lb) = combine(eqs, rows, nu, lambda);
         // lambda'b is a sum of products: bounded below by its value less a relative margin
         // for its rounding.
-        let lb_margin =
-            1e-14 * rows.iter().zip(lambda).map(|((_, b), l)| (l * b).abs()).sum::<f64>();
+        let lb_margin = 1e-14
+            * rows
+                .iter()
+                .zip(lambda)
+                .map(|((_, b), l)| (l * b).abs())
+                .sum::<f64>();
         // U(p) over the box: U_f = (g_f + r_f / 2) / H_ff, U_k known.
         let u = self.minimiser(&r.over(at.mono));
         let dphi: [Iv; 6] = std::array::from_fn(|j| {
@@ -446,9 +467,8 @@ impl Cost {
         let m = monomials(&at.centre);
         let eqs_c: Vec<[f64; 12]> = eqs.iter().map(|e| e.at(&m)).collect();
         let rows_c: Vec<([f64; 12], f64)> = rows.iter().map(|(r, b)| (r.at(&m), *b)).collect();
-        let keep = |nu: Vec<f64>, lambda: Vec<f64>, empty: bool| {
-            Some(Multipliers { nu, lambda, empty })
-        };
+        let keep =
+            |nu: Vec<f64>, lambda: Vec<f64>, empty: bool| Some(Multipliers { nu, lambda, empty });
         if let Some((nu, lambda)) = reduced.and_then(|r| self.fast_duals(r, &rows_c)) {
             let b = self.bound_of(eqs, rows, &nu, &lambda, at).max(floor);
             return (b, keep(nu, lambda, false));

@@ -62,9 +62,12 @@ impl Enclosure {
         let zero = [Iv::point(0.0); 6];
         let mut dp = vec![zero; self.inputs.len()];
         let mut p = zero;
-        for (v, (js, vehicle)) in [((2usize, 3usize), &self.base.vehicle1), ((0, 1), &self.base.vehicle2)]
-            .into_iter()
-            .enumerate()
+        for (v, (js, vehicle)) in [
+            ((2usize, 3usize), &self.base.vehicle1),
+            ((0, 1), &self.base.vehicle2),
+        ]
+        .into_iter()
+        .enumerate()
         {
             let id = v as u8 + 1;
             let (jsin, jcos) = js;
@@ -103,7 +106,11 @@ impl Enclosure {
         let (cg, sg) = (g.cos(), g.sin());
         p[4] = cg;
         p[5] = sg;
-        if let Some(i) = self.inputs.iter().position(|&g| g == GeometryInput::CrushAngle) {
+        if let Some(i) = self
+            .inputs
+            .iter()
+            .position(|&g| g == GeometryInput::CrushAngle)
+        {
             dp[i][4] = (-sg).scale(RAD);
             dp[i][5] = cg.scale(RAD);
         }
@@ -154,7 +161,11 @@ mod tests {
                 .collect();
             let p = p_at(&u);
             for j in 0..6 {
-                assert!(b.p[j].lo <= p[j] && p[j] <= b.p[j].hi, "p[{j}] {p:?} {:?}", b.p);
+                assert!(
+                    b.p[j].lo <= p[j] && p[j] <= b.p[j].hi,
+                    "p[{j}] {p:?} {:?}",
+                    b.p
+                );
             }
             for i in 0..u.len() {
                 let step = 1e-6 * (hi[i] - lo[i]).max(1e-3);

@@ -172,8 +172,7 @@ impl Forms {
                 let e = Iv::new(em[0], em[1]);
                 let dwf = cols.map(|col| dot6(&w_row, 6, &col));
                 let db = [z, z, pt(1.0 / i1 + 1.0 / i2)];
-                let u2: [Iv; 3] =
-                    std::array::from_fn(|j| (pt(1.0) - e) * dwf[j] - e * db[j]);
+                let u2: [Iv; 3] = std::array::from_fn(|j| (pt(1.0) - e) * dwf[j] - e * db[j]);
                 [
                     u1[1] * u2[2] - u1[2] * u2[1],
                     u1[2] * u2[0] - u1[0] * u2[2],
@@ -202,7 +201,8 @@ impl Forms {
         let h1 = p(3) * c + p(2) * s;
         let h2 = -(p(1) * c + p(0) * s);
         let sep = h1.scale(w1) - h2.scale(w2);
-        let scale = (p(2).sqr() + p(3).sqr()).hi.sqrt() * w1 + (p(0).sqr() + p(1).sqr()).hi.sqrt() * w2;
+        let scale =
+            (p(2).sqr() + p(3).sqr()).hi.sqrt() * w1 + (p(0).sqr() + p(1).sqr()).hi.sqrt() * w2;
         let sides = match sep.sign() {
             Some(v) if sep.lo.abs().min(sep.hi.abs()) > 2e-9 * scale => vec![v],
             _ => both,

@@ -30,8 +30,8 @@ use interval::Iv;
 use leaf::{Forms, Leaf};
 use pim_core::Impact;
 use poly::{Inertia, MonoBox};
-use std::cmp::Ordering;
 use rayon::prelude::*;
+use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
 /// Relative tolerance of the proof: the best point is within it of the optimum.
@@ -73,9 +73,9 @@ pub(crate) fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Optio
     }
     match cost_of(problem) {
         Some(_) => None,
-        None => Some(
-            "the cost couples components (observations) or leaves a free component unweighted",
-        ),
+        None => {
+            Some("the cost couples components (observations) or leaves a free component unweighted")
+        }
     }
 }
 
@@ -126,43 +126,165 @@ impl Ord for Node {
     }
 }
 
+/// Inherited bounds (and multipliers) of a box's pieces.
+type Proved = HashMap<Leaf, (f64, Option<bound::Multipliers>)>;
+
+/// One branch's problem over the geometry box, built once.
+pub(crate) struct Context<'a> {
+    geometry: &'a [GeometryBound],
+    branch: MomentBranch,
+    cost: Cost,
+    forms: Forms,
+    eqs: Vec<poly::Poly>,
+    enclosure: Enclosure,
+}
+
+/// A box's bound: the least of its pieces' (each with its multipliers), and the numbers the
+/// split needs.
+pub(crate) struct BoxBound {
+    pub low: f64,
+    proved: Vec<(Leaf, (f64, Option<bound::Multipliers>))>,
+    pole: Option<f64>,
+    open: bool,
+}
+
+impl<'a> Context<'a> {
+    /// Why not, when the bound is not written for the problem.
+    pub fn new(
+        problem: &FitProblem,
+        geometry: &'a [GeometryBound],
+        settings: &FitSettings,
+        branch: MomentBranch,
+    ) -> Result<Context<'a>, String> {
+        if let Some(why) = unsupported(problem, settings) {
+            return Err(why.to_string());
+        }
+        let impact = &problem.impact;
+        let forms = Forms::new(
+            Inertia {
+                m: impact.masses(),
+                i: impact.inertias(),
+            },
+            settings,
+        );
+        let mut cost = cost_of(problem).ok_or("the cost is not one the bound is written for")?;
+        cost.limit = forms.limits();
+        Ok(Context {
+            geometry,
+            branch,
+            cost,
+            eqs: forms.equalities(branch),
+            forms,
+            enclosure: Enclosure::new(impact.collision(), geometry),
+        })
+    }
+
+    /// The inputs (physical units) at unit-cube coordinates t.
+    fn physical(&self, t: &[f64]) -> Vec<f64> {
+        self.geometry
+            .iter()
+            .zip(t)
+            .map(|(g, &v)| g.bounds[0] + v * (g.bounds[1] - g.bounds[0]))
+            .collect()
+    }
+
+    /// A lower bound of the branch's optimal cost over the box `[lo, hi]` (unit-cube
+    /// coordinates) with e_m in `em` (free branch), aiming at `goal` (pieces stop once their
+    /// bound reaches it); `inherited`: the bounds of a box that contains this one.
+    pub fn bound_box(
+        &self,
+        lo: &[f64],
+        hi: &[f64],
+        em: [f64; 2],
+        goal: f64,
+        inherited: &Proved,
+    ) -> Result<BoxBound, String> {
+        let t_c: Vec<f64> = lo.iter().zip(hi).map(|(a, b)| 0.5 * (a + b)).collect();
+        let (plo, phi) = (self.physical(lo), self.physical(hi));
+        let u_c = self.physical(&t_c);
+        let half: Vec<f64> = plo.iter().zip(&phi).map(|(a, b)| 0.5 * (b - a)).collect();
+        let p_at = |u: &[f64]| -> Option<[f64; 6]> {
+            let i = Impact::new(self.enclosure.collision(u)).ok()?;
+            let (d, n) = (i.levers(), i.normal());
+            Some([d[0], d[1], d[2], d[3], n[0], n[1]])
+        };
+        let pc = p_at(&u_c).ok_or("a box's centre is not a valid collision")?;
+        let pbox = self.enclosure.over(&plo, &phi);
+        // The centre's geometry (as pim-core rounds it) lies in the box's enclosure.
+        let pbox_p: [Iv; 6] =
+            std::array::from_fn(|j| Iv::new(pbox.p[j].lo.min(pc[j]), pbox.p[j].hi.max(pc[j])));
+        let mono = MonoBox::new(&pbox_p);
+        let relax = self.forms.relax(&mono, self.branch, em);
+        let around = Around {
+            centre: pc,
+            centre_u: &u_c,
+            p_at: &p_at,
+            mono: &mono,
+            dp: &pbox.dp,
+            half: &half,
+        };
+        let reduced = self.cost.reduce(&self.eqs, &pc);
+        let proved: Vec<(Leaf, (f64, Option<bound::Multipliers>))> = self
+            .forms
+            .leaves(&relax, self.branch)
+            .into_par_iter()
+            .map(|leaf| {
+                let b = match inherited.get(&leaf) {
+                    Some((b, m)) if *b >= goal => (*b, m.clone()),
+                    other => self.cost.bound(
+                        &self.eqs,
+                        &self.forms.rows(&leaf, &relax, self.branch),
+                        &around,
+                        goal,
+                        other.and_then(|(_, m)| m.as_ref()),
+                        reduced.as_ref(),
+                    ),
+                };
+                (leaf, b)
+            })
+            .collect();
+        let low = proved
+            .iter()
+            .map(|(_, (b, _))| *b)
+            .fold(f64::INFINITY, f64::min);
+        // An e_m interval with a pole of the ratios inside (their ranges unbounded, or the
+        // sign of kappa open) is split at the centre's pole.
+        let open = !(relax
+            .rho_a
+            .iter()
+            .chain(&relax.rho_b)
+            .all(|v| v.is_finite()))
+            || relax.kappas.len() > 1;
+        let width = em[1] - em[0];
+        let pole = match self.branch {
+            MomentBranch::Zero => None,
+            MomentBranch::Free => self
+                .forms
+                .poles(&MonoBox::new(&pc.map(Iv::point)), em)
+                .into_iter()
+                .find(|&e| e > em[0] + 1e-3 * width && e < em[1] - 1e-3 * width),
+        };
+        Ok(BoxBound {
+            low,
+            proved,
+            pole,
+            open,
+        })
+    }
+}
+
 /// Proves (or bounds) the optimum of one branch over the geometry box.
 ///
 /// `cost_at(t)` is the branch's optimal cost at unit-cube point t (a complete fit); `best` the
 /// best point the search found and its cost. Stops after `max_boxes` boxes.
 pub(crate) fn prove(
-    problem: &FitProblem,
-    geometry: &[GeometryBound],
-    settings: &FitSettings,
-    branch: MomentBranch,
+    context: &Context<'_>,
     best: (Vec<f64>, f64),
     cost_at: &(dyn Fn(&[f64]) -> f64 + Sync),
     max_boxes: usize,
 ) -> Result<Proof, String> {
-    if let Some(why) = unsupported(problem, settings) {
-        return Err(why.to_string());
-    }
-    let unsupported = || "the cost is not one the bound is written for".to_string();
-    let mut cost = cost_of(problem).ok_or_else(unsupported)?;
-    let impact = &problem.impact;
-    let forms = Forms::new(
-        Inertia {
-            m: impact.masses(),
-            i: impact.inertias(),
-        },
-        settings,
-    );
-    let eqs = forms.equalities(branch);
-    cost.limit = forms.limits();
-    let enclosure = Enclosure::new(impact.collision(), geometry);
+    let (geometry, branch) = (context.geometry, context.branch);
     let k = geometry.len();
-    let physical = |t: &[f64]| -> Vec<f64> {
-        geometry
-            .iter()
-            .zip(t)
-            .map(|(g, &v)| g.bounds[0] + v * (g.bounds[1] - g.bounds[0]))
-            .collect()
-    };
     let (mut at, mut upper) = best;
     let target = |upper: f64| {
         if upper.is_finite() {
@@ -197,71 +319,33 @@ pub(crate) fn prove(
             break;
         }
         boxes += 1;
-        let t_c: Vec<f64> = node.lo.iter().zip(&node.hi).map(|(a, b)| 0.5 * (a + b)).collect();
-        let (plo, phi) = (physical(&node.lo), physical(&node.hi));
-        let u_c = physical(&t_c);
-        let half: Vec<f64> = plo.iter().zip(&phi).map(|(a, b)| 0.5 * (b - a)).collect();
-        let p_at = |u: &[f64]| -> Option<[f64; 6]> {
-            let i = Impact::new(enclosure.collision(u)).ok()?;
-            let (d, n) = (i.levers(), i.normal());
-            Some([d[0], d[1], d[2], d[3], n[0], n[1]])
-        };
-        let pc = p_at(&u_c).ok_or("a box's centre is not a valid collision")?;
-        let pbox = enclosure.over(&plo, &phi);
-        // The centre's geometry (as pim-core rounds it) lies in the box's enclosure.
-        let pbox_p: [Iv; 6] = std::array::from_fn(|j| {
-            Iv::new(pbox.p[j].lo.min(pc[j]), pbox.p[j].hi.max(pc[j]))
-        });
-        let mono = MonoBox::new(&pbox_p);
-        let relax = forms.relax(&mono, branch, node.em);
-        let around = Around {
-            centre: pc,
-            centre_u: &u_c,
-            p_at: &p_at,
-            mono: &mono,
-            dp: &pbox.dp,
-            half: &half,
-        };
-        let reduced = cost.reduce(&eqs, &pc);
-        let goal = target(upper);
-        let bounded: Vec<(Leaf, (f64, Option<bound::Multipliers>))> = forms
-            .leaves(&relax, branch)
-            .into_par_iter()
-            .map(|leaf| {
-                let proved = match node.inherited.get(&leaf) {
-                    Some((b, m)) if *b >= goal => (*b, m.clone()),
-                    other => cost.bound(
-                        &eqs,
-                        &forms.rows(&leaf, &relax, branch),
-                        &around,
-                        goal,
-                        other.and_then(|(_, m)| m.as_ref()),
-                        reduced.as_ref(),
-                    ),
-                };
-                (leaf, proved)
-            })
-            .collect();
-        let low = bounded.iter().map(|(_, (b, _))| *b).fold(f64::INFINITY, f64::min);
-        if low >= goal {
+        let b = context.bound_box(&node.lo, &node.hi, node.em, target(upper), &node.inherited)?;
+        let low = b.low;
+        if low >= target(upper) {
             closed_low = closed_low.min(low);
             continue;
         }
         // An open box: its centre's complete fit may lower the best cost (once per geometry
         // box; an e_m half shares its parent's centre).
         if !node.fitted {
+            let t_c: Vec<f64> = node
+                .lo
+                .iter()
+                .zip(&node.hi)
+                .map(|(a, b)| 0.5 * (a + b))
+                .collect();
             let c = cost_at(&t_c);
             fits += 1;
             if c < upper {
                 upper = c;
-                at = t_c.clone();
+                at = t_c;
                 if low >= target(upper) {
                     closed_low = closed_low.min(low);
                     continue;
                 }
             }
         }
-        let proved: HashMap<Leaf, (f64, Option<bound::Multipliers>)> = bounded.into_iter().collect();
+        let proved: Proved = b.proved.into_iter().collect();
         // Halve the widest side (e_m's range counts as one unit).
         let mut widest = (0usize, -1.0);
         for i in 0..k {
@@ -272,22 +356,12 @@ pub(crate) fn prove(
         }
         let inherited = std::sync::Arc::new(proved);
         let em_width = node.em[1] - node.em[0];
-        // An e_m interval with a pole of the ratios inside (their ranges unbounded, or the
-        // sign of kappa open) is split there first (at the centre's pole).
-        let open = !(relax.rho_a[0].is_finite() && relax.rho_a[1].is_finite())
-            || !(relax.rho_b[0].is_finite() && relax.rho_b[1].is_finite())
-            || relax.kappas.len() > 1;
-        let poles = forms.poles(&MonoBox::new(&pc.map(Iv::point)), node.em);
-        let pole = poles
-            .iter()
-            .copied()
-            .find(|&e| e > node.em[0] + 1e-3 * em_width && e < node.em[1] - 1e-3 * em_width);
         if branch == MomentBranch::Free
             && em_width > 1e-9
-            && ((open && pole.is_some()) || em_width > widest.1)
+            && ((b.open && b.pole.is_some()) || em_width > widest.1)
         {
-            let mid = match pole {
-                Some(e) if open => e,
+            let mid = match b.pole {
+                Some(e) if b.open => e,
                 _ => 0.5 * (node.em[0] + node.em[1]),
             };
             for em in [[node.em[0], mid], [mid, node.em[1]]] {
@@ -336,3 +410,6 @@ pub(crate) fn prove(
         closed,
     })
 }
+
+#[cfg(test)]
+mod tests;

@@ -313,7 +313,10 @@ mod tests {
     fn close(a: &[f64; 12], f: &RowVector6<f64>, g: &RowVector6<f64>) {
         for k in 0..6 {
             assert!((a[k] - g[k]).abs() < 1e-9 * (1.0 + g[k].abs()), "{a:?} {g}");
-            assert!((a[6 + k] - f[k]).abs() < 1e-9 * (1.0 + f[k].abs()), "{a:?} {f}");
+            assert!(
+                (a[6 + k] - f[k]).abs() < 1e-9 * (1.0 + f[k].abs()),
+                "{a:?} {f}"
+            );
         }
     }
 
@@ -337,10 +340,11 @@ mod tests {
             close(&qn.at(&m), &pn, &-pn);
             close(&qt.at(&m), &pt, &-pt);
             let mom = rows::momentum(&k);
-            for (poly, row) in mom
-                .iter()
-                .zip([eq::momentum_x(&i), eq::momentum_y(&i), eq::angular_momentum(&i)])
-            {
+            for (poly, row) in mom.iter().zip([
+                eq::momentum_x(&i),
+                eq::momentum_y(&i),
+                eq::angular_momentum(&i),
+            ]) {
                 close(&poly.at(&m), &row.0, &row.1);
             }
             let b = eq::moment_b_row(&i);
@@ -354,7 +358,13 @@ mod tests {
     fn a_row_over_a_box_contains_it_at_every_point_and_so_does_its_derivative() {
         let row = rows::normal(Over::Contact)
             .add(&rows::tangential(Over::Separation), 0.7)
-            .add(&rows::moment_b(&Inertia { m: [1500.0, 1100.0], i: [2500.0, 1800.0] }), -0.3);
+            .add(
+                &rows::moment_b(&Inertia {
+                    m: [1500.0, 1100.0],
+                    i: [2500.0, 1800.0],
+                }),
+                -0.3,
+            );
         let ps = [
             Iv::new(0.1, 0.4),
             Iv::new(-1.0, -0.6),
