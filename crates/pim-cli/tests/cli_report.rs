@@ -300,10 +300,9 @@ fn uncertainty_out_writes_the_report_with_its_ranges() {
 }
 
 /// A fit with the impact geometry among the unknowns: the report gives each estimated input
-/// (the JSON's value, its range and bounds) and says what is proven and what is not, as the
-/// table output does.
+/// (the JSON's value, its range and bounds) and says what is proven, as the table output does.
 #[test]
-fn the_report_of_a_geometry_fit_names_the_geometry_and_what_is_not_proven() {
+fn the_report_of_a_geometry_fit_names_the_geometry_and_what_is_proven() {
     let case = "examples/cases/ricsac6_geometry.toml";
     let (dir, html, json) = report("geometry", case, &["--cost", "q2"]);
     let ranges = best(&json)["geometry"]["ranges"].as_array().unwrap();
@@ -321,9 +320,22 @@ fn the_report_of_a_geometry_fit_names_the_geometry_and_what_is_not_proven() {
             "{name} {shown}"
         );
     }
-    assert!(html.contains("the best point over the geometry is the best found, not proven"));
-    assert!(html.contains("the geometry itself is the best found"));
+    // RICSAC 6 under Q2: the optimum over the geometry box is proven (the JSON's proof, the
+    // report's words and the table's).
+    let proof = &best(&json)["geometry"]["search"]["proof"];
+    assert_eq!(proof["status"], "proven");
+    let lower = proof["lower"].as_f64().unwrap();
+    let cost = best(&json)["cost"].as_f64().unwrap();
+    assert!(
+        lower <= cost && cost - lower <= 1e-4 * cost,
+        "{lower} {cost}"
+    );
+    let proven = "the geometry is proven optimal over its bounds to a relative 1e-4 of the cost";
+    assert!(html.contains(&format!(
+        "What is proven: the coefficients are optimal at the reported geometry; {proven}"
+    )));
+    assert!(!html.contains("not proven"));
     check_in_chromium(&dir.join("report.html"));
     let table = String::from_utf8(pim_ok(&["fit", case, "--cost", "q2"]).stdout).unwrap();
-    assert!(table.contains("the geometry is the best found over its bounds, not proven"));
+    assert!(table.contains(proven), "{table}");
 }

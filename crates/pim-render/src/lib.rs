@@ -26,6 +26,7 @@
 pub mod batch_tables;
 pub mod diagram;
 pub mod figures;
+mod geometry_lines;
 pub mod momentum;
 pub mod predict_figure;
 pub mod report;

@@ -1,5 +1,6 @@
 //! Human-readable tables of `pim solve`, `pim sensitivity` and `pim fit`.
 
+use crate::geometry_lines::geometry_block;
 use pim_core::Convention;
 use pim_core::ImpactReport;
 use pim_core::SensitivityStudy;
@@ -509,67 +510,6 @@ fn tangential_lines(s: &mut String, e: f64, t: &pim_fit::TangentialFit) {
             );
         }
     }
-}
-
-/// The estimated geometry of a branch: each input with its range, and the search over it.
-fn geometry_block(s: &mut String, g: &pim_fit::GeometryEstimate, u: UnitSystem, cost: Option<f64>) {
-    let unit = u.length_label();
-    let _ = writeln!(
-        s,
-        "  geometry: vehicle 1 d {:.3} {unit} phi {:.2} deg, vehicle 2 d {:.3} {unit} phi {:.2} deg, \
-         crush angle {:.2} deg",
-        u.length(g.vehicle1.d),
-        g.vehicle1.phi,
-        u.length(g.vehicle2.d),
-        g.vehicle2.phi,
-        g.crush_angle
-    );
-    for r in &g.ranges {
-        let (f, unit): (&dyn Fn(f64) -> f64, &str) =
-            if pim_fit::GeometryInput::name_is_length(&r.input) {
-                (&|x| u.length(x), unit)
-            } else {
-                (&|x| x, "deg")
-            };
-        let mut flags = Vec::new();
-        if r.at_bound {
-            flags.push("on a bound");
-        }
-        if !r.identifiable {
-            flags.push("not pinned down");
-        }
-        let _ = writeln!(
-            s,
-            "    {:<24} {:>13}  within {:.0} % of the optimum: {:.3} .. {:.3}  (bounds \
-             {:.3} .. {:.3}){}",
-            r.input,
-            format!("{:.3} {unit}", f(r.value)),
-            r.tolerance * 100.0,
-            f(r.low),
-            f(r.high),
-            f(r.bounds[0]),
-            f(r.bounds[1]),
-            if flags.is_empty() {
-                String::new()
-            } else {
-                format!("; {}", flags.join(", "))
-            }
-        );
-    }
-    let _ = writeln!(
-        s,
-        "  geometry search: {} grid points ({} per input), {} refinements, {} fits; {}; {}",
-        g.search.grid_points,
-        g.search.points_per_input,
-        g.search.refinements,
-        g.search.fits,
-        if cost.is_some() {
-            "the coefficients are proven optimal at this geometry"
-        } else {
-            "no coefficients admit an answer at this geometry"
-        },
-        g.search.proof.statement(cost)
-    );
 }
 
 /// The line that names a model other than PIM and says what it did, before PIM's equivalent

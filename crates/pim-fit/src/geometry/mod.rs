@@ -477,10 +477,12 @@ fn prove(
     } else {
         certify::MAX_BOXES_NO_ANSWER
     };
+    let absolute = certify::ABSOLUTE * (1.0 + crate::inner::data_scale_of(search.problem));
     let not = |reason: String| GeometryProof {
         status: ProofStatus::NotAttempted,
         lower: None,
         tolerance: certify::TOLERANCE,
+        absolute,
         boxes: 0,
         reason: Some(reason),
     };
@@ -494,12 +496,12 @@ fn prove(
                 (true, false) => ProofStatus::ProvenInfeasible,
                 (false, _) => ProofStatus::Bounded,
             };
-            let reason = (!p.closed)
-                .then(|| format!("the branch-and-bound stopped at its limit of {limit} boxes"));
+            let reason = p.reason.clone();
             let proof = GeometryProof {
                 status,
                 lower: Some(p.lower),
                 tolerance: certify::TOLERANCE,
+                absolute,
                 boxes: p.boxes,
                 reason,
             };

@@ -186,8 +186,12 @@ pub struct GeometryProof {
     /// A proven lower bound of the branch's optimal cost over the whole box (`None` when not
     /// attempted; infinite when no geometry admits an answer).
     pub lower: Option<f64>,
-    /// The relative tolerance of "proven": the reported cost is at most `lower (1 + tol)`.
+    /// The tolerance of "proven": the reported cost exceeds `lower` by at most
+    /// `max(tolerance cost, absolute)`.
     pub tolerance: f64,
+    /// The absolute floor of the tolerance, in units of the cost: 1e-6 of `1 + sum w t^2` of the
+    /// data (the fit's own floor for comparing costs).
+    pub absolute: f64,
     /// Boxes bounded.
     pub boxes: usize,
     /// Why the proof was not attempted or stopped.
@@ -200,9 +204,10 @@ impl GeometryProof {
         let lower = self.lower.unwrap_or(f64::NEG_INFINITY);
         match self.status {
             ProofStatus::Proven => format!(
-                "the geometry is proven optimal over its bounds to a relative {:e} of the cost \
-                 (lower bound {lower:.6}; branch-and-bound over {} boxes)",
-                self.tolerance, self.boxes
+                "the geometry is proven optimal over its bounds to a relative {:e} of the cost or \
+                 {:.1e} absolute, whichever is larger (lower bound {lower:.6}; branch-and-bound \
+                 over {} boxes)",
+                self.tolerance, self.absolute, self.boxes
             ),
             ProofStatus::ProvenInfeasible => format!(
                 "no geometry within the bounds admits an answer (proven over {} boxes)",

@@ -19,6 +19,9 @@
 //! the square of the box's size. Every quantity of the bound is evaluated in interval
 //! arithmetic; the multipliers need not be exact (any choice gives a valid bound).
 
+// Dense linear algebra on index ranges reads best with explicit indices.
+#![allow(clippy::needless_range_loop)]
+
 use super::interval::Iv;
 use super::poly::{monomials, MonoBox, Poly};
 use crate::convex::dual::{self, Outcome, Row, N};
@@ -30,7 +33,7 @@ use clarabel::solver::{
 use nalgebra::{DMatrix, DVector};
 
 /// The cost `U'HU - 2g'U + c0` with H diagonal, and the components known exactly.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct Cost {
     pub h: [f64; 12],
     pub g: [f64; 12],
@@ -38,6 +41,8 @@ pub(crate) struct Cost {
     pub known: [Option<f64>; 12],
     /// The velocity bounds `|U_k| <= limit_k`: the domain of the Lagrangian's minimisation.
     pub limit: [f64; 12],
+    /// Interior-point solves run (the proof's budget counts them).
+    pub solves: std::sync::atomic::AtomicUsize,
 }
 
 /// The box: its centre's geometry, its enclosures and the half-widths of its inputs.
@@ -211,7 +216,8 @@ impl Cost {
         if n == 0 || sc <= 0.0 {
             return Duals::None;
         }
-
+        self.solves
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let known = |a: &[f64; 12]| -> f64 {
             (0..12)
                 .filter_map(|k| self.known[k].map(|v| a[k] * v))

@@ -9,7 +9,6 @@
 //! against them at random geometries in the tests.
 
 use super::interval::Iv;
-use pim_core::MomentForm;
 
 /// Number of monomials.
 pub(crate) const M: usize = 15;
@@ -179,7 +178,9 @@ impl Poly {
 
 /// The rows of the equations.
 pub(crate) mod rows {
-    use super::*;
+    use crate::geometry::certify::poly::{c, sum, Inertia, Over, Poly, C, ONE, S};
+    use crate::geometry::certify::poly::{lever, lever_c, lever_s, M};
+    use pim_core::MomentForm;
 
     /// The normal relative velocity at C, `vn = n . x` (pim-core's `normal_velocity_row`).
     pub fn normal(over: Over) -> Poly {
@@ -278,6 +279,7 @@ mod tests {
     use super::*;
     use nalgebra::RowVector6;
     use pim_core::equations as eq;
+    use pim_core::MomentForm;
     use pim_core::{Collision, Impact, Vehicle};
 
     fn impact(seed: u64) -> Impact {

@@ -8,6 +8,8 @@ use crate::report::Status;
 use nalgebra::Vector6;
 use pim_core::{Collision, Vehicle, Velocities};
 
+// -3.14 rad/s is the case's yaw rate, not pi.
+#[allow(clippy::approx_constant)]
 fn problem(preset: CostPreset) -> FitProblem {
     let v = |mass: f64, yaw_inertia: f64, heading: f64, d: f64, phi: f64| Vehicle {
         mass,
