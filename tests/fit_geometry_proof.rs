@@ -207,6 +207,6 @@ fn random_crashes_proofs_hold_against_sampled_geometries() {
         n += 1;
     }
     println!("{n} crashes: {proven} branches proven, {bounded} bounded");
-    // Measured: 22 of 24 proven; the other two stop at the solver budget with their gap.
+    // Measured: 22 of 24 proven; the other two stop at the box budget with their gap.
     assert!(proven >= 20, "{proven} proven, {bounded} bounded");
 }

@@ -30,7 +30,9 @@
 //!   │                                                   ▼                      ▼
 //!   └──> branch::report: pim-core's analyse/solve_tangential check, status,
 //!        ranges, Certificate { method: Method { route, fallback, description } }
-//! geometry (fit_geometry): fit() at every geometry point of a box; its estimate types in
+//! geometry (fit_geometry): fit() at every geometry point of a box, then the proof over the box
+//! (geometry/certify: PIM's convex pieces as rows with polynomial entries in the geometry,
+//! bounded by weak duality and interval arithmetic, branch-and-bound); its estimate types in
 //! geometry/types.rs. report.rs and certificate.rs hold the public result types; settings.rs
 //! every tolerance with its default; problem.rs the data and cost presets.
 //! ```

@@ -13,14 +13,18 @@
 //! 2. Nelder-Mead (argmin) over the box, scaled to the unit cube, from the best grid point, from
 //!    the case's geometry and from the other local minima of the grid (up to four starts per
 //!    branch), each of its points a complete fit of that branch;
-//! 3. scans along each input through the optimum (nine points across its whole range) for the
+//! 3. the proof ([`certify`]): a branch-and-bound over boxes of the inputs that bounds each
+//!    box's optimal cost from below by weak duality, until every box is within the tolerance of
+//!    the best cost (a box's centre that fits better replaces the best point);
+//! 4. scans along each input through the optimum (nine points across its whole range) for the
 //!    identifiability ranges: the values whose cost is within the identifiability tolerance.
 //!
-//! The optimum is global in the coefficients at every geometry point; over the geometry it is
-//! the best of the grid and of the refinements, which [`GeometrySearch`] records: the cost
-//! `Q*(g)` is not convex in the geometry, and no bound on it between grid points is proven.
-//! The reported branch is the full fit (with its own certificate and coefficient ranges) at the
-//! branch's best geometry.
+//! The optimum is global in the coefficients at every geometry point. The cost `Q*(g)` is not
+//! convex in the geometry; over it the optimum is proven where [`GeometryProof`] says
+//! `proven` (a relative 1e-4 of the cost, or 1e-6 of the data's `1 + sum w t^2` when larger),
+//! and otherwise the best found with the proven lower bound (`bounded`) or without one
+//! (`not_attempted`, and why). The reported branch is the full fit (with its own certificate and
+//! coefficient ranges) at the branch's best geometry.
 
 use crate::error::{FitError, Result};
 use crate::problem::{FitProblem, MomentBranch};

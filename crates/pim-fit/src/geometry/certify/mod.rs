@@ -63,6 +63,9 @@ pub(crate) struct Proof {
 /// Boxes bounded before the branch-and-bound stops (RICSAC 6's five inputs take 150-5,200).
 pub(crate) const MAX_BOXES: usize = 20_000;
 
+/// Complete fits at the centres of open boxes (best first), to lower the best cost.
+pub(crate) const MAX_FITS: usize = 1_000;
+
 /// Interior-point solves (for pieces empty at a box's centre) before it stops: they cost about
 /// 0.1 ms each, the dual active-set solves of the other pieces a few microseconds.
 pub(crate) const MAX_SOLVES: usize = 30_000;
@@ -343,8 +346,9 @@ pub(crate) fn prove(
             continue;
         }
         // An open box: its centre's complete fit may lower the best cost (once per geometry
-        // box; an e_m half shares its parent's centre).
-        if !node.fitted {
+        // box, an e_m half sharing its parent's centre; at most MAX_FITS, as a fit that falls
+        // back to the grid search takes tens of milliseconds).
+        if !node.fitted && fits < MAX_FITS {
             let t_c: Vec<f64> = node
                 .lo
                 .iter()
