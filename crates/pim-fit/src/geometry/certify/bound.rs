@@ -553,11 +553,11 @@ fn combine(eqs: &[Poly], rows: &[(Poly, f64)], nu: &[f64], lambda: &[f64]) -> (P
     let mut r = Poly::zero();
     let mut lb = 0.0;
     for (e, &v) in eqs.iter().zip(nu) {
-        r = r.add(e, v);
+        r.add_in(e, v);
     }
     for ((row, rhs), &l) in rows.iter().zip(lambda) {
         if l != 0.0 {
-            r = r.add(row, l);
+            r.add_in(row, l);
             lb += l * rhs;
         }
     }

@@ -30,7 +30,6 @@ use interval::Iv;
 use leaf::{Forms, Leaf};
 use pim_core::Impact;
 use poly::{Inertia, MonoBox};
-use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::atomic::Ordering::Relaxed;
@@ -64,7 +63,7 @@ pub(crate) struct Proof {
 pub(crate) const MAX_BOXES: usize = 20_000;
 
 /// Complete fits at the centres of open boxes (best first), to lower the best cost.
-pub(crate) const MAX_FITS: usize = 1_000;
+pub(crate) const MAX_FITS: usize = 256;
 
 /// Interior-point solves (for pieces empty at a box's centre) before it stops: they cost about
 /// 0.1 ms each, the dual active-set solves of the other pieces a few microseconds.
@@ -246,7 +245,7 @@ impl<'a> Context<'a> {
         let proved: Vec<(Leaf, (f64, Option<bound::Multipliers>))> = self
             .forms
             .leaves(&relax, self.branch)
-            .into_par_iter()
+            .into_iter()
             .map(|leaf| {
                 let b = match inherited.get(&leaf) {
                     Some((b, m)) if *b >= goal => (*b, m.clone()),

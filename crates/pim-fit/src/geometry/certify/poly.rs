@@ -136,12 +136,17 @@ impl Poly {
     /// `self + k other`.
     pub fn add(&self, other: &Poly, k: f64) -> Poly {
         let mut p = *self;
-        for (a, b) in p.0.iter_mut().zip(&other.0) {
+        p.add_in(other, k);
+        p
+    }
+
+    /// `self += k other`.
+    pub fn add_in(&mut self, other: &Poly, k: f64) {
+        for (a, b) in self.0.iter_mut().zip(&other.0) {
             for (x, y) in a.iter_mut().zip(b) {
                 *x += k * y;
             }
         }
-        p
     }
 
     /// `k self`.
