@@ -489,12 +489,12 @@ pub fn run(
             undetermined[3..].iter_mut().for_each(|u| *u = true);
         }
     }
-    // A draw needs only its optimum, not the identifiability ranges of its branches, and its
-    // optimum only to a precision well below the spread of the draws: the compass polish stops
-    // at 1e-5 of the coefficient box instead of 1e-7 (e to 2e-6, mu to 2.4e-5 with the default
-    // box). The global search (grid, starts) is the nominal fit's.
+    // A draw needs only its optimum (no identifiability ranges, no proof over a geometry box),
+    // to a precision well below the spread of the draws: the compass polish stops at 1e-5 of
+    // the coefficient box instead of 1e-7 (e to 2e-6, mu to 2.4e-5 with the default box).
     let mut draw_settings = FitSettings {
         ranges: false,
+        geometry_proof: false,
         ..settings.get().clone()
     };
     draw_settings.search.polish_last_step = DRAW_POLISH_LAST_STEP;

@@ -93,6 +93,11 @@ pub struct FitSettings {
     /// report no ranges, and the optimum is the same.
     #[serde(default = "yes")]
     pub ranges: bool,
+    /// Prove the optimum over the geometry box when geometry inputs are estimated (default
+    /// true; see [`crate::GeometryProof`]). A fit that needs only its best point, such as an
+    /// uncertainty draw, turns it off: the geometry is then the best found, and says so.
+    #[serde(default = "yes")]
+    pub geometry_proof: bool,
     /// Tolerances and limits of the search itself.
     #[serde(default)]
     pub search: SearchSettings,
@@ -114,6 +119,7 @@ impl Default for FitSettings {
             grid: [5, 17, 6],
             identifiability_tolerance: 0.01,
             ranges: true,
+            geometry_proof: true,
             search: SearchSettings::default(),
         }
     }

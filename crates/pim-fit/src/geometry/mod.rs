@@ -490,6 +490,12 @@ fn prove(
         boxes: 0,
         reason: Some(reason),
     };
+    if !settings.get().geometry_proof {
+        return (
+            not("not asked (geometry_proof off, as in an uncertainty draw)".into()),
+            None,
+        );
+    }
     let proof = certify::Context::new(search.problem, search.geometry, settings.get(), branch)
         .and_then(|context| certify::prove(&context, best, &cost_at, limit));
     match proof {
