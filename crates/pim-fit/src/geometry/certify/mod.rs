@@ -5,10 +5,13 @@
 //! geometry's ranges over the box, [`leaf`]) is bounded by the Lagrangian of its own
 //! multipliers at the box's centre, enclosed over the box by the mean-value form ([`bound`]);
 //! the box's bound is the least of its pieces'. A box whose bound is within the tolerance of
-//! the best cost found is closed; otherwise it is halved along its widest side. The best cost
-//! comes from complete fits at the boxes' centres (and from the search before), so when every
-//! box is closed the best point is proven optimal over the whole box to the tolerance. A piece
-//! whose bound already closes a box keeps it for the halves (their pieces are contained in it).
+//! the best cost found is closed; otherwise it is halved along its widest side, or, in the
+//! free branch, at the e_m where the centre's line of impulses has a pole of its ratios when
+//! the box's e_m interval holds one. The best cost comes from complete fits at the centres of
+//! open boxes (and from the search before), so when every box is closed the best point is
+//! proven optimal over the whole box to the tolerance. A piece whose bound already closes a box
+//! keeps it (and its multipliers) for the halves (their pieces are contained in it). Budgets:
+//! [`MAX_BOXES`], [`MAX_SOLVES`], [`MAX_FITS`], [`MAX_BOXES_NO_ANSWER`].
 //!
 //! The bound needs a cost that is strictly convex in the free components and couples none of
 //! them (Q1, Q2, Q3 and weighted estimates; observations such as delta-V couple components)
