@@ -481,7 +481,7 @@ fn prove(
     } else {
         certify::MAX_BOXES_NO_ANSWER
     };
-    let absolute = certify::ABSOLUTE * (1.0 + crate::inner::data_scale_of(search.problem));
+    let absolute = certify::absolute_tolerance(search.problem);
     let not = |reason: String| GeometryProof {
         status: ProofStatus::NotAttempted,
         lower: None,
@@ -506,14 +506,13 @@ fn prove(
                 (true, false) => ProofStatus::ProvenInfeasible,
                 (false, _) => ProofStatus::Bounded,
             };
-            let reason = p.reason.clone();
             let proof = GeometryProof {
                 status,
                 lower: Some(p.lower),
                 tolerance: certify::TOLERANCE,
                 absolute,
                 boxes: p.boxes,
-                reason,
+                reason: p.reason,
             };
             (proof, Some((p.at, p.upper, p.fits)))
         }

@@ -1,23 +1,31 @@
 //! A lower bound of one piece's optimal cost over a box of geometries, by weak duality.
 //!
 //! The piece is `min cost(U)` subject to `E(p) U = 0` (equations 1-3, and B = 0 in the zero
-//! branch), `A(p) U >= b` (its rows) and the known components, with the cost
-//! `U'HU - 2g'U + c0` (H diagonal, every free component weighted). For any multipliers
-//! `lambda >= 0` and `nu`, the Lagrangian's minimum over the free components,
+//! branch), `A(p) U >= b` (its rows), the known components and the velocity bounds
+//! `|U_k| <= limit_k`, with the cost `U'HU - 2g'U + c0` (H diagonal, every free component
+//! weighted). For any multipliers `lambda >= 0` and `nu`, the Lagrangian's minimum over the
+//! free components within their bounds,
 //!
 //! ```text
 //! phi(p) = c0 + lambda'b + sum_known (H_kk U_k^2 - 2 g_k U_k - r_k U_k)
-//!          - sum_free (g_f + r_f / 2)^2 / H_ff,        r(p) = A(p)'lambda + E(p)'nu,
+//!          + sum_free min_{|u| <= limit} (H_ff u^2 - (2 g_f + r_f) u),
+//!          r(p) = A(p)'lambda + E(p)'nu,
 //! ```
 //!
 //! is below the piece's optimum at p (weak duality). The multipliers are the piece's own at the
-//! box's centre (from clarabel; for an empty piece its certificate of infeasibility, scaled), so
-//! that phi equals the optimum there, and over the box phi is bounded by the mean-value form:
-//! `phi(u) >= phi(u_c) - sum_i h_i max |d phi / d u_i|`, where `d phi / d p_j = -U(p)' dr/dp_j`
-//! (U(p) the Lagrangian's minimiser) and `dp / du` come from the box's interval enclosures.
-//! Near the optimum over the geometry the derivative is small, so the bound's gap shrinks with
-//! the square of the box's size. Every quantity of the bound is evaluated in interval
-//! arithmetic; the multipliers need not be exact (any choice gives a valid bound).
+//! box's centre (the dual active-set solver's over the null space of the equalities; clarabel
+//! where that does not decide, and for a piece empty at the centre its certificate, scaled, or
+//! the multipliers of the piece with its rows made elastic), so that phi equals the optimum
+//! there. Over the box phi is bounded by the mean-value form `phi(u) >= phi(xi) + grad
+//! phi(eta) . (u - xi)`, with `d phi / d p_j = -U(p)' dr/dp_j` (U(p) the Lagrangian's
+//! minimiser, within the bounds) and `dp / du` from the box's interval enclosures, expanded at
+//! the point xi of the box where each input whose derivative keeps its sign over the box sits
+//! at the end that makes its term non-negative (the others at the centre, costing
+//! `h_i max |d phi / d u_i|`). Near the optimum over the geometry the derivative is small, so the
+//! bound's gap shrinks with the square of the box's size. Every quantity of the bound is
+//! evaluated in interval arithmetic; the multipliers need not be exact (any choice gives a
+//! valid bound). A piece is proven empty over the whole box when its certificate gives
+//! `max over the bounds of r(p).U < lambda'b` at every p of the box.
 
 // Dense linear algebra on index ranges reads best with explicit indices.
 #![allow(clippy::needless_range_loop)]
@@ -372,7 +380,7 @@ impl Cost {
         lambda: &[f64],
         at: &Around<'_>,
     ) -> bool {
-        let (r, lb) = combine(eqs, rows, nu, lambda);
+        let (r, lb, size) = combine(eqs, rows, nu, lambda);
         let rb = r.over(at.mono);
         let mut most = Iv::point(0.0);
         for k in 0..12 {
@@ -382,13 +390,7 @@ impl Cost {
                     None => Iv::point(rb[k].mag()).scale(self.limit[k]),
                 };
         }
-        let margin = 1e-12
-            * rows
-                .iter()
-                .zip(lambda)
-                .map(|((_, b), l)| (l * b).abs())
-                .sum::<f64>();
-        most.hi < lb - margin
+        most.hi < lb - 1e-12 * size
     }
 
     /// The bound of multipliers `(nu, lambda)` over the box.
@@ -400,15 +402,10 @@ impl Cost {
         lambda: &[f64],
         at: &Around<'_>,
     ) -> f64 {
-        let (r, lb) = combine(eqs, rows, nu, lambda);
         // lambda'b is a sum of products: bounded below by its value less a relative margin
-        // for its rounding.
-        let lb_margin = 1e-14
-            * rows
-                .iter()
-                .zip(lambda)
-                .map(|((_, b), l)| (l * b).abs())
-                .sum::<f64>();
+        // of their magnitudes for its rounding.
+        let (r, lb, size) = combine(eqs, rows, nu, lambda);
+        let lb_margin = 1e-14 * size;
         // U(p) over the box: U_f = (g_f + r_f / 2) / H_ff, U_k known.
         let u = self.minimiser(&r.over(at.mono));
         let dphi: [Iv; 6] = std::array::from_fn(|j| {
@@ -471,7 +468,6 @@ impl Cost {
             }
         }
         let m = monomials(&at.centre);
-        let eqs_c: Vec<[f64; 12]> = eqs.iter().map(|e| e.at(&m)).collect();
         let rows_c: Vec<([f64; 12], f64)> = rows.iter().map(|(r, b)| (r.at(&m), *b)).collect();
         let keep =
             |nu: Vec<f64>, lambda: Vec<f64>, empty: bool| Some(Multipliers { nu, lambda, empty });
@@ -479,6 +475,7 @@ impl Cost {
             let b = self.bound_of(eqs, rows, &nu, &lambda, at).max(floor);
             return (b, keep(nu, lambda, false));
         }
+        let eqs_c: Vec<[f64; 12]> = eqs.iter().map(|e| e.at(&m)).collect();
         match self.duals(&eqs_c, &rows_c, None) {
             Duals::Optimal(nu, lambda) => {
                 let b = self.bound_of(eqs, rows, &nu, &lambda, at).max(floor);
@@ -548,10 +545,11 @@ pub(crate) struct Multipliers {
     empty: bool,
 }
 
-/// `r = E'nu + A'lambda` as a row, and `lambda'b`.
-fn combine(eqs: &[Poly], rows: &[(Poly, f64)], nu: &[f64], lambda: &[f64]) -> (Poly, f64) {
+/// `r = E'nu + A'lambda` as a row, `lambda'b`, and `sum |lambda_i b_i|` (the scale of the
+/// rounding of `lambda'b`).
+fn combine(eqs: &[Poly], rows: &[(Poly, f64)], nu: &[f64], lambda: &[f64]) -> (Poly, f64, f64) {
     let mut r = Poly::zero();
-    let mut lb = 0.0;
+    let (mut lb, mut size) = (0.0, 0.0);
     for (e, &v) in eqs.iter().zip(nu) {
         r.add_in(e, v);
     }
@@ -559,7 +557,8 @@ fn combine(eqs: &[Poly], rows: &[(Poly, f64)], nu: &[f64], lambda: &[f64]) -> (P
         if l != 0.0 {
             r.add_in(row, l);
             lb += l * rhs;
+            size += (l * rhs).abs();
         }
     }
-    (r, lb)
+    (r, lb, size)
 }

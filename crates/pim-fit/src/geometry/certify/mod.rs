@@ -43,7 +43,7 @@ use std::sync::atomic::Ordering::Relaxed;
 pub(crate) const TOLERANCE: f64 = 1e-4;
 
 /// The absolute floor of the tolerance, per unit of `1 + sum w t^2` of the data.
-pub(crate) const ABSOLUTE: f64 = 1e-6;
+const ABSOLUTE: f64 = 1e-6;
 
 /// What the branch-and-bound proved.
 #[derive(Debug, Clone, PartialEq)]
@@ -77,8 +77,14 @@ pub(crate) const MAX_SOLVES: usize = 30_000;
 /// which the bound leaves out) never closes; the effort is kept small.
 pub(crate) const MAX_BOXES_NO_ANSWER: usize = 100;
 
-/// Why a problem's geometry is not proven.
-pub(crate) fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Option<&'static str> {
+/// The absolute floor of the tolerance for a problem: [`ABSOLUTE`] times `1 + sum w t^2`.
+pub(crate) fn absolute_tolerance(problem: &FitProblem) -> f64 {
+    ABSOLUTE * (1.0 + crate::inner::data_scale_of(problem))
+}
+
+/// Why a problem's geometry is not proven, as far as its model and collision say (its cost is
+/// asked of [`cost_of`]).
+fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Option<&'static str> {
     if problem.impact.is_barrier() {
         return Some("a barrier");
     }
@@ -88,14 +94,11 @@ pub(crate) fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Optio
     if !settings.mu_max_condition {
         return Some("the mu <= mu_max condition is off");
     }
-    match cost_of(problem) {
-        Some(_) => None,
-        None => {
-            Some("the cost couples components (observations) or leaves a free component unweighted")
-        }
-    }
+    None
 }
 
+/// The cost as the bound needs it: `None` when it couples components (observations) or leaves
+/// a free component unweighted.
 fn cost_of(problem: &FitProblem) -> Option<Cost> {
     let (hu, gu, c0, fixed) = crate::inner::quadratic_of(problem);
     let mut known = [None; 12];
@@ -120,7 +123,7 @@ struct Node {
     lo: Vec<f64>,
     hi: Vec<f64>,
     em: [f64; 2],
-    inherited: std::sync::Arc<HashMap<Leaf, (f64, Option<bound::Multipliers>)>>,
+    inherited: std::sync::Arc<Proved>,
     bound: f64,
     /// Whether the centre's geometry was fitted already (an e_m half of its parent).
     fitted: bool,
@@ -144,6 +147,11 @@ impl Ord for Node {
     }
 }
 
+/// The centre of the box `[lo, hi]`.
+fn centre(lo: &[f64], hi: &[f64]) -> Vec<f64> {
+    lo.iter().zip(hi).map(|(a, b)| 0.5 * (a + b)).collect()
+}
+
 /// Inherited bounds (and multipliers) of a box's pieces.
 type Proved = HashMap<Leaf, (f64, Option<bound::Multipliers>)>;
 
@@ -159,13 +167,13 @@ pub(crate) struct Context<'a> {
     pub floor: f64,
 }
 
-/// A box's bound: the least of its pieces' (each with its multipliers), and the numbers the
-/// split needs.
+/// A box's bound: the least of its pieces' (each with its multipliers), and where to split
+/// its e_m interval (the centre's pole of the ratios, when the interval holds one that leaves
+/// the ratios unbounded over the box).
 pub(crate) struct BoxBound {
     pub low: f64,
     proved: Vec<(Leaf, (f64, Option<bound::Multipliers>))>,
     pole: Option<f64>,
-    open: bool,
 }
 
 impl<'a> Context<'a> {
@@ -187,7 +195,9 @@ impl<'a> Context<'a> {
             },
             settings,
         );
-        let mut cost = cost_of(problem).ok_or("the cost is not one the bound is written for")?;
+        let mut cost = cost_of(problem).ok_or(
+            "the cost couples components (observations) or leaves a free component unweighted",
+        )?;
         cost.limit = forms.limits();
         Ok(Context {
             geometry,
@@ -196,7 +206,7 @@ impl<'a> Context<'a> {
             eqs: forms.equalities(branch),
             forms,
             enclosure: Enclosure::new(impact.collision(), geometry),
-            floor: ABSOLUTE * (1.0 + crate::inner::data_scale_of(problem)),
+            floor: absolute_tolerance(problem),
         })
     }
 
@@ -220,9 +230,8 @@ impl<'a> Context<'a> {
         goal: f64,
         inherited: &Proved,
     ) -> Result<BoxBound, String> {
-        let t_c: Vec<f64> = lo.iter().zip(hi).map(|(a, b)| 0.5 * (a + b)).collect();
         let (plo, phi) = (self.physical(lo), self.physical(hi));
-        let u_c = self.physical(&t_c);
+        let u_c = self.physical(&centre(lo, hi));
         let half: Vec<f64> = plo.iter().zip(&phi).map(|(a, b)| 0.5 * (b - a)).collect();
         let p_at = |u: &[f64]| -> Option<[f64; 6]> {
             let i = Impact::new(self.enclosure.collision(u)).ok()?;
@@ -278,19 +287,14 @@ impl<'a> Context<'a> {
             || relax.kappas.len() > 1;
         let width = em[1] - em[0];
         let pole = match self.branch {
-            MomentBranch::Zero => None,
-            MomentBranch::Free => self
+            MomentBranch::Free if open => self
                 .forms
                 .poles(&MonoBox::new(&pc.map(Iv::point)), em)
                 .into_iter()
                 .find(|&e| e > em[0] + 1e-3 * width && e < em[1] - 1e-3 * width),
+            _ => None,
         };
-        Ok(BoxBound {
-            low,
-            proved,
-            pole,
-            open,
-        })
+        Ok(BoxBound { low, proved, pole })
     }
 }
 
@@ -351,12 +355,7 @@ pub(crate) fn prove(
         // box, an e_m half sharing its parent's centre; at most MAX_FITS, as a fit that falls
         // back to the grid search takes tens of milliseconds).
         if !node.fitted && fits < MAX_FITS {
-            let t_c: Vec<f64> = node
-                .lo
-                .iter()
-                .zip(&node.hi)
-                .map(|(a, b)| 0.5 * (a + b))
-                .collect();
+            let t_c = centre(&node.lo, &node.hi);
             let c = cost_at(&t_c);
             fits += 1;
             if c < upper {
@@ -381,12 +380,9 @@ pub(crate) fn prove(
         let em_width = node.em[1] - node.em[0];
         if branch == MomentBranch::Free
             && em_width > 1e-9
-            && ((b.open && b.pole.is_some()) || em_width > widest.1)
+            && (b.pole.is_some() || em_width > widest.1)
         {
-            let mid = match b.pole {
-                Some(e) if b.open => e,
-                _ => 0.5 * (node.em[0] + node.em[1]),
-            };
+            let mid = b.pole.unwrap_or(0.5 * (node.em[0] + node.em[1]));
             for em in [[node.em[0], mid], [mid, node.em[1]]] {
                 heap.push(Node {
                     lo: node.lo.clone(),
