@@ -15,7 +15,6 @@
 //!
 //! The independent reference search of `fit_stress.rs` checks the same path on its cases.
 mod common;
-use pim_core::*;
 use pim_fit::*;
 use rand::rngs::StdRng;
 use rand::SeedableRng;
@@ -81,25 +80,8 @@ fn draw(seed: u64) -> Option<FitProblem> {
 }
 
 fn draw_as(seed: u64, preset: CostPreset) -> Option<FitProblem> {
-    let mut rng = StdRng::seed_from_u64(seed);
-    let common::RandomImpact {
-        impact,
-        x,
-        truth,
-        opts,
-        ..
-    } = common::random_impact(&mut rng)?;
-    let r = solve_forward(&impact, &truth, &x, &opts).ok()?;
-    if !r.admissibility.admissible || r.separation.max_speed() > 19.0 {
-        return None;
-    }
-    let (x_est, xf_est) = (
-        common::noisy(&x, &mut rng),
-        common::noisy(&r.separation, &mut rng),
-    );
-    Some(FitProblem::from_preset(
-        impact, preset, &x_est, &xf_est, None,
-    ))
+    let d = common::noisy_draw(&mut StdRng::seed_from_u64(seed))?;
+    Some(FitProblem::from_preset(d.impact, preset, &d.x, &d.xf, None))
 }
 
 #[test]

@@ -86,6 +86,21 @@ fn check(
     (proven, bounded)
 }
 
+/// Each branch's cost and proof, after `label`.
+fn print_proofs(label: &str, report: &FitReport) {
+    for b in &report.branches {
+        let proof = &b.geometry.as_ref().unwrap().search.proof;
+        println!(
+            "{label} {}: cost {:?}, lower {:?}, {} boxes, {:?}",
+            b.moment.name(),
+            b.solution.as_ref().map(|s| s.cost),
+            proof.lower,
+            proof.boxes,
+            proof.status
+        );
+    }
+}
+
 #[test]
 fn ricsac6_five_geometry_inputs_are_proven_under_q2_and_q3() {
     let t = common::ricsac_tests()
@@ -112,17 +127,7 @@ fn ricsac6_five_geometry_inputs_are_proven_under_q2_and_q3() {
         );
         let all = settings(&MomentBranch::ALL, [0.0, 0.45], 20.0, 5.0);
         let report = fit_geometry(&p, &bounds, &all).unwrap();
-        for b in &report.branches {
-            let proof = &b.geometry.as_ref().unwrap().search.proof;
-            println!(
-                "{preset:?} {}: cost {:.6}, lower {:.6}, {} boxes, {:?}",
-                b.moment.name(),
-                b.solution.as_ref().unwrap().cost,
-                proof.lower.unwrap(),
-                proof.boxes,
-                proof.status
-            );
-        }
+        print_proofs(&format!("{preset:?}"), &report);
         let (proven, _) = check(&p, &bounds, &report, &make, 60, &mut rng);
         assert_eq!(proven, 2, "{preset:?}");
     }
@@ -132,29 +137,14 @@ fn ricsac6_five_geometry_inputs_are_proven_under_q2_and_q3() {
 /// and the crush angle around the truth (placed at random within them).
 fn draw(seed: u64) -> Option<(FitProblem, Vec<GeometryBound>)> {
     let mut rng = StdRng::seed_from_u64(seed);
-    let common::RandomImpact {
-        impact,
-        x,
-        truth,
-        opts,
-        ..
-    } = common::random_impact(&mut rng)?;
-    let r = solve_forward(&impact, &truth, &x, &opts).ok()?;
-    let s = r.separation.to_vector();
-    if !r.admissibility.admissible
-        || r.separation.max_speed() > 19.0
-        || s[2].abs().max(s[5].abs()) > 9.0
-    {
+    let d = common::noisy_draw(&mut rng)?;
+    // Yaw rates within the fit's bound of 10 rad/s.
+    let s = d.separation.to_vector();
+    if s[2].abs().max(s[5].abs()) > 9.0 {
         return None;
     }
-    let p = FitProblem::from_preset(
-        impact,
-        CostPreset::Q3,
-        &common::noisy(&x, &mut rng),
-        &common::noisy(&r.separation, &mut rng),
-        None,
-    );
-    let c = impact.collision();
+    let p = FitProblem::from_preset(d.impact, CostPreset::Q3, &d.x, &d.xf, None);
+    let c = d.impact.collision();
     let mut around = |input: GeometryInput, value: f64, width: f64| {
         let a = rng.random_range(0.0..1.0);
         GeometryBound {
@@ -177,36 +167,16 @@ fn random_crashes_proofs_hold_against_sampled_geometries() {
     let all = settings(&MomentBranch::ALL, [0.0, 1.0], 20.0, 10.0);
     let mut rng = StdRng::seed_from_u64(30);
     let (mut proven, mut bounded, mut n) = (0, 0, 0);
-    for (p, g) in (1_000..)
-        .filter_map(draw)
-        .take(std::env::var("TAKE").map_or(12, |v| v.parse().unwrap()))
-    {
+    for (p, g) in (1_000..).filter_map(draw).take(12) {
         let t0 = std::time::Instant::now();
         let report = fit_geometry(&p, &g, &all).unwrap();
-        for b in &report.branches {
-            let proof = &b.geometry.as_ref().unwrap().search.proof;
-            println!(
-                "crash {n} {}: cost {:?}, lower {:?}, {} boxes, {:?} ({:.2?})",
-                b.moment.name(),
-                b.solution.as_ref().map(|s| s.cost),
-                proof.lower,
-                proof.boxes,
-                proof.status,
-                t0.elapsed()
-            );
-            if let Some(x) = &b.solution {
-                println!(
-                    "   e {} mu {} em {} loss {} active {:?}",
-                    x.e, x.mu, x.em, x.energy_loss, b.certificate.method
-                );
-            }
-        }
+        print_proofs(&format!("crash {n} ({:.2?})", t0.elapsed()), &report);
         let (a, b) = check(&p, &g, &report, &make, 25, &mut rng);
         proven += a;
         bounded += b;
         n += 1;
     }
     println!("{n} crashes: {proven} branches proven, {bounded} bounded");
-    // Measured: 22 of 24 proven; the other two stop at the box budget with their gap.
+    // Measured: 21 of 24 proven; the other three stop at the box budget with their gap.
     assert!(proven >= 20, "{proven} proven, {bounded} bounded");
 }

@@ -119,6 +119,40 @@ pub fn noisy(v: &Velocities, rng: &mut rand::rngs::StdRng) -> Velocities {
     Velocities::from_vector(&u)
 }
 
+/// A PIM crash of the forward model with noisy estimates of both states.
+#[allow(dead_code)]
+pub struct NoisyDraw {
+    pub impact: pim_core::Impact,
+    /// The estimates ([`noisy`]) of the contact and separation states.
+    pub x: Velocities,
+    pub xf: Velocities,
+    /// The true separation state.
+    pub separation: Velocities,
+}
+
+/// A crash of [`random_impact`] solved forward, admissible and below 19 m/s at separation,
+/// then the noise on both states, all drawn from `rng` in that order (`None`: draw again).
+#[allow(dead_code)]
+pub fn noisy_draw(rng: &mut rand::rngs::StdRng) -> Option<NoisyDraw> {
+    let RandomImpact {
+        impact,
+        x,
+        truth,
+        opts,
+        ..
+    } = random_impact(rng)?;
+    let r = pim_core::solve_forward(&impact, &truth, &x, &opts).ok()?;
+    if !r.admissibility.admissible || r.separation.max_speed() > 19.0 {
+        return None;
+    }
+    Some(NoisyDraw {
+        impact,
+        x: noisy(&x, rng),
+        xf: noisy(&r.separation, rng),
+        separation: r.separation,
+    })
+}
+
 /// The geometry of RICSAC 9 (Brach 1983 Table 1) as a natural-form case file fragment.
 pub const RICSAC9_GEOMETRY: &str = r#"
 [vehicle1]
