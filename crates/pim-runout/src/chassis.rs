@@ -1,0 +1,297 @@
+//! The vehicle of a run-out: mass, yaw inertia, where its wheels are and what each wheel does.
+
+use crate::error::{Result, RunoutError};
+use serde::{Deserialize, Serialize};
+
+/// Standard gravity, m/s^2 (CGPM 1901; every distance of a sliding run-out scales with
+/// `1 / (mu g)`).
+pub const GRAVITY: f64 = 9.80665;
+
+/// Road friction when a case gives none: 0.7, the middle of the range 0.55-0.80 that Fricke
+/// (Traffic Accident Reconstruction, Northwestern University Traffic Institute, 1990) tabulates
+/// for passenger-car tyres sliding on dry asphalt.
+pub const DEFAULT_FRICTION: f64 = 0.7;
+
+/// Rolling resistance of a free-rolling wheel when a case gives none: 0.015 of its load, the
+/// figure Gillespie (Fundamentals of Vehicle Dynamics, SAE 1992, section 4) gives for passenger
+/// car tyres on hard roads.
+pub const DEFAULT_ROLLING_RESISTANCE: f64 = 0.015;
+
+/// Slip angle at which a rolling wheel's lateral force reaches the friction limit when a case
+/// gives none: 10 degrees (in radians), the default of the linear tyre of PC-Crash (Steffan and
+/// Moser, SAE 960886).
+pub const DEFAULT_SATURATION_ANGLE: f64 = 10.0 * std::f64::consts::PI / 180.0;
+
+/// Highest road friction accepted (a coefficient beyond it is a typing error, not a road).
+pub const MAX_FRICTION: f64 = 1.5;
+
+/// What one wheel does during the run-out.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WheelState {
+    /// Locked or sliding (also a wheel the impact damaged so that it cannot turn): Coulomb
+    /// friction `mu Fz` against the sliding velocity of its contact patch.
+    Locked,
+    /// Free-rolling: rolling resistance along the wheel, the linear tyre across it.
+    Rolling,
+    /// Braked: this share (0 to 1) of the friction circle is used along the wheel against its
+    /// rolling direction, the rest `sqrt(1 - share^2) mu Fz` is available across it.
+    Braked(f64),
+}
+
+/// The four wheels, in the order front left, front right, rear left, rear right.
+pub const WHEEL_NAMES: [&str; 4] = ["front_left", "front_right", "rear_left", "rear_right"];
+
+/// A vehicle on its four wheels (SI units, angles in radians).
+///
+/// The body frame has x forward along the centreline and y to the left, its origin at the
+/// centre of gravity (CG). The front axle is `cg_to_front_axle` ahead of the CG, the rear axle
+/// `wheelbase - cg_to_front_axle` behind it, each wheel `track / 2` to its side.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Chassis {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Yaw moment of inertia about the CG, kg m^2.
+    pub yaw_inertia: f64,
+    /// Front axle to rear axle, m.
+    pub wheelbase: f64,
+    /// CG to the front axle, m (0 to `wheelbase`).
+    pub cg_to_front_axle: f64,
+    /// Distance between the left and right wheels of an axle, m.
+    pub track: f64,
+    /// Height of the CG above the road, m: with it the normal loads follow the acceleration
+    /// (load transfer); without it they keep their static split.
+    pub cg_height: Option<f64>,
+    /// Front left, front right, rear left, rear right.
+    pub wheels: [WheelState; 4],
+    /// Steer angle of both front wheels, rad, positive to the left (counter-clockwise).
+    pub steer: f64,
+    /// Road friction coefficient under this vehicle.
+    pub friction: f64,
+    /// Rolling resistance of a rolling or braked wheel, a fraction of its load (> 0).
+    pub rolling_resistance: f64,
+    /// Slip angle at which a rolling wheel's lateral force reaches its limit, rad (0 to pi/2).
+    /// The cornering stiffness per unit load is `friction / saturation_angle` per rad.
+    pub saturation_angle: f64,
+    /// Overall length, m, when known: the wheels must lie inside it.
+    pub length: Option<f64>,
+    /// Overall width, m, when known: the wheels must lie inside it.
+    pub width: Option<f64>,
+    /// CG to the front face, m, when known (default half the length).
+    pub cg_to_front: Option<f64>,
+}
+
+impl Chassis {
+    /// A vehicle with every wheel in `state`, the default road friction, rolling resistance and
+    /// saturation angle, no CG height, no steer and no outline.
+    pub fn new(
+        mass: f64,
+        yaw_inertia: f64,
+        wheelbase: f64,
+        cg_to_front_axle: f64,
+        track: f64,
+        state: WheelState,
+    ) -> Self {
+        Chassis {
+            mass,
+            yaw_inertia,
+            wheelbase,
+            cg_to_front_axle,
+            track,
+            cg_height: None,
+            wheels: [state; 4],
+            steer: 0.0,
+            friction: DEFAULT_FRICTION,
+            rolling_resistance: DEFAULT_ROLLING_RESISTANCE,
+            saturation_angle: DEFAULT_SATURATION_ANGLE,
+            length: None,
+            width: None,
+            cg_to_front: None,
+        }
+    }
+
+    /// The wheel's position in the body frame (x forward, y left), m.
+    pub fn wheel_position(&self, wheel: usize) -> [f64; 2] {
+        let x = if wheel < 2 {
+            self.cg_to_front_axle
+        } else {
+            self.cg_to_front_axle - self.wheelbase
+        };
+        let y = if wheel % 2 == 0 {
+            self.track / 2.0
+        } else {
+            -self.track / 2.0
+        };
+        [x, y]
+    }
+
+    /// The static normal loads, N: the axle loads from the moments about the CG, each split
+    /// equally between its two wheels.
+    pub fn static_loads(&self) -> [f64; 4] {
+        let w = self.mass * GRAVITY;
+        let front = w * (self.wheelbase - self.cg_to_front_axle) / self.wheelbase / 2.0;
+        let rear = w * self.cg_to_front_axle / self.wheelbase / 2.0;
+        [front, front, rear, rear]
+    }
+
+    /// Checks every field: finite, positive where it must be, of a road vehicle's size, the
+    /// wheels inside the outline when the outline is known. The error names the field.
+    pub fn check(&self) -> Result<()> {
+        let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
+        let positive = [
+            ("mass", self.mass, 1e6),
+            ("yaw_inertia", self.yaw_inertia, 1e8),
+            ("wheelbase", self.wheelbase, 30.0),
+            ("track", self.track, 5.0),
+        ];
+        for (field, x, max) in positive {
+            if !(x.is_finite() && x > 0.0 && x <= max) {
+                return bad(
+                    field,
+                    format!("{x}: must be a number above 0 and at most {max}"),
+                );
+            }
+        }
+        if !(self.cg_to_front_axle.is_finite()
+            && self.cg_to_front_axle >= 0.0
+            && self.cg_to_front_axle <= self.wheelbase)
+        {
+            return bad(
+                "cg_to_front_axle",
+                format!(
+                    "{}: the CG must lie between the axles (0 to wheelbase = {} m)",
+                    self.cg_to_front_axle, self.wheelbase
+                ),
+            );
+        }
+        if let Some(h) = self.cg_height {
+            if !(h.is_finite() && h > 0.0 && h <= 5.0) {
+                return bad("cg_height", format!("{h}: must be above 0 and at most 5 m"));
+            }
+        }
+        if !(self.friction.is_finite() && self.friction > 0.0 && self.friction <= MAX_FRICTION) {
+            return bad(
+                "friction",
+                format!(
+                    "{}: must be above 0 and at most {MAX_FRICTION} (dry asphalt is about 0.7)",
+                    self.friction
+                ),
+            );
+        }
+        if !(self.rolling_resistance.is_finite()
+            && self.rolling_resistance > 0.0
+            && self.rolling_resistance < self.friction)
+        {
+            return bad(
+                "rolling_resistance",
+                format!(
+                    "{}: must be above 0 and below the friction {} (tyres roll at about 0.015)",
+                    self.rolling_resistance, self.friction
+                ),
+            );
+        }
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        if !(self.saturation_angle.is_finite()
+            && self.saturation_angle > 0.0
+            && self.saturation_angle <= half_pi)
+        {
+            return bad(
+                "saturation_angle",
+                format!(
+                    "{} deg: must be above 0 and at most 90 deg",
+                    self.saturation_angle.to_degrees()
+                ),
+            );
+        }
+        if !(self.steer.is_finite() && self.steer.abs() < half_pi) {
+            return bad(
+                "steer",
+                format!(
+                    "{} deg: must lie between -90 and 90 deg",
+                    self.steer.to_degrees()
+                ),
+            );
+        }
+        for (i, w) in self.wheels.iter().enumerate() {
+            if let WheelState::Braked(b) = w {
+                if !(b.is_finite() && (0.0..=1.0).contains(b)) {
+                    return bad(
+                        WHEEL_NAMES[i],
+                        format!("braking share {b}: must lie between 0 and 1"),
+                    );
+                }
+            }
+        }
+        if let Some(l) = self.length {
+            let front = self.cg_to_front.unwrap_or(l / 2.0);
+            if self.cg_to_front_axle > front || self.wheelbase - self.cg_to_front_axle > l - front {
+                return bad(
+                    "wheelbase",
+                    format!(
+                        "the wheels (front axle {} m ahead of the CG, rear axle {} m behind) lie \
+                         outside the outline ({} m ahead, {} m behind): the wheelbase is longer \
+                         than the vehicle",
+                        self.cg_to_front_axle,
+                        self.wheelbase - self.cg_to_front_axle,
+                        front,
+                        l - front
+                    ),
+                );
+            }
+        }
+        if let Some(w) = self.width {
+            if self.track > w {
+                return bad(
+                    "track",
+                    format!(
+                        "{} m is wider than the vehicle ({w} m): the wheels lie outside the \
+                         outline",
+                        self.track
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Where a vehicle is and how it moves, in a fixed (road) frame: x, y in m, heading in rad
+/// counter-clockwise from +x (where the nose points; not wrapped, so that a run-out's turns
+/// add up), velocities of the CG in m/s and the yaw rate in rad/s (counter-clockwise).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Motion {
+    /// CG position along x, m.
+    pub x: f64,
+    /// CG position along y, m.
+    pub y: f64,
+    /// Heading, rad counter-clockwise from +x.
+    pub heading: f64,
+    /// CG velocity along x, m/s.
+    pub vx: f64,
+    /// CG velocity along y, m/s.
+    pub vy: f64,
+    /// Yaw rate, rad/s counter-clockwise.
+    pub yaw_rate: f64,
+}
+
+impl Motion {
+    /// Checks that every number is finite; the error names the field.
+    pub fn check(&self) -> Result<()> {
+        for (field, x) in [
+            ("x", self.x),
+            ("y", self.y),
+            ("heading", self.heading),
+            ("vx", self.vx),
+            ("vy", self.vy),
+            ("yaw_rate", self.yaw_rate),
+        ] {
+            if !x.is_finite() {
+                return Err(RunoutError::Input {
+                    field,
+                    reason: format!("{x}: must be a finite number"),
+                });
+            }
+        }
+        Ok(())
+    }
+}

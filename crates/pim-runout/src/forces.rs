@@ -1,0 +1,235 @@
+//! The tyre forces and the equations of motion (see the crate docs for the model).
+
+use crate::chassis::{Chassis, WheelState};
+
+/// Below this sliding speed, m/s, the friction force of a patch grows linearly from zero
+/// instead of jumping: Coulomb's law made continuous, so that a patch that passes through zero
+/// sliding neither chatters nor stops the integrator. 1 mm/s is far below every speed at which
+/// the run-out's path is decided.
+pub const SLIDING_DEADBAND: f64 = 1e-2;
+
+/// The state integrated: x, y, heading, vx, vy, yaw rate, the work done by the tyre forces
+/// (J, positive: energy taken out) and the distance travelled by the CG (m).
+pub(crate) type State = nalgebra::SVector<f64, 8>;
+
+/// What one wheel does, in numbers per unit of normal load.
+#[derive(Debug, Clone, Copy)]
+enum Tyre {
+    /// `-mu u / |u|`.
+    Sliding { mu: f64 },
+    /// Along the wheel `-along sgn(u_l)`, across it `-across min(alpha / sat, 1) sgn(u_s)`.
+    Rolling { along: f64, across: f64 },
+}
+
+/// One wheel: position in the body frame, heading of the wheel in the body frame, behaviour.
+#[derive(Debug, Clone, Copy)]
+struct Wheel {
+    r: [f64; 2],
+    dir: [f64; 2],
+    tyre: Tyre,
+    /// Static load, N.
+    load: f64,
+    /// Load change per unit of body-frame CG acceleration (ax, ay), N per m/s^2.
+    transfer: [f64; 2],
+}
+
+/// The vehicle's equations of motion, prepared once from a checked [`Chassis`].
+#[derive(Debug, Clone)]
+pub(crate) struct Dynamics {
+    mass: f64,
+    inertia: f64,
+    wheels: [Wheel; 4],
+    saturation: f64,
+    load_transfer: bool,
+}
+
+/// What the forces do at one state.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Rates {
+    /// CG acceleration in the fixed frame, m/s^2.
+    pub ax: f64,
+    pub ay: f64,
+    /// Yaw acceleration, rad/s^2.
+    pub yaw: f64,
+    /// Power taken out by the tyre forces, W (never negative).
+    pub power: f64,
+}
+
+impl Dynamics {
+    pub(crate) fn new(c: &Chassis) -> Self {
+        let loads = c.static_loads();
+        let b = c.wheelbase - c.cg_to_front_axle;
+        let mu = c.friction;
+        let wheels = std::array::from_fn(|i| {
+            let r = c.wheel_position(i);
+            let steer = if i < 2 { c.steer } else { 0.0 };
+            let tyre = match c.wheels[i] {
+                WheelState::Locked => Tyre::Sliding { mu },
+                WheelState::Rolling => rolling(mu, c.rolling_resistance),
+                WheelState::Braked(share) => rolling(mu, (share * mu).max(c.rolling_resistance)),
+            };
+            // Load transfer of a CG acceleration (ax, ay) in the body frame at CG height h:
+            // m ax h / L moves from the rear axle to the front one when ax < 0 (braking), and
+            // m ay h / track from the left wheels to the right ones when ay > 0, shared by the
+            // axles in their static proportion.
+            let transfer = match c.cg_height {
+                Some(h) => {
+                    let axle_share = if i < 2 { b } else { c.cg_to_front_axle } / c.wheelbase;
+                    let along = if i < 2 { -1.0 } else { 1.0 } * c.mass * h / c.wheelbase / 2.0;
+                    let across =
+                        if i % 2 == 0 { -1.0 } else { 1.0 } * c.mass * h / c.track * axle_share;
+                    [along, across]
+                }
+                None => [0.0, 0.0],
+            };
+            Wheel {
+                r,
+                dir: [steer.cos(), steer.sin()],
+                tyre,
+                load: loads[i],
+                transfer,
+            }
+        });
+        Dynamics {
+            mass: c.mass,
+            inertia: c.yaw_inertia,
+            wheels,
+            saturation: c.saturation_angle,
+            load_transfer: c.cg_height.is_some(),
+        }
+    }
+
+    /// Velocity of each contact patch in the body frame, m/s.
+    pub(crate) fn patch_velocities(&self, y: &State) -> [[f64; 2]; 4] {
+        let (s, c) = y[2].sin_cos();
+        let (vx, vy, w) = (c * y[3] + s * y[4], -s * y[3] + c * y[4], y[5]);
+        self.wheels.map(|wh| [vx - w * wh.r[1], vy + w * wh.r[0]])
+    }
+
+    /// The fastest contact patch, m/s.
+    pub(crate) fn fastest_patch(&self, y: &State) -> f64 {
+        self.patch_velocities(y)
+            .iter()
+            .map(|u| u[0].hypot(u[1]))
+            .fold(0.0, f64::max)
+    }
+
+    /// Kinetic energy, J.
+    pub(crate) fn kinetic_energy(&self, y: &State) -> f64 {
+        0.5 * (self.mass * (y[3] * y[3] + y[4] * y[4]) + self.inertia * y[5] * y[5])
+    }
+
+    /// The accelerations and the power of the tyre forces at `y`.
+    pub(crate) fn rates(&self, y: &State) -> Rates {
+        let u = self.patch_velocities(y);
+        // Force per unit normal load of each wheel, body frame.
+        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i]));
+        let loads = self.loads(&g);
+        let (mut fx, mut fy, mut mz, mut power) = (0.0, 0.0, 0.0, 0.0);
+        for i in 0..4 {
+            let f = [loads[i] * g[i][0], loads[i] * g[i][1]];
+            let r = self.wheels[i].r;
+            fx += f[0];
+            fy += f[1];
+            mz += r[0] * f[1] - r[1] * f[0];
+            power -= f[0] * u[i][0] + f[1] * u[i][1];
+        }
+        let (s, c) = y[2].sin_cos();
+        Rates {
+            ax: (c * fx - s * fy) / self.mass,
+            ay: (s * fx + c * fy) / self.mass,
+            yaw: mz / self.inertia,
+            power: power.max(0.0),
+        }
+    }
+
+    /// The normal loads, N. Without a CG height the static ones. With it each load is affine in
+    /// the CG acceleration and every force is its load times a factor of the kinematics, so the
+    /// acceleration solves a 2 x 2 linear system; a wheel whose load would turn negative lifts
+    /// (its load is 0) and the system is solved again without it.
+    fn loads(&self, g: &[[f64; 2]; 4]) -> [f64; 4] {
+        let mut loads = self.wheels.map(|w| w.load);
+        if !self.load_transfer {
+            return loads;
+        }
+        let mut lifted = [false; 4];
+        for _ in 0..4 {
+            let mut a = nalgebra::Matrix2::from_diagonal_element(self.mass);
+            let mut rhs = nalgebra::Vector2::zeros();
+            for i in (0..4).filter(|&i| !lifted[i]) {
+                let w = &self.wheels[i];
+                for (row, gi) in g[i].iter().enumerate() {
+                    rhs[row] += w.load * gi;
+                    a[(row, 0)] -= gi * w.transfer[0];
+                    a[(row, 1)] -= gi * w.transfer[1];
+                }
+            }
+            let Some(acc) = a.lu().solve(&rhs) else {
+                return loads;
+            };
+            let mut again = false;
+            for i in 0..4 {
+                let w = &self.wheels[i];
+                loads[i] = if lifted[i] {
+                    0.0
+                } else {
+                    w.load + w.transfer[0] * acc[0] + w.transfer[1] * acc[1]
+                };
+                if loads[i] < 0.0 {
+                    lifted[i] = true;
+                    loads[i] = 0.0;
+                    again = true;
+                }
+            }
+            if !again {
+                break;
+            }
+        }
+        loads
+    }
+
+    /// The force of wheel `i` per unit normal load for the patch velocity `u` (body frame).
+    fn unit_force(&self, i: usize, u: [f64; 2]) -> [f64; 2] {
+        let w = &self.wheels[i];
+        match w.tyre {
+            Tyre::Sliding { mu } => {
+                let k = mu / u[0].hypot(u[1]).max(SLIDING_DEADBAND);
+                [-k * u[0], -k * u[1]]
+            }
+            Tyre::Rolling { along, across } => {
+                let [c, s] = w.dir;
+                let ul = c * u[0] + s * u[1];
+                let us = -s * u[0] + c * u[1];
+                let fl = -along * ul / ul.abs().max(SLIDING_DEADBAND);
+                let alpha = us.abs().atan2(ul.abs().max(SLIDING_DEADBAND));
+                let fs = -across * (alpha / self.saturation).min(1.0) * us.signum();
+                [c * fl - s * fs, s * fl + c * fs]
+            }
+        }
+    }
+}
+
+/// A rolling wheel whose force along it is `along` (per unit load): the rest of the friction
+/// circle is available across it.
+fn rolling(mu: f64, along: f64) -> Tyre {
+    let along = along.min(mu);
+    Tyre::Rolling {
+        along,
+        across: (mu * mu - along * along).max(0.0).sqrt(),
+    }
+}
+
+/// The time derivative of the state.
+pub(crate) fn derivative(d: &Dynamics, y: &State) -> State {
+    let r = d.rates(y);
+    State::from([
+        y[3],
+        y[4],
+        y[5],
+        r.ax,
+        r.ay,
+        r.yaw,
+        r.power,
+        y[3].hypot(y[4]),
+    ])
+}

@@ -1,0 +1,353 @@
+//! The run-out from separation to rest.
+
+use crate::chassis::{Chassis, Motion};
+use crate::error::{Result, RunoutError};
+use crate::forces::{derivative, Dynamics, State};
+use ode_solvers::dop_shared::{IntegrationError, OutputType};
+use ode_solvers::{Dopri5, System};
+use serde::{Deserialize, Serialize};
+
+/// How a run-out is integrated.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// Relative tolerance of the Dormand-Prince 5(4) step control.
+    pub rtol: f64,
+    /// Absolute tolerance of the step control (m, rad, m/s, rad/s, J).
+    pub atol: f64,
+    /// The motion is given up after this time, s: [`End::TimeLimit`].
+    pub time_limit: f64,
+    /// Below this speed at every contact patch, m/s, the vehicle is at its last few millimetres:
+    /// the rest of the motion is taken at its current deceleration, in closed form (exact for a
+    /// sliding translation, which decelerates uniformly to rest).
+    pub rest_speed: f64,
+}
+
+impl Default for Settings {
+    /// Tolerances 1e-9, 60 s, 1 cm/s.
+    fn default() -> Self {
+        Settings {
+            rtol: 1e-9,
+            atol: 1e-9,
+            time_limit: 60.0,
+            rest_speed: 0.02,
+        }
+    }
+}
+
+impl Settings {
+    /// Checks the settings; the error names the field.
+    pub fn check(&self) -> Result<()> {
+        for (field, x) in [
+            ("rtol", self.rtol),
+            ("atol", self.atol),
+            ("time_limit", self.time_limit),
+            ("rest_speed", self.rest_speed),
+        ] {
+            if !(x.is_finite() && x > 0.0) {
+                return Err(RunoutError::Input {
+                    field,
+                    reason: format!("{x}: must be a number above 0"),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How a run-out ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum End {
+    /// The vehicle came to rest.
+    Rest,
+    /// The time limit ended the motion before the vehicle came to rest (its last state is the
+    /// `rest` of the run-out, still moving).
+    TimeLimit,
+}
+
+/// One accepted step of the integration: the state and its rates, from which the path is
+/// interpolated (cubic Hermite) between steps.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Step {
+    /// Time since separation, s.
+    pub time: f64,
+    /// Position, heading and velocities.
+    pub motion: Motion,
+    /// CG acceleration (m/s^2, fixed frame) and yaw acceleration (rad/s^2).
+    pub acceleration: [f64; 3],
+    /// Distance travelled by the CG since separation, m.
+    pub distance: f64,
+    /// Work done by the tyre forces since separation, J (energy taken out).
+    pub work: f64,
+}
+
+/// A run-out from separation to rest.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Runout {
+    /// The motion at separation.
+    pub start: Motion,
+    /// Where the vehicle stopped (velocities 0), or its state at the time limit.
+    pub rest: Motion,
+    /// How the motion ended.
+    pub end: End,
+    /// Time from separation to rest, s.
+    pub time: f64,
+    /// Distance along the CG's path, m.
+    pub distance: f64,
+    /// Rotation from separation to rest, rad (counter-clockwise positive; whole turns kept).
+    pub rotation: f64,
+    /// Kinetic energy at separation, J.
+    pub initial_energy: f64,
+    /// Work done by the tyre forces, J (energy taken out; equals the kinetic energy lost).
+    pub tyre_work: f64,
+    /// The accepted steps, the start and the rest included.
+    pub steps: Vec<Step>,
+    /// Right-hand side evaluations of the integration.
+    pub evaluations: u32,
+}
+
+impl Runout {
+    /// Whole turns from separation to rest, towards zero (a rotation of -400 deg is -1).
+    pub fn turns(&self) -> i64 {
+        (self.rotation / std::f64::consts::TAU).trunc() as i64
+    }
+
+    /// The motion at time `t` since separation (cubic Hermite between accepted steps; the
+    /// start before 0, the end after the end).
+    pub fn at(&self, t: f64) -> Motion {
+        let steps = &self.steps;
+        let Some(first) = steps.first() else {
+            return self.start;
+        };
+        if t <= first.time {
+            return first.motion;
+        }
+        let last = steps[steps.len() - 1];
+        if t >= last.time {
+            return last.motion;
+        }
+        let k = steps
+            .partition_point(|s| s.time <= t)
+            .clamp(1, steps.len() - 1);
+        hermite(&steps[k - 1], &steps[k], t)
+    }
+
+    /// The motion every `dt` seconds from separation, the rest included as the last sample.
+    pub fn sample(&self, dt: f64) -> Vec<(f64, Motion)> {
+        let mut out = Vec::new();
+        if !(dt.is_finite() && dt > 0.0) {
+            return out;
+        }
+        let n = (self.time / dt).floor() as usize;
+        for i in 0..=n.min(1_000_000) {
+            let t = i as f64 * dt;
+            if t < self.time {
+                out.push((t, self.at(t)));
+            }
+        }
+        out.push((self.time, self.rest));
+        out
+    }
+}
+
+/// Cubic Hermite interpolation of the motion between two steps.
+pub(crate) fn hermite(a: &Step, b: &Step, t: f64) -> Motion {
+    let h = b.time - a.time;
+    let s = ((t - a.time) / h).clamp(0.0, 1.0);
+    let (s2, s3) = (s * s, s * s * s);
+    let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+    let h10 = s3 - 2.0 * s2 + s;
+    let h01 = -2.0 * s3 + 3.0 * s2;
+    let h11 = s3 - s2;
+    let f = |p0: f64, m0: f64, p1: f64, m1: f64| h00 * p0 + h10 * h * m0 + h01 * p1 + h11 * h * m1;
+    let (ma, mb) = (&a.motion, &b.motion);
+    Motion {
+        x: f(ma.x, ma.vx, mb.x, mb.vx),
+        y: f(ma.y, ma.vy, mb.y, mb.vy),
+        heading: f(ma.heading, ma.yaw_rate, mb.heading, mb.yaw_rate),
+        vx: f(ma.vx, a.acceleration[0], mb.vx, b.acceleration[0]),
+        vy: f(ma.vy, a.acceleration[1], mb.vy, b.acceleration[1]),
+        yaw_rate: f(
+            ma.yaw_rate,
+            a.acceleration[2],
+            mb.yaw_rate,
+            b.acceleration[2],
+        ),
+    }
+}
+
+/// The ODE system handed to the integrator: it records every accepted step and stops the
+/// integration when every contact patch is slower than the rest speed.
+struct Tracked<'a> {
+    dynamics: &'a Dynamics,
+    rest_speed: f64,
+    log: &'a mut Vec<(f64, State, State)>,
+    stopped: &'a mut bool,
+}
+
+impl System<f64, State> for Tracked<'_> {
+    fn system(&self, _t: f64, y: &State, dy: &mut State) {
+        *dy = derivative(self.dynamics, y);
+    }
+
+    fn solout(&mut self, t: f64, y: &State, dy: &State) -> bool {
+        self.log.push((t, *y, *dy));
+        if self.dynamics.fastest_patch(y) < self.rest_speed {
+            *self.stopped = true;
+        }
+        *self.stopped
+    }
+}
+
+fn step_of(t: f64, y: &State, dy: &State) -> Step {
+    Step {
+        time: t,
+        motion: motion_of(y),
+        acceleration: [dy[3], dy[4], dy[5]],
+        distance: y[7],
+        work: y[6],
+    }
+}
+
+fn motion_of(y: &State) -> Motion {
+    Motion {
+        x: y[0],
+        y: y[1],
+        heading: y[2],
+        vx: y[3],
+        vy: y[4],
+        yaw_rate: y[5],
+    }
+}
+
+/// The run-out of `chassis` from `start` to rest.
+///
+/// # Errors
+/// [`RunoutError::Input`] for a vehicle, start or settings the model cannot use;
+/// [`RunoutError::Integration`] when the integrator gives up. A motion that the time limit
+/// ends is not an error: its [`Runout::end`] is [`End::TimeLimit`].
+///
+/// ```
+/// use pim_runout::{simulate, Chassis, Motion, Settings, WheelState, GRAVITY};
+/// let car = Chassis::new(1500.0, 2500.0, 2.7, 1.2, 1.5, WheelState::Locked);
+/// let start = Motion { vx: 15.0, ..Motion::default() };
+/// let r = simulate(&car, &start, &Settings::default()).unwrap();
+/// let expected = 15.0_f64.powi(2) / (2.0 * car.friction * GRAVITY);
+/// assert!((r.rest.x - expected).abs() < 1e-6);
+/// ```
+pub fn simulate(chassis: &Chassis, start: &Motion, settings: &Settings) -> Result<Runout> {
+    chassis.check()?;
+    start.check()?;
+    settings.check()?;
+    let dynamics = Dynamics::new(chassis);
+    run(&dynamics, start, settings)
+}
+
+/// The run-out with prepared dynamics (the inverse calls it many times for one vehicle).
+pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> Result<Runout> {
+    let y0 = State::from([
+        start.x,
+        start.y,
+        start.heading,
+        start.vx,
+        start.vy,
+        start.yaw_rate,
+        0.0,
+        0.0,
+    ]);
+    let initial_energy = dynamics.kinetic_energy(&y0);
+    let mut log = vec![(0.0, y0, derivative(dynamics, &y0))];
+    let mut stopped = dynamics.fastest_patch(&y0) < settings.rest_speed;
+    let mut evaluations = 1;
+    if !stopped {
+        let system = Tracked {
+            dynamics,
+            rest_speed: settings.rest_speed,
+            log: &mut log,
+            stopped: &mut stopped,
+        };
+        let mut solver = Dopri5::from_param(
+            system,
+            0.0,
+            settings.time_limit,
+            settings.time_limit,
+            y0,
+            settings.rtol,
+            settings.atol,
+            0.9,
+            0.04,
+            0.2,
+            10.0,
+            settings.time_limit,
+            0.0,
+            2_000_000,
+            u32::MAX,
+            OutputType::Sparse,
+        );
+        match solver.integrate() {
+            Ok(stats) => evaluations += stats.num_eval,
+            Err(e) => {
+                let (time, reason) = match e {
+                    IntegrationError::MaxNumStepReached { x, n_step } => {
+                        (x, format!("more than {n_step} steps"))
+                    }
+                    IntegrationError::StepSizeUnderflow { x } => (x, "step size underflow".into()),
+                    IntegrationError::StiffnessDetected { x } => (x, "the motion is stiff".into()),
+                };
+                return Err(RunoutError::Integration { time, reason });
+            }
+        }
+    }
+    let mut steps: Vec<Step> = log.iter().map(|(t, y, dy)| step_of(*t, y, dy)).collect();
+    let (t_last, y_last, _) = *log.last().expect("the start is logged");
+    let (rest, end, time, distance, work) = if stopped {
+        // The last millimetres at the current deceleration: the kinetic energy K goes at the
+        // power P, so a uniform deceleration ends after tau = 2 K / P, with half the current
+        // velocities' way covered.
+        let k = dynamics.kinetic_energy(&y_last);
+        let p = dynamics.rates(&y_last).power;
+        let tau = if p > 0.0 { 2.0 * k / p } else { 0.0 };
+        let tau = tau.min(settings.time_limit - t_last).max(0.0);
+        let rest = Motion {
+            x: y_last[0] + y_last[3] * tau / 2.0,
+            y: y_last[1] + y_last[4] * tau / 2.0,
+            heading: y_last[2] + y_last[5] * tau / 2.0,
+            vx: 0.0,
+            vy: 0.0,
+            yaw_rate: 0.0,
+        };
+        let distance = y_last[7] + y_last[3].hypot(y_last[4]) * tau / 2.0;
+        let work = y_last[6] + k;
+        if tau > 0.0 {
+            let decel = [-y_last[3] / tau, -y_last[4] / tau, -y_last[5] / tau];
+            steps.push(Step {
+                time: t_last + tau,
+                motion: rest,
+                acceleration: decel,
+                distance,
+                work,
+            });
+        }
+        (rest, End::Rest, t_last + tau, distance, work)
+    } else {
+        (
+            motion_of(&y_last),
+            End::TimeLimit,
+            t_last,
+            y_last[7],
+            y_last[6],
+        )
+    };
+    Ok(Runout {
+        start: *start,
+        rotation: rest.heading - start.heading,
+        rest,
+        end,
+        time,
+        distance,
+        initial_energy,
+        tyre_work: work,
+        steps,
+        evaluations,
+    })
+}
