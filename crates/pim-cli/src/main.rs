@@ -24,6 +24,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Draw(a) => commands::draw::run(a),
         Command::Uncertainty(a) => commands::uncertainty::run(a),
         Command::Report(a) => commands::report::run(a),
+        Command::Runout(a) => commands::runout::run(a),
         Command::PredictDv(a) => commands::predict::run(a),
         Command::Batch(a) => commands::batch::run(a, false),
         Command::CompareCosts(a) => commands::batch::run(a, true),

@@ -60,6 +60,12 @@ pub struct CaseFile {
     /// Uncertainty of the inputs the fit takes as exact (`pim uncertainty`).
     #[serde(default)]
     pub uncertainty: Option<crate::spread::UncertaintySection>,
+    /// The run-out to rest: road friction and each vehicle's wheels (`pim runout`).
+    #[serde(default)]
+    pub runout: Option<crate::scene::RunoutSection>,
+    /// The scene's evidence of the run-out: rest positions and headings, marks.
+    #[serde(default)]
+    pub scene: Option<crate::scene::SceneSection>,
 }
 
 impl CaseFile {

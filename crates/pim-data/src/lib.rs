@@ -13,6 +13,7 @@
 //! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
 //! - [`predict`]: Brach 1984's delta-V prediction for every test of a data file;
 //! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit;
+//! - [`scene`]: the `[runout]` and `[scene]` sections, read into pim-runout's inputs;
 //! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
 //! - [`uncertainty`]: the seeded parametric bootstrap of `pim uncertainty`.
 //!
@@ -35,6 +36,8 @@ pub mod records;
 pub mod reference;
 pub mod residuals;
 pub mod ricsac;
+pub mod runout;
+pub mod scene;
 pub mod sections;
 pub mod spread;
 pub mod uncertainty;

@@ -30,6 +30,7 @@ mod geometry_lines;
 pub mod momentum;
 pub mod predict_figure;
 pub mod report;
+pub mod runout;
 pub mod tables;
 pub mod uncertainty_figures;
 

@@ -312,6 +312,25 @@ impl Problem<'_> {
     }
 }
 
+/// The residuals of `evidence` against a run-out computed elsewhere (from separation velocities
+/// a solve or a fit gave): the rest heading is compared with the nearest of its full turns.
+pub fn residuals_of(chassis: &Chassis, evidence: &Evidence, runout: &Runout) -> Vec<Residual> {
+    let heading = evidence
+        .rest
+        .and_then(|r| r.heading)
+        .map(|h| h + TAU * ((runout.rest.heading - h) / TAU).round());
+    let settings = Settings::default();
+    let p = Problem {
+        chassis,
+        start: runout.start,
+        evidence,
+        heading,
+        settings: &settings,
+        estimate_friction: false,
+    };
+    p.residuals(&[], runout)
+}
+
 /// Wraps an angle to (-pi, pi].
 fn wrap(a: f64) -> f64 {
     let w = a.rem_euclid(TAU);

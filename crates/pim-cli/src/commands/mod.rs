@@ -8,6 +8,7 @@ pub mod fit;
 pub mod output;
 pub mod predict;
 pub mod report;
+pub mod runout;
 pub mod solve;
 pub mod uncertainty;
 

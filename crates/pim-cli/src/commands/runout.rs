@@ -1,0 +1,75 @@
+//! `pim runout`: each vehicle from separation to rest, or its separation velocities from the
+//! scene.
+
+use super::{json, print_out, title_of, write_file};
+use crate::args::{Format, RunoutArgs, RunoutSource};
+use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
+use crate::inputs::load_case;
+use anyhow::Result;
+use pim_data::runout::Source;
+use pim_data::units::UnitSystem;
+use std::process::ExitCode;
+
+/// `pim runout`.
+pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
+    let case = load_case(&a.case)?;
+    let _ = crate::inputs::checked_impact(&case)?;
+    if !case.has_runout() {
+        return Err(Failure::Input(format!(
+            "{}: no [runout] section: give the road friction and, per vehicle, [runout.vehicleN] \
+             with wheelbase, track and the wheels' states (see `pim runout --help`)",
+            case.file
+        ))
+        .into());
+    }
+    let source = a.from.map(|s| match s {
+        RunoutSource::Final => Source::Final,
+        RunoutSource::Solve => Source::Solve,
+        RunoutSource::Fit => Source::Fit,
+        RunoutSource::Scene => Source::Scene,
+    });
+    let given = if source == Some(Source::Fit) {
+        let fitted = pim_data::documents::fit(
+            &case,
+            a.cost,
+            pim_fit::FitModel::Pim,
+            pim_core::MomentForm::default(),
+            Vec::new(),
+        )
+        .map_err(Failure::from)?;
+        let best = fitted
+            .report
+            .best_branch()
+            .and_then(|b| b.solution.as_ref())
+            .ok_or_else(|| {
+                Failure::NoAnswer(format!(
+                    "{}: the fit has no admissible solution, so there are no separation \
+                     velocities to run out (see `pim fit`)",
+                    case.file
+                ))
+            })?;
+        Some(best.separation)
+    } else {
+        None
+    };
+    let result = pim_data::runout::runout(&case, source, given, a.sample).map_err(Failure::from)?;
+    let units = a
+        .units
+        .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
+    let title = title_of(&case);
+    if let Some(path) = &a.draw {
+        let svg = pim_render::runout::runout_svg(&title, &result, units, case.written, a.every)
+            .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", path.display())))?;
+        write_file(path, &svg)?;
+        eprintln!("pim: wrote {}", path.display());
+    }
+    print_out(&match a.format {
+        Format::Json => json(&result.document)?,
+        Format::Table => pim_render::runout::runout_table(&title, &result, units, case.written),
+    })?;
+    if let Some(why) = result.no_answer() {
+        eprintln!("pim: {}: {why}", case.file);
+        return Ok(ExitCode::from(EXIT_NO_ANSWER));
+    }
+    Ok(ExitCode::from(EXIT_OK))
+}

@@ -1,0 +1,572 @@
+//! The run-out and the scene of a case: `[runout]` (road friction and, per vehicle, its wheels)
+//! and `[scene.vehicleN]` (rest position and heading, marks), read into pim-runout's inputs.
+//!
+//! ```toml
+//! [runout]
+//! friction = 0.7                # road friction (default 0.7, dry asphalt)
+//! friction_sigma = 0.05         # optional: estimate the friction around it with this sd
+//!
+//! [runout.vehicle1]
+//! wheelbase = 2.8               # length unit
+//! track = 1.55
+//! cg_to_front_axle = 1.25
+//! cg_height = 0.55              # optional: load transfer
+//! wheels = "locked"             # "locked", "rolling", a braking share 0-1, or per wheel:
+//! # wheels = { front_left = "locked", front_right = "rolling", rear_left = 0.3, rear_right = "rolling" }
+//! braking = 0.0                 # braking share of the wheels given as "rolling"
+//! steer = 0.0                   # deg, front wheels (counter-clockwise; SAE: clockwise)
+//!
+//! [scene.vehicle1]
+//! rest = { x = 14.2, y = 3.1, heading = 215.0 }
+//! rest_sigma = { x = 0.1, y = 0.1, heading = 2.0 }
+//! marks = [ { x = 6.0, y = 1.2, sigma = 0.15 } ]   # points the CG passed (heading optional)
+//! turns = 1                     # optional: the count of full turns, when known
+//! ```
+//!
+//! Positions are in the case's fixed frame and length unit (the frame of `[impact] centre` and
+//! the vehicles' `position`s; with neither, the impact centre is the origin), headings and
+//! angles in degrees, in the case's convention (an SAE case gives y to the right and angles
+//! clockwise).
+
+use crate::case::{error_at, Case};
+use crate::error::{InputError, Result};
+use pim_core::{Convention, VehicleId};
+use pim_runout::{Chassis, Evidence, Mark, Motion, Rest, RunoutError, WheelState};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// `[runout]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunoutSection {
+    /// Road friction under both vehicles (default 0.7).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Standard deviation of the road friction: with it the friction is estimated from the
+    /// scene around `friction` instead of taken as exact.
+    #[serde(default)]
+    pub friction_sigma: Option<f64>,
+    /// The run-out is given up after this time, s (default 60).
+    #[serde(default)]
+    pub time_limit: Option<f64>,
+    /// Vehicle 1's wheels.
+    #[serde(default)]
+    pub vehicle1: Option<RunoutVehicleSection>,
+    /// Vehicle 2's wheels.
+    #[serde(default)]
+    pub vehicle2: Option<RunoutVehicleSection>,
+}
+
+/// What a wheel does, as written: `"locked"`, `"rolling"`, or a braking share.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum WheelWritten {
+    /// `"locked"` (also `"damaged"`, `"sliding"`) or `"rolling"` (also `"free"`).
+    Word(String),
+    /// A braking share from 0 (rolling) to 1.
+    Share(f64),
+}
+
+/// `wheels = ...`: one state for all four wheels, or each wheel by name.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum WheelsWritten {
+    /// The same for all four.
+    All(WheelWritten),
+    /// `{ front_left = .., front_right = .., rear_left = .., rear_right = .. }`.
+    Each(BTreeMap<String, WheelWritten>),
+}
+
+/// `[runout.vehicleN]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunoutVehicleSection {
+    /// Front axle to rear axle (length unit).
+    pub wheelbase: f64,
+    /// Left to right wheel (length unit).
+    pub track: f64,
+    /// CG to the front axle (length unit; default half the wheelbase).
+    #[serde(default)]
+    pub cg_to_front_axle: Option<f64>,
+    /// CG height (length unit): with it, load transfer.
+    #[serde(default)]
+    pub cg_height: Option<f64>,
+    /// The wheels' states (default `"locked"`).
+    #[serde(default)]
+    pub wheels: Option<WheelsWritten>,
+    /// Braking share of the wheels given as `"rolling"` (0 to 1, default 0).
+    #[serde(default)]
+    pub braking: Option<f64>,
+    /// Steer angle of the front wheels, degrees.
+    #[serde(default)]
+    pub steer: Option<f64>,
+    /// Road friction under this vehicle (instead of `[runout] friction`).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Rolling resistance, a fraction of the load (default 0.015).
+    #[serde(default)]
+    pub rolling_resistance: Option<f64>,
+    /// Slip angle at which a rolling wheel's lateral force saturates, degrees (default 10).
+    #[serde(default)]
+    pub saturation_angle: Option<f64>,
+    /// Cornering stiffness per unit load, per degree (instead of `saturation_angle`:
+    /// saturation angle = friction / cornering_stiffness).
+    #[serde(default)]
+    pub cornering_stiffness: Option<f64>,
+}
+
+/// A point as written: `{ x, y }` with an optional heading.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseWritten {
+    /// x (length unit).
+    pub x: f64,
+    /// y (length unit).
+    pub y: f64,
+    /// Heading, degrees.
+    #[serde(default)]
+    pub heading: Option<f64>,
+}
+
+/// `rest_sigma = { x, y, heading }`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseSigmaWritten {
+    /// sd of x (length unit).
+    pub x: f64,
+    /// sd of y (length unit).
+    pub y: f64,
+    /// sd of the heading, degrees.
+    #[serde(default)]
+    pub heading: Option<f64>,
+}
+
+/// One mark: a point the CG passed.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MarkWritten {
+    /// x (length unit).
+    pub x: f64,
+    /// y (length unit).
+    pub y: f64,
+    /// sd of the path's distance from it (length unit).
+    pub sigma: f64,
+    /// The heading there, degrees.
+    #[serde(default)]
+    pub heading: Option<f64>,
+    /// sd of that heading, degrees.
+    #[serde(default)]
+    pub heading_sigma: Option<f64>,
+}
+
+/// `[scene.vehicleN]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneVehicleSection {
+    /// Rest position and heading.
+    #[serde(default)]
+    pub rest: Option<PoseWritten>,
+    /// Their standard deviations.
+    #[serde(default)]
+    pub rest_sigma: Option<PoseSigmaWritten>,
+    /// Points the CG passed.
+    #[serde(default)]
+    pub marks: Vec<MarkWritten>,
+    /// The count of full turns to rest, when known.
+    #[serde(default)]
+    pub turns: Option<i64>,
+}
+
+/// `[scene]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSection {
+    /// Vehicle 1's evidence.
+    #[serde(default)]
+    pub vehicle1: Option<SceneVehicleSection>,
+    /// Vehicle 2's evidence.
+    #[serde(default)]
+    pub vehicle2: Option<SceneVehicleSection>,
+}
+
+/// One vehicle's run-out inputs, SI, natural frame, radians.
+#[derive(Debug, Clone)]
+pub struct VehicleRunout {
+    /// Which vehicle.
+    pub id: VehicleId,
+    /// Its wheels and the road.
+    pub chassis: Chassis,
+    /// Position and heading at separation (those at contact; velocities 0).
+    pub start: Motion,
+    /// The scene's evidence, when the case gives any.
+    pub evidence: Option<Evidence>,
+}
+
+/// The run-out inputs of a case.
+#[derive(Debug, Clone)]
+pub struct SceneInputs {
+    /// The vehicles with a `[runout.vehicleN]` section (a barrier has none).
+    pub vehicles: Vec<VehicleRunout>,
+    /// The time limit, s.
+    pub time_limit: f64,
+}
+
+impl Case {
+    /// True when the case has a `[runout]` or a `[scene]` section.
+    pub fn has_runout(&self) -> bool {
+        self.content.runout.is_some() || self.content.scene.is_some()
+    }
+
+    /// The run-out inputs: the chassis of each vehicle with a `[runout.vehicleN]`, its pose at
+    /// contact and its scene evidence, converted to SI and the natural frame.
+    ///
+    /// # Errors
+    /// A located [`InputError`] for a missing section, a field the run-out model cannot use,
+    /// or scene evidence without a `[runout]` section for its vehicle.
+    pub fn scene_inputs(&self) -> Result<SceneInputs> {
+        let c = &self.content;
+        let Some(runout) = &c.runout else {
+            return Err(InputError::new(
+                &self.file,
+                "[scene] needs [runout]: the road friction and, per vehicle, \
+                 [runout.vehicleN] with wheelbase, track and the wheels' states (see `pim runout \
+                 --help`)",
+            ));
+        };
+        let impact = self.impact()?;
+        let u = self.written_units;
+        let length = u.length.to_si();
+        let sae = self.written == Convention::Sae;
+        // SAE: y to the right, angles clockwise; the natural frame: y left, counter-clockwise.
+        let flip = if sae { -1.0 } else { 1.0 };
+        let centre = c
+            .impact
+            .centre
+            .map_or([0.0, 0.0], |p| [p.x * length, flip * p.y * length]);
+        let cgs = impact.cg_positions();
+        let mut vehicles = Vec::new();
+        for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
+            let name = format!("vehicle{}", k + 1);
+            let section = if k == 0 {
+                &runout.vehicle1
+            } else {
+                &runout.vehicle2
+            };
+            let scene = c
+                .scene
+                .as_ref()
+                .and_then(|s| if k == 0 { &s.vehicle1 } else { &s.vehicle2 }.as_ref());
+            let Some(w) = section else {
+                if scene.is_some() {
+                    return Err(self.error_at(
+                        &format!("scene.{name}"),
+                        format!(
+                            "scene evidence of {name} needs [runout.{name}] (wheelbase, track, \
+                             wheels) to simulate its run-out"
+                        ),
+                    ));
+                }
+                continue;
+            };
+            let at = |field: &str| format!("runout.{name}.{field}");
+            if c.vehicle(k).barrier {
+                return Err(self.error_at(
+                    &format!("runout.{name}"),
+                    "a barrier does not move after the impact: leave out its run-out",
+                ));
+            }
+            let vs = c.vehicle(k);
+            let friction = w
+                .friction
+                .or(runout.friction)
+                .unwrap_or(pim_runout::DEFAULT_FRICTION);
+            let saturation = match (w.saturation_angle, w.cornering_stiffness) {
+                (Some(_), Some(_)) => {
+                    return Err(self.error_at(
+                        &at("cornering_stiffness"),
+                        "give either saturation_angle or cornering_stiffness, not both",
+                    ))
+                }
+                (Some(a), None) => a.to_radians(),
+                (None, Some(cs)) => {
+                    if !(cs.is_finite() && cs > 0.0) {
+                        return Err(self.error_at(
+                            &at("cornering_stiffness"),
+                            format!("{cs}: must be above 0 (per unit load, per degree)"),
+                        ));
+                    }
+                    (friction / cs).to_radians()
+                }
+                (None, None) => pim_runout::DEFAULT_SATURATION_ANGLE,
+            };
+            let braking = w.braking.unwrap_or(0.0);
+            let wheels = self.wheels_of(&name, w.wheels.as_ref(), braking)?;
+            let chassis = Chassis {
+                mass: vs.mass,
+                yaw_inertia: vs.yaw_inertia,
+                wheelbase: w.wheelbase * length,
+                cg_to_front_axle: w.cg_to_front_axle.unwrap_or(w.wheelbase / 2.0) * length,
+                track: w.track * length,
+                cg_height: w.cg_height.map(|h| h * length),
+                wheels,
+                steer: flip * w.steer.unwrap_or(0.0).to_radians(),
+                friction,
+                rolling_resistance: w
+                    .rolling_resistance
+                    .unwrap_or(pim_runout::DEFAULT_ROLLING_RESISTANCE),
+                saturation_angle: saturation,
+                length: vs.length,
+                width: vs.width,
+                cg_to_front: vs.cg_to_front,
+            };
+            chassis.check().map_err(|e| self.runout_error(&name, e))?;
+            if let Some(b) = w.braking {
+                if !(b.is_finite() && (0.0..=1.0).contains(&b)) {
+                    return Err(
+                        self.error_at(&at("braking"), format!("{b}: must lie between 0 and 1"))
+                    );
+                }
+            }
+            let start = Motion {
+                x: centre[0] + cgs[k][0],
+                y: centre[1] + cgs[k][1],
+                heading: impact.nose_heading(id).to_radians(),
+                ..Motion::default()
+            };
+            let evidence = match scene {
+                Some(s) => Some(self.evidence_of(&name, s, runout.friction_sigma, length, flip)?),
+                None => None,
+            };
+            vehicles.push(VehicleRunout {
+                id,
+                chassis,
+                start,
+                evidence,
+            });
+        }
+        if vehicles.is_empty() {
+            return Err(self.error_at(
+                "runout",
+                "no vehicle to run out: give [runout.vehicle1] (and [runout.vehicle2]) with \
+                 wheelbase, track and the wheels' states",
+            ));
+        }
+        let time_limit = runout.time_limit.unwrap_or(60.0);
+        if !(time_limit.is_finite() && time_limit > 0.0 && time_limit <= 3600.0) {
+            return Err(self.error_at(
+                "runout.time_limit",
+                format!("{time_limit}: must be above 0 and at most 3600 s"),
+            ));
+        }
+        Ok(SceneInputs {
+            vehicles,
+            time_limit,
+        })
+    }
+
+    /// An error of pim-runout about vehicle `name`, placed at its field in the case.
+    pub fn runout_error(&self, name: &str, e: RunoutError) -> InputError {
+        match e {
+            RunoutError::Input { field, reason } => {
+                let section = match field {
+                    f if f.starts_with("rest") || f.starts_with("marks") || f == "turns" => "scene",
+                    "mass" | "yaw_inertia" => {
+                        return self.error_at(&format!("{name}.{field}"), reason)
+                    }
+                    "friction_sigma" => return self.error_at("runout.friction_sigma", reason),
+                    "friction" if self.written_friction_at(name).is_none() => {
+                        return self.error_at("runout.friction", reason)
+                    }
+                    "friction" => {
+                        return self
+                            .error_at(&self.written_friction_at(name).unwrap_or_default(), reason)
+                    }
+                    "x" | "y" | "heading" | "vx" | "vy" | "yaw_rate" => {
+                        return InputError::new(
+                            &self.file,
+                            format!("{name}: separation {field}: {reason}"),
+                        )
+                    }
+                    _ => "runout",
+                };
+                self.error_at(&format!("{section}.{name}.{field}"), reason)
+            }
+            other => InputError::new(&self.file, format!("{name}: {other}")),
+        }
+    }
+
+    fn written_friction_at(&self, name: &str) -> Option<String> {
+        let r = self.content.runout.as_ref()?;
+        let v = if name == "vehicle1" {
+            &r.vehicle1
+        } else {
+            &r.vehicle2
+        };
+        if v.as_ref()?.friction.is_some() {
+            Some(format!("runout.{name}.friction"))
+        } else {
+            None
+        }
+    }
+
+    fn wheels_of(
+        &self,
+        name: &str,
+        written: Option<&WheelsWritten>,
+        braking: f64,
+    ) -> Result<[WheelState; 4]> {
+        let one = |w: &WheelWritten, path: &str| -> Result<WheelState> {
+            match w {
+                WheelWritten::Word(s) => match s.to_ascii_lowercase().as_str() {
+                    "locked" | "sliding" | "damaged" => Ok(WheelState::Locked),
+                    "rolling" | "free" => Ok(if braking > 0.0 {
+                        WheelState::Braked(braking)
+                    } else {
+                        WheelState::Rolling
+                    }),
+                    _ => Err(error_at(
+                        &self.file,
+                        &self.source,
+                        path,
+                        format!(
+                            "{s:?} is not a wheel state; accepted: \"locked\" (also \"sliding\", \
+                             \"damaged\"), \"rolling\" (also \"free\"), or a braking share from \
+                             0 to 1"
+                        ),
+                    )),
+                },
+                WheelWritten::Share(b) => {
+                    if b.is_finite() && (0.0..=1.0).contains(b) {
+                        Ok(if *b > 0.0 {
+                            WheelState::Braked(*b)
+                        } else {
+                            WheelState::Rolling
+                        })
+                    } else {
+                        Err(error_at(
+                            &self.file,
+                            &self.source,
+                            path,
+                            format!("braking share {b}: must lie between 0 and 1"),
+                        ))
+                    }
+                }
+            }
+        };
+        let base = format!("runout.{name}.wheels");
+        match written {
+            None => Ok([WheelState::Locked; 4]),
+            Some(WheelsWritten::All(w)) => Ok([one(w, &base)?; 4]),
+            Some(WheelsWritten::Each(map)) => {
+                if let Some(unknown) = map
+                    .keys()
+                    .find(|k| !pim_runout::WHEEL_NAMES.contains(&k.as_str()))
+                {
+                    return Err(self.error_at(
+                        &format!("{base}.{unknown}"),
+                        format!(
+                            "not a wheel; the wheels are {}",
+                            pim_runout::WHEEL_NAMES.join(", ")
+                        ),
+                    ));
+                }
+                let mut out = [WheelState::Locked; 4];
+                for (i, wheel) in pim_runout::WHEEL_NAMES.iter().enumerate() {
+                    match map.get(*wheel) {
+                        Some(w) => out[i] = one(w, &format!("{base}.{wheel}"))?,
+                        None => {
+                            return Err(self.error_at(
+                                &base,
+                                format!(
+                                    "{wheel} missing: give all four wheels ({}), or one state \
+                                     for all",
+                                    pim_runout::WHEEL_NAMES.join(", ")
+                                ),
+                            ))
+                        }
+                    }
+                }
+                Ok(out)
+            }
+        }
+    }
+
+    fn evidence_of(
+        &self,
+        name: &str,
+        s: &SceneVehicleSection,
+        friction_sigma: Option<f64>,
+        length: f64,
+        flip: f64,
+    ) -> Result<Evidence> {
+        let at = |field: &str| format!("scene.{name}.{field}");
+        let rest = match (s.rest, s.rest_sigma) {
+            (None, None) => None,
+            (None, Some(_)) => {
+                return Err(self.error_at(&at("rest_sigma"), "rest_sigma without rest"));
+            }
+            (Some(_), None) => {
+                return Err(self.error_at(
+                    &at("rest"),
+                    "the rest position needs its standard deviations: rest_sigma = { x = .., \
+                     y = .., heading = .. }",
+                ))
+            }
+            (Some(r), Some(sd)) => {
+                let sigma_heading = match (r.heading, sd.heading) {
+                    (Some(_), None) => {
+                        return Err(self.error_at(
+                            &at("rest_sigma"),
+                            "the rest heading needs its standard deviation: rest_sigma.heading",
+                        ))
+                    }
+                    (_, h) => h.unwrap_or(1.0).to_radians(),
+                };
+                Some(Rest {
+                    x: r.x * length,
+                    y: flip * r.y * length,
+                    heading: r.heading.map(|h| flip * h.to_radians()),
+                    sigma_xy: [sd.x * length, sd.y * length],
+                    sigma_heading,
+                })
+            }
+        };
+        let mut marks = Vec::new();
+        for (i, m) in s.marks.iter().enumerate() {
+            let heading = match (m.heading, m.heading_sigma) {
+                (Some(h), Some(sd)) => Some((flip * h.to_radians(), sd.to_radians())),
+                (None, None) => None,
+                _ => {
+                    return Err(self.error_at(
+                        &format!("scene.{name}.marks[{i}]"),
+                        "a mark's heading and heading_sigma come together",
+                    ))
+                }
+            };
+            marks.push(Mark {
+                x: m.x * length,
+                y: flip * m.y * length,
+                sigma: m.sigma * length,
+                heading,
+            });
+        }
+        let evidence = Evidence {
+            rest,
+            marks,
+            turns: s.turns.map(|t| if flip < 0.0 { -t } else { t }),
+            friction_sigma,
+        };
+        evidence.check().map_err(|e| match e {
+            RunoutError::Input { field, reason } => {
+                let path = match field {
+                    "friction_sigma" => "runout.friction_sigma".to_string(),
+                    f if f.starts_with("marks") => at("marks"),
+                    f => at(f),
+                };
+                self.error_at(&path, reason)
+            }
+            other => InputError::new(&self.file, format!("{name}: {other}")),
+        })?;
+        Ok(evidence)
+    }
+}

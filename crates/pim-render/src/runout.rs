@@ -1,0 +1,524 @@
+//! The run-out: its table and its plan view (each path, the outline at regular times and at
+//! rest, the scene's evidence), to scale.
+
+use crate::tables::num;
+use pim_core::Convention;
+use pim_data::runout::{RunoutResult, Source};
+use pim_data::units::UnitSystem;
+use pim_runout::{Motion, WheelState};
+use plotters::prelude::*;
+
+const COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
+const LIGHT: [RGBColor; 2] = [RGBColor(160, 195, 225), RGBColor(240, 160, 160)];
+const EVIDENCE: RGBColor = RGBColor(40, 40, 40);
+
+fn wheels_text(w: &[WheelState; 4]) -> String {
+    let one = |s: &WheelState| match s {
+        WheelState::Locked => "locked".to_string(),
+        WheelState::Rolling => "rolling".to_string(),
+        WheelState::Braked(b) => format!("braked {b:.2}"),
+    };
+    if w.iter().all(|s| s == &w[0]) {
+        format!("all {}", one(&w[0]))
+    } else {
+        pim_runout::WHEEL_NAMES
+            .iter()
+            .zip(w)
+            .map(|(n, s)| format!("{n} {}", one(s)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// The run-out table in `units` and the case's `frame` (an SAE case: y to the right, angles
+/// and yaw rates clockwise).
+pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Convention) -> String {
+    let d = &r.document;
+    let s = if frame == Convention::Sae { -1.0 } else { 1.0 };
+    let (len, spd, rate) = (
+        units.length_label(),
+        units.speed_label(),
+        units.yaw_rate_label(),
+    );
+    let l = |x: f64| num(units.length(x), 2);
+    let mut t = format!("Run-out: {title}\n");
+    if frame == Convention::Sae {
+        t.push_str("frame: SAE (y to the right, headings and yaw rates clockwise)\n");
+    }
+    t.push_str(&format!("separation velocities: {}\n", d.source.describe()));
+    for v in &d.vehicles {
+        let sep = &v.separation;
+        t.push_str(&format!(
+            "\nvehicle {} (friction {:.3}; wheels: {})\n",
+            v.vehicle,
+            v.friction,
+            wheels_text(&v.wheels)
+        ));
+        t.push_str(&format!(
+            "  separation  x {} {len}, y {} {len}, heading {:.1} deg; vx {} {spd}, vy {} {spd}, \
+             yaw rate {} {rate}\n",
+            l(sep.x),
+            l(s * sep.y),
+            s * sep.heading,
+            num(units.speed(sep.vx), 3),
+            num(units.speed(s * sep.vy), 3),
+            num(units.yaw_rate(s * sep.yaw_rate), 3),
+        ));
+        let ended = match v.end {
+            pim_runout::End::Rest => "rest",
+            pim_runout::End::TimeLimit => "TIME LIMIT (still moving)",
+        };
+        t.push_str(&format!(
+            "  {ended:<10}  x {} {len}, y {} {len}, heading {:.1} deg ({:.1} deg modulo 360)\n",
+            l(v.rest.x),
+            l(s * v.rest.y),
+            s * v.rest.heading,
+            (s * v.rest.heading).rem_euclid(360.0),
+        ));
+        t.push_str(&format!(
+            "  run-out     {:.2} s, {} {len} along the path, rotation {:.1} deg ({} whole turns), \
+             energy {:.1} kJ taken by the tyres\n",
+            v.time,
+            l(v.distance),
+            s * v.rotation,
+            s as i64 * v.turns,
+            v.tyre_work / 1000.0,
+        ));
+        if !v.evidence.is_empty() {
+            t.push_str("  evidence    fitted - given (sd, z):\n");
+            for e in &v.evidence {
+                let (value, sigma, unit) = if e.name.contains("heading") {
+                    (
+                        format!("{:.2}", s * e.value),
+                        format!("{:.2}", e.sigma),
+                        "deg",
+                    )
+                } else if e.name == "friction" {
+                    (format!("{:.4}", e.value), format!("{:.4}", e.sigma), "")
+                } else if e.name == "rest.y" {
+                    (
+                        num(units.length(s * e.value), 3),
+                        num(units.length(e.sigma), 3),
+                        len,
+                    )
+                } else {
+                    (
+                        num(units.length(e.value), 3),
+                        num(units.length(e.sigma), 3),
+                        len,
+                    )
+                };
+                t.push_str(&format!(
+                    "    {:<16} {value:>9} {unit} (sd {sigma}, z {})\n",
+                    e.name,
+                    num(e.z, 2)
+                ));
+            }
+        }
+        if let Some(est) = &v.estimate {
+            t.push_str(&format!(
+                "  candidates  ({} run-outs simulated; cost = sum of squared z)\n",
+                est.runouts
+            ));
+            t.push_str(
+                "    turns: full turns added to the shortest rotation to the rest heading\n",
+            );
+            t.push_str(&format!(
+                "    {:>5} {:>11} {:>9} {:>9} {:>9} {:>8}  \n",
+                "turns",
+                "cost",
+                format!("vx {spd}"),
+                format!("vy {spd}"),
+                format!("yaw {rate}"),
+                "friction"
+            ));
+            for c in &est.candidates {
+                let turns = c.turns.map_or("-".into(), |k| (s as i64 * k).to_string());
+                t.push_str(&format!(
+                    "    {turns:>5} {:>11.3e} {:>9} {:>9} {:>9} {:>8.3}  {}{}\n",
+                    c.cost,
+                    num(units.speed(c.separation.vx), 3),
+                    num(units.speed(s * c.separation.vy), 3),
+                    num(units.yaw_rate(s * c.separation.yaw_rate), 3),
+                    c.friction,
+                    if c.consistent { "consistent" } else { "" },
+                    c.reason
+                        .as_ref()
+                        .map_or(String::new(), |r| format!(" ({r})"))
+                ));
+            }
+            if let Some(best) = est.candidates.first() {
+                let sd: Vec<String> = est
+                    .unknowns
+                    .iter()
+                    .zip(&best.sigma)
+                    .map(|(n, x)| {
+                        let shown = match (n.as_str(), x) {
+                            (_, None) => "not determined".to_string(),
+                            ("vx", Some(x)) | ("vy", Some(x)) => {
+                                format!("{} {spd}", num(units.speed(*x), 3))
+                            }
+                            ("yaw_rate", Some(x)) => {
+                                format!("{} {rate}", num(units.yaw_rate(*x), 3))
+                            }
+                            (_, Some(x)) => format!("{x:.4}"),
+                        };
+                        format!("{n} {shown}")
+                    })
+                    .collect();
+                t.push_str(&format!(
+                    "  standard errors of the first candidate (linearised): {}\n",
+                    sd.join(", ")
+                ));
+            }
+            for u in &est.undetermined {
+                t.push_str(&format!("  NOT DETERMINED: {u}\n"));
+            }
+        }
+    }
+    for n in &d.notes {
+        if !n.contains("candidates reach the evidence equally well") {
+            t.push_str(&format!("note: {n}\n"));
+        }
+    }
+    t
+}
+
+/// The outline of a vehicle (length, width, CG to front) for drawing, m.
+fn outline_of(r: &RunoutResult, k: usize) -> (f64, f64, f64) {
+    let c = &r.inputs[k].chassis;
+    let length = c.length.unwrap_or(c.wheelbase + 1.9);
+    let width = c.width.unwrap_or(c.track + 0.25);
+    let front = c
+        .cg_to_front
+        .unwrap_or(c.cg_to_front_axle + 0.5 * (length - c.wheelbase));
+    (length, width, front)
+}
+
+fn corners(m: &Motion, (length, width, front): (f64, f64, f64)) -> Vec<(f64, f64)> {
+    let (s, c) = m.heading.sin_cos();
+    let body = [
+        (front, width / 2.0),
+        (front, -width / 2.0),
+        (front - length, -width / 2.0),
+        (front - length, width / 2.0),
+        (front, width / 2.0),
+    ];
+    body.iter()
+        .map(|(x, y)| (m.x + c * x - s * y, m.y + s * x + c * y))
+        .collect()
+}
+
+/// The plan view of the run-out as SVG: each vehicle's CG path, its outline at separation
+/// (bold), every `every` seconds (light) and at rest (filled), the rest position given by the
+/// scene (dashed outline, cross at its CG) and the marks (circles of one sd).
+pub fn runout_svg(
+    title: &str,
+    r: &RunoutResult,
+    units: UnitSystem,
+    frame: Convention,
+    every: f64,
+) -> Result<String, String> {
+    let sae = frame == Convention::Sae;
+    let u = |x: f64| units.length(x);
+    // Everything in display units; SAE draws y to the right (the picture mirrored back).
+    let fy = if sae { -1.0 } else { 1.0 };
+    let to = |(x, y): (f64, f64)| (u(x), u(fy * y));
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    let mut grow = |p: (f64, f64)| {
+        lo = [lo[0].min(p.0), lo[1].min(p.1)];
+        hi = [hi[0].max(p.0), hi[1].max(p.1)];
+    };
+    for (k, run) in r.runouts.iter().enumerate() {
+        let dims = outline_of(r, k);
+        for s in &run.steps {
+            corners(&s.motion, dims)
+                .into_iter()
+                .map(to)
+                .for_each(&mut grow);
+        }
+        if let Some(ev) = &r.inputs[k].evidence {
+            if let Some(rest) = &ev.rest {
+                grow(to((rest.x, rest.y)));
+            }
+            for m in &ev.marks {
+                grow(to((m.x, m.y)));
+            }
+        }
+    }
+    if !lo.iter().chain(&hi).all(|x| x.is_finite()) {
+        return Err("the run-out has a position that is not a finite number".into());
+    }
+    let pad = 0.06 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + u(1.0);
+    let (x0, x1) = (lo[0] - pad, hi[0] + pad);
+    let (mut y0, mut y1) = (lo[1] - pad, hi[1] + pad);
+    let plot_w = 760.0;
+    let px = plot_w / (x1 - x0);
+    let plot_h = ((y1 - y0) * px).clamp(240.0, 1400.0);
+    let mid = 0.5 * (y0 + y1);
+    let half = 0.5 * plot_h / px;
+    (y0, y1) = (mid - half, mid + half);
+    let key_w = 330u32;
+    let width = plot_w as u32 + 80 + key_w;
+    let height = (plot_h as u32 + 90).max(420);
+    let mut buf = String::new();
+    {
+        let root = SVGBackend::with_string(&mut buf, (width, height)).into_drawing_area();
+        let e = |e: &dyn std::fmt::Display| e.to_string();
+        root.fill(&WHITE).map_err(|x| e(&x))?;
+        let (plot, key) = root.split_horizontally(width - key_w);
+        let len = units.length_label();
+        let mut chart = ChartBuilder::on(&plot)
+            .margin(10)
+            .margin_top(30)
+            .x_label_area_size(45)
+            .y_label_area_size(60)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|x| e(&x))?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("x [{len}]"))
+            .y_desc(if sae {
+                format!("y [{len}], SAE: to the right of x")
+            } else {
+                format!("y [{len}]")
+            })
+            .y_label_formatter(&|y: &f64| num(if sae { -*y } else { *y }, 1))
+            .light_line_style(RGBColor(240, 240, 240))
+            .bold_line_style(RGBColor(225, 225, 225))
+            .draw()
+            .map_err(|x| e(&x))?;
+        for (k, run) in r.runouts.iter().enumerate() {
+            let color = COLORS[(r.inputs[k].id.index()).min(1)];
+            let light = LIGHT[(r.inputs[k].id.index()).min(1)];
+            let dims = outline_of(r, k);
+            // Outlines at regular times.
+            if every > 0.0 {
+                for (t, m) in run.sample(every) {
+                    if t > 0.0 && t < run.time {
+                        let pts: Vec<_> = corners(&m, dims).into_iter().map(to).collect();
+                        chart
+                            .draw_series(std::iter::once(PathElement::new(
+                                pts,
+                                light.stroke_width(1),
+                            )))
+                            .map_err(|x| e(&x))?;
+                    }
+                }
+            }
+            // The CG path, finely interpolated.
+            let n = 400;
+            let path: Vec<(f64, f64)> = (0..=n)
+                .map(|i| {
+                    let m = run.at(run.time * i as f64 / n as f64);
+                    to((m.x, m.y))
+                })
+                .collect();
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    path,
+                    color.stroke_width(2),
+                )))
+                .map_err(|x| e(&x))?;
+            // At separation: bold outline, the nose edge thicker.
+            let start: Vec<_> = corners(&run.start, dims).into_iter().map(to).collect();
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    start.clone(),
+                    color.stroke_width(2),
+                )))
+                .map_err(|x| e(&x))?;
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![start[0], start[1]],
+                    color.stroke_width(5),
+                )))
+                .map_err(|x| e(&x))?;
+            // At rest: filled.
+            let rest: Vec<_> = corners(&run.rest, dims).into_iter().map(to).collect();
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    rest.clone(),
+                    color.mix(0.35).filled(),
+                )))
+                .map_err(|x| e(&x))?;
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![rest[0], rest[1]],
+                    color.stroke_width(5),
+                )))
+                .map_err(|x| e(&x))?;
+            // The evidence.
+            if let Some(ev) = &r.inputs[k].evidence {
+                if let Some(g) = &ev.rest {
+                    let heading = g.heading.unwrap_or(run.rest.heading);
+                    let given = Motion {
+                        x: g.x,
+                        y: g.y,
+                        heading,
+                        ..Motion::default()
+                    };
+                    let pts: Vec<_> = corners(&given, dims).into_iter().map(to).collect();
+                    for w in pts.windows(2) {
+                        dashed(&mut chart, w[0], w[1], EVIDENCE).map_err(|x| e(&x))?;
+                    }
+                    let c = to((g.x, g.y));
+                    let a = u(0.25);
+                    for (p, q) in [
+                        ((c.0 - a, c.1 - a), (c.0 + a, c.1 + a)),
+                        ((c.0 - a, c.1 + a), (c.0 + a, c.1 - a)),
+                    ] {
+                        chart
+                            .draw_series(std::iter::once(PathElement::new(
+                                vec![p, q],
+                                EVIDENCE.stroke_width(2),
+                            )))
+                            .map_err(|x| e(&x))?;
+                    }
+                }
+                for (i, m) in ev.marks.iter().enumerate() {
+                    let c = to((m.x, m.y));
+                    let rad = u(m.sigma).max(u(0.05));
+                    let circle: Vec<(f64, f64)> = (0..=48)
+                        .map(|j| {
+                            let a = std::f64::consts::TAU * j as f64 / 48.0;
+                            (c.0 + rad * a.cos(), c.1 + rad * a.sin())
+                        })
+                        .collect();
+                    chart
+                        .draw_series(std::iter::once(PathElement::new(
+                            circle,
+                            EVIDENCE.stroke_width(1),
+                        )))
+                        .map_err(|x| e(&x))?;
+                    chart
+                        .draw_series(std::iter::once(Circle::new(c, 3, EVIDENCE.filled())))
+                        .map_err(|x| e(&x))?;
+                    chart
+                        .draw_series(std::iter::once(Text::new(
+                            format!("mark {}", i + 1),
+                            (c.0 + rad, c.1 + rad),
+                            ("sans-serif", 13).into_font().color(&EVIDENCE),
+                        )))
+                        .map_err(|x| e(&x))?;
+                }
+            }
+        }
+        // The key.
+        let mut y = 30;
+        let mut line = |text: String, color: RGBColor, size: u32| -> Result<(), String> {
+            key.draw(&Text::new(
+                text,
+                (10, y),
+                ("sans-serif", size).into_font().color(&color),
+            ))
+            .map_err(|x| e(&x))?;
+            y += size as i32 + 6;
+            Ok(())
+        };
+        for (i, part) in title.lines().enumerate() {
+            for piece in wrap(part, if i == 0 { 40 } else { 48 }) {
+                line(piece, BLACK, if i == 0 { 15 } else { 12 })?;
+            }
+        }
+        let source = match r.document.source {
+            Source::Scene => "separation: estimated from the scene".to_string(),
+            s => format!("separation: {}", s.describe()),
+        };
+        for piece in wrap(&source, 48) {
+            line(piece, BLACK, 12)?;
+        }
+        line(String::new(), BLACK, 0)?;
+        for (k, v) in r.document.vehicles.iter().enumerate() {
+            let color = COLORS[(r.inputs[k].id.index()).min(1)];
+            line(format!("vehicle {}", v.vehicle), color, 14)?;
+            line(
+                format!(
+                    "  {} {} to rest in {:.2} s",
+                    num(units.length(v.distance), 1),
+                    units.length_label(),
+                    v.time
+                ),
+                color,
+                12,
+            )?;
+            line(
+                format!(
+                    "  rotation {:.0} deg",
+                    if sae { -v.rotation } else { v.rotation }
+                ),
+                color,
+                12,
+            )?;
+            for ev in v
+                .evidence
+                .iter()
+                .filter(|e| e.name.starts_with("mark") || e.name.starts_with("rest"))
+            {
+                let shown = if ev.name.contains("heading") {
+                    format!("{} deg", num(ev.value, 1))
+                } else {
+                    format!("{} cm", num(100.0 * ev.value, 0))
+                };
+                line(
+                    format!("  {}: {shown} (z {})", ev.name, num(ev.z, 1)),
+                    color,
+                    12,
+                )?;
+            }
+        }
+        line(String::new(), BLACK, 0)?;
+        line(
+            "bold outline: at separation (thick edge: nose)".into(),
+            BLACK,
+            12,
+        )?;
+        line(format!("light outlines: every {every} s"), BLACK, 12)?;
+        line("filled outline: the run-out's rest".into(), BLACK, 12)?;
+        line("dashed outline, cross: rest given".into(), EVIDENCE, 12)?;
+        line("circle: a mark and its sd".into(), EVIDENCE, 12)?;
+        root.present().map_err(|x| e(&x))?;
+    }
+    Ok(buf)
+}
+
+/// Splits `text` into lines of at most `width` characters at spaces.
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for word in text.split_whitespace() {
+        if !cur.is_empty() && cur.chars().count() + 1 + word.chars().count() > width {
+            out.push(std::mem::take(&mut cur));
+        }
+        if !cur.is_empty() {
+            cur.push(' ');
+        }
+        cur.push_str(word);
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> Result<(), String> {
+    let n = 8;
+    for i in (0..n).step_by(2) {
+        let f = |t: f64| (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t);
+        let (p, q) = (f(i as f64 / n as f64), f((i + 1) as f64 / n as f64));
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![p, q],
+                color.stroke_width(2),
+            )))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
