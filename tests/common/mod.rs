@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod reference;
+pub mod runout;
 pub mod tangential;
 
 use pim_core::{Collision, Vehicle, Velocities};

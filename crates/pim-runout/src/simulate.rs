@@ -26,8 +26,8 @@ impl Default for Settings {
     /// Tolerances 1e-9, 60 s, 1 cm/s.
     fn default() -> Self {
         Settings {
-            rtol: 1e-9,
-            atol: 1e-9,
+            rtol: 1e-10,
+            atol: 1e-10,
             time_limit: 60.0,
             rest_speed: 0.02,
         }
