@@ -38,7 +38,7 @@ pub fn random_chassis(rng: &mut StdRng, kind: Kind) -> Chassis {
     if rng.random_bool(0.5) {
         c.cg_height = Some(rng.random_range(0.4..0.7));
     }
-    let mut one = |rng: &mut StdRng, k: Kind| match k {
+    let one = |rng: &mut StdRng, k: Kind| match k {
         Kind::Locked => WheelState::Locked,
         Kind::Rolling => WheelState::Rolling,
         Kind::Braked => WheelState::Braked(rng.random_range(0.1..1.0)),
