@@ -54,6 +54,9 @@ fn rest_distance(a: &Runout, b: &Motion) -> (f64, f64) {
     )
 }
 
+/// Energy rise, energy balance, rotated, heading, mirrored, half tolerance, came to rest.
+type Measured = (f64, f64, f64, f64, f64, f64, bool);
+
 /// Over 1,000 random run-outs (every wheel state, both senses of rotation, friction 0.1-1.0):
 /// the kinetic energy never increases from step to step; its loss equals the work of the tyre
 /// forces at every step (1e-6 of the initial energy); the rest is the same in a rotated and
@@ -62,7 +65,7 @@ fn rest_distance(a: &Runout, b: &Motion) -> (f64, f64) {
 /// millimetre); halving the integration tolerances moves the rest by less than 1 mm.
 #[test]
 fn properties_over_random_runouts() {
-    let results: Vec<(f64, f64, f64, f64, f64, f64, bool)> = (0..1000u64)
+    let results: Vec<Measured> = (0..1000u64)
         .into_par_iter()
         .map(|seed| {
             let mut rng = StdRng::seed_from_u64(7000 + seed);
@@ -118,7 +121,7 @@ fn properties_over_random_runouts() {
             )
         })
         .collect();
-    let max = |f: fn(&(f64, f64, f64, f64, f64, f64, bool)) -> f64| {
+    let max = |f: fn(&Measured) -> f64| {
         results.iter().map(f).fold(0.0, f64::max)
     };
     let rested = results.iter().filter(|r| r.6).count();
