@@ -121,9 +121,7 @@ fn properties_over_random_runouts() {
             )
         })
         .collect();
-    let max = |f: fn(&Measured) -> f64| {
-        results.iter().map(f).fold(0.0, f64::max)
-    };
+    let max = |f: fn(&Measured) -> f64| results.iter().map(f).fold(0.0, f64::max);
     let rested = results.iter().filter(|r| r.6).count();
     println!(
         "1000 run-outs: energy rise {:.2e}, balance {:.2e}, rotated {:.2e} of the path, \

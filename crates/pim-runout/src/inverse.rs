@@ -134,8 +134,9 @@ pub struct Candidate {
     /// Standard errors of the unknowns (`vx`, `vy`, `yaw_rate` and `friction` when estimated,
     /// in the order of [`Estimate::unknowns`]); `None` for an unknown the evidence leaves free.
     pub sigma: Vec<Option<f64>>,
-    /// Directions in the unknowns (unit vectors, same order) that the evidence does not
-    /// determine.
+    /// Directions in the unknowns (unit vectors, same order) that the scene's evidence does not
+    /// determine (with the friction estimated: the evidence without the friction's own standard
+    /// deviation, which then decides along them).
     pub free: Vec<Vec<f64>>,
     /// Equally consistent with the best candidate (cost within [`CONSISTENT_COST`]).
     pub consistent: bool,
@@ -441,9 +442,65 @@ pub fn estimate(
                 settings: &settings.runout,
                 estimate_friction,
             };
-            solve(&problem, k, settings.max_iterations)
+            solve(&problem, k, settings.max_iterations, &[])
         })
         .collect::<Result<Vec<_>>>()?;
+    // Counts that ended above the chi-square's expectation start again from the answers of the
+    // counts that did not (neighbouring counts often have neighbouring answers).
+    let good: Vec<(Option<i64>, Vec<f64>)> = candidates
+        .iter()
+        .filter(|c| c.cost <= c.residuals.len() as f64)
+        .map(|c| {
+            let s = &c.separation;
+            let mut theta = vec![s.vx, s.vy, s.yaw_rate];
+            if estimate_friction {
+                theta.push(c.friction);
+            }
+            (c.turns, theta)
+        })
+        .collect();
+    if !good.is_empty() {
+        let rotation = |k: Option<i64>| {
+            nearest.map_or(0.0, |h| h + TAU * k.unwrap_or(0) as f64 - start.heading)
+        };
+        let redone = candidates
+            .par_iter()
+            .map(|c| {
+                if c.cost <= c.residuals.len() as f64 {
+                    return Ok(None);
+                }
+                let starts: Vec<Vec<f64>> = good
+                    .iter()
+                    .map(|(k, theta)| {
+                        let mut t = theta.clone();
+                        let (from, to) = (rotation(*k), rotation(c.turns));
+                        if from.abs() > 1e-3 {
+                            t[2] *= to / from;
+                        }
+                        t
+                    })
+                    .collect();
+                let problem = Problem {
+                    chassis,
+                    start: *start,
+                    evidence,
+                    heading: nearest.map(|h| h + TAU * c.turns.unwrap_or(0) as f64),
+                    settings: &settings.runout,
+                    estimate_friction,
+                };
+                solve(&problem, c.turns, settings.max_iterations, &starts).map(Some)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        for (c, r) in candidates.iter_mut().zip(redone) {
+            if let Some(r) = r {
+                if r.cost < c.cost {
+                    let runouts = c.runouts + r.runouts;
+                    *c = r;
+                    c.runouts = runouts;
+                }
+            }
+        }
+    }
     candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let best = candidates.first().map_or(0.0, |c| c.cost);
     for c in &mut candidates {
@@ -529,12 +586,26 @@ fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
     theta
 }
 
-/// Levenberg-Marquardt (Marquardt's scaling) on one candidate.
-fn solve(p: &Problem, turns: Option<i64>, max_iterations: usize) -> Result<Candidate> {
+/// The state of a least-squares search.
+struct Search {
+    theta: Vec<f64>,
+    r: DVector<f64>,
+    run: Runout,
+    cost: f64,
+    jac: DMatrix<f64>,
+    converged: bool,
+    iterations: usize,
+}
+
+/// Levenberg-Marquardt (Marquardt's scaling) from `theta`.
+fn levenberg(
+    p: &Problem,
+    mut theta: Vec<f64>,
+    max_iterations: usize,
+    runouts: &mut usize,
+) -> Result<Search> {
     let n = p.n();
-    let mut runouts = 0;
-    let mut theta = first_guess(p, &mut runouts);
-    runouts += 1;
+    *runouts += 1;
     let (mut r, mut run_now) = p.weighted(&theta)?;
     let mut cost = r.norm_squared();
     let mut lambda = 1e-3;
@@ -543,7 +614,7 @@ fn solve(p: &Problem, turns: Option<i64>, max_iterations: usize) -> Result<Candi
     let mut jac = DMatrix::zeros(r.len(), n);
     while iterations < max_iterations {
         iterations += 1;
-        jac = jacobian(p, &theta, &r, &mut runouts)?;
+        jac = jacobian(p, &theta, &r, runouts)?;
         let a = jac.transpose() * &jac;
         let g = jac.transpose() * &r;
         if cost < 1e-24 || g.norm() < 1e-14 * (1.0 + cost) {
@@ -563,16 +634,16 @@ fn solve(p: &Problem, turns: Option<i64>, max_iterations: usize) -> Result<Candi
             // The decrease the linear model predicts: below the run-outs' precision there is
             // nothing left to gain.
             let predicted = -(2.0 * g.dot(&step) + (&a * &step).dot(&step));
-            if predicted < 1e-10 * cost + 1e-22 {
+            if predicted < 1e-9 * cost + 1e-22 {
                 break;
             }
             let trial: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t + s).collect();
-            runouts += 1;
+            *runouts += 1;
             match p.weighted(&trial) {
                 Ok((rt, run_t)) if rt.norm_squared() < cost => {
                     let new_cost = rt.norm_squared();
                     let small_step = step.norm() < 1e-10 * (1.0 + norm(&theta));
-                    let small_gain = cost - new_cost < 1e-12 * (1.0 + cost);
+                    let small_gain = cost - new_cost < 1e-9 * cost;
                     theta = trial;
                     r = rt;
                     run_now = run_t;
@@ -594,8 +665,175 @@ fn solve(p: &Problem, turns: Option<i64>, max_iterations: usize) -> Result<Candi
             break;
         }
     }
+    Ok(Search {
+        theta,
+        r,
+        run: run_now,
+        cost,
+        jac,
+        converged,
+        iterations,
+    })
+}
+
+/// Tolerances of the run-outs that explore from each start before the best is polished.
+const EXPLORE_TOLERANCE: f64 = 1e-7;
+
+/// Iterations of an exploring search.
+const EXPLORE_ITERATIONS: usize = 12;
+
+/// One candidate. Each start is explored by a short Levenberg-Marquardt search on coarser
+/// run-outs, in turn, until one ends within the chi-square's expectation (the count of
+/// residuals); the best explored point is polished at full precision. The starts: the first
+/// guess; with marks, the first guess fitted to the rest alone (the rest's exact solutions are
+/// often the marks' basin); the first guess with its yaw rate scaled (2.5, 0.4, -1: whether a
+/// vehicle sliding sideways ends nose or tail first jumps with it), turned off the line to the
+/// rest (a rotating vehicle's path curves) and aimed at the mark nearest the start; and
+/// `others` (the answers of other counts of turns).
+fn solve(
+    p: &Problem,
+    turns: Option<i64>,
+    max_iterations: usize,
+    others: &[Vec<f64>],
+) -> Result<Candidate> {
+    let mut runouts = 0;
+    // A second pass (others given) tries only the others: the rest were tried in the first.
+    let second_pass = !others.is_empty();
+    let guess = first_guess(p, &mut runouts);
+    let coarse_settings = Settings {
+        rtol: EXPLORE_TOLERANCE.max(p.settings.rtol),
+        atol: EXPLORE_TOLERANCE.max(p.settings.atol),
+        ..*p.settings
+    };
+    let coarse = Problem {
+        settings: &coarse_settings,
+        ..*p
+    };
+    let rest_only = Evidence {
+        marks: Vec::new(),
+        ..p.evidence.clone()
+    };
+    let turned = |angle: f64| -> Vec<f64> {
+        let (s, c) = angle.sin_cos();
+        let mut t = guess.clone();
+        t[0] = c * guess[0] - s * guess[1];
+        t[1] = s * guess[0] + c * guess[1];
+        t
+    };
+    let toward_mark = p
+        .evidence
+        .marks
+        .iter()
+        .min_by(|a, b| {
+            let d = |m: &Mark| (m.x - p.start.x).hypot(m.y - p.start.y);
+            d(a).total_cmp(&d(b))
+        })
+        .map(|m| {
+            let speed = guess[0].hypot(guess[1]);
+            let (dx, dy) = (m.x - p.start.x, m.y - p.start.y);
+            let d = dx.hypot(dy).max(1e-9);
+            let mut t = guess.clone();
+            t[0] = speed * dx / d;
+            t[1] = speed * dy / d;
+            t
+        });
+    let mut iterations = 0;
+    let mut explored: Option<Search> = None;
+    let consider = |s: Search, explored: &mut Option<Search>| {
+        if explored.as_ref().is_none_or(|b| s.cost < b.cost) {
+            *explored = Some(s);
+        }
+    };
+    let good = |s: &Option<Search>| s.as_ref().is_some_and(|s| s.cost <= s.r.len() as f64);
+    // 1. The first guess.
+    if !second_pass {
+        let s = levenberg(&coarse, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += s.iterations;
+        consider(s, &mut explored);
+    }
+    // 2. With marks, through the rest alone.
+    if !second_pass && !good(&explored) && !p.evidence.marks.is_empty() && p.evidence.rest.is_some()
+    {
+        let q = Problem {
+            evidence: &rest_only,
+            ..coarse
+        };
+        let first = levenberg(&q, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
+        let s = levenberg(&coarse, first.theta, EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += first.iterations + s.iterations;
+        consider(s, &mut explored);
+    }
+    // 3. The other starts.
+    // The yaw rate decides whether a vehicle that slides sideways ends up nose first or tail
+    // first: the rotation jumps across that divide, which a local search cannot cross.
+    let spun = |factor: f64| -> Vec<f64> {
+        let mut t = guess.clone();
+        t[2] *= factor;
+        t
+    };
+    let mut starts = Vec::new();
+    if second_pass {
+        starts.extend(others.iter().cloned());
+    } else {
+        starts.extend([spun(2.5), spun(0.4), turned(0.4), turned(-0.4), spun(-1.0)]);
+        starts.extend(toward_mark);
+    }
+    for start in starts {
+        if good(&explored) {
+            break;
+        }
+        let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += s.iterations;
+        consider(s, &mut explored);
+    }
+    // 4. Still above the expectation: a scatter of single run-outs around the first guess
+    //    (direction, speed, yaw rate), searched from the two lowest.
+    if !second_pass && !good(&explored) {
+        let mut scattered: Vec<(f64, Vec<f64>)> = Vec::new();
+        for turn in [-0.5, 0.0, 0.5] {
+            for speed in [0.8, 1.25] {
+                for yaw in [0.5, 1.0, 2.0] {
+                    let mut t = turned(turn);
+                    t[0] *= speed;
+                    t[1] *= speed;
+                    t[2] *= yaw;
+                    runouts += 1;
+                    if let Ok((r, _)) = coarse.weighted(&t) {
+                        scattered.push((r.norm_squared(), t));
+                    }
+                }
+            }
+        }
+        scattered.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, start) in scattered.into_iter().take(2) {
+            if good(&explored) {
+                break;
+            }
+            let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
+            iterations += s.iterations;
+            consider(s, &mut explored);
+        }
+    }
+    // 5. Polished at full precision.
+    let from = explored.map_or(guess, |s| s.theta);
+    let best = levenberg(p, from, max_iterations, &mut runouts)?;
+    iterations += best.iterations;
+    let Search {
+        theta,
+        run: run_now,
+        cost,
+        jac,
+        converged,
+        ..
+    } = best;
     let residuals = p.residuals(&theta, &run_now);
-    let (sigma, free) = determinacy(&jac);
+    let (sigma, mut free) = determinacy(&jac);
+    if p.estimate_friction {
+        // What the scene alone leaves free (the friction's own standard deviation then
+        // decides along it): the rows of the evidence, without the friction's.
+        let scene = jac.rows(0, jac.nrows() - 1).into_owned();
+        free = determinacy(&scene).1;
+    }
     let reason = reason_of(p, &residuals, &run_now);
     let friction = if p.estimate_friction {
         theta[3]
@@ -628,7 +866,8 @@ fn norm(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-/// Forward-difference Jacobian of the weighted residuals.
+/// Forward-difference Jacobian of the weighted residuals, the step the square root of the
+/// run-outs' relative tolerance.
 fn jacobian(
     p: &Problem,
     theta: &[f64],
@@ -638,7 +877,9 @@ fn jacobian(
     let n = p.n();
     let mut jac = DMatrix::zeros(r0.len(), n);
     for j in 0..n {
-        let h = 1e-6 * (1.0 + theta[j].abs());
+        // The run-outs carry their tolerance's noise: a difference step of its square root
+        // keeps the noise and the truncation error alike small.
+        let h = p.settings.rtol.sqrt() * (1.0 + theta[j].abs());
         let mut t = theta.to_vec();
         t[j] += h;
         *runouts += 1;
