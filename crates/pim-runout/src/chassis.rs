@@ -228,9 +228,9 @@ impl Chassis {
                 return bad(
                     "wheelbase",
                     format!(
-                        "the wheels (front axle {} m ahead of the CG, rear axle {} m behind) lie \
-                         outside the outline ({} m ahead, {} m behind): the wheelbase is longer \
-                         than the vehicle",
+                        "the wheels (front axle {:.3} m ahead of the CG, rear axle {:.3} m \
+                         behind) lie outside the outline ({:.3} m ahead, {:.3} m behind): the \
+                         wheelbase is longer than the vehicle",
                         self.cg_to_front_axle,
                         self.wheelbase - self.cg_to_front_axle,
                         front,

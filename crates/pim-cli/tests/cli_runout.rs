@@ -1,0 +1,267 @@
+//! `pim runout` end to end: the run-out of the solve's separation velocities, the separation
+//! velocities estimated back from the scene, the SAE frame, the drawing, and the located
+//! messages for inputs the run-out model cannot use.
+mod common;
+use common::*;
+
+const SPIN: &str = "examples/cases/runout_spin.toml";
+const SCENE: &str = "examples/cases/runout_scene.toml";
+
+fn json(out: &std::process::Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+/// Both cars of the example run out from the solve: they come to rest, the tyres take all the
+/// kinetic energy, the path's samples run in time and end at the rest.
+#[test]
+fn runout_of_the_solve() {
+    let v = json(&pim_ok(&["runout", SPIN, "--format", "json"]));
+    assert_eq!(v["source"], "solve");
+    let vehicles = v["vehicles"].as_array().unwrap();
+    assert_eq!(vehicles.len(), 2);
+    for car in vehicles {
+        assert_eq!(car["end"], "rest");
+        let (k, w) = (num(&car["initial_energy"]), num(&car["tyre_work"]));
+        assert!((k - w).abs() < 1e-6 * k, "energy {k} against work {w}");
+        let path = car["path"].as_array().unwrap();
+        assert!(path.len() > 10);
+        for pair in path.windows(2) {
+            assert!(num(&pair[1]["t"]) > num(&pair[0]["t"]));
+        }
+        let last = path.last().unwrap();
+        assert!((num(&last["x"]) - num(&car["rest"]["x"])).abs() < 1e-12);
+        assert!((num(&last["t"]) - num(&car["time"])).abs() < 1e-12);
+        assert_eq!(num(&last["speed"]), 0.0);
+        // The rotation is the rest heading less the heading at separation.
+        let rot = num(&car["rest"]["heading"]) - num(&car["separation"]["heading"]);
+        assert!((rot - num(&car["rotation"])).abs() < 1e-9);
+    }
+    // Car 2 is struck behind its CG and spins: about three quarters of a turn.
+    let rot2 = num(&vehicles[1]["rotation"]);
+    assert!(rot2 > 200.0 && rot2 < 340.0, "{rot2}");
+}
+
+/// The scene example gives car 2's rest and a mark from the solve's run-out (rounded to the
+/// centimetre and the degree): the estimate finds the solve's separation velocities back within
+/// what that rounding allows, for one count of turns.
+#[test]
+fn separation_from_the_scene() {
+    let truth = json(&pim_ok(&["runout", SPIN, "--format", "json"]));
+    let sep = &truth["vehicles"][1]["separation"];
+    let v = json(&pim_ok(&["runout", SCENE, "--format", "json"]));
+    assert_eq!(v["source"], "scene");
+    let car = &v["vehicles"][0];
+    assert_eq!(car["vehicle"], 2);
+    let est = &car["estimate"];
+    assert_eq!(est["unknowns"], serde_json::json!(["vx", "vy", "yaw_rate"]));
+    let candidates = est["candidates"].as_array().unwrap();
+    assert_eq!(candidates.len(), 7);
+    let consistent: Vec<_> = candidates
+        .iter()
+        .filter(|c| c["consistent"] == true)
+        .collect();
+    assert_eq!(consistent.len(), 1, "one count fits");
+    let best = &candidates[0];
+    assert_eq!(best["turns"], 1);
+    for (k, tol) in [("vx", 0.02), ("vy", 0.02), ("yaw_rate", 0.02)] {
+        let (a, b) = (num(&best["separation"][k]), num(&sep[k]));
+        assert!((a - b).abs() < tol, "{k}: {a} against {b}");
+    }
+    // Standard errors for every unknown; the residuals within a sigma.
+    assert!(best["sigma"].as_array().unwrap().iter().all(|s| s.is_f64()));
+    for r in best["residuals"].as_array().unwrap() {
+        assert!(num(&r["z"]).abs() < 1.0, "{r}");
+    }
+    // The table says the same.
+    let out = pim_ok(&["runout", SCENE]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("estimated from the scene"), "{text}");
+    assert!(text.contains("consistent"), "{text}");
+}
+
+/// The same scene written in SAE's frame (y to the right, angles clockwise) gives the mirrored
+/// separation velocities.
+#[test]
+fn the_sae_frame() {
+    let text = std::fs::read_to_string(repo().join(SCENE)).unwrap();
+    let sae = text
+        .replace("title = ", "convention = \"sae\"\ntitle = ")
+        .replace("heading = 90.0", "heading = -90.0")
+        .replace(
+            "impact_point = { x = -1.6, y = 0.88 }",
+            "impact_point = { x = -1.6, y = -0.88 }",
+        )
+        .replace(
+            "rest = { x = 9.58, y = 2.55, heading = 2.7 }",
+            "rest = { x = 9.58, y = -2.55, heading = -2.7 }",
+        )
+        .replace(
+            "{ x = 3.58, y = 2.14, sigma = 0.05 }",
+            "{ x = 3.58, y = -2.14, sigma = 0.05 }",
+        );
+    let path = scratch_file("runout", "scene_sae.toml", sae);
+    let natural = json(&pim_ok(&["runout", SCENE, "--format", "json"]));
+    let mirrored = json(&pim_ok(&["runout", &path, "--format", "json"]));
+    let (a, b) = (
+        &natural["vehicles"][0]["separation"],
+        &mirrored["vehicles"][0]["separation"],
+    );
+    // The JSON is in the natural frame: the same physical motion.
+    for k in ["vx", "vy", "yaw_rate", "x", "y"] {
+        assert!(
+            (num(&a[k]) - num(&b[k])).abs() < 1e-6,
+            "{k}: {} {}",
+            a[k],
+            b[k]
+        );
+    }
+    // The table speaks SAE: y and the yaw rate change sign.
+    let out = pim_ok(&["runout", &path]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("frame: SAE"), "{table}");
+    assert!(table.contains("yaw rate -7.3"), "{table}");
+}
+
+/// `--draw` writes the plan view.
+#[test]
+fn draws_the_runout() {
+    let dir = scratch_dir("runout", "draw");
+    let svg = dir.join("spin.svg");
+    pim_ok(&["runout", SPIN, "--draw", svg.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"), "{}", &text[..80.min(text.len())]);
+    assert!(text.contains("vehicle 2"));
+    assert!(text.contains("every 0.5 s"));
+}
+
+/// A case and the status and message each bad input gets.
+fn refused(case: &str, name: &str, expect: &[&str]) {
+    let path = scratch_file("runout", name, case);
+    let out = pim(&["runout", &path]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+    for e in expect {
+        assert!(err.contains(e), "{name}: {err:?} lacks {e:?}");
+    }
+}
+
+const BASE: &str = r#"
+[vehicle1]
+mass = 1500.0
+yaw_inertia = 2500.0
+heading = 0.0
+impact_point = { x = 2.0, y = 0.0 }
+length = 4.5
+width = 1.8
+[vehicle2]
+mass = 1500.0
+yaw_inertia = 2500.0
+heading = 90.0
+impact_point = { x = 0.0, y = 0.9 }
+[impact]
+crush_angle = 0.0
+[final]
+vehicle1 = { vx = 5.0, vy = 1.0, omega = 0.5 }
+vehicle2 = { vx = 8.0, vy = 0.0, omega = -1.0 }
+"#;
+
+const WHEELS: &str = "
+[runout.vehicle1]
+wheelbase = 2.7
+track = 1.5
+cg_to_front_axle = 1.2
+";
+
+#[test]
+fn bad_inputs_are_located() {
+    // The base runs.
+    let ok = format!("{BASE}[runout]\nfriction = 0.7\n{WHEELS}");
+    let path = scratch_file("runout", "ok.toml", &ok);
+    pim_ok(&["runout", &path]);
+    // A wheel outside the outline.
+    refused(
+        &format!(
+            "{BASE}[runout]\n{}",
+            WHEELS.replace("track = 1.5", "track = 1.9")
+        ),
+        "track.toml",
+        &["runout.vehicle1.track", "wider than the vehicle"],
+    );
+    // A wheelbase longer than the vehicle.
+    refused(
+        &format!(
+            "{BASE}[runout]\n{}",
+            WHEELS.replace("wheelbase = 2.7", "wheelbase = 4.8")
+        ),
+        "wheelbase.toml",
+        &["wheelbase"],
+    );
+    // Friction 0 and beyond 1.5.
+    for (name, f) in [("f0.toml", "0.0"), ("f2.toml", "1.6")] {
+        refused(
+            &format!("{BASE}[runout]\nfriction = {f}\n{WHEELS}"),
+            name,
+            &["runout.friction", "at most 1.5"],
+        );
+    }
+    // A sigma <= 0.
+    refused(
+        &format!(
+            "{BASE}[runout]\n{WHEELS}[scene.vehicle1]\nrest = {{ x = 5.0, y = 1.0 }}\n\
+             rest_sigma = {{ x = 0.0, y = 0.1 }}\n"
+        ),
+        "sigma.toml",
+        &[
+            "scene.vehicle1.rest_sigma.x",
+            "standard deviation must be above 0",
+        ],
+    );
+    // Rest evidence without [runout].
+    refused(
+        &format!("{BASE}[scene.vehicle1]\nrest = {{ x = 5.0, y = 1.0 }}\nrest_sigma = {{ x = 0.1, y = 0.1 }}\n"),
+        "norunout.toml",
+        &["needs [runout]"],
+    );
+    // Scene evidence of a vehicle without its wheels.
+    refused(
+        &format!(
+            "{BASE}[runout]\n{WHEELS}[scene.vehicle2]\nrest = {{ x = 5.0, y = 1.0 }}\n\
+             rest_sigma = {{ x = 0.1, y = 0.1 }}\n"
+        ),
+        "nowheels.toml",
+        &["scene.vehicle2", "[runout.vehicle2]"],
+    );
+    // A wheel state that is not one, and a wheel that is not one.
+    refused(
+        &format!("{BASE}[runout]\n{WHEELS}wheels = \"lockd\"\n"),
+        "state.toml",
+        &["runout.vehicle1.wheels", "\"lockd\" is not a wheel state"],
+    );
+    refused(
+        &format!(
+            "{BASE}[runout]\n{WHEELS}wheels = {{ front_left = \"locked\", front_right = \"locked\", \
+             rear_left = \"locked\", rear_rihgt = \"locked\" }}\n"
+        ),
+        "wheelname.toml",
+        &["rear_rihgt", "not a wheel"],
+    );
+    // No [runout] at all.
+    refused(BASE, "none.toml", &["no [runout] section"]);
+}
+
+/// A run-out still moving at its time limit: the output is printed, the status is 3 and the
+/// message says why.
+#[test]
+fn time_limit_is_exit_3() {
+    let case = format!("{BASE}[runout]\ntime_limit = 2.0\n{WHEELS}wheels = \"rolling\"\n");
+    let path = scratch_file("runout", "limit.toml", case);
+    let out = pim(&["runout", &path, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(stderr(&out).contains("time limit"), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["vehicles"][0]["end"], "time_limit");
+}
