@@ -677,7 +677,7 @@ fn levenberg(
 }
 
 /// Tolerances of the run-outs that explore from each start before the best is polished.
-const EXPLORE_TOLERANCE: f64 = 1e-7;
+const EXPLORE_TOLERANCE: f64 = 1e-6;
 
 /// Iterations of an exploring search.
 const EXPLORE_ITERATIONS: usize = 12;
