@@ -122,6 +122,9 @@ pub struct CandidateOut {
     pub cost: f64,
     /// Equally consistent with the best (cost within 1e-6).
     pub consistent: bool,
+    /// Not excluded by the evidence (cost within 4 of the best: a likelihood ratio above
+    /// e^-2).
+    pub plausible: bool,
     /// The search converged.
     pub converged: bool,
     /// Run-outs simulated for it.
@@ -426,6 +429,7 @@ fn candidate_out(c: &Candidate) -> CandidateOut {
         friction: c.friction,
         cost: c.cost,
         consistent: c.consistent,
+        plausible: c.plausible,
         converged: c.converged,
         runouts: c.runouts,
         sigma: c.sigma.clone(),
@@ -452,6 +456,27 @@ fn estimate_out(e: &Estimate, name: &str, notes: &mut Vec<String>) -> EstimateOu
         );
         undetermined.push(line.clone());
         notes.push(line);
+    }
+    let plausible: Vec<&Candidate> = e.candidates.iter().filter(|c| c.plausible).collect();
+    if consistent.len() == 1 && plausible.len() > 1 {
+        let others: Vec<String> = plausible
+            .iter()
+            .skip(1)
+            .map(|c| {
+                format!(
+                    "{} (cost {:+.2})",
+                    c.turns.map_or("-".into(), |t| t.to_string()),
+                    c.cost - plausible[0].cost
+                )
+            })
+            .collect();
+        undetermined.push(format!(
+            "{name}: the count of turns: the evidence favours {} but does not exclude {} \
+             (within a cost of {} of the best: a likelihood ratio above e^-2)",
+            plausible[0].turns.map_or("-".into(), |t| t.to_string()),
+            others.join(", "),
+            pim_runout::PLAUSIBLE_COST
+        ));
     }
     if let Some(best) = e.best() {
         for dir in &best.free {

@@ -88,11 +88,7 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
             t.push_str("  evidence    fitted - given (sd, z):\n");
             for e in &v.evidence {
                 let (value, sigma, unit) = if e.name.contains("heading") {
-                    (
-                        format!("{:.2}", s * e.value),
-                        format!("{:.2}", e.sigma),
-                        "deg",
-                    )
+                    (num(s * e.value, 2), format!("{:.2}", e.sigma), "deg")
                 } else if e.name == "friction" {
                     (format!("{:.4}", e.value), format!("{:.4}", e.sigma), "")
                 } else if e.name == "rest.y" {
@@ -141,7 +137,13 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
                     num(units.speed(s * c.separation.vy), 3),
                     num(units.yaw_rate(s * c.separation.yaw_rate), 3),
                     c.friction,
-                    if c.consistent { "consistent" } else { "" },
+                    if c.consistent {
+                        "consistent"
+                    } else if c.plausible {
+                        "not excluded"
+                    } else {
+                        ""
+                    },
                     c.reason
                         .as_ref()
                         .map_or(String::new(), |r| format!(" ({r})"))

@@ -40,6 +40,11 @@ use std::f64::consts::{PI, TAU};
 /// consistent with the evidence.
 pub const CONSISTENT_COST: f64 = 1e-6;
 
+/// Candidates within this cost of the best (a likelihood ratio above e^-2, two standard
+/// deviations of one parameter) are not excluded by the evidence: it favours the best without
+/// deciding against them.
+pub const PLAUSIBLE_COST: f64 = 4.0;
+
 /// The rest position (and heading) of the vehicle, with standard deviations.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Rest {
@@ -140,6 +145,8 @@ pub struct Candidate {
     pub free: Vec<Vec<f64>>,
     /// Equally consistent with the best candidate (cost within [`CONSISTENT_COST`]).
     pub consistent: bool,
+    /// Not excluded by the evidence (cost within [`PLAUSIBLE_COST`] of the best).
+    pub plausible: bool,
     /// The search converged (step or cost change below its tolerance).
     pub converged: bool,
     /// Least-squares iterations.
@@ -505,6 +512,7 @@ pub fn estimate(
     let best = candidates.first().map_or(0.0, |c| c.cost);
     for c in &mut candidates {
         c.consistent = c.cost - best <= CONSISTENT_COST;
+        c.plausible = c.cost - best < PLAUSIBLE_COST;
     }
     let mut unknowns: Vec<String> = ["vx", "vy", "yaw_rate"].map(String::from).to_vec();
     if estimate_friction {
@@ -854,6 +862,7 @@ fn solve(
         sigma,
         free,
         consistent: false,
+        plausible: false,
         converged,
         iterations,
         runouts,

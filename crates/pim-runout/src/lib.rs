@@ -82,5 +82,8 @@ pub use chassis::{
 };
 pub use error::{Result, RunoutError};
 pub use forces::SLIDING_DEADBAND;
-pub use inverse::{estimate, Candidate, Estimate, EstimateSettings, Evidence, Mark, Rest};
+pub use inverse::{
+    estimate, Candidate, Estimate, EstimateSettings, Evidence, Mark, Rest, CONSISTENT_COST,
+    PLAUSIBLE_COST,
+};
 pub use simulate::{simulate, End, Runout, Settings, Step};
