@@ -14,8 +14,9 @@ use std::path::{Path, PathBuf};
 const MAX_LINES: usize = 650;
 
 /// The library and binary crates whose files are checked (their `src` folders).
-const CRATES: [&str; 6] = [
+const CRATES: [&str; 7] = [
     "crates/pim-core",
+    "crates/pim-runout",
     "crates/pim-fit",
     "crates/pim-data",
     "crates/pim-render",

@@ -9,6 +9,7 @@ mod args;
 mod commands;
 mod error;
 mod inputs;
+mod runout_help;
 
 use anyhow::Result;
 use args::{Cli, Command};

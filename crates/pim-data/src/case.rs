@@ -62,10 +62,10 @@ pub struct CaseFile {
     pub uncertainty: Option<crate::spread::UncertaintySection>,
     /// The run-out to rest: road friction and each vehicle's wheels (`pim runout`).
     #[serde(default)]
-    pub runout: Option<crate::scene::RunoutSection>,
+    pub runout: Option<crate::scene_sections::RunoutSection>,
     /// The scene's evidence of the run-out: rest positions and headings, marks.
     #[serde(default)]
-    pub scene: Option<crate::scene::SceneSection>,
+    pub scene: Option<crate::scene_sections::SceneSection>,
 }
 
 impl CaseFile {

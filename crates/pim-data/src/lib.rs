@@ -38,6 +38,7 @@ pub mod residuals;
 pub mod ricsac;
 pub mod runout;
 pub mod scene;
+pub mod scene_sections;
 pub mod sections;
 pub mod spread;
 pub mod uncertainty;

@@ -2,9 +2,10 @@
 //! scene.
 
 use super::{json, print_out, title_of, write_file};
-use crate::args::{Format, RunoutArgs, RunoutSource};
+use crate::args::{Format, RunoutArgs};
 use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
 use crate::inputs::load_case;
+use crate::runout_help::RunoutSource;
 use anyhow::Result;
 use pim_data::runout::Source;
 use pim_data::units::UnitSystem;

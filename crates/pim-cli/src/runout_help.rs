@@ -1,0 +1,72 @@
+//! The help text of `pim runout`, its source of separation velocities and its time arguments
+//! (beside `args`, which holds every other command's arguments).
+
+/// The text after `pim runout --help`'s options.
+pub const RUNOUT_HELP: &str = "\
+CASE FILE: any case (see `pim solve --help`) with a [runout] section, and for the separation
+velocities [final], or [coefficients] with [initial], or --from fit, or scene evidence:
+  [runout]
+  friction = 0.7                   # road friction (default 0.7: dry asphalt, Fricke 1990)
+  # friction_sigma = 0.05          # estimate the friction around it (scene estimates only)
+  # time_limit = 60                # s
+  [runout.vehicle1]                # vehicle2 likewise; lengths in the case's length unit
+  wheelbase = 2.8
+  track = 1.55
+  cg_to_front_axle = 1.25          # default half the wheelbase
+  # cg_height = 0.55               # with it, load transfer
+  wheels = \"locked\"               # \"locked\" (also a damaged wheel), \"rolling\", a braking
+                                   # share 0-1, or per wheel: { front_left = \"locked\",
+                                   # front_right = \"rolling\", rear_left = 0.3, rear_right = .. }
+  # braking = 0.3                  # braking share of the wheels given as \"rolling\"
+  # steer = 5.0                    # deg, front wheels
+  # rolling_resistance = 0.015     # of the load (Gillespie 1992)
+  # saturation_angle = 10.0        # deg: the linear tyre's lateral force saturates there
+  #                                #   (PC-Crash's default), or cornering_stiffness per deg
+  [scene.vehicle1]                 # the evidence (positions in the case's frame: the impact
+                                   # centre is the origin, or [impact] centre's frame)
+  rest = { x = 14.2, y = 3.1, heading = 215.0 }
+  rest_sigma = { x = 0.1, y = 0.1, heading = 2.0 }
+  marks = [ { x = 6.0, y = 1.2, sigma = 0.15 } ]     # points the CG passed (tyre marks,
+                                   # gouges), optionally with heading and heading_sigma
+  # turns = 1                      # the count of full turns, when known
+
+WITHOUT separation velocities the scene estimates them: weighted least squares over vx, vy and
+the yaw rate (and the friction with friction_sigma) through the run-out model, once per count of
+full turns from -3 to 3 (a rest heading is known only modulo 360 deg). Every count's candidate is
+listed with its cost; those that fit equally well are said to, never one picked by round-off.
+The standard errors come from the linearised fit; directions the evidence leaves free are named.
+
+THE MODEL: a planar rigid body on four wheels; locked wheels slide with Coulomb friction, rolling
+wheels have rolling resistance and Steffan's linear tyre (SAE 960886) across, braked wheels a
+share of the friction circle along; load transfer with cg_height; Dormand-Prince 5(4) to rest
+(`cargo doc -p pim-runout` has the equations).
+
+JSON (SI, natural frame, degrees): per vehicle separation, rest {x, y, heading}, distance, time,
+rotation, turns, path [{t, x, y, heading, speed, yaw_rate}], evidence (residuals) and, when
+estimated, estimate {unknowns, candidates, undetermined}.
+
+EXIT STATUS: 0 success; 2 bad input (file, line and field named); 3 a run-out that reaches its
+time limit still moving, or no candidate reaching the scene evidence (the output says why);
+4 an output file could not be written.";
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunoutSource {
+    /// The case's [final].
+    Final,
+    /// The solve of [coefficients] and [initial].
+    Solve,
+    /// The fit of the case (its [estimates]; --cost as in `pim fit`).
+    Fit,
+    /// Estimated from [scene.vehicleN] through the run-out model.
+    Scene,
+}
+
+/// Checks a time argument: between 1 ms and an hour.
+pub fn positive_seconds(s: &str) -> Result<f64, String> {
+    let x: f64 = s.parse().map_err(|_| format!("{s:?} is not a number"))?;
+    if x.is_finite() && (0.001..=3600.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(format!("{s}: must be between 0.001 and 3600 s"))
+    }
+}

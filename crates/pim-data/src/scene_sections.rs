@@ -1,0 +1,158 @@
+//! The `[runout]` and `[scene]` sections of a case file as written (read by [`crate::scene`]).
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// `[runout]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunoutSection {
+    /// Road friction under both vehicles (default 0.7).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Standard deviation of the road friction: with it the friction is estimated from the
+    /// scene around `friction` instead of taken as exact.
+    #[serde(default)]
+    pub friction_sigma: Option<f64>,
+    /// The run-out is given up after this time, s (default 60).
+    #[serde(default)]
+    pub time_limit: Option<f64>,
+    /// Vehicle 1's wheels.
+    #[serde(default)]
+    pub vehicle1: Option<RunoutVehicleSection>,
+    /// Vehicle 2's wheels.
+    #[serde(default)]
+    pub vehicle2: Option<RunoutVehicleSection>,
+}
+
+/// What a wheel does, as written: `"locked"`, `"rolling"`, or a braking share.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum WheelWritten {
+    /// `"locked"` (also `"damaged"`, `"sliding"`) or `"rolling"` (also `"free"`).
+    Word(String),
+    /// A braking share from 0 (rolling) to 1.
+    Share(f64),
+}
+
+/// `wheels = ...`: one state for all four wheels, or each wheel by name.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum WheelsWritten {
+    /// The same for all four.
+    All(WheelWritten),
+    /// `{ front_left = .., front_right = .., rear_left = .., rear_right = .. }`.
+    Each(BTreeMap<String, WheelWritten>),
+}
+
+/// `[runout.vehicleN]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunoutVehicleSection {
+    /// Front axle to rear axle (length unit).
+    pub wheelbase: f64,
+    /// Left to right wheel (length unit).
+    pub track: f64,
+    /// CG to the front axle (length unit; default half the wheelbase).
+    #[serde(default)]
+    pub cg_to_front_axle: Option<f64>,
+    /// CG height (length unit): with it, load transfer.
+    #[serde(default)]
+    pub cg_height: Option<f64>,
+    /// The wheels' states (default `"locked"`).
+    #[serde(default)]
+    pub wheels: Option<WheelsWritten>,
+    /// Braking share of the wheels given as `"rolling"` (0 to 1, default 0).
+    #[serde(default)]
+    pub braking: Option<f64>,
+    /// Steer angle of the front wheels, degrees.
+    #[serde(default)]
+    pub steer: Option<f64>,
+    /// Road friction under this vehicle (instead of `[runout] friction`).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Rolling resistance, a fraction of the load (default 0.015).
+    #[serde(default)]
+    pub rolling_resistance: Option<f64>,
+    /// Slip angle at which a rolling wheel's lateral force saturates, degrees (default 10).
+    #[serde(default)]
+    pub saturation_angle: Option<f64>,
+    /// Cornering stiffness per unit load, per degree (instead of `saturation_angle`:
+    /// saturation angle = friction / cornering_stiffness).
+    #[serde(default)]
+    pub cornering_stiffness: Option<f64>,
+}
+
+/// A point as written: `{ x, y }` with an optional heading.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseWritten {
+    /// x (length unit).
+    pub x: f64,
+    /// y (length unit).
+    pub y: f64,
+    /// Heading, degrees.
+    #[serde(default)]
+    pub heading: Option<f64>,
+}
+
+/// `rest_sigma = { x, y, heading }`.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseSigmaWritten {
+    /// sd of x (length unit).
+    pub x: f64,
+    /// sd of y (length unit).
+    pub y: f64,
+    /// sd of the heading, degrees.
+    #[serde(default)]
+    pub heading: Option<f64>,
+}
+
+/// One mark: a point the CG passed.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MarkWritten {
+    /// x (length unit).
+    pub x: f64,
+    /// y (length unit).
+    pub y: f64,
+    /// sd of the path's distance from it (length unit).
+    pub sigma: f64,
+    /// The heading there, degrees.
+    #[serde(default)]
+    pub heading: Option<f64>,
+    /// sd of that heading, degrees.
+    #[serde(default)]
+    pub heading_sigma: Option<f64>,
+}
+
+/// `[scene.vehicleN]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneVehicleSection {
+    /// Rest position and heading.
+    #[serde(default)]
+    pub rest: Option<PoseWritten>,
+    /// Their standard deviations.
+    #[serde(default)]
+    pub rest_sigma: Option<PoseSigmaWritten>,
+    /// Points the CG passed.
+    #[serde(default)]
+    pub marks: Vec<MarkWritten>,
+    /// The count of full turns to rest, when known.
+    #[serde(default)]
+    pub turns: Option<i64>,
+}
+
+/// `[scene]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSection {
+    /// Vehicle 1's evidence.
+    #[serde(default)]
+    pub vehicle1: Option<SceneVehicleSection>,
+    /// Vehicle 2's evidence.
+    #[serde(default)]
+    pub vehicle2: Option<SceneVehicleSection>,
+}

@@ -1,0 +1,215 @@
+//! What the estimate takes and gives: the evidence, the settings, the candidates.
+
+use crate::chassis::Motion;
+use crate::error::{Result, RunoutError};
+use crate::simulate::{Runout, Settings};
+use serde::{Deserialize, Serialize};
+
+/// Candidates whose costs differ by less than this (in units of chi-square) are equally
+/// consistent with the evidence.
+pub const CONSISTENT_COST: f64 = 1e-6;
+
+/// Candidates within this cost of the best (a likelihood ratio above e^-2, two standard
+/// deviations of one parameter) are not excluded by the evidence: it favours the best without
+/// deciding against them.
+pub const PLAUSIBLE_COST: f64 = 4.0;
+
+/// The rest position (and heading) of the vehicle, with standard deviations.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Rest {
+    /// CG position, m.
+    pub x: f64,
+    /// CG position, m.
+    pub y: f64,
+    /// Heading at rest, rad (modulo a full turn), when known.
+    pub heading: Option<f64>,
+    /// Standard deviations of x and y, m.
+    pub sigma_xy: [f64; 2],
+    /// Standard deviation of the heading, rad.
+    pub sigma_heading: f64,
+}
+
+/// A point the CG passed (a tyre mark or gouge placed at the CG's path), with a standard
+/// deviation, optionally with the heading there.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Mark {
+    /// Position, m.
+    pub x: f64,
+    /// Position, m.
+    pub y: f64,
+    /// Standard deviation of the distance from the path, m.
+    pub sigma: f64,
+    /// Heading of the vehicle there (rad, modulo a full turn) and its standard deviation (rad).
+    pub heading: Option<(f64, f64)>,
+}
+
+/// The evidence of one vehicle's run-out.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct Evidence {
+    /// The rest position and heading.
+    pub rest: Option<Rest>,
+    /// Points the CG passed, in any order.
+    pub marks: Vec<Mark>,
+    /// The count of full turns to rest, when the case states it (only that candidate is
+    /// searched).
+    pub turns: Option<i64>,
+    /// Standard deviation of the road friction: with it the friction is estimated (its value in
+    /// the chassis is the estimate's centre), without it the friction is taken as exact.
+    pub friction_sigma: Option<f64>,
+}
+
+/// How the separation velocities are searched.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EstimateSettings {
+    /// The counts of full turns tried, from the first to the second inclusive.
+    pub turns: (i64, i64),
+    /// Iterations of the least-squares search per candidate.
+    pub max_iterations: usize,
+    /// How each run-out is integrated.
+    pub runout: Settings,
+}
+
+impl Default for EstimateSettings {
+    /// Turns -3 to 3, 100 iterations, the default run-out settings.
+    fn default() -> Self {
+        EstimateSettings {
+            turns: (-3, 3),
+            max_iterations: 100,
+            runout: Settings::default(),
+        }
+    }
+}
+
+/// One residual of a candidate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Residual {
+    /// What it is: `rest.x`, `rest.y`, `rest.heading`, `mark 1`, `mark 1 heading`, `friction`.
+    pub name: String,
+    /// Fitted minus given, in its unit (m, rad, or the friction coefficient).
+    pub value: f64,
+    /// Its standard deviation, in the same unit.
+    pub sigma: f64,
+}
+
+/// The best separation state for one count of turns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Candidate {
+    /// Full turns beyond the rotation to the nearest rest heading (none when the rest heading
+    /// is not given).
+    pub turns: Option<i64>,
+    /// The motion at separation (position and heading as given, velocities estimated).
+    pub separation: Motion,
+    /// The friction (estimated or as given).
+    pub friction: f64,
+    /// Sum of the squared residuals in units of their sigmas.
+    pub cost: f64,
+    /// Every piece of evidence against the fit.
+    pub residuals: Vec<Residual>,
+    /// Standard errors of the unknowns (`vx`, `vy`, `yaw_rate` and `friction` when estimated,
+    /// in the order of [`Estimate::unknowns`]); `None` for an unknown the evidence leaves free.
+    pub sigma: Vec<Option<f64>>,
+    /// Directions in the unknowns (unit vectors, same order) that the scene's evidence does not
+    /// determine (with the friction estimated: the evidence without the friction's own standard
+    /// deviation, which then decides along them).
+    pub free: Vec<Vec<f64>>,
+    /// Equally consistent with the best candidate (cost within [`CONSISTENT_COST`]).
+    pub consistent: bool,
+    /// Not excluded by the evidence (cost within [`PLAUSIBLE_COST`] of the best).
+    pub plausible: bool,
+    /// The search converged (step or cost change below its tolerance).
+    pub converged: bool,
+    /// Least-squares iterations.
+    pub iterations: usize,
+    /// Run-outs simulated for this candidate.
+    pub runouts: usize,
+    /// Why this candidate does not reach the evidence, when it does not (a residual beyond
+    /// 3 sigma, or a run-out that reaches its time limit).
+    pub reason: Option<String>,
+    /// The run-out from the estimated separation state.
+    pub runout: Runout,
+}
+
+/// The separation velocities of one vehicle estimated from its run-out evidence.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Estimate {
+    /// The names of the unknowns, in the order of [`Candidate::sigma`].
+    pub unknowns: Vec<String>,
+    /// One candidate per count of turns, the lowest cost first.
+    pub candidates: Vec<Candidate>,
+}
+
+impl Estimate {
+    /// The candidates equally consistent with the evidence (the lowest cost and those within
+    /// [`CONSISTENT_COST`] of it).
+    pub fn consistent(&self) -> impl Iterator<Item = &Candidate> {
+        self.candidates.iter().filter(|c| c.consistent)
+    }
+
+    /// The lowest-cost candidate (one of the consistent ones; check [`Estimate::consistent`]
+    /// before calling it *the* answer).
+    pub fn best(&self) -> Option<&Candidate> {
+        self.candidates.first()
+    }
+}
+
+pub(crate) fn input(field: &'static str, reason: String) -> RunoutError {
+    RunoutError::Input { field, reason }
+}
+
+impl Evidence {
+    /// Checks the evidence: finite numbers, sigmas above 0, something to fit.
+    pub fn check(&self) -> Result<()> {
+        let positive = |field: &'static str, s: f64| {
+            if s.is_finite() && s > 0.0 {
+                Ok(())
+            } else {
+                Err(input(
+                    field,
+                    format!("{s}: a standard deviation must be above 0"),
+                ))
+            }
+        };
+        let finite = |field: &'static str, x: f64| {
+            if x.is_finite() {
+                Ok(())
+            } else {
+                Err(input(field, format!("{x}: must be a finite number")))
+            }
+        };
+        if let Some(r) = &self.rest {
+            finite("rest.x", r.x)?;
+            finite("rest.y", r.y)?;
+            positive("rest_sigma.x", r.sigma_xy[0])?;
+            positive("rest_sigma.y", r.sigma_xy[1])?;
+            if let Some(h) = r.heading {
+                finite("rest.heading", h)?;
+                positive("rest_sigma.heading", r.sigma_heading)?;
+            }
+        }
+        for m in &self.marks {
+            finite("marks.x", m.x)?;
+            finite("marks.y", m.y)?;
+            positive("marks.sigma", m.sigma)?;
+            if let Some((h, s)) = m.heading {
+                finite("marks.heading", h)?;
+                positive("marks.heading_sigma", s)?;
+            }
+        }
+        if let Some(s) = self.friction_sigma {
+            positive("friction_sigma", s)?;
+        }
+        if self.rest.is_none() && self.marks.is_empty() {
+            return Err(input(
+                "rest",
+                "no evidence: give the rest position (and heading) or marks the CG passed".into(),
+            ));
+        }
+        if self.turns.is_some() && self.rest.and_then(|r| r.heading).is_none() {
+            return Err(input(
+                "turns",
+                "a count of turns needs the rest heading it counts to".into(),
+            ));
+        }
+        Ok(())
+    }
+}

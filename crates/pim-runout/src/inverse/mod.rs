@@ -1,0 +1,168 @@
+//! Separation velocities from the scene: weighted least squares through the run-out model.
+//!
+//! The unknowns are the CG velocity `(vx, vy)` and yaw rate `r` at separation, and the road
+//! friction when the evidence gives it a standard deviation ([`Evidence::friction_sigma`]: the
+//! friction is then an estimate, not a given). The position and heading at separation are known
+//! (they are those at contact). The cost is the sum of the squared residuals in units of their
+//! standard deviations:
+//! - the rest position `x`, `y` and heading against those of the run-out's end;
+//! - each mark: the signed distance of the mark from the CG's path (along the path's normal at
+//!   the closest point; the full distance when the closest point is the start or the rest), and
+//!   the heading there when the mark gives one;
+//! - the friction against the value given, when it is estimated.
+//!
+//! A rest heading is known only modulo a full turn. The heading of candidate `k` is the rest
+//! heading nearest the heading at separation plus `k` full turns (counter-clockwise positive),
+//! for every `k` of [`EstimateSettings::turns`], each minimised on its own
+//! (Levenberg-Marquardt with forward-difference Jacobians, from a start scaled by trial
+//! run-outs until the distance or the rotation matches). A rest position and heading are three
+//! numbers for three unknowns: typically every count reaches them exactly and only marks (or the
+//! impact) decide between the counts, so candidates whose costs agree within
+//! [`CONSISTENT_COST`] are reported as equally consistent, never one chosen by round-off.
+//!
+//! At each candidate's minimum the weighted Jacobian `J` tells what the evidence determines:
+//! its singular directions with a singular value below 1e-6 of the largest are *free* (the cost
+//! does not change along them to first order; e.g. speed against friction when only the rest
+//! position is known and the friction is estimated), and the standard errors of the determined
+//! unknowns are the square roots of the diagonal of `(J^T J)^-1` (the linearisation; exact for
+//! the evidence's sigmas in the limit of small ones).
+
+mod evidence;
+mod problem;
+mod search;
+
+pub use evidence::{
+    Candidate, Estimate, EstimateSettings, Evidence, Mark, Residual, Rest, CONSISTENT_COST,
+    PLAUSIBLE_COST,
+};
+pub use problem::residuals_of;
+
+use crate::chassis::{Chassis, Motion};
+use crate::error::Result;
+use evidence::input;
+use problem::Problem;
+use rayon::prelude::*;
+use search::solve;
+use std::f64::consts::TAU;
+
+/// Estimates the separation velocities of a vehicle that starts at `start` (its position and
+/// heading at separation; its velocities are ignored) from `evidence`, for every count of
+/// turns in `settings.turns` (or the count the evidence states).
+///
+/// # Errors
+/// [`RunoutError::Input`] for a vehicle, start, evidence or settings the model cannot use.
+/// A candidate that does not reach the evidence is not an error: its cost, residuals and
+/// [`Candidate::reason`] say so.
+pub fn estimate(
+    chassis: &Chassis,
+    start: &Motion,
+    evidence: &Evidence,
+    settings: &EstimateSettings,
+) -> Result<Estimate> {
+    chassis.check()?;
+    start.check()?;
+    evidence.check()?;
+    settings.runout.check()?;
+    if settings.turns.0 > settings.turns.1 || settings.turns.1 - settings.turns.0 > 40 {
+        return Err(input(
+            "turns",
+            format!(
+                "{:?}: the range of counts must run upwards and span at most 40 turns",
+                settings.turns
+            ),
+        ));
+    }
+    let estimate_friction = evidence.friction_sigma.is_some();
+    let rest_heading = evidence.rest.and_then(|r| r.heading);
+    // The rest heading nearest the heading at separation; candidate k adds k turns.
+    let nearest = rest_heading.map(|h| h + TAU * ((start.heading - h) / TAU).round());
+    let counts: Vec<Option<i64>> = match (nearest, evidence.turns) {
+        (None, _) => vec![None],
+        (Some(_), Some(k)) => vec![Some(k)],
+        (Some(_), None) => (settings.turns.0..=settings.turns.1).map(Some).collect(),
+    };
+    let mut candidates = counts
+        .par_iter()
+        .map(|&k| {
+            let problem = Problem {
+                chassis,
+                start: *start,
+                evidence,
+                heading: nearest.map(|h| h + TAU * k.unwrap_or(0) as f64),
+                settings: &settings.runout,
+                estimate_friction,
+            };
+            solve(&problem, k, settings.max_iterations, &[])
+        })
+        .collect::<Result<Vec<_>>>()?;
+    // Counts that ended above the chi-square's expectation start again from the answers of the
+    // counts that did not (neighbouring counts often have neighbouring answers).
+    let good: Vec<(Option<i64>, Vec<f64>)> = candidates
+        .iter()
+        .filter(|c| c.cost <= c.residuals.len() as f64)
+        .map(|c| {
+            let s = &c.separation;
+            let mut theta = vec![s.vx, s.vy, s.yaw_rate];
+            if estimate_friction {
+                theta.push(c.friction);
+            }
+            (c.turns, theta)
+        })
+        .collect();
+    if !good.is_empty() {
+        let rotation = |k: Option<i64>| {
+            nearest.map_or(0.0, |h| h + TAU * k.unwrap_or(0) as f64 - start.heading)
+        };
+        let redone = candidates
+            .par_iter()
+            .map(|c| {
+                if c.cost <= c.residuals.len() as f64 {
+                    return Ok(None);
+                }
+                let starts: Vec<Vec<f64>> = good
+                    .iter()
+                    .map(|(k, theta)| {
+                        let mut t = theta.clone();
+                        let (from, to) = (rotation(*k), rotation(c.turns));
+                        if from.abs() > 1e-3 {
+                            t[2] *= to / from;
+                        }
+                        t
+                    })
+                    .collect();
+                let problem = Problem {
+                    chassis,
+                    start: *start,
+                    evidence,
+                    heading: nearest.map(|h| h + TAU * c.turns.unwrap_or(0) as f64),
+                    settings: &settings.runout,
+                    estimate_friction,
+                };
+                solve(&problem, c.turns, settings.max_iterations, &starts).map(Some)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        for (c, r) in candidates.iter_mut().zip(redone) {
+            if let Some(r) = r {
+                if r.cost < c.cost {
+                    let runouts = c.runouts + r.runouts;
+                    *c = r;
+                    c.runouts = runouts;
+                }
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let best = candidates.first().map_or(0.0, |c| c.cost);
+    for c in &mut candidates {
+        c.consistent = c.cost - best <= CONSISTENT_COST;
+        c.plausible = c.cost - best < PLAUSIBLE_COST;
+    }
+    let mut unknowns: Vec<String> = ["vx", "vy", "yaw_rate"].map(String::from).to_vec();
+    if estimate_friction {
+        unknowns.push("friction".into());
+    }
+    Ok(Estimate {
+        unknowns,
+        candidates,
+    })
+}

@@ -1,0 +1,166 @@
+//! The cost of one candidate: the residuals of a run-out against the evidence.
+
+use super::evidence::{Evidence, Residual};
+use crate::chassis::{Chassis, Motion};
+use crate::error::Result;
+use crate::forces::Dynamics;
+use crate::simulate::{hermite, run, Runout, Settings};
+use nalgebra::DVector;
+use std::f64::consts::{PI, TAU};
+
+/// The problem of one candidate.
+pub(crate) struct Problem<'a> {
+    pub(crate) chassis: &'a Chassis,
+    pub(crate) start: Motion,
+    pub(crate) evidence: &'a Evidence,
+    /// Target heading at rest (unwrapped for this candidate), rad.
+    pub(crate) heading: Option<f64>,
+    pub(crate) settings: &'a Settings,
+    pub(crate) estimate_friction: bool,
+}
+
+impl Problem<'_> {
+    pub(crate) fn n(&self) -> usize {
+        if self.estimate_friction {
+            4
+        } else {
+            3
+        }
+    }
+
+    pub(crate) fn runout(&self, theta: &[f64]) -> Result<Runout> {
+        let mut chassis = self.chassis.clone();
+        if self.estimate_friction {
+            // The friction stays inside the model's range while searched.
+            chassis.friction = theta[3].clamp(0.02, crate::chassis::MAX_FRICTION);
+            chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * chassis.friction);
+        }
+        let start = Motion {
+            vx: theta[0],
+            vy: theta[1],
+            yaw_rate: theta[2],
+            ..self.start
+        };
+        run(&Dynamics::new(&chassis), &start, self.settings)
+    }
+
+    /// The residuals (fitted minus given, and their sigmas) of a run-out.
+    pub(crate) fn residuals(&self, theta: &[f64], r: &Runout) -> Vec<Residual> {
+        let mut out = Vec::new();
+        let res = |name: &str, value: f64, sigma: f64| Residual {
+            name: name.to_string(),
+            value,
+            sigma,
+        };
+        if let Some(rest) = &self.evidence.rest {
+            out.push(res("rest.x", r.rest.x - rest.x, rest.sigma_xy[0]));
+            out.push(res("rest.y", r.rest.y - rest.y, rest.sigma_xy[1]));
+            if let Some(h) = self.heading {
+                out.push(res("rest.heading", r.rest.heading - h, rest.sigma_heading));
+            }
+        }
+        for (i, m) in self.evidence.marks.iter().enumerate() {
+            let (d, heading) = closest(r, m.x, m.y);
+            out.push(res(&format!("mark {}", i + 1), d, m.sigma));
+            if let Some((h, s)) = m.heading {
+                let diff = wrap(heading - h);
+                out.push(res(&format!("mark {} heading", i + 1), diff, s));
+            }
+        }
+        if let (true, Some(s)) = (self.estimate_friction, self.evidence.friction_sigma) {
+            out.push(res("friction", theta[3] - self.chassis.friction, s));
+        }
+        out
+    }
+
+    pub(crate) fn weighted(&self, theta: &[f64]) -> Result<(DVector<f64>, Runout)> {
+        let r = self.runout(theta)?;
+        let res = self.residuals(theta, &r);
+        Ok((
+            DVector::from_iterator(res.len(), res.iter().map(|x| x.value / x.sigma)),
+            r,
+        ))
+    }
+}
+
+/// The residuals of `evidence` against a run-out computed elsewhere (from separation velocities
+/// a solve or a fit gave): the rest heading is compared with the nearest of its full turns.
+pub fn residuals_of(chassis: &Chassis, evidence: &Evidence, runout: &Runout) -> Vec<Residual> {
+    let heading = evidence
+        .rest
+        .and_then(|r| r.heading)
+        .map(|h| h + TAU * ((runout.rest.heading - h) / TAU).round());
+    let settings = Settings::default();
+    let p = Problem {
+        chassis,
+        start: runout.start,
+        evidence,
+        heading,
+        settings: &settings,
+        estimate_friction: false,
+    };
+    p.residuals(&[], runout)
+}
+
+/// Wraps an angle to (-pi, pi].
+fn wrap(a: f64) -> f64 {
+    let w = a.rem_euclid(TAU);
+    if w > PI {
+        w - TAU
+    } else {
+        w
+    }
+}
+
+/// The signed distance of the point `(px, py)` from the CG's path (positive to the left of
+/// the direction of travel; the full distance when the closest point is an end of the path)
+/// and the heading at the closest point.
+fn closest(r: &Runout, px: f64, py: f64) -> (f64, f64) {
+    let steps = &r.steps;
+    let dist2 = |m: &Motion| (m.x - px).powi(2) + (m.y - py).powi(2);
+    if steps.len() < 2 {
+        let m = r.rest;
+        return (dist2(&m).sqrt(), m.heading);
+    }
+    // Coarse: eight points in every step; then Newton on (p(t) - q) . p'(t) = 0.
+    let mut best = (f64::INFINITY, 0usize, 0.0);
+    for k in 1..steps.len() {
+        for j in 0..=8 {
+            let s = j as f64 / 8.0;
+            let t = steps[k - 1].time + s * (steps[k].time - steps[k - 1].time);
+            let d = dist2(&hermite(&steps[k - 1], &steps[k], t));
+            if d < best.0 {
+                best = (d, k, t);
+            }
+        }
+    }
+    let (_, k, mut t) = best;
+    let (a, b) = (&steps[k - 1], &steps[k]);
+    let h = 1e-7 * (b.time - a.time).max(1e-9);
+    for _ in 0..20 {
+        let f = |t: f64| {
+            let m = hermite(a, b, t);
+            (m.x - px) * m.vx + (m.y - py) * m.vy
+        };
+        let (f0, f1) = (f(t), f(t + h));
+        let df = (f1 - f0) / h;
+        if df.abs() < 1e-300 {
+            break;
+        }
+        let next = (t - f0 / df).clamp(a.time, b.time);
+        let done = (next - t).abs() < 1e-13 * (1.0 + t.abs());
+        t = next;
+        if done {
+            break;
+        }
+    }
+    let m = hermite(a, b, t);
+    let (dx, dy) = (px - m.x, py - m.y);
+    let speed = m.vx.hypot(m.vy);
+    let interior = t > steps[0].time && t < r.time;
+    if interior && speed > 1e-9 {
+        ((m.vx * dy - m.vy * dx) / speed, m.heading)
+    } else {
+        (dx.hypot(dy), m.heading)
+    }
+}

@@ -1,0 +1,455 @@
+//! The least-squares search of one candidate: starts, Levenberg-Marquardt, what the evidence
+//! determines at the answer.
+
+use super::evidence::{Candidate, Evidence, Mark, Residual};
+use super::problem::Problem;
+use crate::chassis::{Motion, GRAVITY};
+use crate::error::Result;
+use crate::simulate::{End, Runout, Settings};
+use nalgebra::{DMatrix, DVector};
+
+/// The first guess of a candidate: a uniform deceleration along the line from the start to
+/// the rest (or the first mark), turning through the candidate's rotation in the same time;
+/// then scaled by trial run-outs until the distance (or, for a vehicle that barely moves, the
+/// rotation) matches.
+fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
+    let target = p
+        .evidence
+        .rest
+        .map(|r| (r.x, r.y))
+        .or_else(|| p.evidence.marks.last().map(|m| (m.x, m.y)))
+        .unwrap_or((p.start.x, p.start.y));
+    let (dx, dy) = (target.0 - p.start.x, target.1 - p.start.y);
+    let dist = dx.hypot(dy);
+    let rotation = p.heading.map_or(0.0, |h| h - p.start.heading);
+    let decel = p.chassis.friction * GRAVITY;
+    let radius = {
+        let [x, y] = p.chassis.wheel_position(0);
+        x.hypot(y)
+    };
+    // Spin decelerates at about mu m g rho / I.
+    let spin_decel = decel * p.chassis.mass * radius / p.chassis.yaw_inertia;
+    let (speed, time) = if dist > 0.05 {
+        let v = (2.0 * decel * dist).sqrt();
+        (v, 2.0 * dist / v)
+    } else {
+        let w = (2.0 * spin_decel * rotation.abs()).sqrt();
+        (
+            0.1,
+            if w > 0.0 {
+                2.0 * rotation.abs() / w
+            } else {
+                1.0
+            },
+        )
+    };
+    let (ux, uy) = if dist > 1e-9 {
+        (dx / dist, dy / dist)
+    } else {
+        (p.start.heading.cos(), p.start.heading.sin())
+    };
+    let mut theta = vec![speed * ux, speed * uy, 2.0 * rotation / time.max(1e-3)];
+    if p.estimate_friction {
+        theta.push(p.chassis.friction);
+    }
+    for _ in 0..6 {
+        *runouts += 1;
+        let Ok(r) = p.runout(&theta) else { break };
+        let factor = if dist > 0.05 {
+            let reached = (r.rest.x - p.start.x).hypot(r.rest.y - p.start.y);
+            if reached > 1e-6 {
+                (dist / reached).sqrt()
+            } else {
+                3.0
+            }
+        } else if r.rotation.abs() > 1e-6 && rotation.abs() > 1e-6 {
+            (rotation.abs() / r.rotation.abs()).sqrt()
+        } else {
+            1.0
+        };
+        let factor = factor.clamp(0.3, 3.0);
+        if (factor - 1.0).abs() < 0.02 {
+            break;
+        }
+        for x in theta.iter_mut().take(3) {
+            *x *= factor;
+        }
+    }
+    theta
+}
+
+/// The state of a least-squares search.
+struct Search {
+    theta: Vec<f64>,
+    r: DVector<f64>,
+    run: Runout,
+    cost: f64,
+    jac: DMatrix<f64>,
+    converged: bool,
+    iterations: usize,
+}
+
+/// Levenberg-Marquardt (Marquardt's scaling) from `theta`.
+fn levenberg(
+    p: &Problem,
+    mut theta: Vec<f64>,
+    max_iterations: usize,
+    runouts: &mut usize,
+) -> Result<Search> {
+    let n = p.n();
+    *runouts += 1;
+    let (mut r, mut run_now) = p.weighted(&theta)?;
+    let mut cost = r.norm_squared();
+    let mut lambda = 1e-3;
+    let mut converged = false;
+    let mut iterations = 0;
+    let mut jac = DMatrix::zeros(r.len(), n);
+    while iterations < max_iterations {
+        iterations += 1;
+        jac = jacobian(p, &theta, &r, runouts)?;
+        let a = jac.transpose() * &jac;
+        let g = jac.transpose() * &r;
+        if cost < 1e-24 || g.norm() < 1e-14 * (1.0 + cost) {
+            converged = true;
+            break;
+        }
+        let mut improved = false;
+        while lambda < 1e12 {
+            let mut m = a.clone();
+            for i in 0..n {
+                m[(i, i)] += lambda * a[(i, i)].max(1e-12);
+            }
+            let Some(step) = m.cholesky().map(|c| c.solve(&(-&g))) else {
+                lambda *= 4.0;
+                continue;
+            };
+            // The decrease the linear model predicts: below the run-outs' precision there is
+            // nothing left to gain.
+            let predicted = -(2.0 * g.dot(&step) + (&a * &step).dot(&step));
+            if predicted < 1e-9 * cost + 1e-22 {
+                break;
+            }
+            let trial: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t + s).collect();
+            *runouts += 1;
+            match p.weighted(&trial) {
+                Ok((rt, run_t)) if rt.norm_squared() < cost => {
+                    let new_cost = rt.norm_squared();
+                    let small_step = step.norm() < 1e-10 * (1.0 + norm(&theta));
+                    let small_gain = cost - new_cost < 1e-9 * cost;
+                    theta = trial;
+                    r = rt;
+                    run_now = run_t;
+                    cost = new_cost;
+                    lambda = (lambda / 3.0).max(1e-12);
+                    improved = true;
+                    converged = small_step || small_gain;
+                    break;
+                }
+                _ => lambda *= 4.0,
+            }
+        }
+        if !improved {
+            // No step lowers the cost: a (local) minimum to the precision of the run-outs.
+            converged = true;
+            break;
+        }
+        if converged {
+            break;
+        }
+    }
+    Ok(Search {
+        theta,
+        r,
+        run: run_now,
+        cost,
+        jac,
+        converged,
+        iterations,
+    })
+}
+
+/// Tolerances of the run-outs that explore from each start before the best is polished.
+const EXPLORE_TOLERANCE: f64 = 1e-6;
+
+/// Iterations of an exploring search.
+const EXPLORE_ITERATIONS: usize = 12;
+
+/// One candidate. Each start is explored by a short Levenberg-Marquardt search on coarser
+/// run-outs, in turn, until one ends within the chi-square's expectation (the count of
+/// residuals); the best explored point is polished at full precision. The starts: the first
+/// guess; with marks, the first guess fitted to the rest alone (the rest's exact solutions are
+/// often the marks' basin); the first guess with its yaw rate scaled (2.5, 0.4, -1: whether a
+/// vehicle sliding sideways ends nose or tail first jumps with it), turned off the line to the
+/// rest (a rotating vehicle's path curves) and aimed at the mark nearest the start; and
+/// `others` (the answers of other counts of turns).
+pub(crate) fn solve(
+    p: &Problem,
+    turns: Option<i64>,
+    max_iterations: usize,
+    others: &[Vec<f64>],
+) -> Result<Candidate> {
+    let mut runouts = 0;
+    // A second pass (others given) tries only the others: the rest were tried in the first.
+    let second_pass = !others.is_empty();
+    let guess = first_guess(p, &mut runouts);
+    let coarse_settings = Settings {
+        rtol: EXPLORE_TOLERANCE.max(p.settings.rtol),
+        atol: EXPLORE_TOLERANCE.max(p.settings.atol),
+        ..*p.settings
+    };
+    let coarse = Problem {
+        settings: &coarse_settings,
+        ..*p
+    };
+    let rest_only = Evidence {
+        marks: Vec::new(),
+        ..p.evidence.clone()
+    };
+    let turned = |angle: f64| -> Vec<f64> {
+        let (s, c) = angle.sin_cos();
+        let mut t = guess.clone();
+        t[0] = c * guess[0] - s * guess[1];
+        t[1] = s * guess[0] + c * guess[1];
+        t
+    };
+    let toward_mark = p
+        .evidence
+        .marks
+        .iter()
+        .min_by(|a, b| {
+            let d = |m: &Mark| (m.x - p.start.x).hypot(m.y - p.start.y);
+            d(a).total_cmp(&d(b))
+        })
+        .map(|m| {
+            let speed = guess[0].hypot(guess[1]);
+            let (dx, dy) = (m.x - p.start.x, m.y - p.start.y);
+            let d = dx.hypot(dy).max(1e-9);
+            let mut t = guess.clone();
+            t[0] = speed * dx / d;
+            t[1] = speed * dy / d;
+            t
+        });
+    let mut iterations = 0;
+    let mut explored: Option<Search> = None;
+    let consider = |s: Search, explored: &mut Option<Search>| {
+        if explored.as_ref().is_none_or(|b| s.cost < b.cost) {
+            *explored = Some(s);
+        }
+    };
+    let good = |s: &Option<Search>| s.as_ref().is_some_and(|s| s.cost <= s.r.len() as f64);
+    // 1. The first guess.
+    if !second_pass {
+        let s = levenberg(&coarse, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += s.iterations;
+        consider(s, &mut explored);
+    }
+    // 2. With marks, through the rest alone.
+    if !second_pass && !good(&explored) && !p.evidence.marks.is_empty() && p.evidence.rest.is_some()
+    {
+        let q = Problem {
+            evidence: &rest_only,
+            ..coarse
+        };
+        let first = levenberg(&q, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
+        let s = levenberg(&coarse, first.theta, EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += first.iterations + s.iterations;
+        consider(s, &mut explored);
+    }
+    // 3. The other starts.
+    // The yaw rate decides whether a vehicle that slides sideways ends up nose first or tail
+    // first: the rotation jumps across that divide, which a local search cannot cross.
+    let spun = |factor: f64| -> Vec<f64> {
+        let mut t = guess.clone();
+        t[2] *= factor;
+        t
+    };
+    let mut starts = Vec::new();
+    if second_pass {
+        starts.extend(others.iter().cloned());
+    } else {
+        starts.extend([spun(2.5), spun(0.4), turned(0.4), turned(-0.4), spun(-1.0)]);
+        starts.extend(toward_mark);
+    }
+    for start in starts {
+        if good(&explored) {
+            break;
+        }
+        let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += s.iterations;
+        consider(s, &mut explored);
+    }
+    // 4. Still above the expectation: a scatter of single run-outs around the first guess
+    //    (direction, speed, yaw rate), searched from the two lowest.
+    if !second_pass && !good(&explored) {
+        let mut scattered: Vec<(f64, Vec<f64>)> = Vec::new();
+        for turn in [-0.5, 0.0, 0.5] {
+            for speed in [0.8, 1.25] {
+                for yaw in [0.5, 1.0, 2.0] {
+                    let mut t = turned(turn);
+                    t[0] *= speed;
+                    t[1] *= speed;
+                    t[2] *= yaw;
+                    runouts += 1;
+                    if let Ok((r, _)) = coarse.weighted(&t) {
+                        scattered.push((r.norm_squared(), t));
+                    }
+                }
+            }
+        }
+        scattered.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, start) in scattered.into_iter().take(2) {
+            if good(&explored) {
+                break;
+            }
+            let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
+            iterations += s.iterations;
+            consider(s, &mut explored);
+        }
+    }
+    // 5. Polished at full precision.
+    let from = explored.map_or(guess, |s| s.theta);
+    let best = levenberg(p, from, max_iterations, &mut runouts)?;
+    iterations += best.iterations;
+    let Search {
+        theta,
+        run: run_now,
+        cost,
+        jac,
+        converged,
+        ..
+    } = best;
+    let residuals = p.residuals(&theta, &run_now);
+    let (sigma, mut free) = determinacy(&jac);
+    if p.estimate_friction {
+        // What the scene alone leaves free (the friction's own standard deviation then
+        // decides along it): the rows of the evidence, without the friction's.
+        let scene = jac.rows(0, jac.nrows() - 1).into_owned();
+        free = determinacy(&scene).1;
+    }
+    let reason = reason_of(p, &residuals, &run_now);
+    let friction = if p.estimate_friction {
+        theta[3]
+    } else {
+        p.chassis.friction
+    };
+    Ok(Candidate {
+        turns,
+        separation: Motion {
+            vx: theta[0],
+            vy: theta[1],
+            yaw_rate: theta[2],
+            ..p.start
+        },
+        friction,
+        cost,
+        residuals,
+        sigma,
+        free,
+        consistent: false,
+        plausible: false,
+        converged,
+        iterations,
+        runouts,
+        reason,
+        runout: run_now,
+    })
+}
+
+fn norm(x: &[f64]) -> f64 {
+    x.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+/// Forward-difference Jacobian of the weighted residuals, the step the square root of the
+/// run-outs' relative tolerance.
+fn jacobian(
+    p: &Problem,
+    theta: &[f64],
+    r0: &DVector<f64>,
+    runouts: &mut usize,
+) -> Result<DMatrix<f64>> {
+    let n = p.n();
+    let mut jac = DMatrix::zeros(r0.len(), n);
+    for j in 0..n {
+        // The run-outs carry their tolerance's noise: a difference step of its square root
+        // keeps the noise and the truncation error alike small.
+        let h = p.settings.rtol.sqrt() * (1.0 + theta[j].abs());
+        let mut t = theta.to_vec();
+        t[j] += h;
+        *runouts += 1;
+        let (r1, _) = p.weighted(&t)?;
+        for i in 0..r0.len() {
+            jac[(i, j)] = (r1[i] - r0[i]) / h;
+        }
+    }
+    Ok(jac)
+}
+
+/// Standard errors of the unknowns and the directions the evidence does not determine, from
+/// the singular values of the weighted Jacobian.
+fn determinacy(jac: &DMatrix<f64>) -> (Vec<Option<f64>>, Vec<Vec<f64>>) {
+    let n = jac.ncols();
+    // J^T J = V S^2 V^T: its eigen-decomposition gives V and the squared singular values, also
+    // when J has fewer rows than columns.
+    let a = jac.transpose() * jac;
+    let eig = nalgebra::SymmetricEigen::new(a);
+    let largest = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
+    let mut free = Vec::new();
+    let mut cov = DMatrix::zeros(n, n);
+    for k in 0..n {
+        let v = eig.eigenvectors.column(k);
+        let s2 = eig.eigenvalues[k];
+        if !(s2 > 1e-12 * largest && largest > 0.0) {
+            let mut dir: Vec<f64> = v.iter().cloned().collect();
+            // A sign that reads the same on every run: the largest component positive.
+            let big = dir
+                .iter()
+                .cloned()
+                .fold(0.0_f64, |m, x| if x.abs() > m.abs() { x } else { m });
+            if big < 0.0 {
+                dir.iter_mut().for_each(|x| *x = -*x);
+            }
+            free.push(dir);
+        } else {
+            cov += v * v.transpose() / s2;
+        }
+    }
+    let sigma = (0..n)
+        .map(|j| {
+            let touched = free.iter().any(|d| d[j].abs() > 1e-3);
+            (!touched).then(|| cov[(j, j)].sqrt())
+        })
+        .collect();
+    (sigma, free)
+}
+
+/// Why a candidate does not reach the evidence, if it does not.
+fn reason_of(p: &Problem, residuals: &[Residual], r: &Runout) -> Option<String> {
+    if r.end == End::TimeLimit {
+        return Some(format!(
+            "the run-out from the best separation state is still moving at the time limit \
+             ({} s)",
+            p.settings.time_limit
+        ));
+    }
+    let worst = residuals.iter().max_by(|a, b| {
+        (a.value / a.sigma)
+            .abs()
+            .total_cmp(&(b.value / b.sigma).abs())
+    })?;
+    let z = (worst.value / worst.sigma).abs();
+    if z <= 3.0 {
+        return None;
+    }
+    let (value, unit) = if worst.name.contains("heading") {
+        (worst.value.to_degrees(), "deg")
+    } else if worst.name == "friction" {
+        (worst.value, "")
+    } else {
+        (worst.value, "m")
+    };
+    Some(format!(
+        "the run-out closest to the evidence misses {} by {:.3} {unit} ({z:.1} sigma): no \
+         motion from this separation position and heading reaches it with friction {:.3}",
+        worst.name, value, p.chassis.friction
+    ))
+}
