@@ -549,6 +549,102 @@ fn draw(
         .map_err(pyo3::exceptions::PyRuntimeError::new_err)
 }
 
+/// The run-out of `pim runout` for a case: each vehicle from its separation velocities to rest,
+/// or its separation velocities estimated from the scene. Returns the document of
+/// `pim runout --format json` and, with `draw`, the plan view's SVG. `source` is "final",
+/// "solve", "fit" or "scene" (default: the first the case has); `cost` is the fit's with
+/// `source="fit"`. Raises NoSolution (its `document` the run-out's) when a run-out reaches its
+/// time limit or no candidate reaches the scene's evidence.
+#[pyfunction]
+#[pyo3(signature = (case, source = None, cost = None, sample = 0.1, draw = false, every = 0.5, units = None))]
+#[allow(clippy::too_many_arguments)]
+fn runout(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    source: Option<&str>,
+    cost: Option<&str>,
+    sample: f64,
+    draw: bool,
+    every: f64,
+    units: Option<&str>,
+) -> PyResult<(Py<PyAny>, Option<String>)> {
+    use pim_data::runout::Source;
+    for (name, x) in [("sample", sample), ("every", every)] {
+        if !(x.is_finite() && (0.001..=3600.0).contains(&x)) {
+            return Err(input_error(format!("{name} = {x}: must be between 0.001 and 3600 s")));
+        }
+    }
+    let source = match source {
+        None => None,
+        Some("final") => Some(Source::Final),
+        Some("solve") => Some(Source::Solve),
+        Some("fit") => Some(Source::Fit),
+        Some("scene") => Some(Source::Scene),
+        Some(other) => {
+            return Err(input_error(format!(
+                "source = {other:?}: not an accepted value; accepted: \"final\", \"solve\", \
+                 \"fit\", \"scene\""
+            )))
+        }
+    };
+    let units = units_of(units)?;
+    let cost = cost.map(self::cost).transpose()?;
+    let case = load_case(py, case)?;
+    let result = detached(py, None, || -> Result<_, DocumentError> {
+        let given = if source == Some(Source::Fit) {
+            let fitted = documents::fit(
+                &case,
+                cost,
+                pim_fit::FitModel::Pim,
+                pim_core::MomentForm::default(),
+                Vec::new(),
+            )?;
+            let separation = fitted
+                .report
+                .best_branch()
+                .and_then(|b| b.solution.as_ref())
+                .map(|s| s.separation)
+                .ok_or_else(|| {
+                    DocumentError::NoAnswer(format!(
+                        "{}: the fit has no admissible solution, so there are no separation \
+                         velocities to run out",
+                        case.file
+                    ))
+                })?;
+            Some(separation)
+        } else {
+            None
+        };
+        pim_data::runout::runout(&case, source, given, sample)
+    })?
+    .map_err(DocumentErrorPy)?;
+    let document = to_py(py, &result.document)?;
+    if let Some(why) = result.no_answer() {
+        let err = NoSolution::new_err(format!("{}: {why}", case.file));
+        err.value(py).setattr("document", document)?;
+        return Err(err);
+    }
+    let svg = if draw {
+        let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
+        // The title of `pim runout --draw`: the file, its title, the vehicles' descriptions.
+        let c = &case.content;
+        let mut title = match &c.title {
+            Some(t) => format!("{} ({t})", case.file),
+            None => case.file.clone(),
+        };
+        if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
+            title.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
+        }
+        Some(
+            pim_render::runout::runout_svg(&title, &result, units, case.written, every)
+                .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
+        )
+    } else {
+        None
+    };
+    Ok((document, svg))
+}
+
 /// The compiled part of the package `pim`.
 #[pymodule]
 fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -564,5 +660,6 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(uncertainty, m)?)?;
     m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
     m.add_function(wrap_pyfunction!(draw, m)?)?;
+    m.add_function(wrap_pyfunction!(runout, m)?)?;
     Ok(())
 }

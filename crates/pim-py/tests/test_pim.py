@@ -310,3 +310,60 @@ def test_batch_under_v18_conditions_equals_the_cli():
     assert list(records) == cli["records"]
     with pytest.raises(pim.InputError, match="conditions"):
         pim.batch(tests=[10], conditions="v19")  # type: ignore[arg-type]
+
+
+RUNOUT_SPIN = "examples/cases/runout_spin.toml"
+RUNOUT_SCENE = "examples/cases/runout_scene.toml"
+
+
+@pytest.mark.parametrize("case", [RUNOUT_SPIN, RUNOUT_SCENE])
+def test_runout_equals_the_cli_document(case):
+    r = pim.runout(case)
+    assert r.to_dict() == cli_json("runout", case)
+    assert isinstance(r, pim.RunoutResult)
+
+
+def test_runout_results_are_typed_and_the_path_is_a_frame():
+    r = pim.runout(RUNOUT_SPIN, sample=0.05)
+    car = r.vehicles[1]
+    assert car.end == "rest" and car.vehicle == 2
+    frame = car.path_frame()
+    assert list(frame.columns) == ["t", "x", "y", "heading", "speed", "yaw_rate"]
+    assert frame["t"].is_monotonic_increasing
+    assert abs(frame["t"].iloc[-1] - car.time) < 1e-12
+    assert abs(frame["x"].iloc[-1] - car.rest["x"]) < 1e-12
+    assert abs(car.tyre_work - car.initial_energy) < 1e-6 * car.initial_energy
+    # The scene's estimate: one count of turns fits, the others are listed with their costs.
+    est = pim.runout(RUNOUT_SCENE).vehicles[0].estimate
+    assert est is not None
+    assert est.unknowns == ("vx", "vy", "yaw_rate")
+    assert len(est.candidates) == 7
+    assert [c.turns for c in est.consistent] == [1]
+    assert all(s is not None for s in est.candidates[0].sigma)
+    assert any("does not exclude" in u for u in est.undetermined)
+
+
+def test_runout_draws_the_plan_view_of_the_cli(tmp_path):
+    svg = tmp_path / "spin.svg"
+    out = run_cli("runout", RUNOUT_SPIN, "--draw", str(svg))
+    assert out.returncode == 0, out.stderr
+    r = pim.runout(RUNOUT_SPIN, draw=True)
+    assert r.svg == svg.read_text()
+    assert r.svg is not None and r.svg._repr_svg_() == r.svg
+
+
+def test_runout_time_limit_and_bad_input(tmp_path):
+    case = tomllib.loads(Path(RUNOUT_SPIN).read_text())
+    case["runout"]["time_limit"] = 0.5
+    with pytest.raises(pim.NoSolution) as e:
+        pim.runout(case)
+    assert "time limit" in str(e.value)
+    assert e.value.document["vehicles"][0]["end"] == "time_limit"
+    case["runout"]["time_limit"] = 60.0
+    case["runout"]["friction"] = 0.0
+    with pytest.raises(pim.InputError, match="runout.friction"):
+        pim.runout(case)
+    with pytest.raises(pim.InputError, match="source"):
+        pim.runout(RUNOUT_SPIN, source="rest")
+    with pytest.raises(pim.InputError, match="sample"):
+        pim.runout(RUNOUT_SPIN, sample=0.0)

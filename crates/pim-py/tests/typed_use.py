@@ -41,3 +41,13 @@ def costs(path: str) -> List[float]:
 
 svg: pim.SVG = pim.draw("examples/cases/side_impact.toml", units="kmh")
 report: pim.Report = pim.report("examples/cases/side_impact.toml")
+
+
+def rest_and_estimate(case: str) -> Optional[float]:
+    r: pim.RunoutResult = pim.runout(case, sample=0.2)
+    car: pim.VehicleRunout = r.vehicles[0]
+    est: Optional[pim.RunoutEstimate] = car.estimate
+    if est is None:
+        return car.rest["x"]
+    first: pim.RunoutCandidate = est.candidates[0]
+    return first.separation["vx"]

@@ -69,6 +69,13 @@ from ._results import (
     Vehicle,
     Velocities,
 )
+from ._runout import (
+    RunoutCandidate,
+    RunoutEstimate,
+    RunoutResidual,
+    RunoutResult,
+    VehicleRunout,
+)
 
 __all__ = [
     "__version__",
@@ -83,10 +90,15 @@ __all__ = [
     "Records",
     "Report",
     "Residual",
+    "RunoutCandidate",
+    "RunoutEstimate",
+    "RunoutResidual",
+    "RunoutResult",
     "SVG",
     "SolveResult",
     "Uncertainty",
     "Vehicle",
+    "VehicleRunout",
     "Velocities",
     "batch",
     "draw",
@@ -95,6 +107,7 @@ __all__ = [
     "predict_dv",
     "records_frame",
     "report",
+    "runout",
     "solve",
     "uncertainty",
 ]
@@ -236,6 +249,41 @@ def draw(
     (True, True)
     """
     return SVG(_pim.draw(case, no_slip=no_slip, moment_form=moment_form, units=units))
+
+
+RunoutSource = Literal["final", "solve", "fit", "scene"]
+
+
+def runout(
+    case: Case,
+    source: Optional[RunoutSource] = None,
+    cost: Optional[Cost] = None,
+    sample: float = 0.1,
+    draw: bool = False,
+    every: float = 0.5,
+    units: Optional[Units] = None,
+) -> RunoutResult:
+    """Each vehicle of a case with ``[runout]`` from its separation velocities to rest, or its
+    separation velocities estimated from ``[scene.vehicleN]`` (``pim runout``). ``source``:
+    ``"final"``, ``"solve"``, ``"fit"`` (with ``cost``) or ``"scene"``; by default the first the
+    case has. The path is sampled every ``sample`` seconds (:meth:`VehicleRunout.path_frame`);
+    ``draw=True`` adds the plan view as ``svg`` (outlines every ``every`` seconds, labelled in
+    ``units``). Raises :class:`NoSolution` (its ``document`` the run-out's) when a run-out
+    reaches its time limit or no candidate reaches the scene's evidence.
+
+    >>> r = runout("examples/cases/runout_spin.toml")
+    >>> r.source, [v.end for v in r.vehicles]
+    ('solve', ['rest', 'rest'])
+    >>> round(r.vehicles[1].rotation, 1), round(r.vehicles[1].distance, 2)
+    (272.7, 8.79)
+    >>> e = runout("examples/cases/runout_scene.toml").vehicles[0].estimate
+    >>> [c.turns for c in e.consistent], round(e.candidates[0].separation["yaw_rate"], 2)
+    ([1], 7.34)
+    """
+    document, svg = _pim.runout(
+        case, source=source, cost=cost, sample=sample, draw=draw, every=every, units=units
+    )
+    return RunoutResult._read(document, None if svg is None else SVG(svg))
 
 
 class Report:

@@ -16,6 +16,7 @@ __all__ = [
     "uncertainty",
     "predict_dv",
     "draw",
+    "runout",
 ]
 
 __version__: str
@@ -84,3 +85,12 @@ def draw(
     moment_form: str = ...,
     units: Optional[str] = ...,
 ) -> str: ...
+def runout(
+    case: _Case,
+    source: Optional[str] = ...,
+    cost: Optional[str] = ...,
+    sample: float = ...,
+    draw: bool = ...,
+    every: float = ...,
+    units: Optional[str] = ...,
+) -> Tuple[Dict[str, Any], Optional[str]]: ...
