@@ -571,7 +571,9 @@ fn runout(
     use pim_data::runout::Source;
     for (name, x) in [("sample", sample), ("every", every)] {
         if !(x.is_finite() && (0.001..=3600.0).contains(&x)) {
-            return Err(input_error(format!("{name} = {x}: must be between 0.001 and 3600 s")));
+            return Err(input_error(format!(
+                "{name} = {x}: must be between 0.001 and 3600 s"
+            )));
         }
     }
     let source = match source {
