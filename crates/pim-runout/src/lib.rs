@@ -1,7 +1,7 @@
 //! # pim-runout: the motion of a vehicle from separation to rest
 //!
 //! After an impact each vehicle slides, rolls and spins to its rest position. This crate
-//! simulates that run-out with a planar four-wheel model ([`simulate`]) and goes back from the
+//! simulates that run-out with a planar four-wheel model ([`simulate()`]) and goes back from the
 //! evidence of the scene (the rest position and heading, points of tyre marks or gouges the CG
 //! passed) to the velocities at separation ([`estimate`]). It needs nothing of the impact: the
 //! start is a position, a heading and three velocities.
