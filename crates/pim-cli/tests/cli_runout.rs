@@ -83,6 +83,24 @@ fn separation_from_the_scene() {
     assert!(text.contains("consistent"), "{text}");
 }
 
+/// The two cases' estimates of vehicle 1's separation state agree to 1e-6 (SI JSON).
+fn same_separation(a: &str, b: &str) {
+    let run = |case: &str| json(&pim_ok(&["runout", case, "--format", "json"]));
+    let (a, b) = (run(a), run(b));
+    let (a, b) = (
+        &a["vehicles"][0]["separation"],
+        &b["vehicles"][0]["separation"],
+    );
+    for k in ["vx", "vy", "yaw_rate", "x", "y"] {
+        assert!(
+            (num(&a[k]) - num(&b[k])).abs() < 1e-6,
+            "{k}: {} {}",
+            a[k],
+            b[k]
+        );
+    }
+}
+
 /// The same scene written in SAE's frame (y to the right, angles clockwise) gives the mirrored
 /// separation velocities.
 #[test]
@@ -104,21 +122,8 @@ fn the_sae_frame() {
             "{ x = 3.58, y = -2.14, sigma = 0.05 }",
         );
     let path = scratch_file("runout", "scene_sae.toml", sae);
-    let natural = json(&pim_ok(&["runout", SCENE, "--format", "json"]));
-    let mirrored = json(&pim_ok(&["runout", &path, "--format", "json"]));
-    let (a, b) = (
-        &natural["vehicles"][0]["separation"],
-        &mirrored["vehicles"][0]["separation"],
-    );
     // The JSON is in the natural frame: the same physical motion.
-    for k in ["vx", "vy", "yaw_rate", "x", "y"] {
-        assert!(
-            (num(&a[k]) - num(&b[k])).abs() < 1e-6,
-            "{k}: {} {}",
-            a[k],
-            b[k]
-        );
-    }
+    same_separation(SCENE, &path);
     // The table speaks SAE: y and the yaw rate change sign.
     let out = pim_ok(&["runout", &path]);
     let table = String::from_utf8_lossy(&out.stdout);
@@ -264,4 +269,100 @@ fn time_limit_is_exit_3() {
     assert!(stderr(&out).contains("time limit"), "{}", stderr(&out));
     let v = json(&out);
     assert_eq!(v["vehicles"][0]["end"], "time_limit");
+}
+
+/// `--from fit`: the fit's separation velocities are run out (RICSAC 7's refit with wheels).
+#[test]
+fn from_the_fit() {
+    let text = std::fs::read_to_string(repo().join("examples/cases/ricsac7_fit.toml")).unwrap();
+    let case = format!(
+        "{text}\n{}",
+        WHEELS.replace("runout.vehicle1", "runout.vehicle2")
+    );
+    let path = scratch_file("runout", "fit.toml", case);
+    let fit = json(&pim_ok(&["fit", &path, "--cost", "q2", "--format", "json"]));
+    let best = fit["best"].as_str().unwrap().to_string();
+    let branch = fit["branches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|b| b["moment"] == best.as_str())
+        .unwrap();
+    let sep = &branch["final"]["vehicle2"];
+    let v = json(&pim_ok(&[
+        "runout", &path, "--from", "fit", "--cost", "q2", "--format", "json",
+    ]));
+    assert_eq!(v["source"], "fit");
+    let car = &v["vehicles"][0];
+    assert_eq!(car["vehicle"], 2);
+    for (a, b) in [("vx", "vx"), ("vy", "vy"), ("yaw_rate", "omega")] {
+        let (x, y) = (num(&car["separation"][a]), num(&sep[b]));
+        assert!((x - y).abs() < 1e-9, "{a}: {x} against the fit's {y}");
+    }
+    assert_eq!(car["end"], "rest");
+}
+
+/// The scene example written in US units (ft): the same estimate in SI.
+#[test]
+fn us_units() {
+    let text = std::fs::read_to_string(repo().join(SCENE)).unwrap();
+    let ft = 0.3048;
+    let f = |m: f64| format!("{}", m / ft);
+    let us = text
+        .replace("title = ", "[units]\nlength = \"ft\"\n\ntitle = ")
+        .replace(
+            "impact_point = { x = 2.1, y = 0.0 }",
+            &format!("impact_point = {{ x = {}, y = 0.0 }}", f(2.1)),
+        )
+        .replace(
+            "impact_point = { x = -1.6, y = 0.88 }",
+            &format!("impact_point = {{ x = {}, y = {} }}", f(-1.6), f(0.88)),
+        )
+        .replace("length = 4.3", &format!("length = {}", f(4.3)))
+        .replace("width = 1.76", &format!("width = {}", f(1.76)))
+        .replace("cg_to_front = 2.0", &format!("cg_to_front = {}", f(2.0)))
+        .replace("wheelbase = 2.55", &format!("wheelbase = {}", f(2.55)))
+        .replace("track = 1.5", &format!("track = {}", f(1.5)))
+        .replace(
+            "cg_to_front_axle = 1.1",
+            &format!("cg_to_front_axle = {}", f(1.1)),
+        )
+        .replace(
+            "rest = { x = 9.58, y = 2.55, heading = 2.7 }",
+            &format!(
+                "rest = {{ x = {}, y = {}, heading = 2.7 }}",
+                f(9.58),
+                f(2.55)
+            ),
+        )
+        .replace(
+            "rest_sigma = { x = 0.05, y = 0.05, heading = 1.0 }",
+            &format!(
+                "rest_sigma = {{ x = {}, y = {}, heading = 1.0 }}",
+                f(0.05),
+                f(0.05)
+            ),
+        )
+        .replace(
+            "{ x = 3.58, y = 2.14, sigma = 0.05 }",
+            &format!(
+                "{{ x = {}, y = {}, sigma = {} }}",
+                f(3.58),
+                f(2.14),
+                f(0.05)
+            ),
+        );
+    // The file has [units] before the title's line: move the title up.
+    let us = us.replacen("[units]\nlength = \"ft\"\n\ntitle = ", "title = ", 1);
+    let us = us.replacen(
+        "\n[vehicle1]",
+        "\n[units]\nspeed = \"mph\"\nlength = \"ft\"\n\n[vehicle1]",
+        1,
+    );
+    let path = scratch_file("runout", "scene_us.toml", us);
+    same_separation(SCENE, &path);
+    // The table is in the case's units.
+    let out = pim_ok(&["runout", &path]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains(" ft") && table.contains(" mph"), "{table}");
 }

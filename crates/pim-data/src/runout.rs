@@ -287,6 +287,36 @@ fn separation(
     }
 }
 
+/// The separation velocities of the case's fit (`pim runout --from fit`): the best branch of
+/// the fit under `cost` (the case's own estimates with `None`).
+///
+/// # Errors
+/// Bad input, or [`DocumentError::NoAnswer`] when the fit has no admissible solution.
+pub fn fitted_separation(
+    case: &Case,
+    cost: Option<pim_fit::CostPreset>,
+) -> Result<Velocities, DocumentError> {
+    let fitted = crate::documents::fit(
+        case,
+        cost,
+        pim_fit::FitModel::Pim,
+        pim_core::MomentForm::default(),
+        pim_fit::MomentBranch::ALL.to_vec(),
+    )?;
+    fitted
+        .report
+        .best_branch()
+        .and_then(|b| b.solution.as_ref())
+        .map(|s| s.separation)
+        .ok_or_else(|| {
+            DocumentError::NoAnswer(format!(
+                "{}: the fit has no admissible solution, so there are no separation velocities \
+                 to run out (see `pim fit`)",
+                case.file
+            ))
+        })
+}
+
 /// `pim runout`: every vehicle with a `[runout.vehicleN]` from its separation velocities to
 /// rest. `given` are separation velocities from elsewhere (a fit); otherwise they come from
 /// `source` or the first source the case has, and from the scene when it has none.

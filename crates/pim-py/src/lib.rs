@@ -593,29 +593,9 @@ fn runout(
     let cost = cost.map(self::cost).transpose()?;
     let case = load_case(py, case)?;
     let result = detached(py, None, || -> Result<_, DocumentError> {
-        let given = if source == Some(Source::Fit) {
-            let fitted = documents::fit(
-                &case,
-                cost,
-                pim_fit::FitModel::Pim,
-                pim_core::MomentForm::default(),
-                Vec::new(),
-            )?;
-            let separation = fitted
-                .report
-                .best_branch()
-                .and_then(|b| b.solution.as_ref())
-                .map(|s| s.separation)
-                .ok_or_else(|| {
-                    DocumentError::NoAnswer(format!(
-                        "{}: the fit has no admissible solution, so there are no separation \
-                         velocities to run out",
-                        case.file
-                    ))
-                })?;
-            Some(separation)
-        } else {
-            None
+        let given = match source {
+            Some(Source::Fit) => Some(pim_data::runout::fitted_separation(&case, cost)?),
+            _ => None,
         };
         pim_data::runout::runout(&case, source, given, sample)
     })?
@@ -628,15 +608,7 @@ fn runout(
     }
     let svg = if draw {
         let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
-        // The title of `pim runout --draw`: the file, its title, the vehicles' descriptions.
-        let c = &case.content;
-        let mut title = match &c.title {
-            Some(t) => format!("{} ({t})", case.file),
-            None => case.file.clone(),
-        };
-        if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
-            title.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
-        }
+        let title = pim_render::runout::title_of(&case);
         Some(
             pim_render::runout::runout_svg(&title, &result, units, case.written, every)
                 .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,

@@ -30,6 +30,20 @@ fn wheels_text(w: &[WheelState; 4]) -> String {
     }
 }
 
+/// The title of a run-out's table and drawing: the file, its title and the vehicles'
+/// descriptions.
+pub fn title_of(case: &pim_data::case::Case) -> String {
+    let c = &case.content;
+    let mut t = match &c.title {
+        Some(t) => format!("{} ({t})", case.file),
+        None => case.file.clone(),
+    };
+    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
+        t.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
+    }
+    t
+}
+
 /// The run-out table in `units` and the case's `frame` (an SAE case: y to the right, angles
 /// and yaw rates clockwise).
 pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Convention) -> String {

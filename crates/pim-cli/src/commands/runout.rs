@@ -1,7 +1,7 @@
 //! `pim runout`: each vehicle from separation to rest, or its separation velocities from the
 //! scene.
 
-use super::{json, print_out, title_of, write_file};
+use super::{json, print_out, write_file};
 use crate::args::{Format, RunoutArgs};
 use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
 use crate::inputs::load_case;
@@ -30,26 +30,7 @@ pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
         RunoutSource::Scene => Source::Scene,
     });
     let given = if source == Some(Source::Fit) {
-        let fitted = pim_data::documents::fit(
-            &case,
-            a.cost,
-            pim_fit::FitModel::Pim,
-            pim_core::MomentForm::default(),
-            Vec::new(),
-        )
-        .map_err(Failure::from)?;
-        let best = fitted
-            .report
-            .best_branch()
-            .and_then(|b| b.solution.as_ref())
-            .ok_or_else(|| {
-                Failure::NoAnswer(format!(
-                    "{}: the fit has no admissible solution, so there are no separation \
-                     velocities to run out (see `pim fit`)",
-                    case.file
-                ))
-            })?;
-        Some(best.separation)
+        Some(pim_data::runout::fitted_separation(&case, a.cost).map_err(Failure::from)?)
     } else {
         None
     };
@@ -57,7 +38,7 @@ pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
     let units = a
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
-    let title = title_of(&case);
+    let title = pim_render::runout::title_of(&case);
     if let Some(path) = &a.draw {
         let svg = pim_render::runout::runout_svg(&title, &result, units, case.written, a.every)
             .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", path.display())))?;
