@@ -366,3 +366,31 @@ fn us_units() {
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains(" ft") && table.contains(" mph"), "{table}");
 }
+
+/// Evidence no run-out reaches (a mark behind the start, the rest ahead of it): the output
+/// says why, with exit status 3, and does not call the counts equally good.
+#[test]
+fn unreachable_evidence_is_exit_3() {
+    let case = format!(
+        "{}[runout]\n{WHEELS}[scene.vehicle1]\nrest = {{ x = 10.0, y = 0.0, heading = 0.0 }}\n\
+         rest_sigma = {{ x = 0.05, y = 0.05, heading = 1.0 }}\n\
+         marks = [ {{ x = -12.0, y = 4.0, sigma = 0.05 }} ]\n",
+        BASE.split("[final]").next().unwrap()
+    );
+    let path = scratch_file("runout", "unreachable.toml", case);
+    let out = pim(&["runout", &path, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("misses mark 1") && stderr(&out).contains("does not reach"),
+        "{}",
+        stderr(&out)
+    );
+    let v = json(&out);
+    let est = &v["vehicles"][0]["estimate"];
+    assert!(est["candidates"][0]["reason"].is_string());
+    assert!(!est["undetermined"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|u| u.as_str().unwrap().contains("equally well")));
+}

@@ -472,7 +472,9 @@ fn candidate_out(c: &Candidate) -> CandidateOut {
 fn estimate_out(e: &Estimate, name: &str, notes: &mut Vec<String>) -> EstimateOut {
     let mut undetermined = Vec::new();
     let consistent: Vec<&Candidate> = e.consistent().collect();
-    if consistent.len() > 1 {
+    // Whether the evidence is reached at all (when not, that is the answer, said elsewhere).
+    let reached = e.best().is_some_and(|b| b.reason.is_none());
+    if reached && consistent.len() > 1 {
         let counts: Vec<String> = consistent
             .iter()
             .map(|c| c.turns.map_or("-".into(), |t| t.to_string()))
@@ -488,7 +490,7 @@ fn estimate_out(e: &Estimate, name: &str, notes: &mut Vec<String>) -> EstimateOu
         notes.push(line);
     }
     let plausible: Vec<&Candidate> = e.candidates.iter().filter(|c| c.plausible).collect();
-    if consistent.len() == 1 && plausible.len() > 1 {
+    if reached && consistent.len() == 1 && plausible.len() > 1 {
         let others: Vec<String> = plausible
             .iter()
             .skip(1)

@@ -450,8 +450,8 @@ fn reason_of(p: &Problem, residuals: &[Residual], r: &Runout) -> Option<String> 
         (worst.value, "m")
     };
     Some(format!(
-        "the run-out closest to the evidence misses {} by {:.3} {unit} ({z:.1} sigma): no \
-         motion from this separation position and heading reaches it with friction {:.3}",
+        "the best run-out found for this count misses {} by {:.3} {unit} ({z:.1} sigma) with \
+         friction {:.3}: it does not reach the evidence",
         worst.name, value, p.chassis.friction
     ))
 }
