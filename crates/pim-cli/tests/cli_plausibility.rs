@@ -92,3 +92,49 @@ fn no_example_case_draws_a_warning() {
     }
     assert!(n >= 10, "{n} examples");
 }
+
+/// Heavy vehicles: a rail vehicle or heavy-haul combination up to 1,000 t is solved, with a
+/// warning above a loaded truck's 60 t; from 200 t the warning points to `barrier = true` (the
+/// IMPC convention gives a barrier 1e6 lb); beyond 1,000 t the mass is refused. --strict makes
+/// the warning exit 1.
+#[test]
+fn heavy_vehicles_are_accepted_with_a_warning() {
+    let side = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    let heavy = |mass: &str, inertia: &str| {
+        side.replacen(
+            "[vehicle2]\ndescription = \"struck car\"\nmass = 1500.0\nyaw_inertia = 2500.0",
+            &format!(
+                "[vehicle2]\ndescription = \"struck car\"\nmass = {mass}\nyaw_inertia = {inertia}"
+            ),
+            1,
+        )
+    };
+    // A 90 t rail car: solved, warned, no word of a barrier.
+    let rail = heavy("90000.0", "9.0e6");
+    assert!(rail.contains("mass = 90000.0"));
+    let w = warnings(&rail, "rail.toml");
+    assert!(
+        w.contains("vehicle2.mass: 90000 kg is heavier than any road vehicle"),
+        "{w}"
+    );
+    assert!(!w.contains("barrier = true"), "{w}");
+    // The IMPC barrier of 1e6 lb.
+    let impc = heavy("453592.0", "5.0e7");
+    let w = warnings(&impc, "impc.toml");
+    assert!(
+        w.contains("453592 kg is heavier than any road vehicle"),
+        "{w}"
+    );
+    assert!(w.contains("barrier = true"), "{w}");
+    let path = scratch_file("plausibility", "impc_strict.toml", &impc);
+    assert_eq!(pim(&["solve", &path, "--strict"]).status.code(), Some(1));
+    // Beyond 1,000 t: refused, with the range.
+    let path = scratch_file("plausibility", "too_heavy.toml", heavy("2.0e6", "5.0e7"));
+    let out = pim(&["solve", &path]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("vehicle2.mass: must be a number between 100 and 1000000 kg"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -9,6 +9,15 @@ use pim_core::{impact_point_cartesian, wrap_degrees, VehicleId};
 /// Speeds above this (m/s, 252 km/h) draw a plausibility warning.
 pub const PLAUSIBLE_SPEED: f64 = 70.0;
 
+/// Masses above this (kg, a loaded heavy truck) draw a plausibility warning: a rail vehicle or a
+/// heavy-haul combination is accepted up to [`crate::ranges::MASS`], and said.
+pub const PLAUSIBLE_MASS: f64 = 60_000.0;
+
+/// Masses from this (kg) up look like a fixed obstacle modelled as a vehicle (IMPC
+/// spreadsheets and pycrash give a barrier 1e6 lb, 453.6 t): the warning points to
+/// `barrier = true`, which models a rigid barrier exactly.
+pub const BARRIER_LIKE_MASS: f64 = 200_000.0;
+
 /// The range of yaw inertia over mass (m^2) of road vehicles; outside it, a warning.
 pub const INERTIA_PER_MASS: (f64, f64) = (1.0, 3.5);
 
@@ -74,6 +83,23 @@ impl Case {
         for (name, v) in vehicles {
             if v.barrier {
                 continue;
+            }
+            if v.mass > PLAUSIBLE_MASS {
+                let mut w = format!(
+                    "{}: {:.0} kg is heavier than any road vehicle (a loaded heavy truck is at \
+                     most about {:.0} t): a rail vehicle or a heavy-haul combination?",
+                    self.at(&format!("{name}.mass")),
+                    v.mass,
+                    PLAUSIBLE_MASS / 1000.0
+                );
+                if v.mass >= BARRIER_LIKE_MASS {
+                    w.push_str(
+                        " If it stands for a wall or a fixed obstacle (IMPC spreadsheets and \
+                         pycrash give a barrier 1e6 lb), write [vehicle2] barrier = true: it \
+                         models a rigid barrier exactly",
+                    );
+                }
+                out.push(w);
             }
             let k = v.yaw_inertia / v.mass;
             if !(INERTIA_PER_MASS.0..=INERTIA_PER_MASS.1).contains(&k) {

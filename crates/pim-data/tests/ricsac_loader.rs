@@ -63,7 +63,7 @@ fn bad_cells_name_line_and_column() {
             2,
             4,
             "-5",
-            vec!["d.csv:3:", "`mass1_kg`", "between 100 and 60000 kg"],
+            vec!["d.csv:3:", "`mass1_kg`", "between 100 and 1000000 kg"],
         ),
         (
             2,
@@ -72,7 +72,7 @@ fn bad_cells_name_line_and_column() {
             vec![
                 "d.csv:3:",
                 "`yaw_inertia2_kgm2`",
-                "between 10 and 2000000 kg m^2",
+                "between 10 and 250000000 kg m^2",
             ],
         ),
         (

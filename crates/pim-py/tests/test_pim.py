@@ -268,7 +268,7 @@ def test_a_dict_case_is_named_without_lines_of_a_text_the_caller_never_wrote():
     with pytest.raises(pim.InputError) as err:
         pim.fit(case, cost="q2")
     message = str(err.value)
-    assert message.startswith("<dict>: vehicle1.mass: must be a number between 100 and 60000 kg")
+    assert message.startswith("<dict>: vehicle1.mass: must be a number between 100 and 1000000 kg")
 
 
 def test_every_docstring_example_runs(monkeypatch):

@@ -140,7 +140,7 @@ impl Chassis {
         let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
         let positive = [
             ("mass", self.mass, 1e6),
-            ("yaw_inertia", self.yaw_inertia, 1e8),
+            ("yaw_inertia", self.yaw_inertia, 2.5e8),
             ("wheelbase", self.wheelbase, 30.0),
             ("track", self.track, 5.0),
         ];
