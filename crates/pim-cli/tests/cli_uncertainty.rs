@@ -384,3 +384,43 @@ fn geometry_bounds_are_searched_by_every_draw() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A tolerances file is checked before the batch runs: a standard deviation it cannot use
+/// stops the run with exit 2 and a message naming the tolerances file, line, column and field
+/// (it used to reach every row as "no intervals", naming the data file, with exit 0).
+#[test]
+fn a_tolerances_file_is_checked_before_the_batch() {
+    let dir = scratch("bad_tolerances");
+    for (name, text, says) in [
+        (
+            "negative.toml",
+            "[sigma.initial]\nvehicle1 = { vx = -0.5, vy = 0.5, omega = 0.1 }\n",
+            "negative.toml:2:19: sigma.initial.vehicle1.vx: -0.5: a standard deviation must be",
+        ),
+        (
+            "zero.toml",
+            "[sigma.final]\nvehicle2 = { vx = 0.5, vy = 0.5, omega = 0.0 }\n",
+            "zero.toml:2:42: sigma.final.vehicle2.omega: 0: a standard deviation must be",
+        ),
+        (
+            "mass.toml",
+            "[uncertainty]\nvehicle1 = { mass = -10.0 }\n",
+            "mass.toml:2:21: uncertainty.vehicle1.mass: a standard deviation >= 0",
+        ),
+    ] {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let out = pim(&[
+            "batch",
+            "data/ricsac.csv",
+            "--draws",
+            "5",
+            "--tolerances",
+            path.to_str().unwrap(),
+        ]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert!(err.contains(says), "{name}: {err}");
+        assert!(out.stdout.is_empty(), "{name}: the batch ran");
+    }
+}

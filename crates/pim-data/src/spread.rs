@@ -1,6 +1,5 @@
 //! The `[uncertainty]` section of a case file: the spread of each input the fit takes as exact.
 
-use crate::error::{InputError, Result};
 use crate::ranges::short;
 use crate::sections::PointSection;
 use rand::Rng;
@@ -90,11 +89,6 @@ impl Spread {
         } else {
             Err("a standard deviation >= 0 or { uniform = [lo, hi] } with lo <= hi".to_string())
         }
-    }
-
-    pub(crate) fn check(self, what: &str, file: &str) -> Result<()> {
-        self.check_own()
-            .map_err(|why| InputError::new(file, format!("[uncertainty] {what}: {why}")))
     }
 }
 

@@ -61,23 +61,45 @@ impl Tolerances {
             for (what, sp) in all {
                 match sp {
                     Some(Spread::Uniform { .. }) => {
-                        return Err(InputError::new(
+                        return Err(crate::case::error_at(
                             file,
-                            format!(
-                                "[uncertainty] {what}: a tolerances file applies to every test, \
-                                 so give a standard deviation; a uniform range holds absolute \
-                                 values and belongs in a case file"
-                            ),
+                            text,
+                            &format!("uncertainty.{what}"),
+                            "a tolerances file applies to every test, so give a standard \
+                             deviation; a uniform range holds absolute values and belongs in a \
+                             case file",
                         ))
                     }
-                    Some(sp) => sp.check(&what, file)?,
+                    Some(sp) => sp.check_own().map_err(|why| {
+                        crate::case::error_at(file, text, &format!("uncertainty.{what}"), why)
+                    })?,
                     None => {}
                 }
             }
         }
         let u = t.units;
         if let Some(s) = &mut t.sigma {
+            let written = s.components();
             s.scale(u.speed.to_si(), u.yaw_rate.to_si());
+            // Checked here, against this file, before any test uses them.
+            for (k, si) in s.components().iter().enumerate() {
+                let (Some(si), Some(w)) = (si, written[k]) else {
+                    continue;
+                };
+                if !(si.is_finite() && *si >= fitcase::SIGMA_MIN) {
+                    return Err(crate::case::error_at(
+                        file,
+                        text,
+                        &format!("sigma.{}", pim_fit::COMPONENT_NAMES[k]),
+                        format!(
+                            "{}: a standard deviation must be a number of at least {} (m/s or \
+                             rad/s, in SI)",
+                            crate::ranges::short(w),
+                            fitcase::SIGMA_MIN
+                        ),
+                    ));
+                }
+            }
         }
         t.uncertainty = t
             .uncertainty
