@@ -202,24 +202,82 @@ fn an_output_folder_is_replaced_as_a_whole_and_never_a_users_folder() {
     assert!(left.is_empty(), "{left:?}");
 }
 
+/// A folder batch goes on past an entry it cannot open (a link that leads nowhere or in a loop,
+/// a FIFO): each is a failed record naming the entry and why, like a file that does not parse;
+/// the other files are fitted and the run exits 0. A batch in which no entry could be read or
+/// fitted exits 2. Extensions are matched in any case; a data file among case files is named.
 #[test]
-fn a_directory_batch_names_links_that_lead_nowhere() {
+fn a_directory_batch_names_entries_it_cannot_open_and_goes_on() {
     let dir = scratch_dir("hostile", "links");
     std::fs::copy(
-        repo().join("examples/cases/side_impact.toml"),
+        repo().join("examples/cases/ricsac7_fit.toml"),
         dir.join("a.toml"),
+    )
+    .unwrap();
+    std::fs::copy(
+        repo().join("examples/cases/ricsac7_fit.toml"),
+        dir.join("B.TOML"),
     )
     .unwrap();
     let d = dir.display().to_string();
     #[cfg(unix)]
     {
         std::os::unix::fs::symlink("nowhere.toml", dir.join("dangling.toml")).unwrap();
-        refused(&["batch", &d], &["dangling.toml", "leads nowhere"]);
-        std::fs::remove_file(dir.join("dangling.toml")).unwrap();
         std::os::unix::fs::symlink("loop2.toml", dir.join("loop1.toml")).unwrap();
         std::os::unix::fs::symlink("loop1.toml", dir.join("loop2.toml")).unwrap();
-        refused(&["batch", &d], &["loop", "fix or remove it"]);
+        let fifo = dir.join("pipe.toml");
+        let fifo_made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .is_ok_and(|s| s.success());
+        let out = pim(&["batch", &d, "--format", "json"]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(0), "{err}");
+        for (name, why) in [
+            ("dangling.toml", "leads nowhere"),
+            ("loop1.toml", "fix or remove it"),
+            ("loop2.toml", "fix or remove it"),
+        ] {
+            assert!(err.contains(name) && err.contains(why), "{name}: {err}");
+        }
+        if fifo_made {
+            assert!(
+                err.contains("pipe.toml") && err.contains("not a regular file"),
+                "{err}"
+            );
+        }
+        let records: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        let of = |f: &str| -> Vec<&serde_json::Value> {
+            records
+                .iter()
+                .filter(|r| r["file"].as_str().unwrap().ends_with(f))
+                .collect()
+        };
+        assert!(of("dangling.toml").iter().all(|r| r["outcome"] == "failed"));
+        assert!(of("a.toml").iter().any(|r| r["outcome"] == "optimal"));
+        assert!(
+            of("B.TOML").iter().any(|r| r["outcome"] == "optimal"),
+            "the capital extension"
+        );
+        // Nothing readable at all: exit 2.
+        std::fs::remove_file(dir.join("a.toml")).unwrap();
+        std::fs::remove_file(dir.join("B.TOML")).unwrap();
+        let out = pim(&["batch", &d]);
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains("none of the"), "{}", stderr(&out));
     }
+    // A data file among case files is named as such.
+    refused(
+        &[
+            "batch",
+            "examples/cases/ricsac7_fit.toml",
+            "data/ricsac.csv",
+        ],
+        &["data/ricsac.csv", "a data file (CSV) among case files"],
+    );
 }
 
 #[test]

@@ -23,7 +23,7 @@ fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tole
 /// `pim batch` and (`compare`) `pim compare-costs`: a data file, or case files.
 pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     let data = match a.inputs.as_slice() {
-        [one] if !one.is_dir() && one.extension().is_none_or(|e| e != "toml") => one.clone(),
+        [one] if !one.is_dir() && !super::batch_cases::is_case_file(one) => one.clone(),
         _ if compare => {
             return Err(Failure::Input(
                 "compare-costs takes a data file (CSV), not case files".into(),

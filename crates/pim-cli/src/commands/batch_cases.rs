@@ -18,15 +18,26 @@ use std::process::ExitCode;
 /// records in flight stay a few hundred kilobytes.
 const CHUNK: usize = 256;
 
+/// A case file's name: `.toml`, in any case (`.TOML` from a tool that writes capitals).
+pub fn is_case_file(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|x| x.eq_ignore_ascii_case("toml"))
+}
+
+/// One entry of the batch: a case file, or the reason it cannot be read (a failed record, like
+/// a file that does not parse; the batch goes on).
+type Entry = (PathBuf, Option<String>);
+
 /// The case files named on the command line: files as given, directories as their `*.toml`
-/// files in name order. A `*.toml` entry that is not a readable regular file (a link that leads
-/// nowhere or in a loop, a folder, a device) is an input error naming it, not skipped in
-/// silence.
-fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
+/// files in name order (the extension in any case). A `*.toml` entry of a directory that is not
+/// a readable regular file (a link that leads nowhere or in a loop, a folder, a FIFO, a device)
+/// is an entry with its reason, not skipped in silence and not the end of the batch. A data file
+/// (`.csv`) among case files is refused by name: it is run on its own.
+fn case_files(inputs: &[PathBuf]) -> Result<Vec<Entry>, Failure> {
     let mut out = Vec::new();
     for p in inputs {
         if p.is_dir() {
-            let mut found: Vec<PathBuf> = Vec::new();
+            let mut found: Vec<Entry> = Vec::new();
             let entries = std::fs::read_dir(p).map_err(|e| {
                 Failure::Input(format!("{}: cannot read: {}", p.display(), io_reason(&e)))
             })?;
@@ -36,23 +47,21 @@ fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
                         Failure::Input(format!("{}: cannot read: {}", p.display(), io_reason(&e)))
                     })?
                     .path();
-                if f.extension().is_none_or(|x| x != "toml") {
+                if !is_case_file(&f) {
                     continue;
                 }
-                match std::fs::metadata(&f) {
-                    Ok(m) => {
-                        pim_data::input::check_regular(&f.display().to_string(), &m)?;
-                        found.push(f);
-                    }
-                    Err(e) => {
-                        return Err(Failure::Input(format!(
-                            "{}: cannot be read ({}): a link that leads nowhere or in a loop? \
-                             fix or remove it",
-                            f.display(),
-                            io_reason(&e)
-                        )))
-                    }
-                }
+                let name = f.display().to_string();
+                let why = match std::fs::metadata(&f) {
+                    Ok(m) => pim_data::input::check_regular(&name, &m)
+                        .err()
+                        .map(|e| e.to_string()),
+                    Err(e) => Some(format!(
+                        "{name}: cannot be read ({}): a link that leads nowhere or in a loop? fix \
+                         or remove it",
+                        io_reason(&e)
+                    )),
+                };
+                found.push((f, why));
             }
             found.sort();
             if found.is_empty() {
@@ -62,8 +71,15 @@ fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
                 )));
             }
             out.extend(found);
+        } else if p.extension().is_some_and(|x| x.eq_ignore_ascii_case("csv")) {
+            return Err(Failure::Input(format!(
+                "{}: a data file (CSV) among case files: a data file is refitted on its own, \
+                 `pim batch {}`",
+                p.display(),
+                p.display()
+            )));
         } else {
-            out.push(p.clone());
+            out.push((p.clone(), None));
         }
     }
     Ok(out)
@@ -200,9 +216,13 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         let records: Vec<Vec<CaseRecord>> = pool.install(|| {
             chunk
                 .par_iter()
-                .map(|path| {
+                .map(|(path, unreadable)| {
                     let name = path.display().to_string();
-                    let out = match read_text_file(path, MAX_CASE_BYTES) {
+                    let text = match unreadable {
+                        Some(why) => Err(why.clone()),
+                        None => read_text_file(path, MAX_CASE_BYTES).map_err(|e| e.to_string()),
+                    };
+                    let out = match text {
                         Ok(text) => choices
                             .iter()
                             .flat_map(|&c| {
@@ -224,7 +244,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                                 outcome: Outcome::Failed,
                                 moment_branch: m,
                                 best: false,
-                                error: Some(e.to_string()),
+                                error: Some(e.clone()),
                                 branch: None,
                                 intervals: None,
                                 intervals_error: None,
@@ -301,6 +321,14 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         super::print_out(&summary)?;
     } else {
         eprint!("{summary}");
+    }
+    if tally.files_failed == files.len() {
+        // Nothing could be read or fitted: the run answered nothing, whatever it wrote.
+        return Err(Failure::Input(format!(
+            "none of the {} case files could be read or fitted (each is named above)",
+            files.len()
+        ))
+        .into());
     }
     Ok(ExitCode::from(if tally.unsolved > 0 && a.strict {
         EXIT_SOME_FAILED
