@@ -446,3 +446,23 @@ fn v18_conditions_reproduce_their_setting_beside_their_costs() {
         "{free}"
     );
 }
+
+/// `--draws` on a case file with nothing uncertain: the table and the CSV say why the interval
+/// columns are empty (the JSON's `intervals_error`), not only the JSON.
+#[test]
+fn draws_without_anything_uncertain_are_said_in_the_table_and_csv() {
+    let case = "examples/cases/ricsac7_fit.toml";
+    let out = pim_ok(&["batch", case, "--draws", "5"]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("no intervals for 1 records"), "{table}");
+    assert!(table.contains("nothing is uncertain"), "{table}");
+    let out = pim_ok(&["batch", case, "--draws", "5", "--format", "csv"]);
+    let mut rows = csv::Reader::from_reader(out.stdout.as_slice());
+    let header = rows.headers().unwrap().clone();
+    let k = header.iter().position(|h| h == "intervals_note").unwrap();
+    let notes: Vec<String> = rows.records().map(|r| r.unwrap()[k].to_string()).collect();
+    assert!(
+        notes.iter().any(|n| n.contains("nothing is uncertain")),
+        "{notes:?}"
+    );
+}

@@ -447,7 +447,7 @@ const INTERVAL_COLUMNS: [&str; 4] = ["speed1", "speed2", "delta_v1", "delta_v2"]
 
 impl CaseRecord {
     /// The column names of [`CaseRecord::csv_row`].
-    pub const CSV_HEADER: [&'static str; 30] = [
+    pub const CSV_HEADER: [&'static str; 31] = [
         "file",
         "cost_function",
         "branch",
@@ -478,6 +478,7 @@ impl CaseRecord {
         "delta_v1_p95",
         "delta_v2_p05",
         "delta_v2_p95",
+        "intervals_note",
     ];
 
     /// One flat CSV row (SI), in the order of [`CaseRecord::CSV_HEADER`].
@@ -521,6 +522,8 @@ impl CaseRecord {
             row.push(f(s.map(|s| s.p05)));
             row.push(f(s.map(|s| s.p95)));
         }
+        // Why the interval columns are empty, when they were asked for and are.
+        row.push(self.intervals_error.clone().unwrap_or_default());
         row
     }
 

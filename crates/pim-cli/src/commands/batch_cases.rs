@@ -94,6 +94,9 @@ struct Tally {
     files_failed: usize,
     /// Each file that could not be read or fitted, with its reason.
     failed: Vec<String>,
+    /// Records without the intervals `--draws` asked for, with the reason (e.g. nothing in
+    /// the case is uncertain).
+    no_intervals: Vec<String>,
 }
 
 impl Tally {
@@ -107,6 +110,9 @@ impl Tally {
         self.records += 1;
         if !r.outcome.solved() {
             self.unsolved += 1;
+        }
+        if let Some(why) = &r.intervals_error {
+            self.no_intervals.push(why.clone());
         }
     }
 
@@ -122,6 +128,15 @@ impl Tally {
         for (cost, outcomes) in &self.by_cost {
             for (o, n) in outcomes {
                 s.push_str(&format!("{cost:<7} {o:<16} {n:>7}\n"));
+            }
+        }
+        if !self.no_intervals.is_empty() {
+            s.push_str(&format!(
+                "\nno intervals for {} records (--draws):\n",
+                self.no_intervals.len()
+            ));
+            for why in &self.no_intervals {
+                s.push_str(&format!("  {why}\n"));
             }
         }
         if !self.failed.is_empty() {
