@@ -73,9 +73,12 @@ vehicle1 = {{ vx = 0.5 }}
     );
     let case = Case::from_text("both.toml", &text).unwrap();
     let e = fitcase::problem(&case, CostChoice::Custom).unwrap_err();
+    // The entry given both ways is named, with both places.
     assert!(
         e.message
-            .contains("[sigma] (standard deviations) or [weights], not both"),
+            .contains("both.toml:21:19: weights.final.vehicle1.vx: given as a weight here")
+            && e.message
+                .contains("both.toml:19:19: sigma.final.vehicle1.vx"),
         "{e}"
     );
     // A sigma in km/h is converted like the estimates.
@@ -91,4 +94,28 @@ vehicle1 = {{ vx = 0.72 }}
     );
     let case = Case::from_text("kmh.toml", &text).unwrap();
     assert!((fitcase::sigma_unit(&case).unwrap().unwrap() - 0.04).abs() < 1e-12);
+}
+
+/// A standard deviation so large that its weight underflows is said of the standard deviation
+/// the file wrote, with its place, not as "weight 0".
+#[test]
+fn an_underflowing_weight_is_said_of_its_sigma() {
+    let text = format!(
+        "{RICSAC9_GEOMETRY}
+[estimates.final]
+vehicle1 = {{ vx = -3.0, vy = 1.0 }}
+[sigma.final]
+vehicle1 = {{ vx = 1e200, vy = 0.1 }}
+"
+    );
+    let case = Case::from_text("big.toml", &text).unwrap();
+    let e = fitcase::problem(&case, CostChoice::Custom).unwrap_err();
+    assert!(
+        e.message.starts_with("big.toml:")
+            && e.message
+                .contains("sigma.final.vehicle1.vx: a standard deviation of 1e200")
+            && e.message.contains("underflows"),
+        "{e}"
+    );
+    assert!(!e.message.contains("weight 0 must"), "{e}");
 }

@@ -139,7 +139,7 @@ fn bad_fit_cases_exit_2_naming_the_culprit() {
     let base = case_text();
     let cases: Vec<(&str, String, Vec<&str>, &str)> = vec![
         ("missing.toml", base.replace("vehicle2 = { vx = -2.22, vy = 8.64, omega = -3.35 }", "vehicle2 = { vx = -2.22, vy = 8.64 }"), vec!["--cost", "q2"], "final.vehicle2.omega is missing"),
-        ("weight.toml", format!("{base}\n[weights.final]\nvehicle1 = {{ vx = 1.5 }}\n"), vec!["--cost", "q2"], "[weights] final.vehicle1.vx: weight 1.5"),
+        ("weight.toml", format!("{base}\n[weights.final]\nvehicle1 = {{ vx = 1.5 }}\n"), vec!["--cost", "q2"], "weights.final.vehicle1.vx: weight 1.5"),
         ("obs.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_longitudinal\"\nvehicle = 3\nvalue = 1.0\n"), vec!["--cost", "q2"], ":44:11: observation 1: vehicle: 3; accepted: 1 or 2"),
         ("obskind.toml", format!("{base}\n[[observations]]\nkind = \"delta_v_sideways\"\nvehicle = 1\nvalue = 1.0\n"), vec!["--cost", "q2"], "observation 1: kind: `delta_v_sideways` is not an accepted value; accepted: `delta_v_longitudinal`"),
         ("both.toml", format!("{base}\n[known.initial]\nvehicle1 = {{ vx = -13.01 }}\n"), vec![], "both in [known] and in [estimates]"),

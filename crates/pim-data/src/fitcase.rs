@@ -74,11 +74,25 @@ pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
             ));
         }
     }
-    if c.weights.is_some() {
-        return Err(input(
-            case,
-            "give [sigma] (standard deviations) or [weights], not both".to_string(),
-        ));
+    if let Some(w) = c.weights {
+        // Name the entry given both ways, where there is one.
+        let given = w.components();
+        let both = (0..12).find(|&k| given[k].is_some() && sig[k].is_some());
+        return Err(match both {
+            Some(k) => case.error_at(
+                &format!("weights.{}", COMPONENT_NAMES[k]),
+                format!(
+                    "given as a weight here and as a standard deviation in [sigma] \
+                     ({}): give one of the two (a standard deviation makes the weight \
+                     1/sigma^2)",
+                    case.at(&format!("sigma.{}", COMPONENT_NAMES[k]))
+                ),
+            ),
+            None => case.error_at(
+                "weights",
+                "give [sigma] (standard deviations) or [weights], not both",
+            ),
+        });
     }
     Ok(Some(
         all.iter().map(|(_, s)| s * s).fold(f64::INFINITY, f64::min),
@@ -106,13 +120,24 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
     for (k, w) in weights.iter().enumerate() {
         if let Some(w) = w {
             if !(w.is_finite() && *w > 0.0 && *w <= 1.0) {
-                return Err(input(
-                    case,
-                    format!(
-                        "[weights] {}: weight {w} must be in (0, 1]",
-                        COMPONENT_NAMES[k]
+                return Err(match (unit, sig[k]) {
+                    // A weight from a standard deviation: say it of what the file wrote.
+                    (Some(u), Some(s)) => case.error_at(
+                        &format!("sigma.{}", COMPONENT_NAMES[k]),
+                        format!(
+                            "a standard deviation of {} is {:.1e} times the smallest of the \
+                             case ({}): its weight 1/sigma^2 underflows to 0. Give a standard \
+                             deviation within 1e100 of the smallest, or leave the estimate out",
+                            crate::ranges::short(s),
+                            s / u.sqrt(),
+                            crate::ranges::short(u.sqrt())
+                        ),
                     ),
-                ));
+                    _ => case.error_at(
+                        &format!("weights.{}", COMPONENT_NAMES[k]),
+                        format!("weight {w} must be in (0, 1]"),
+                    ),
+                });
             }
             if est[k].is_none() && !matches!(choice, CostChoice::Preset(_)) {
                 return Err(input(
