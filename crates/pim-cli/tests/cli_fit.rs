@@ -159,6 +159,8 @@ fn bad_fit_cases_exit_2_naming_the_culprit() {
         assert!(msg.contains(&path), "{name}: {msg}");
         assert!(msg.contains(needle), "{name}: `{needle}` not in {msg}");
         assert!(out.stdout.is_empty(), "{name}");
+        // Two vehicles: no word of a barrier.
+        assert!(!msg.contains("barrier"), "{name}: {msg}");
     }
 }
 

@@ -206,8 +206,13 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             let needed: Vec<usize> = (0..12).filter(|k| !barrier || k % 6 < 3).collect();
             for k in needed {
                 let Some(value) = est[k] else {
+                    let whose = if barrier {
+                        " (of vehicle 1: vehicle 2 is a barrier)"
+                    } else {
+                        ""
+                    };
                     return Err(input(case, format!(
-                        "--cost {} needs every component of [estimates.initial] and [estimates.final] (of vehicle 1 against a barrier); {} is missing",
+                        "--cost {} needs every component of [estimates.initial] and [estimates.final]{whose}; {} is missing",
                         preset.name(),
                         COMPONENT_NAMES[k]
                     )));
