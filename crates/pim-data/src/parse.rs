@@ -152,7 +152,16 @@ fn plain_words(msg: &str) -> String {
         .strip_prefix("invalid value: integer ")
         .or_else(|| msg.strip_prefix("invalid type: integer "))
     {
-        if let Some((got, want)) = rest.split_once(", expected ") {
+        let numeric = |w: &str| {
+            [
+                "u8", "u16", "u32", "u64", "usize", "i32", "i64", "f64", "f32",
+            ]
+            .contains(&w)
+        };
+        if let Some((got, want)) = rest
+            .split_once(", expected ")
+            .filter(|(_, want)| numeric(want))
+        {
             let got = got.trim_end_matches(" as i128").trim_matches('`');
             let range = match want {
                 "u8" => "a whole number from 0 to 255".to_string(),
@@ -190,6 +199,11 @@ fn plain_words(msg: &str) -> String {
         "f64" | "f32" => "a number".to_string(),
         "u8" | "u16" | "u32" | "u64" | "usize" | "i32" | "i64" => "a whole number".to_string(),
         "a string" => "text in quotes".to_string(),
+        // A section or inline table (serde names the Rust type): say what the file writes.
+        w if w.starts_with("struct ") || w == "a map" => {
+            "a table: a [section] or { key = value, ... }".to_string()
+        }
+        w if w.starts_with("a sequence") => "a list [ ... ]".to_string(),
         w => w.to_string(),
     };
     format!("expected {want}, got {got}")

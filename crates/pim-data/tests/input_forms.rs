@@ -573,3 +573,48 @@ fn the_oblique_example_in_sae_and_us_units_equals_its_natural_si_twin() {
     assert!((ra.delta_v[0].magnitude / MPH - 31.60).abs() < 0.01);
     fits_and_draws_agree(&natural, &sae);
 }
+
+/// A value where a table or a list belongs (a nesting mistake) is located by line and column
+/// and said in the words of a case file, never by the name of a Rust type.
+#[test]
+fn nesting_mistakes_are_located_and_plain() {
+    for (extra, field, says) in [
+        (
+            "[sigma]\ninitial = 1.0\n",
+            "sigma.initial",
+            "expected a table",
+        ),
+        (
+            "[uncertainty]\nvehicle1 = 5.0\n",
+            "uncertainty.vehicle1",
+            "expected a table",
+        ),
+        (
+            "[runout]\nvehicle1 = 3.0\n",
+            "runout.vehicle1",
+            "expected a table",
+        ),
+        ("observations = 3\n", "observations", "expected a list"),
+    ] {
+        // Top-level keys go before the first section.
+        let text = if extra.starts_with('[') {
+            format!("{}\n{extra}", natural_text())
+        } else {
+            format!("{extra}{}", natural_text())
+        };
+        let err = Case::from_text("case.toml", &text).unwrap_err().to_string();
+        // The mistaken line: the last that starts with the field's own key.
+        let key = field.rsplit('.').next().unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let line = lines.iter().rposition(|l| l.starts_with(key)).unwrap() + 1;
+        assert!(
+            err.starts_with(&format!("case.toml:{line}:")),
+            "{extra}: {err}"
+        );
+        assert!(err.contains(&format!("{field}: {says}")), "{extra}: {err}");
+        assert!(
+            !err.contains("struct") && !err.contains("sequence"),
+            "{extra}: {err}"
+        );
+    }
+}
