@@ -244,3 +244,29 @@ fn top_level_help_teaches_and_exit_codes_are_documented() {
     let out = pim(&[]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// `--out` failures name the folder given (and the part of it that failed), never the staging
+/// folder pim writes beside it.
+#[test]
+fn out_errors_name_the_folder_given() {
+    let dir = scratch_dir("robustness", "out_under_a_file");
+    let file = dir.join("a_file");
+    std::fs::write(&file, "not a folder").unwrap();
+    let given = file.join("results");
+    let g = given.display().to_string();
+    for args in [
+        vec!["solve", "examples/cases/side_impact.toml", "--out", &g],
+        vec!["batch", "examples/cases/ricsac7_fit.toml", "--out", &g],
+        vec!["batch", "data/ricsac.csv", "--tests", "7", "--out", &g],
+    ] {
+        let out = pim(&args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(4), "{args:?}: {err}");
+        assert!(
+            err.starts_with(&format!("pim: {g}: cannot create the folder")),
+            "{err}"
+        );
+        assert!(err.contains("is a file"), "{err}");
+        assert!(!err.contains(".pim-"), "a staging path: {err}");
+    }
+}

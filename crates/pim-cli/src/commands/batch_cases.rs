@@ -202,15 +202,16 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         .map(super::output::OutDir::create)
         .transpose()?;
     if let Some(out) = &out {
-        let p = out.file("records.csv");
+        // Written in the staging folder, named in messages by their final paths.
+        let (p, shown) = (out.file("records.csv"), out.shown("records.csv"));
         let mut w = csv::Writer::from_path(&p)
-            .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
+            .map_err(|e| Failure::Output(format!("{}: {e}", shown.display())))?;
         w.write_record(CaseRecord::CSV_HEADER)
-            .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
-        csv_file = Some((p, w));
-        let p = out.file("records.jsonl");
-        let f = std::fs::File::create(&p).map_err(|e| out_err(&p, e))?;
-        jsonl_file = Some((p, std::io::BufWriter::new(f)));
+            .map_err(|e| Failure::Output(format!("{}: {e}", shown.display())))?;
+        csv_file = Some((shown, w));
+        let (p, shown) = (out.file("records.jsonl"), out.shown("records.jsonl"));
+        let f = std::fs::File::create(&p).map_err(|e| out_err(&shown, e))?;
+        jsonl_file = Some((shown, std::io::BufWriter::new(f)));
     }
     let stdout = std::io::stdout();
     let mut stdout_csv =

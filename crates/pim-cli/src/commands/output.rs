@@ -96,11 +96,25 @@ impl OutDir {
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
-        std::fs::create_dir_all(parent)
-            .map_err(|e| io_failure(parent, "cannot create the folder", &e))?;
+        // Failures name the folder given (and the part of it that failed), never the staging
+        // folder, which the user did not write and never sees.
+        std::fs::create_dir_all(parent).map_err(|e| {
+            let what = if parent.is_file() {
+                format!("cannot create the folder: {} is a file", parent.display())
+            } else {
+                format!("cannot create the folder {}", parent.display())
+            };
+            io_failure(dir, &what, &e)
+        })?;
         let stage = parent.join(format!(".{name}.pim-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&stage);
-        std::fs::create_dir(&stage).map_err(|e| io_failure(&stage, "cannot create", &e))?;
+        std::fs::create_dir(&stage).map_err(|e| {
+            io_failure(
+                dir,
+                &format!("cannot write in {} to stage the folder", parent.display()),
+                &e,
+            )
+        })?;
         let out = OutDir {
             target: dir.to_path_buf(),
             stage,
@@ -121,6 +135,11 @@ impl OutDir {
     /// Where the file `name` is written until the folder is put in place.
     pub fn file(&self, name: &str) -> PathBuf {
         self.stage.join(name)
+    }
+
+    /// The file `name` as messages name it: its final path in the folder given.
+    pub fn shown(&self, name: &str) -> PathBuf {
+        self.target.join(name)
     }
 
     /// Writes the file `name`; a failure names the file by its final path.
