@@ -466,3 +466,32 @@ fn draws_without_anything_uncertain_are_said_in_the_table_and_csv() {
         "{notes:?}"
     );
 }
+
+/// compare-costs shares batch's flags but draws no intervals: --draws and --tolerances are
+/// refused with the command that uses them, not ignored.
+#[test]
+fn compare_costs_refuses_the_interval_flags() {
+    for args in [
+        vec![
+            "compare-costs",
+            "--draws",
+            "5",
+            "--tolerances",
+            "examples/ricsac_tolerances.toml",
+        ],
+        vec![
+            "compare-costs",
+            "--tolerances",
+            "examples/ricsac_tolerances.toml",
+        ],
+        vec!["compare-costs", "--draws", "5"],
+    ] {
+        let out = pim(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&out).contains("draws no intervals") && stderr(&out).contains("pim batch"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+}

@@ -22,6 +22,15 @@ fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tole
 
 /// `pim batch` and (`compare`) `pim compare-costs`: a data file, or case files.
 pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
+    if compare && (a.draws > 0 || a.tolerances.is_some()) {
+        // Accepted by the shared arguments, used by nothing here: refused, not ignored.
+        return Err(Failure::Input(
+            "compare-costs compares the cost functions' fits and draws no intervals: \
+             --draws and --tolerances are for `pim batch DATA.csv --draws N --tolerances FILE`"
+                .into(),
+        )
+        .into());
+    }
     let data = match a.inputs.as_slice() {
         [one] if !one.is_dir() && !super::batch_cases::is_case_file(one) => one.clone(),
         _ if compare => {
