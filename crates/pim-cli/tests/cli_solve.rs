@@ -617,3 +617,90 @@ fn every_diagram_key_stays_on_its_canvas() {
     }
     assert!(n >= 13, "{n} examples");
 }
+
+/// The friction line says what happens in the model solved, for every model and friction
+/// class: PIM sliding, sticking (mu = mu_max), reversed, nothing sliding, the no-slip condition
+/// with and without sliding; the second model sticking with et = 0 (sliding ends), sticking
+/// with et != 0 (sliding continues at et vt), sliding at its limit; IMPC at its cap.
+#[test]
+fn the_friction_line_says_what_each_model_does() {
+    let line = |args: &[&str]| -> String {
+        let out = pim_ok(args);
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .find(|l| l.starts_with("friction "))
+            .unwrap_or_else(|| panic!("{args:?}: no friction line"))
+            .to_string()
+    };
+    let side = "examples/cases/side_impact.toml";
+    let r7 = "examples/cases/ricsac7_brach1983.toml";
+    let tang =
+        std::fs::read_to_string(repo().join("examples/cases/ricsac7_tangential.toml")).unwrap();
+    let with = |name: &str, from: &str, to: &str| {
+        let text = tang.replace(from, to);
+        assert_ne!(text, tang, "{name}: nothing replaced");
+        scratch_file("friction_line", name, text)
+    };
+    let stick0 = with("stick0.toml", "friction = 0.8 ", "friction = 2.0 ");
+    let stick = scratch_file(
+        "friction_line",
+        "stick_et.toml",
+        tang.replace("friction = 0.8 ", "friction = 2.0 ")
+            .replace("et = 0.0 ", "et = 0.3 "),
+    );
+    let r7_text = std::fs::read_to_string(repo().join(r7)).unwrap();
+    let r7_mu = scratch_file(
+        "friction_line",
+        "r7_sliding.toml",
+        r7_text.replace("mu = 0.968", "mu = 0.5"),
+    );
+    // mu at mu_max to full precision: the sticking class.
+    let doc: serde_json::Value =
+        serde_json::from_slice(&pim_ok(&["solve", r7, "--format", "json"]).stdout).unwrap();
+    let mu_max = doc["mu_max"].as_f64().unwrap();
+    let r7_stick = scratch_file(
+        "friction_line",
+        "r7_stick.toml",
+        r7_text.replace("mu = 0.968", &format!("mu = {mu_max:?}")),
+    );
+    for (args, says) in [
+        (vec!["solve", &r7_mu], "still sliding at separation"),
+        (
+            vec!["solve", &r7_stick],
+            "sliding ends by separation (mu = mu_max)",
+        ),
+        (vec!["solve", r7], "sliding reversed"),
+        (vec!["solve", side], "no sliding at all"),
+        (vec!["solve", side, "--no-slip"], "no sliding at all"),
+        (
+            vec!["solve", r7, "--no-slip"],
+            "the no-slip condition (5a) ends the sliding",
+        ),
+        (
+            vec!["solve", &stick0],
+            "sticks: the sliding at C ends by separation",
+        ),
+        (
+            vec!["solve", &stick],
+            "sliding continues at et = 0.300 times",
+        ),
+        (
+            vec!["solve", "examples/cases/ricsac7_tangential.toml"],
+            "slides throughout",
+        ),
+        (
+            vec!["solve", "examples/cases/barrier_small_overlap_impc.toml"],
+            "slides throughout",
+        ),
+    ] {
+        let l = line(&args);
+        assert!(l.contains(says), "{args:?}: {l}");
+        // Only the plain PIM sticking class may say "mu = mu_max".
+        if !says.contains("mu = mu_max") {
+            assert!(
+                !l.contains("sliding ends by separation (mu = mu_max)"),
+                "{args:?}: {l}"
+            );
+        }
+    }
+}

@@ -18,9 +18,55 @@ fn opt(x: Option<f64>, prec: usize) -> String {
     x.map_or_else(|| "undefined".to_string(), |v| format!("{v:.prec$}"))
 }
 
-/// Words for what happens along the crush surface, and where the direction of friction comes
-/// from when the contact point does not slide at contact.
-pub fn tangential_words(r: &ImpactReport) -> String {
+/// Words for what happens along the crush surface in the model that was solved, and where
+/// the direction of friction comes from when the contact point does not slide at contact.
+/// `model` is the second model's record (tangential restitution with a friction limit, or
+/// IMPC's), `None` for PIM.
+pub fn tangential_words(r: &ImpactReport, model: Option<&pim_data::records::ModelOut>) -> String {
+    let tol = pim_core::REPORT_TOL;
+    let rv = &r.relative;
+    let scale = rv.normal_initial.abs().max(1.0);
+    let slides_at_contact = rv.tangential_initial.abs() > tol * scale;
+    let slides_at_separation = rv.tangential_final.abs() > tol * scale;
+    if let Some(m) = model {
+        let et = m.coefficients.get("et").copied().unwrap_or(0.0);
+        return match m.mode {
+            _ if !slides_at_contact && !slides_at_separation => {
+                "no sliding at all: the contact point does not slide at contact, and the \
+                 impulse makes it slide none by separation"
+                    .to_string()
+            }
+            pim_core::ContactMode::Stick if et.abs() <= tol => {
+                "sticks: the sliding at C ends by separation (Vt = et vt = 0, within the \
+                 friction limit)"
+                    .to_string()
+            }
+            pim_core::ContactMode::Stick => format!(
+                "sticks at the tangential restitution: the sliding continues at et = {} times \
+                 the initial tangential velocity (Vt = et vt), within the friction limit; it \
+                 does not end",
+                num(et, 3)
+            ),
+            pim_core::ContactMode::Slide => {
+                "slides throughout: sticking would need more than the friction limit, so the \
+                 impulse is at the limit (|Pt| = friction |Pn|) and the vehicles still slide at \
+                 separation"
+                    .to_string()
+            }
+        };
+    }
+    if r.options.tangential == pim_core::TangentialCondition::NoSlip {
+        let no_coupling = r.mu_max.is_some_and(|m| m.abs() <= tol);
+        return if !slides_at_contact && no_coupling {
+            "no sliding at all: the contact point does not slide at contact and the normal \
+             impulse causes none (no-slip condition 5a, mu_max = 0)"
+                .to_string()
+        } else {
+            "the no-slip condition (5a) ends the sliding by separation (Vt = 0); the friction \
+             that takes is mu_max"
+                .to_string()
+        };
+    }
     let outcome = match r.tangential {
         pim_core::TangentialOutcome::Sliding => "still sliding at separation (|mu| < |mu_max|)",
         pim_core::TangentialOutcome::Sticking => "sliding ends by separation (mu = mu_max)",
@@ -28,13 +74,14 @@ pub fn tangential_words(r: &ImpactReport) -> String {
             "sliding reversed (mu beyond mu_max: not physical)"
         }
     };
-    let no_coupling = r.mu_max.is_some_and(|m| m.abs() <= pim_core::REPORT_TOL);
+    let no_coupling = r.mu_max.is_some_and(|m| m.abs() <= tol);
     match r.friction_basis {
         pim_core::FrictionBasis::Sliding => outcome.to_string(),
-        pim_core::FrictionBasis::NoSlipImpulse if no_coupling => format!(
-            "{outcome}; no sliding at contact (vt = 0) and the normal impulse causes none \
-             (mu_max = 0): no tangential impulse is admissible"
-        ),
+        pim_core::FrictionBasis::NoSlipImpulse if no_coupling => {
+            "no sliding at all: the contact point does not slide at contact (vt = 0) and the \
+             normal impulse causes none (mu_max = 0): no tangential impulse is admissible"
+                .to_string()
+        }
         pim_core::FrictionBasis::NoSlipImpulse => format!(
             "{outcome}; no sliding at contact (vt = 0), so friction acts against the sliding \
              that the normal impulse causes (the side of the no-slip impulse)"
@@ -117,6 +164,7 @@ pub fn solve_table(
     title: &str,
     impact: &pim_core::Impact,
     r: &ImpactReport,
+    model: Option<&pim_data::records::ModelOut>,
     forward: bool,
     u: UnitSystem,
     frame: Convention,
@@ -212,7 +260,7 @@ pub fn solve_table(
         "friction            mu_max {} (signed), mu/mu_max {}: {}",
         opt(r.mu_max, 4),
         opt(r.mu_ratio, 4),
-        tangential_words(r)
+        tangential_words(r, model)
     );
     let _ = writeln!(
         s,

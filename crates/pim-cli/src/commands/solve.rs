@@ -36,7 +36,15 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let frame = case.written;
     let mirrored = (frame == Convention::Sae).then(|| report.mirrored());
     let shown = mirrored.as_ref().unwrap_or(report);
-    let mut table = tables::solve_table(&title_of(&case), impact, shown, forward, units, frame);
+    let mut table = tables::solve_table(
+        &title_of(&case),
+        impact,
+        shown,
+        document.model.as_ref(),
+        forward,
+        units,
+        frame,
+    );
     if let Some(m) = &document.model {
         let line = tables::model_line(m);
         if let Some(at) = table.find("solved forwards") {

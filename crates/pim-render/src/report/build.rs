@@ -76,7 +76,7 @@ pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String>
     ));
     answer.text(format!(
         "Along the crush surface: {}.",
-        crate::tables::tangential_words(&r)
+        crate::tables::tangential_words(&r, s.document.model.as_ref())
     ));
     let mut warnings = case.warnings();
     if !r.admissibility.admissible {
