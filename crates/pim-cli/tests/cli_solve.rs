@@ -704,3 +704,97 @@ fn the_friction_line_says_what_each_model_does() {
         }
     }
 }
+
+/// Both CGs on one side of the crush plane: the side is a reading (weighted by mobility), said
+/// in a warning naming [impact], the two heights and the reading taken; the case can state it
+/// (`[impact] vehicle1_side`); the JSON says the side and its basis (`geometry`, `mobility`,
+/// `case`).
+#[test]
+fn the_side_of_the_crush_surface_is_said_and_settable() {
+    let case = r#"
+[vehicle1]
+mass = 1500.0
+yaw_inertia = 2500.0
+heading = 0.0
+impact_point = { x = 2.0, y = 0.0 }
+[vehicle2]
+mass = 1500.0
+yaw_inertia = 2500.0
+heading = 90.0
+impact_point = { x = 2.0, y = -0.5 }
+[impact]
+crush_angle = 0.0
+[coefficients]
+e = 0.1
+mu = 0.3
+em = 1.0
+[initial]
+vehicle1 = { vx = 15.0, vy = 0.0, omega = 0.0 }
+vehicle2 = { vx = 0.0, vy = 10.0, omega = 0.0 }
+"#;
+    let json = |path: &str| -> (serde_json::Value, String) {
+        let out = pim_ok(&["solve", path, "--format", "json"]);
+        (serde_json::from_slice(&out.stdout).unwrap(), stderr(&out))
+    };
+    // Read from the heights: a warning with both heights and the reading.
+    let path = scratch_file("side", "read.toml", case);
+    let (v, err) = json(&path);
+    assert_eq!(v["side"]["vehicle1"], "-n");
+    assert_eq!(v["side"]["basis"], "mobility");
+    assert!(
+        err.contains(":13:15: impact.crush_angle: both centres of gravity lie on the -n side"),
+        "{err}"
+    );
+    assert!(
+        err.contains("vehicle 1 -2.000 m, vehicle 2 -0.500 m"),
+        "{err}"
+    );
+    assert!(err.contains("vehicle1_side = \"+n\""), "{err}");
+    // Stated as read: the same answer, no warning, basis `case`.
+    let stated = case.replace(
+        "crush_angle = 0.0",
+        "crush_angle = 0.0\nvehicle1_side = \"-n\"",
+    );
+    let path = scratch_file("side", "stated.toml", &stated);
+    let (w, err) = json(&path);
+    assert_eq!(w["side"]["basis"], "case");
+    assert!(!err.contains("both centres"), "{err}");
+    assert_eq!(w["final"], v["final"]);
+    // Stated the other way: then the vehicles do not approach.
+    let other = case.replace(
+        "crush_angle = 0.0",
+        "crush_angle = 0.0\nvehicle1_side = \"+n\"",
+    );
+    let path = scratch_file("side", "other.toml", &other);
+    let out = pim(&["solve", &path]);
+    assert_ne!(out.status.code(), Some(0));
+    assert!(stderr(&out).contains("do not approach"), "{}", stderr(&out));
+    // A value that is not a side.
+    let bad = case.replace(
+        "crush_angle = 0.0",
+        "crush_angle = 0.0\nvehicle1_side = \"up\"",
+    );
+    let path = scratch_file("side", "bad.toml", &bad);
+    let out = pim(&["solve", &path]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("impact.vehicle1_side: \"up\": accepted \"+n\""),
+        "{}",
+        stderr(&out)
+    );
+    // Opposite sides: the geometry decides, no warning.
+    let (g, err) = json("examples/cases/side_impact.toml");
+    assert_eq!(g["side"]["basis"], "geometry");
+    assert!(!err.contains("both centres"), "{err}");
+    // With an estimated geometry the side is read per geometry: a stated side is refused.
+    let fit = std::fs::read_to_string(repo().join("examples/cases/ricsac6_geometry.toml")).unwrap();
+    let fit = fit.replacen("[impact]\n", "[impact]\nvehicle1_side = \"+n\"\n", 1);
+    let path = scratch_file("side", "geometry.toml", fit);
+    let out = pim(&["fit", &path, "--cost", "q2"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("impact.vehicle1_side"),
+        "{}",
+        stderr(&out)
+    );
+}

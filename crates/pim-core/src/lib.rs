@@ -168,8 +168,8 @@ pub use impact_model::{ContactOutcome, ImpactModel, ModelSolution, PimModel};
 pub use impc::Impc;
 pub use model::{
     impact_point_cartesian, impact_point_polar, wrap_degrees, Collision, Convention, Impact,
-    Vehicle, VehicleVelocity, Velocities, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA, MAX_MASS,
-    MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
+    SideBasis, Vehicle, VehicleVelocity, Velocities, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA,
+    MAX_MASS, MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
 };
 pub use names::parse_name;
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};

@@ -53,8 +53,25 @@ pub struct Impact {
     t: [f64; 2],
     /// +1 when vehicle 1's CG lies on the +n side of vehicle 2's CG, -1 on the -n side, 0 if undecided.
     side: f64,
+    /// What the side rests on.
+    side_basis: SideBasis,
+    /// Heights of the two CGs above the crush plane through C, along n, m.
+    heights: [f64; 2],
     /// Unit forward (nose) axes of vehicle 1 and 2 in the fixed frame.
     axes: [[f64; 2]; 2],
+}
+
+/// What the side of the crush surface each vehicle is on ([`Impact::side`]) rests on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SideBasis {
+    /// The two CGs lie on opposite sides of the crush plane: the geometry decides.
+    Geometry,
+    /// Both CGs lie on one side of the crush plane (or one on it): the side is read from their
+    /// heights weighted by mobility, `sgn(m2 h1 - m1 h2)`, a choice rather than a fact.
+    Mobility,
+    /// The case states it ([`Impact::with_side`]).
+    Case,
 }
 
 impl Vehicle {
@@ -299,6 +316,19 @@ impl Impact {
         } else {
             0.0
         };
+        // Opposite sides (vehicle 2's height has the other sign) decide by geometry alone; a
+        // barrier has no CG, its face is the plane.
+        let tiny = 1e-9 * (v1.d + if m2.is_infinite() { 0.0 } else { v2.d }).max(1e-9);
+        let opposite = if m2.is_infinite() {
+            h1.abs() > tiny
+        } else {
+            h1 * h2 < 0.0 && h1.abs() > tiny && h2.abs() > tiny
+        };
+        let side_basis = if opposite {
+            SideBasis::Geometry
+        } else {
+            SideBasis::Mobility
+        };
         let (s1, c1) = v1.heading.to_radians().sin_cos();
         let (s2, c2) = v2.heading.to_radians().sin_cos();
         Ok(Impact {
@@ -307,6 +337,8 @@ impl Impact {
             n,
             t,
             side,
+            side_basis,
+            heights: [h1, if m2.is_infinite() { 0.0 } else { h2 }],
             axes: [[-c1, -s1], [c2, s2]],
         })
     }
@@ -407,6 +439,25 @@ impl Impact {
     /// The vehicles approach at C when the normal relative velocity `vn` has the opposite sign.
     pub fn side(&self) -> f64 {
         self.side
+    }
+
+    /// What [`Impact::side`] rests on: the geometry (the CGs on opposite sides of the crush
+    /// plane), the mobility-weighted reading (both on one side), or the case.
+    pub fn side_basis(&self) -> SideBasis {
+        self.side_basis
+    }
+
+    /// Heights of vehicle 1's and vehicle 2's CG above the crush plane through C, along n, m
+    /// (0 for a barrier).
+    pub fn cg_heights(&self) -> [f64; 2] {
+        self.heights
+    }
+
+    /// The impact with vehicle 1 stated on the `+n` (`side` = +1) or `-n` (-1) side.
+    pub fn with_side(mut self, side: f64) -> Self {
+        self.side = side.signum();
+        self.side_basis = SideBasis::Case;
+        self
     }
 
     /// Velocity of each vehicle's material point at C, m/s: `[(x, y) of vehicle 1, of vehicle 2]`.

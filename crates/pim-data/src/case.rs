@@ -450,8 +450,29 @@ impl Case {
 
     /// The collision, checked by pim-core (messages name the vehicle and field).
     pub fn impact(&self) -> Result<pim_core::Impact> {
-        pim_core::Impact::new(self.collision(self.content.convention))
-            .map_err(|e| InputError::new(&self.file, e))
+        let impact = pim_core::Impact::new(self.collision(self.content.convention))
+            .map_err(|e| InputError::new(&self.file, e))?;
+        Ok(match self.stated_side()? {
+            Some(side) => impact.with_side(side),
+            None => impact,
+        })
+    }
+
+    /// The side of the crush surface the case states for vehicle 1 (`[impact] vehicle1_side`):
+    /// +1 for `"+n"`, -1 for `"-n"`.
+    pub fn stated_side(&self) -> Result<Option<f64>> {
+        match self.content.impact.vehicle1_side.as_deref().map(str::trim) {
+            None => Ok(None),
+            Some("+n") | Some("n") => Ok(Some(1.0)),
+            Some("-n") => Ok(Some(-1.0)),
+            Some(other) => Err(self.error_at(
+                "impact.vehicle1_side",
+                format!(
+                    "{other:?}: accepted \"+n\" (vehicle 1 on the side the normal n at \
+                     crush_angle points to) or \"-n\""
+                ),
+            )),
+        }
     }
 
     /// Why the vehicles of this case do not approach each other at the impact centre in the

@@ -127,7 +127,7 @@ pub fn fit(
         Some(p) => (fitcase::CostChoice::Preset(p), p.name()),
         None => (fitcase::CostChoice::Custom, "custom"),
     };
-    case.impact()?;
+    let side = crate::records::SideOut::of(&case.impact()?);
     let problem = fitcase::problem(case, choice)?;
     let branches = model.branches(&branches);
     let settings = fitcase::settings(case, model, moment_form, branches)?;
@@ -156,6 +156,7 @@ pub fn fit(
             .collect(),
         best: report.best,
         notes,
+        side,
     };
     Ok(Fitted {
         problem,

@@ -41,6 +41,7 @@ pub mod scene;
 pub mod scene_sections;
 pub mod sections;
 pub mod spread;
+pub mod tolerances;
 pub mod uncertainty;
 pub mod units;
 

@@ -142,6 +142,27 @@ impl Case {
                 ));
             }
         }
+        // The side of the crush surface: a choice, not a fact, when both CGs lie on one side.
+        if let Ok(impact) = self.impact() {
+            if impact.side_basis() == pim_core::SideBasis::Mobility && !self.is_barrier() {
+                let [h1, h2] = impact.cg_heights();
+                let side = |x: f64| if x >= 0.0 { "+n" } else { "-n" };
+                let reading = side(impact.side());
+                let other = if reading == "+n" { "-n" } else { "+n" };
+                out.push(format!(
+                    "{}: both centres of gravity lie on the {} side of the crush surface \
+                     (vehicle 1 {:.3} m, vehicle 2 {:.3} m above the plane through the impact \
+                     centre, along n at crush_angle): which vehicle is on which side is read \
+                     from the heights weighted by mobility, sgn(m2 h1 - m1 h2), as vehicle 1 \
+                     on the {reading} side. If the vehicles met the other way, state it: \
+                     [impact] vehicle1_side = \"{other}\"",
+                    self.at("impact.crush_angle"),
+                    side(if h1.abs() >= h2.abs() { h1 } else { h2 }),
+                    h1,
+                    h2
+                ));
+            }
+        }
         // States and estimates: speeds, yaw rates, sideslip. Each entry: the path of the
         // vehicle's state, vx, vy, omega, the vehicle, and whether it is the contact state.
         type State = (String, f64, f64, Option<f64>, usize, bool);

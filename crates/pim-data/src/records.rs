@@ -116,6 +116,8 @@ pub struct SolveOut {
     pub barrier: bool,
     /// Coefficients used.
     pub coefficients: pim_core::Coefficients,
+    /// Which side of the crush surface vehicle 1 lies on, and what that rests on.
+    pub side: SideOut,
     /// Moment form and tangential condition.
     pub options: pim_core::SolveOptions,
     /// Velocities at contact.
@@ -169,6 +171,7 @@ impl SolveOut {
             model: None,
             barrier: impact.is_barrier(),
             coefficients: r.coefficients,
+            side: SideOut::of(impact),
             options: r.options,
             initial: (&r.initial).into(),
             final_: (&r.separation).into(),
@@ -467,6 +470,39 @@ pub struct FitOut {
     pub best: Option<pim_fit::MomentBranch>,
     /// Remarks on the whole fit.
     pub notes: Vec<String>,
+    /// Which side of the crush surface vehicle 1 lies on at the case's geometry.
+    pub side: SideOut,
+}
+
+/// Which side of the crush surface vehicle 1 lies on (the vehicles approach when the normal
+/// relative velocity at C points the other way), and what that rests on.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SideOut {
+    /// `+n` or `-n` (n at the crush angle), `undecided` when nothing says.
+    pub vehicle1: &'static str,
+    /// `geometry` (the CGs on opposite sides of the crush plane), `mobility` (both on one side:
+    /// read from their heights weighted by mobility) or `case` (`[impact] vehicle1_side`).
+    pub basis: pim_core::SideBasis,
+    /// Heights of vehicle 1's and vehicle 2's CG above the crush plane through C, along n, m.
+    pub cg_heights: [f64; 2],
+}
+
+impl SideOut {
+    /// The side of `impact`.
+    pub fn of(impact: &pim_core::Impact) -> Self {
+        let s = impact.side();
+        SideOut {
+            vehicle1: if s > 0.0 {
+                "+n"
+            } else if s < 0.0 {
+                "-n"
+            } else {
+                "undecided"
+            },
+            basis: impact.side_basis(),
+            cg_heights: impact.cg_heights(),
+        }
+    }
 }
 
 /// The second model's part of a solve document.

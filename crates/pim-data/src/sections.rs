@@ -130,6 +130,11 @@ pub struct ImpactSection {
     /// `position`, instead of each vehicle's `impact_point` or `d` and `phi`.
     #[serde(default)]
     pub centre: Option<PointSection>,
+    /// Which side of the crush surface vehicle 1 lies on, `"+n"` or `"-n"` (n at
+    /// `crush_angle`), when the case knows it: otherwise it is read from the two CGs' heights
+    /// above the crush plane (weighted by mobility when both lie on one side).
+    #[serde(default)]
+    pub vehicle1_side: Option<String>,
 }
 
 /// `[coefficients]`.

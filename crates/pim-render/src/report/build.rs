@@ -41,6 +41,26 @@ const HOW_TO_READ: [&str; 5] = [
     "Every number here is in result.json (SI units, natural frame) with more digits.",
 ];
 
+/// Which side of the crush surface vehicle 1 lies on, and what that rests on, in a sentence.
+fn side_sentence(side: &pim_data::records::SideOut) -> String {
+    let [h1, h2] = side.cg_heights;
+    let basis = match side.basis {
+        pim_core::SideBasis::Geometry => {
+            "the two centres of gravity lie on opposite sides of the crush plane".to_string()
+        }
+        pim_core::SideBasis::Mobility => format!(
+            "read from the heights of the centres of gravity above the crush plane ({h1:.3} m \
+             and {h2:.3} m: both on one side) weighted by mobility; a choice, which the case \
+             can state with [impact] vehicle1_side"
+        ),
+        pim_core::SideBasis::Case => "as the case states ([impact] vehicle1_side)".to_string(),
+    };
+    format!(
+        "Vehicle 1 lies on the {} side of the crush surface (n at the crush angle): {basis}.",
+        side.vehicle1
+    )
+}
+
 /// The report of a solve of `case`, in the units `u`.
 pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String> {
     let frame = case.written;
@@ -78,6 +98,7 @@ pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String>
         "Along the crush surface: {}.",
         crate::tables::tangential_words(&r, s.document.model.as_ref())
     ));
+    answer.text(side_sentence(&s.document.side));
     let mut warnings = case.warnings();
     if !r.admissibility.admissible {
         for reason in r.inadmissibility_reasons() {
@@ -120,6 +141,7 @@ pub fn fit(
         .find(|r| Some(r.moment) == report.best);
     let mut doc = header(case, &format!("Fit, cost function {cost}"), u);
     let mut answer = Section::new("Answer");
+    answer.text(side_sentence(&f.document.side));
     let mut warnings = case.warnings();
     warnings.extend(report.notes.iter().cloned());
     match (best, best.and_then(|b| b.solution.as_ref())) {
