@@ -495,3 +495,38 @@ fn compare_costs_refuses_the_interval_flags() {
         );
     }
 }
+
+/// A batch of case files under a cost function that holds components fixed says that their
+/// weights or sigmas have no effect (as `pim fit` does), in the summary and in the records.
+#[test]
+fn unused_sigmas_are_said_in_a_batch() {
+    let text = std::fs::read_to_string(repo().join("examples/cases/ricsac7_fit.toml")).unwrap();
+    let with = text.replacen(
+        "[bounds]",
+        "[sigma.initial]\nvehicle1 = { vx = 0.5, vy = 0.5, omega = 0.1 }\n\
+         vehicle2 = { vx = 0.5, vy = 0.5, omega = 0.1 }\n[sigma.final]\n\
+         vehicle1 = { vx = 0.5, vy = 0.5, omega = 0.1 }\n\
+         vehicle2 = { vx = 0.5, vy = 0.5, omega = 0.1 }\n\n[bounds]",
+        1,
+    );
+    let path = scratch_file("batch", "unused_sigma.toml", with);
+    let out = pim_ok(&["batch", &path, "--cost", "q2"]);
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table.contains("notes:") && table.contains("has no effect"),
+        "{table}"
+    );
+    let out = pim_ok(&["batch", &path, "--cost", "q2", "--format", "json"]);
+    let first: serde_json::Value =
+        serde_json::from_str(String::from_utf8_lossy(&out.stdout).lines().next().unwrap()).unwrap();
+    assert!(
+        first["notes"][0]
+            .as_str()
+            .unwrap()
+            .contains("[sigma] of initial.vehicle1.vx"),
+        "{first}"
+    );
+    // Q3 estimates every component: nothing to say.
+    let out = pim_ok(&["batch", &path, "--cost", "q3"]);
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("has no effect"));
+}

@@ -440,6 +440,10 @@ pub struct CaseRecord {
     /// Why the intervals could not be computed (e.g. the case gives no sigmas).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub intervals_error: Option<String>,
+    /// What in the case had no effect on this fit (e.g. weights or sigmas of components the
+    /// cost function holds fixed), said rather than dropped.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
 /// The quantities whose 90 % intervals are CSV columns.
@@ -562,6 +566,7 @@ pub fn fit_case_text(
                 branch: None,
                 intervals: None,
                 intervals_error: None,
+                notes: Vec::new(),
             })
             .collect()
     };
@@ -587,6 +592,10 @@ pub fn fit_case_text(
         Ok(r) => r,
         Err(e) => return failed(e.message),
     };
+    let notes = match cost {
+        CostChoice::Preset(p) => crate::documents::ignored_weights(&case, p),
+        CostChoice::Custom => Vec::new(),
+    };
     report
         .branches
         .iter()
@@ -604,6 +613,7 @@ pub fn fit_case_text(
             ),
             intervals: None,
             intervals_error: None,
+            notes: notes.clone(),
         })
         .collect()
 }

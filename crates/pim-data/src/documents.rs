@@ -167,7 +167,7 @@ pub fn fit(
 
 /// The weights and standard deviations a case gives for components that the cost function
 /// holds fixed at their estimates, which therefore have no effect (said, not ignored in silence).
-fn ignored_weights(case: &Case, preset: CostPreset) -> Vec<String> {
+pub(crate) fn ignored_weights(case: &Case, preset: CostPreset) -> Vec<String> {
     let c = &case.content;
     let mut out = Vec::new();
     for (section, given) in [("weights", c.weights), ("sigma", c.sigma)] {

@@ -97,6 +97,8 @@ struct Tally {
     /// Records without the intervals `--draws` asked for, with the reason (e.g. nothing in
     /// the case is uncertain).
     no_intervals: Vec<String>,
+    /// What in the files had no effect (each once).
+    notes: Vec<String>,
 }
 
 impl Tally {
@@ -114,6 +116,11 @@ impl Tally {
         if let Some(why) = &r.intervals_error {
             self.no_intervals.push(why.clone());
         }
+        for n in &r.notes {
+            if !self.notes.contains(n) {
+                self.notes.push(n.clone());
+            }
+        }
     }
 
     fn text(&self, files: usize) -> String {
@@ -128,6 +135,12 @@ impl Tally {
         for (cost, outcomes) in &self.by_cost {
             for (o, n) in outcomes {
                 s.push_str(&format!("{cost:<7} {o:<16} {n:>7}\n"));
+            }
+        }
+        if !self.notes.is_empty() {
+            s.push_str("\nnotes:\n");
+            for n in &self.notes {
+                s.push_str(&format!("  {n}\n"));
             }
         }
         if !self.no_intervals.is_empty() {
@@ -264,6 +277,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                                 branch: None,
                                 intervals: None,
                                 intervals_error: None,
+                                notes: Vec::new(),
                             })
                             .collect(),
                     };
