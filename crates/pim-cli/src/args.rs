@@ -30,6 +30,8 @@ CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, coun
   #                                # the crush surface; examples/cases/barrier_small_overlap.toml)
   [impact]
   crush_angle = 0.0                # deg: direction of the crush-surface normal (either sense)
+  # vehicle1_side = \"+n\"           # when both CGs lie on one side of the crush plane: where
+  #                                # vehicle 1 is (otherwise read from the heights by mobility)
   [coefficients]
   e = 0.1                          # restitution, 0..1
   mu = 0.0                         # impulse ratio Pt/Pn, between 0 and mu_max (0 here: nothing
