@@ -256,6 +256,43 @@ fn bad_inputs_are_located() {
     );
     // No [runout] at all.
     refused(BASE, "none.toml", &["no [runout] section"]);
+    // Scene values out of their ranges (they reached the search before: a count of a billion
+    // turns spun without end), refused in the file's words.
+    let scene = std::fs::read_to_string(repo().join(SCENE)).unwrap();
+    let rest = "rest = { x = 9.58, y = 2.55, heading = 2.7 }";
+    for (name, from, to, says) in [
+        (
+            "far.toml",
+            rest,
+            "rest = { x = 1.0e6, y = 2.55, heading = 2.7 }",
+            "scene.vehicle2.rest.x: 1000000: must be a number from -10000 to 10000 m",
+        ),
+        (
+            "heading.toml",
+            rest,
+            "rest = { x = 9.58, y = 2.55, heading = 1.0e10 }",
+            "scene.vehicle2.rest.heading: 10000000000: must be a number from -360 to 360 deg",
+        ),
+        (
+            "turns.toml",
+            "marks = [",
+            "turns = 1000000000\nmarks = [",
+            "scene.vehicle2.turns: 1000000000: at most 20 full turns either way",
+        ),
+        (
+            "mark.toml",
+            "{ x = 3.58, y = 2.14, sigma = 0.05 }",
+            "{ x = 3.58e9, y = 2.14, sigma = 0.05 }",
+            "scene.vehicle2.marks[0].x: 3580000000",
+        ),
+    ] {
+        let text = scene.replace(from, to);
+        assert_ne!(text, scene, "{name}");
+        let path = scratch_file("runout", name, text);
+        let out = pim_within(&["runout", &path], 30);
+        assert_eq!(out.status.code(), Some(2), "{name}: {}", stderr(&out));
+        assert!(stderr(&out).contains(says), "{name}: {}", stderr(&out));
+    }
 }
 
 /// A run-out still moving at its time limit: the output is printed, the status is 3 and the

@@ -345,6 +345,40 @@ impl Case {
         flip: f64,
     ) -> Result<Evidence> {
         let at = |field: &str| format!("scene.{name}.{field}");
+        // Ranges in the file's own words (degrees, its length unit), before conversion.
+        let unit = self.written_units.length;
+        let reach = pim_runout::inverse::MAX_SCENE_DISTANCE / length;
+        let mut places: Vec<(String, f64, bool)> = Vec::new();
+        if let Some(r) = s.rest {
+            places.extend([(at("rest.x"), r.x, false), (at("rest.y"), r.y, false)]);
+            if let Some(h) = r.heading {
+                places.push((at("rest.heading"), h, true));
+            }
+        }
+        for (i, m) in s.marks.iter().enumerate() {
+            let mark = |f: &str| format!("scene.{name}.marks[{i}].{f}");
+            places.extend([(mark("x"), m.x, false), (mark("y"), m.y, false)]);
+            if let Some(h) = m.heading {
+                places.push((mark("heading"), h, true));
+            }
+        }
+        for (path, x, angle) in places {
+            let (lim, what) = if angle {
+                (360.0, "deg".to_string())
+            } else {
+                let u = match unit {
+                    crate::units::LengthUnit::Metre => "m",
+                    crate::units::LengthUnit::Foot => "ft",
+                };
+                (reach, format!("{u} (10 km)"))
+            };
+            if !(x.is_finite() && x.abs() <= lim) {
+                return Err(self.error_at(
+                    &path,
+                    format!("{x}: must be a number from -{lim} to {lim} {what}"),
+                ));
+            }
+        }
         let rest = match (s.rest, s.rest_sigma) {
             (None, None) => None,
             (None, Some(_)) => {

@@ -5,6 +5,23 @@ use crate::error::{Result, RunoutError};
 use crate::simulate::{Runout, Settings};
 use serde::{Deserialize, Serialize};
 
+/// Farthest a rest position or mark may lie from the frame's origin, and largest standard
+/// deviation of a position, m (a scene diagram's origin is at the impact).
+pub const MAX_SCENE_DISTANCE: f64 = 10_000.0;
+
+/// Largest heading (and heading standard deviation) accepted, rad: one turn either way.
+pub const MAX_HEADING: f64 = std::f64::consts::TAU;
+
+/// Most full turns a stated count may give, either way.
+pub const MAX_TURNS: i64 = 20;
+
+/// Fastest separation state a search tries: a CG speed beyond this (m/s) or a yaw rate beyond
+/// [`MAX_SEARCH_YAW_RATE`] (rad/s) is no separation state of a road crash.
+pub const MAX_SEARCH_SPEED: f64 = 100.0;
+
+/// See [`MAX_SEARCH_SPEED`].
+pub const MAX_SEARCH_YAW_RATE: f64 = 30.0;
+
 /// Candidates whose costs differ by less than this (in units of chi-square) are equally
 /// consistent with the evidence.
 pub const CONSISTENT_COST: f64 = 1e-6;
@@ -159,44 +176,56 @@ pub(crate) fn input(field: &'static str, reason: String) -> RunoutError {
 impl Evidence {
     /// Checks the evidence: finite numbers, sigmas above 0, something to fit.
     pub fn check(&self) -> Result<()> {
-        let positive = |field: &'static str, s: f64| {
-            if s.is_finite() && s > 0.0 {
+        let within = |field: &'static str, x: f64, lo: f64, hi: f64, unit: &str| {
+            if x.is_finite() && x >= lo && x <= hi {
                 Ok(())
             } else {
                 Err(input(
                     field,
-                    format!("{s}: a standard deviation must be above 0"),
+                    format!("{x}: must be a number from {lo} to {hi} {unit}"),
                 ))
             }
         };
-        let finite = |field: &'static str, x: f64| {
-            if x.is_finite() {
+        let positive = |field: &'static str, s: f64, hi: f64, unit: &str| {
+            if s.is_finite() && s > 0.0 && s <= hi {
                 Ok(())
             } else {
-                Err(input(field, format!("{x}: must be a finite number")))
+                Err(input(
+                    field,
+                    format!("{s}: a standard deviation must be above 0 and at most {hi} {unit}"),
+                ))
             }
         };
+        let (p, h) = (MAX_SCENE_DISTANCE, MAX_HEADING);
         if let Some(r) = &self.rest {
-            finite("rest.x", r.x)?;
-            finite("rest.y", r.y)?;
-            positive("rest_sigma.x", r.sigma_xy[0])?;
-            positive("rest_sigma.y", r.sigma_xy[1])?;
-            if let Some(h) = r.heading {
-                finite("rest.heading", h)?;
-                positive("rest_sigma.heading", r.sigma_heading)?;
+            within("rest.x", r.x, -p, p, "m")?;
+            within("rest.y", r.y, -p, p, "m")?;
+            positive("rest_sigma.x", r.sigma_xy[0], p, "m")?;
+            positive("rest_sigma.y", r.sigma_xy[1], p, "m")?;
+            if let Some(a) = r.heading {
+                within("rest.heading", a, -h, h, "rad")?;
+                positive("rest_sigma.heading", r.sigma_heading, h, "rad")?;
             }
         }
         for m in &self.marks {
-            finite("marks.x", m.x)?;
-            finite("marks.y", m.y)?;
-            positive("marks.sigma", m.sigma)?;
-            if let Some((h, s)) = m.heading {
-                finite("marks.heading", h)?;
-                positive("marks.heading_sigma", s)?;
+            within("marks.x", m.x, -p, p, "m")?;
+            within("marks.y", m.y, -p, p, "m")?;
+            positive("marks.sigma", m.sigma, p, "m")?;
+            if let Some((a, s)) = m.heading {
+                within("marks.heading", a, -h, h, "rad")?;
+                positive("marks.heading_sigma", s, h, "rad")?;
+            }
+        }
+        if let Some(k) = self.turns {
+            if k.abs() > MAX_TURNS {
+                return Err(input(
+                    "turns",
+                    format!("{k}: at most {MAX_TURNS} full turns either way"),
+                ));
             }
         }
         if let Some(s) = self.friction_sigma {
-            positive("friction_sigma", s)?;
+            positive("friction_sigma", s, 1.0, "")?;
         }
         if self.rest.is_none() && self.marks.is_empty() {
             return Err(input(

@@ -53,6 +53,7 @@ mod search;
 
 pub use evidence::{
     Candidate, Estimate, EstimateSettings, Evidence, Mark, Residual, Rest, CONSISTENT_COST,
+    MAX_HEADING, MAX_SCENE_DISTANCE, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE, MAX_TURNS,
     PLAUSIBLE_COST,
 };
 pub use problem::residuals_of;

@@ -1,8 +1,8 @@
 //! The cost of one candidate: the residuals of a run-out against the evidence.
 
-use super::evidence::{Evidence, Residual};
+use super::evidence::{Evidence, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
 use crate::chassis::{Chassis, Motion};
-use crate::error::Result;
+use crate::error::{Result, RunoutError};
 use crate::forces::Dynamics;
 use crate::simulate::{hermite, run, Runout, Settings};
 use nalgebra::DVector;
@@ -29,6 +29,18 @@ impl Problem<'_> {
     }
 
     pub(crate) fn runout(&self, theta: &[f64]) -> Result<Runout> {
+        if !(theta[0].hypot(theta[1]) <= MAX_SEARCH_SPEED && theta[2].abs() <= MAX_SEARCH_YAW_RATE)
+        {
+            return Err(RunoutError::Input {
+                field: "separation",
+                reason: format!(
+                    "the search left the separation states of a road crash (speed {:.1} m/s, \
+                     yaw rate {:.1} rad/s)",
+                    theta[0].hypot(theta[1]),
+                    theta[2]
+                ),
+            });
+        }
         let mut chassis = self.chassis.clone();
         if self.estimate_friction {
             // The friction stays inside the model's range while searched.

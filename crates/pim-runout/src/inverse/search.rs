@@ -1,7 +1,7 @@
 //! The least-squares search of one candidate: starts, Levenberg-Marquardt, what the evidence
 //! determines at the answer.
 
-use super::evidence::{Candidate, Evidence, Mark, Residual};
+use super::evidence::{Candidate, Evidence, Mark, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
 use super::problem::Problem;
 use crate::chassis::{Motion, GRAVITY};
 use crate::error::Result;
@@ -74,8 +74,22 @@ fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
         for x in theta.iter_mut().take(3) {
             *x *= factor;
         }
+        bounded(&mut theta);
     }
+    bounded(&mut theta);
     theta
+}
+
+/// Scales a start into the separation states a search tries (within 95 % of
+/// [`MAX_SEARCH_SPEED`] and [`MAX_SEARCH_YAW_RATE`]).
+fn bounded(theta: &mut [f64]) {
+    let speed = theta[0].hypot(theta[1]);
+    if speed > 0.95 * MAX_SEARCH_SPEED {
+        let k = 0.95 * MAX_SEARCH_SPEED / speed;
+        theta[0] *= k;
+        theta[1] *= k;
+    }
+    theta[2] = theta[2].clamp(-0.95 * MAX_SEARCH_YAW_RATE, 0.95 * MAX_SEARCH_YAW_RATE);
 }
 
 /// The state of a least-squares search.
@@ -274,6 +288,8 @@ pub(crate) fn solve(
         if good(&explored) {
             break;
         }
+        let mut start = start;
+        bounded(&mut start);
         let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
         iterations += s.iterations;
         consider(s, &mut explored);
@@ -301,6 +317,8 @@ pub(crate) fn solve(
             if good(&explored) {
                 break;
             }
+            let mut start = start;
+            bounded(&mut start);
             let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
             iterations += s.iterations;
             consider(s, &mut explored);
@@ -378,7 +396,15 @@ fn jacobian(
         let mut t = theta.to_vec();
         t[j] += h;
         *runouts += 1;
-        let (r1, _) = p.weighted(&t)?;
+        // At the edge of the searched states, the backward difference.
+        let (r1, h) = match p.weighted(&t) {
+            Ok((r1, _)) => (r1, h),
+            Err(_) => {
+                t[j] = theta[j] - h;
+                *runouts += 1;
+                (p.weighted(&t)?.0, -h)
+            }
+        };
         for i in 0..r0.len() {
             jac[(i, j)] = (r1[i] - r0[i]) / h;
         }
