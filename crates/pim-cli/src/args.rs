@@ -226,7 +226,7 @@ pub struct RunoutArgs {
     /// Cost function of --from fit.
     #[arg(long, value_parser = cost())]
     pub cost: Option<CostPreset>,
-    /// Sample the JSON path every this many seconds.
+    /// Sample the JSON path every this many seconds (at most 100,000 samples per path).
     #[arg(long, default_value_t = 0.1, value_parser = crate::runout_help::positive_seconds)]
     pub sample: f64,
     /// Also draw the plan view of the run-out to this SVG file.

@@ -11,6 +11,9 @@ use pim_core::{VehicleId, Velocities};
 use pim_runout::{Candidate, End, Estimate, EstimateSettings, Motion, Runout, Settings};
 use serde::Serialize;
 
+/// Most samples of a path in the document (a longer motion is sampled more coarsely).
+pub const MAX_PATH_SAMPLES: usize = 100_000;
+
 /// Where the separation velocities come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -542,8 +545,9 @@ fn vehicle_out(
     estimate: Option<EstimateOut>,
     sample: f64,
 ) -> VehicleRunoutOut {
+    // At most MAX_PATH_SAMPLES samples, whatever the interval asked for and the motion's time.
     let path = r
-        .sample(sample)
+        .sample(sample.max(r.time / MAX_PATH_SAMPLES as f64))
         .iter()
         .map(|(t, m)| PathPoint {
             t: *t,
