@@ -786,15 +786,33 @@ vehicle2 = { vx = 0.0, vy = 10.0, omega = 0.0 }
     let (g, err) = json("examples/cases/side_impact.toml");
     assert_eq!(g["side"]["basis"], "geometry");
     assert!(!err.contains("both centres"), "{err}");
-    // With an estimated geometry the side is read per geometry: a stated side is refused.
-    let fit = std::fs::read_to_string(repo().join("examples/cases/ricsac6_geometry.toml")).unwrap();
-    let fit = fit.replacen("[impact]\n", "[impact]\nvehicle1_side = \"+n\"\n", 1);
-    let path = scratch_file("side", "geometry.toml", fit);
-    let out = pim(&["fit", &path, "--cost", "q2"]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(
-        stderr(&out).contains("impact.vehicle1_side"),
-        "{}",
-        stderr(&out)
+    // With an estimated geometry the stated side holds at every geometry tried: stated as the
+    // geometry reads it, the same fit; the proof over the geometry, which reads the side from
+    // the geometry, is not attempted and says why.
+    let text =
+        std::fs::read_to_string(repo().join("examples/cases/ricsac6_geometry.toml")).unwrap();
+    let fit = |text: &str, name: &str| -> serde_json::Value {
+        let path = scratch_file("side", name, text);
+        let out = pim(&["fit", &path, "--cost", "q2", "--format", "json"]);
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let read = fit(&text, "geometry_read.toml");
+    let stated = fit(
+        &text.replacen("[impact]\n", "[impact]\nvehicle1_side = \"+n\"\n", 1),
+        "geometry_stated.toml",
     );
+    assert_eq!(stated["side"]["basis"], "case");
+    let pairs = read["branches"].as_array().unwrap().iter();
+    for (a, b) in pairs.zip(stated["branches"].as_array().unwrap()) {
+        assert_eq!(a["cost"], b["cost"]);
+        let proof = &b["geometry"]["search"]["proof"];
+        assert_eq!(proof["status"], "not_attempted", "{proof}");
+        assert!(
+            proof["reason"]
+                .as_str()
+                .unwrap()
+                .contains("states the side"),
+            "{proof}"
+        );
+    }
 }

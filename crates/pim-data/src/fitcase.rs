@@ -413,20 +413,6 @@ pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSet
 /// The geometry inputs a case estimates (`[bounds]` `vehicle1` / `vehicle2` / `crush_angle`),
 /// SI and degrees; empty when the geometry is taken as exact.
 pub fn geometry(case: &Case) -> Result<Vec<GeometryBound>> {
-    let out = geometry_bounds(case)?;
-    if !out.is_empty() && case.content.impact.vehicle1_side.is_some() {
-        // The search reads the side afresh at each geometry it tries.
-        return Err(case.error_at(
-            "impact.vehicle1_side",
-            "a stated side with an estimated geometry ([bounds] vehicle1 / vehicle2 / \
-             crush_angle) is not supported: the geometry search reads the side at each geometry \
-             it tries; leave vehicle1_side out, or the geometry's bounds",
-        ));
-    }
-    Ok(out)
-}
-
-fn geometry_bounds(case: &Case) -> Result<Vec<GeometryBound>> {
     use pim_fit::GeometryInput as G;
     let Some(b) = case.content.bounds else {
         return Ok(Vec::new());

@@ -145,7 +145,11 @@ impl<'a> Search<'a> {
     }
 
     fn problem_at(&self, u: &[f64]) -> Option<FitProblem> {
-        let impact = Impact::new(self.collision(u)).ok()?;
+        let mut impact = Impact::new(self.collision(u)).ok()?;
+        // A side the case states holds at every geometry; otherwise each reads its own.
+        if self.problem.impact.side_basis() == pim_core::SideBasis::Case {
+            impact = impact.with_side(self.problem.impact.side());
+        }
         Some(FitProblem {
             impact,
             ..self.problem.clone()
