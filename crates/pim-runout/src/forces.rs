@@ -4,7 +4,7 @@ use crate::chassis::{Chassis, WheelState};
 
 /// Below this sliding speed, m/s, the friction force of a patch grows linearly from zero
 /// instead of jumping: Coulomb's law made continuous, so that a patch that passes through zero
-/// sliding neither chatters nor stops the integrator. 1 mm/s is far below every speed at which
+/// sliding neither chatters nor stops the integrator. 1 cm/s is below every speed at which
 /// the run-out's path is decided.
 pub const SLIDING_DEADBAND: f64 = 1e-2;
 

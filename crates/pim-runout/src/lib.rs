@@ -47,8 +47,8 @@
 //! - *steered*: the front wheels' axes turned by the steer angle.
 //!
 //! `u_l`, `u_s` are the patch velocity along and across the wheel. Below a sliding speed of
-//! [`SLIDING_DEADBAND`] (1 mm/s) each `sgn` and `u / |u|` is replaced by its linear
-//! continuation (`u / 1 mm/s`), so that a patch passing through zero sliding neither chatters
+//! [`SLIDING_DEADBAND`] (1 cm/s) each `sgn` and `u / |u|` is replaced by its linear
+//! continuation (`u / 1 cm/s`), so that a patch passing through zero sliding neither chatters
 //! nor stalls the integrator.
 //!
 //! **Energy.** Every force opposes the sliding of its patch, so the power of the tyre forces,
@@ -57,12 +57,13 @@
 //! `K + W` stays the initial kinetic energy (to the integration tolerance).
 //!
 //! **Integration and the stop.** Dormand-Prince 5(4) with adaptive steps (the `ode_solvers`
-//! crate), tolerances 1e-9. The stop is an event checked at every accepted step: once every
-//! contact patch is slower than the rest speed (1 cm/s), the last millimetres are taken at the
-//! current deceleration in closed form: the kinetic energy `K` goes at the power `P`, so a
-//! uniform deceleration ends after `tau = 2 K / P` having covered half of `v tau` (exact for a
-//! sliding translation: four locked wheels from `v` stop at `v^2 / (2 mu g)`). A motion still
-//! going at the time limit (60 s) ends there and says so ([`End::TimeLimit`]).
+//! crate), tolerances 1e-10. The stop is an event checked at every accepted step: once every
+//! contact patch is slower than the rest speed (2 cm/s, twice the band above), the last
+//! millimetres are taken at the current deceleration in closed form: the kinetic energy `K`
+//! goes at the power `P`, so a uniform deceleration ends after `tau = 2 K / P` having covered
+//! half of `v tau` (exact for a sliding translation: four locked wheels from `v` stop at
+//! `v^2 / (2 mu g)`). A motion still going at the time limit (60 s) ends there and says so
+//! ([`End::TimeLimit`]).
 //!
 //! ## From the scene back to separation
 //! [`estimate`] finds the separation velocities `(vx, vy, r)` (and the friction when the case

@@ -23,7 +23,7 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// Tolerances 1e-9, 60 s, 1 cm/s.
+    /// Tolerances 1e-10, 60 s, 2 cm/s.
     fn default() -> Self {
         Settings {
             rtol: 1e-10,

@@ -32,7 +32,8 @@
 //! line, and aimed at the mark nearest the start; then a scatter of 18 single run-outs (three
 //! directions, two speeds, three yaw rates) searched from its two best. The best explored point
 //! is polished at full precision. Counts that still end above the expectation start once more
-//! from the answers of the counts that did not. This is a local search from many starts, not a
+//! from the answers of the counts that did not. Every state searched keeps within
+//! [`MAX_SEARCH_SPEED`] and [`MAX_SEARCH_YAW_RATE`]. This is a local search from many starts, not a
 //! proof: on 24 random run-outs with two marks each, every true count was found (to a cost of
 //! 7e-10 and velocities to 6e-7; `tests/runout_inverse.rs`).
 //!
