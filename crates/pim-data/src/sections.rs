@@ -14,7 +14,8 @@ pub struct PointSection {
     pub y: f64,
 }
 
-/// One vehicle as written in the case file. After loading ([`Case::from_text`]) every number
+/// One vehicle as written in the case file. After loading
+/// ([`Case::from_text`](crate::case::Case::from_text)) every number
 /// is SI and `d`, `phi` are set whichever form the file used.
 ///
 /// `[vehicle2] barrier = true` makes vehicle 2 a fixed rigid barrier: no mass, yaw inertia,
