@@ -33,6 +33,16 @@ fn truth(seed: u64, kind: Kind) -> (Chassis, Motion, Runout) {
     (c, start, r)
 }
 
+/// The position and heading of `m` with no velocity: what `estimate` is given.
+fn at_rest(m: &Motion) -> Motion {
+    Motion {
+        vx: 0.0,
+        vy: 0.0,
+        yaw_rate: 0.0,
+        ..*m
+    }
+}
+
 fn rest_of(r: &Runout) -> Rest {
     Rest {
         x: r.rest.x,
@@ -105,12 +115,7 @@ fn round_trip_with_marks() {
                 marks: vec![mark(m1), mark(m2)],
                 ..Evidence::default()
             };
-            let pose = Motion {
-                vx: 0.0,
-                vy: 0.0,
-                yaw_rate: 0.0,
-                ..start
-            };
+            let pose = at_rest(&start);
             let e = estimate(&c, &pose, &ev, &EstimateSettings::default()).unwrap();
             assert_eq!(e.candidates.len(), 7);
             let best = e.best().unwrap().cost;
@@ -160,12 +165,7 @@ fn rest_alone_leaves_the_turns_open() {
                 rest: Some(rest_of(&r)),
                 ..Evidence::default()
             };
-            let pose = Motion {
-                vx: 0.0,
-                vy: 0.0,
-                yaw_rate: 0.0,
-                ..start
-            };
+            let pose = at_rest(&start);
             let e = estimate(&c, &pose, &ev, &EstimateSettings::default()).unwrap();
             let err = check(&e, &start, true_turns(&start, &r), &format!("seed {seed}"));
             (err, e.consistent().count())
@@ -190,12 +190,7 @@ fn friction_against_speed_is_named() {
         turns: Some(true_turns(&start, &r)),
         ..Evidence::default()
     };
-    let pose = Motion {
-        vx: 0.0,
-        vy: 0.0,
-        yaw_rate: 0.0,
-        ..start
-    };
+    let pose = at_rest(&start);
     let e = estimate(&c, &pose, &ev, &EstimateSettings::default()).unwrap();
     let best = e.best().unwrap();
     assert_eq!(e.unknowns, ["vx", "vy", "yaw_rate", "friction"]);

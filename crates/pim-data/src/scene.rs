@@ -219,12 +219,11 @@ impl Case {
                         return self.error_at(&format!("{name}.{field}"), reason)
                     }
                     "friction_sigma" => return self.error_at("runout.friction_sigma", reason),
-                    "friction" if self.written_friction_at(name).is_none() => {
-                        return self.error_at("runout.friction", reason)
-                    }
                     "friction" => {
-                        return self
-                            .error_at(&self.written_friction_at(name).unwrap_or_default(), reason)
+                        let at = self
+                            .written_friction_at(name)
+                            .unwrap_or_else(|| "runout.friction".to_string());
+                        return self.error_at(&at, reason);
                     }
                     "x" | "y" | "heading" | "vx" | "vy" | "yaw_rate" => {
                         return InputError::new(

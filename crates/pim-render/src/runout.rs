@@ -1,7 +1,7 @@
 //! The run-out: its table and its plan view (each path, the outline at regular times and at
 //! rest, the scene's evidence), to scale.
 
-use crate::tables::num;
+use crate::tables::{num, wrap};
 use pim_core::Convention;
 use pim_data::runout::{RunoutResult, Source};
 use pim_data::units::UnitSystem;
@@ -28,20 +28,6 @@ fn wheels_text(w: &[WheelState; 4]) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     }
-}
-
-/// The title of a run-out's table and drawing: the file, its title and the vehicles'
-/// descriptions.
-pub fn title_of(case: &pim_data::case::Case) -> String {
-    let c = &case.content;
-    let mut t = match &c.title {
-        Some(t) => format!("{} ({t})", case.file),
-        None => case.file.clone(),
-    };
-    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
-        t.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
-    }
-    t
 }
 
 /// The run-out table in `units` and the case's `frame` (an SAE case: y to the right, angles
@@ -497,25 +483,6 @@ pub fn runout_svg(
         root.present().map_err(|x| e(&x))?;
     }
     Ok(buf)
-}
-
-/// Splits `text` into lines of at most `width` characters at spaces.
-fn wrap(text: &str, width: usize) -> Vec<String> {
-    let mut out: Vec<String> = Vec::new();
-    let mut cur = String::new();
-    for word in text.split_whitespace() {
-        if !cur.is_empty() && cur.chars().count() + 1 + word.chars().count() > width {
-            out.push(std::mem::take(&mut cur));
-        }
-        if !cur.is_empty() {
-            cur.push(' ');
-        }
-        cur.push_str(word);
-    }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
-    out
 }
 
 type Chart<'a, 'b> = ChartContext<

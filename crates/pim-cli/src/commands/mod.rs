@@ -39,17 +39,10 @@ pub fn json<T: serde::Serialize>(value: &T) -> Result<String> {
     Ok(s)
 }
 
-/// The title of a case: its file, its title and the vehicles' descriptions.
+/// The title of a case: its file, its title and the vehicles' descriptions (pim-render's, so
+/// that every front end titles a case alike).
 pub fn title_of(case: &Case) -> String {
-    let mut t = match &case.content.title {
-        Some(t) => format!("{} ({})", case.file, t),
-        None => case.file.clone(),
-    };
-    let c = &case.content;
-    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
-        t.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
-    }
-    t
+    pim_render::tables::case_title(case)
 }
 
 /// Creates an output directory (and its parents); failures are exit status 4.

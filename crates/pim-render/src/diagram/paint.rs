@@ -336,16 +336,16 @@ impl Diagram {
         let u_speed = |v: f64| u.speed(v);
         let mut line =
             |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
-        for (i, part) in wrap(&self.title, 36).into_iter().enumerate() {
+        for (i, part) in crate::tables::wrap(&self.title, 36).into_iter().enumerate() {
             line(part, None, i == 0)?;
         }
         if let Some(sub) = &self.subtitle {
-            for part in wrap(sub, 40) {
+            for part in crate::tables::wrap(sub, 40) {
                 line(part, None, false)?;
             }
         }
         for note in &self.notes {
-            for part in wrap(note, 40) {
+            for part in crate::tables::wrap(note, 40) {
                 line(part, Some(RGBColor(180, 0, 0)), false)?;
             }
         }
@@ -569,25 +569,4 @@ impl Key<'_, '_> {
         self.y += 20;
         Ok(())
     }
-}
-
-/// Splits text into lines of at most `width` characters at spaces.
-fn wrap(text: &str, width: usize) -> Vec<String> {
-    let mut out = Vec::new();
-    for para in text.lines() {
-        let mut cur = String::new();
-        for word in para.split_whitespace() {
-            if !cur.is_empty() && cur.len() + 1 + word.len() > width {
-                out.push(std::mem::take(&mut cur));
-            }
-            if !cur.is_empty() {
-                cur.push(' ');
-            }
-            cur.push_str(word);
-        }
-        if !cur.is_empty() {
-            out.push(cur);
-        }
-    }
-    out
 }
