@@ -608,7 +608,7 @@ fn runout(
     }
     let svg = if draw {
         let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
-        let title = pim_render::tables::case_title(&case);
+        let title = pim_render::text::case_title(&case);
         Some(
             pim_render::runout::runout_svg(&title, &result, units, case.written, every)
                 .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,

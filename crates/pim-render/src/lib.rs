@@ -32,6 +32,7 @@ pub mod predict_figure;
 pub mod report;
 pub mod runout;
 pub mod tables;
+pub mod text;
 pub mod uncertainty_figures;
 
 /// An SVG figure: its file name (e.g. `cost.svg`) and its text.

@@ -1,7 +1,8 @@
 //! The run-out: its table and its plan view (each path, the outline at regular times and at
 //! rest, the scene's evidence), to scale.
 
-use crate::tables::{num, wrap};
+use crate::tables::num;
+use crate::text::wrap;
 use pim_core::Convention;
 use pim_data::runout::{RunoutResult, Source};
 use pim_data::units::UnitSystem;

@@ -42,7 +42,7 @@ pub fn json<T: serde::Serialize>(value: &T) -> Result<String> {
 /// The title of a case: its file, its title and the vehicles' descriptions (pim-render's, so
 /// that every front end titles a case alike).
 pub fn title_of(case: &Case) -> String {
-    pim_render::tables::case_title(case)
+    pim_render::text::case_title(case)
 }
 
 /// Creates an output directory (and its parents); failures are exit status 4.

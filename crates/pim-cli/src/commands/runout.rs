@@ -38,7 +38,7 @@ pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
     let units = a
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
-    let title = pim_render::tables::case_title(&case);
+    let title = pim_render::text::case_title(&case);
     if let Some(path) = &a.draw {
         let svg = pim_render::runout::runout_svg(&title, &result, units, case.written, a.every)
             .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", path.display())))?;

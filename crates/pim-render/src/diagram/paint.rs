@@ -336,16 +336,16 @@ impl Diagram {
         let u_speed = |v: f64| u.speed(v);
         let mut line =
             |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
-        for (i, part) in crate::tables::wrap(&self.title, 36).into_iter().enumerate() {
+        for (i, part) in crate::text::wrap(&self.title, 36).into_iter().enumerate() {
             line(part, None, i == 0)?;
         }
         if let Some(sub) = &self.subtitle {
-            for part in crate::tables::wrap(sub, 40) {
+            for part in crate::text::wrap(sub, 40) {
                 line(part, None, false)?;
             }
         }
         for note in &self.notes {
-            for part in crate::tables::wrap(note, 40) {
+            for part in crate::text::wrap(note, 40) {
                 line(part, Some(RGBColor(180, 0, 0)), false)?;
             }
         }
