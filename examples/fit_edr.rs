@@ -97,6 +97,7 @@ fn main() -> std::result::Result<(), Box<dyn std::error::Error>> {
         impact,
         components,
         observations,
+        combinations: Vec::new(),
     };
     println!("\n1. e free in [0, 0.2]:");
     report_fit(&problem, FitSettings::default())?;

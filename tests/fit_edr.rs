@@ -68,6 +68,7 @@ fn scenario(crush_angle: f64) -> (FitProblem, [f64; 2]) {
             impact,
             components,
             observations,
+            combinations: Vec::new(),
         },
         [13.0, 11.0],
     )

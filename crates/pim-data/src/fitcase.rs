@@ -296,6 +296,7 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
         impact,
         components,
         observations,
+        combinations: Vec::new(),
     };
     problem.check().map_err(|e| input(case, e.to_string()))?;
     Ok(problem)

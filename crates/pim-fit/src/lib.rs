@@ -180,7 +180,7 @@ pub use geometry::{
     GeometryRange, GeometrySearch, ProofStatus,
 };
 pub use problem::{
-    forward_axis, state_vector, Component, CostPreset, FitProblem, Knowledge, MomentBranch,
+    forward_axis, state_vector, Combination, Component, CostPreset, FitProblem, Knowledge, MomentBranch,
     Observation, ObservationKind, Vector12, COMPONENT_NAMES,
 };
 pub use report::{

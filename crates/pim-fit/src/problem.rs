@@ -225,6 +225,20 @@ impl Observation {
     }
 }
 
+/// Any linear combination of the twelve components as evidence: the cost holds
+/// `weight (row . U - value)^2`. This is how evidence that is not itself a velocity enters a
+/// fit to first order (e.g. a rest position, through the derivatives of a run-out with respect
+/// to the separation velocities).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Combination {
+    /// The coefficients over U (units: the value's unit per m/s or per rad/s).
+    pub row: Vector12,
+    /// The target of `row . U`.
+    pub value: f64,
+    /// Weight in (0, 1].
+    pub weight: f64,
+}
+
 /// A fit problem: the collision, what is known of each velocity component, extra observations.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FitProblem {
@@ -234,6 +248,8 @@ pub struct FitProblem {
     pub components: [Knowledge; 12],
     /// Extra linear observations.
     pub observations: Vec<Observation>,
+    /// Linear combinations of the components as evidence (none in a fit of velocity estimates).
+    pub combinations: Vec<Combination>,
 }
 
 impl FitProblem {
@@ -249,6 +265,7 @@ impl FitProblem {
             impact,
             components: preset.knowledge(initial, separation, weights),
             observations: Vec::new(),
+            combinations: Vec::new(),
         }
     }
 
@@ -276,7 +293,10 @@ impl FitProblem {
                 }
             }
         }
-        if p.observations.iter().any(|o| o.vehicle == VehicleId::Two) {
+        let of_two = |c: &Combination| [3, 4, 5, 9, 10, 11].iter().any(|&k| c.row[k] != 0.0);
+        if p.observations.iter().any(|o| o.vehicle == VehicleId::Two)
+            || p.combinations.iter().any(of_two)
+        {
             return Err(FitError::Barrier(
                 "an observation of vehicle 2, which is a fixed barrier".into(),
             ));
@@ -315,6 +335,18 @@ impl FitProblem {
             let what = format!("observation {} ({:?} of {})", i + 1, o.kind, o.vehicle);
             finite(&what, o.value)?;
             check_weight(&what, o.weight)?;
+            anything = true;
+        }
+        for (i, c) in self.combinations.iter().enumerate() {
+            let what = format!("combination {}", i + 1);
+            finite(&what, c.value)?;
+            if c.row.iter().any(|x| !x.is_finite()) || c.row.iter().all(|x| *x == 0.0) {
+                return Err(FitError::NonFinite {
+                    what: format!("{what}: its row"),
+                    value: c.row.amax(),
+                });
+            }
+            check_weight(&what, c.weight)?;
             anything = true;
         }
         let fixed_initial = self.components[..6]

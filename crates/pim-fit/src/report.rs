@@ -578,7 +578,8 @@ impl ChiSquare {
             .iter()
             .filter(|k| matches!(k, Knowledge::Estimated { .. }))
             .count()
-            + problem.observations.len();
+            + problem.observations.len()
+            + problem.combinations.len();
         let free = problem
             .components
             .iter()

@@ -87,6 +87,11 @@ impl Objective {
             c0 += o.weight * o.value * o.value;
             scale = scale.max(o.value.abs());
         }
+        for c in &problem.combinations {
+            hu += c.row * c.row.transpose() * c.weight;
+            gu += c.row * (c.weight * c.value);
+            c0 += c.weight * c.value * c.value;
+        }
         let diagonal = (0..12).all(|i| (0..12).all(|j| i == j || hu[(i, j)] == 0.0));
         let split =
             diagonal.then(|| Vector6::from_iterator((6..12).map(|k| hu[(k, k)].max(0.0).sqrt())));

@@ -49,6 +49,7 @@
 //! standard deviation then decides along them).
 
 mod evidence;
+mod linear;
 mod problem;
 mod search;
 
@@ -57,6 +58,7 @@ pub use evidence::{
     MAX_HEADING, MAX_SCENE_DISTANCE, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE, MAX_TURNS,
     PLAUSIBLE_COST,
 };
+pub use linear::{linearise, Linearised};
 pub use problem::residuals_of;
 
 use crate::chassis::{Chassis, Motion};

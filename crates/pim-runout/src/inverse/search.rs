@@ -381,7 +381,7 @@ fn norm(x: &[f64]) -> f64 {
 
 /// Forward-difference Jacobian of the weighted residuals, the step the square root of the
 /// run-outs' relative tolerance.
-fn jacobian(
+pub(crate) fn jacobian(
     p: &Problem,
     theta: &[f64],
     r0: &DVector<f64>,

@@ -1,0 +1,65 @@
+//! # pim-reconstruct: the three phases of a collision in one fit
+//!
+//! A reconstruction goes from what the scene and the vehicles give to the speeds: marks before
+//! the impact and EDR speeds (pre-impact), the impact (Planar Impact Mechanics, fitted by
+//! [`pim_fit`]), and each vehicle's run-out from separation to its rest position (simulated by
+//! [`pim_runout`]). Units: SI (m, s, kg, rad), the natural frame (x, y counter-clockwise).
+//!
+//! ## The cost
+//! The unknowns are PIM's coefficients `(e, mu, e_m)` and the twelve velocities
+//! `U = (contact state, separation state)`, bound by PIM's six equations and its admissibility
+//! (as in every fit of [`pim_fit`]). The cost is one chi-square:
+//!
+//! ```text
+//! chi2 = sum_k (U_k - est_k)^2 / s_k^2 + sum_j (a_j . U - t_j)^2 / s_j^2     contact evidence
+//!      + sum_v sum_i (r_vi(V_v) / s_vi)^2                                   each vehicle's scene
+//! ```
+//!
+//! where `r_vi(V_v)` are the residuals of vehicle v's scene (rest position and heading, each
+//! mark's distance from the path) against the run-out from its separation velocity `V_v`,
+//! for a given count of full turns to rest. The contact evidence holds what is known at contact
+//! (e.g. no lateral velocity and no yaw rate before the impact, an EDR speed); the separation
+//! state may carry estimates too.
+//!
+//! ## The search
+//! 1. **Each scene alone** ([`pim_runout::estimate`]): one candidate separation state per count
+//!    of turns. A rest heading is known only modulo a full turn; the scene alone rarely
+//!    decides the count, the impact does.
+//! 2. **One linearised fit per combination of counts**: each scene linearised at its own
+//!    candidate (`r + J (V - V0)`: the Jacobian by forward differences of run-outs), its rows
+//!    joined to the impact fit as linear evidence ([`pim_fit::Combination`]), and the impact
+//!    fit solved exactly and globally (its certificate).
+//! 3. **Refinement** of the combinations in the order of those costs (Gauss-Newton over the
+//!    separation state, with the exact impact fit inside at every step): relinearise the scenes
+//!    at the fit's separation state, refit; a step that does not lower the true chi-square (the
+//!    run-outs simulated, not linearised) is damped by Marquardt's rows that hold the
+//!    separation state near the current one. A combination is refined unless its scenes alone
+//!    already cost more than the best found (a bound: the impact only adds cost), its first
+//!    fit lies more than [`Settings::refine_margin`] above the best found, or
+//!    [`Settings::max_refined`] were refined already; [`Outcome::tried`] says which.
+//!
+//! ## What is proven and what is the best found
+//! At the answer, the coefficients and both velocity states are the certified global optimum
+//! of the impact fit with the scenes linearised at the found separation state ([`Found`]'s
+//! certificate). The separation state itself is a local minimum of the whole cost in its
+//! combination's basin, found from the scenes' own candidates, not proven global; the counts
+//! of turns are compared by their refined costs. Combinations within a chi-square of 1 of the best
+//! ([`Outcome::within`]) are not decided by the evidence.
+//!
+//! ## Pre-impact
+//! A mark of braking before contact over a distance `d` with a share `b` of the road friction
+//! `mu` on a grade `beta` gives the speed where the braking began, `v0^2 = vc^2 + 2 a d` with
+//! `a = g (mu b cos(beta) + sin(beta))` ([`Skid`]). An EDR speed recorded `t` seconds before
+//! contact with a deceleration `a` between is evidence on the speed along the heading at contact,
+//! `v_edr - a t` (a [`pim_fit::ObservationKind::SpeedAlongHeading`] observation of the contact
+//! problem).
+
+mod error;
+mod outcome;
+mod problem;
+mod search;
+
+pub use error::{ReconstructError, Result};
+pub use outcome::{Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts};
+pub use problem::{Reconstruction, SceneVehicle, Settings, Skid};
+pub use search::reconstruct;

@@ -1,0 +1,200 @@
+//! What a reconstruction answers: the best combination found, the speeds of every phase, and
+//! every combination of counts of turns compared.
+
+use crate::problem::Reconstruction;
+use crate::search::{scene_fits, Point};
+use pim_core::VehicleId;
+use pim_fit::{Certificate, Knowledge, MomentBranch, Solution};
+use pim_runout::{Estimate, Residual, Runout};
+use serde::Serialize;
+
+/// Whether a reconstruction was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// The best combination found (see [`Outcome::tried`] for what was compared).
+    Found,
+    /// No admissible impact reaches the scene for any count of turns ([`Outcome::reason`]).
+    NoSolution,
+}
+
+/// One vehicle's scene against the reconstruction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SceneFit {
+    /// Which vehicle.
+    pub vehicle: VehicleId,
+    /// Full turns to rest beyond the nearest rest heading (none without a rest heading).
+    pub turns: Option<i64>,
+    /// The scene's share of the chi-square.
+    pub chi_square: f64,
+    /// Every piece of its evidence: fitted minus given, with its sigma.
+    pub residuals: Vec<Residual>,
+    /// The run-out from the reconstructed separation state.
+    pub runout: Runout,
+}
+
+/// A vehicle's speed in each phase.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Phases {
+    /// Which vehicle.
+    pub vehicle: VehicleId,
+    /// Where the braking before the impact began, m/s (with a pre-impact skid).
+    pub before_braking: Option<f64>,
+    /// At contact, m/s.
+    pub contact: f64,
+    /// At separation, m/s.
+    pub separation: f64,
+    /// The run-out's distance to rest, m (with a scene).
+    pub runout_distance: Option<f64>,
+    /// The run-out's time to rest, s (with a scene).
+    pub runout_time: Option<f64>,
+}
+
+/// The reconstruction found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Found {
+    /// The moment branch of the impact.
+    pub branch: MomentBranch,
+    /// The impact: coefficients, both states, impulses, energy (the impact fit with each scene
+    /// linearised at the found separation state).
+    pub solution: Solution,
+    /// How the impact fit at the found separation state was established (its route and
+    /// proof).
+    pub certificate: Certificate,
+    /// The whole cost: the contact evidence's chi-square plus every scene's.
+    pub chi_square: f64,
+    /// The contact evidence's share.
+    pub contact_chi_square: f64,
+    /// Each scene's share and residuals.
+    pub scene: Vec<SceneFit>,
+    /// Pieces of evidence minus unknowns (velocities, coefficients) plus the six equations.
+    pub degrees_of_freedom: i64,
+    /// Gauss-Newton iterations of the best combination.
+    pub iterations: usize,
+    /// The iterations ended by their tolerance (not by their limit).
+    pub converged: bool,
+    /// Per vehicle, its speeds before braking, at contact, at separation.
+    pub phases: [Phases; 2],
+}
+
+impl Found {
+    pub(crate) fn new(r: &Reconstruction, p: Point, iterations: usize, converged: bool) -> Found {
+        let scene = scene_fits(r, &p);
+        let s = &p.solution;
+        let phases = [VehicleId::One, VehicleId::Two].map(|id| {
+            let k = id.index();
+            let (c, sep) = if k == 0 {
+                (s.initial.vehicle1, s.separation.vehicle1)
+            } else {
+                (s.initial.vehicle2, s.separation.vehicle2)
+            };
+            let contact = c.vx.hypot(c.vy);
+            let run = scene.iter().find(|f| f.vehicle == id).map(|f| &f.runout);
+            Phases {
+                vehicle: id,
+                before_braking: r.skids[k].map(|sk| sk.speed_before(contact)),
+                contact,
+                separation: sep.vx.hypot(sep.vy),
+                runout_distance: run.map(|x| x.distance),
+                runout_time: run.map(|x| x.time),
+            }
+        });
+        let data = r.contact_data() + scene.iter().map(|f| f.residuals.len()).sum::<usize>();
+        let free = r
+            .contact
+            .components
+            .iter()
+            .filter(|k| !matches!(k, Knowledge::Known { .. }))
+            .count();
+        let coefficients = match p.branch {
+            MomentBranch::Free => 3,
+            MomentBranch::Zero => 2,
+        };
+        Found {
+            branch: p.branch,
+            certificate: p.certificate,
+            chi_square: p.total,
+            contact_chi_square: p.contact,
+            degrees_of_freedom: data as i64 - (free as i64 + coefficients - 6),
+            iterations,
+            converged,
+            phases,
+            solution: p.solution,
+            scene,
+        }
+    }
+}
+
+/// What became of one combination of counts of turns.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Tried {
+    /// Refined to a (local) minimum of the whole cost.
+    Refined {
+        /// The chi-square reached.
+        cost: f64,
+        /// Gauss-Newton iterations.
+        iterations: usize,
+        /// Ended by the tolerance.
+        converged: bool,
+    },
+    /// Compared by its linearised fit only.
+    NotRefined {
+        /// Why not refined.
+        reason: String,
+    },
+    /// No admissible impact reaches its run-outs.
+    NoImpact {
+        /// The fit's reason.
+        reason: String,
+    },
+}
+
+/// One combination of counts of turns (one per scene vehicle, in the order of
+/// [`Reconstruction::scene`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TriedCounts {
+    /// The counts (none for a scene without a rest heading).
+    pub counts: Vec<Option<i64>>,
+    /// The chi-square of the scenes alone at their own best separation states: a lower bound of
+    /// the combination's cost.
+    pub scene_alone: f64,
+    /// The chi-square of the impact fit with each scene linearised at its own best separation
+    /// state (the first step).
+    pub linearised: Option<f64>,
+    /// What became of it.
+    pub state: Tried,
+}
+
+/// A reconstruction's answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Outcome {
+    /// Found or not.
+    pub status: Status,
+    /// Why there is no answer.
+    pub reason: Option<String>,
+    /// The best combination found.
+    pub best: Option<Found>,
+    /// Every combination of counts, in the order of the candidates.
+    pub tried: Vec<TriedCounts>,
+    /// Each scene vehicle's separation velocities from its scene alone, per count of turns.
+    pub estimates: Vec<Estimate>,
+    /// Run-outs simulated.
+    pub runouts: usize,
+    /// Impact fits solved.
+    pub fits: usize,
+}
+
+impl Outcome {
+    /// The combinations refined to a cost within `margin` of the best (the best among them):
+    /// with more than one, the evidence does not decide between their counts of turns.
+    pub fn within(&self, margin: f64) -> Vec<&TriedCounts> {
+        let Some(best) = &self.best else {
+            return Vec::new();
+        };
+        self.tried
+            .iter()
+            .filter(|t| matches!(t.state, Tried::Refined { cost, .. } if cost <= best.chi_square + margin))
+            .collect()
+    }
+}

@@ -1,0 +1,214 @@
+//! What a reconstruction is given: the impact's evidence, each vehicle's run-out and scene, the
+//! pre-impact marks, and how the search runs.
+
+use crate::error::{ReconstructError, Result};
+use pim_core::VehicleId;
+use pim_fit::{FitProblem, Knowledge, ValidSettings, Vector12};
+use pim_runout::{Chassis, Evidence, Motion, Settings as RunoutSettings, GRAVITY};
+use serde::Serialize;
+
+/// One vehicle's run-out from separation to rest and what the scene shows of it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneVehicle {
+    /// Which vehicle.
+    pub id: VehicleId,
+    /// Its wheels and the road.
+    pub chassis: Chassis,
+    /// Its CG position and heading at separation (those at contact), natural frame; the
+    /// velocities are not read.
+    pub pose: Motion,
+    /// The rest position, heading and marks (sigmas in metres and radians).
+    pub evidence: Evidence,
+}
+
+/// A skid or yaw mark laid down before the impact: the vehicle braked over `distance` up to the
+/// point of contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Skid {
+    /// Length of the braking before contact, m.
+    pub distance: f64,
+    /// Share of the road friction the braking used, 0 to 1 (1: all wheels locked).
+    pub braking: f64,
+    /// Road grade along the direction of travel, rad (positive uphill).
+    pub grade: f64,
+    /// Road friction, coefficient.
+    pub friction: f64,
+}
+
+impl Skid {
+    /// The deceleration while braking, m/s^2: `g (friction braking cos(grade) + sin(grade))`.
+    pub fn deceleration(&self) -> f64 {
+        GRAVITY * (self.friction * self.braking * self.grade.cos() + self.grade.sin())
+    }
+
+    /// The speed where the braking began from the speed at contact, m/s:
+    /// `v0^2 = vc^2 + 2 a d` (constant deceleration a over the distance d).
+    pub fn speed_before(&self, contact_speed: f64) -> f64 {
+        (contact_speed * contact_speed + 2.0 * self.deceleration() * self.distance)
+            .max(0.0)
+            .sqrt()
+    }
+
+    /// Checks the numbers.
+    ///
+    /// # Errors
+    /// [`ReconstructError::Input`] naming the field.
+    pub fn check(&self) -> Result<()> {
+        let bad = |field: &'static str, reason: &str| {
+            Err(ReconstructError::Input {
+                field,
+                reason: reason.to_string(),
+            })
+        };
+        if !(self.distance.is_finite() && self.distance >= 0.0 && self.distance <= 1000.0) {
+            return bad("distance", "a braking distance from 0 to 1000 m");
+        }
+        if !(self.braking.is_finite() && (0.0..=1.0).contains(&self.braking)) {
+            return bad("braking", "a share of the friction from 0 to 1");
+        }
+        if !(self.grade.is_finite() && self.grade.abs() <= 0.35) {
+            return bad("grade", "a grade within 20 deg (35 %)");
+        }
+        if !(self.friction.is_finite() && self.friction > 0.0 && self.friction <= 1.5) {
+            return bad("friction", "a road friction above 0 and at most 1.5");
+        }
+        Ok(())
+    }
+}
+
+/// A reconstruction: the impact fit's own evidence (the contact state's estimates and
+/// observations, e.g. EDR speeds, no lateral velocity), the scene of each vehicle that has one,
+/// and the pre-impact marks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reconstruction {
+    /// The impact and its evidence. Its weights are `unit / sigma^2`; components of the
+    /// separation state may carry estimates too (beside the scene).
+    pub contact: FitProblem,
+    /// The common unit of the contact problem's weights (`w = unit / sigma^2`); `None` when it
+    /// has no estimates or observations.
+    pub unit: Option<f64>,
+    /// The vehicles whose run-out the scene shows (one or both).
+    pub scene: Vec<SceneVehicle>,
+    /// Braking before the impact, per vehicle.
+    pub skids: [Option<Skid>; 2],
+}
+
+impl Reconstruction {
+    /// Checks what the search needs.
+    ///
+    /// # Errors
+    /// [`ReconstructError::Input`] for no scene, a vehicle twice, a barrier with a run-out,
+    /// or a separation component held fixed (the scene decides the separation state).
+    pub fn check(&self) -> Result<()> {
+        if self.scene.is_empty() {
+            return Err(ReconstructError::Input {
+                field: "scene",
+                reason: "no vehicle has scene evidence (a rest position or marks)".into(),
+            });
+        }
+        for (i, v) in self.scene.iter().enumerate() {
+            if self.scene[..i].iter().any(|w| w.id == v.id) {
+                return Err(ReconstructError::Input {
+                    field: "scene",
+                    reason: format!("{} is given twice", v.id),
+                });
+            }
+            if v.id == VehicleId::Two && self.contact.impact.is_barrier() {
+                return Err(ReconstructError::Input {
+                    field: "scene",
+                    reason: "vehicle 2 is a fixed barrier: it has no run-out".into(),
+                });
+            }
+            let base = 6 + 3 * v.id.index();
+            if (base..base + 3).any(|k| matches!(self.contact.components[k], Knowledge::Known { .. }))
+            {
+                return Err(ReconstructError::Input {
+                    field: "final",
+                    reason: format!(
+                        "a separation velocity of {} is held fixed, but its scene decides it: \
+                         give it as an estimate with a standard deviation, or leave it out",
+                        v.id
+                    ),
+                });
+            }
+            v.chassis.check()?;
+            v.pose.check()?;
+            v.evidence.check()?;
+        }
+        if let Some(u) = self.unit {
+            if !(u.is_finite() && u > 0.0) {
+                return Err(ReconstructError::Input {
+                    field: "unit",
+                    reason: format!("{u}: the unit of the weights must be above 0"),
+                });
+            }
+        }
+        for s in self.skids.iter().flatten() {
+            s.check()?;
+        }
+        Ok(())
+    }
+
+    /// The chi-square of the contact problem's evidence at `u` (`sum w (r)^2 / unit`).
+    pub fn contact_chi_square(&self, u: &Vector12) -> f64 {
+        let unit = self.unit.unwrap_or(1.0);
+        let mut sum = 0.0;
+        for (k, c) in self.contact.components.iter().enumerate() {
+            if let Knowledge::Estimated { value, weight } = *c {
+                sum += weight * (u[k] - value).powi(2);
+            }
+        }
+        for o in &self.contact.observations {
+            sum += o.weight * (o.row(&self.contact.impact).dot(u) - o.value).powi(2);
+        }
+        for c in &self.contact.combinations {
+            sum += c.weight * (c.row.dot(u) - c.value).powi(2);
+        }
+        sum / unit
+    }
+
+    /// The count of pieces of evidence of the contact problem (estimated components,
+    /// observations, combinations).
+    pub fn contact_data(&self) -> usize {
+        self.contact
+            .components
+            .iter()
+            .filter(|k| matches!(k, Knowledge::Estimated { .. }))
+            .count()
+            + self.contact.observations.len()
+            + self.contact.combinations.len()
+    }
+}
+
+/// How a reconstruction searches.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// The impact fit's settings (bounds, coefficient ranges, branches, model).
+    pub fit: ValidSettings,
+    /// How each run-out is integrated.
+    pub runout: RunoutSettings,
+    /// The counts of full turns to rest each vehicle's scene is searched over.
+    pub turns: (i64, i64),
+    /// Gauss-Newton iterations per combination of counts.
+    pub max_iterations: usize,
+    /// Combinations of counts whose first linearised fit lies more than this (chi-square
+    /// units) above the best cost found are not refined.
+    pub refine_margin: f64,
+    /// At most this many combinations of counts are refined (the lowest first).
+    pub max_refined: usize,
+}
+
+impl Settings {
+    /// Default search settings around the given fit settings: turns -3 to 3, 40 iterations, a
+    /// margin of 25 (a 5-sigma misfit), at most 6 refined combinations.
+    pub fn new(fit: ValidSettings) -> Self {
+        Settings {
+            fit,
+            runout: RunoutSettings::default(),
+            turns: (-3, 3),
+            max_iterations: 40,
+            refine_margin: 25.0,
+            max_refined: 6,
+        }
+    }
+}

@@ -1,0 +1,82 @@
+//! The evidence against one separation state, to first order: what a fit that also holds other
+//! evidence (the impact) needs of the run-out.
+
+use super::evidence::{Evidence, Residual};
+use super::problem::Problem;
+use super::search::jacobian;
+use crate::chassis::{Chassis, Motion};
+use crate::error::Result;
+use crate::simulate::{Runout, Settings};
+use nalgebra::{DMatrix, DVector};
+use std::f64::consts::TAU;
+
+/// The scene's residuals at one separation state and their derivatives.
+#[derive(Debug, Clone)]
+pub struct Linearised {
+    /// Every piece of evidence against the run-out from the state (fitted minus given).
+    pub residuals: Vec<Residual>,
+    /// The residuals in units of their standard deviations.
+    pub weighted: DVector<f64>,
+    /// Derivatives of [`Linearised::weighted`] with respect to the separation velocity
+    /// `(vx, vy, yaw_rate)` (rows: residuals; columns: m/s, m/s, rad/s), by forward differences
+    /// with a step of the square root of the run-out's tolerance; `None` when not asked for.
+    pub jacobian: Option<DMatrix<f64>>,
+    /// The sum of the squared weighted residuals.
+    pub cost: f64,
+    /// The run-out from the state.
+    pub runout: Runout,
+    /// Run-outs simulated.
+    pub runouts: usize,
+}
+
+/// The residuals of `evidence` against the run-out from `separation` (its position, heading and
+/// velocities), the rest heading compared with the heading at separation turned to the nearest
+/// rest heading plus `turns` full turns (as candidate `turns` of
+/// [`estimate`](super::estimate) compares it), and with `jacobian` their derivatives. The road
+/// friction is the chassis's: [`Evidence::friction_sigma`] is not read here.
+///
+/// # Errors
+/// [`RunoutError::Input`](crate::RunoutError::Input) for a state beyond the searched range or
+/// input the model cannot use.
+pub fn linearise(
+    chassis: &Chassis,
+    separation: &Motion,
+    evidence: &Evidence,
+    turns: i64,
+    settings: &Settings,
+    jacobian_too: bool,
+) -> Result<Linearised> {
+    let nearest = evidence
+        .rest
+        .and_then(|r| r.heading)
+        .map(|h| h + TAU * ((separation.heading - h) / TAU).round());
+    let p = Problem {
+        chassis,
+        start: *separation,
+        evidence,
+        heading: nearest.map(|h| h + TAU * turns as f64),
+        settings,
+        estimate_friction: false,
+    };
+    let theta = [separation.vx, separation.vy, separation.yaw_rate];
+    let mut runouts = 1;
+    let runout = p.runout(&theta)?;
+    let residuals = p.residuals(&theta, &runout);
+    let weighted = DVector::from_iterator(
+        residuals.len(),
+        residuals.iter().map(|x| x.value / x.sigma),
+    );
+    let jac = if jacobian_too {
+        Some(jacobian(&p, &theta, &weighted, &mut runouts)?)
+    } else {
+        None
+    };
+    Ok(Linearised {
+        cost: weighted.norm_squared(),
+        residuals,
+        weighted,
+        jacobian: jac,
+        runout,
+        runouts,
+    })
+}

@@ -1,0 +1,229 @@
+//! The three phases in one fit (pim-reconstruct) on simulated crashes with known truth: random
+//! admissible impacts (the stress corpus's draw), both vehicles run out to rest with the
+//! run-out model, the scene given as a reconstructionist has it (rest positions and headings
+//! modulo a full turn, marks the CGs passed), the contact state's direction and yaw rate as
+//! evidence, the speeds unknown.
+mod common;
+
+use common::random_impact;
+use common::runout::{random_chassis, Kind};
+use pim_core::{solve_forward, Velocities, VehicleId};
+use pim_fit::{
+    CostPreset, FitProblem, FitSettings, Knowledge, Observation, ObservationKind,
+};
+use pim_reconstruct::{reconstruct, Reconstruction, SceneVehicle, Settings, Status};
+use pim_runout::{simulate, Evidence, Mark, Motion, Rest, Runout, Settings as RunoutSettings};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use std::f64::consts::TAU;
+
+/// A simulated crash: the reconstruction's input and the truth.
+pub struct Crash {
+    pub recon: Reconstruction,
+    pub contact: Velocities,
+    pub separation: Velocities,
+    pub runouts: Vec<Runout>,
+}
+
+const SIGMA_REST: f64 = 0.05;
+const SIGMA_HEADING_DEG: f64 = 1.0;
+const SIGMA_MARK: f64 = 0.05;
+const SIGMA_LATERAL: f64 = 0.3;
+const SIGMA_YAW: f64 = 0.1;
+
+fn crash(seed: u64, noise: f64) -> Option<Crash> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let ri = random_impact(&mut rng)?;
+    let report = solve_forward(&ri.impact, &ri.truth, &ri.x, &ri.opts).ok()?;
+    if !report.admissibility.admissible {
+        return None;
+    }
+    let sep = report.separation;
+    let cgs = ri.impact.cg_positions();
+    let mut scene = Vec::new();
+    let mut runouts = Vec::new();
+    for id in [VehicleId::One, VehicleId::Two] {
+        let k = id.index();
+        let kind = if rng.random_bool(0.5) { Kind::Locked } else { Kind::Mixed };
+        let mut chassis = random_chassis(&mut rng, kind);
+        let c = ri.impact.collision();
+        let vehicle = if k == 0 { &c.vehicle1 } else { &c.vehicle2 };
+        chassis.mass = vehicle.mass;
+        chassis.yaw_inertia = vehicle.yaw_inertia;
+        chassis.friction = rng.random_range(0.4..0.9);
+        let v = if k == 0 { sep.vehicle1 } else { sep.vehicle2 };
+        let pose = Motion {
+            x: cgs[k][0],
+            y: cgs[k][1],
+            heading: ri.impact.nose_heading(id).to_radians(),
+            vx: 0.0,
+            vy: 0.0,
+            yaw_rate: 0.0,
+        };
+        let start = Motion {
+            vx: v.vx,
+            vy: v.vy,
+            yaw_rate: v.omega,
+            ..pose
+        };
+        let run = simulate(&chassis, &start, &RunoutSettings::default()).ok()?;
+        if run.distance < 1.0 {
+            return None;
+        }
+        let mut n = |s: f64| noise * s * common_normal(&mut rng);
+        let marks = [0.3, 0.6]
+            .iter()
+            .map(|f| {
+                let m = run.at(f * run.time);
+                Mark {
+                    x: m.x + n(SIGMA_MARK),
+                    y: m.y + n(SIGMA_MARK),
+                    sigma: SIGMA_MARK,
+                    heading: None,
+                }
+            })
+            .collect();
+        let evidence = Evidence {
+            rest: Some(Rest {
+                x: run.rest.x + n(SIGMA_REST),
+                y: run.rest.y + n(SIGMA_REST),
+                heading: Some(
+                    (run.rest.heading + n(SIGMA_HEADING_DEG.to_radians())).rem_euclid(TAU),
+                ),
+                sigma_xy: [SIGMA_REST, SIGMA_REST],
+                sigma_heading: SIGMA_HEADING_DEG.to_radians(),
+            }),
+            marks,
+            turns: None,
+            friction_sigma: None,
+        };
+        scene.push(SceneVehicle {
+            id,
+            chassis,
+            pose,
+            evidence,
+        });
+        runouts.push(run);
+    }
+    // Contact evidence: the lateral velocity and yaw rate (from the approach), not the speeds.
+    let unit = SIGMA_YAW * SIGMA_YAW;
+    let mut components = [Knowledge::Unknown; 12];
+    let mut observations = Vec::new();
+    for id in [VehicleId::One, VehicleId::Two] {
+        let k = id.index();
+        let v = if k == 0 { ri.x.vehicle1 } else { ri.x.vehicle2 };
+        let f = ri.impact.forward_axis(id);
+        let lateral = -v.vx * f[1] + v.vy * f[0];
+        observations.push(Observation {
+            kind: ObservationKind::LateralVelocity,
+            vehicle: id,
+            value: lateral + noise * SIGMA_LATERAL * common_normal(&mut rng),
+            weight: unit / (SIGMA_LATERAL * SIGMA_LATERAL),
+        });
+        components[3 * k + 2] = Knowledge::Estimated {
+            value: v.omega + noise * SIGMA_YAW * common_normal(&mut rng),
+            weight: 1.0,
+        };
+    }
+    let mut contact = FitProblem::from_preset(ri.impact, CostPreset::Q3, &ri.x, &sep, None);
+    contact.components = components;
+    contact.observations = observations;
+    Some(Crash {
+        recon: Reconstruction {
+            contact,
+            unit: Some(unit),
+            scene,
+            skids: [None, None],
+        },
+        contact: ri.x,
+        separation: sep,
+        runouts,
+    })
+}
+
+fn common_normal(rng: &mut StdRng) -> f64 {
+    // Box-Muller.
+    let u1: f64 = rng.random_range(f64::EPSILON..1.0);
+    let u2: f64 = rng.random_range(0.0..1.0);
+    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
+}
+
+/// The fit's settings of a case file (bounds 100 m/s and 15 rad/s: a spinning car's yaw rate
+/// at separation passes 5 rad/s).
+fn settings() -> Settings {
+    let fit = FitSettings {
+        velocity_bound: 100.0,
+        yaw_rate_bound: 15.0,
+        ..FitSettings::default()
+    };
+    Settings::new(fit.check().unwrap())
+}
+
+#[test]
+fn noise_free_scenes_give_back_the_impact_speeds() {
+    let mut done = 0;
+    let mut seed = 0;
+    let mut worst: f64 = 0.0;
+    while done < 12 {
+        seed += 1;
+        let Some(c) = crash(seed, 0.0) else { continue };
+        let t = std::time::Instant::now();
+        let out = reconstruct(&c.recon, &settings()).unwrap();
+        let el = t.elapsed();
+        assert_eq!(out.status, Status::Found, "seed {seed}: {:?}", out.reason);
+        let b = out.best.as_ref().unwrap();
+        let s = &b.solution;
+        let err = (s.initial.vehicle1.speed() - c.contact.vehicle1.speed())
+            .abs()
+            .max((s.initial.vehicle2.speed() - c.contact.vehicle2.speed()).abs());
+        eprintln!(
+            "seed {seed}: chi2 {:.3e}, speed error {err:.2e}, {} fits, {} runouts, {:?}, tried {}",
+            b.chi_square,
+            out.fits,
+            out.runouts,
+            el,
+            out.tried.len()
+        );
+        worst = worst.max(err);
+        done += 1;
+    }
+    assert!(worst < 1e-3, "worst speed error {worst}");
+}
+
+#[test]
+#[ignore]
+fn timing_parts() {
+    for seed in [4u64, 14, 16] {
+        let Some(c) = crash(seed, 0.0) else { continue };
+        for v in &c.recon.scene {
+            let t = std::time::Instant::now();
+            let e = pim_runout::estimate(&v.chassis, &v.pose, &v.evidence, &Default::default()).unwrap();
+            eprintln!("seed {seed} {}: estimate {:?}, runouts {}, costs {:?}", v.id, t.elapsed(),
+              e.candidates.iter().map(|c| c.runouts).sum::<usize>(),
+              e.candidates.iter().map(|c| (c.turns, (c.cost * 1e3).round() / 1e3)).collect::<Vec<_>>());
+        }
+        let t = std::time::Instant::now();
+        let out = reconstruct(&c.recon, &settings()).unwrap();
+        eprintln!("total {:?}", t.elapsed());
+        for tr in &out.tried { if !matches!(tr.state, pim_reconstruct::Tried::NotRefined{..}) || tr.linearised.unwrap_or(1e9) < 1e3 { eprintln!("  {:?} scene {:.3} lin {:?} {:?}", tr.counts, tr.scene_alone, tr.linearised, tr.state); } }
+        let b = out.best.unwrap();
+        eprintln!("  cert {:?}", b.certificate.method);
+    }
+}
+
+#[test]
+#[ignore]
+fn debug_seed() {
+    let seed: u64 = std::env::var("SEED").unwrap().parse().unwrap();
+    let c = crash(seed, 0.0).unwrap();
+    eprintln!("true contact {:?}\ntrue sep {:?}", c.contact, c.separation);
+    for (v, r) in c.recon.scene.iter().zip(&c.runouts) {
+        let h = r.rest.heading.rem_euclid(TAU);
+        let nearest = h + TAU * ((v.pose.heading - h) / TAU).round();
+        eprintln!("{}: true turns {}", v.id, ((r.rest.heading - nearest) / TAU).round());
+        let e = pim_runout::estimate(&v.chassis, &v.pose, &v.evidence, &Default::default()).unwrap();
+        for cand in &e.candidates { eprintln!("   {:?} cost {:.3e} sep {:.4} {:.4} {:.4}", cand.turns, cand.cost, cand.separation.vx, cand.separation.vy, cand.separation.yaw_rate); }
+    }
+    let s = FitSettings::default();
+    eprintln!("fit settings {:?}", s);
+}
