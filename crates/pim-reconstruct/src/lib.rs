@@ -25,17 +25,20 @@
 //! 1. **Each scene alone** ([`pim_runout::estimate`]): one candidate separation state per count
 //!    of turns. A rest heading is known only modulo a full turn; the scene alone rarely
 //!    decides the count, the impact does.
-//! 2. **One linearised fit per combination of counts**: each scene linearised at its own
-//!    candidate (`r + J (V - V0)`: the Jacobian by forward differences of run-outs), its rows
-//!    joined to the impact fit as linear evidence ([`pim_fit::Combination`]), and the impact
-//!    fit solved exactly and globally (its certificate).
-//! 3. **Refinement** of the combinations in the order of those costs (Gauss-Newton over the
-//!    separation state, with the exact impact fit inside at every step): relinearise the scenes
-//!    at the fit's separation state, refit; a step that does not lower the true chi-square (the
+//! 2. **A bound per combination of counts**: each scene linearised at its own candidate
+//!    (`r + J (V - V0)`: the Jacobian by forward differences of run-outs), and the cost
+//!    minimised under the momentum balance alone (linear momentum and the angular momentum
+//!    about the impact centre, which every impulse at C conserves whatever the coefficients:
+//!    one linear solve, a lower bound of the linearised impact fit).
+//! 3. **Refinement** of the combinations in the order of those bounds (Gauss-Newton over the
+//!    separation state, with the exact impact fit inside at every step): the scenes'
+//!    linearised rows join the impact fit as linear evidence ([`pim_fit::Combination`]), the
+//!    fit is solved exactly and globally (its certificate), the scenes are relinearised at its
+//!    separation state, and so on; a step that does not lower the true chi-square (the
 //!    run-outs simulated, not linearised) is damped by Marquardt's rows that hold the
 //!    separation state near the current one. A combination is refined unless its scenes alone
-//!    already cost more than the best found (a bound: the impact only adds cost), its first
-//!    fit lies more than [`Settings::refine_margin`] above the best found, or
+//!    already cost at least the best found (a bound: the impact only adds cost), its momentum
+//!    bound lies more than [`Settings::refine_margin`] above the best found, or
 //!    [`Settings::max_refined`] were refined already; [`Outcome::tried`] says which.
 //!
 //! ## What is proven and what is the best found
@@ -57,6 +60,7 @@
 mod error;
 mod outcome;
 mod problem;
+mod relax;
 mod search;
 
 pub use error::{ReconstructError, Result};

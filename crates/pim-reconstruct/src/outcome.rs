@@ -137,6 +137,10 @@ pub enum Tried {
         iterations: usize,
         /// Ended by the tolerance.
         converged: bool,
+        /// Stopped while still more than [`Settings::refine_margin`](crate::Settings) above the
+        /// best found and no longer closing the gap (after 8 iterations, or gaining less than
+        /// 1 % of the gap in one).
+        abandoned: bool,
     },
     /// Compared by its linearised fit only.
     NotRefined {
@@ -159,9 +163,10 @@ pub struct TriedCounts {
     /// The chi-square of the scenes alone at their own best separation states: a lower bound of
     /// the combination's cost.
     pub scene_alone: f64,
-    /// The chi-square of the impact fit with each scene linearised at its own best separation
-    /// state (the first step).
-    pub linearised: Option<f64>,
+    /// The chi-square of the problem with each scene linearised at its own best separation
+    /// state and only the momentum balance as constraints (a lower bound of that linearised
+    /// fit; the combinations are refined in the order of these bounds).
+    pub momentum_bound: Option<f64>,
     /// What became of it.
     pub state: Tried,
 }

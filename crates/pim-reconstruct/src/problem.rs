@@ -200,10 +200,16 @@ pub struct Settings {
 
 impl Settings {
     /// Default search settings around the given fit settings: turns -3 to 3, 40 iterations, a
-    /// margin of 25 (a 5-sigma misfit), at most 6 refined combinations.
+    /// margin of 25 (a 5-sigma misfit), at most 6 refined combinations. The impact fits inside
+    /// the search skip the identifiability scans ([`pim_fit::FitSettings::ranges`]): the
+    /// search needs each fit's optimum, not its ranges.
     pub fn new(fit: ValidSettings) -> Self {
+        let inner = pim_fit::FitSettings {
+            ranges: false,
+            ..fit.get().clone()
+        };
         Settings {
-            fit,
+            fit: inner.check().unwrap_or(fit),
             runout: RunoutSettings::default(),
             turns: (-3, 3),
             max_iterations: 40,

@@ -226,7 +226,8 @@ pub(crate) fn refine(
     r: &Reconstruction,
     settings: &Settings,
     start: Vec<Lin>,
-) -> std::result::Result<(Point, usize, bool, usize), String> {
+    best_so_far: f64,
+) -> std::result::Result<Refined, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
     let mut lins = start;
     let mut current: Option<Point> = None;
@@ -234,6 +235,7 @@ pub(crate) fn refine(
     let mut fits = 0;
     let mut iterations = 0;
     let mut converged = false;
+    let mut abandoned = false;
     while iterations < settings.max_iterations {
         iterations += 1;
         let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
@@ -274,8 +276,16 @@ pub(crate) fn refine(
             let total = p.total;
             current = Some(p);
             lambda = 0.0;
-            if gain < 1e-9 * (1.0 + total) || step < 1e-9 {
+            // A chi-square change of 1e-6 is far below any statistical meaning and near the
+            // precision of the run-outs' forward differences.
+            if gain < 1e-6 * (1.0 + total) || step < 1e-9 {
                 converged = true;
+                break;
+            }
+            // Far above the best found and no longer closing the gap: abandoned.
+            let excess = total - best_so_far - settings.refine_margin;
+            if excess > 0.0 && (gain < 0.01 * excess || iterations >= 8) {
+                abandoned = true;
                 break;
             }
         } else {
@@ -287,8 +297,24 @@ pub(crate) fn refine(
             }
         }
     }
-    let p = current.expect("the first fit is accepted or returned");
-    Ok((p, iterations, converged, fits))
+    let point = current.expect("the first fit is accepted or returned");
+    Ok(Refined {
+        point,
+        iterations,
+        converged,
+        abandoned,
+        fits,
+    })
+}
+
+/// The end of one combination's refinement.
+pub(crate) struct Refined {
+    pub(crate) point: Point,
+    pub(crate) iterations: usize,
+    pub(crate) converged: bool,
+    /// Stopped far above the best found, no longer closing the gap.
+    pub(crate) abandoned: bool,
+    pub(crate) fits: usize,
 }
 
 /// The candidates of one scene vehicle from the run-out inverse.
@@ -363,10 +389,10 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         .flatten()
         .map(|l| l.lin.runouts)
         .sum::<usize>();
-    // 1. One linearised fit per combination.
+    // 1. Each combination's bound: the linearised problem under the momentum balance alone.
     let combos = combinations(&estimates);
     let first: Vec<(Vec<usize>, std::result::Result<f64, String>)> = combos
-        .into_par_iter()
+        .into_iter()
         .map(|c| {
             let start: Option<Vec<Lin>> = c
                 .iter()
@@ -376,53 +402,53 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             let out = match start {
                 None => Err("a candidate's run-out could not be linearised".to_string()),
                 Some(start) => {
-                    let scene: f64 = start.iter().map(|l| l.lin.cost).sum();
-                    fit_once(r, settings, &start, None).map(|(_, _, _, cost)| cost.max(scene))
+                    let (problem, scale) = assemble(r, &start, None);
+                    Ok(crate::relax::momentum_bound(&problem) / scale)
                 }
             };
             (c, out)
         })
         .collect();
-    let mut fits = first.len();
+    let mut fits = 0;
     let mut order: Vec<usize> = (0..first.len()).filter(|&i| first[i].1.is_ok()).collect();
     order.sort_by(|&a, &b| {
         let cost = |i: usize| *first[i].1.as_ref().expect("filtered");
         cost(a).total_cmp(&cost(b))
     });
-    // 2. Refined from the lowest, one at a time (each knows the best found before it), while
-    //    they could still beat the best.
+    // 2. Refined from the lowest bound, one at a time (each knows the best found before it),
+    //    while they could still beat the best.
     let mut best: Option<(usize, Point, usize, bool)> = None;
-    let mut refined: Vec<Option<std::result::Result<(f64, usize, bool), String>>> =
+    let mut refined: Vec<Option<std::result::Result<(f64, usize, bool, bool), String>>> =
         vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
     for &i in &order {
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
-        let linear = *first[i].1.as_ref().expect("filtered");
+        let bound = *first[i].1.as_ref().expect("filtered");
         let scene_bound: f64 = first[i]
             .0
             .iter()
             .enumerate()
             .map(|(v, &k)| estimates[v].candidates[k].cost)
             .sum();
-        if count >= settings.max_refined {
-            skipped_reason[i] = Some(format!(
-                "not refined: {} combinations with lower linearised costs were",
-                settings.max_refined
-            ));
-            continue;
-        }
         if scene_bound >= lowest_best {
             skipped_reason[i] = Some(format!(
-                "excluded: its scenes alone cost {scene_bound:.3}, above the best found"
+                "excluded: its scenes alone cost {scene_bound:.3}, not below the best found"
             ));
             continue;
         }
-        if linear > lowest_best + settings.refine_margin {
+        if bound > lowest_best + settings.refine_margin {
             skipped_reason[i] = Some(format!(
-                "not refined: its linearised fit costs {linear:.3}, more than {} above the best \
+                "not refined: its momentum bound {bound:.3} lies more than {} above the best \
                  found",
                 settings.refine_margin
+            ));
+            continue;
+        }
+        if count >= settings.max_refined {
+            skipped_reason[i] = Some(format!(
+                "not refined: {} combinations with lower bounds were",
+                settings.max_refined
             ));
             continue;
         }
@@ -433,13 +459,13 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match refine(r, settings, start) {
-            Ok((p, iterations, converged, n)) => {
-                fits += n;
-                runouts += p.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * iterations;
-                refined[i] = Some(Ok((p.total, iterations, converged)));
-                if best.as_ref().is_none_or(|b| p.total < b.1.total) {
-                    best = Some((i, p, iterations, converged));
+        match refine(r, settings, start, lowest_best) {
+            Ok(x) => {
+                fits += x.fits;
+                runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
+                refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
+                if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
+                    best = Some((i, x.point, x.iterations, x.converged));
                 }
             }
             Err(e) => refined[i] = Some(Err(e)),
@@ -460,10 +486,11 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
                 .map(|(v, &k)| estimates[v].candidates[k].cost)
                 .sum();
             let state = match (&refined[i], lin) {
-                (Some(Ok((cost, iterations, converged))), _) => Tried::Refined {
+                (Some(Ok((cost, iterations, converged, abandoned))), _) => Tried::Refined {
                     cost: *cost,
                     iterations: *iterations,
                     converged: *converged,
+                    abandoned: *abandoned,
                 },
                 (Some(Err(e)), _) | (None, Err(e)) => Tried::NoImpact { reason: e.clone() },
                 (None, Ok(_)) => Tried::NotRefined {
@@ -473,7 +500,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             TriedCounts {
                 counts,
                 scene_alone,
-                linearised: lin.as_ref().ok().copied(),
+                momentum_bound: lin.as_ref().ok().copied(),
                 state,
             }
         })
