@@ -7,10 +7,8 @@ mod common;
 
 use common::random_impact;
 use common::runout::{random_chassis, Kind};
-use pim_core::{solve_forward, Velocities, VehicleId};
-use pim_fit::{
-    CostPreset, FitProblem, FitSettings, Knowledge, Observation, ObservationKind,
-};
+use pim_core::{solve_forward, VehicleId, Velocities};
+use pim_fit::{CostPreset, FitProblem, FitSettings, Knowledge, Observation, ObservationKind};
 use pim_reconstruct::{reconstruct, Reconstruction, SceneVehicle, Settings, Status};
 use pim_runout::{simulate, Evidence, Mark, Motion, Rest, Runout, Settings as RunoutSettings};
 use rand::rngs::StdRng;
@@ -44,7 +42,11 @@ fn crash(seed: u64, noise: f64) -> Option<Crash> {
     let mut runouts = Vec::new();
     for id in [VehicleId::One, VehicleId::Two] {
         let k = id.index();
-        let kind = if rng.random_bool(0.5) { Kind::Locked } else { Kind::Mixed };
+        let kind = if rng.random_bool(0.5) {
+            Kind::Locked
+        } else {
+            Kind::Mixed
+        };
         let mut chassis = random_chassis(&mut rng, kind);
         let c = ri.impact.collision();
         let vehicle = if k == 0 { &c.vehicle1 } else { &c.vehicle2 };
@@ -242,6 +244,16 @@ fn debug_noisy() {
     let c = crash(seed, 1.0).unwrap();
     let out = reconstruct(&c.recon, &settings()).unwrap();
     let b = out.best.as_ref().unwrap();
-    eprintln!("chi2 {} truth {} iterations {} converged {}", b.chi_square, truth_cost(&c), b.iterations, b.converged);
-    for t in &out.tried { if matches!(t.state, pim_reconstruct::Tried::Refined{..}) { eprintln!("{:?} {:?}", t.counts, t.state); } }
+    eprintln!(
+        "chi2 {} truth {} iterations {} converged {}",
+        b.chi_square,
+        truth_cost(&c),
+        b.iterations,
+        b.converged
+    );
+    for t in &out.tried {
+        if matches!(t.state, pim_reconstruct::Tried::Refined { .. }) {
+            eprintln!("{:?} {:?}", t.counts, t.state);
+        }
+    }
 }

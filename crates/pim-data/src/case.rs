@@ -66,6 +66,9 @@ pub struct CaseFile {
     /// The scene's evidence of the run-out: rest positions and headings, marks.
     #[serde(default)]
     pub scene: Option<crate::scene_sections::SceneSection>,
+    /// Before the impact: skid marks up to contact and EDR speeds (`pim fit` of a scene).
+    #[serde(default)]
+    pub pre_impact: Option<crate::scene_sections::PreImpactSection>,
 }
 
 impl CaseFile {

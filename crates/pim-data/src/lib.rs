@@ -32,6 +32,7 @@ pub mod parse;
 pub mod plausibility;
 pub mod predict;
 pub mod ranges;
+pub mod reconstruct;
 pub mod records;
 pub mod reference;
 pub mod residuals;

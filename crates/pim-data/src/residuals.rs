@@ -101,7 +101,8 @@ pub fn residuals(
 }
 
 /// An observation kind as the case file writes it.
-fn kind_name(k: ObservationKind) -> &'static str {
+/// The name of an observation's kind as case files write it (`speed_along_heading`, ...).
+pub fn kind_name(k: ObservationKind) -> &'static str {
     match k {
         ObservationKind::DeltaVLongitudinal => "delta_v_longitudinal",
         ObservationKind::DeltaVLateral => "delta_v_lateral",

@@ -156,3 +156,52 @@ pub struct SceneSection {
     #[serde(default)]
     pub vehicle2: Option<SceneVehicleSection>,
 }
+
+/// One speed an event data recorder stored before the impact.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EdrWritten {
+    /// The recorded speed along the heading (speed unit).
+    pub speed: f64,
+    /// How long before contact it was recorded, s (0: at contact).
+    #[serde(default)]
+    pub time: f64,
+    /// The mean deceleration between that time and contact, in g (0: constant speed).
+    #[serde(default)]
+    pub deceleration: f64,
+    /// Standard deviation of the speed at contact this gives (speed unit).
+    pub sigma: f64,
+}
+
+/// `[pre_impact.vehicleN]`: braking before the impact and EDR speeds.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PreImpactVehicleSection {
+    /// Length of the skid or yaw marks up to the point of contact (length unit).
+    #[serde(default)]
+    pub skid: Option<f64>,
+    /// Share of the road friction the braking used along them, 0 to 1 (default 1: locked).
+    #[serde(default)]
+    pub braking: Option<f64>,
+    /// Road grade along the direction of travel, percent (positive uphill; default 0).
+    #[serde(default)]
+    pub grade: Option<f64>,
+    /// Road friction under the marks (default `[runout] friction`, else 0.7).
+    #[serde(default)]
+    pub friction: Option<f64>,
+    /// Speeds the EDR recorded before contact.
+    #[serde(default)]
+    pub edr: Vec<EdrWritten>,
+}
+
+/// `[pre_impact]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PreImpactSection {
+    /// Vehicle 1.
+    #[serde(default)]
+    pub vehicle1: Option<PreImpactVehicleSection>,
+    /// Vehicle 2.
+    #[serde(default)]
+    pub vehicle2: Option<PreImpactVehicleSection>,
+}

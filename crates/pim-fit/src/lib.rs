@@ -180,8 +180,8 @@ pub use geometry::{
     GeometryRange, GeometrySearch, ProofStatus,
 };
 pub use problem::{
-    forward_axis, state_vector, Combination, Component, CostPreset, FitProblem, Knowledge, MomentBranch,
-    Observation, ObservationKind, Vector12, COMPONENT_NAMES,
+    forward_axis, state_vector, Combination, Component, CostPreset, FitProblem, Knowledge,
+    MomentBranch, Observation, ObservationKind, Vector12, COMPONENT_NAMES,
 };
 pub use report::{
     ActiveConstraint, BranchReport, ChiSquare, FitReport, Identifiability, Limits, Quantity,

@@ -599,6 +599,14 @@ impl ChiSquare {
     }
 }
 
+impl ChiSquare {
+    /// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom (none
+    /// for `dof <= 0`).
+    pub fn p_value_of(dof: i64, value: f64) -> Option<f64> {
+        p_value(dof, value)
+    }
+}
+
 /// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom (none for
 /// `dof <= 0`).
 fn p_value(dof: i64, value: f64) -> Option<f64> {

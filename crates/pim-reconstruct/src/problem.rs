@@ -120,7 +120,8 @@ impl Reconstruction {
                 });
             }
             let base = 6 + 3 * v.id.index();
-            if (base..base + 3).any(|k| matches!(self.contact.components[k], Knowledge::Known { .. }))
+            if (base..base + 3)
+                .any(|k| matches!(self.contact.components[k], Knowledge::Known { .. }))
             {
                 return Err(ReconstructError::Input {
                     field: "final",

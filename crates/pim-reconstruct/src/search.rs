@@ -6,7 +6,8 @@ use crate::outcome::{Found, Outcome, SceneFit, Status, Tried, TriedCounts};
 use crate::problem::{Reconstruction, SceneVehicle, Settings};
 use pim_core::Velocities;
 use pim_fit::{
-    fit, state_vector, Combination, FitProblem, Knowledge, MomentBranch, Solution, Status as FitStatus,
+    fit, state_vector, Combination, FitProblem, Knowledge, MomentBranch, Solution,
+    Status as FitStatus,
 };
 use pim_runout::{linearise, Estimate, EstimateSettings, Linearised, Motion};
 use rayon::prelude::*;
@@ -59,7 +60,14 @@ fn linearised(
         yaw_rate: at[2],
         ..s.pose
     };
-    let lin = linearise(&s.chassis, &start, &s.evidence, turns, &settings.runout, jacobian)?;
+    let lin = linearise(
+        &s.chassis,
+        &start,
+        &s.evidence,
+        turns,
+        &settings.runout,
+        jacobian,
+    )?;
     Ok(Lin {
         vehicle,
         turns,
@@ -72,11 +80,7 @@ fn linearised(
 /// with `damping`, Marquardt's rows that keep the separation state near the current one. Every
 /// weight is scaled by one factor into (0, 1]; the fit's cost over that factor is the
 /// chi-square of the linearised problem.
-fn assemble(
-    r: &Reconstruction,
-    lins: &[Lin],
-    damping: Option<(f64, &[Lin])>,
-) -> (FitProblem, f64) {
+fn assemble(r: &Reconstruction, lins: &[Lin], damping: Option<(f64, &[Lin])>) -> (FitProblem, f64) {
     let unit = r.unit.unwrap_or(1.0);
     let mut problem = r.contact.clone();
     // Chi-square weights first.
@@ -93,7 +97,11 @@ fn assemble(
     }
     for l in lins {
         let base = 6 + 3 * r.scene[l.vehicle].id.index();
-        let j = l.lin.jacobian.as_ref().expect("linearised with its Jacobian");
+        let j = l
+            .lin
+            .jacobian
+            .as_ref()
+            .expect("linearised with its Jacobian");
         for i in 0..j.nrows() {
             let mut row = pim_fit::Vector12::zeros();
             let mut target = -l.lin.weighted[i];
@@ -115,7 +123,11 @@ fn assemble(
     if let Some((lambda, around)) = damping {
         for l in around {
             let base = 6 + 3 * r.scene[l.vehicle].id.index();
-            let j = l.lin.jacobian.as_ref().expect("linearised with its Jacobian");
+            let j = l
+                .lin
+                .jacobian
+                .as_ref()
+                .expect("linearised with its Jacobian");
             let jtj = j.transpose() * j;
             let largest = (0..3).map(|c| jtj[(c, c)]).fold(0.0, f64::max).max(1e-12);
             for c in 0..3 {
@@ -252,7 +264,9 @@ pub(crate) fn refine(
         };
         if accepted {
             let p = trial.expect("accepted");
-            let gain = current.as_ref().map_or(f64::INFINITY, |c| c.total - p.total);
+            let gain = current
+                .as_ref()
+                .map_or(f64::INFINITY, |c| c.total - p.total);
             let step = current.as_ref().map_or(f64::INFINITY, |c| {
                 p.scene
                     .iter()
@@ -269,7 +283,8 @@ pub(crate) fn refine(
                 .scene
                 .par_iter()
                 .map(|l| {
-                    linearised(r, settings, l.vehicle, l.turns, l.at, true).map_err(|e| e.to_string())
+                    linearised(r, settings, l.vehicle, l.turns, l.at, true)
+                        .map_err(|e| e.to_string())
                 })
                 .collect();
             lins = next?;
@@ -462,7 +477,8 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         match refine(r, settings, start, lowest_best) {
             Ok(x) => {
                 fits += x.fits;
-                runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
+                runouts +=
+                    x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
                 refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
                 if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
                     best = Some((i, x.point, x.iterations, x.converged));

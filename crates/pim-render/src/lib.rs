@@ -29,6 +29,7 @@ pub mod figures;
 mod geometry_lines;
 pub mod momentum;
 pub mod predict_figure;
+pub mod reconstruct;
 pub mod report;
 pub mod runout;
 pub mod tables;

@@ -84,7 +84,7 @@ pub use chassis::{
 pub use error::{Result, RunoutError};
 pub use forces::SLIDING_DEADBAND;
 pub use inverse::{
-    estimate, linearise, Candidate, Estimate, EstimateSettings, Evidence, Mark, Residual, Rest, CONSISTENT_COST,
-    Linearised, PLAUSIBLE_COST,
+    estimate, linearise, Candidate, Estimate, EstimateSettings, Evidence, Linearised, Mark,
+    Residual, Rest, CONSISTENT_COST, PLAUSIBLE_COST,
 };
 pub use simulate::{simulate, End, Runout, Settings, Step};

@@ -15,6 +15,16 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let cost = a.cost;
     let name = cost.map_or("custom", |p| p.name());
     let (_, warnings) = crate::inputs::checked_impact(&case)?;
+    if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+        return reconstruction(a, &case, warnings);
+    }
+    if cost.is_some() && pim_data::reconstruct::has_scene_evidence(&case) {
+        eprintln!(
+            "pim: note: {}: with --cost the fit reads the estimates only; without it the case's \
+             scene ([scene]) is fitted too, through the run-outs",
+            case.file
+        );
+    }
     if let Some(why) =
         pim_render::diagram::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
     {
@@ -107,4 +117,38 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         );
     }
     Ok(crate::inputs::strict_status(a.strict, warnings, why))
+}
+
+/// `pim fit` of a case with scene evidence: the three phases in one fit.
+fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> Result<ExitCode> {
+    if a.out.is_some() {
+        return Err(Failure::Input(format!(
+            "{}: --out is not yet written for a reconstruction; use --format json",
+            case.file
+        ))
+        .into());
+    }
+    let done = pim_data::reconstruct::reconstruct(case, a.model, a.moment_form, unique(&a.branch))
+        .map_err(Failure::from)?;
+    let d = &done.document;
+    let units = a.units.map_or_else(
+        || pim_data::units::UnitSystem::of(&case.written_units),
+        Into::into,
+    );
+    let out = match a.format {
+        Format::Json => json(d)?,
+        Format::Table => {
+            pim_render::reconstruct::reconstruction_table(&title_of(case), d, units, case.written)
+        }
+    };
+    print_out(&out)?;
+    if d.best.is_none() {
+        eprintln!(
+            "pim: {}: no reconstruction: {}",
+            case.file,
+            d.reason.as_deref().unwrap_or("no admissible impact")
+        );
+        return Ok(ExitCode::from(EXIT_NO_ANSWER));
+    }
+    Ok(crate::inputs::strict_status(a.strict, warnings, Vec::new()))
 }

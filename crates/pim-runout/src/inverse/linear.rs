@@ -62,10 +62,8 @@ pub fn linearise(
     let mut runouts = 1;
     let runout = p.runout(&theta)?;
     let residuals = p.residuals(&theta, &runout);
-    let weighted = DVector::from_iterator(
-        residuals.len(),
-        residuals.iter().map(|x| x.value / x.sigma),
-    );
+    let weighted =
+        DVector::from_iterator(residuals.len(), residuals.iter().map(|x| x.value / x.sigma));
     let jac = if jacobian_too {
         Some(jacobian(&p, &theta, &weighted, &mut runouts)?)
     } else {

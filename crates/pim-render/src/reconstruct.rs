@@ -1,0 +1,156 @@
+//! The table of a reconstruction: the speeds of every phase, the impact's coefficients, every
+//! piece of evidence against the fit, the counts of turns compared, and what is proven.
+
+use crate::tables::num;
+use crate::text::wrap;
+use pim_core::Convention;
+use pim_data::reconstruct::ReconstructionOut;
+use pim_data::units::UnitSystem;
+
+/// The reconstruction's table in `units` and the case's `frame` (SAE: y to the right, headings
+/// clockwise).
+pub fn reconstruction_table(
+    title: &str,
+    d: &ReconstructionOut,
+    units: UnitSystem,
+    frame: Convention,
+) -> String {
+    let s = if frame == Convention::Sae { -1.0 } else { 1.0 };
+    let spd = units.speed_label();
+    let len = units.length_label();
+    let v = |x: f64| num(units.speed(x), 2);
+    let mut t = format!("Reconstruction (pre-impact, impact, run-out): {title}\n");
+    if frame == Convention::Sae {
+        t.push_str("frame: SAE (y to the right, headings clockwise)\n");
+    }
+    let Some(b) = &d.best else {
+        t.push_str(&format!(
+            "\nno reconstruction: {}\n",
+            d.reason.as_deref().unwrap_or("no admissible impact")
+        ));
+        return t;
+    };
+    t.push_str(&format!(
+        "impact: e {:.4}, mu {:.4}, em {:.4} ({} branch), energy loss {:.1} %\n",
+        b.e,
+        b.mu,
+        b.em,
+        b.branch.name(),
+        b.energy_loss_percent
+    ));
+    t.push_str(&format!(
+        "chi-square {:.3} with {} degrees of freedom, p = {}\n",
+        b.chi_square,
+        b.degrees_of_freedom,
+        b.p_value
+            .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
+    ));
+    t.push_str(&format!(
+        "\n{:<8} {:>16} {:>12} {:>14} {:>8} {:>7} {:>26}\n",
+        "vehicle",
+        "before braking",
+        "at contact",
+        "at separation",
+        "at rest",
+        "turns",
+        "rest (x, y, heading)"
+    ));
+    for p in &b.vehicles {
+        let rest = p.rest.map_or_else(
+            || "-".to_string(),
+            |r| {
+                format!(
+                    "{}, {} {len}, {:.1} deg",
+                    num(units.length(r.x), 2),
+                    num(units.length(s * r.y), 2),
+                    s * r.heading
+                )
+            },
+        );
+        t.push_str(&format!(
+            "{:<8} {:>16} {:>12} {:>14} {:>8} {:>7} {:>26}\n",
+            p.vehicle,
+            p.speed_before_braking.map_or_else(|| "-".into(), v),
+            v(p.speed_at_contact),
+            v(p.speed_at_separation),
+            p.speed_at_rest.map_or_else(|| "-".into(), v),
+            p.turns.map_or_else(|| "-".into(), |k| k.to_string()),
+            rest
+        ));
+    }
+    t.push_str(&format!("(speeds in {spd})\n"));
+    t.push_str(&format!(
+        "\n{:<56} {:>10} {:>10} {:>8} {:>8}\n",
+        "evidence", "residual", "sigma", "z", "share %"
+    ));
+    for e in &b.evidence {
+        let (scale, unit) = if e.name.contains("heading") {
+            (1.0, "deg")
+        } else if e.phase == "run_out" && !e.name.contains('.')
+            || e.name.contains(" rest.")
+            || e.name.contains(" mark")
+        {
+            (units.length(1.0), len)
+        } else if e.name.ends_with("omega") {
+            (units.yaw_rate(1.0), units.yaw_rate_label())
+        } else {
+            (units.speed(1.0), spd)
+        };
+        t.push_str(&format!(
+            "{:<56} {:>10} {:>10} {:>8.2} {:>8.1}\n",
+            format!("{} ({unit})", e.name),
+            num(e.residual * scale, 3),
+            num(e.sigma * scale, 3),
+            e.z,
+            e.share_percent
+        ));
+    }
+    t.push_str("\ncounts of turns compared (vehicle order: ");
+    t.push_str(
+        &d.scene_vehicles
+            .iter()
+            .map(|v| format!("vehicle {v}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    t.push_str(")\n");
+    for c in d.counts.iter().filter(|c| c.chi_square.is_some()) {
+        t.push_str(&format!(
+            "  {:<14} chi-square {:>12}  ({})\n",
+            format!(
+                "{:?}",
+                c.turns
+                    .iter()
+                    .map(|k| k.map_or_else(|| "-".to_string(), |k| k.to_string()))
+                    .collect::<Vec<_>>()
+            )
+            .replace('"', ""),
+            num(c.chi_square.unwrap_or(f64::NAN), 3),
+            c.state
+        ));
+    }
+    let others = d.counts.iter().filter(|c| c.chi_square.is_none()).count();
+    if others > 0 {
+        t.push_str(&format!(
+            "  {others} other combinations not refined (their bounds exclude them; see the JSON)\n"
+        ));
+    }
+    for (head, text) in [("how found", &d.method), ("proven", &d.proven)] {
+        let lines = wrap(&format!("{head}: {text}"), 96);
+        for l in lines {
+            t.push_str(&format!("{l}\n"));
+        }
+    }
+    for u in &d.undetermined {
+        for (i, l) in wrap(&format!("not determined: {u}"), 96)
+            .into_iter()
+            .enumerate()
+        {
+            t.push_str(&format!("{}{l}\n", if i == 0 { "" } else { "  " }));
+        }
+    }
+    if !b.converged {
+        t.push_str("warning: the iterations reached their limit before their tolerance\n");
+    }
+    t
+}
