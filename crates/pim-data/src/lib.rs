@@ -33,6 +33,7 @@ pub mod plausibility;
 pub mod predict;
 pub mod ranges;
 pub mod reconstruct;
+pub mod reconstruct_study;
 pub mod records;
 pub mod reference;
 pub mod residuals;

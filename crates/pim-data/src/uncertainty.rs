@@ -21,7 +21,7 @@ use std::collections::BTreeMap;
 pub use crate::tolerances::Tolerances;
 
 /// The random stream of draw `i`: SplitMix64 of the seed and the index.
-fn stream(seed: u64, i: u64) -> rand::rngs::StdRng {
+pub(crate) fn stream(seed: u64, i: u64) -> rand::rngs::StdRng {
     let mut z = seed
         .wrapping_add(0x9E37_79B9_7F4A_7C15u64.wrapping_mul(i + 1))
         .wrapping_add(0x632B_E59B_D9B4_E019);
@@ -172,17 +172,17 @@ impl Study {
 }
 
 /// Writes a drawn value into a copy of the case.
-type Apply = Box<dyn Fn(&mut Case, f64) + Sync + Send>;
+pub(crate) type Apply = Box<dyn Fn(&mut Case, f64) + Sync + Send>;
 
 /// A perturbable input: its name and how to read and write it in a case.
-struct Input {
-    name: String,
-    spread: Spread,
-    apply: Apply,
-    nominal: f64,
+pub(crate) struct Input {
+    pub(crate) name: String,
+    pub(crate) spread: Spread,
+    pub(crate) apply: Apply,
+    pub(crate) nominal: f64,
 }
 
-fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
+pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
     let mut out: Vec<Input> = Vec::new();
     let c = &case.content;
     let est = c.estimates.unwrap_or_default().components();

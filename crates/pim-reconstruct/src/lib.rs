@@ -66,4 +66,4 @@ mod search;
 pub use error::{ReconstructError, Result};
 pub use outcome::{Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts};
 pub use problem::{Reconstruction, SceneVehicle, Settings, Skid};
-pub use search::reconstruct;
+pub use search::{reconstruct, redo};

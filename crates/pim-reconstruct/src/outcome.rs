@@ -169,6 +169,10 @@ pub struct TriedCounts {
     pub momentum_bound: Option<f64>,
     /// What became of it.
     pub state: Tried,
+    /// Where its refinement ended: each scene vehicle's separation velocity `(vx, vy,
+    /// yaw_rate)` (a start for the same combination with perturbed evidence).
+    #[serde(skip)]
+    pub end: Option<Vec<[f64; 3]>>,
 }
 
 /// A reconstruction's answer.

@@ -335,12 +335,18 @@ pub(crate) struct Refined {
 /// The candidates of one scene vehicle from the run-out inverse.
 fn candidates(r: &Reconstruction, settings: &Settings, vehicle: usize) -> Result<Estimate> {
     let s = &r.scene[vehicle];
+    // The road friction is held at its value in the reconstruction (its spread is drawn by an
+    // uncertainty study), so the scene alone is searched with it held too.
+    let evidence = pim_runout::Evidence {
+        friction_sigma: None,
+        ..s.evidence.clone()
+    };
     let es = EstimateSettings {
         turns: settings.turns,
         runout: settings.runout,
         ..EstimateSettings::default()
     };
-    Ok(pim_runout::estimate(&s.chassis, &s.pose, &s.evidence, &es)?)
+    Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
 }
 
 /// Every combination of one candidate per vehicle.
@@ -433,6 +439,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     // 2. Refined from the lowest bound, one at a time (each knows the best found before it),
     //    while they could still beat the best.
     let mut best: Option<(usize, Point, usize, bool)> = None;
+    let mut ends: Vec<Option<Vec<[f64; 3]>>> = vec![None; first.len()];
     let mut refined: Vec<Option<std::result::Result<(f64, usize, bool, bool), String>>> =
         vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
@@ -480,6 +487,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
                 runouts +=
                     x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
                 refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
+                ends[i] = Some(x.point.scene.iter().map(|l| l.at).collect());
                 if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
                     best = Some((i, x.point, x.iterations, x.converged));
                 }
@@ -518,6 +526,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
                 scene_alone,
                 momentum_bound: lin.as_ref().ok().copied(),
                 state,
+                end: ends[i].clone(),
             }
         })
         .collect();
@@ -571,4 +580,45 @@ pub(crate) fn scene_fits(r: &Reconstruction, p: &Point) -> Vec<SceneFit> {
             runout: l.lin.runout.clone(),
         })
         .collect()
+}
+
+/// The reconstruction again with changed evidence or inputs (one draw of an uncertainty
+/// study): each combination of counts that `nominal` refined to within `margin` of its best is
+/// refined again from where it ended there, and the best is kept. No scene-alone search, no
+/// other combinations: the counts of turns are those the nominal reconstruction found.
+///
+/// # Errors
+/// Input the search cannot use.
+pub fn redo(
+    r: &Reconstruction,
+    settings: &Settings,
+    nominal: &Outcome,
+    margin: f64,
+) -> Result<Option<Found>> {
+    r.check()?;
+    let Some(best) = &nominal.best else {
+        return Ok(None);
+    };
+    let mut found: Option<Refined> = None;
+    for t in &nominal.tried {
+        let (Tried::Refined { cost, .. }, Some(end)) = (&t.state, &t.end) else {
+            continue;
+        };
+        if *cost > best.chi_square + margin {
+            continue;
+        }
+        let start: std::result::Result<Vec<Lin>, _> = end
+            .iter()
+            .enumerate()
+            .map(|(v, at)| linearised(r, settings, v, t.counts[v].unwrap_or(0), *at, true))
+            .collect();
+        let Ok(start) = start else { continue };
+        let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
+        if let Ok(x) = refine(r, settings, start, lowest) {
+            if x.point.total < lowest {
+                found = Some(x);
+            }
+        }
+    }
+    Ok(found.map(|x| Found::new(r, x.point, x.iterations, x.converged)))
 }

@@ -9,6 +9,7 @@ pub mod output;
 pub mod predict;
 pub mod report;
 pub mod runout;
+pub mod scene_uncertainty;
 pub mod solve;
 pub mod uncertainty;
 

@@ -114,6 +114,9 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     if a.draws == 0 {
         return Err(Failure::Input("--draws must be at least 1".into()).into());
     }
+    if a.cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+        return super::scene_uncertainty::run(a, &case, warnings);
+    }
     let choice = match a.cost {
         Some(c) => CostChoice::Preset(c),
         None => CostChoice::Custom,

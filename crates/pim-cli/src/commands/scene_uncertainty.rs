@@ -1,0 +1,130 @@
+//! `pim uncertainty` of a case with scene evidence: intervals through all three phases.
+
+use super::{json, print_out, title_of};
+use crate::args::{Format, UncertaintyArgs};
+use crate::error::Failure;
+use anyhow::Result;
+use pim_data::case::Case;
+use pim_data::reconstruct_study::{self, ReconstructionStudy};
+use pim_data::units::UnitSystem;
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+/// The study's table, speeds in `u`.
+pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{title}\nreconstruction, parametric bootstrap through all three phases: {} draws (seed \
+         {}), {} with an admissible reconstruction\n",
+        s.draws, s.seed, s.feasible_draws
+    );
+    let _ = writeln!(
+        t,
+        "{:<34} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "quantity", "nominal", "p05", "p50", "p95", "sd"
+    );
+    let order = |n: &str| (n.starts_with("vehicle"), n.to_string());
+    let mut names: Vec<&String> = s.quantities.keys().collect();
+    names.sort_by_key(|n| order(n));
+    for name in names {
+        let q = &s.quantities[name];
+        let k = if name.contains("speed") {
+            u.speed(1.0)
+        } else {
+            1.0
+        };
+        let nominal = s.nominal.get(name).map_or(f64::NAN, |v| v * k);
+        let _ = writeln!(
+            t,
+            "{name:<34} {nominal:>10.3} {:>10.3} {:>10.3} {:>10.3} {:>10.3}",
+            q.p05 * k,
+            q.p50 * k,
+            q.p95 * k,
+            q.sd * k
+        );
+    }
+    let _ = writeln!(
+        t,
+        "(speeds in {}, energy loss in %; the 90 % interval is p05 to p95)\n",
+        u.speed_label()
+    );
+    let _ = writeln!(
+        t,
+        "what dominates each speed (first-order index from the draws):"
+    );
+    for sens in s
+        .sensitivity
+        .iter()
+        .filter(|x| x.quantity.contains("speed"))
+    {
+        let list: Vec<String> = sens
+            .inputs
+            .iter()
+            .take(3)
+            .map(|(n, v)| format!("{n} {v:.2}"))
+            .collect();
+        let _ = writeln!(
+            t,
+            "  {}: {}",
+            sens.quantity,
+            if list.is_empty() {
+                "none above 0.02".to_string()
+            } else {
+                list.join("; ")
+            }
+        );
+    }
+    t
+}
+
+/// The study of a scene case.
+pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
+    if a.out.is_some() {
+        return Err(Failure::Input(format!(
+            "{}: --out is not yet written for a reconstruction; use --format json",
+            case.file
+        ))
+        .into());
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
+    let show = a.format == Format::Table && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = if show {
+        indicatif::ProgressBar::new(a.draws as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let tick = || bar.inc(1);
+    let (study, _) = pool
+        .install(|| {
+            reconstruct_study::run(
+                case,
+                a.model,
+                pim_core::MomentForm::Corrected,
+                pim_fit::MomentBranch::ALL.to_vec(),
+                a.draws,
+                a.seed,
+                &tick,
+            )
+        })
+        .map_err(Failure::from)?;
+    bar.finish_and_clear();
+    if study.feasible_draws == 0 {
+        return Err(Failure::NoAnswer(format!(
+            "{}: none of the {} draws has an admissible reconstruction, so there are no intervals",
+            case.file, study.draws
+        ))
+        .into());
+    }
+    let units = a
+        .units
+        .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
+    print_out(&match a.format {
+        Format::Json => json(&study)?,
+        Format::Table => table(&title_of(case), &study, units),
+    })?;
+    Ok(crate::inputs::strict_status(a.strict, warnings, Vec::new()))
+}

@@ -1,0 +1,287 @@
+//! Intervals through all three phases (`pim uncertainty` of a case with scene evidence): a
+//! seeded parametric bootstrap. Each draw perturbs the case's estimates and observations by
+//! their standard deviations, the inputs `[uncertainty]` names, the road friction by
+//! `[runout] friction_sigma`, every rest position and heading and every mark by its sigma and
+//! every EDR speed by its sigma; then the whole reconstruction is refitted (from where the
+//! nominal reconstruction ended, for each count of turns it found within a chi-square of 4 of
+//! its best), and the speeds of every phase are recorded. Draw `i` uses its own random stream,
+//! so the result is the same for any thread count.
+
+use crate::case::Case;
+use crate::documents::DocumentError;
+use crate::intervals::{correlation_ratio, percentile, Summary};
+use crate::reconstruct::case_reconstruction;
+use crate::spread::Spread;
+use crate::uncertainty::{inputs, stream, Input, Sensitivity};
+use pim_fit::MomentBranch;
+use pim_reconstruct::{redo, Found, Outcome};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Counts of turns whose nominal cost lies within this chi-square of the best are refitted in
+/// every draw (a count the nominal evidence does not exclude).
+pub const COUNTS_MARGIN: f64 = 4.0;
+
+/// The study of a reconstruction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReconstructionStudy {
+    /// SI, natural frame.
+    pub units: crate::records::SiUnits,
+    /// `reconstruction`.
+    pub kind: &'static str,
+    /// Draws asked for.
+    pub draws: usize,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Draws with an admissible reconstruction.
+    pub feasible_draws: usize,
+    /// The nominal reconstruction, by quantity.
+    pub nominal: BTreeMap<String, f64>,
+    /// Summaries by quantity (speeds m/s, coefficients, energy loss percent).
+    pub quantities: BTreeMap<String, Summary>,
+    /// Which inputs dominate each quantity (first-order index from the same draws, ten bins).
+    pub sensitivity: Vec<Sensitivity>,
+    /// The inputs drawn, by name.
+    pub inputs: Vec<String>,
+}
+
+/// The quantities of a found reconstruction: name and value (speeds m/s).
+pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
+    let s = &found.solution;
+    let mut out = vec![
+        ("e".to_string(), s.e),
+        ("mu".to_string(), s.mu),
+        ("em".to_string(), s.em),
+        ("energy_loss_percent".to_string(), s.energy_loss_percent),
+    ];
+    for p in &found.phases {
+        let v = p.vehicle.index() + 1;
+        if let Some(b) = p.before_braking {
+            out.push((format!("vehicle{v}.speed_before_braking"), b));
+        }
+        out.push((format!("vehicle{v}.speed_at_contact"), p.contact));
+        out.push((format!("vehicle{v}.speed_at_separation"), p.separation));
+    }
+    out
+}
+
+/// The scene's, the friction's and the EDR's drawn inputs (in the file's units).
+fn scene_inputs(case: &Case) -> Vec<Input> {
+    let mut out: Vec<Input> = Vec::new();
+    let c = &case.content;
+    if let Some(r) = &c.runout {
+        if let (Some(s), Some(f)) = (r.friction_sigma, r.friction) {
+            out.push(Input {
+                name: "road friction".into(),
+                spread: Spread::Normal(s),
+                nominal: f,
+                apply: Box::new(|case: &mut Case, x| {
+                    if let Some(r) = case.content.runout.as_mut() {
+                        r.friction = Some(x.clamp(0.05, 1.5));
+                    }
+                }),
+            });
+        }
+    }
+    type Pick = fn(&mut Case) -> Option<&mut crate::scene_sections::SceneVehicleSection>;
+    let picks: [(usize, Pick); 2] = [
+        (1, |c| {
+            c.content.scene.as_mut().and_then(|s| s.vehicle1.as_mut())
+        }),
+        (2, |c| {
+            c.content.scene.as_mut().and_then(|s| s.vehicle2.as_mut())
+        }),
+    ];
+    for (n, pick) in picks {
+        let mut probe = case.clone();
+        let Some(v) = pick(&mut probe) else { continue };
+        if let (Some(rest), Some(sd)) = (v.rest, v.rest_sigma) {
+            out.push(Input {
+                name: format!("vehicle{n} rest.x"),
+                spread: Spread::Normal(sd.x),
+                nominal: rest.x,
+                apply: Box::new(move |c: &mut Case, x| {
+                    if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
+                        r.x = x;
+                    }
+                }),
+            });
+            out.push(Input {
+                name: format!("vehicle{n} rest.y"),
+                spread: Spread::Normal(sd.y),
+                nominal: rest.y,
+                apply: Box::new(move |c: &mut Case, x| {
+                    if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
+                        r.y = x;
+                    }
+                }),
+            });
+            if let (Some(h), Some(sh)) = (rest.heading, sd.heading) {
+                out.push(Input {
+                    name: format!("vehicle{n} rest.heading"),
+                    spread: Spread::Normal(sh),
+                    nominal: h,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
+                            r.heading = Some(x);
+                        }
+                    }),
+                });
+            }
+        }
+        for (i, m) in v.marks.iter().enumerate() {
+            for (axis, nominal) in [("x", m.x), ("y", m.y)] {
+                out.push(Input {
+                    name: format!("vehicle{n} mark {} {axis}", i + 1),
+                    spread: Spread::Normal(m.sigma),
+                    nominal,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        if let Some(m) = pick(c).and_then(|v| v.marks.get_mut(i)) {
+                            if axis == "x" {
+                                m.x = x;
+                            } else {
+                                m.y = x;
+                            }
+                        }
+                    }),
+                });
+            }
+        }
+    }
+    if let Some(p) = &c.pre_impact {
+        for (n, v) in [(1usize, &p.vehicle1), (2, &p.vehicle2)] {
+            let Some(v) = v else { continue };
+            for (i, e) in v.edr.iter().enumerate() {
+                out.push(Input {
+                    name: format!("vehicle{n} EDR speed {}", i + 1),
+                    spread: Spread::Normal(e.sigma),
+                    nominal: e.speed,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        let p = c.content.pre_impact.as_mut().and_then(|p| {
+                            if n == 1 {
+                                p.vehicle1.as_mut()
+                            } else {
+                                p.vehicle2.as_mut()
+                            }
+                        });
+                        if let Some(e) = p.and_then(|p| p.edr.get_mut(i)) {
+                            e.speed = x.max(0.0);
+                        }
+                    }),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Runs the study of a case with scene evidence; `tick` is called once per finished draw.
+///
+/// # Errors
+/// Bad input (located), or nothing uncertain.
+pub fn run(
+    case: &Case,
+    model: pim_fit::FitModel,
+    moment_form: pim_core::MomentForm,
+    branches: Vec<MomentBranch>,
+    draws: usize,
+    seed: u64,
+    tick: &(dyn Fn() + Sync),
+) -> Result<(ReconstructionStudy, Outcome), DocumentError> {
+    let unc = case.content.uncertainty.unwrap_or_default();
+    let mut all = inputs(case, &unc)?;
+    all.extend(scene_inputs(case));
+    let nominal_input = case_reconstruction(case, model, moment_form, branches.clone())?;
+    let nominal =
+        pim_reconstruct::reconstruct(&nominal_input.reconstruction, &nominal_input.settings)
+            .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
+    let Some(best) = &nominal.best else {
+        return Err(DocumentError::NoAnswer(format!(
+            "{}: no reconstruction to draw around: {}",
+            case.file,
+            nominal.reason.as_deref().unwrap_or("no admissible impact")
+        )));
+    };
+    let names: Vec<String> = quantities_of(best).into_iter().map(|(n, _)| n).collect();
+    let results: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..draws)
+        .into_par_iter()
+        .map(|i| {
+            let mut rng = stream(seed, i as u64);
+            let mut c = case.clone();
+            let xs: Vec<f64> = all
+                .iter()
+                .map(|inp| {
+                    let x = inp.spread.draw(inp.nominal, &mut rng);
+                    (inp.apply)(&mut c, x);
+                    x
+                })
+                .collect();
+            let out = case_reconstruction(&c, model, moment_form, branches.clone())
+                .ok()
+                .and_then(|r| redo(&r.reconstruction, &r.settings, &nominal, COUNTS_MARGIN).ok())
+                .flatten()
+                .map(|f| {
+                    let q = quantities_of(&f);
+                    names
+                        .iter()
+                        .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
+                        .collect()
+                });
+            tick();
+            (xs, out)
+        })
+        .collect();
+    let feasible: Vec<(&Vec<f64>, &Vec<f64>)> = results
+        .iter()
+        .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
+        .collect();
+    let mut quantities = BTreeMap::new();
+    let mut sensitivity = Vec::new();
+    for (q, name) in names.iter().enumerate() {
+        let y: Vec<f64> = feasible.iter().map(|(_, r)| r[q]).collect();
+        let mut sorted = y.clone();
+        sorted.sort_by(f64::total_cmp);
+        let n = y.len().max(1) as f64;
+        let mean = y.iter().sum::<f64>() / n;
+        let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
+        quantities.insert(
+            name.clone(),
+            Summary {
+                p05: percentile(&sorted, 0.05),
+                p50: percentile(&sorted, 0.5),
+                p95: percentile(&sorted, 0.95),
+                mean,
+                sd,
+                not_determined: false,
+                reaches_bound: None,
+            },
+        );
+        let mut shares: Vec<(String, f64)> = all
+            .iter()
+            .enumerate()
+            .map(|(j, inp)| {
+                let x: Vec<f64> = feasible.iter().map(|(xs, _)| xs[j]).collect();
+                (inp.name.clone(), correlation_ratio(&x, &y))
+            })
+            .filter(|(_, s)| *s > 0.02)
+            .collect();
+        shares.sort_by(|a, b| b.1.total_cmp(&a.1));
+        sensitivity.push(Sensitivity {
+            quantity: name.clone(),
+            inputs: shares,
+        });
+    }
+    let study = ReconstructionStudy {
+        units: crate::records::SiUnits,
+        kind: "reconstruction",
+        draws,
+        seed,
+        feasible_draws: feasible.len(),
+        nominal: quantities_of(best).into_iter().collect(),
+        quantities,
+        sensitivity,
+        inputs: all.iter().map(|i| i.name.clone()).collect(),
+    };
+    Ok((study, nominal))
+}
