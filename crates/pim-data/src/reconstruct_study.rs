@@ -196,6 +196,13 @@ pub fn run(
     let nominal =
         pim_reconstruct::reconstruct(&nominal_input.reconstruction, &nominal_input.settings)
             .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
+    if nominal.status == pim_reconstruct::Status::Inconsistent {
+        return Err(DocumentError::NoAnswer(format!(
+            "{}: the evidence contradicts every reconstruction: {}",
+            case.file,
+            nominal.reason.as_deref().unwrap_or("")
+        )));
+    }
     let Some(best) = &nominal.best else {
         return Err(DocumentError::NoAnswer(format!(
             "{}: no reconstruction to draw around: {}",

@@ -64,6 +64,8 @@ mod relax;
 mod search;
 
 pub use error::{ReconstructError, Result};
-pub use outcome::{Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts};
+pub use outcome::{
+    Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts, INCONSISTENT_P, INCONSISTENT_Z,
+};
 pub use problem::{Reconstruction, SceneVehicle, Settings, Skid};
 pub use search::{reconstruct, redo};

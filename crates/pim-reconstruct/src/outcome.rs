@@ -16,7 +16,19 @@ pub enum Status {
     Found,
     /// No admissible impact reaches the scene for any count of turns ([`Outcome::reason`]).
     NoSolution,
+    /// The best reconstruction found contradicts the evidence: its chi-square is beyond
+    /// chance ([`INCONSISTENT_P`]), or, with no degrees of freedom left, a residual lies beyond
+    /// [`INCONSISTENT_Z`] sigma ([`Outcome::reason`] names the largest terms; [`Outcome::best`]
+    /// is kept for inspection).
+    Inconsistent,
 }
+
+/// A chi-square whose probability under the stated sigmas is below this is a contradiction,
+/// not a fit.
+pub const INCONSISTENT_P: f64 = 1e-6;
+
+/// With no degrees of freedom left, a residual beyond this many sigma is a contradiction.
+pub const INCONSISTENT_Z: f64 = 5.0;
 
 /// One vehicle's scene against the reconstruction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -206,4 +218,56 @@ impl Outcome {
             .filter(|t| matches!(t.state, Tried::Refined { cost, .. } if cost <= best.chi_square + margin))
             .collect()
     }
+}
+
+/// Why the found reconstruction contradicts the evidence, if it does: the chi-square's
+/// probability, or the largest residual with no degrees of freedom left, and the largest terms.
+pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<String> {
+    let mut terms: Vec<(String, f64)> = Vec::new();
+    let u = pim_fit::state_vector(&f.solution.initial, &f.solution.separation);
+    let unit = r.unit.unwrap_or(1.0);
+    for (k, c) in r.contact.components.iter().enumerate() {
+        if let Knowledge::Estimated { value, weight } = *c {
+            let z = (u[k] - value) / (unit / weight).sqrt();
+            terms.push((pim_fit::COMPONENT_NAMES[k].to_string(), z));
+        }
+    }
+    for (i, o) in r.contact.observations.iter().enumerate() {
+        let z = (o.row(&r.contact.impact).dot(&u) - o.value) / (unit / o.weight).sqrt();
+        terms.push((
+            format!("observation {} ({:?} of {})", i + 1, o.kind, o.vehicle),
+            z,
+        ));
+    }
+    for s in &f.scene {
+        for x in &s.residuals {
+            terms.push((format!("{} {}", s.vehicle, x.name), x.value / x.sigma));
+        }
+    }
+    terms.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    let worst = terms.first().map_or(0.0, |t| t.1.abs());
+    let why = if f.degrees_of_freedom > 0 {
+        let p = pim_fit::ChiSquare::p_value_of(f.degrees_of_freedom, f.chi_square)?;
+        (p < INCONSISTENT_P).then(|| {
+            format!(
+                "the best reconstruction found has a chi-square of {:.1} with {} degrees of \
+                 freedom (p = {p:.1e}): no admissible impact and run-out reach this evidence \
+                 within its standard deviations",
+                f.chi_square, f.degrees_of_freedom
+            )
+        })?
+    } else {
+        (worst > INCONSISTENT_Z).then(|| {
+            format!(
+                "the best reconstruction found misses a piece of evidence by {worst:.1} sigma \
+                 with no degrees of freedom left: no admissible impact and run-out reach it"
+            )
+        })?
+    };
+    let list: Vec<String> = terms
+        .iter()
+        .take(3)
+        .map(|(n, z)| format!("{n} {z:+.1} sigma"))
+        .collect();
+    Some(format!("{why}; the largest residuals: {}", list.join(", ")))
 }

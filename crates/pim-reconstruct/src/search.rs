@@ -553,9 +553,13 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         });
     };
     let found = Found::new(r, point, iterations, converged);
+    let (status, reason) = match crate::outcome::contradiction(r, &found) {
+        Some(why) => (Status::Inconsistent, Some(why)),
+        None => (Status::Found, None),
+    };
     Ok(Outcome {
-        status: Status::Found,
-        reason: None,
+        status,
+        reason,
         best: Some(found),
         tried,
         estimates,

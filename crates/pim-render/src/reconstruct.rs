@@ -30,6 +30,12 @@ pub fn reconstruction_table(
         ));
         return t;
     };
+    if let Some(why) = &d.reason {
+        for l in wrap(&format!("CONTRADICTED BY THE EVIDENCE: {why}"), 96) {
+            t.push_str(&format!("{l}\n"));
+        }
+        t.push_str("(the best reconstruction found, for inspection:)\n");
+    }
     t.push_str(&format!(
         "impact: e {:.4}, mu {:.4}, em {:.4} ({} branch), energy loss {:.1} %\n",
         b.e,

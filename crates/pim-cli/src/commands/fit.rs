@@ -142,7 +142,7 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
         }
     };
     print_out(&out)?;
-    if d.best.is_none() {
+    if d.status != pim_reconstruct::Status::Found {
         eprintln!(
             "pim: {}: no reconstruction: {}",
             case.file,
