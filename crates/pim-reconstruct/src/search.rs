@@ -332,6 +332,9 @@ pub(crate) struct Refined {
     pub(crate) fits: usize,
 }
 
+/// Tolerance of the run-outs of the scene-alone candidates.
+const CANDIDATE_TOLERANCE: f64 = 1e-7;
+
 /// The candidates of one scene vehicle from the run-out inverse.
 fn candidates(r: &Reconstruction, settings: &Settings, vehicle: usize) -> Result<Estimate> {
     let s = &r.scene[vehicle];
@@ -341,9 +344,15 @@ fn candidates(r: &Reconstruction, settings: &Settings, vehicle: usize) -> Result
         friction_sigma: None,
         ..s.evidence.clone()
     };
+    // The candidates are starts of the refinement, which runs at full precision: they are
+    // searched on run-outs of tolerance CANDIDATE_TOLERANCE.
     let es = EstimateSettings {
         turns: settings.turns,
-        runout: settings.runout,
+        runout: pim_runout::Settings {
+            rtol: CANDIDATE_TOLERANCE.max(settings.runout.rtol),
+            atol: CANDIDATE_TOLERANCE.max(settings.runout.atol),
+            ..settings.runout
+        },
         ..EstimateSettings::default()
     };
     Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)

@@ -121,13 +121,6 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
 
 /// `pim fit` of a case with scene evidence: the three phases in one fit.
 fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> Result<ExitCode> {
-    if a.out.is_some() {
-        return Err(Failure::Input(format!(
-            "{}: --out is not yet written for a reconstruction; use --format json",
-            case.file
-        ))
-        .into());
-    }
     let done = pim_data::reconstruct::reconstruct(case, a.model, a.moment_form, unique(&a.branch))
         .map_err(Failure::from)?;
     let d = &done.document;
@@ -135,13 +128,36 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
         || pim_data::units::UnitSystem::of(&case.written_units),
         Into::into,
     );
-    let out = match a.format {
-        Format::Json => json(d)?,
-        Format::Table => {
-            pim_render::reconstruct::reconstruction_table(&title_of(case), d, units, case.written)
-        }
-    };
-    print_out(&out)?;
+    let record = json(d)?;
+    let table =
+        pim_render::reconstruct::reconstruction_table(&title_of(case), d, units, case.written);
+    if let (Some(dir), Some(best)) = (&a.out, &done.outcome.best) {
+        // The scene to scale: the run-outs from the reconstructed separation state.
+        let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
+            .map_err(Failure::from)?;
+        let svg =
+            pim_render::runout::runout_svg(&title_of(case), &runouts, units, case.written, 0.5)
+                .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+        let out = super::output::OutDir::create(dir)?;
+        out.write("result.json", &record)?;
+        out.write("reconstruction.txt", &table)?;
+        out.write("scene.svg", &svg)?;
+        out.write(
+            "report.md",
+            &format!(
+                "# Reconstruction\n\n```text\n{table}```\n\n![The scene to scale](scene.svg)\n"
+            ),
+        )?;
+        out.write(
+            "report.html",
+            &pim_render::reconstruct::reconstruction_html(&title_of(case), &table, &svg),
+        )?;
+        out.commit()?;
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &table,
+    })?;
     if d.status != pim_reconstruct::Status::Found {
         eprintln!(
             "pim: {}: no reconstruction: {}",
