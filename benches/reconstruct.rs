@@ -9,7 +9,10 @@ use pim_fit::{FitModel, MomentBranch};
 use std::hint::black_box;
 
 fn case() -> Case {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/cases/reconstruction_us.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/cases/reconstruction_us.toml"
+    );
     let text = std::fs::read_to_string(path).unwrap();
     Case::from_text(path, &text).unwrap()
 }
@@ -33,8 +36,13 @@ fn reconstruction(c: &mut Criterion) {
     let nominal = pim_reconstruct::reconstruct(&input.reconstruction, &input.settings).unwrap();
     g.bench_function("reconstruction_us, one draw's refit", |b| {
         b.iter(|| {
-            pim_reconstruct::redo(black_box(&input.reconstruction), &input.settings, &nominal, 4.0)
-                .unwrap()
+            pim_reconstruct::redo(
+                black_box(&input.reconstruction),
+                &input.settings,
+                &nominal,
+                4.0,
+            )
+            .unwrap()
         })
     });
     g.bench_function("reconstruction_us, study of 20 draws", |b| {

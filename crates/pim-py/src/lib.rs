@@ -345,6 +345,14 @@ fn fit(
 ) -> PyResult<Py<PyAny>> {
     let case = load_case(py, case)?;
     let cost = cost.map(self::cost).transpose()?;
+    if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+        return Err(input_error(format!(
+            "{}: the case has scene evidence ([scene]): pim.reconstruct(case) fits all three \
+             phases (the scene, the impact, the pre-impact evidence); pim.fit(case, cost=...) \
+             fits the velocity estimates alone",
+            case.file
+        )));
+    }
     let branches = self::branches(branches)?;
     let form = self::moment_form(moment_form)?;
     let model = self::model(model)?;
@@ -481,9 +489,7 @@ fn uncertainty(
     threads: Option<Bound<'_, PyAny>>,
     model: &str,
 ) -> PyResult<Py<PyAny>> {
-    let draws = draws_arg(draws.as_ref(), 1)?.unwrap_or(200);
-    let seed = seed_arg(seed.as_ref())?;
-    let threads = threads_arg(threads.as_ref())?;
+    let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
     case.impact().map_err(|e| input_error(e.message))?;
     let choice = match cost {
@@ -619,6 +625,102 @@ fn runout(
     Ok((document, svg))
 }
 
+/// The three phases of a case with scene evidence in one fit (`pim fit` of such a case): its
+/// document and, with `draw`, the scene to scale as SVG.
+#[pyfunction]
+#[pyo3(signature = (case, branches = vec!["free".to_string(), "zero".to_string()], model = "pim", draw = false, units = None))]
+fn reconstruct(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    branches: Vec<String>,
+    model: &str,
+    draw: bool,
+    units: Option<&str>,
+) -> PyResult<(Py<PyAny>, Option<String>)> {
+    let units = units_of(units)?;
+    let case = load_case(py, case)?;
+    let branches = self::branches(branches)?;
+    let model = self::model(model)?;
+    let done = detached(py, None, || {
+        pim_data::reconstruct::reconstruct(&case, model, pim_core::MomentForm::Corrected, branches)
+    })?
+    .map_err(DocumentErrorPy)?;
+    let document = to_py(py, &done.document)?;
+    let Some(best) = done
+        .outcome
+        .best
+        .as_ref()
+        .filter(|_| done.outcome.status == pim_reconstruct::Status::Found)
+    else {
+        let err = NoSolution::new_err(format!(
+            "{}: no reconstruction: {}",
+            case.file,
+            done.document
+                .reason
+                .as_deref()
+                .unwrap_or("no admissible impact")
+        ));
+        err.value(py).setattr("document", document)?;
+        return Err(err);
+    };
+    let svg = if draw {
+        let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
+        let title = pim_render::text::case_title(&case);
+        let runouts = pim_data::runout::runout(&case, None, Some(best.solution.separation), 0.02)
+            .map_err(DocumentErrorPy)?;
+        Some(
+            pim_render::runout::runout_svg(&title, &runouts, units, case.written, 0.5)
+                .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
+        )
+    } else {
+        None
+    };
+    Ok((document, svg))
+}
+
+/// Intervals through all three phases of a case with scene evidence (`pim uncertainty` of
+/// such a case): the study's document.
+#[pyfunction]
+#[pyo3(signature = (case, draws = None, seed = None, threads = None, model = "pim"))]
+fn reconstruct_uncertainty(
+    py: Python<'_>,
+    case: &Bound<'_, PyAny>,
+    draws: Option<Bound<'_, PyAny>>,
+    seed: Option<Bound<'_, PyAny>>,
+    threads: Option<Bound<'_, PyAny>>,
+    model: &str,
+) -> PyResult<Py<PyAny>> {
+    let (draws, seed, threads) = study_args(draws, seed, threads)?;
+    let case = load_case(py, case)?;
+    let model = self::model(model)?;
+    let (study, _) = detached(py, threads, || {
+        pim_data::reconstruct_study::run(
+            &case,
+            model,
+            pim_core::MomentForm::Corrected,
+            pim_fit::MomentBranch::ALL.to_vec(),
+            draws,
+            seed,
+            &|| {},
+        )
+    })?
+    .map_err(DocumentErrorPy)?;
+    to_py(py, &study)
+}
+
+/// The arguments of a study: draws (default 200), seed (default 1), threads.
+fn study_args(
+    draws: Option<Bound<'_, PyAny>>,
+    seed: Option<Bound<'_, PyAny>>,
+    threads: Option<Bound<'_, PyAny>>,
+) -> PyResult<(usize, u64, Option<usize>)> {
+    Ok((
+        draws_arg(draws.as_ref(), 1)?.unwrap_or(200),
+        seed_arg(seed.as_ref())?,
+        threads_arg(threads.as_ref())?,
+    ))
+}
+
 /// The compiled part of the package `pim`.
 #[pymodule]
 fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -635,5 +737,7 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
     m.add_function(wrap_pyfunction!(draw, m)?)?;
     m.add_function(wrap_pyfunction!(runout, m)?)?;
+    m.add_function(wrap_pyfunction!(reconstruct, m)?)?;
+    m.add_function(wrap_pyfunction!(reconstruct_uncertainty, m)?)?;
     Ok(())
 }

@@ -367,3 +367,25 @@ def test_runout_time_limit_and_bad_input(tmp_path):
         pim.runout(RUNOUT_SPIN, source="rest")
     with pytest.raises(pim.InputError, match="sample"):
         pim.runout(RUNOUT_SPIN, sample=0.0)
+
+
+def test_reconstruct_matches_the_command():
+    """pim.reconstruct equals `pim fit --format json` of a scene case; pim.fit of it points
+    to pim.reconstruct; the scene is drawn."""
+    case = str(REPO / "examples" / "cases" / "reconstruction_us.toml")
+    r = pim.reconstruct(case, draw=True)
+    cli = cli_json("fit", case)
+    assert r.document == cli
+    assert abs(r.vehicle(1).contact - cli["best"]["vehicles"][0]["speed_at_contact"]) == 0.0
+    assert r.svg is not None and r.svg.lstrip().startswith("<")
+    with pytest.raises(pim.InputError, match="pim.reconstruct"):
+        pim.fit(case)
+
+
+def test_reconstruct_uncertainty():
+    case = str(REPO / "examples" / "cases" / "reconstruction_us.toml")
+    u = pim.reconstruct_uncertainty(case, draws=12, seed=3)
+    cli = cli_json("uncertainty", case, "--draws", "12", "--seed", "3")
+    assert u.document == cli
+    q = u["vehicle2.speed_at_contact"]
+    assert q.p05 <= q.p50 <= q.p95 and u.feasible_draws == 12

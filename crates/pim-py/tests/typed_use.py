@@ -51,3 +51,18 @@ def rest_and_estimate(case: str) -> Optional[float]:
         return car.rest["x"]
     first: pim.RunoutCandidate = est.candidates[0]
     return first.separation["vx"]
+
+
+def contact_speeds(case: str) -> List[float]:
+    r: pim.Reconstruction = pim.reconstruct(case)
+    first: pim.PhaseSpeeds = r.vehicle(1)
+    ev: pim.Evidence = max(r.evidence, key=lambda e: e.share)
+    tried: List[pim.CountsTried] = [c for c in r.counts if c.state == "best"]
+    assert ev.phase in ("pre_impact", "impact", "run_out") and tried
+    return [first.contact] + [v.contact for v in r.vehicles[1:]]
+
+
+def contact_interval(case: str) -> float:
+    u: pim.ReconstructionStudy = pim.reconstruct_uncertainty(case, draws=10)
+    q: pim.PhaseInterval = u["vehicle1.speed_at_contact"]
+    return q.p95 - q.p05

@@ -322,6 +322,9 @@ pub(crate) fn refine(
     })
 }
 
+/// A refinement's cost, iterations, convergence and abandonment, or why it failed.
+type RefineEnd = std::result::Result<(f64, usize, bool, bool), String>;
+
 /// The end of one combination's refinement.
 pub(crate) struct Refined {
     pub(crate) point: Point,
@@ -449,8 +452,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     //    while they could still beat the best.
     let mut best: Option<(usize, Point, usize, bool)> = None;
     let mut ends: Vec<Option<Vec<[f64; 3]>>> = vec![None; first.len()];
-    let mut refined: Vec<Option<std::result::Result<(f64, usize, bool, bool), String>>> =
-        vec![None; first.len()];
+    let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
     for &i in &order {

@@ -69,6 +69,14 @@ from ._results import (
     Vehicle,
     Velocities,
 )
+from ._reconstruct import (
+    CountsTried,
+    Evidence,
+    PhaseInterval,
+    PhaseSpeeds,
+    Reconstruction,
+    ReconstructionStudy,
+)
 from ._runout import (
     RunoutCandidate,
     RunoutEstimate,
@@ -94,6 +102,14 @@ __all__ = [
     "RunoutEstimate",
     "RunoutResidual",
     "RunoutResult",
+    "CountsTried",
+    "Evidence",
+    "PhaseInterval",
+    "PhaseSpeeds",
+    "Reconstruction",
+    "ReconstructionStudy",
+    "reconstruct",
+    "reconstruct_uncertainty",
     "SVG",
     "SolveResult",
     "Uncertainty",
@@ -284,6 +300,54 @@ def runout(
         case, source=source, cost=cost, sample=sample, draw=draw, every=every, units=units
     )
     return RunoutResult._read(document, None if svg is None else SVG(svg))
+
+
+def reconstruct(
+    case: Case,
+    branches: Sequence[MomentBranch] = ("free", "zero"),
+    model: Model = "pim",
+    draw: bool = False,
+    units: Optional[Units] = None,
+) -> Reconstruction:
+    """The three phases of a case with scene evidence in one fit (``pim fit`` of such a case):
+    the separation velocities whose run-outs end at the scene's rest positions and marks, the
+    impact fitted exactly through them, the pre-impact skids and EDR speeds; every count of
+    turns to rest compared. ``draw=True`` adds the scene to scale as ``svg`` (labelled in
+    ``units``). Raises :class:`NoSolution` (its ``document`` the reconstruction's) when no
+    admissible impact reaches the evidence.
+
+    >>> r = reconstruct("examples/cases/reconstruction_us.toml")
+    >>> [round(v.contact / 0.44704, 1) for v in r.vehicles], r.branch
+    ([37.9, 27.1], 'zero')
+    >>> round(r.vehicle(1).before_braking / 0.44704, 1), [c.turns for c in r.counts if c.state == "best"]
+    (48.4, [(0, 0)])
+    """
+    document, svg = _pim.reconstruct(
+        case, branches=list(branches), model=model, draw=draw, units=units
+    )
+    return Reconstruction._read(document, None if svg is None else SVG(svg))
+
+
+def reconstruct_uncertainty(
+    case: Case,
+    draws: Optional[int] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+    model: Model = "pim",
+) -> ReconstructionStudy:
+    """Intervals through all three phases (``pim uncertainty`` of a case with scene
+    evidence): ``draws`` (default 200) refits of the whole reconstruction with the estimates,
+    observations, EDR speeds, rest positions, headings, marks, the road friction
+    (``[runout] friction_sigma``) and ``[uncertainty]`` drawn, from ``seed`` (default 1).
+
+    >>> u = reconstruct_uncertainty("examples/cases/reconstruction_us.toml", draws=20)
+    >>> q = u["vehicle1.speed_at_contact"]
+    >>> u.feasible_draws, q.p05 < q.nominal < q.p95, q.dominated_by[0][0]
+    (20, True, 'road friction')
+    """
+    return ReconstructionStudy._read(
+        _pim.reconstruct_uncertainty(case, draws=draws, seed=seed, threads=threads, model=model)
+    )
 
 
 class Report:

@@ -17,6 +17,8 @@ __all__ = [
     "predict_dv",
     "draw",
     "runout",
+    "reconstruct",
+    "reconstruct_uncertainty",
 ]
 
 __version__: str
@@ -94,3 +96,17 @@ def runout(
     every: float = ...,
     units: Optional[str] = ...,
 ) -> Tuple[Dict[str, Any], Optional[str]]: ...
+def reconstruct(
+    case: _Case,
+    branches: List[str] = ...,
+    model: str = ...,
+    draw: bool = ...,
+    units: Optional[str] = ...,
+) -> Tuple[Dict[str, Any], Optional[str]]: ...
+def reconstruct_uncertainty(
+    case: _Case,
+    draws: Optional[int] = ...,
+    seed: Optional[int] = ...,
+    threads: Optional[int] = ...,
+    model: str = ...,
+) -> Dict[str, Any]: ...
