@@ -14,9 +14,10 @@ use std::path::{Path, PathBuf};
 const MAX_LINES: usize = 650;
 
 /// The library and binary crates whose files are checked (their `src` folders).
-const CRATES: [&str; 7] = [
+const CRATES: [&str; 8] = [
     "crates/pim-core",
     "crates/pim-runout",
+    "crates/pim-reconstruct",
     "crates/pim-fit",
     "crates/pim-data",
     "crates/pim-render",

@@ -4,6 +4,8 @@
 //! by the same library code (`pim_data::documents`, `pim_data::batch`, `pim_data::uncertainty`,
 //! `pim_data::predict`), as Python objects (dicts, lists, floats). Nothing is computed here.
 
+mod scene;
+
 use pim_data::case::Case;
 use pim_data::documents::{self, DocumentError};
 use pim_fit::{CostPreset, MomentBranch};
@@ -555,159 +557,6 @@ fn draw(
         .map_err(pyo3::exceptions::PyRuntimeError::new_err)
 }
 
-/// The run-out of `pim runout` for a case: each vehicle from its separation velocities to rest,
-/// or its separation velocities estimated from the scene. Returns the document of
-/// `pim runout --format json` and, with `draw`, the plan view's SVG. `source` is "final",
-/// "solve", "fit" or "scene" (default: the first the case has); `cost` is the fit's with
-/// `source="fit"`. Raises NoSolution (its `document` the run-out's) when a run-out reaches its
-/// time limit or no candidate reaches the scene's evidence.
-#[pyfunction]
-#[pyo3(signature = (case, source = None, cost = None, sample = 0.1, draw = false, every = 0.5, units = None))]
-#[allow(clippy::too_many_arguments)]
-fn runout(
-    py: Python<'_>,
-    case: &Bound<'_, PyAny>,
-    source: Option<&str>,
-    cost: Option<&str>,
-    sample: f64,
-    draw: bool,
-    every: f64,
-    units: Option<&str>,
-) -> PyResult<(Py<PyAny>, Option<String>)> {
-    use pim_data::runout::Source;
-    for (name, x) in [("sample", sample), ("every", every)] {
-        if !(x.is_finite() && (0.001..=3600.0).contains(&x)) {
-            return Err(input_error(format!(
-                "{name} = {x}: must be between 0.001 and 3600 s"
-            )));
-        }
-    }
-    let source = match source {
-        None => None,
-        Some("final") => Some(Source::Final),
-        Some("solve") => Some(Source::Solve),
-        Some("fit") => Some(Source::Fit),
-        Some("scene") => Some(Source::Scene),
-        Some(other) => {
-            return Err(input_error(format!(
-                "source = {other:?}: not an accepted value; accepted: \"final\", \"solve\", \
-                 \"fit\", \"scene\""
-            )))
-        }
-    };
-    let units = units_of(units)?;
-    let cost = cost.map(self::cost).transpose()?;
-    let case = load_case(py, case)?;
-    let result = detached(py, None, || -> Result<_, DocumentError> {
-        let given = match source {
-            Some(Source::Fit) => Some(pim_data::runout::fitted_separation(&case, cost)?),
-            _ => None,
-        };
-        pim_data::runout::runout(&case, source, given, sample)
-    })?
-    .map_err(DocumentErrorPy)?;
-    let document = to_py(py, &result.document)?;
-    if let Some(why) = result.no_answer() {
-        let err = NoSolution::new_err(format!("{}: {why}", case.file));
-        err.value(py).setattr("document", document)?;
-        return Err(err);
-    }
-    let svg = if draw {
-        let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
-        let title = pim_render::text::case_title(&case);
-        Some(
-            pim_render::runout::runout_svg(&title, &result, units, case.written, every)
-                .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
-        )
-    } else {
-        None
-    };
-    Ok((document, svg))
-}
-
-/// The three phases of a case with scene evidence in one fit (`pim fit` of such a case): its
-/// document and, with `draw`, the scene to scale as SVG.
-#[pyfunction]
-#[pyo3(signature = (case, branches = vec!["free".to_string(), "zero".to_string()], model = "pim", draw = false, units = None))]
-fn reconstruct(
-    py: Python<'_>,
-    case: &Bound<'_, PyAny>,
-    branches: Vec<String>,
-    model: &str,
-    draw: bool,
-    units: Option<&str>,
-) -> PyResult<(Py<PyAny>, Option<String>)> {
-    let units = units_of(units)?;
-    let case = load_case(py, case)?;
-    let branches = self::branches(branches)?;
-    let model = self::model(model)?;
-    let done = detached(py, None, || {
-        pim_data::reconstruct::reconstruct(&case, model, pim_core::MomentForm::Corrected, branches)
-    })?
-    .map_err(DocumentErrorPy)?;
-    let document = to_py(py, &done.document)?;
-    let Some(best) = done
-        .outcome
-        .best
-        .as_ref()
-        .filter(|_| done.outcome.status == pim_reconstruct::Status::Found)
-    else {
-        let err = NoSolution::new_err(format!(
-            "{}: no reconstruction: {}",
-            case.file,
-            done.document
-                .reason
-                .as_deref()
-                .unwrap_or("no admissible impact")
-        ));
-        err.value(py).setattr("document", document)?;
-        return Err(err);
-    };
-    let svg = if draw {
-        let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
-        let title = pim_render::text::case_title(&case);
-        let runouts = pim_data::runout::runout(&case, None, Some(best.solution.separation), 0.02)
-            .map_err(DocumentErrorPy)?;
-        Some(
-            pim_render::runout::runout_svg(&title, &runouts, units, case.written, 0.5)
-                .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
-        )
-    } else {
-        None
-    };
-    Ok((document, svg))
-}
-
-/// Intervals through all three phases of a case with scene evidence (`pim uncertainty` of
-/// such a case): the study's document.
-#[pyfunction]
-#[pyo3(signature = (case, draws = None, seed = None, threads = None, model = "pim"))]
-fn reconstruct_uncertainty(
-    py: Python<'_>,
-    case: &Bound<'_, PyAny>,
-    draws: Option<Bound<'_, PyAny>>,
-    seed: Option<Bound<'_, PyAny>>,
-    threads: Option<Bound<'_, PyAny>>,
-    model: &str,
-) -> PyResult<Py<PyAny>> {
-    let (draws, seed, threads) = study_args(draws, seed, threads)?;
-    let case = load_case(py, case)?;
-    let model = self::model(model)?;
-    let (study, _) = detached(py, threads, || {
-        pim_data::reconstruct_study::run(
-            &case,
-            model,
-            pim_core::MomentForm::Corrected,
-            pim_fit::MomentBranch::ALL.to_vec(),
-            draws,
-            seed,
-            &|| {},
-        )
-    })?
-    .map_err(DocumentErrorPy)?;
-    to_py(py, &study)
-}
-
 /// The arguments of a study: draws (default 200), seed (default 1), threads.
 fn study_args(
     draws: Option<Bound<'_, PyAny>>,
@@ -736,8 +585,8 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(uncertainty, m)?)?;
     m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
     m.add_function(wrap_pyfunction!(draw, m)?)?;
-    m.add_function(wrap_pyfunction!(runout, m)?)?;
-    m.add_function(wrap_pyfunction!(reconstruct, m)?)?;
-    m.add_function(wrap_pyfunction!(reconstruct_uncertainty, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::runout, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::reconstruct, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::reconstruct_uncertainty, m)?)?;
     Ok(())
 }

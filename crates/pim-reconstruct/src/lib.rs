@@ -59,7 +59,9 @@
 
 mod error;
 mod outcome;
+mod point;
 mod problem;
+mod refine;
 mod relax;
 mod search;
 

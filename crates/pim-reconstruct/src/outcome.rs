@@ -1,8 +1,8 @@
 //! What a reconstruction answers: the best combination found, the speeds of every phase, and
 //! every combination of counts of turns compared.
 
+use crate::point::Point;
 use crate::problem::Reconstruction;
-use crate::search::{scene_fits, Point};
 use pim_core::VehicleId;
 use pim_fit::{Certificate, Knowledge, MomentBranch, Solution};
 use pim_runout::{Estimate, Residual, Runout};
@@ -270,4 +270,22 @@ pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<String> {
         .map(|(n, z)| format!("{n} {z:+.1} sigma"))
         .collect();
     Some(format!("{why}; the largest residuals: {}", list.join(", ")))
+}
+
+/// The scene fit of a point, for the outcome.
+fn scene_fits(r: &Reconstruction, p: &Point) -> Vec<SceneFit> {
+    p.scene
+        .iter()
+        .map(|l| SceneFit {
+            vehicle: r.scene[l.vehicle].id,
+            turns: r.scene[l.vehicle]
+                .evidence
+                .rest
+                .and_then(|x| x.heading)
+                .map(|_| l.turns),
+            chi_square: l.lin.cost,
+            residuals: l.lin.residuals.clone(),
+            runout: l.lin.runout.clone(),
+        })
+        .collect()
 }

@@ -1,0 +1,72 @@
+//! A point of the search: each scene linearised at a separation state, and an admissible
+//! impact with the true cost of its scene.
+
+use crate::error::Result;
+use crate::problem::{Reconstruction, SceneVehicle, Settings};
+use pim_core::Velocities;
+use pim_fit::{MomentBranch, Solution};
+use pim_runout::{linearise, Linearised, Motion};
+
+/// The scene of one vehicle linearised at one separation state.
+#[derive(Debug, Clone)]
+pub(crate) struct Lin {
+    /// Index of the vehicle in [`Reconstruction::scene`].
+    pub(crate) vehicle: usize,
+    /// Its count of turns (0 when the rest heading is not given).
+    pub(crate) turns: i64,
+    /// The separation velocity `(vx, vy, yaw_rate)` linearised at.
+    pub(crate) at: [f64; 3],
+    pub(crate) lin: Linearised,
+}
+
+/// A point of the search: an admissible impact and its scene.
+#[derive(Debug, Clone)]
+pub(crate) struct Point {
+    pub(crate) branch: MomentBranch,
+    pub(crate) solution: Solution,
+    pub(crate) certificate: pim_fit::Certificate,
+    pub(crate) contact: f64,
+    pub(crate) scene: Vec<Lin>,
+    pub(crate) total: f64,
+}
+
+/// The separation velocity of scene vehicle `v` in a state.
+pub(crate) fn velocity_of(state: &Velocities, s: &SceneVehicle) -> [f64; 3] {
+    let v = if s.id.index() == 0 {
+        state.vehicle1
+    } else {
+        state.vehicle2
+    };
+    [v.vx, v.vy, v.omega]
+}
+
+pub(crate) fn linearised(
+    r: &Reconstruction,
+    settings: &Settings,
+    vehicle: usize,
+    turns: i64,
+    at: [f64; 3],
+    jacobian: bool,
+) -> Result<Lin> {
+    let s = &r.scene[vehicle];
+    let start = Motion {
+        vx: at[0],
+        vy: at[1],
+        yaw_rate: at[2],
+        ..s.pose
+    };
+    let lin = linearise(
+        &s.chassis,
+        &start,
+        &s.evidence,
+        turns,
+        &settings.runout,
+        jacobian,
+    )?;
+    Ok(Lin {
+        vehicle,
+        turns,
+        at,
+        lin,
+    })
+}

@@ -1,0 +1,273 @@
+//! Gauss-Newton over the separation state of one combination of counts of turns, with the
+//! exact impact fit inside.
+
+use crate::point::{linearised, velocity_of, Lin, Point};
+use crate::problem::{Reconstruction, Settings};
+use pim_fit::{
+    fit, state_vector, Combination, FitProblem, Knowledge, MomentBranch, Solution,
+    Status as FitStatus,
+};
+use rayon::prelude::*;
+
+/// The impact fit with each scene linearised (rows in chi-square units, weight 1 each) and,
+/// with `damping`, Marquardt's rows that keep the separation state near the current one. Every
+/// weight is scaled by one factor into (0, 1]; the fit's cost over that factor is the
+/// chi-square of the linearised problem.
+pub(crate) fn assemble(
+    r: &Reconstruction,
+    lins: &[Lin],
+    damping: Option<(f64, &[Lin])>,
+) -> (FitProblem, f64) {
+    let unit = r.unit.unwrap_or(1.0);
+    let mut problem = r.contact.clone();
+    // Chi-square weights first.
+    for c in problem.components.iter_mut() {
+        if let Knowledge::Estimated { weight, .. } = c {
+            *weight /= unit;
+        }
+    }
+    for o in problem.observations.iter_mut() {
+        o.weight /= unit;
+    }
+    for c in problem.combinations.iter_mut() {
+        c.weight /= unit;
+    }
+    for l in lins {
+        let base = 6 + 3 * r.scene[l.vehicle].id.index();
+        let j = l
+            .lin
+            .jacobian
+            .as_ref()
+            .expect("linearised with its Jacobian");
+        for i in 0..j.nrows() {
+            let mut row = pim_fit::Vector12::zeros();
+            let mut target = -l.lin.weighted[i];
+            for c in 0..3 {
+                row[base + c] = j[(i, c)];
+                target += j[(i, c)] * l.at[c];
+            }
+            // A residual that no separation velocity moves adds only a constant.
+            let norm = row.norm();
+            if norm > 1e-12 {
+                problem.combinations.push(Combination {
+                    row: row / norm,
+                    value: target / norm,
+                    weight: norm * norm,
+                });
+            }
+        }
+    }
+    if let Some((lambda, around)) = damping {
+        for l in around {
+            let base = 6 + 3 * r.scene[l.vehicle].id.index();
+            let j = l
+                .lin
+                .jacobian
+                .as_ref()
+                .expect("linearised with its Jacobian");
+            let jtj = j.transpose() * j;
+            let largest = (0..3).map(|c| jtj[(c, c)]).fold(0.0, f64::max).max(1e-12);
+            for c in 0..3 {
+                let mut row = pim_fit::Vector12::zeros();
+                row[base + c] = 1.0;
+                problem.combinations.push(Combination {
+                    row,
+                    value: l.at[c],
+                    weight: lambda * jtj[(c, c)].max(1e-6 * largest),
+                });
+            }
+        }
+    }
+    let largest = problem
+        .components
+        .iter()
+        .filter_map(|c| match c {
+            Knowledge::Estimated { weight, .. } => Some(*weight),
+            _ => None,
+        })
+        .chain(problem.observations.iter().map(|o| o.weight))
+        .chain(problem.combinations.iter().map(|c| c.weight))
+        .fold(0.0, f64::max);
+    let scale = if largest > 0.0 { 1.0 / largest } else { 1.0 };
+    for c in problem.components.iter_mut() {
+        if let Knowledge::Estimated { weight, .. } = c {
+            *weight = (*weight * scale).max(f64::MIN_POSITIVE);
+        }
+    }
+    for o in problem.observations.iter_mut() {
+        o.weight = (o.weight * scale).max(f64::MIN_POSITIVE);
+    }
+    for c in problem.combinations.iter_mut() {
+        c.weight = (c.weight * scale).max(f64::MIN_POSITIVE);
+    }
+    (problem, scale)
+}
+
+/// One impact fit of the linearised problem: the best optimal branch, or why there is none.
+fn fit_once(
+    r: &Reconstruction,
+    settings: &Settings,
+    lins: &[Lin],
+    damping: Option<(f64, &[Lin])>,
+) -> std::result::Result<(MomentBranch, Solution, pim_fit::Certificate, f64), String> {
+    let (problem, scale) = assemble(r, lins, damping);
+    let report = fit(&problem, &settings.fit).map_err(|e| e.to_string())?;
+    let best = report.best_branch().ok_or_else(|| {
+        report
+            .branches
+            .iter()
+            .find_map(|b| b.reason.as_ref().map(|x| x.to_string()))
+            .unwrap_or_else(|| "no admissible impact".into())
+    })?;
+    match (&best.status, &best.solution) {
+        (FitStatus::Optimal, Some(s)) => Ok((
+            best.moment,
+            s.clone(),
+            best.certificate.clone(),
+            s.cost / scale,
+        )),
+        _ => Err(format!("the impact fit ended {:?}", best.status)),
+    }
+}
+
+/// Evaluates the true cost of a fit's answer: the contact evidence and each scene's run-out.
+fn evaluate(
+    r: &Reconstruction,
+    settings: &Settings,
+    counts: &[i64],
+    branch: MomentBranch,
+    solution: Solution,
+    certificate: pim_fit::Certificate,
+) -> Option<Point> {
+    let u = state_vector(&solution.initial, &solution.separation);
+    let contact = r.contact_chi_square(&u);
+    let scene: Option<Vec<Lin>> = r
+        .scene
+        .par_iter()
+        .enumerate()
+        .map(|(i, s)| {
+            linearised(
+                r,
+                settings,
+                i,
+                counts[i],
+                velocity_of(&solution.separation, s),
+                false,
+            )
+            .ok()
+        })
+        .collect();
+    let scene = scene?;
+    let total = contact + scene.iter().map(|l| l.lin.cost).sum::<f64>();
+    Some(Point {
+        branch,
+        solution,
+        certificate,
+        contact,
+        scene,
+        total,
+    })
+}
+
+/// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,
+/// from the scene linearised at `start`.
+pub(crate) fn refine(
+    r: &Reconstruction,
+    settings: &Settings,
+    start: Vec<Lin>,
+    best_so_far: f64,
+) -> std::result::Result<Refined, String> {
+    let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
+    let mut lins = start;
+    let mut current: Option<Point> = None;
+    let mut lambda = 0.0;
+    let mut fits = 0;
+    let mut iterations = 0;
+    let mut converged = false;
+    let mut abandoned = false;
+    while iterations < settings.max_iterations {
+        iterations += 1;
+        let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
+        fits += 1;
+        let trial = fit_once(r, settings, &lins, damping).and_then(|(b, s, c, _)| {
+            evaluate(r, settings, &counts, b, s, c)
+                .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
+        });
+        let accepted = match (&trial, &current) {
+            (Ok(p), Some(c)) => p.total < c.total,
+            (Ok(_), None) => true,
+            (Err(e), None) => return Err(e.clone()),
+            (Err(_), Some(_)) => false,
+        };
+        if accepted {
+            let p = trial.expect("accepted");
+            let gain = current
+                .as_ref()
+                .map_or(f64::INFINITY, |c| c.total - p.total);
+            let step = current.as_ref().map_or(f64::INFINITY, |c| {
+                p.scene
+                    .iter()
+                    .zip(&c.scene)
+                    .map(|(a, b)| {
+                        (0..3)
+                            .map(|k| (a.at[k] - b.at[k]).abs())
+                            .fold(0.0, f64::max)
+                    })
+                    .fold(0.0, f64::max)
+            });
+            // Relinearised, with the Jacobian, at the accepted point.
+            let next: std::result::Result<Vec<Lin>, String> = p
+                .scene
+                .par_iter()
+                .map(|l| {
+                    linearised(r, settings, l.vehicle, l.turns, l.at, true)
+                        .map_err(|e| e.to_string())
+                })
+                .collect();
+            lins = next?;
+            let total = p.total;
+            current = Some(p);
+            lambda = 0.0;
+            // A chi-square change of 1e-6 is far below any statistical meaning and near the
+            // precision of the run-outs' forward differences.
+            if gain < 1e-6 * (1.0 + total) || step < 1e-9 {
+                converged = true;
+                break;
+            }
+            // Far above the best found and no longer closing the gap: abandoned.
+            let excess = total - best_so_far - settings.refine_margin;
+            if excess > 0.0 && (gain < 0.01 * excess || iterations >= 8) {
+                abandoned = true;
+                break;
+            }
+        } else {
+            lambda = if lambda == 0.0 { 1e-3 } else { lambda * 10.0 };
+            if lambda > 1e6 {
+                // No step lowers the cost: a (local) minimum to the run-outs' precision.
+                converged = true;
+                break;
+            }
+        }
+    }
+    let point = current.expect("the first fit is accepted or returned");
+    Ok(Refined {
+        point,
+        iterations,
+        converged,
+        abandoned,
+        fits,
+    })
+}
+
+/// A refinement's cost, iterations, convergence and abandonment, or why it failed.
+pub(crate) type RefineEnd = std::result::Result<(f64, usize, bool, bool), String>;
+
+/// The end of one combination's refinement.
+pub(crate) struct Refined {
+    pub(crate) point: Point,
+    pub(crate) iterations: usize,
+    pub(crate) converged: bool,
+    /// Stopped far above the best found, no longer closing the gap.
+    pub(crate) abandoned: bool,
+    pub(crate) fits: usize,
+}
