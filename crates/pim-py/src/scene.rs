@@ -1,6 +1,6 @@
 //! The run-out and the reconstruction of a scene, for Python.
 
-use crate::{
+use crate::convert::{
     detached, input_error, load_case, study_args, to_py, units_of, DocumentErrorPy, NoSolution,
 };
 use pim_data::documents::DocumentError;
@@ -47,7 +47,7 @@ pub(crate) fn runout(
         }
     };
     let units = units_of(units)?;
-    let cost = cost.map(crate::cost).transpose()?;
+    let cost = cost.map(crate::convert::cost).transpose()?;
     let case = load_case(py, case)?;
     let result = detached(py, None, || -> Result<_, DocumentError> {
         let given = match source {
@@ -90,8 +90,8 @@ pub(crate) fn reconstruct(
 ) -> PyResult<(Py<PyAny>, Option<String>)> {
     let units = units_of(units)?;
     let case = load_case(py, case)?;
-    let branches = crate::branches(branches)?;
-    let model = crate::model(model)?;
+    let branches = crate::convert::branches(branches)?;
+    let model = crate::convert::model(model)?;
     let done = detached(py, None, || {
         pim_data::reconstruct::reconstruct(&case, model, pim_core::MomentForm::Corrected, branches)
     })?
@@ -143,7 +143,7 @@ pub(crate) fn reconstruct_uncertainty(
 ) -> PyResult<Py<PyAny>> {
     let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
-    let model = crate::model(model)?;
+    let model = crate::convert::model(model)?;
     let (study, _) = detached(py, threads, || {
         pim_data::reconstruct_study::run(
             &case,
