@@ -100,7 +100,18 @@ fn check(command: usize, text: &str, scratch: &str) -> Result<(), String> {
         0 | 2 | 3 => {
             let j: Value = serde_json::from_str(&stdout)
                 .map_err(|e| format!("exit 0 with output that is not JSON ({e}): {stdout}"))?;
-            if command >= 2 {
+            if command == 3 && j["kind"] == "reconstruction" {
+                // A case with scene evidence: the three phases in one fit.
+                if j["status"] != "found" {
+                    return Err(format!("exit 0 with status {}", j["status"]));
+                }
+                let b = &j["best"];
+                for k in ["e", "mu", "em", "chi_square"] {
+                    if !b[k].as_f64().is_some_and(f64::is_finite) {
+                        return Err(format!("exit 0 with {k} = {}", b[k]));
+                    }
+                }
+            } else if command >= 2 {
                 let best = j["best"].as_str().ok_or("exit 0 without a best branch")?;
                 let b = j["branches"]
                     .as_array()
