@@ -64,8 +64,8 @@ fn the_example_is_reconstructed() {
     );
 }
 
-/// A rest position 43 ft from where any admissible impact sends the car: exit 3 with the
-/// reason and the largest residuals, not a silent fit.
+/// A rest position 43 ft from where the impact sends the car: exit 3 with the reason and the
+/// largest residuals, not a silent fit.
 #[test]
 fn contradictory_evidence_is_refused() {
     let f = case_with(
