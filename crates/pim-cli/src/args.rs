@@ -252,7 +252,14 @@ CASE FILE: a fit case (see `pim fit --help`) with standard deviations of the est
 OUTPUT: the nominal fit; per quantity p05, p50, p95, mean, sd over the feasible draws, flagged
 `not_determined` when the nominal fit leaves it open (then the interval is not a confidence
 statement); the share of draws per branch; per quantity the inputs with a first-order index
-(correlation ratio) above 0.02.";
+(correlation ratio) above 0.02.
+
+A CASE WITH SCENE EVIDENCE (see `pim fit --help`, THE WHOLE RECONSTRUCTION), without --cost:
+every draw also perturbs each rest position, heading and mark by its sigma, each EDR speed by
+its sigma and the road friction by [runout] friction_sigma, and refits all three phases (from
+where the nominal reconstruction ended, for each count of turns within a chi-square of 4 of
+its best). Per vehicle: speed before braking, at contact, at separation; e, mu, em, the energy
+loss; the inputs that dominate each.";
 
 #[derive(clap::Args, Debug)]
 pub struct UncertaintyArgs {
@@ -595,7 +602,29 @@ MODELS (--model):
               sticking over (e, et), any friction limit at least the impulse ratio giving the
               same answer; sliding over (e, friction), where et only decides that sticking
               would need more than the limit. The output says which mode, et, and the
-              friction limits that give the answer; the ranges say what the data leave open.";
+              friction limits that give the answer; the ranges say what the data leave open.
+
+THE WHOLE RECONSTRUCTION: a case whose [scene] gives a rest position or marks (with [runout];
+see `pim runout --help`) is fitted, without --cost, through all three phases at once: the
+separation velocities are those whose run-outs end at the scene, one chi-square holds every
+piece of evidence ([sigma] then required for estimates and observations), and every count of
+full turns to rest is compared. Before the impact, per vehicle:
+  [pre_impact.vehicle1]
+  skid = 42.0                      # braking marks up to the point of contact (length unit)
+  braking = 1.0                    # share of the road friction used (default 1: locked)
+  grade = 0.0                      # percent along the travel, positive uphill (default 0)
+  friction = 0.7                   # default [runout] friction
+  edr = [ { speed = 27.5, time = 0.5, deceleration = 0.0, sigma = 1.5 } ]
+                                   # a recorded speed (speed unit) `time` s before contact with
+                                   # a mean deceleration (g) between: evidence on the speed along
+                                   # the heading at contact, speed - deceleration g time
+The output: per vehicle the speed before braking (v0^2 = vc^2 + 2 a d), at contact, at
+separation and at rest; e, mu, em; every piece of evidence (residual, sigma, share of the
+chi-square); every combination of counts of turns with its cost or why it was not refined;
+what is proven and what the evidence leaves open. Evidence no admissible impact reaches
+(chi-square beyond p = 1e-6) is refused with its largest residuals (exit 3). --out writes
+result.json, the table, report.html and the scene to scale (scene.svg).
+Example: examples/cases/reconstruction_us.toml";
 
 #[derive(clap::Args, Debug)]
 pub struct FitArgs {
