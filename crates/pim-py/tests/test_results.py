@@ -203,9 +203,11 @@ def test_the_example_notebook_runs_in_a_kernel():
     assert fit._repr_html_() == fit_out
 
 
-def test_the_readme_python_section_runs():
+def test_the_guide_python_chapter_runs():
     pytest.importorskip("pandas")
     failures, tried = doctest.testfile(
-        str(REPO / "README.md"), module_relative=False, optionflags=doctest.NORMALIZE_WHITESPACE
+        str(REPO / "docs" / "python.md"),
+        module_relative=False,
+        optionflags=doctest.NORMALIZE_WHITESPACE,
     )
     assert tried >= 8 and failures == 0
