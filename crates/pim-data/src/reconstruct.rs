@@ -229,6 +229,14 @@ pub fn case_reconstruction(
     })
 }
 
+/// Each vehicle's braking before the impact: its length, m (for the plan view).
+pub fn skid_lengths(input: &CaseReconstruction) -> Vec<(VehicleId, f64)> {
+    [VehicleId::One, VehicleId::Two]
+        .into_iter()
+        .filter_map(|id| input.reconstruction.skids[id.index()].map(|s| (id, s.distance)))
+        .collect()
+}
+
 /// One piece of evidence against the reconstruction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct EvidenceOut {

@@ -120,7 +120,17 @@ pub(crate) fn reconstruct(
         let runouts = pim_data::runout::runout(&case, None, Some(best.solution.separation), 0.02)
             .map_err(DocumentErrorPy)?;
         Some(
-            pim_render::runout::runout_svg(&title, &runouts, units, case.written, 0.5)
+            pim_render::runout::scene_svg(
+                &title,
+                &runouts,
+                &pim_data::reconstruct::skid_lengths(&done.input)
+                    .into_iter()
+                    .map(|(vehicle, length)| pim_render::runout::Approach { vehicle, length })
+                    .collect::<Vec<_>>(),
+                units,
+                case.written,
+                0.5,
+            )
                 .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
         )
     } else {

@@ -222,6 +222,29 @@ pub fn runout_svg(
     frame: Convention,
     every: f64,
 ) -> Result<String, String> {
+    scene_svg(title, r, &[], units, frame, every)
+}
+
+/// Braking marks before the impact, for the plan view of a reconstruction: the vehicle braked
+/// over `length` metres straight up to its position at contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Approach {
+    /// Which vehicle.
+    pub vehicle: pim_core::VehicleId,
+    /// Length of the marks up to contact, m.
+    pub length: f64,
+}
+
+/// The plan view of [`runout_svg`] with the approach of each vehicle that braked before the
+/// impact: its two tyre tracks over the braking distance up to its position at contact.
+pub fn scene_svg(
+    title: &str,
+    r: &RunoutResult,
+    approach: &[Approach],
+    units: UnitSystem,
+    frame: Convention,
+    every: f64,
+) -> Result<String, String> {
     let sae = frame == Convention::Sae;
     let u = |x: f64| units.length(x);
     // Everything in display units; SAE draws y to the right (the picture mirrored back).
@@ -248,6 +271,30 @@ pub fn runout_svg(
             for m in &ev.marks {
                 grow(to((m.x, m.y)));
             }
+        }
+    }
+    let tracks = |k: usize| -> Vec<[(f64, f64); 2]> {
+        let v = &r.inputs[k];
+        let Some(a) = approach.iter().find(|a| a.vehicle == v.id) else {
+            return Vec::new();
+        };
+        let s = &r.runouts[k].start;
+        let (f, n) = (
+            (s.heading.cos(), s.heading.sin()),
+            (-s.heading.sin(), s.heading.cos()),
+        );
+        [-0.5, 0.5]
+            .iter()
+            .map(|side| {
+                let o = side * v.chassis.track;
+                let front = (s.x + o * n.0, s.y + o * n.1);
+                [front, (front.0 - a.length * f.0, front.1 - a.length * f.1)]
+            })
+            .collect()
+    };
+    for k in 0..r.runouts.len() {
+        for t in tracks(k) {
+            t.into_iter().map(to).for_each(&mut grow);
         }
     }
     if !lo.iter().chain(&hi).all(|x| x.is_finite()) {
@@ -324,6 +371,31 @@ pub fn runout_svg(
                     color.stroke_width(2),
                 )))
                 .map_err(|x| e(&x))?;
+            // Braking marks before the impact, up to the position at contact.
+            let marks = tracks(k);
+            for t in &marks {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![to(t[0]), to(t[1])],
+                        EVIDENCE.mix(0.7).stroke_width(3),
+                    )))
+                    .map_err(|x| e(&x))?;
+            }
+            if let Some(t) = marks.first() {
+                let length = (t[1].0 - t[0].0).hypot(t[1].1 - t[0].1);
+                let end = to(t[1]);
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        format!(
+                            "braking {} {}",
+                            num(units.length(length), 1),
+                            units.length_label()
+                        ),
+                        end,
+                        ("sans-serif", 13).into_font().color(&EVIDENCE),
+                    )))
+                    .map_err(|x| e(&x))?;
+            }
             // At separation: bold outline, the nose edge thicker.
             let start: Vec<_> = corners(&run.start, dims).into_iter().map(to).collect();
             chart
@@ -481,6 +553,13 @@ pub fn runout_svg(
         line("filled outline: the run-out's rest".into(), BLACK, 12)?;
         line("dashed outline, cross: rest given".into(), EVIDENCE, 12)?;
         line("circle: a mark and its sd".into(), EVIDENCE, 12)?;
+        if !approach.is_empty() {
+            line(
+                "grey tracks: braking before the impact, up to contact".into(),
+                EVIDENCE,
+                12,
+            )?;
+        }
         root.present().map_err(|x| e(&x))?;
     }
     Ok(buf)

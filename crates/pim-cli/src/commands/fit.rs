@@ -135,9 +135,20 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
         // The scene to scale: the run-outs from the reconstructed separation state.
         let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
             .map_err(Failure::from)?;
-        let svg =
-            pim_render::runout::runout_svg(&title_of(case), &runouts, units, case.written, 0.5)
-                .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+        let approach: Vec<pim_render::runout::Approach> =
+            pim_data::reconstruct::skid_lengths(&done.input)
+                .into_iter()
+                .map(|(vehicle, length)| pim_render::runout::Approach { vehicle, length })
+                .collect();
+        let svg = pim_render::runout::scene_svg(
+            &title_of(case),
+            &runouts,
+            &approach,
+            units,
+            case.written,
+            0.5,
+        )
+        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
         let out = super::output::OutDir::create(dir)?;
         out.write("result.json", &record)?;
         out.write("reconstruction.txt", &table)?;
