@@ -286,7 +286,8 @@ pub struct VehiclePhasesOut {
 pub struct CountsOut {
     /// Per scene vehicle (in the order of `scene_vehicles`).
     pub turns: Vec<Option<i64>>,
-    /// The scenes alone at their own best: a lower bound.
+    /// The scenes alone at the best their search found for these counts (a lower bound of the
+    /// combination's cost where that search found each count's minimum).
     pub scene_alone: f64,
     /// The momentum bound of the linearised problem.
     pub momentum_bound: Option<f64>,

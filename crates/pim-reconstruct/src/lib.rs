@@ -37,7 +37,8 @@
 //!    separation state, and so on; a step that does not lower the true chi-square (the
 //!    run-outs simulated, not linearised) is damped by Marquardt's rows that hold the
 //!    separation state near the current one. A combination is refined unless its scenes alone
-//!    already cost at least the best found (a bound: the impact only adds cost), its momentum
+//!    already cost at least the best found (a bound, the impact only adding cost, where the
+//!    scenes' own search found each count's minimum), its momentum
 //!    bound lies more than [`Settings::refine_margin`] above the best found, or
 //!    [`Settings::max_refined`] were refined already; [`Outcome::tried`] says which.
 //!

@@ -172,8 +172,9 @@ pub enum Tried {
 pub struct TriedCounts {
     /// The counts (none for a scene without a rest heading).
     pub counts: Vec<Option<i64>>,
-    /// The chi-square of the scenes alone at their own best separation states: a lower bound of
-    /// the combination's cost.
+    /// The chi-square of the scenes alone at the best separation states their search found
+    /// for these counts: a lower bound of the combination's cost where that search found each
+    /// count's minimum (it searches from many starts; it is not a proof).
     pub scene_alone: f64,
     /// The chi-square of the problem with each scene linearised at its own best separation
     /// state and only the momentum balance as constraints (a lower bound of that linearised

@@ -74,7 +74,8 @@ class Evidence:
 @dataclass(frozen=True)
 class CountsTried:
     """One combination of counts of turns to rest (one per scene vehicle): the scenes alone
-    at their best (a lower bound), the momentum bound, the ``chi_square`` reached when
+    at the best their search found (a lower bound where it found each count's minimum), the
+    momentum bound, the ``chi_square`` reached when
     refined, and its ``state`` (``"best"``, ``"refined"``, ``"abandoned"``,
     ``"not_refined"``, ``"no_impact"``) with the ``reason``."""
 
