@@ -9,6 +9,7 @@
 mod args;
 mod commands;
 mod error;
+mod fit_help;
 mod inputs;
 mod runout_help;
 
