@@ -131,7 +131,7 @@ pub(crate) fn reconstruct(
                 case.written,
                 0.5,
             )
-                .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
+            .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
         )
     } else {
         None
