@@ -95,4 +95,5 @@ every draw also perturbs each rest position, heading and mark by its sigma, each
 its sigma and the road friction by [runout] friction_sigma, and refits all three phases (from
 where the nominal reconstruction ended, for each count of turns within a chi-square of 4 of
 its best). Per vehicle: speed before braking, at contact, at separation; e, mu, em, the energy
-loss; the inputs that dominate each.";
+loss; the inputs that dominate each. --out DIR writes the nominal reconstruction, the study and
+the scene to scale (report.html, report.md, scene.svg, result.json, uncertainty.json).";

@@ -140,3 +140,32 @@ fn intervals_through_all_phases() {
         .collect();
     assert!(inputs.contains(&"road friction") && inputs.contains(&"vehicle2 EDR speed 1"));
 }
+
+/// The report of a reconstruction with its intervals: `pim uncertainty --out` writes the nominal
+/// reconstruction, the study and the scene to scale into one page.
+#[test]
+fn the_report_holds_the_intervals_and_the_scene() {
+    let dir = scratch_dir("reconstruct", "report");
+    let out_dir = dir.join("r");
+    let out = pim_ok(&[
+        "uncertainty",
+        CASE,
+        "--draws",
+        "12",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    for f in [
+        "result.json",
+        "uncertainty.json",
+        "scene.svg",
+        "report.html",
+        "report.md",
+    ] {
+        assert!(out_dir.join(f).exists(), "{f}");
+    }
+    let html = std::fs::read_to_string(out_dir.join("report.html")).unwrap();
+    assert!(html.contains("vehicle1.speed_at_contact") && html.contains("<svg"));
+    assert!(html.contains("braking 42.0 ft"), "the skid is drawn");
+}

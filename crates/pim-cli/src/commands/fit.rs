@@ -131,39 +131,10 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
     let record = json(d)?;
     let table =
         pim_render::reconstruct::reconstruction_table(&title_of(case), d, units, case.written);
-    if let (Some(dir), Some(best)) = (&a.out, &done.outcome.best) {
-        // The scene to scale: the run-outs from the reconstructed separation state.
-        let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
-            .map_err(Failure::from)?;
-        let approach: Vec<pim_render::runout::Approach> =
-            pim_data::reconstruct::skid_lengths(&done.input)
-                .into_iter()
-                .map(|(vehicle, length)| pim_render::runout::Approach { vehicle, length })
-                .collect();
-        let svg = pim_render::runout::scene_svg(
-            &title_of(case),
-            &runouts,
-            &approach,
-            units,
-            case.written,
-            0.5,
-        )
-        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
-        let out = super::output::OutDir::create(dir)?;
-        out.write("result.json", &record)?;
-        out.write("reconstruction.txt", &table)?;
-        out.write("scene.svg", &svg)?;
-        out.write(
-            "report.md",
-            &format!(
-                "# Reconstruction\n\n```text\n{table}```\n\n![The scene to scale](scene.svg)\n"
-            ),
+    if let Some(dir) = &a.out {
+        super::scene_uncertainty::write_reconstruction(
+            dir, case, &done, units, &record, &table, None,
         )?;
-        out.write(
-            "report.html",
-            &pim_render::reconstruct::reconstruction_html(&title_of(case), &table, &svg),
-        )?;
-        out.commit()?;
     }
     print_out(match a.format {
         Format::Json => &record,

@@ -78,15 +78,68 @@ pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
     t
 }
 
-/// The study of a scene case.
-pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
-    if a.out.is_some() {
-        return Err(Failure::Input(format!(
-            "{}: --out is not yet written for a reconstruction; use --format json",
-            case.file
+/// The folder of a reconstruction (`pim fit --out`, `pim uncertainty --out` of a scene case):
+/// result.json, the table, the scene to scale, report.md and report.html; with a study, its
+/// table (the intervals of every phase) too.
+pub fn write_reconstruction(
+    dir: &std::path::Path,
+    case: &Case,
+    done: &pim_data::reconstruct::Reconstructed,
+    units: UnitSystem,
+    record: &str,
+    table: &str,
+    study: Option<(&str, &str)>,
+) -> Result<()> {
+    let Some(best) = &done.outcome.best else {
+        return Err(Failure::NoAnswer(format!(
+            "{}: no reconstruction to write into {}",
+            case.file,
+            dir.display()
         ))
         .into());
+    };
+    // The scene to scale: the run-outs from the reconstructed separation state.
+    let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
+        .map_err(Failure::from)?;
+    let approach: Vec<pim_render::runout::Approach> =
+        pim_data::reconstruct::skid_lengths(&done.input)
+            .into_iter()
+            .map(|(vehicle, length)| pim_render::runout::Approach { vehicle, length })
+            .collect();
+    let svg = pim_render::runout::scene_svg(
+        &title_of(case),
+        &runouts,
+        &approach,
+        units,
+        case.written,
+        0.5,
+    )
+    .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+    let text = match study {
+        Some((_, t)) => format!("{table}\n{t}"),
+        None => table.to_string(),
+    };
+    let out = super::output::OutDir::create(dir)?;
+    out.write("result.json", record)?;
+    out.write("reconstruction.txt", table)?;
+    if let Some((json, t)) = study {
+        out.write("uncertainty.json", json)?;
+        out.write("uncertainty.txt", t)?;
     }
+    out.write("scene.svg", &svg)?;
+    out.write(
+        "report.md",
+        &format!("# Reconstruction\n\n```text\n{text}```\n\n![The scene to scale](scene.svg)\n"),
+    )?;
+    out.write(
+        "report.html",
+        &pim_render::reconstruct::reconstruction_html(&title_of(case), &text, &svg),
+    )?;
+    out.commit()
+}
+
+/// The study of a scene case.
+pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
@@ -122,9 +175,37 @@ pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode
     let units = a
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
-    print_out(&match a.format {
-        Format::Json => json(&study)?,
-        Format::Table => table(&title_of(case), &study, units),
+    let record = json(&study)?;
+    let text = table(&title_of(case), &study, units);
+    if let Some(dir) = &a.out {
+        // The report: the nominal reconstruction with the intervals of every phase.
+        let done = pim_data::reconstruct::reconstruct(
+            case,
+            a.model,
+            pim_core::MomentForm::Corrected,
+            pim_fit::MomentBranch::ALL.to_vec(),
+        )
+        .map_err(Failure::from)?;
+        let nominal = json(&done.document)?;
+        let fit_table = pim_render::reconstruct::reconstruction_table(
+            &title_of(case),
+            &done.document,
+            units,
+            case.written,
+        );
+        write_reconstruction(
+            dir,
+            case,
+            &done,
+            units,
+            &nominal,
+            &fit_table,
+            Some((&record, &text)),
+        )?;
+    }
+    print_out(match a.format {
+        Format::Json => &record,
+        Format::Table => &text,
     })?;
     Ok(crate::inputs::strict_status(a.strict, warnings, Vec::new()))
 }
