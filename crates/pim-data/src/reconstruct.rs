@@ -391,6 +391,22 @@ pub fn reconstruct(
     })
 }
 
+/// A contradiction's reason with its largest residuals named as the case names them (an
+/// observation by its `name`, an EDR speed by its time), from the evidence of the document.
+fn named_residuals(why: &str, best: Option<&BestOut>) -> String {
+    let (Some((head, _)), Some(b)) = (why.split_once("; the largest residuals: "), best) else {
+        return why.to_string();
+    };
+    let mut terms: Vec<&EvidenceOut> = b.evidence.iter().collect();
+    terms.sort_by(|x, y| y.z.abs().total_cmp(&x.z.abs()));
+    let list: Vec<String> = terms
+        .iter()
+        .take(3)
+        .map(|e| format!("{} {:+.1} sigma", e.name, e.z))
+        .collect();
+    format!("{head}; the largest residuals: {}", list.join(", "))
+}
+
 /// The document of an outcome.
 pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> ReconstructionOut {
     let r = &input.reconstruction;
@@ -614,7 +630,10 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         units: crate::records::SiUnits,
         kind: "reconstruction",
         status: outcome.status,
-        reason: outcome.reason.clone(),
+        reason: outcome
+            .reason
+            .as_ref()
+            .map(|why| named_residuals(why, best.as_ref())),
         best,
         scene_vehicles: r.scene.iter().map(|v| v.id.index() as u8 + 1).collect(),
         counts,
