@@ -14,10 +14,11 @@ use std::path::{Path, PathBuf};
 const MAX_LINES: usize = 650;
 
 /// The library and binary crates whose files are checked (their `src` folders).
-const CRATES: [&str; 8] = [
+const CRATES: [&str; 9] = [
     "crates/pim-core",
     "crates/pim-runout",
     "crates/pim-reconstruct",
+    "crates/pim-crush",
     "crates/pim-fit",
     "crates/pim-data",
     "crates/pim-render",
