@@ -26,6 +26,47 @@ pub struct Summary {
     pub reaches_bound: Option<BoundHit>,
 }
 
+impl Summary {
+    /// The summary of a quantity's values over the feasible draws (percentiles by
+    /// [`percentile`], the sample standard deviation); `not_determined` and `reaches_bound` as
+    /// the study found them.
+    pub fn of(y: &[f64], not_determined: bool, reaches_bound: Option<BoundHit>) -> Summary {
+        let mut sorted = y.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let n = y.len().max(1) as f64;
+        let mean = y.iter().sum::<f64>() / n;
+        let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
+        Summary {
+            p05: percentile(&sorted, 0.05),
+            p50: percentile(&sorted, 0.5),
+            p95: percentile(&sorted, 0.95),
+            mean,
+            sd,
+            not_determined,
+            reaches_bound,
+        }
+    }
+}
+
+/// The inputs' first-order indices of a quantity (`y`, one value per feasible draw), largest
+/// first, those above 0.02: input `j`'s values are `xs[d][j]` of draw `d`.
+pub fn dominant_inputs<'a>(
+    names: impl Iterator<Item = &'a str>,
+    xs: &[&Vec<f64>],
+    y: &[f64],
+) -> Vec<(String, f64)> {
+    let mut shares: Vec<(String, f64)> = names
+        .enumerate()
+        .map(|(j, name)| {
+            let x: Vec<f64> = xs.iter().map(|d| d[j]).collect();
+            (name.to_string(), correlation_ratio(&x, y))
+        })
+        .filter(|(_, s)| *s > 0.02)
+        .collect();
+    shares.sort_by(|a, b| b.1.total_cmp(&a.1));
+    shares
+}
+
 /// A search bound that ends a quantity's interval.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct BoundHit {

@@ -9,7 +9,7 @@
 
 use crate::case::Case;
 use crate::documents::DocumentError;
-use crate::intervals::{correlation_ratio, percentile, Summary};
+use crate::intervals::{dominant_inputs, Summary};
 use crate::reconstruct::case_reconstruction;
 use crate::spread::Spread;
 use crate::uncertainty::{inputs, stream, Input, Sensitivity};
@@ -245,38 +245,13 @@ pub fn run(
         .collect();
     let mut quantities = BTreeMap::new();
     let mut sensitivity = Vec::new();
+    let xs: Vec<&Vec<f64>> = feasible.iter().map(|(xs, _)| *xs).collect();
     for (q, name) in names.iter().enumerate() {
         let y: Vec<f64> = feasible.iter().map(|(_, r)| r[q]).collect();
-        let mut sorted = y.clone();
-        sorted.sort_by(f64::total_cmp);
-        let n = y.len().max(1) as f64;
-        let mean = y.iter().sum::<f64>() / n;
-        let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
-        quantities.insert(
-            name.clone(),
-            Summary {
-                p05: percentile(&sorted, 0.05),
-                p50: percentile(&sorted, 0.5),
-                p95: percentile(&sorted, 0.95),
-                mean,
-                sd,
-                not_determined: false,
-                reaches_bound: None,
-            },
-        );
-        let mut shares: Vec<(String, f64)> = all
-            .iter()
-            .enumerate()
-            .map(|(j, inp)| {
-                let x: Vec<f64> = feasible.iter().map(|(xs, _)| xs[j]).collect();
-                (inp.name.clone(), correlation_ratio(&x, &y))
-            })
-            .filter(|(_, s)| *s > 0.02)
-            .collect();
-        shares.sort_by(|a, b| b.1.total_cmp(&a.1));
+        quantities.insert(name.clone(), Summary::of(&y, false, None));
         sensitivity.push(Sensitivity {
             quantity: name.clone(),
-            inputs: shares,
+            inputs: dominant_inputs(all.iter().map(|i| i.name.as_str()), &xs, &y),
         });
     }
     let study = ReconstructionStudy {

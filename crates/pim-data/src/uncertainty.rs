@@ -9,7 +9,7 @@
 use crate::case::Case;
 use crate::error::{InputError, Result};
 use crate::fitcase::{self, CostChoice};
-use crate::intervals::{correlation_ratio, percentile};
+use crate::intervals::dominant_inputs;
 pub use crate::intervals::{BoundHit, Summary};
 pub use crate::spread::{standard_normal, ImpactSpread, Spread, UncertaintySection, VehicleSpread};
 use pim_fit::{FitModel, FitSettings, MomentBranch, Quantity, Status};
@@ -465,39 +465,20 @@ pub fn run(
     let names = self::quantities(settings.get().model);
     let mut quantities = BTreeMap::new();
     let mut sensitivity = Vec::new();
+    let xs: Vec<&Vec<f64>> = feasible.iter().map(|(xs, _)| *xs).collect();
     for (q, name) in names.iter().enumerate() {
         let y: Vec<f64> = feasible.iter().map(|(_, r)| r.values[q]).collect();
-        let mut sorted = y.clone();
-        sorted.sort_by(f64::total_cmp);
-        let (p05, p95) = (percentile(&sorted, 0.05), percentile(&sorted, 0.95));
-        let n = y.len().max(1) as f64;
-        let mean = y.iter().sum::<f64>() / n;
-        let sd = (y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
         quantities.insert(
             name.to_string(),
-            Summary {
-                p05,
-                p50: percentile(&sorted, 0.5),
-                p95,
-                mean,
-                sd,
-                not_determined: undetermined[q],
-                reaches_bound: crate::intervals::bound_hit(name, &shares, &source),
-            },
+            Summary::of(
+                &y,
+                undetermined[q],
+                crate::intervals::bound_hit(name, &shares, &source),
+            ),
         );
-        let mut shares: Vec<(String, f64)> = inputs
-            .iter()
-            .enumerate()
-            .map(|(j, inp)| {
-                let x: Vec<f64> = feasible.iter().map(|(xs, _)| xs[j]).collect();
-                (inp.name.clone(), correlation_ratio(&x, &y))
-            })
-            .filter(|(_, s)| *s > 0.02)
-            .collect();
-        shares.sort_by(|a, b| b.1.total_cmp(&a.1));
         sensitivity.push(Sensitivity {
             quantity: name.to_string(),
-            inputs: shares,
+            inputs: dominant_inputs(inputs.iter().map(|i| i.name.as_str()), &xs, &y),
         });
     }
     let linearised_sd = linearised(case, &inputs, choice, &draw_settings);

@@ -58,21 +58,11 @@ pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
         .iter()
         .filter(|x| x.quantity.contains("speed"))
     {
-        let list: Vec<String> = sens
-            .inputs
-            .iter()
-            .take(3)
-            .map(|(n, v)| format!("{n} {v:.2}"))
-            .collect();
         let _ = writeln!(
             t,
             "  {}: {}",
             sens.quantity,
-            if list.is_empty() {
-                "none above 0.02".to_string()
-            } else {
-                list.join("; ")
-            }
+            super::uncertainty::dominant(sens)
         );
     }
     t
@@ -140,16 +130,7 @@ pub fn write_reconstruction(
 
 /// The study of a scene case.
 pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
-    let show = a.format == Format::Table && std::io::IsTerminal::is_terminal(&std::io::stderr());
-    let bar = if show {
-        indicatif::ProgressBar::new(a.draws as u64)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let (pool, bar) = super::uncertainty::pool_and_bar(a)?;
     let tick = || bar.inc(1);
     let (study, _) = pool
         .install(|| {
