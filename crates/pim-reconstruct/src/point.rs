@@ -19,6 +19,17 @@ pub(crate) struct Lin {
     pub(crate) lin: Linearised,
 }
 
+impl Lin {
+    /// The derivatives of the weighted residuals (a `Lin` of the search is linearised with
+    /// them, except the trial points [`Point::scene`] holds).
+    pub(crate) fn jacobian(&self) -> &nalgebra::DMatrix<f64> {
+        self.lin
+            .jacobian
+            .as_ref()
+            .expect("linearised with its Jacobian")
+    }
+}
+
 /// A point of the search: an admissible impact and its scene.
 #[derive(Debug, Clone)]
 pub(crate) struct Point {

@@ -9,6 +9,18 @@ use pim_fit::{
 };
 use rayon::prelude::*;
 
+/// Every weight of a fit problem: the estimated components', the observations', the
+/// combinations'.
+fn weights(problem: &mut FitProblem) -> impl Iterator<Item = &mut f64> {
+    let components = problem.components.iter_mut().filter_map(|c| match c {
+        Knowledge::Estimated { weight, .. } => Some(weight),
+        _ => None,
+    });
+    components
+        .chain(problem.observations.iter_mut().map(|o| &mut o.weight))
+        .chain(problem.combinations.iter_mut().map(|c| &mut c.weight))
+}
+
 /// The impact fit with each scene linearised (rows in chi-square units, weight 1 each) and,
 /// with `damping`, Marquardt's rows that keep the separation state near the current one. Every
 /// weight is scaled by one factor into (0, 1]; the fit's cost over that factor is the
@@ -21,24 +33,12 @@ pub(crate) fn assemble(
     let unit = r.unit.unwrap_or(1.0);
     let mut problem = r.contact.clone();
     // Chi-square weights first.
-    for c in problem.components.iter_mut() {
-        if let Knowledge::Estimated { weight, .. } = c {
-            *weight /= unit;
-        }
-    }
-    for o in problem.observations.iter_mut() {
-        o.weight /= unit;
-    }
-    for c in problem.combinations.iter_mut() {
-        c.weight /= unit;
+    for w in weights(&mut problem) {
+        *w /= unit;
     }
     for l in lins {
         let base = 6 + 3 * r.scene[l.vehicle].id.index();
-        let j = l
-            .lin
-            .jacobian
-            .as_ref()
-            .expect("linearised with its Jacobian");
+        let j = l.jacobian();
         for i in 0..j.nrows() {
             let mut row = pim_fit::Vector12::zeros();
             let mut target = -l.lin.weighted[i];
@@ -60,11 +60,7 @@ pub(crate) fn assemble(
     if let Some((lambda, around)) = damping {
         for l in around {
             let base = 6 + 3 * r.scene[l.vehicle].id.index();
-            let j = l
-                .lin
-                .jacobian
-                .as_ref()
-                .expect("linearised with its Jacobian");
+            let j = l.jacobian();
             let jtj = j.transpose() * j;
             let largest = (0..3).map(|c| jtj[(c, c)]).fold(0.0, f64::max).max(1e-12);
             for c in 0..3 {
@@ -78,27 +74,10 @@ pub(crate) fn assemble(
             }
         }
     }
-    let largest = problem
-        .components
-        .iter()
-        .filter_map(|c| match c {
-            Knowledge::Estimated { weight, .. } => Some(*weight),
-            _ => None,
-        })
-        .chain(problem.observations.iter().map(|o| o.weight))
-        .chain(problem.combinations.iter().map(|c| c.weight))
-        .fold(0.0, f64::max);
+    let largest = weights(&mut problem).fold(0.0_f64, |m, w| m.max(*w));
     let scale = if largest > 0.0 { 1.0 / largest } else { 1.0 };
-    for c in problem.components.iter_mut() {
-        if let Knowledge::Estimated { weight, .. } = c {
-            *weight = (*weight * scale).max(f64::MIN_POSITIVE);
-        }
-    }
-    for o in problem.observations.iter_mut() {
-        o.weight = (o.weight * scale).max(f64::MIN_POSITIVE);
-    }
-    for c in problem.combinations.iter_mut() {
-        c.weight = (c.weight * scale).max(f64::MIN_POSITIVE);
+    for w in weights(&mut problem) {
+        *w = (*w * scale).max(f64::MIN_POSITIVE);
     }
     (problem, scale)
 }
