@@ -13,7 +13,9 @@ use pim_core::VehicleId;
 use pim_fit::{
     Certificate, FitProblem, Knowledge, MomentBranch, Observation, ObservationKind, COMPONENT_NAMES,
 };
-use pim_reconstruct::{Outcome, Reconstruction, SceneVehicle, Settings, Skid, Status, Tried};
+use pim_reconstruct::{
+    ContactTerm, EvidenceTerm, Outcome, Reconstruction, SceneVehicle, Settings, Skid, Status, Tried,
+};
 use pim_runout::GRAVITY;
 use serde::Serialize;
 
@@ -391,26 +393,34 @@ pub fn reconstruct(
     })
 }
 
-/// A contradiction's reason with its largest residuals named as the case names them (an
-/// observation by its `name`, an EDR speed by its time), from the evidence of the document.
-fn named_residuals(why: &str, best: Option<&BestOut>) -> String {
-    let (Some((head, _)), Some(b)) = (why.split_once("; the largest residuals: "), best) else {
-        return why.to_string();
-    };
-    let mut terms: Vec<&EvidenceOut> = b.evidence.iter().collect();
-    terms.sort_by(|x, y| y.z.abs().total_cmp(&x.z.abs()));
-    let list: Vec<String> = terms
-        .iter()
-        .take(3)
-        .map(|e| format!("{} {:+.1} sigma", e.name, e.z))
-        .collect();
-    format!("{head}; the largest residuals: {}", list.join(", "))
+/// A piece of the contact evidence as the case names it (an observation by its `name`, an
+/// EDR speed by its time) and the phase it belongs to.
+fn contact_label(input: &CaseReconstruction, term: ContactTerm) -> (String, &'static str) {
+    match term {
+        ContactTerm::Component(k) => (
+            COMPONENT_NAMES[k].to_string(),
+            if k < 6 { "impact" } else { "run_out" },
+        ),
+        ContactTerm::Observation(i) => {
+            let name = input
+                .labels
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| format!("observation {}", i + 1));
+            let phase = if name.contains("EDR") {
+                "pre_impact"
+            } else {
+                "impact"
+            };
+            (name, phase)
+        }
+        ContactTerm::Combination(_) => (term.name(&input.reconstruction.contact), "impact"),
+    }
 }
 
 /// The document of an outcome.
 pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> ReconstructionOut {
     let r = &input.reconstruction;
-    let unit = r.unit.unwrap_or(1.0);
     let best = outcome.best.as_ref().map(|b| {
         let s = &b.solution;
         let u = pim_fit::state_vector(&s.initial, &s.separation);
@@ -425,34 +435,9 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
                 share_percent: 100.0 * (residual / sigma).powi(2) / b.chi_square.max(1e-300),
             });
         };
-        for (k, c) in r.contact.components.iter().enumerate() {
-            if let Knowledge::Estimated { value, weight } = *c {
-                let phase = if k < 6 { "impact" } else { "run_out" };
-                push(
-                    COMPONENT_NAMES[k].to_string(),
-                    phase,
-                    u[k] - value,
-                    (unit / weight).sqrt(),
-                );
-            }
-        }
-        for (i, o) in r.contact.observations.iter().enumerate() {
-            let name = input
-                .labels
-                .get(i)
-                .cloned()
-                .unwrap_or_else(|| format!("observation {}", i + 1));
-            let phase = if name.contains("EDR") {
-                "pre_impact"
-            } else {
-                "impact"
-            };
-            push(
-                name,
-                phase,
-                o.row(&r.contact.impact).dot(&u) - o.value,
-                (unit / o.weight).sqrt(),
-            );
+        for c in r.contact_residuals(&u) {
+            let (name, phase) = contact_label(input, c.term);
+            push(name, phase, c.residual, r.sigma_of(&c));
         }
         for f in &b.scene {
             for res in &f.residuals {
@@ -630,10 +615,14 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         units: crate::records::SiUnits,
         kind: "reconstruction",
         status: outcome.status,
-        reason: outcome
-            .reason
-            .as_ref()
-            .map(|why| named_residuals(why, best.as_ref())),
+        // A contradiction names its residuals as the case names them.
+        reason: match &outcome.contradiction {
+            Some(c) => Some(c.describe(|t| match t {
+                EvidenceTerm::Contact(term) => contact_label(input, *term).0,
+                EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
+            })),
+            None => outcome.reason.clone(),
+        },
         best,
         scene_vehicles: r.scene.iter().map(|v| v.id.index() as u8 + 1).collect(),
         counts,

@@ -68,7 +68,8 @@ mod search;
 
 pub use error::{ReconstructError, Result};
 pub use outcome::{
-    Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts, INCONSISTENT_P, INCONSISTENT_Z,
+    Contradiction, EvidenceTerm, Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts,
+    INCONSISTENT_P, INCONSISTENT_Z,
 };
-pub use problem::{Reconstruction, SceneVehicle, Settings, Skid};
+pub use problem::{ContactResidual, ContactTerm, Reconstruction, SceneVehicle, Settings, Skid};
 pub use search::{reconstruct, redo};

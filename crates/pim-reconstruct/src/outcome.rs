@@ -2,7 +2,7 @@
 //! every combination of counts of turns compared.
 
 use crate::point::Point;
-use crate::problem::Reconstruction;
+use crate::problem::{ContactTerm, Reconstruction};
 use pim_core::VehicleId;
 use pim_fit::{Certificate, Knowledge, MomentBranch, Solution};
 use pim_runout::{Estimate, Residual, Runout};
@@ -195,6 +195,9 @@ pub struct Outcome {
     pub status: Status,
     /// Why there is no answer.
     pub reason: Option<String>,
+    /// With [`Status::Inconsistent`]: what is contradicted and the largest residuals (what
+    /// [`Outcome::reason`] says in words).
+    pub contradiction: Option<Contradiction>,
     /// The best combination found.
     pub best: Option<Found>,
     /// Every combination of counts, in the order of the candidates.
@@ -221,33 +224,77 @@ impl Outcome {
     }
 }
 
-/// Why the found reconstruction contradicts the evidence, if it does: the chi-square's
-/// probability, or the largest residual with no degrees of freedom left, and the largest terms.
-pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<String> {
-    let mut terms: Vec<(String, f64)> = Vec::new();
-    let u = pim_fit::state_vector(&f.solution.initial, &f.solution.separation);
-    let unit = r.unit.unwrap_or(1.0);
-    for (k, c) in r.contact.components.iter().enumerate() {
-        if let Knowledge::Estimated { value, weight } = *c {
-            let z = (u[k] - value) / (unit / weight).sqrt();
-            terms.push((pim_fit::COMPONENT_NAMES[k].to_string(), z));
+/// A piece of evidence against a reconstruction: the contact problem's, or a scene's.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EvidenceTerm {
+    /// A piece of the contact problem's evidence.
+    Contact(ContactTerm),
+    /// A residual of a vehicle's scene (`rest.x`, `mark 1`, ...).
+    Scene {
+        /// Whose.
+        vehicle: VehicleId,
+        /// Its name.
+        name: String,
+    },
+}
+
+/// Why the best reconstruction found contradicts the evidence.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Contradiction {
+    /// What is contradicted, in words.
+    pub statement: String,
+    /// The three largest residuals, in sigmas, the largest first.
+    pub largest: Vec<(EvidenceTerm, f64)>,
+}
+
+impl Contradiction {
+    /// The statement and the largest residuals, each named by `name`.
+    pub fn describe(&self, name: impl Fn(&EvidenceTerm) -> String) -> String {
+        let list: Vec<String> = self
+            .largest
+            .iter()
+            .map(|(t, z)| format!("{} {z:+.1} sigma", name(t)))
+            .collect();
+        format!(
+            "{}; the largest residuals: {}",
+            self.statement,
+            list.join(", ")
+        )
+    }
+
+    /// Names without the case's labels ([`ContactTerm::name`], `vehicleN rest.x`).
+    pub fn default_name(r: &Reconstruction, t: &EvidenceTerm) -> String {
+        match t {
+            EvidenceTerm::Contact(c) => c.name(&r.contact),
+            EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
         }
     }
-    for (i, o) in r.contact.observations.iter().enumerate() {
-        let z = (o.row(&r.contact.impact).dot(&u) - o.value) / (unit / o.weight).sqrt();
-        terms.push((
-            format!("observation {} ({:?} of {})", i + 1, o.kind, o.vehicle),
-            z,
-        ));
-    }
+}
+
+/// Why the found reconstruction contradicts the evidence, if it does: the chi-square's
+/// probability, or the largest residual with no degrees of freedom left, and the largest terms.
+pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradiction> {
+    let u = pim_fit::state_vector(&f.solution.initial, &f.solution.separation);
+    let mut terms: Vec<(EvidenceTerm, f64)> = r
+        .contact_residuals(&u)
+        .iter()
+        .map(|c| (EvidenceTerm::Contact(c.term), c.residual / r.sigma_of(c)))
+        .collect();
     for s in &f.scene {
         for x in &s.residuals {
-            terms.push((format!("{} {}", s.vehicle, x.name), x.value / x.sigma));
+            terms.push((
+                EvidenceTerm::Scene {
+                    vehicle: s.vehicle,
+                    name: x.name.clone(),
+                },
+                x.value / x.sigma,
+            ));
         }
     }
     terms.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
     let worst = terms.first().map_or(0.0, |t| t.1.abs());
-    let why = if f.degrees_of_freedom > 0 {
+    let statement = if f.degrees_of_freedom > 0 {
         let p = pim_fit::ChiSquare::p_value_of(f.degrees_of_freedom, f.chi_square)?;
         (p < INCONSISTENT_P).then(|| {
             format!(
@@ -265,12 +312,11 @@ pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<String> {
             )
         })?
     };
-    let list: Vec<String> = terms
-        .iter()
-        .take(3)
-        .map(|(n, z)| format!("{n} {z:+.1} sigma"))
-        .collect();
-    Some(format!("{why}; the largest residuals: {}", list.join(", ")))
+    terms.truncate(3);
+    Some(Contradiction {
+        statement,
+        largest: terms,
+    })
 }
 
 /// The scene fit of a point, for the outcome.

@@ -150,22 +150,56 @@ impl Reconstruction {
         Ok(())
     }
 
-    /// The chi-square of the contact problem's evidence at `u` (`sum w (r)^2 / unit`).
+    /// Every piece of the contact problem's evidence at `u`, in the order of the problem
+    /// (estimated components, observations, combinations): fitted minus given and its weight.
+    pub fn contact_residuals(&self, u: &Vector12) -> Vec<ContactResidual> {
+        let p = &self.contact;
+        let components = p
+            .components
+            .iter()
+            .enumerate()
+            .filter_map(|(k, c)| match *c {
+                Knowledge::Estimated { value, weight } => Some(ContactResidual {
+                    term: ContactTerm::Component(k),
+                    residual: u[k] - value,
+                    weight,
+                }),
+                _ => None,
+            });
+        let observations = p
+            .observations
+            .iter()
+            .enumerate()
+            .map(|(i, o)| ContactResidual {
+                term: ContactTerm::Observation(i),
+                residual: o.row(&p.impact).dot(u) - o.value,
+                weight: o.weight,
+            });
+        let combinations = p
+            .combinations
+            .iter()
+            .enumerate()
+            .map(|(i, c)| ContactResidual {
+                term: ContactTerm::Combination(i),
+                residual: c.row.dot(u) - c.value,
+                weight: c.weight,
+            });
+        components.chain(observations).chain(combinations).collect()
+    }
+
+    /// The standard deviation of a contact residual: `sqrt(unit / weight)`.
+    pub fn sigma_of(&self, r: &ContactResidual) -> f64 {
+        (self.unit.unwrap_or(1.0) / r.weight).sqrt()
+    }
+
+    /// The chi-square of the contact problem's evidence at `u` (`sum w r^2 / unit`).
     pub fn contact_chi_square(&self, u: &Vector12) -> f64 {
-        let unit = self.unit.unwrap_or(1.0);
-        let mut sum = 0.0;
-        for (k, c) in self.contact.components.iter().enumerate() {
-            if let Knowledge::Estimated { value, weight } = *c {
-                sum += weight * (u[k] - value).powi(2);
-            }
-        }
-        for o in &self.contact.observations {
-            sum += o.weight * (o.row(&self.contact.impact).dot(u) - o.value).powi(2);
-        }
-        for c in &self.contact.combinations {
-            sum += c.weight * (c.row.dot(u) - c.value).powi(2);
-        }
-        sum / unit
+        let sum: f64 = self
+            .contact_residuals(u)
+            .iter()
+            .map(|r| r.weight * r.residual.powi(2))
+            .sum();
+        sum / self.unit.unwrap_or(1.0)
     }
 
     /// The count of pieces of evidence of the contact problem (estimated components,
@@ -179,6 +213,44 @@ impl Reconstruction {
             + self.contact.observations.len()
             + self.contact.combinations.len()
     }
+}
+
+/// Which piece of the contact problem's evidence.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactTerm {
+    /// The estimate of component `k` of U.
+    Component(usize),
+    /// Observation `i` of the problem.
+    Observation(usize),
+    /// Combination `i` of the problem.
+    Combination(usize),
+}
+
+impl ContactTerm {
+    /// Its name without the case's labels: the component's name, or `observation N (kind of
+    /// vehicleN)`, or `combination N`.
+    pub fn name(self, problem: &FitProblem) -> String {
+        match self {
+            ContactTerm::Component(k) => pim_fit::COMPONENT_NAMES[k].to_string(),
+            ContactTerm::Observation(i) => {
+                let o = &problem.observations[i];
+                format!("observation {} ({:?} of {})", i + 1, o.kind, o.vehicle)
+            }
+            ContactTerm::Combination(i) => format!("combination {}", i + 1),
+        }
+    }
+}
+
+/// One piece of the contact problem's evidence at a state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactResidual {
+    /// Which.
+    pub term: ContactTerm,
+    /// Fitted minus given (m/s or rad/s).
+    pub residual: f64,
+    /// Its weight in the problem (`unit / sigma^2`).
+    pub weight: f64,
 }
 
 /// How a reconstruction searches.

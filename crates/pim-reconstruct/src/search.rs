@@ -2,7 +2,7 @@
 //! of counts, and the refinement of the promising ones.
 
 use crate::error::Result;
-use crate::outcome::{Found, Outcome, Status, Tried, TriedCounts};
+use crate::outcome::{Contradiction, Found, Outcome, Status, Tried, TriedCounts};
 use crate::point::{linearised, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
 use crate::refine::{assemble, refine, RefineEnd, Refined};
@@ -230,6 +230,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
                  ({} combinations tried); the first reason: {reason}",
                 tried.len()
             )),
+            contradiction: None,
             best: None,
             tried,
             estimates,
@@ -238,13 +239,18 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         });
     };
     let found = Found::new(r, point, iterations, converged);
-    let (status, reason) = match crate::outcome::contradiction(r, &found) {
-        Some(why) => (Status::Inconsistent, Some(why)),
-        None => (Status::Found, None),
+    let contradiction = crate::outcome::contradiction(r, &found);
+    let status = if contradiction.is_some() {
+        Status::Inconsistent
+    } else {
+        Status::Found
     };
     Ok(Outcome {
         status,
-        reason,
+        reason: contradiction
+            .as_ref()
+            .map(|c| c.describe(|t| Contradiction::default_name(r, t))),
+        contradiction,
         best: Some(found),
         tried,
         estimates,

@@ -11,6 +11,7 @@ pub mod report;
 pub mod runout;
 pub mod scene_uncertainty;
 pub mod solve;
+pub mod study;
 pub mod uncertainty;
 
 use crate::error::Failure;

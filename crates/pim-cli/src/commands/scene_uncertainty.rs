@@ -58,12 +58,7 @@ pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
         .iter()
         .filter(|x| x.quantity.contains("speed"))
     {
-        let _ = writeln!(
-            t,
-            "  {}: {}",
-            sens.quantity,
-            super::uncertainty::dominant(sens)
-        );
+        let _ = writeln!(t, "  {}: {}", sens.quantity, super::study::dominant(sens));
     }
     t
 }
@@ -130,7 +125,7 @@ pub fn write_reconstruction(
 
 /// The study of a scene case.
 pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
-    let (pool, bar) = super::uncertainty::pool_and_bar(a)?;
+    let (pool, bar) = super::study::pool_and_bar(a)?;
     let tick = || bar.inc(1);
     let (study, _) = pool
         .install(|| {

@@ -87,42 +87,14 @@ fn table(title: &str, s: &Study, u: UnitSystem) -> String {
         "\ndominant inputs (first-order index, correlation ratio):"
     );
     for sens in &s.sensitivity {
-        let _ = writeln!(t, "  {:<22} {}", sens.quantity, dominant(sens));
+        let _ = writeln!(
+            t,
+            "  {:<22} {}",
+            sens.quantity,
+            super::study::dominant(sens)
+        );
     }
     t
-}
-
-/// The three inputs that dominate a quantity, with their first-order indices.
-pub fn dominant(sens: &uncertainty::Sensitivity) -> String {
-    let list: Vec<String> = sens
-        .inputs
-        .iter()
-        .take(3)
-        .map(|(n, v)| format!("{n} {v:.2}"))
-        .collect();
-    if list.is_empty() {
-        "none above 0.02".to_string()
-    } else {
-        list.join("; ")
-    }
-}
-
-/// The thread pool of `--threads` and the progress bar of the draws (shown for a table on a
-/// terminal).
-pub fn pool_and_bar(a: &UncertaintyArgs) -> Result<(rayon::ThreadPool, indicatif::ProgressBar)> {
-    let show = a.format == Format::Table && std::io::IsTerminal::is_terminal(&std::io::stderr());
-    let bar = if show {
-        let b = indicatif::ProgressBar::new(a.draws as u64);
-        b.set_message("refitting draws");
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
-    Ok((pool, bar))
 }
 
 /// `pim uncertainty`.
@@ -140,7 +112,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         None => CostChoice::Custom,
     };
     let unc = case.content.uncertainty.unwrap_or_default();
-    let (pool, bar) = pool_and_bar(a)?;
+    let (pool, bar) = super::study::pool_and_bar(a)?;
     let tick = || bar.inc(1);
     let study = pool.install(|| {
         uncertainty::run(

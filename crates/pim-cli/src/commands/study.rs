@@ -1,0 +1,40 @@
+//! What both uncertainty studies of the command share (of a fit case and of a scene case): the
+//! thread pool and progress bar of the draws, and the line of dominant inputs.
+
+use crate::args::{Format, UncertaintyArgs};
+use crate::error::Failure;
+use anyhow::Result;
+use pim_data::uncertainty::Sensitivity;
+
+/// The three inputs that dominate a quantity, with their first-order indices.
+pub fn dominant(sens: &Sensitivity) -> String {
+    let list: Vec<String> = sens
+        .inputs
+        .iter()
+        .take(3)
+        .map(|(n, v)| format!("{n} {v:.2}"))
+        .collect();
+    if list.is_empty() {
+        "none above 0.02".to_string()
+    } else {
+        list.join("; ")
+    }
+}
+
+/// The thread pool of `--threads` and the progress bar of the draws (shown for a table on a
+/// terminal).
+pub fn pool_and_bar(a: &UncertaintyArgs) -> Result<(rayon::ThreadPool, indicatif::ProgressBar)> {
+    let show = a.format == Format::Table && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let bar = if show {
+        let b = indicatif::ProgressBar::new(a.draws as u64);
+        b.set_message("refitting draws");
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
+    Ok((pool, bar))
+}
