@@ -15,7 +15,7 @@ pub enum CrushError {
     },
 }
 
-fn input(field: &'static str, reason: impl Into<String>) -> CrushError {
+pub(crate) fn input(field: &'static str, reason: impl Into<String>) -> CrushError {
     CrushError::Input {
         field,
         reason: reason.into(),

@@ -37,7 +37,13 @@
 //!
 //! Units: SI throughout (m, kg, J, N). No I/O.
 
+mod collision;
 mod energy;
+
+pub use collision::{
+    balanced_profile, crash3_delta_v, crush_energy_sigma, effective_mass_factor, EnergyRelation,
+    ProfileSigmas,
+};
 
 pub use energy::{
     barrier_equivalent_speed, crash3_energy, crush_energy, pdof_factor, CrushError, Profile,

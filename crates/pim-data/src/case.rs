@@ -69,6 +69,9 @@ pub struct CaseFile {
     /// Before the impact: skid marks up to contact and EDR speeds (`pim fit` of a scene).
     #[serde(default)]
     pub pre_impact: Option<crate::scene_sections::PreImpactSection>,
+    /// Each vehicle's crush profile and stiffness (`[damage]`, see [`crate::damage`]).
+    #[serde(default)]
+    pub damage: Option<crate::damage::DamageSection>,
 }
 
 impl CaseFile {
@@ -177,6 +180,7 @@ impl Case {
         case.convert_to_si();
         case.check_ranges()?;
         case.check_outlines()?;
+        crate::damage::Damage::of(&case)?;
         if let Some(b) = &case.content.bounds {
             b.check()
                 .map_err(|(path, what)| case.error_at(&path, what))?;

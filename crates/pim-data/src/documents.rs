@@ -81,6 +81,11 @@ pub fn solve(case: &Case, options: &SolveOptions) -> Result<Solved, DocumentErro
             stick_ratio: c.stick_ratio,
         });
     }
+    if let Some(damage) = crate::damage::Damage::of(case)? {
+        let r = &solution.report;
+        let u = pim_fit::state_vector(&r.initial, &r.separation);
+        document.damage = crate::damage::assess(&damage, &impact, &u);
+    }
     Ok(Solved {
         impact,
         report: solution.report,
@@ -136,6 +141,7 @@ pub fn fit(
     if let Some(preset) = cost {
         report.notes.extend(ignored_weights(case, preset));
     }
+    let damage = crate::damage_fit::fit_damage(case, &problem, &report, &settings, unit)?;
     let notes = report.notes.clone();
     let document = FitOut {
         units: crate::records::SiUnits,
@@ -157,6 +163,7 @@ pub fn fit(
         best: report.best,
         notes,
         side,
+        damage,
     };
     Ok(Fitted {
         problem,

@@ -22,6 +22,9 @@
 pub mod batch;
 pub mod case;
 mod checks;
+pub mod damage;
+mod damage_assess;
+pub mod damage_fit;
 pub mod documents;
 mod error;
 pub mod fitcase;

@@ -141,6 +141,9 @@ pub struct SolveOut {
     pub relative_velocity: pim_core::RelativeVelocity,
     /// Material-point velocities at C.
     pub contact_points: pim_core::ContactPoints,
+    /// The crush against PIM's energy loss and delta-V (with `[damage]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damage: Option<crate::damage::Assessment>,
     /// The sign factor of equation 5 (`1` or `-1`): mu' = mu times this.
     pub friction_sign: pim_core::FrictionSign,
     /// `sliding` when it is the sliding direction at contact, `no_slip_impulse` when the
@@ -190,6 +193,7 @@ impl SolveOut {
             impulse: r.impulse,
             relative_velocity: r.relative,
             contact_points: r.contact_points,
+            damage: None,
             friction_sign: r.friction_sign,
             friction_basis: r.friction_basis,
             mu_max: r.mu_max,
@@ -472,6 +476,10 @@ pub struct FitOut {
     pub notes: Vec<String>,
     /// Which side of the crush surface vehicle 1 lies on at the case's geometry.
     pub side: SideOut,
+    /// The damage (with `[damage]`): the crush at the fit's answer, and the fit with the crush
+    /// energy as evidence.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damage: Option<crate::damage_fit::FitDamage>,
 }
 
 /// Which side of the crush surface vehicle 1 lies on (the vehicles approach when the normal

@@ -151,6 +151,14 @@ pub struct UnitsSection {
     /// Yaw rates (`omega`, the yaw-rate bound): `rad/s` or `deg/s`.
     #[serde(default)]
     pub yaw_rate: YawRateUnit,
+    /// Crush stiffness A and B (`[damage]`): `N/m` (N/m, N/m^2), `N/cm` (N/cm, N/cm^2) or
+    /// `lbf/in` (lbf/in, lbf/in^2).
+    #[serde(default)]
+    pub stiffness: crate::damage::StiffnessUnit,
+    /// Crush depths, damage widths and offsets (`[damage]`): `m`, `cm`, `mm`, `in` or `ft`
+    /// (default: the length unit).
+    #[serde(default)]
+    pub crush: Option<crate::damage::CrushUnit>,
 }
 
 impl UnitsSection {

@@ -166,6 +166,7 @@ mod error;
 mod family;
 mod geometry;
 mod inner;
+mod nonlinear;
 mod problem;
 mod report;
 mod run;
@@ -179,6 +180,7 @@ pub use geometry::{
     fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof,
     GeometryRange, GeometrySearch, ProofStatus,
 };
+pub use nonlinear::{fit_nonlinear, linear_cost, NonlinearFit, NonlinearTerm, PROVEN_GAP};
 pub use problem::{
     forward_axis, state_vector, Combination, Component, CostPreset, FitProblem, Knowledge,
     MomentBranch, Observation, ObservationKind, Vector12, COMPONENT_NAMES,

@@ -24,6 +24,7 @@
 //! the JSON documents, made by pim-data, stay SI.
 
 pub mod batch_tables;
+pub mod damage;
 pub mod diagram;
 pub mod figures;
 mod geometry_lines;

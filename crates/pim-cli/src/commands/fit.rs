@@ -63,6 +63,9 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             ));
         }
     }
+    if let Some(d) = &document.damage {
+        table.push_str(&pim_render::damage::fit_damage_lines(d, units));
+    }
     if let Some(dir) = &a.out {
         let doc = pim_render::report::build::fit(&case, &fitted, name, None, units)
             .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;

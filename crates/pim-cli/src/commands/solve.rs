@@ -51,6 +51,10 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
             table.insert_str(at, &line);
         }
     }
+    if let Some(d) = &document.damage {
+        table.push('\n');
+        table.push_str(&pim_render::damage::damage_lines(d, units));
+    }
     if let Some(dir) = &a.out {
         let doc = pim_render::report::build::solve(&case, &solved, units)
             .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;

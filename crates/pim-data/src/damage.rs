@@ -1,0 +1,519 @@
+//! The damage of a case (`[damage]`): each vehicle's crush profile and stiffness read into
+//! pim-crush's inputs, the crush energies set beside PIM's energy loss and CRASH3's delta-V
+//! beside PIM's, and the energy as evidence of a fit.
+//!
+//! ```toml
+//! [units]
+//! stiffness = "N/cm"       # A in N/cm and B in N/cm^2 ("N/m": N/m, N/m^2; "lbf/in": lbf/in, lbf/in^2)
+//! crush = "cm"             # depths, damage width, offset ("m", "cm", "mm", "in", "ft"; default: length)
+//!
+//! [damage]
+//! relation = "energy_loss" # or "compression": what the crush energy is compared with
+//!
+//! [damage.vehicle1]
+//! side = "front"           # front, rear, left, right
+//! width = 117              # damage width
+//! depths = [10, 14, 18, 26, 31, 38]   # 2 or more, equally spaced across the width
+//! offset = 36              # centre of damage: front/rear from the centreline (+ left; SAE: + right),
+//!                          # left/right along the length from the CG (+ forward)
+//! a = 624                  # stiffness A, B
+//! b = 23
+//! depth_sigma = 2          # standard deviations (optional): a_sigma, b_sigma, depth_sigma, width_sigma
+//! ```
+//!
+//! A vehicle with `a`, `b` and `side` but no `depths` takes its crush from the other vehicle's
+//! by the force balance at the interface (CRASH3's rule, [`pim_crush::balanced_profile`]).
+
+use crate::case::Case;
+use crate::error::Result;
+use crate::units::{FOOT, POUND_FORCE};
+use pim_core::{Impact, VehicleId, Velocities};
+use pim_crush::{EnergyRelation, Profile, ProfileSigmas, Stiffness};
+use pim_fit::Vector12;
+use serde::{Deserialize, Serialize};
+
+/// `[damage]` as written.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamageSection {
+    /// What the crush energy is compared with (default `energy_loss`).
+    #[serde(default)]
+    pub relation: EnergyRelation,
+    /// Whether a fit takes the crush energy as evidence (default: when its standard deviation
+    /// is above 0).
+    #[serde(default)]
+    pub evidence: Option<bool>,
+    /// Vehicle 1's damage.
+    #[serde(default)]
+    pub vehicle1: Option<DamageVehicleSection>,
+    /// Vehicle 2's damage.
+    #[serde(default)]
+    pub vehicle2: Option<DamageVehicleSection>,
+}
+
+/// `[damage.vehicleN]` as written.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamageVehicleSection {
+    /// `front`, `rear`, `left` or `right`.
+    pub side: Option<String>,
+    /// Damage width (crush unit).
+    #[serde(default)]
+    pub width: Option<f64>,
+    /// Crush depths, equally spaced across the width (crush unit).
+    #[serde(default)]
+    pub depths: Option<Vec<f64>>,
+    /// Centre of the damage (crush unit; see the module's text).
+    #[serde(default)]
+    pub offset: Option<f64>,
+    /// Stiffness A (stiffness unit).
+    #[serde(default)]
+    pub a: Option<f64>,
+    /// Stiffness B (stiffness unit per length).
+    #[serde(default)]
+    pub b: Option<f64>,
+    /// Direction of the principal force, degrees clockwise from the nose (where it comes
+    /// from: 0 frontal, 90 from the right); default: that of the impulse.
+    #[serde(default)]
+    pub pdof: Option<f64>,
+    /// Standard deviation of A.
+    #[serde(default)]
+    pub a_sigma: Option<f64>,
+    /// Standard deviation of B.
+    #[serde(default)]
+    pub b_sigma: Option<f64>,
+    /// Standard deviation of each depth.
+    #[serde(default)]
+    pub depth_sigma: Option<f64>,
+    /// Standard deviation of the width.
+    #[serde(default)]
+    pub width_sigma: Option<f64>,
+}
+
+/// Unit of the stiffness coefficients (`[units] stiffness`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum StiffnessUnit {
+    /// A in N/m, B in N/m^2 (default).
+    #[default]
+    #[serde(rename = "N/m")]
+    NewtonPerMetre,
+    /// A in N/cm, B in N/cm^2 (the unit of Neades' RICSAC table).
+    #[serde(rename = "N/cm")]
+    NewtonPerCentimetre,
+    /// A in lbf/in, B in lbf/in^2 (CRASH3's tables).
+    #[serde(rename = "lbf/in")]
+    PoundPerInch,
+}
+
+impl StiffnessUnit {
+    /// The length of the unit, m (A per unit: force / that length; B: force / its square).
+    fn length(self) -> f64 {
+        match self {
+            StiffnessUnit::NewtonPerMetre => 1.0,
+            StiffnessUnit::NewtonPerCentimetre => 0.01,
+            StiffnessUnit::PoundPerInch => 0.0254,
+        }
+    }
+
+    fn force(self) -> f64 {
+        match self {
+            StiffnessUnit::PoundPerInch => POUND_FORCE,
+            _ => 1.0,
+        }
+    }
+
+    /// N/m per unit of A.
+    pub fn a_to_si(self) -> f64 {
+        self.force() / self.length()
+    }
+
+    /// N/m^2 per unit of B.
+    pub fn b_to_si(self) -> f64 {
+        self.force() / (self.length() * self.length())
+    }
+}
+
+/// Unit of crush depths, damage widths and offsets (`[units] crush`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CrushUnit {
+    /// Metres.
+    #[serde(rename = "m")]
+    Metre,
+    /// Centimetres.
+    #[serde(rename = "cm")]
+    Centimetre,
+    /// Millimetres.
+    #[serde(rename = "mm")]
+    Millimetre,
+    /// Inches.
+    #[serde(rename = "in")]
+    Inch,
+    /// Feet.
+    #[serde(rename = "ft")]
+    Foot,
+}
+
+impl CrushUnit {
+    /// m per unit.
+    pub fn to_si(self) -> f64 {
+        match self {
+            CrushUnit::Metre => 1.0,
+            CrushUnit::Centimetre => 0.01,
+            CrushUnit::Millimetre => 0.001,
+            CrushUnit::Inch => 0.0254,
+            CrushUnit::Foot => FOOT,
+        }
+    }
+}
+
+/// The damaged face of a vehicle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    /// The front.
+    Front,
+    /// The rear.
+    Rear,
+    /// The left side.
+    Left,
+    /// The right side.
+    Right,
+}
+
+impl Side {
+    /// The direction a force normal to this face comes from, degrees clockwise from the nose.
+    pub fn normal_pdof(self) -> f64 {
+        match self {
+            Side::Front => 0.0,
+            Side::Right => 90.0,
+            Side::Rear => 180.0,
+            Side::Left => -90.0,
+        }
+    }
+
+    /// The name in case files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Front => "front",
+            Side::Rear => "rear",
+            Side::Left => "left",
+            Side::Right => "right",
+        }
+    }
+
+    fn parse(s: &str) -> Option<Side> {
+        Some(match s.trim() {
+            "front" => Side::Front,
+            "rear" | "back" => Side::Rear,
+            "left" => Side::Left,
+            "right" => Side::Right,
+            _ => return None,
+        })
+    }
+}
+
+/// One vehicle's damage, checked, in SI and the natural frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VehicleDamage {
+    /// The damaged face.
+    pub side: Side,
+    /// The profile (measured, or from the force balance).
+    pub profile: Profile,
+    /// Centre of damage, m (front/rear: + left of the centreline; sides: + ahead of the CG).
+    pub offset: f64,
+    /// A, B in SI.
+    pub stiffness: Stiffness,
+    /// Standard deviations in SI.
+    pub sigmas: ProfileSigmas,
+    /// False when the profile follows from the other vehicle's by the force balance.
+    pub measured: bool,
+    /// The PDOF the case gives, degrees clockwise from the nose.
+    pub pdof: Option<f64>,
+}
+
+/// A case's damage, checked.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Damage {
+    /// What the crush energy is compared with.
+    pub relation: EnergyRelation,
+    /// Whether a fit takes the energy as evidence, as the case says (`None`: by its sigma).
+    pub evidence: Option<bool>,
+    /// Each vehicle's damage (none for a vehicle without a section, or a barrier).
+    pub vehicles: [Option<VehicleDamage>; 2],
+}
+
+/// Largest crush depth or width accepted without vehicle dimensions, m.
+const MAX_CRUSH: f64 = 10.0;
+
+impl Damage {
+    /// The case's `[damage]`, checked and in SI (`None` without one). Messages name the file,
+    /// line and field.
+    pub fn of(case: &Case) -> Result<Option<Damage>> {
+        let Some(section) = &case.content.damage else {
+            return Ok(None);
+        };
+        let u = &case.written_units;
+        let crush_unit = u.crush.map_or(u.length.to_si(), CrushUnit::to_si);
+        let (a_unit, b_unit) = (u.stiffness.a_to_si(), u.stiffness.b_to_si());
+        let sae = case.written == pim_core::Convention::Sae;
+        let mut read = [None, None];
+        for (k, name) in ["vehicle1", "vehicle2"].into_iter().enumerate() {
+            let Some(s) = (if k == 0 {
+                &section.vehicle1
+            } else {
+                &section.vehicle2
+            }) else {
+                continue;
+            };
+            let at = |field: &str| format!("damage.{name}.{field}");
+            let vehicle = case.content.vehicle(k);
+            if vehicle.barrier {
+                return Err(case.error_at(
+                    &format!("damage.{name}"),
+                    "vehicle 2 is a rigid barrier, which takes no crush: leave its damage out",
+                ));
+            }
+            let side = match s.side.as_deref() {
+                Some(t) => Side::parse(t).ok_or_else(|| {
+                    case.error_at(
+                        &at("side"),
+                        format!("{t:?}: accepted \"front\", \"rear\", \"left\", \"right\""),
+                    )
+                })?,
+                None => {
+                    return Err(case.error_at(
+                        &format!("damage.{name}"),
+                        "side: missing; give the damaged face: \"front\", \"rear\", \"left\" \
+                         or \"right\"",
+                    ))
+                }
+            };
+            let (a, b) = match (s.a, s.b) {
+                (Some(a), Some(b)) => (a * a_unit, b * b_unit),
+                (a, _) => {
+                    let missing = if a.is_none() { "a" } else { "b" };
+                    return Err(case.error_at(
+                        &format!("damage.{name}"),
+                        format!(
+                            "{missing}: missing; give the stiffness A and B of the damaged face \
+                             (in [units] stiffness: N/m, N/cm or lbf/in), e.g. from a crash \
+                             test of the same vehicle"
+                        ),
+                    ));
+                }
+            };
+            let stiffness = Stiffness { a, b };
+            stiffness
+                .check()
+                .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
+            let sigma = |x: Option<f64>, scale: f64, field: &str| -> Result<f64> {
+                let v = x.unwrap_or(0.0);
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(case.error_at(
+                        &at(field),
+                        format!("{v}: a standard deviation is a number of at least 0"),
+                    ));
+                }
+                Ok(v * scale)
+            };
+            let sigmas = ProfileSigmas {
+                a: sigma(s.a_sigma, a_unit, "a_sigma")?,
+                b: sigma(s.b_sigma, b_unit, "b_sigma")?,
+                depth: sigma(s.depth_sigma, crush_unit, "depth_sigma")?,
+                width: sigma(s.width_sigma, crush_unit, "width_sigma")?,
+            };
+            let offset = s.offset.unwrap_or(0.0) * crush_unit;
+            if !offset.is_finite() {
+                return Err(case.error_at(&at("offset"), "must be a finite number"));
+            }
+            // The lateral offset of front and rear damage is a y coordinate of the file's frame.
+            let offset = if sae && matches!(side, Side::Front | Side::Rear) {
+                -offset
+            } else {
+                offset
+            };
+            if let Some(p) = s.pdof {
+                if !(p.is_finite() && p.abs() <= 360.0) {
+                    return Err(case.error_at(
+                        &at("pdof"),
+                        format!("{p}: degrees clockwise from the nose, within +-360"),
+                    ));
+                }
+            }
+            let profile = match (&s.depths, s.width) {
+                (Some(d), Some(w)) => Some(Profile {
+                    width: w * crush_unit,
+                    depths: d.iter().map(|c| c * crush_unit).collect(),
+                }),
+                (None, None) => None,
+                (Some(_), None) => {
+                    return Err(case.error_at(
+                        &format!("damage.{name}"),
+                        "width: missing; give the width of the damage the depths were measured \
+                         across",
+                    ))
+                }
+                (None, Some(_)) => {
+                    return Err(case.error_at(
+                        &format!("damage.{name}"),
+                        "depths: missing; give the crush depths measured across the width (2, 4 \
+                         or 6 equally spaced, as CRASH3 measures them)",
+                    ))
+                }
+            };
+            if let Some(p) = &profile {
+                p.check()
+                    .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
+                check_fits(case, name, k, side, p, offset)?;
+            }
+            read[k] = Some((side, profile, offset, stiffness, sigmas, s.pdof));
+        }
+        let measured: Vec<usize> = (0..2)
+            .filter(|&k| matches!(&read[k], Some((_, Some(_), ..))))
+            .collect();
+        if read.iter().any(Option::is_some) && measured.is_empty() {
+            return Err(case.error_at(
+                "damage",
+                "no vehicle's crush is measured: give depths and width for at least one vehicle \
+                 (the other's may follow from the force balance)",
+            ));
+        }
+        let mut vehicles: [Option<VehicleDamage>; 2] = [None, None];
+        for k in 0..2 {
+            let Some((side, profile, offset, stiffness, sigmas, pdof)) = read[k].clone() else {
+                continue;
+            };
+            let (profile, measured) = match profile {
+                Some(p) => (p, true),
+                None => {
+                    let other = 1 - k;
+                    let (_, op, _, os, ..) = read[other].clone().expect("the other is measured");
+                    let op = op.expect("measured");
+                    let p = pim_crush::balanced_profile(&op, &os, &stiffness)
+                        .map_err(|e| crush_error(case, "vehicle", &e, u.stiffness))?;
+                    (p, false)
+                }
+            };
+            vehicles[k] = Some(VehicleDamage {
+                side,
+                profile,
+                offset,
+                stiffness,
+                sigmas,
+                measured,
+                pdof,
+            });
+        }
+        Ok(Some(Damage {
+            relation: section.relation,
+            evidence: section.evidence,
+            vehicles,
+        }))
+    }
+}
+
+fn crush_error(
+    case: &Case,
+    name: &str,
+    e: &pim_crush::CrushError,
+    unit: StiffnessUnit,
+) -> crate::InputError {
+    let pim_crush::CrushError::Input { field, reason } = e;
+    let reason = match *field {
+        "a" | "b" => format!(
+            "{} (in SI; [units] stiffness = {:?})",
+            reason,
+            toml::Value::try_from(unit)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default()
+        ),
+        _ => reason.clone(),
+    };
+    case.error_at(&format!("damage.{name}.{field}"), reason)
+}
+
+/// Checks that the damage lies within the vehicle: its depths not beyond the vehicle's length
+/// (front, rear) or width (sides), its width and offset within the face.
+fn check_fits(
+    case: &Case,
+    name: &str,
+    k: usize,
+    side: Side,
+    p: &Profile,
+    offset: f64,
+) -> Result<()> {
+    let v = case.content.vehicle(k);
+    let (depth_limit, face, what) = match side {
+        Side::Front | Side::Rear => (v.length, v.width, ("length", "width")),
+        Side::Left | Side::Right => (v.width, v.length, ("width", "length")),
+    };
+    let deepest = p.depths.iter().cloned().fold(0.0, f64::max);
+    let limit = depth_limit.unwrap_or(MAX_CRUSH);
+    if deepest >= limit {
+        return Err(case.error_at(
+            &format!("damage.{name}.depths"),
+            format!(
+                "a crush of {deepest:.3} m is not less than the vehicle's {} ({limit:.3} m): \
+                 check the depths and [units] crush",
+                if depth_limit.is_some() {
+                    what.0
+                } else {
+                    "largest accepted crush"
+                }
+            ),
+        ));
+    }
+    let face = face.unwrap_or(MAX_CRUSH * 3.0);
+    // A few millimetres of rounding are allowed at the corners.
+    if p.width > face + 5e-3 {
+        return Err(case.error_at(
+            &format!("damage.{name}.width"),
+            format!(
+                "a damage width of {:.3} m is wider than the vehicle's {} ({face:.3} m)",
+                p.width, what.1
+            ),
+        ));
+    }
+    if offset.abs() + p.width / 2.0 > face / 2.0 + 0.01 * face && matches!(side, Side::Front | Side::Rear) {
+        return Err(case.error_at(
+            &format!("damage.{name}.offset"),
+            format!(
+                "the damage ({:.3} m wide, centred {:.3} m from the centreline) reaches beyond \
+                 the vehicle's width ({face:.3} m)",
+                p.width, offset
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The energy loss of a pair of states, J.
+fn energy_loss(impact: &Impact, initial: &Velocities, separation: &Velocities) -> f64 {
+    initial.kinetic_energy(impact) - separation.kinetic_energy(impact)
+}
+
+fn states(u: &Vector12) -> (Velocities, Velocities) {
+    let x = nalgebra::Vector6::from_iterator(u.iter().take(6).cloned());
+    let y = nalgebra::Vector6::from_iterator(u.iter().skip(6).cloned());
+    (Velocities::from_vector(&x), Velocities::from_vector(&y))
+}
+
+pub use crate::damage_assess::{assess, Assessment, EnergyTerm, VehicleAssessment};
+
+pub(crate) fn split(u: &Vector12) -> (Velocities, Velocities) {
+    states(u)
+}
+
+pub(crate) fn loss(impact: &Impact, u: &Vector12) -> f64 {
+    let (x, y) = states(u);
+    energy_loss(impact, &x, &y)
+}
+
+pub(crate) fn vehicle_id(k: usize) -> VehicleId {
+    if k == 0 {
+        VehicleId::One
+    } else {
+        VehicleId::Two
+    }
+}

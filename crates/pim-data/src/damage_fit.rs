@@ -1,0 +1,153 @@
+//! The damage in a fit: the crush at the fit's answer, and the fit with the crush energy as
+//! evidence.
+
+use crate::case::Case;
+use crate::damage::{assess, Assessment, Damage, EnergyTerm};
+use crate::error::Result;
+use crate::records::StateOut;
+use pim_fit::{FitProblem, FitReport, MomentBranch, NonlinearTerm, ValidSettings};
+use serde::Serialize;
+
+/// The damage of a fit, in the document of `pim fit`.
+#[derive(Debug, Clone, Serialize)]
+pub struct FitDamage {
+    /// The crush at the best answer of the fit without the crush energy.
+    pub at_fit: Option<Assessment>,
+    /// Whether the crush energy entered a fit as evidence.
+    pub evidence: bool,
+    /// Why it did not, when it did not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_evidence: Option<String>,
+    /// The fit with the crush energy as evidence.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub with_energy: Option<EnergyFit>,
+}
+
+/// The fit with the crush energy as evidence.
+#[derive(Debug, Clone, Serialize)]
+pub struct EnergyFit {
+    /// The moment branch of the answer.
+    pub moment: MomentBranch,
+    /// Restitution.
+    pub e: f64,
+    /// Equivalent friction.
+    pub mu: f64,
+    /// Moment restitution.
+    pub em: f64,
+    /// Velocities at contact.
+    pub initial: StateOut,
+    /// Velocities at separation.
+    #[serde(rename = "final")]
+    pub final_: StateOut,
+    /// The whole cost (the case's evidence and the energy's).
+    pub cost: f64,
+    /// The case's evidence alone at this answer.
+    pub cost_without_energy: f64,
+    /// The energy's residual, standard deviations (expected loss - PIM's loss, over sigma).
+    pub energy_z: f64,
+    /// The cost's chi-square reading with one more datum (with standard deviations only).
+    pub chi_square: Option<pim_fit::ChiSquare>,
+    /// The certified optimum without the energy: no answer can cost less.
+    pub lower_bound: f64,
+    /// True when the answer meets the lower bound: it is then the global optimum. Otherwise it
+    /// is the best found from the starts (each branch's optimum without the energy).
+    pub proven: bool,
+    /// Exact fits solved.
+    pub fits: usize,
+    /// The crush at this answer.
+    pub damage: Option<Assessment>,
+    /// Delta-V of both vehicles at this answer, m/s.
+    pub delta_v: [f64; 2],
+    /// Kinetic energy loss at this answer, J.
+    pub energy_loss: f64,
+}
+
+/// The damage of a fit of `case` (`None` without `[damage]`): the crush at the report's best
+/// answer and, when the energy is evidence, the fit with it.
+pub fn fit_damage(
+    case: &Case,
+    problem: &FitProblem,
+    report: &FitReport,
+    settings: &ValidSettings,
+    unit: Option<f64>,
+) -> Result<Option<FitDamage>> {
+    let Some(damage) = Damage::of(case)? else {
+        return Ok(None);
+    };
+    let best = report.best_branch().and_then(|b| b.solution.as_ref());
+    let at_fit =
+        best.and_then(|s| assess(&damage, &problem.impact, &pim_fit::state_vector(&s.initial, &s.separation)));
+    let sigma = at_fit.as_ref().map_or(0.0, |a| a.expected_loss_sigma);
+    let wanted = damage.evidence.unwrap_or(sigma > 0.0);
+    let mut out = FitDamage {
+        at_fit,
+        evidence: false,
+        not_evidence: None,
+        with_energy: None,
+    };
+    if !wanted {
+        out.not_evidence = Some(if damage.evidence == Some(false) {
+            "[damage] evidence = false: compared, not fitted".into()
+        } else {
+            "the crush energy has no standard deviation (give a_sigma, b_sigma, depth_sigma or \
+             width_sigma): compared, not fitted"
+                .into()
+        });
+        return Ok(Some(out));
+    }
+    if best.is_some() && sigma <= 0.0 {
+        return Err(case.error_at(
+            "damage.evidence",
+            "the crush energy as evidence needs its standard deviation: give a_sigma, b_sigma, \
+             depth_sigma or width_sigma in [damage.vehicleN]",
+        ));
+    }
+    if !crate::fitcase::geometry(case)?.is_empty() {
+        out.not_evidence = Some(
+            "the case estimates its geometry ([bounds] of the impact centre or crush angle): the \
+             crush energy is compared at the fitted geometry, not fitted with it"
+                .into(),
+        );
+        return Ok(Some(out));
+    }
+    let term = EnergyTerm {
+        damage: &damage,
+        impact: &problem.impact,
+    };
+    let terms: [&dyn NonlinearTerm; 1] = [&term];
+    let u = unit.unwrap_or(1.0);
+    let fitted = pim_fit::fit_nonlinear(problem, report, u, &terms, settings)
+        .map_err(|e| crate::InputError::new(&case.file, e.to_string()))?;
+    let Some(f) = fitted else {
+        out.not_evidence = Some("no admissible answer to start from".into());
+        return Ok(Some(out));
+    };
+    let s = &f.solution;
+    let at = pim_fit::state_vector(&s.initial, &s.separation);
+    let chi_square = unit.map(|u| {
+        let mut c = pim_fit::ChiSquare::new(problem, f.moment, f.cost, u);
+        c.degrees_of_freedom += 1;
+        c.p_value = pim_fit::ChiSquare::p_value_of(c.degrees_of_freedom, c.value);
+        c
+    });
+    out.evidence = true;
+    out.with_energy = Some(EnergyFit {
+        moment: f.moment,
+        e: s.e,
+        mu: s.mu,
+        em: s.em,
+        initial: (&s.initial).into(),
+        final_: (&s.separation).into(),
+        cost: f.cost,
+        cost_without_energy: f.linear_cost,
+        energy_z: f.residuals.first().copied().unwrap_or(0.0),
+        chi_square,
+        lower_bound: f.lower_bound,
+        proven: f.proven,
+        fits: f.fits,
+        damage: assess(&damage, &problem.impact, &at),
+        delta_v: [s.delta_v[0].magnitude, s.delta_v[1].magnitude],
+        energy_loss: s.energy_loss,
+    });
+    Ok(Some(out))
+}
