@@ -433,6 +433,16 @@ to every test (each a standard deviation, in the file's [units]):
 The best record of each test and cost function then carries the intervals (JSON `intervals`,
 CSV columns speed1_p05 ... delta_v2_p95, and a table). Example: examples/ricsac_tolerances.toml.
 
+CRUSH: `pim batch data/ricsac.csv --damage data/ricsac_vehicles.csv` adds each test's crush (the
+EDCRASH RICSAC profiles and stiffness of Neades 2011, Appendix D): the damaged face of each car is
+the face its phi points to; the crush energies (exact integral of CRASH3's linear stiffness over
+the profile, times the direction-of-force factor of the fitted impulse) are set beside the Q2
+fit's energy loss (CRASH3's convention: crush energy = energy loss), CRASH3's delta-V beside
+PIM's and the measured ones (Neades 2011 Table 5.3, from data/reference/neades2011_table5_3.csv
+when it is next to the data file), and the Q2 fit is repeated with the crush energy as
+evidence (A and B with an assumed 10 % standard deviation, each depth 2 cm: none is
+published). Table damage.txt, damage.csv, damage.json and the figure crush_energy.svg.
+
 OUTPUT (--out DIR): records.csv (one row per test, cost function and branch), records.json,
 velocity_errors.csv (fitted minus measured per component), summary.txt, compare_costs.txt,
 brach1984.txt (when data/reference/brach1984_table1.csv is next to the data file), and the
@@ -530,6 +540,12 @@ pub struct BatchArgs {
     /// ([units], [sigma.initial], [sigma.final], [uncertainty]; see below).
     #[arg(long, value_name = "FILE")]
     pub tolerances: Option<PathBuf>,
+    /// Data file only: the crush of every car (CSV, like data/ricsac_vehicles.csv: damage
+    /// length and offset, C1..C6 in cm, A in N/cm, B in N/cm^2, CG to front and rear, width):
+    /// each test's crush energies beside its Q2 fit, CRASH3's delta-V beside PIM's, and the Q2
+    /// fit with the crush energy as evidence (see CRUSH below).
+    #[arg(long, value_name = "FILE")]
+    pub damage: Option<PathBuf>,
 }
 
 #[derive(clap::Args, Debug)]

@@ -43,10 +43,13 @@ pub struct EnergyFit {
     pub cost: f64,
     /// The case's evidence alone at this answer.
     pub cost_without_energy: f64,
-    /// The energy's residual, standard deviations (expected loss - PIM's loss, over sigma).
+    /// The energy's residual, standard deviations: (PIM's loss - the expected loss) / sigma.
     pub energy_z: f64,
     /// The cost's chi-square reading with one more datum (with standard deviations only).
     pub chi_square: Option<pim_fit::ChiSquare>,
+    /// True when the case gives no standard deviations: the velocity residuals then count as if
+    /// their standard deviation were 1 m/s (1 rad/s) beside the energy's.
+    pub velocity_sigma_assumed: bool,
     /// The certified optimum without the energy: no answer can cost less.
     pub lower_bound: f64,
     /// True when the answer meets the lower bound: it is then the global optimum. Otherwise it
@@ -74,11 +77,66 @@ pub fn fit_damage(
     let Some(damage) = Damage::of(case)? else {
         return Ok(None);
     };
-    let best = report.best_branch().and_then(|b| b.solution.as_ref());
-    let at_fit =
-        best.and_then(|s| assess(&damage, &problem.impact, &pim_fit::state_vector(&s.initial, &s.separation)));
+    let at_fit = report
+        .best_branch()
+        .and_then(|b| b.solution.as_ref())
+        .and_then(|s| {
+            assess(
+                &damage,
+                &problem.impact,
+                &pim_fit::state_vector(&s.initial, &s.separation),
+            )
+        });
+    if damage.evidence == Some(true) && at_fit.as_ref().is_some_and(|a| a.expected_loss_sigma <= 0.0) {
+        return Err(case.error_at(
+            "damage.evidence",
+            "the crush energy as evidence needs its standard deviation: give a_sigma, b_sigma, \
+             depth_sigma or width_sigma in [damage.vehicleN]",
+        ));
+    }
+    if !crate::fitcase::geometry(case)?.is_empty() {
+        return Ok(Some(FitDamage {
+            at_fit,
+            evidence: false,
+            not_evidence: Some(
+                "the case estimates its geometry ([bounds] of the impact centre or crush angle): \
+                 the crush energy is compared at the fitted geometry, not fitted with it"
+                    .into(),
+            ),
+            with_energy: None,
+        }));
+    }
+    fit_damage_of(&damage, problem, report, settings, unit)
+        .map(Some)
+        .map_err(|e| crate::InputError::new(&case.file, e))
+}
+
+/// The damage of a fit: the crush at the report's best answer and, when the energy is
+/// evidence (as `damage` says, or when its standard deviation is above 0), the fit with it.
+/// `unit` is the unit of the problem's inverse-variance weights (`None` without standard
+/// deviations: the velocity residuals then count as if their sigma were 1 m/s).
+///
+/// # Errors
+/// A fit's error, in words.
+pub fn fit_damage_of(
+    damage: &Damage,
+    problem: &FitProblem,
+    report: &FitReport,
+    settings: &ValidSettings,
+    unit: Option<f64>,
+) -> std::result::Result<FitDamage, String> {
+    let at_fit = report
+        .best_branch()
+        .and_then(|b| b.solution.as_ref())
+        .and_then(|s| {
+            assess(
+                damage,
+                &problem.impact,
+                &pim_fit::state_vector(&s.initial, &s.separation),
+            )
+        });
     let sigma = at_fit.as_ref().map_or(0.0, |a| a.expected_loss_sigma);
-    let wanted = damage.evidence.unwrap_or(sigma > 0.0);
+    let wanted = damage.evidence.unwrap_or(sigma > 0.0) && sigma > 0.0;
     let mut out = FitDamage {
         at_fit,
         evidence: false,
@@ -88,39 +146,26 @@ pub fn fit_damage(
     if !wanted {
         out.not_evidence = Some(if damage.evidence == Some(false) {
             "[damage] evidence = false: compared, not fitted".into()
+        } else if out.at_fit.is_none() {
+            "no admissible answer to compare with".into()
         } else {
             "the crush energy has no standard deviation (give a_sigma, b_sigma, depth_sigma or \
              width_sigma): compared, not fitted"
                 .into()
         });
-        return Ok(Some(out));
-    }
-    if best.is_some() && sigma <= 0.0 {
-        return Err(case.error_at(
-            "damage.evidence",
-            "the crush energy as evidence needs its standard deviation: give a_sigma, b_sigma, \
-             depth_sigma or width_sigma in [damage.vehicleN]",
-        ));
-    }
-    if !crate::fitcase::geometry(case)?.is_empty() {
-        out.not_evidence = Some(
-            "the case estimates its geometry ([bounds] of the impact centre or crush angle): the \
-             crush energy is compared at the fitted geometry, not fitted with it"
-                .into(),
-        );
-        return Ok(Some(out));
+        return Ok(out);
     }
     let term = EnergyTerm {
-        damage: &damage,
+        damage,
         impact: &problem.impact,
     };
     let terms: [&dyn NonlinearTerm; 1] = [&term];
     let u = unit.unwrap_or(1.0);
     let fitted = pim_fit::fit_nonlinear(problem, report, u, &terms, settings)
-        .map_err(|e| crate::InputError::new(&case.file, e.to_string()))?;
+        .map_err(|e| e.to_string())?;
     let Some(f) = fitted else {
         out.not_evidence = Some("no admissible answer to start from".into());
-        return Ok(Some(out));
+        return Ok(out);
     };
     let s = &f.solution;
     let at = pim_fit::state_vector(&s.initial, &s.separation);
@@ -140,14 +185,15 @@ pub fn fit_damage(
         final_: (&s.separation).into(),
         cost: f.cost,
         cost_without_energy: f.linear_cost,
-        energy_z: f.residuals.first().copied().unwrap_or(0.0),
+        energy_z: -f.residuals.first().copied().unwrap_or(0.0),
         chi_square,
+        velocity_sigma_assumed: unit.is_none(),
         lower_bound: f.lower_bound,
         proven: f.proven,
         fits: f.fits,
-        damage: assess(&damage, &problem.impact, &at),
+        damage: assess(damage, &problem.impact, &at),
         delta_v: [s.delta_v[0].magnitude, s.delta_v[1].magnitude],
         energy_loss: s.energy_loss,
     });
-    Ok(Some(out))
+    Ok(out)
 }

@@ -41,6 +41,7 @@ pub mod records;
 pub mod reference;
 pub mod residuals;
 pub mod ricsac;
+pub mod ricsac_damage;
 pub mod runout;
 pub mod scene;
 pub mod scene_sections;

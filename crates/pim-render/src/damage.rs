@@ -137,6 +137,14 @@ pub fn fit_damage_lines(d: &FitDamage, u: UnitSystem) -> String {
             f.cost - f.cost_without_energy,
             f.energy_z
         );
+        if f.velocity_sigma_assumed {
+            let _ = writeln!(
+                s,
+                "  (the case gives no standard deviations: its weighted velocity residuals count \
+                 beside the energy's as if their sigma were 1 m/s and 1 rad/s; give [sigma] for \
+                 a chi-square)"
+            );
+        }
         if let Some(c) = &f.chi_square {
             let _ = writeln!(
                 s,

@@ -25,6 +25,7 @@
 
 pub mod batch_tables;
 pub mod damage;
+pub mod damage_batch;
 pub mod diagram;
 pub mod figures;
 mod geometry_lines;

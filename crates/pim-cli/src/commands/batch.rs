@@ -22,6 +22,14 @@ fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tole
 
 /// `pim batch` and (`compare`) `pim compare-costs`: a data file, or case files.
 pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
+    if compare && a.damage.is_some() {
+        return Err(Failure::Input(
+            "compare-costs compares the cost functions' fits: --damage is for `pim batch \
+             DATA.csv --damage CRUSH.csv`"
+                .into(),
+        )
+        .into());
+    }
     if compare && (a.draws > 0 || a.tolerances.is_some()) {
         // Accepted by the shared arguments, used by nothing here: refused, not ignored.
         return Err(Failure::Input(
@@ -36,6 +44,13 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         _ if compare => {
             return Err(Failure::Input(
                 "compare-costs takes a data file (CSV), not case files".into(),
+            )
+            .into())
+        }
+        _ if a.damage.is_some() => {
+            return Err(Failure::Input(
+                "--damage goes with a data file (CSV): case files give their crush in [damage]"
+                    .into(),
             )
             .into())
         }
@@ -105,6 +120,23 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         None => work(),
     };
     bar.finish_and_clear();
+    let damage = match &a.damage {
+        Some(path) => {
+            let work = || super::batch_damage::records(path, &data, &tests, &plan.settings);
+            Some(match a.threads {
+                Some(n) => rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .map_err(|e| Failure::Input(format!("--threads {n}: {e}")))?
+                    .install(work)?,
+                None => work()?,
+            })
+        }
+        None => None,
+    };
+    let damage_text = damage
+        .as_ref()
+        .map(|d| pim_render::damage_batch::damage_table(d, units));
     let brach = data
         .parent()
         .map(|d| d.join("reference").join("brach1984_table1.csv"))
@@ -181,6 +213,10 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             if let Some(v) = &v18_text {
                 t.push_str(v);
             }
+            if let Some(d) = &damage_text {
+                t.push('\n');
+                t.push_str(d);
+            }
             t
         }
     };
@@ -209,6 +245,22 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         if let Some(v) = &v18_text {
             out.write("v18.txt", v)?;
             tables += 1;
+        }
+        if let (Some(d), Some(text)) = (&damage, &damage_text) {
+            out.write("damage.txt", text)?;
+            out.write(
+                "damage.csv",
+                &pim_render::damage_batch::damage_csv(d).map_err(Failure::Output)?,
+            )?;
+            out.write(
+                "damage.json",
+                &json(&serde_json::json!({ "data": file, "records": d }))?,
+            )?;
+            tables += 1;
+            figs.push(
+                pim_render::damage_batch::crush_energy_figure(d)
+                    .map_err(|e| Failure::Output(format!("{}: figures: {e}", dir.display())))?,
+            );
         }
         if let Some(m) = &models_text {
             out.write("models.txt", m)?;

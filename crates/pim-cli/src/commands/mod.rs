@@ -2,6 +2,7 @@
 
 pub mod batch;
 pub mod batch_cases;
+pub mod batch_damage;
 pub mod batch_plan;
 pub mod draw;
 pub mod fit;
