@@ -15,7 +15,9 @@ fn json(out: &std::process::Output) -> serde_json::Value {
 /// the Chevrolet's six depths 0..16 cm over 168 cm at A 62,400 N/m, B 230,000 N/m^2).
 #[test]
 fn the_example_fit_sets_the_crush_beside_the_energy_loss_and_fits_it() {
-    let v = json(&pim_ok(&["fit", EXAMPLE, "--cost", "q2", "--format", "json"]));
+    let v = json(&pim_ok(&[
+        "fit", EXAMPLE, "--cost", "q2", "--format", "json",
+    ]));
     let d = &v["damage"];
     let at = &d["at_fit"];
     let e1 = at["vehicles"][0]["crush_energy"].as_f64().unwrap();

@@ -88,7 +88,10 @@ pub fn crush_energy_sigma(
     let n = profile.depths.len();
     let h = profile.width / (n - 1) as f64;
     let c = &profile.depths;
-    let (mut d_a, mut d_b) = (a / b * profile.width, -a * a / (2.0 * b * b) * profile.width);
+    let (mut d_a, mut d_b) = (
+        a / b * profile.width,
+        -a * a / (2.0 * b * b) * profile.width,
+    );
     let mut d_c = vec![0.0; n];
     for i in 0..n - 1 {
         let (c0, c1) = (c[i], c[i + 1]);
@@ -181,7 +184,10 @@ pub fn crash3_delta_v(
             format!("{:?}: masses must be above 0 kg", masses),
         ));
     }
-    if factors.iter().any(|g| !(g.is_finite() && *g > 0.0 && *g <= 1.0)) {
+    if factors
+        .iter()
+        .any(|g| !(g.is_finite() && *g > 0.0 && *g <= 1.0))
+    {
         return Err(input(
             "effective_mass_factor",
             format!("{:?}: each must lie in (0, 1]", factors),

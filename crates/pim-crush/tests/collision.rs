@@ -133,7 +133,10 @@ fn the_force_balance_gives_the_other_crush() {
         }
     }
     assert_eq!(other.depths[0], 0.0);
-    assert_relative_eq!(other.depths[2], (40_000.0 + 180_000.0 - 60_000.0) / 300_000.0);
+    assert_relative_eq!(
+        other.depths[2],
+        (40_000.0 + 180_000.0 - 60_000.0) / 300_000.0
+    );
 }
 
 #[test]

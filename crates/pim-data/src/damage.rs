@@ -340,27 +340,24 @@ impl Damage {
                     ));
                 }
             }
-            let profile = match (&s.depths, s.width) {
-                (Some(d), Some(w)) => Some(Profile {
-                    width: w * crush_unit,
-                    depths: d.iter().map(|c| c * crush_unit).collect(),
-                }),
-                (None, None) => None,
-                (Some(_), None) => {
-                    return Err(case.error_at(
+            let profile =
+                match (&s.depths, s.width) {
+                    (Some(d), Some(w)) => Some(Profile {
+                        width: w * crush_unit,
+                        depths: d.iter().map(|c| c * crush_unit).collect(),
+                    }),
+                    (None, None) => None,
+                    (Some(_), None) => return Err(case.error_at(
                         &format!("damage.{name}"),
                         "width: missing; give the width of the damage the depths were measured \
                          across",
-                    ))
-                }
-                (None, Some(_)) => {
-                    return Err(case.error_at(
+                    )),
+                    (None, Some(_)) => return Err(case.error_at(
                         &format!("damage.{name}"),
                         "depths: missing; give the crush depths measured across the width (2, 4 \
                          or 6 equally spaced, as CRASH3 measures them)",
-                    ))
-                }
-            };
+                    )),
+                };
             if let Some(p) = &profile {
                 p.check()
                     .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
@@ -475,7 +472,9 @@ fn check_fits(
             ),
         ));
     }
-    if offset.abs() + p.width / 2.0 > face / 2.0 + 0.01 * face && matches!(side, Side::Front | Side::Rear) {
+    if offset.abs() + p.width / 2.0 > face / 2.0 + 0.01 * face
+        && matches!(side, Side::Front | Side::Rear)
+    {
         return Err(case.error_at(
             &format!("damage.{name}.offset"),
             format!(

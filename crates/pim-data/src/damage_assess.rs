@@ -153,7 +153,11 @@ pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessme
         ));
     }
     if !impact.is_barrier() && damage.vehicles.iter().any(Option::is_none) {
-        let k = damage.vehicles.iter().position(Option::is_none).unwrap_or(1);
+        let k = damage
+            .vehicles
+            .iter()
+            .position(Option::is_none)
+            .unwrap_or(1);
         warnings.push(format!(
             "vehicle {} has no [damage.vehicle{}]: the crush energy holds the other vehicle's \
              only (give its side, a and b to take its crush from the force balance)",

@@ -63,6 +63,9 @@ pub struct EnergyFit {
     pub delta_v: [f64; 2],
     /// Kinetic energy loss at this answer, J.
     pub energy_loss: f64,
+    /// The whole answer (for the uncertainty study's quantities).
+    #[serde(skip)]
+    pub solution: pim_fit::Solution,
 }
 
 /// The damage of a fit of `case` (`None` without `[damage]`): the crush at the report's best
@@ -87,7 +90,11 @@ pub fn fit_damage(
                 &pim_fit::state_vector(&s.initial, &s.separation),
             )
         });
-    if damage.evidence == Some(true) && at_fit.as_ref().is_some_and(|a| a.expected_loss_sigma <= 0.0) {
+    if damage.evidence == Some(true)
+        && at_fit
+            .as_ref()
+            .is_some_and(|a| a.expected_loss_sigma <= 0.0)
+    {
         return Err(case.error_at(
             "damage.evidence",
             "the crush energy as evidence needs its standard deviation: give a_sigma, b_sigma, \
@@ -161,8 +168,8 @@ pub fn fit_damage_of(
     };
     let terms: [&dyn NonlinearTerm; 1] = [&term];
     let u = unit.unwrap_or(1.0);
-    let fitted = pim_fit::fit_nonlinear(problem, report, u, &terms, settings)
-        .map_err(|e| e.to_string())?;
+    let fitted =
+        pim_fit::fit_nonlinear(problem, report, u, &terms, settings).map_err(|e| e.to_string())?;
     let Some(f) = fitted else {
         out.not_evidence = Some("no admissible answer to start from".into());
         return Ok(out);
@@ -194,6 +201,7 @@ pub fn fit_damage_of(
         damage: assess(damage, &problem.impact, &at),
         delta_v: [s.delta_v[0].magnitude, s.delta_v[1].magnitude],
         energy_loss: s.energy_loss,
+        solution: s.clone(),
     });
     Ok(out)
 }

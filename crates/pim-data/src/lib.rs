@@ -24,6 +24,7 @@ pub mod case;
 mod checks;
 pub mod damage;
 mod damage_assess;
+mod damage_draws;
 pub mod damage_fit;
 pub mod documents;
 mod error;

@@ -221,8 +221,13 @@ pub fn damage_records(
                 Ok(i) => i,
                 Err(e) => return failed(e.to_string()),
             };
-            let problem =
-                FitProblem::from_preset(impact, CostPreset::Q2, &t.initial(), &t.separation(), None);
+            let problem = FitProblem::from_preset(
+                impact,
+                CostPreset::Q2,
+                &t.initial(),
+                &t.separation(),
+                None,
+            );
             let settings = match settings.clone().check() {
                 Ok(s) => s,
                 Err(e) => return failed(e.to_string()),

@@ -270,6 +270,7 @@ pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>
             }
         }
     }
+    out.extend(crate::damage_draws::inputs(case));
     if let Some(sp) = unc.impact.crush_angle {
         sp.check_against("impact.crush_angle", c.impact.crush_angle, false)
             .map_err(|why| case.error_at("uncertainty.impact.crush_angle", why))?;
@@ -305,7 +306,8 @@ fn set_estimate(case: &mut Case, k: usize, x: f64) {
     }
 }
 
-/// Fits one version of the case; the best branch's quantities.
+/// Fits one version of the case; the best branch's quantities (those of the fit with the crush
+/// energy as evidence, when the case's damage is evidence).
 fn fit_once(
     case: &Case,
     choice: CostChoice,
@@ -313,10 +315,54 @@ fn fit_once(
 ) -> Option<DrawResult> {
     let problem = fitcase::problem(case, choice).ok()?;
     // With [bounds] on the geometry, each draw is a full fit over the geometry box.
-    best_of(
-        &fitcase::fit(case, &problem, settings).ok()?,
-        settings.get(),
-    )
+    let report = fitcase::fit(case, &problem, settings).ok()?;
+    answer_of(case, &problem, &report, settings)
+}
+
+/// The quantities of a case's answer: the best branch of `report`, or the fit with the crush
+/// energy as evidence when the case's damage is evidence.
+fn answer_of(
+    case: &Case,
+    problem: &pim_fit::FitProblem,
+    report: &pim_fit::FitReport,
+    settings: &pim_fit::ValidSettings,
+) -> Option<DrawResult> {
+    if case.content.damage.is_some() {
+        let unit = fitcase::sigma_unit(case).ok()?;
+        let damage = crate::damage_fit::fit_damage(case, problem, report, settings, unit).ok()?;
+        if let Some(f) = damage.and_then(|d| d.with_energy) {
+            return Some(DrawResult {
+                bounds: search_bounds(&f.solution, settings.get()),
+                branch: f.moment,
+                values: values_of(&f.solution),
+            });
+        }
+    }
+    best_of(report, settings.get())
+}
+
+fn search_bounds(s: &pim_fit::Solution, settings: &FitSettings) -> Vec<pim_fit::SearchBound> {
+    let mut bounds: Vec<pim_fit::SearchBound> = s
+        .active_constraints
+        .iter()
+        .filter_map(|a| a.search_bound(settings).map(|(b, _)| b))
+        .collect();
+    bounds.sort();
+    bounds.dedup();
+    bounds
+}
+
+fn values_of(s: &pim_fit::Solution) -> [f64; 8] {
+    [
+        s.e,
+        s.tangential.as_ref().map_or(s.mu, |t| t.et),
+        s.tangential.as_ref().map_or(s.em, |t| t.friction),
+        s.vehicles[0].speed_initial,
+        s.vehicles[1].speed_initial,
+        s.vehicles[0].delta_v,
+        s.vehicles[1].delta_v,
+        s.energy_loss_percent,
+    ]
 }
 
 /// The quantities of a fit's best branch, when it has an answer.
@@ -326,26 +372,10 @@ fn best_of(report: &pim_fit::FitReport, settings: &FitSettings) -> Option<DrawRe
         return None;
     }
     let s = b.solution.as_ref()?;
-    let mut bounds: Vec<pim_fit::SearchBound> = s
-        .active_constraints
-        .iter()
-        .filter_map(|a| a.search_bound(settings).map(|(b, _)| b))
-        .collect();
-    bounds.sort();
-    bounds.dedup();
     Some(DrawResult {
-        bounds,
+        bounds: search_bounds(s, settings),
         branch: b.moment,
-        values: [
-            s.e,
-            s.tangential.as_ref().map_or(s.mu, |t| t.et),
-            s.tangential.as_ref().map_or(s.em, |t| t.friction),
-            s.vehicles[0].speed_initial,
-            s.vehicles[1].speed_initial,
-            s.vehicles[0].delta_v,
-            s.vehicles[1].delta_v,
-            s.energy_loss_percent,
-        ],
+        values: values_of(s),
     })
 }
 
@@ -389,7 +419,7 @@ pub fn run(
     // The nominal fit: also says which quantities the data do not determine.
     let problem = fitcase::problem(case, choice)?;
     let report = fitcase::fit(case, &problem, &settings)?;
-    let nominal = best_of(&report, settings.get());
+    let nominal = answer_of(case, &problem, &report, &settings);
     let set_by_case = |b| fitcase::sets_bound(case, b);
     let nominal_bounds = report
         .best_branch()

@@ -63,9 +63,7 @@ fn crash3_delta_v_equals_pim_in_a_central_collinear_plastic_collision() {
         crush_angle: 0.0,
     })
     .unwrap();
-    let initial = Velocities::from_vector(&nalgebra::Vector6::new(
-        20.0, 0.0, 0.0, 5.0, 0.0, 0.0,
-    ));
+    let initial = Velocities::from_vector(&nalgebra::Vector6::new(20.0, 0.0, 0.0, 5.0, 0.0, 0.0));
     let c = Coefficients {
         e: 0.0,
         mu: 0.0,
@@ -201,13 +199,23 @@ struct Generated {
 /// profiles whose energies (with the truth's PDOF factors) add up to the truth's energy loss.
 fn generate(m1: f64, m2: f64, phi2: f64, speed: f64, e: f64, mu: f64) -> Option<Generated> {
     let impact = impact(m1, m2, phi2);
-    let initial =
-        Velocities::from_vector(&nalgebra::Vector6::new(-speed, 0.0, 0.0, 0.0, 0.7 * speed, 0.0));
+    let initial = Velocities::from_vector(&nalgebra::Vector6::new(
+        -speed,
+        0.0,
+        0.0,
+        0.0,
+        0.7 * speed,
+        0.0,
+    ));
     // mu as a share of the signed critical friction of this contact state, so that the truth
     // slides within the friction rule the fit imposes (mu between 0 and mu_max).
     let mu_max = critical_friction(
         &impact,
-        &Coefficients { e, mu: 0.0, em: 1.0 },
+        &Coefficients {
+            e,
+            mu: 0.0,
+            em: 1.0,
+        },
         &initial,
         &SolveOptions::default(),
     )
@@ -385,5 +393,3 @@ proptest! {
         prop_assert!(f.cost + 1e-12 >= f.lower_bound);
     }
 }
-
-

@@ -43,7 +43,11 @@ pub fn damage_lines(a: &Assessment, u: UnitSystem) -> String {
     );
     for (k, v) in a.vehicles.iter().enumerate() {
         let Some(v) = v else { continue };
-        let depths: Vec<String> = v.depths.iter().map(|c| format!("{:.1}", c * depth)).collect();
+        let depths: Vec<String> = v
+            .depths
+            .iter()
+            .map(|c| format!("{:.1}", c * depth))
+            .collect();
         let mut depths = depths.join(" ");
         if !v.measured {
             depths.push_str(" (balance)");
@@ -71,9 +75,8 @@ pub fn damage_lines(a: &Assessment, u: UnitSystem) -> String {
         "  (E the profile's energy, E' with the direction-of-force factor 1 + tan^2 of the PDOF's \
          angle from the face's normal; delta-V in {sp}; PDOF clockwise from the nose)"
     );
-    let z = a
-        .z
-        .map_or_else(|| "no sigma".to_string(), |z| format!("{z:+.2} sigma"));
+    let z =
+        a.z.map_or_else(|| "no sigma".to_string(), |z| format!("{z:+.2} sigma"));
     let _ = writeln!(
         s,
         "  crush energy {} +- {} kJ; expected energy loss {} kJ ({}); PIM's energy loss {} kJ; \

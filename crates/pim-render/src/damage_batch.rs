@@ -272,16 +272,18 @@ pub fn crush_energy_figure(records: &[DamageRecord]) -> Result<Figure, String> {
             }))
             .map_err(err)?;
         chart
-            .draw_series(points.iter().map(|p| Circle::new((p.1, p.2), 4, blue.filled())))
+            .draw_series(
+                points
+                    .iter()
+                    .map(|p| Circle::new((p.1, p.2), 4, blue.filled())),
+            )
             .map_err(err)?
             .label("the Q2 fit (velocities only); bars: +- 1 sigma of the crush")
             .legend(move |(x, y)| Circle::new((x + 8, y), 4, blue.filled()));
         chart
-            .draw_series(
-                points
-                    .iter()
-                    .filter_map(|p| p.4.map(|(l, c)| TriangleMarker::new((l, c), 5, orange.filled()))),
-            )
+            .draw_series(points.iter().filter_map(|p| {
+                p.4.map(|(l, c)| TriangleMarker::new((l, c), 5, orange.filled()))
+            }))
             .map_err(err)?
             .label("the Q2 fit with the crush energy as evidence")
             .legend(move |(x, y)| TriangleMarker::new((x + 8, y), 5, orange.filled()));

@@ -14,8 +14,8 @@ pub fn records(
     settings: &pim_fit::FitSettings,
 ) -> Result<Vec<DamageRecord>, Failure> {
     let text = crate::inputs::read_text_file(path, pim_data::ricsac::MAX_DATA_BYTES)?;
-    let crush = parse_crush(&text)
-        .map_err(|e| Failure::Input(format!("{}: {e}", path.display())))?;
+    let crush =
+        parse_crush(&text).map_err(|e| Failure::Input(format!("{}: {e}", path.display())))?;
     let measured = data
         .parent()
         .map(|d| d.join("reference").join("neades2011_table5_3.csv"))
