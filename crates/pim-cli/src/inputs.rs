@@ -30,7 +30,11 @@ pub fn io_reason(e: &std::io::Error) -> String {
 /// Reads and parses a case file.
 pub fn load_case(path: &Path) -> Result<Case, Failure> {
     let text = read_text_file(path, MAX_CASE_BYTES)?;
-    Ok(Case::from_text(&path.display().to_string(), &text)?)
+    let case = Case::from_text(&path.display().to_string(), &text)?;
+    // The damage is read where it is used; checked here so that every command refuses a case
+    // whose crush cannot be.
+    pim_data::damage::Damage::of(&case)?;
+    Ok(case)
 }
 
 /// The collision of a case, checked; then its plausibility warnings go to stderr (only for a

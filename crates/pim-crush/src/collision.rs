@@ -178,7 +178,7 @@ pub fn crash3_delta_v(
             format!("{energy}: must be a number of at least 0 J"),
         ));
     }
-    if !(masses[0].is_finite() && masses[0] > 0.0) || !(masses[1] > 0.0) {
+    if !(masses[0].is_finite() && masses[0] > 0.0 && masses[1] > 0.0) {
         return Err(input(
             "mass",
             format!("{:?}: masses must be above 0 kg", masses),

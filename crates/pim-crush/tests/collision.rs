@@ -101,7 +101,7 @@ fn against_a_barrier() {
         barrier_equivalent_speed(120_000.0, 1500.0).unwrap(),
         max_relative = 1e-15
     );
-    assert_eq!(dv[1], 0.0);
+    assert_relative_eq!(dv[1], 0.0, epsilon = 1e-15);
     assert!(crash3_delta_v(-1.0, [1500.0, 1500.0], [1.0, 1.0]).is_err());
     assert!(crash3_delta_v(1.0, [1500.0, 1500.0], [0.0, 1.0]).is_err());
 }
@@ -123,16 +123,16 @@ fn the_force_balance_gives_the_other_crush() {
         b: 300_000.0,
     };
     let other = balanced_profile(&measured, &s1, &s2).unwrap();
-    assert_eq!(other.width, 1.2);
+    assert_relative_eq!(other.width, 1.2, epsilon = 1e-15);
     for (c1, c2) in measured.depths.iter().zip(&other.depths) {
         let f1 = s1.a + s1.b * c1;
         if f1 <= s2.a {
-            assert_eq!(*c2, 0.0);
+            assert_relative_eq!(*c2, 0.0, epsilon = 1e-15);
         } else {
             assert_relative_eq!(s2.a + s2.b * c2, f1, max_relative = 1e-14);
         }
     }
-    assert_eq!(other.depths[0], 0.0);
+    assert_relative_eq!(other.depths[0], 0.0, epsilon = 1e-15);
     assert_relative_eq!(
         other.depths[2],
         (40_000.0 + 180_000.0 - 60_000.0) / 300_000.0
@@ -141,7 +141,11 @@ fn the_force_balance_gives_the_other_crush() {
 
 #[test]
 fn the_relations() {
-    assert_eq!(EnergyRelation::EnergyLoss.expected_loss(100.0, 0.3), 100.0);
+    assert_relative_eq!(
+        EnergyRelation::EnergyLoss.expected_loss(100.0, 0.3),
+        100.0,
+        epsilon = 1e-15
+    );
     assert_relative_eq!(
         EnergyRelation::Compression.expected_loss(100.0, 0.3),
         91.0,

@@ -71,7 +71,7 @@ pub struct CaseFile {
     pub pre_impact: Option<crate::scene_sections::PreImpactSection>,
     /// Each vehicle's crush profile and stiffness (`[damage]`, see [`crate::damage`]).
     #[serde(default)]
-    pub damage: Option<crate::damage::DamageSection>,
+    pub damage: Option<crate::sections::DamageSection>,
 }
 
 impl CaseFile {
@@ -180,7 +180,6 @@ impl Case {
         case.convert_to_si();
         case.check_ranges()?;
         case.check_outlines()?;
-        crate::damage::Damage::of(&case)?;
         if let Some(b) = &case.content.bounds {
             b.check()
                 .map_err(|(path, what)| case.error_at(&path, what))?;

@@ -1,8 +1,8 @@
 //! The crush energies at a pair of states: set beside PIM's energy loss and delta-V, and as a
 //! residual of a fit.
 
-use crate::damage::{loss, split, vehicle_id, Damage};
-use pim_core::Impact;
+use crate::damage::Damage;
+use pim_core::{Impact, VehicleId, Velocities};
 use pim_crush::{EnergyRelation, MAX_PDOF_CORRECTION_ANGLE};
 use pim_fit::Vector12;
 use serde::Serialize;
@@ -235,5 +235,25 @@ impl pim_fit::NonlinearTerm for EnergyTerm<'_> {
     fn residual(&self, u: &Vector12) -> Option<f64> {
         let a = assess(self.damage, self.impact, u)?;
         (a.expected_loss_sigma > 0.0).then(|| -a.difference / a.expected_loss_sigma)
+    }
+}
+
+fn split(u: &Vector12) -> (Velocities, Velocities) {
+    let x = nalgebra::Vector6::from_iterator(u.iter().take(6).cloned());
+    let y = nalgebra::Vector6::from_iterator(u.iter().skip(6).cloned());
+    (Velocities::from_vector(&x), Velocities::from_vector(&y))
+}
+
+/// The kinetic energy loss of the states `u`, J.
+fn loss(impact: &Impact, u: &Vector12) -> f64 {
+    let (x, y) = split(u);
+    x.kinetic_energy(impact) - y.kinetic_energy(impact)
+}
+
+fn vehicle_id(k: usize) -> VehicleId {
+    if k == 0 {
+        VehicleId::One
+    } else {
+        VehicleId::Two
     }
 }

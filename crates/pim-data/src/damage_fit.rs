@@ -2,9 +2,9 @@
 //! evidence.
 
 use crate::case::Case;
-use crate::damage::{assess, Assessment, Damage, EnergyTerm};
+use crate::damage::Damage;
+use crate::damage_assess::{assess, Assessment, EnergyTerm};
 use crate::error::Result;
-use crate::records::StateOut;
 use pim_fit::{FitProblem, FitReport, MomentBranch, NonlinearTerm, ValidSettings};
 use serde::Serialize;
 
@@ -35,10 +35,10 @@ pub struct EnergyFit {
     /// Moment restitution.
     pub em: f64,
     /// Velocities at contact.
-    pub initial: StateOut,
+    pub initial: pim_core::Velocities,
     /// Velocities at separation.
     #[serde(rename = "final")]
-    pub final_: StateOut,
+    pub final_: pim_core::Velocities,
     /// The whole cost (the case's evidence and the energy's).
     pub cost: f64,
     /// The case's evidence alone at this answer.
@@ -188,8 +188,8 @@ pub fn fit_damage_of(
         e: s.e,
         mu: s.mu,
         em: s.em,
-        initial: (&s.initial).into(),
-        final_: (&s.separation).into(),
+        initial: s.initial,
+        final_: s.separation,
         cost: f.cost,
         cost_without_energy: f.linear_cost,
         energy_z: -f.residuals.first().copied().unwrap_or(0.0),

@@ -84,7 +84,7 @@ pub fn solve(case: &Case, options: &SolveOptions) -> Result<Solved, DocumentErro
     if let Some(damage) = crate::damage::Damage::of(case)? {
         let r = &solution.report;
         let u = pim_fit::state_vector(&r.initial, &r.separation);
-        document.damage = crate::damage::assess(&damage, &impact, &u);
+        document.damage = crate::damage_assess::assess(&damage, &impact, &u);
     }
     Ok(Solved {
         impact,

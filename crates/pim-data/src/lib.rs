@@ -23,7 +23,7 @@ pub mod batch;
 pub mod case;
 mod checks;
 pub mod damage;
-mod damage_assess;
+pub mod damage_assess;
 mod damage_draws;
 pub mod damage_fit;
 pub mod documents;

@@ -143,7 +143,7 @@ pub struct SolveOut {
     pub contact_points: pim_core::ContactPoints,
     /// The crush against PIM's energy loss and delta-V (with `[damage]`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub damage: Option<crate::damage::Assessment>,
+    pub damage: Option<crate::damage_assess::Assessment>,
     /// The sign factor of equation 5 (`1` or `-1`): mu' = mu times this.
     pub friction_sign: pim_core::FrictionSign,
     /// `sliding` when it is the sliding direction at contact, `no_slip_impulse` when the

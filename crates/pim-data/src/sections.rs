@@ -506,3 +506,61 @@ impl BoundsSection {
         Ok(())
     }
 }
+
+/// `[damage]` as written.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamageSection {
+    /// What the crush energy is compared with (default `energy_loss`).
+    #[serde(default)]
+    pub relation: pim_crush::EnergyRelation,
+    /// Whether a fit takes the crush energy as evidence (default: when its standard deviation
+    /// is above 0).
+    #[serde(default)]
+    pub evidence: Option<bool>,
+    /// Vehicle 1's damage.
+    #[serde(default)]
+    pub vehicle1: Option<DamageVehicleSection>,
+    /// Vehicle 2's damage.
+    #[serde(default)]
+    pub vehicle2: Option<DamageVehicleSection>,
+}
+
+/// `[damage.vehicleN]` as written.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamageVehicleSection {
+    /// `front`, `rear`, `left` or `right`.
+    pub side: Option<String>,
+    /// Damage width (crush unit).
+    #[serde(default)]
+    pub width: Option<f64>,
+    /// Crush depths, equally spaced across the width (crush unit).
+    #[serde(default)]
+    pub depths: Option<Vec<f64>>,
+    /// Centre of the damage (crush unit; see the module's text).
+    #[serde(default)]
+    pub offset: Option<f64>,
+    /// Stiffness A (stiffness unit).
+    #[serde(default)]
+    pub a: Option<f64>,
+    /// Stiffness B (stiffness unit per length).
+    #[serde(default)]
+    pub b: Option<f64>,
+    /// Direction of the principal force, degrees clockwise from the nose (where it comes
+    /// from: 0 frontal, 90 from the right); default: that of the impulse.
+    #[serde(default)]
+    pub pdof: Option<f64>,
+    /// Standard deviation of A.
+    #[serde(default)]
+    pub a_sigma: Option<f64>,
+    /// Standard deviation of B.
+    #[serde(default)]
+    pub b_sigma: Option<f64>,
+    /// Standard deviation of each depth.
+    #[serde(default)]
+    pub depth_sigma: Option<f64>,
+    /// Standard deviation of the width.
+    #[serde(default)]
+    pub width_sigma: Option<f64>,
+}

@@ -171,8 +171,7 @@ impl Study {
     }
 }
 
-/// Writes a drawn value into a copy of the case.
-pub(crate) type Apply = Box<dyn Fn(&mut Case, f64) + Sync + Send>;
+pub(crate) use crate::damage_draws::Apply;
 
 /// A perturbable input: its name and how to read and write it in a case.
 pub(crate) struct Input {
@@ -270,7 +269,16 @@ pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>
             }
         }
     }
-    out.extend(crate::damage_draws::inputs(case));
+    out.extend(
+        crate::damage_draws::inputs(case)
+            .into_iter()
+            .map(|d| Input {
+                name: d.name,
+                spread: Spread::Normal(d.sd),
+                nominal: d.nominal,
+                apply: d.apply,
+            }),
+    );
     if let Some(sp) = unc.impact.crush_angle {
         sp.check_against("impact.crush_angle", c.impact.crush_angle, false)
             .map_err(|why| case.error_at("uncertainty.impact.crush_angle", why))?;

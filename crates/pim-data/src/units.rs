@@ -131,6 +131,82 @@ impl YawRateUnit {
     }
 }
 
+/// Unit of the stiffness coefficients (`[units] stiffness`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum StiffnessUnit {
+    /// A in N/m, B in N/m^2 (default).
+    #[default]
+    #[serde(rename = "N/m")]
+    NewtonPerMetre,
+    /// A in N/cm, B in N/cm^2 (the unit of Neades' RICSAC table).
+    #[serde(rename = "N/cm")]
+    NewtonPerCentimetre,
+    /// A in lbf/in, B in lbf/in^2 (CRASH3's tables).
+    #[serde(rename = "lbf/in")]
+    PoundPerInch,
+}
+
+impl StiffnessUnit {
+    /// The length of the unit, m (A per unit: force / that length; B: force / its square).
+    fn length(self) -> f64 {
+        match self {
+            StiffnessUnit::NewtonPerMetre => 1.0,
+            StiffnessUnit::NewtonPerCentimetre => 0.01,
+            StiffnessUnit::PoundPerInch => 0.0254,
+        }
+    }
+
+    fn force(self) -> f64 {
+        match self {
+            StiffnessUnit::PoundPerInch => POUND_FORCE,
+            _ => 1.0,
+        }
+    }
+
+    /// N/m per unit of A.
+    pub fn a_to_si(self) -> f64 {
+        self.force() / self.length()
+    }
+
+    /// N/m^2 per unit of B.
+    pub fn b_to_si(self) -> f64 {
+        self.force() / (self.length() * self.length())
+    }
+}
+
+/// Unit of crush depths, damage widths and offsets (`[units] crush`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CrushUnit {
+    /// Metres.
+    #[serde(rename = "m")]
+    Metre,
+    /// Centimetres.
+    #[serde(rename = "cm")]
+    Centimetre,
+    /// Millimetres.
+    #[serde(rename = "mm")]
+    Millimetre,
+    /// Inches.
+    #[serde(rename = "in")]
+    Inch,
+    /// Feet.
+    #[serde(rename = "ft")]
+    Foot,
+}
+
+impl CrushUnit {
+    /// m per unit.
+    pub fn to_si(self) -> f64 {
+        match self {
+            CrushUnit::Metre => 1.0,
+            CrushUnit::Centimetre => 0.01,
+            CrushUnit::Millimetre => 0.001,
+            CrushUnit::Inch => 0.0254,
+            CrushUnit::Foot => FOOT,
+        }
+    }
+}
+
 /// `[units]` of a case file: the unit of every number of its kind in the file. Angles are
 /// always degrees; coefficients and weights have no unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -154,11 +230,11 @@ pub struct UnitsSection {
     /// Crush stiffness A and B (`[damage]`): `N/m` (N/m, N/m^2), `N/cm` (N/cm, N/cm^2) or
     /// `lbf/in` (lbf/in, lbf/in^2).
     #[serde(default)]
-    pub stiffness: crate::damage::StiffnessUnit,
+    pub stiffness: StiffnessUnit,
     /// Crush depths, damage widths and offsets (`[damage]`): `m`, `cm`, `mm`, `in` or `ft`
     /// (default: the length unit).
     #[serde(default)]
-    pub crush: Option<crate::damage::CrushUnit>,
+    pub crush: Option<CrushUnit>,
 }
 
 impl UnitsSection {

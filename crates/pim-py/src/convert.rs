@@ -138,7 +138,9 @@ pub(crate) fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Cas
             "case: give TOML text, a path to a case file, or a dict of the same shape",
         ));
     };
-    Case::from_text(&name, &text).map_err(|e| input_error(e.message))
+    let case = Case::from_text(&name, &text).map_err(|e| input_error(e.message))?;
+    pim_data::damage::Damage::of(&case).map_err(|e| input_error(e.message))?;
+    Ok(case)
 }
 
 /// A named choice of the library (moment form, cost function, branch, model), read by the

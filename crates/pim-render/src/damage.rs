@@ -1,7 +1,7 @@
 //! The damage in tables: the crush energies beside PIM's energy loss, CRASH3's delta-V beside
 //! PIM's, and the fit with the crush energy as evidence.
 
-use pim_data::damage::Assessment;
+use pim_data::damage_assess::Assessment;
 use pim_data::damage_fit::FitDamage;
 use pim_data::units::UnitSystem;
 use std::fmt::Write;
@@ -158,7 +158,7 @@ pub fn fit_damage_lines(d: &FitDamage, u: UnitSystem) -> String {
                     .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
             );
         }
-        let (a, b) = (f.initial.to_array(), f.final_.to_array());
+        let (a, b) = (f.initial.to_vector(), f.final_.to_vector());
         let _ = writeln!(
             s,
             "  contact    v1 ({:.2}, {:.2}) {sp}, w1 {:.3} rad/s; v2 ({:.2}, {:.2}) {sp}, w2 {:.3} rad/s",

@@ -214,7 +214,9 @@ pub fn damage_csv(records: &[DamageRecord]) -> Result<String, String> {
 /// fit's energy loss, and both again at the fit with the crush as evidence (its PDOF factors
 /// move with the fitted impulse); the line of equality.
 pub fn crush_energy_figure(records: &[DamageRecord]) -> Result<Figure, String> {
-    let points: Vec<(u32, f64, f64, f64, Option<(f64, f64)>)> = records
+    // (test, loss, crush, its sigma, (loss, crush) with the crush as evidence), kJ.
+    type Point = (u32, f64, f64, f64, Option<(f64, f64)>);
+    let points: Vec<Point> = records
         .iter()
         .filter_map(|r| {
             let d = r.damage.as_ref()?;
