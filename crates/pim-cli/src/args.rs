@@ -54,6 +54,28 @@ CASE FILE (TOML; SI units unless [units] says otherwise; angles in degrees, coun
   # mass = \"lb\"                  # kg, lb
   # yaw_inertia = \"slug ft^2\"    # kg m^2, slug ft^2
   # yaw_rate = \"deg/s\"           # rad/s, deg/s
+  # stiffness = \"N/cm\"           # crush stiffness A, B: N/m (N/m^2), N/cm (N/cm^2), lbf/in (lbf/in^2)
+  # crush = \"cm\"                 # crush depths, damage width, offset: m, cm, mm, in, ft
+DAMAGE (optional; `pim solve` and `pim fit` then set the crush beside PIM's energy loss):
+  # [damage]
+  # relation = \"energy_loss\"     # CRASH3's convention; or \"compression\": loss = (1 - e^2) crush
+  # [damage.vehicle1]              # vehicle2 likewise
+  # side = \"front\"               # the damaged face: front, rear, left, right
+  # width = 168.0                  # damage width, [units] crush
+  # depths = [0, 3, 5, 10, 13, 16] # crush depths equally spaced across it (2, 4, 6 or any n >= 2)
+  # offset = 10.0                  # centre of damage: front/rear from the centreline, + left
+  #                                # (SAE: + right); left/right from the CG along the length, + forward
+  # a = 624.0                      # stiffness A and B ([units] stiffness)
+  # b = 23.0
+  # pdof = 10.0                    # optional: deg clockwise from the nose; default the impulse's
+  # a_sigma = 62.0                 # optional standard deviations: a_sigma, b_sigma, depth_sigma,
+  #                                # width_sigma (the crush energy's sigma follows)
+  # A vehicle given side, a and b but no depths takes its crush from the other's by the force
+  # balance A1 + B1 C1 = A2 + B2 C2. Out: per vehicle the crush energy (exact integral of the
+  # linear stiffness over the profile) times the direction-of-force factor 1 + tan^2 (held at
+  # 2 beyond 45 deg), the barrier-equivalent speed, CRASH3's delta-V with the effective-mass
+  # factors k^2/(k^2+h^2) against PIM's, and the total against PIM's energy loss.
+  # Example: examples/cases/ricsac7_damage.toml
 This example is examples/cases/side_impact.toml (and side_impact_us.toml in US units;
 tbone_sae_us.toml in SAE's frame with speeds and directions).";
 

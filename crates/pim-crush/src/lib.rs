@@ -35,7 +35,33 @@
 //! `G = m b0^2 / (2 w)` ([`Stiffness::from_barrier_test`]). The energy of that test's crush then
 //! returns its speed exactly ([`barrier_equivalent_speed`]).
 //!
-//! Units: SI throughout (m, kg, J, N). No I/O.
+//! **The other vehicle's crush.** Where only one vehicle's damage was measured, the force per
+//! unit width is the same on both faces of the interface, `A1 + B1 C1 = A2 + B2 C2`, which gives
+//! the other's depths point by point (CRASH3's rule; [`balanced_profile`]).
+//!
+//! **The energy's standard deviation** follows to first order from independent errors of A, B,
+//! the width and each depth ([`crush_energy_sigma`], each partial derivative exact).
+//!
+//! **What the energy is compared with** ([`EnergyRelation`]). A stiffness calibrated on
+//! `m V^2 / 2` in barrier tests measures the energy absorbed up to maximum crush. CRASH3 sets
+//! that energy equal to the kinetic energy the collision loses (the default here); with
+//! restitution e a central impact loses only `(1 - e^2)` of it, which is the other reading.
+//!
+//! **CRASH3's delta-V.** With no restitution and a common velocity of the contact points along
+//! the impulse `P` at its end, the energy lost is `E = P^2 / 2 (1/(g1 m1) + 1/(g2 m2))`, where
+//! `g = k^2 / (k^2 + h^2)` is the effective-mass factor of the impulse's moment arm `h` about the
+//! CG (`k^2 = I / m`; [`effective_mass_factor`]): the struck point of a rigid body of mass m
+//! responds to P like a particle of mass `g m`. So
+//!
+//! ```text
+//! P = sqrt(2 E (g1 m1)(g2 m2) / (g1 m1 + g2 m2)),     dV_i = P / m_i   (of the CG)
+//! ```
+//!
+//! ([`crash3_delta_v`]); with `h = 0` on both it is the point-mass delta-V of a central
+//! collinear collision with e = 0, `dV1 = sqrt(2 E m2 / (m1 (m1 + m2)))`. Against a rigid
+//! barrier `P = sqrt(2 E g1 m1)`.
+//!
+//! Units: SI throughout (m, kg, J, N, N/m, N/m^2). No I/O.
 
 mod collision;
 mod energy;

@@ -3,6 +3,7 @@ the example notebook run by a real Jupyter kernel."""
 
 import doctest
 import importlib
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -211,3 +212,38 @@ def test_the_guide_python_chapter_runs():
         optionflags=doctest.NORMALIZE_WHITESPACE,
     )
     assert tried >= 8 and failures == 0
+
+
+R7_DAMAGE = "examples/cases/ricsac7_damage.toml"
+
+
+def test_the_damage_of_a_fit_and_a_solve_is_typed_and_equals_the_command():
+    fit = pim.fit(R7_DAMAGE, cost="q2")
+    cli = subprocess.run([str(REPO / "target/release/pim"), "fit", R7_DAMAGE, "--cost", "q2",
+                          "--format", "json"], capture_output=True, text=True, check=True)
+    doc = json.loads(cli.stdout)
+    assert fit.to_dict()["damage"] == doc["damage"]
+    d = fit.damage
+    assert d is not None and d.evidence and d.at_fit is not None and d.with_energy is not None
+    v1, v2 = d.at_fit.vehicles
+    assert v1 is not None and v2 is not None
+    assert (v1.side, v2.side) == ("front", "right")
+    assert v1.crush_energy == doc["damage"]["at_fit"]["vehicles"][0]["crush_energy"]
+    # Neades' row 7.1 integrated exactly: 24.0 kJ before the direction-of-force factor.
+    assert v1.crush_energy == pytest.approx(24_030, abs=50)
+    assert d.at_fit.crush_energy == pytest.approx(v1.energy + v2.energy, rel=1e-12)
+    assert d.with_energy.cost >= d.with_energy.lower_bound
+    assert d.with_energy.energy_z == doc["damage"]["with_energy"]["energy_z"]
+    # A dict case with one measured profile: the other's crush from the force balance.
+    text = (REPO / R7_DAMAGE).read_text()
+    text = text.replace("width = 276\ndepths = [0, 28, 45, 53, 54, 20]\n", "")
+    text = text.replace("[estimates.initial]", "[coefficients]\ne = 0.1\nmu = 0.3\nem = 1.0\n\n[initial]")
+    head, _, _ = text.partition("[estimates.final]")
+    _, _, tail = text.partition("[damage]")
+    solved = pim.solve(head + "[damage]" + tail)
+    assert solved.damage is not None
+    w1, w2 = solved.damage.vehicles
+    assert w1 is not None and w2 is not None and w1.measured and not w2.measured
+    # A1 + B1 C1 = A2 + B2 C2 at every point (N/cm, N/cm^2; depths in m).
+    for c1, c2 in zip(w1.depths, w2.depths):
+        assert max(624 + 23 * 100 * c1 - 246, 0.0) == pytest.approx(46 * 100 * c2, abs=1e-9)

@@ -21,6 +21,42 @@ fn weights(problem: &mut FitProblem) -> impl Iterator<Item = &mut f64> {
         .chain(problem.combinations.iter_mut().map(|c| &mut c.weight))
 }
 
+/// The number of data of the contact evidence: estimated components, observations and
+/// combinations of the impact fit.
+fn contact_data(r: &Reconstruction) -> usize {
+    let c = &r.contact;
+    c.components
+        .iter()
+        .filter(|k| matches!(k, Knowledge::Estimated { .. }))
+        .count()
+        + c.observations.len()
+        + c.combinations.len()
+}
+
+/// Units of [`Settings::max_work`] per quadratic program of an impact fit and per fit of its
+/// velocities: their times relative to one evaluation of a run-out's equations of motion
+/// (about 1 ms, 10 us and 2 us).
+const QP_WORK: u64 = 500;
+const VELOCITY_FIT_WORK: u64 = 5;
+
+/// The work of one impact fit, from its certificate's counts.
+fn fit_work(c: &pim_fit::Certificate) -> u64 {
+    QP_WORK * c.qp_solves as u64 + VELOCITY_FIT_WORK * c.evaluations as u64
+}
+
+/// The evaluations of the equations of motion the scenes' run-outs took (each linearisation's
+/// run-outs counted at its base run-out's evaluations).
+fn evaluations(lins: &[Lin]) -> u64 {
+    lins.iter()
+        .map(|l| l.lin.runouts as u64 * u64::from(l.lin.runout.evaluations))
+        .sum()
+}
+
+/// The number of the scenes' residuals at a point.
+fn scene_data(p: Option<&Point>) -> usize {
+    p.map_or(0, |c| c.scene.iter().map(|l| l.lin.weighted.len()).sum())
+}
+
 /// The impact fit with each scene linearised (rows in chi-square units, weight 1 each) and,
 /// with `damping`, Marquardt's rows that keep the separation state near the current one. Every
 /// weight is scaled by one factor into (0, 1]; the fit's cost over that factor is the
@@ -155,6 +191,7 @@ pub(crate) fn refine(
     settings: &Settings,
     start: Vec<Lin>,
     best_so_far: f64,
+    work: &mut u64,
 ) -> std::result::Result<Refined, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
     let mut lins = start;
@@ -165,13 +202,23 @@ pub(crate) fn refine(
     let mut converged = false;
     let mut abandoned = false;
     while iterations < settings.max_iterations {
+        if *work > settings.max_work && current.is_some() {
+            break;
+        }
         iterations += 1;
         let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
         fits += 1;
-        let trial = fit_once(r, settings, &lins, damping).and_then(|(b, s, c, _)| {
+        let fitted = fit_once(r, settings, &lins, damping);
+        if let Ok((_, _, c, _)) = &fitted {
+            *work += fit_work(c);
+        }
+        let trial = fitted.and_then(|(b, s, c, _)| {
             evaluate(r, settings, &counts, b, s, c)
                 .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
         });
+        if let Ok(p) = &trial {
+            *work += evaluations(&p.scene);
+        }
         let accepted = match (&trial, &current) {
             (Ok(p), Some(c)) => p.total < c.total,
             (Ok(_), None) => true,
@@ -204,6 +251,7 @@ pub(crate) fn refine(
                 })
                 .collect();
             lins = next?;
+            *work += evaluations(&lins);
             let total = p.total;
             current = Some(p);
             lambda = 0.0;
@@ -217,6 +265,17 @@ pub(crate) fn refine(
             let excess = total - best_so_far - settings.refine_margin;
             if excess > 0.0 && (gain < 0.01 * excess || iterations >= 8) {
                 abandoned = true;
+                break;
+            }
+            // Evidence far from every admissible impact and run-out: when, at the rate of
+            // this step, the iterations left could not bring the chi-square below 10 per
+            // datum (residuals of three standard deviations on average; the evidence is then
+            // refused whatever its last digits), the refinement stops here, not converged,
+            // instead of crawling on through long run-outs.
+            let data = contact_data(r) + scene_data(current.as_ref());
+            let left = settings.max_iterations.saturating_sub(iterations) as i32;
+            let projected = total * (1.0 - (gain / total).min(1.0)).powi(left);
+            if iterations >= 4 && projected > 10.0 * data.max(1) as f64 {
                 break;
             }
         } else {

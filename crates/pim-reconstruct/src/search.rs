@@ -129,6 +129,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
+    let mut work: u64 = 0;
     for &i in &order {
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = *first[i].1.as_ref().expect("filtered");
@@ -152,6 +153,14 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             ));
             continue;
         }
+        if work > settings.max_work {
+            skipped_reason[i] = Some(format!(
+                "not refined: the refinements before it used up the bound of the work ({} \
+                 units; see Settings::max_work)",
+                settings.max_work
+            ));
+            continue;
+        }
         if count >= settings.max_refined {
             skipped_reason[i] = Some(format!(
                 "not refined: {} combinations with lower bounds were",
@@ -166,7 +175,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match refine(r, settings, start, lowest_best) {
+        match refine(r, settings, start, lowest_best, &mut work) {
             Ok(x) => {
                 fits += x.fits;
                 runouts +=
@@ -277,6 +286,7 @@ pub fn redo(
         return Ok(None);
     };
     let mut found: Option<Refined> = None;
+    let mut work: u64 = 0;
     for t in &nominal.tried {
         let (Tried::Refined { cost, .. }, Some(end)) = (&t.state, &t.end) else {
             continue;
@@ -291,7 +301,7 @@ pub fn redo(
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        if let Ok(x) = refine(r, settings, start, lowest) {
+        if let Ok(x) = refine(r, settings, start, lowest, &mut work) {
             if x.point.total < lowest {
                 found = Some(x);
             }

@@ -69,6 +69,7 @@ from ._results import (
     Vehicle,
     Velocities,
 )
+from ._damage import CrushVehicle, Damage, DamageFit, EnergyFit
 from ._reconstruct import (
     CountsTried,
     Evidence,
@@ -88,6 +89,10 @@ from ._runout import (
 __all__ = [
     "__version__",
     "COLUMNS",
+    "CrushVehicle",
+    "Damage",
+    "DamageFit",
+    "EnergyFit",
     "Branch",
     "ChiSquare",
     "FitResult",

@@ -11,7 +11,10 @@ from __future__ import annotations
 import copy
 import html
 from dataclasses import dataclass, field
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
+
+if TYPE_CHECKING:
+    from ._damage import Damage, DamageFit
 
 Document = Dict[str, Any]
 
@@ -263,7 +266,8 @@ _BRANCH_HEADER = ["moment impulse", "status", "e", "mu", "em", "cost", "chi-squa
 @dataclass(frozen=True, repr=False)
 class FitResult:
     """The document of ``pim fit``: one :class:`Branch` per moment branch searched, and
-    ``best``, the admissible branch of lowest cost (None when no branch has a solution)."""
+    ``best``, the admissible branch of lowest cost (None when no branch has a solution);
+    ``damage`` (a :class:`DamageFit`) when the case gives ``[damage]``."""
 
     model: str
     cost_function: Optional[str]
@@ -271,10 +275,12 @@ class FitResult:
     best: Optional[Branch]
     notes: Tuple[str, ...]
     units: Dict[str, str]
+    damage: Optional[DamageFit]
     _document: Document = field(repr=False, compare=False)
 
     @classmethod
     def _read(cls, d: Document) -> FitResult:
+        from ._damage import DamageFit
         branches = tuple(Branch._read(b) for b in d["branches"])
         best = next((b for b in branches if b.moment == d.get("best")), None)
         cost = d.get("cost_function")
@@ -285,6 +291,7 @@ class FitResult:
             best=best,
             notes=tuple(str(n) for n in d.get("notes", ())),
             units=dict(d.get("units", {})),
+            damage=DamageFit._read(d.get("damage")),
             _document=d,
         )
 
@@ -327,7 +334,7 @@ class SolveResult:
     delta-V and PDOF, energy, impulse, and whether the solution is physically admissible
     (``reasons`` says why not). ``barrier`` is True for a rigid barrier (vehicle 2 fixed);
     ``model`` describes the second model (its coefficients and mode) when the case uses it,
-    and is None for PIM."""
+    and is None for PIM; ``damage`` (a :class:`Damage`) when the case gives ``[damage]``."""
 
     direction: str
     coefficients: Dict[str, float]
@@ -344,10 +351,12 @@ class SolveResult:
     barrier: bool
     model: Optional[Dict[str, Any]]
     units: Dict[str, str]
+    damage: Optional[Damage]
     _document: Document = field(repr=False, compare=False)
 
     @classmethod
     def _read(cls, d: Document) -> SolveResult:
+        from ._damage import Damage
         initial = Velocities._read(d["initial"])
         final = Velocities._read(d["final"])
         assert initial is not None and final is not None
@@ -367,6 +376,7 @@ class SolveResult:
             barrier=bool(d.get("barrier", False)),
             model=d.get("model"),
             units=dict(d.get("units", {})),
+            damage=Damage._read(d.get("damage")),
             _document=d,
         )
 
