@@ -114,6 +114,9 @@ pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String>
     )?;
     let mut doc = header(case, "Solve", u);
     doc.sections.push(answer);
+    if let Some(d) = super::damage_section::section(case, s.document.damage.as_ref(), None, u)? {
+        doc.sections.push(d);
+    }
     doc.sections.push(warnings_section(warnings));
     doc.sections
         .push(figures(diagram.svg()?, Some(momentum), Vec::new()));
@@ -212,6 +215,9 @@ pub fn fit(
     }
     doc.sections
         .push(undetermined(report, record, study, u, &mut warnings));
+    if let Some(d) = super::damage_section::section(case, None, f.document.damage.as_ref(), u)? {
+        doc.sections.push(d);
+    }
     doc.sections.push(warnings_section(warnings));
     let diagram = crate::diagram::of_fit(case, f, cost)?;
     let momentum = match best.and_then(|b| b.solution.as_ref()) {

@@ -9,6 +9,7 @@
 //! [`Document::markdown`] print the same numbers: both render the same cells.
 
 pub mod build;
+mod damage_section;
 mod doc;
 mod fit_sections;
 mod html;
