@@ -33,25 +33,6 @@ fn contact_data(r: &Reconstruction) -> usize {
         + c.combinations.len()
 }
 
-/// Units of [`Settings::max_work`] per quadratic program of an impact fit and per fit of its
-/// velocities: their times relative to one evaluation of a run-out's equations of motion
-/// (about 1 ms, 10 us and 2 us).
-const QP_WORK: u64 = 500;
-const VELOCITY_FIT_WORK: u64 = 5;
-
-/// The work of one impact fit, from its certificate's counts.
-fn fit_work(c: &pim_fit::Certificate) -> u64 {
-    QP_WORK * c.qp_solves as u64 + VELOCITY_FIT_WORK * c.evaluations as u64
-}
-
-/// The evaluations of the equations of motion the scenes' run-outs took (each linearisation's
-/// run-outs counted at its base run-out's evaluations).
-fn evaluations(lins: &[Lin]) -> u64 {
-    lins.iter()
-        .map(|l| l.lin.runouts as u64 * u64::from(l.lin.runout.evaluations))
-        .sum()
-}
-
 /// The number of the scenes' residuals at a point.
 fn scene_data(p: Option<&Point>) -> usize {
     p.map_or(0, |c| c.scene.iter().map(|l| l.lin.weighted.len()).sum())
@@ -191,7 +172,7 @@ pub(crate) fn refine(
     settings: &Settings,
     start: Vec<Lin>,
     best_so_far: f64,
-    work: &mut u64,
+    deadline: std::time::Instant,
 ) -> std::result::Result<Refined, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
     let mut lins = start;
@@ -202,23 +183,17 @@ pub(crate) fn refine(
     let mut converged = false;
     let mut abandoned = false;
     while iterations < settings.max_iterations {
-        if *work > settings.max_work && current.is_some() {
+        if current.is_some() && std::time::Instant::now() > deadline {
             break;
         }
         iterations += 1;
         let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
         fits += 1;
         let fitted = fit_once(r, settings, &lins, damping);
-        if let Ok((_, _, c, _)) = &fitted {
-            *work += fit_work(c);
-        }
         let trial = fitted.and_then(|(b, s, c, _)| {
             evaluate(r, settings, &counts, b, s, c)
                 .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
         });
-        if let Ok(p) = &trial {
-            *work += evaluations(&p.scene);
-        }
         let accepted = match (&trial, &current) {
             (Ok(p), Some(c)) => p.total < c.total,
             (Ok(_), None) => true,
@@ -251,7 +226,6 @@ pub(crate) fn refine(
                 })
                 .collect();
             lins = next?;
-            *work += evaluations(&lins);
             let total = p.total;
             current = Some(p);
             lambda = 0.0;

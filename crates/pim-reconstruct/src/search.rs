@@ -129,7 +129,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
-    let mut work: u64 = 0;
+    let deadline = std::time::Instant::now() + settings.refine_time_limit;
     for &i in &order {
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = *first[i].1.as_ref().expect("filtered");
@@ -153,11 +153,10 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             ));
             continue;
         }
-        if work > settings.max_work {
+        if std::time::Instant::now() > deadline {
             skipped_reason[i] = Some(format!(
-                "not refined: the refinements before it used up the bound of the work ({} \
-                 units; see Settings::max_work)",
-                settings.max_work
+                "not refined: the refinements before it reached their time limit ({} s)",
+                settings.refine_time_limit.as_secs_f64()
             ));
             continue;
         }
@@ -175,7 +174,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match refine(r, settings, start, lowest_best, &mut work) {
+        match refine(r, settings, start, lowest_best, deadline) {
             Ok(x) => {
                 fits += x.fits;
                 runouts +=
@@ -286,7 +285,7 @@ pub fn redo(
         return Ok(None);
     };
     let mut found: Option<Refined> = None;
-    let mut work: u64 = 0;
+    let deadline = std::time::Instant::now() + settings.refine_time_limit;
     for t in &nominal.tried {
         let (Tried::Refined { cost, .. }, Some(end)) = (&t.state, &t.end) else {
             continue;
@@ -301,7 +300,7 @@ pub fn redo(
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        if let Ok(x) = refine(r, settings, start, lowest, &mut work) {
+        if let Ok(x) = refine(r, settings, start, lowest, deadline) {
             if x.point.total < lowest {
                 found = Some(x);
             }
