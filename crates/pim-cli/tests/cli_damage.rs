@@ -183,3 +183,85 @@ fn damage_that_cannot_be_is_refused_with_its_place() {
         &["thickness"],
     );
 }
+
+/// `pim batch data/ricsac.csv --damage data/ricsac_vehicles.csv`: every test's crush beside
+/// its Q2 fit, the faces from phi and the outlines, a profile's energy by hand, and the
+/// comparison over the eleven tests as data/README.md states it (crush 1.06 times the loss).
+#[test]
+fn the_ricsac_batch_with_its_crush() {
+    let dir = scratch_dir("damage", "ricsac");
+    let out = dir.join("out");
+    pim_ok(&[
+        "batch",
+        "data/ricsac.csv",
+        "--cost",
+        "q2",
+        "--damage",
+        "data/ricsac_vehicles.csv",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    for f in [
+        "damage.txt",
+        "damage.csv",
+        "damage.json",
+        "crush_energy.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let text = std::fs::read_to_string(out.join("damage.csv")).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    let head = rdr.headers().unwrap().clone();
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let rows: Vec<csv::StringRecord> = rdr.records().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 11);
+    let faces: Vec<String> = rows
+        .iter()
+        .map(|r| format!("{}/{}", &r[col("face1")], &r[col("face2")]))
+        .collect();
+    assert_eq!(
+        faces,
+        [
+            "front/right",
+            "front/rear",
+            "front/rear",
+            "front/rear",
+            "front/right",
+            "front/right",
+            "front/right",
+            "front/right",
+            "front/right",
+            "front/front",
+            "front/front"
+        ]
+    );
+    let num = |r: &csv::StringRecord, c: &str| r[col(c)].parse::<f64>().unwrap();
+    // Test 3, the Torino's front (Neades' row 3.1): L 76 cm, C 5 5 4 4 5 6 cm, A 624 N/cm,
+    // B 23 N/cm^2, integrated exactly; the CSV holds it times its direction-of-force factor.
+    let c = [0.05, 0.05, 0.04, 0.04, 0.05, 0.06];
+    let h = 0.76 / 5.0;
+    let (a, b) = (62_400.0, 230_000.0);
+    let mut e = a * a / (2.0 * b) * 0.76;
+    for w in c.windows(2) {
+        e += h
+            * (a * (w[0] + w[1]) / 2.0 + b / 2.0 * (w[0] * w[0] + w[0] * w[1] + w[1] * w[1]) / 3.0);
+    }
+    let t3 = &rows[1];
+    assert_eq!(&t3[col("test")], "3");
+    let got = num(t3, "crush_energy1_j") / num(t3, "pdof_factor1");
+    assert!((got - e).abs() < 1e-9 * e, "{got} vs {e}");
+    let crush: f64 = rows.iter().map(|r| num(r, "crush_energy_j")).sum();
+    let loss: f64 = rows.iter().map(|r| num(r, "q2_energy_loss_j")).sum();
+    assert!((crush / loss - 1.06).abs() < 0.005, "{}", crush / loss);
+    // Neades' Table 5.3 beside them: test 7's Brach & Smith delta-V.
+    let t7 = &rows[5];
+    assert_eq!(&t7[col("test")], "7");
+    assert!((num(t7, "brach_smith_dv2_mps") - 8.81).abs() < 1e-12);
+    // Every fit with the crush as evidence is at or above the certified fit without it.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("damage.json")).unwrap()).unwrap();
+    for r in json["records"].as_array().unwrap() {
+        let f = &r["damage"]["with_energy"];
+        assert!(f["cost"].as_f64().unwrap() >= f["lower_bound"].as_f64().unwrap());
+    }
+}
