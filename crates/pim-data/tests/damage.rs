@@ -394,3 +394,100 @@ proptest! {
         prop_assert!(f.cost + 1e-12 >= f.lower_bound);
     }
 }
+
+/// A case in SAE's frame and US units: A in lbf/in and B in lbf/in^2, crush in inches, the
+/// front damage's offset positive to the right (SAE's y), read into SI and the natural frame.
+/// The pickup's PDOF given by the case is used as given.
+#[test]
+fn sae_and_us_units_are_read_into_si_and_the_natural_frame() {
+    let base = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/cases/tbone_sae_us.toml"
+    ))
+    .unwrap();
+    let text = base.replace(
+        "yaw_rate = \"deg/s\"",
+        "yaw_rate = \"deg/s\"\nstiffness = \"lbf/in\"\ncrush = \"in\"",
+    ) + r#"
+[damage.vehicle1]
+side = "front"
+width = 60
+depths = [10, 12, 12, 10]
+offset = 4
+a = 300
+b = 50
+pdof = 10
+[damage.vehicle2]
+side = "right"
+width = 100
+depths = [4, 10, 14, 10, 6, 2]
+offset = -6
+a = 100
+b = 40
+"#;
+    let case = Case::from_text("tbone_damage.toml", &text).unwrap();
+    let d = Damage::of(&case).unwrap().unwrap();
+    let v1 = d.vehicles[0].as_ref().unwrap();
+    let lbf = 4.448_221_615_260_5;
+    assert_relative_eq!(v1.stiffness.a, 300.0 * lbf / 0.0254, max_relative = 1e-14);
+    assert_relative_eq!(
+        v1.stiffness.b,
+        50.0 * lbf / (0.0254 * 0.0254),
+        max_relative = 1e-14
+    );
+    assert_relative_eq!(v1.profile.width, 1.524, max_relative = 1e-14);
+    assert_relative_eq!(v1.profile.depths[1], 0.3048, max_relative = 1e-14);
+    // 4 in to the right (SAE) is 4 in to the right: -0.1016 m in the natural frame (+ left).
+    assert_relative_eq!(v1.offset, -0.1016, max_relative = 1e-14);
+    // A side's offset runs along the length: the same in both frames.
+    assert_relative_eq!(
+        d.vehicles[1].as_ref().unwrap().offset,
+        -0.1524,
+        max_relative = 1e-14
+    );
+    let solved = pim_data::documents::solve(&case, &SolveOptions::default()).unwrap();
+    let a = solved.document.damage.unwrap();
+    let p1 = a.vehicles[0].as_ref().unwrap();
+    assert_eq!(p1.pdof_from, "case");
+    assert_relative_eq!(p1.pdof, 10.0, max_relative = 1e-14);
+    assert_relative_eq!(
+        p1.pdof_factor,
+        1.0 + 10f64.to_radians().tan().powi(2),
+        max_relative = 1e-14
+    );
+    assert_eq!(a.vehicles[1].as_ref().unwrap().pdof_from, "impulse");
+}
+
+/// The compression relation expects `(1 - e^2)` of the crush energy as the loss, with e the
+/// restitution at the states (here the solve's 0.3).
+#[test]
+fn the_compression_relation_expects_less_loss() {
+    let impact = impact(1500.0, 1300.0, -30.0);
+    let initial = Velocities::from_vector(&nalgebra::Vector6::new(-15.0, 0.0, 0.0, 0.0, 8.0, 0.0));
+    let c = Coefficients {
+        e: 0.3,
+        mu: 0.0,
+        em: 1.0,
+    };
+    let r = solve_forward(&impact, &c, &initial, &SolveOptions::default()).unwrap();
+    let u = state_vector(&r.initial, &r.separation);
+    let mut damage = Damage {
+        relation: EnergyRelation::EnergyLoss,
+        evidence: None,
+        vehicles: [Some(vehicle(Side::Front, 60_000.0, 1.0, 0.0)), None],
+    };
+    let loss_reading = assess(&damage, &impact, &u).unwrap();
+    damage.relation = EnergyRelation::Compression;
+    let compression = assess(&damage, &impact, &u).unwrap();
+    assert_relative_eq!(compression.e, 0.3, max_relative = 1e-9);
+    assert_relative_eq!(
+        compression.expected_loss,
+        0.91 * loss_reading.expected_loss,
+        max_relative = 1e-9
+    );
+    assert!(compression.relation_note.contains("0.910"));
+    assert!(loss_reading
+        .warnings
+        .iter()
+        .any(|w| w.contains("vehicle 2 has no [damage.vehicle2]")));
+}
