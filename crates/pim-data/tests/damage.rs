@@ -277,6 +277,17 @@ fn zero_branch() -> ValidSettings {
     .unwrap()
 }
 
+fn both_branches() -> ValidSettings {
+    FitSettings {
+        e: [0.0, 0.6],
+        velocity_bound: 100.0,
+        yaw_rate_bound: 15.0,
+        ..FitSettings::default()
+    }
+    .check()
+    .unwrap()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
 
@@ -384,6 +395,47 @@ proptest! {
         }
         let problem = FitProblem { impact: g.impact, components, observations: vec![], combinations: vec![] };
         let settings = zero_branch();
+        let base = fit(&problem, &settings).unwrap();
+        let term = EnergyTerm { damage: &g.damage, impact: &g.impact };
+        let terms: [&dyn NonlinearTerm; 1] = [&term];
+        let f = fit_nonlinear(&problem, &base, unit, &terms, &settings).unwrap().expect("an answer");
+        let r = term.residual(&g.truth).unwrap();
+        let truth_cost = linear_cost(&problem, &g.truth) + unit * r * r;
+        prop_assert!(f.cost <= truth_cost * (1.0 + 1e-9) + 1e-12, "found {} above the truth's {}", f.cost, truth_cost);
+        prop_assert!(f.cost + 1e-12 >= f.lower_bound);
+    }
+
+    /// The same with both moment branches searched (the free branch's optimum is a start
+    /// too): never above the generating solution.
+    #[test]
+    fn with_both_moment_branches_the_fit_never_costs_more_than_the_truth(
+        m1 in 900.0..2500.0f64,
+        m2 in 900.0..2500.0f64,
+        phi2 in -60.0..-10.0f64,
+        speed in 8.0..20.0f64,
+        e in 0.02..0.4f64,
+        mu in 0.1..0.95f64,
+        noise in prop::collection::vec(-1.0..1.0f64, 6),
+    ) {
+        let Some(mut g) = generate(m1, m2, phi2, speed, e, mu) else { return Ok(()) };
+        // A 5 % standard deviation of the crush energy: the depth sigma that gives it.
+        for v in g.damage.vehicles.iter_mut().flatten() {
+            let e0 = pim_crush::crush_energy(&v.profile, &v.stiffness).unwrap();
+            let unit = pim_crush::crush_energy_sigma(&v.profile, &v.stiffness, &ProfileSigmas { depth: 1.0, ..Default::default() }).unwrap();
+            v.sigmas.depth = 0.05 * e0 / unit;
+        }
+        let sigma = |k: usize| if k % 3 == 2 { 0.05 } else { 0.2 };
+        let unit = 0.05f64 * 0.05;
+        let mut components = [Knowledge::Unknown; 12];
+        for (k, c) in components.iter_mut().enumerate() {
+            *c = if k < 6 {
+                Knowledge::Known { value: g.truth[k] }
+            } else {
+                Knowledge::Estimated { value: g.truth[k] + sigma(k) * noise[k - 6], weight: unit / sigma(k).powi(2) }
+            };
+        }
+        let problem = FitProblem { impact: g.impact, components, observations: vec![], combinations: vec![] };
+        let settings = both_branches();
         let base = fit(&problem, &settings).unwrap();
         let term = EnergyTerm { damage: &g.damage, impact: &g.impact };
         let terms: [&dyn NonlinearTerm; 1] = [&term];
