@@ -153,6 +153,11 @@ fn damage_that_cannot_be_is_refused_with_its_place() {
         &["damage.vehicle1.b", "above 0"],
     );
     refused(
+        "huge_a.toml",
+        &GOOD.replace("a = 500", "a = 1e300"),
+        &["damage.vehicle1.a", "beyond any vehicle's stiffness"],
+    );
+    refused(
         "no_stiffness.toml",
         &GOOD.replace("a = 500\n", ""),
         &["damage.vehicle1", "a: missing", "stiffness"],

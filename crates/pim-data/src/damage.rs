@@ -106,6 +106,11 @@ pub struct Damage {
     pub vehicles: [Option<VehicleDamage>; 2],
 }
 
+/// Largest stiffness A accepted, N/m: a hundred times a heavy truck front's.
+const MAX_A: f64 = 1e8;
+/// Largest stiffness B accepted, N/m^2.
+const MAX_B: f64 = 1e10;
+
 /// Largest crush depth or width accepted without vehicle dimensions, m.
 const MAX_CRUSH: f64 = 10.0;
 
@@ -170,6 +175,20 @@ impl Damage {
             stiffness
                 .check()
                 .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
+            for (field, x, limit, unit) in [("a", a, MAX_A, "N/m"), ("b", b, MAX_B, "N/m^2")] {
+                if x > limit {
+                    return Err(case.error_at(
+                        &at(field),
+                        format!(
+                            "{} {unit} (in SI) is beyond any vehicle's stiffness (at most {} \
+                             {unit}; passenger cars' fronts are near 5e4 N/m and 5e5 N/m^2): \
+                             check the value and [units] stiffness",
+                            crate::ranges::short(x),
+                            crate::ranges::short(limit)
+                        ),
+                    ));
+                }
+            }
             let sigma = |x: Option<f64>, scale: f64, field: &str| -> Result<f64> {
                 let v = x.unwrap_or(0.0);
                 if !(v.is_finite() && v >= 0.0) {
@@ -315,8 +334,9 @@ fn check_fits(
         return Err(case.error_at(
             &format!("damage.{name}.depths"),
             format!(
-                "a crush of {deepest:.3} m is not less than the vehicle's {} ({limit:.3} m): \
-                 check the depths and [units] crush",
+                "a crush of {} m is not less than the vehicle's {} ({limit:.3} m): check the \
+                 depths and [units] crush",
+                crate::ranges::short(deepest),
                 if depth_limit.is_some() {
                     what.0
                 } else {
@@ -331,8 +351,9 @@ fn check_fits(
         return Err(case.error_at(
             &format!("damage.{name}.width"),
             format!(
-                "a damage width of {:.3} m is wider than the vehicle's {} ({face:.3} m)",
-                p.width, what.1
+                "a damage width of {} m is wider than the vehicle's {} ({face:.3} m)",
+                crate::ranges::short(p.width),
+                what.1
             ),
         ));
     }
