@@ -270,3 +270,21 @@ fn the_ricsac_batch_with_its_crush() {
         assert!(f["cost"].as_f64().unwrap() >= f["lower_bound"].as_f64().unwrap());
     }
 }
+
+/// A batch of case files carries each case's damage on its best record (JSON lines).
+#[test]
+fn a_batch_of_case_files_carries_the_damage() {
+    let out = pim_ok(&["batch", EXAMPLE, "--cost", "q2", "--format", "json"]);
+    let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let best: Vec<&serde_json::Value> = lines.iter().filter(|r| r["best"] == true).collect();
+    assert_eq!(best.len(), 1);
+    assert!(best[0]["damage"]["with_energy"]["energy_z"].is_number());
+    assert!(lines
+        .iter()
+        .filter(|r| r["best"] == false)
+        .all(|r| r.get("damage").is_none()));
+}

@@ -444,6 +444,10 @@ pub struct CaseRecord {
     /// cost function holds fixed), said rather than dropped.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
+    /// On the best record of a case with `[damage]`: the crush at the answer and the fit with
+    /// the crush energy as evidence (as `pim fit` gives them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub damage: Option<crate::damage_fit::FitDamage>,
 }
 
 /// The quantities whose 90 % intervals are CSV columns.
@@ -567,6 +571,7 @@ pub fn fit_case_text(
                 intervals: None,
                 intervals_error: None,
                 notes: Vec::new(),
+                damage: None,
             })
             .collect()
     };
@@ -596,6 +601,14 @@ pub fn fit_case_text(
         CostChoice::Preset(p) => crate::documents::ignored_weights(&case, p),
         CostChoice::Custom => Vec::new(),
     };
+    let unit = match crate::fitcase::sigma_unit(&case) {
+        Ok(u) => u,
+        Err(e) => return failed(e.message),
+    };
+    let damage = match crate::damage_fit::fit_damage(&case, &problem, &report, &settings, unit) {
+        Ok(d) => d,
+        Err(e) => return failed(e.message),
+    };
     report
         .branches
         .iter()
@@ -614,6 +627,7 @@ pub fn fit_case_text(
             intervals: None,
             intervals_error: None,
             notes: notes.clone(),
+            damage: damage.clone().filter(|_| report.best == Some(b.moment)),
         })
         .collect()
 }

@@ -278,6 +278,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                                 intervals: None,
                                 intervals_error: None,
                                 notes: Vec::new(),
+                                damage: None,
                             })
                             .collect(),
                     };
