@@ -184,20 +184,22 @@ pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessme
     let expected_sigma = damage.relation.expected_loss(sigma, e);
     let energy_loss = loss(impact, u);
     let difference = energy_loss - expected;
+    // Shown to three decimals: a restitution of -1e-12 reads 0.000, not -0.000.
+    let e_shown = if e.abs() < 5e-4 { 0.0 } else { e };
     let relation_note = match damage.relation {
         EnergyRelation::EnergyLoss => format!(
             "crush energy taken as the energy loss (CRASH3's convention); a barrier-calibrated \
              stiffness measures the energy up to maximum crush, of which a collision with e = \
-             {e:.3} loses (1 - e^2) = {:.3} in a central impact: read that way the crush asks \
+             {e_shown:.3} loses (1 - e^2) = {:.3} in a central impact: read that way the crush asks \
              for {:.1} % less loss",
-            1.0 - e * e,
-            100.0 * e * e
+            1.0 - e_shown * e_shown,
+            100.0 * e_shown * e_shown
         ),
         EnergyRelation::Compression => format!(
             "crush energy taken as the energy absorbed up to maximum crush: the expected loss is \
-             (1 - e^2) = {:.3} of it at e = {e:.3} (CRASH3's convention would expect {:.1} % \
+             (1 - e^2) = {:.3} of it at e = {e_shown:.3} (CRASH3's convention would expect {:.1} % \
              more)",
-            1.0 - e * e,
+            1.0 - e_shown * e_shown,
             if e * e < 1.0 {
                 100.0 * (1.0 / (1.0 - e * e) - 1.0)
             } else {

@@ -80,16 +80,27 @@ pub fn fit_damage(
     let Some(damage) = Damage::of(case)? else {
         return Ok(None);
     };
-    let at_fit = report
-        .best_branch()
-        .and_then(|b| b.solution.as_ref())
-        .and_then(|s| {
-            assess(
-                &damage,
-                &problem.impact,
-                &pim_fit::state_vector(&s.initial, &s.separation),
-            )
-        });
+    // At the best branch's own geometry when the fit estimates it.
+    let best = report.best_branch();
+    let impact = match best.and_then(|b| b.geometry.as_ref()) {
+        Some(g) => {
+            let mut c = *problem.impact.collision();
+            g.apply(&mut c);
+            let i = pim_core::Impact::new(c).map_err(|e| crate::InputError::new(&case.file, e))?;
+            match case.stated_side()? {
+                Some(side) => i.with_side(side),
+                None => i,
+            }
+        }
+        None => problem.impact.clone(),
+    };
+    let at_fit = best.and_then(|b| b.solution.as_ref()).and_then(|s| {
+        assess(
+            &damage,
+            &impact,
+            &pim_fit::state_vector(&s.initial, &s.separation),
+        )
+    });
     if damage.evidence == Some(true)
         && at_fit
             .as_ref()
