@@ -92,7 +92,7 @@ pub fn fit_damage(
                 None => i,
             }
         }
-        None => problem.impact.clone(),
+        None => problem.impact,
     };
     let at_fit = best.and_then(|b| b.solution.as_ref()).and_then(|s| {
         assess(
