@@ -16,6 +16,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let name = cost.map_or("custom", |p| p.name());
     let (_, warnings) = crate::inputs::checked_impact(&case)?;
     if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+        super::note_damage_not_in_reconstruction(&case);
         return reconstruction(a, &case, warnings);
     }
     if cost.is_some() && pim_data::reconstruct::has_scene_evidence(&case) {

@@ -105,6 +105,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         return Err(Failure::Input("--draws must be at least 1".into()).into());
     }
     if a.cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+        super::note_damage_not_in_reconstruction(&case);
         return super::scene_uncertainty::run(a, &case, warnings);
     }
     let choice = match a.cost {
