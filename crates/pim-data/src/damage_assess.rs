@@ -80,20 +80,19 @@ fn wrap(a: f64) -> f64 {
 /// The crush of `damage` at the states `u` of `impact`. `None` when a state has no impulse
 /// on a damaged vehicle and the case gives no PDOF for it.
 pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessment> {
-    let (x, y) = split(u);
+    let x = Velocities::from_vector(&u.fixed_rows::<6>(0).into_owned());
+    let y = Velocities::from_vector(&u.fixed_rows::<6>(6).into_owned());
     let masses = impact.masses();
     let inertias = impact.inertias();
     let arms = impact.lever_arms();
     let mut warnings = Vec::new();
     let mut parts: Vec<(usize, VehicleAssessment)> = Vec::new();
     let mut factors = [1.0, 1.0];
-    let mut dv = [0.0, 0.0];
     for k in 0..2 {
-        let id = vehicle_id(k);
+        let id = VehicleId::from_index(k);
         let (a, b) = (x.vehicle(id), y.vehicle(id));
         let d = [b.vx - a.vx, b.vy - a.vy];
         let size = d[0].hypot(d[1]);
-        dv[k] = size;
         let h = if size > 0.0 {
             (arms[k][0] * d[1] - arms[k][1] * d[0]).abs() / size
         } else {
@@ -182,7 +181,7 @@ pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessme
     let e = if vn != 0.0 { -vn_after / vn } else { 0.0 };
     let expected = damage.relation.expected_loss(total, e);
     let expected_sigma = damage.relation.expected_loss(sigma, e);
-    let energy_loss = loss(impact, u);
+    let energy_loss = x.kinetic_energy(impact) - y.kinetic_energy(impact);
     let difference = energy_loss - expected;
     // Shown to three decimals: a restitution of -1e-12 reads 0.000, not -0.000.
     let e_shown = if e.abs() < 5e-4 { 0.0 } else { e };
@@ -237,25 +236,5 @@ impl pim_fit::NonlinearTerm for EnergyTerm<'_> {
     fn residual(&self, u: &Vector12) -> Option<f64> {
         let a = assess(self.damage, self.impact, u)?;
         (a.expected_loss_sigma > 0.0).then(|| -a.difference / a.expected_loss_sigma)
-    }
-}
-
-fn split(u: &Vector12) -> (Velocities, Velocities) {
-    let x = nalgebra::Vector6::from_iterator(u.iter().take(6).cloned());
-    let y = nalgebra::Vector6::from_iterator(u.iter().skip(6).cloned());
-    (Velocities::from_vector(&x), Velocities::from_vector(&y))
-}
-
-/// The kinetic energy loss of the states `u`, J.
-fn loss(impact: &Impact, u: &Vector12) -> f64 {
-    let (x, y) = split(u);
-    x.kinetic_energy(impact) - y.kinetic_energy(impact)
-}
-
-fn vehicle_id(k: usize) -> VehicleId {
-    if k == 0 {
-        VehicleId::One
-    } else {
-        VehicleId::Two
     }
 }

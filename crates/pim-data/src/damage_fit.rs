@@ -80,39 +80,38 @@ pub fn fit_damage(
     let Some(damage) = Damage::of(case)? else {
         return Ok(None);
     };
-    // At the best branch's own geometry when the fit estimates it.
-    let best = report.best_branch();
-    let impact = match best.and_then(|b| b.geometry.as_ref()) {
-        Some(g) => {
-            let mut c = *problem.impact.collision();
-            g.apply(&mut c);
-            let i = pim_core::Impact::new(c).map_err(|e| crate::InputError::new(&case.file, e))?;
-            match case.stated_side()? {
-                Some(side) => i.with_side(side),
-                None => i,
-            }
-        }
-        None => problem.impact,
+    let needs_sigma = |at_fit: &Option<Assessment>| {
+        damage.evidence == Some(true)
+            && at_fit
+                .as_ref()
+                .is_some_and(|a| a.expected_loss_sigma <= 0.0)
     };
-    let at_fit = best.and_then(|b| b.solution.as_ref()).and_then(|s| {
-        assess(
-            &damage,
-            &impact,
-            &pim_fit::state_vector(&s.initial, &s.separation),
-        )
-    });
-    if damage.evidence == Some(true)
-        && at_fit
-            .as_ref()
-            .is_some_and(|a| a.expected_loss_sigma <= 0.0)
-    {
-        return Err(case.error_at(
+    let no_sigma = || {
+        case.error_at(
             "damage.evidence",
             "the crush energy as evidence needs its standard deviation: give a_sigma, b_sigma, \
              depth_sigma or width_sigma in [damage.vehicleN]",
-        ));
-    }
+        )
+    };
     if !crate::fitcase::geometry(case)?.is_empty() {
+        // At the best branch's own geometry.
+        let best = report.best_branch();
+        let at_fit = match best.and_then(|b| b.geometry.as_ref().zip(b.solution.as_ref())) {
+            Some((g, s)) => {
+                let impact = g
+                    .impact(&problem.impact)
+                    .map_err(|e| crate::InputError::new(&case.file, e))?;
+                assess(
+                    &damage,
+                    &impact,
+                    &pim_fit::state_vector(&s.initial, &s.separation),
+                )
+            }
+            None => None,
+        };
+        if needs_sigma(&at_fit) {
+            return Err(no_sigma());
+        }
         return Ok(Some(FitDamage {
             at_fit,
             evidence: false,
@@ -124,9 +123,12 @@ pub fn fit_damage(
             with_energy: None,
         }));
     }
-    fit_damage_of(&damage, problem, report, settings, unit)
-        .map(Some)
-        .map_err(|e| crate::InputError::new(&case.file, e))
+    let fitted = fit_damage_of(&damage, problem, report, settings, unit)
+        .map_err(|e| crate::InputError::new(&case.file, e))?;
+    if needs_sigma(&fitted.at_fit) {
+        return Err(no_sigma());
+    }
+    Ok(Some(fitted))
 }
 
 /// The damage of a fit: the crush at the report's best answer and, when the energy is

@@ -177,8 +177,8 @@ pub use bounds::SearchBound;
 pub use certificate::{Certificate, Fallback, Method, Route};
 pub use error::{FitError, Result};
 pub use geometry::{
-    fit_geometry, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof,
-    GeometryRange, GeometrySearch, ProofStatus,
+    fit_geometry, impact_at, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput,
+    GeometryProof, GeometryRange, GeometrySearch, ProofStatus,
 };
 pub use nonlinear::{fit_nonlinear, linear_cost, NonlinearFit, NonlinearTerm, PROVEN_GAP};
 pub use problem::{

@@ -144,21 +144,12 @@ fn assemble(
             });
         }
     }
-    let mut largest = 0.0_f64;
-    visit_weights(&mut p, |w| largest = largest.max(*w));
+    let largest = p.weights_mut().fold(0.0_f64, |m, w| m.max(*w));
     let scale = if largest > 1.0 { 1.0 / largest } else { 1.0 };
-    visit_weights(&mut p, |w| *w = (*w * scale).max(f64::MIN_POSITIVE));
-    Some((p, scale))
-}
-
-fn visit_weights(p: &mut FitProblem, mut f: impl FnMut(&mut f64)) {
-    for c in p.components.iter_mut() {
-        if let Knowledge::Estimated { weight, .. } = c {
-            f(weight);
-        }
+    for w in p.weights_mut() {
+        *w = (*w * scale).max(f64::MIN_POSITIVE);
     }
-    p.observations.iter_mut().for_each(|o| f(&mut o.weight));
-    p.combinations.iter_mut().for_each(|c| f(&mut c.weight));
+    Some((p, scale))
 }
 
 /// The best optimal branch of a report, with its moment.

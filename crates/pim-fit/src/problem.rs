@@ -317,6 +317,18 @@ impl FitProblem {
         Ok(p)
     }
 
+    /// Every weight of the problem, to read or rescale: the estimated components', the
+    /// observations', the combinations'.
+    pub fn weights_mut(&mut self) -> impl Iterator<Item = &mut f64> {
+        let components = self.components.iter_mut().filter_map(|c| match c {
+            Knowledge::Estimated { weight, .. } => Some(weight),
+            _ => None,
+        });
+        components
+            .chain(self.observations.iter_mut().map(|o| &mut o.weight))
+            .chain(self.combinations.iter_mut().map(|c| &mut c.weight))
+    }
+
     /// Checks values and weights.
     pub fn check(&self) -> Result<()> {
         let mut anything = false;

@@ -4,34 +4,9 @@
 use crate::point::{linearised, velocity_of, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
 use pim_fit::{
-    fit, state_vector, Combination, FitProblem, Knowledge, MomentBranch, Solution,
-    Status as FitStatus,
+    fit, state_vector, Combination, FitProblem, MomentBranch, Solution, Status as FitStatus,
 };
 use rayon::prelude::*;
-
-/// Every weight of a fit problem: the estimated components', the observations', the
-/// combinations'.
-fn weights(problem: &mut FitProblem) -> impl Iterator<Item = &mut f64> {
-    let components = problem.components.iter_mut().filter_map(|c| match c {
-        Knowledge::Estimated { weight, .. } => Some(weight),
-        _ => None,
-    });
-    components
-        .chain(problem.observations.iter_mut().map(|o| &mut o.weight))
-        .chain(problem.combinations.iter_mut().map(|c| &mut c.weight))
-}
-
-/// The number of data of the contact evidence: estimated components, observations and
-/// combinations of the impact fit.
-fn contact_data(r: &Reconstruction) -> usize {
-    let c = &r.contact;
-    c.components
-        .iter()
-        .filter(|k| matches!(k, Knowledge::Estimated { .. }))
-        .count()
-        + c.observations.len()
-        + c.combinations.len()
-}
 
 /// The number of the scenes' residuals at a point.
 fn scene_data(p: Option<&Point>) -> usize {
@@ -50,7 +25,7 @@ pub(crate) fn assemble(
     let unit = r.unit.unwrap_or(1.0);
     let mut problem = r.contact.clone();
     // Chi-square weights first.
-    for w in weights(&mut problem) {
+    for w in problem.weights_mut() {
         *w /= unit;
     }
     for l in lins {
@@ -91,9 +66,9 @@ pub(crate) fn assemble(
             }
         }
     }
-    let largest = weights(&mut problem).fold(0.0_f64, |m, w| m.max(*w));
+    let largest = problem.weights_mut().fold(0.0_f64, |m, w| m.max(*w));
     let scale = if largest > 0.0 { 1.0 / largest } else { 1.0 };
-    for w in weights(&mut problem) {
+    for w in problem.weights_mut() {
         *w = (*w * scale).max(f64::MIN_POSITIVE);
     }
     (problem, scale)
@@ -246,7 +221,7 @@ pub(crate) fn refine(
             // datum (residuals of three standard deviations on average; the evidence is then
             // refused whatever its last digits), the refinement stops here, not converged,
             // instead of crawling on through long run-outs.
-            let data = contact_data(r) + scene_data(current.as_ref());
+            let data = r.contact_data() + scene_data(current.as_ref());
             let left = settings.max_iterations.saturating_sub(iterations) as i32;
             let projected = total * (1.0 - (gain / total).min(1.0)).powi(left);
             if iterations >= 4 && projected > 10.0 * data.max(1) as f64 {

@@ -158,27 +158,19 @@ pub fn fit_damage_lines(d: &FitDamage, u: UnitSystem) -> String {
                     .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
             );
         }
-        let (a, b) = (f.initial.to_vector(), f.final_.to_vector());
-        let _ = writeln!(
-            s,
-            "  contact    v1 ({:.2}, {:.2}) {sp}, w1 {:.3} rad/s; v2 ({:.2}, {:.2}) {sp}, w2 {:.3} rad/s",
-            u.speed(a[0]),
-            u.speed(a[1]),
-            a[2],
-            u.speed(a[3]),
-            u.speed(a[4]),
-            a[5]
-        );
-        let _ = writeln!(
-            s,
-            "  separation v1 ({:.2}, {:.2}) {sp}, w1 {:.3} rad/s; v2 ({:.2}, {:.2}) {sp}, w2 {:.3} rad/s",
-            u.speed(b[0]),
-            u.speed(b[1]),
-            b[2],
-            u.speed(b[3]),
-            u.speed(b[4]),
-            b[5]
-        );
+        for (when, v) in [("contact   ", &f.initial), ("separation", &f.final_)] {
+            let v = v.to_vector();
+            let _ = writeln!(
+                s,
+                "  {when} v1 ({:.2}, {:.2}) {sp}, w1 {:.3} rad/s; v2 ({:.2}, {:.2}) {sp}, w2 {:.3} rad/s",
+                u.speed(v[0]),
+                u.speed(v[1]),
+                v[2],
+                u.speed(v[3]),
+                u.speed(v[4]),
+                v[5]
+            );
+        }
         let _ = writeln!(
             s,
             "  delta-V {:.2} / {:.2} {sp}; energy loss {} kJ",

@@ -34,11 +34,11 @@ pub(crate) mod types;
 use crate::settings::{FitSettings, ValidSettings};
 use argmin::core::{CostFunction, Error as ArgminError, Executor, State};
 use argmin::solver::neldermead::NelderMead;
-use pim_core::{Collision, Impact};
+use pim_core::Collision;
 use rayon::prelude::*;
 pub use types::{
-    CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof, GeometryRange,
-    GeometrySearch, ProofStatus,
+    impact_at, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput, GeometryProof,
+    GeometryRange, GeometrySearch, ProofStatus,
 };
 
 /// Grid points per input for `k` estimated inputs.
@@ -145,11 +145,7 @@ impl<'a> Search<'a> {
     }
 
     fn problem_at(&self, u: &[f64]) -> Option<FitProblem> {
-        let mut impact = Impact::new(self.collision(u)).ok()?;
-        // A side the case states holds at every geometry; otherwise each reads its own.
-        if self.problem.impact.side_basis() == pim_core::SideBasis::Case {
-            impact = impact.with_side(self.problem.impact.side());
-        }
+        let impact = impact_at(&self.problem.impact, self.collision(u)).ok()?;
         Some(FitProblem {
             impact,
             ..self.problem.clone()

@@ -274,6 +274,16 @@ impl GeometryEstimate {
         c.crush_angle = self.crush_angle;
     }
 
+    /// The checked collision of `base` at this geometry ([`impact_at`]).
+    ///
+    /// # Errors
+    /// pim-core's, for a collision it cannot take.
+    pub fn impact(&self, base: &pim_core::Impact) -> pim_core::Result<pim_core::Impact> {
+        let mut c = *base.collision();
+        self.apply(&mut c);
+        impact_at(base, c)
+    }
+
     /// The number of inputs estimated (with bounds that leave them room).
     pub fn estimated_inputs(&self) -> usize {
         self.ranges
@@ -281,4 +291,21 @@ impl GeometryEstimate {
             .filter(|r| r.bounds[1] > r.bounds[0])
             .count()
     }
+}
+
+/// The collision `c` checked, as a geometry of `base`: a side of the crush surface that `base`
+/// states holds at every geometry; otherwise each reads its own.
+///
+/// # Errors
+/// pim-core's, for a collision it cannot take.
+pub fn impact_at(
+    base: &pim_core::Impact,
+    c: pim_core::Collision,
+) -> pim_core::Result<pim_core::Impact> {
+    let impact = pim_core::Impact::new(c)?;
+    Ok(if base.side_basis() == pim_core::SideBasis::Case {
+        impact.with_side(base.side())
+    } else {
+        impact
+    })
 }
