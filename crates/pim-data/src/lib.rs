@@ -22,6 +22,7 @@
 pub mod batch;
 pub mod case;
 mod checks;
+pub mod consistency;
 pub mod damage;
 pub mod damage_assess;
 mod damage_draws;

@@ -330,6 +330,8 @@ pub struct BestOut {
     pub converged: bool,
     /// How the impact fit at the found separation state was established.
     pub certificate: Certificate,
+    /// The bounds the impact ends on (the bound, not the evidence, ends it there).
+    pub active_constraints: Vec<pim_fit::ActiveConstraint>,
 }
 
 /// The document of a reconstruction (`pim fit --format json` of a scene case).
@@ -359,6 +361,10 @@ pub struct ReconstructionOut {
     pub proven: String,
     /// What the evidence leaves undetermined or the search does not prove.
     pub undetermined: Vec<String>,
+    /// For a refused or poorly fitting reconstruction: the evidence left out piece by piece
+    /// ([`crate::consistency`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub consistency: Option<crate::consistency::Consistency>,
 }
 
 /// A case's reconstruction, searched, with its document.
@@ -517,6 +523,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             iterations: b.iterations,
             converged: b.converged,
             certificate: b.certificate.clone(),
+            active_constraints: s.active_constraints.clone(),
         }
     });
     let best_cost = outcome.best.as_ref().map(|b| b.chi_square);
@@ -631,5 +638,6 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         method,
         proven,
         undetermined,
+        consistency: None,
     }
 }

@@ -176,7 +176,9 @@ pub struct VehicleRunoutOut {
     pub time: f64,
     /// Rotation from separation to rest, deg.
     pub rotation: f64,
-    /// Whole turns of that rotation (towards zero).
+    /// Full turns of that rotation beyond the shortest rotation between the headings at
+    /// separation and at rest (the count of turns of the candidates and of a
+    /// reconstruction; counter-clockwise positive in this natural-frame document).
     pub turns: i64,
     /// Kinetic energy at separation, J.
     pub initial_energy: f64,

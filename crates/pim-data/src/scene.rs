@@ -62,6 +62,21 @@ impl Case {
         self.content.runout.is_some() || self.content.scene.is_some()
     }
 
+    /// Where the impact centre lies in the case's fixed frame: natural axes, m (the case's
+    /// `[impact] centre`, or the origin).
+    pub fn impact_centre(&self) -> [f64; 2] {
+        let length = self.written_units.length.to_si();
+        let flip = if self.written == Convention::Sae {
+            -1.0
+        } else {
+            1.0
+        };
+        self.content
+            .impact
+            .centre
+            .map_or([0.0, 0.0], |p| [p.x * length, flip * p.y * length])
+    }
+
     /// The run-out inputs: the chassis of each vehicle with a `[runout.vehicleN]`, its pose at
     /// contact and its scene evidence, converted to SI and the natural frame.
     ///
@@ -84,10 +99,7 @@ impl Case {
         let sae = self.written == Convention::Sae;
         // SAE: y to the right, angles clockwise; the natural frame: y left, counter-clockwise.
         let flip = if sae { -1.0 } else { 1.0 };
-        let centre = c
-            .impact
-            .centre
-            .map_or([0.0, 0.0], |p| [p.x * length, flip * p.y * length]);
+        let centre = self.impact_centre();
         let cgs = impact.cg_positions();
         let mut vehicles = Vec::new();
         for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {

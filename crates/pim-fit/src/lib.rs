@@ -186,7 +186,8 @@ pub use problem::{
     MomentBranch, Observation, ObservationKind, Vector12, COMPONENT_NAMES,
 };
 pub use report::{
-    ActiveConstraint, BranchReport, ChiSquare, FitReport, Identifiability, Limits, Quantity,
+    judged_dof, ActiveConstraint, BranchReport, ChiSquare, FitReport, Identifiability, Limits,
+    Quantity,
     Reason, Solution, Status, TangentialFit, Violation,
 };
 pub use run::fit;

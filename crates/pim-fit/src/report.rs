@@ -553,8 +553,9 @@ pub struct ChiSquare {
     /// velocity components plus the branch's coefficients (3 free, 2 zero) minus the six
     /// equations. Active bounds are not subtracted.
     pub degrees_of_freedom: i64,
-    /// `P(chi^2_dof >= value)`: the probability of a misfit at least this large if the model
-    /// and the stated sigmas are right (none when the degrees of freedom are not positive).
+    /// `P(chi^2_nu >= value)` with `nu` = [`judged_dof`] of the degrees of freedom: the
+    /// probability of a misfit at least this large if the model and the stated sigmas are right
+    /// (none only for a value that is not a finite number).
     pub p_value: Option<f64>,
 }
 
@@ -600,18 +601,40 @@ impl ChiSquare {
 }
 
 impl ChiSquare {
-    /// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom (none
-    /// for `dof <= 0`).
+    /// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom, judged
+    /// with [`judged_dof`] (none for a value that is not a finite number).
     pub fn p_value_of(dof: i64, value: f64) -> Option<f64> {
         p_value(dof, value)
     }
+
+    /// The number of unknowns the evidence does not determine by count alone: `-dof` for
+    /// `dof < 0`, else 0 (combinations of the unknowns that the evidence leaves free; the answer
+    /// is one of a family along them, unless a bound or the physics holds it).
+    pub fn unknowns_undetermined(dof: i64) -> i64 {
+        (-dof).max(0)
+    }
 }
 
-/// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom (none for
-/// `dof <= 0`).
+/// The degrees of freedom a chi-square is judged with: its own when positive, otherwise 1.
+///
+/// With no degrees of freedom left (as many unknowns as pieces of evidence, or more) a fit meets
+/// consistent evidence exactly: its chi-square is 0 unless a bound or the physics (admissible
+/// friction, no energy created) keeps it from the evidence. What it still misses is then judged
+/// as one degree of freedom, the strictest reading (for a given chi-square, the smallest
+/// probability), so that a miss is never excused by a shortage of evidence. One rule for every
+/// fit and reconstruction: the probability of a chi-square `x` is `P(chi^2_nu >= x)` with
+/// `nu = max(dof, 1)`.
+pub fn judged_dof(dof: i64) -> i64 {
+    dof.max(1)
+}
+
+/// The upper-tail probability of a chi-square `value` with `dof` degrees of freedom, judged
+/// with [`judged_dof`].
 fn p_value(dof: i64, value: f64) -> Option<f64> {
-    (dof > 0)
-        .then(|| statrs::distribution::ChiSquared::new(dof as f64).ok())
-        .flatten()
-        .map(|d| statrs::distribution::ContinuousCDF::sf(&d, value))
+    if !value.is_finite() {
+        return None;
+    }
+    statrs::distribution::ChiSquared::new(judged_dof(dof) as f64)
+        .ok()
+        .map(|d| statrs::distribution::ContinuousCDF::sf(&d, value.max(0.0)))
 }

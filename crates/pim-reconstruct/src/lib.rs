@@ -69,7 +69,7 @@ mod search;
 pub use error::{ReconstructError, Result};
 pub use outcome::{
     Contradiction, EvidenceTerm, Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts,
-    INCONSISTENT_P, INCONSISTENT_Z,
+    INCONSISTENT_P, POOR_FIT_P,
 };
 pub use problem::{ContactResidual, ContactTerm, Reconstruction, SceneVehicle, Settings, Skid};
 pub use search::{reconstruct, redo};

@@ -17,18 +17,20 @@ pub enum Status {
     /// No admissible impact reaches the scene for any count of turns ([`Outcome::reason`]).
     NoSolution,
     /// The best reconstruction found contradicts the evidence: its chi-square is beyond
-    /// chance ([`INCONSISTENT_P`]), or, with no degrees of freedom left, a residual lies beyond
-    /// [`INCONSISTENT_Z`] sigma ([`Outcome::reason`] names the largest terms; [`Outcome::best`]
-    /// is kept for inspection).
+    /// chance ([`INCONSISTENT_P`], judged with [`pim_fit::judged_dof`]: with no degrees of
+    /// freedom left as one degree of freedom). [`Outcome::reason`] names the largest terms;
+    /// [`Outcome::best`] is kept for inspection.
     Inconsistent,
 }
 
 /// A chi-square whose probability under the stated sigmas is below this is a contradiction,
-/// not a fit.
+/// not a fit (with one degree of freedom: a chi-square above 23.9, a single residual beyond
+/// 4.9 sigma).
 pub const INCONSISTENT_P: f64 = 1e-6;
 
-/// With no degrees of freedom left, a residual beyond this many sigma is a contradiction.
-pub const INCONSISTENT_Z: f64 = 5.0;
+/// Below this probability a found reconstruction fits poorly (its evidence is looked at piece
+/// by piece: the consistency table).
+pub const POOR_FIT_P: f64 = 0.05;
 
 /// One vehicle's scene against the reconstruction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -293,25 +295,21 @@ pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradicti
         }
     }
     terms.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-    let worst = terms.first().map_or(0.0, |t| t.1.abs());
-    let statement = if f.degrees_of_freedom > 0 {
-        let p = pim_fit::ChiSquare::p_value_of(f.degrees_of_freedom, f.chi_square)?;
-        (p < INCONSISTENT_P).then(|| {
-            format!(
-                "the best reconstruction found has a chi-square of {:.1} with {} degrees of \
-                 freedom (p = {p:.1e}): no admissible impact and run-out reach this evidence \
-                 within its standard deviations",
-                f.chi_square, f.degrees_of_freedom
-            )
-        })?
+    let p = pim_fit::ChiSquare::p_value_of(f.degrees_of_freedom, f.chi_square)?;
+    if p >= INCONSISTENT_P {
+        return None;
+    }
+    let judged = if f.degrees_of_freedom > 0 {
+        String::new()
     } else {
-        (worst > INCONSISTENT_Z).then(|| {
-            format!(
-                "the best reconstruction found misses a piece of evidence by {worst:.1} sigma \
-                 with no degrees of freedom left: no admissible impact and run-out reach it"
-            )
-        })?
+        " (no degrees of freedom left: judged as one)".to_string()
     };
+    let statement = format!(
+        "the best reconstruction found has a chi-square of {:.1} with {} degrees of \
+         freedom{judged}, p = {p:.1e}: none of the impacts and run-outs searched reaches this \
+         evidence within its standard deviations",
+        f.chi_square, f.degrees_of_freedom
+    );
     terms.truncate(3);
     Some(Contradiction {
         statement,

@@ -151,11 +151,8 @@ pub fn fit_damage_lines(d: &FitDamage, u: UnitSystem) -> String {
         if let Some(c) = &f.chi_square {
             let _ = writeln!(
                 s,
-                "  chi-square {:.3} with {} degrees of freedom, p = {}",
-                c.value,
-                c.degrees_of_freedom,
-                c.p_value
-                    .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
+                "  {}",
+                crate::tables::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
             );
         }
         for (when, v) in [("contact   ", &f.initial), ("separation", &f.final_)] {

@@ -30,6 +30,7 @@ pub mod diagram;
 pub mod figures;
 mod geometry_lines;
 pub mod momentum;
+pub mod plan;
 pub mod predict_figure;
 pub mod reconstruct;
 pub mod report;

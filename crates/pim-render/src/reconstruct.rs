@@ -21,13 +21,16 @@ pub fn reconstruction_table(
     let v = |x: f64| num(units.speed(x), 2);
     let mut t = format!("Reconstruction (pre-impact, impact, run-out): {title}\n");
     if frame == Convention::Sae {
-        t.push_str("frame: SAE (y to the right, headings clockwise)\n");
+        t.push_str("frame: SAE (y to the right, headings and turns clockwise)\n");
     }
     let Some(b) = &d.best else {
         t.push_str(&format!(
             "\nno reconstruction: {}\n",
-            d.reason.as_deref().unwrap_or("no admissible impact")
+            d.reason.as_deref().unwrap_or("none found")
         ));
+        if let Some(c) = &d.consistency {
+            t.push_str(&consistency_lines(c, units));
+        }
         return t;
     };
     if let Some(why) = &d.reason {
@@ -44,13 +47,12 @@ pub fn reconstruction_table(
         b.branch.name(),
         b.energy_loss_percent
     ));
-    t.push_str(&format!(
-        "chi-square {:.3} with {} degrees of freedom, p = {}\n",
-        b.chi_square,
-        b.degrees_of_freedom,
-        b.p_value
-            .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
-    ));
+    for l in wrap(
+        &crate::tables::chi_square_words(b.chi_square, b.degrees_of_freedom, b.p_value),
+        96,
+    ) {
+        t.push_str(&format!("{l}\n"));
+    }
     t.push_str(&format!(
         "\n{:<8} {:>16} {:>12} {:>14} {:>8} {:>7} {:>26}\n",
         "vehicle",
@@ -80,7 +82,7 @@ pub fn reconstruction_table(
             v(p.speed_at_contact),
             v(p.speed_at_separation),
             p.speed_at_rest.map_or_else(|| "-".into(), v),
-            p.turns.map_or_else(|| "-".into(), |k| k.to_string()),
+            p.turns.map_or_else(|| "-".into(), |k| (s as i64 * k).to_string()),
             rest
         ));
     }
@@ -127,7 +129,7 @@ pub fn reconstruction_table(
                 "{:?}",
                 c.turns
                     .iter()
-                    .map(|k| k.map_or_else(|| "-".to_string(), |k| k.to_string()))
+                    .map(|k| k.map_or_else(|| "-".to_string(), |k| (s as i64 * k).to_string()))
                     .collect::<Vec<_>>()
             )
             .replace('"', ""),
@@ -157,6 +159,61 @@ pub fn reconstruction_table(
     }
     if !b.converged {
         t.push_str("warning: the iterations reached their limit before their tolerance\n");
+    }
+    if let Some(c) = &d.consistency {
+        t.push_str(&consistency_lines(c, units));
+    }
+    t
+}
+
+/// The evidence consistency table as text, speeds in `units`.
+pub fn consistency_lines(c: &pim_data::consistency::Consistency, units: UnitSystem) -> String {
+    let mut t = String::from(
+        "\nevidence consistency: the reconstruction with each piece of evidence left out in turn\n",
+    );
+    let spd = units.speed_label();
+    t.push_str(&format!(
+        "{:<44} {:>10} {:>4} {:>8} {:>10} {:>9} {:>9}  {}\n",
+        "left out",
+        "chi-square",
+        "dof",
+        "p",
+        "consistent",
+        format!("v1 {spd}"),
+        format!("v2 {spd}"),
+        "largest remaining residual (z)"
+    ));
+    for r in std::iter::once(&c.all).chain(&c.rows) {
+        let name = if r.left_out.is_empty() {
+            "(nothing: all the evidence)".to_string()
+        } else {
+            r.left_out.join(" + ")
+        };
+        let speed = |k: usize| {
+            r.speed_at_contact[k].map_or_else(|| "-".to_string(), |v| num(units.speed(v), 2))
+        };
+        let largest = match (&r.largest, &r.error) {
+            (_, Some(e)) => format!("cannot reconstruct: {e}"),
+            (Some((n, z)), None) => format!("{n} ({z:+.1})"),
+            (None, None) => "-".to_string(),
+        };
+        t.push_str(&format!(
+            "{:<44} {:>10} {:>4} {:>8} {:>10} {:>9} {:>9}  {}\n",
+            name,
+            r.chi_square.map_or_else(|| "-".to_string(), |x| num(x, 2)),
+            r.degrees_of_freedom
+                .map_or_else(|| "-".to_string(), |x| x.to_string()),
+            r.p_value
+                .map_or_else(|| "-".to_string(), crate::tables::format_p),
+            if r.consistent { "yes" } else { "no" },
+            speed(0),
+            speed(1),
+            largest
+        ));
+    }
+    t.push_str("(v1, v2: speeds at contact)\n");
+    for l in wrap(&c.summary, 96) {
+        t.push_str(&format!("{l}\n"));
     }
     t
 }

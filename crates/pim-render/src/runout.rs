@@ -77,11 +77,12 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
             (s * v.rest.heading).rem_euclid(360.0),
         ));
         t.push_str(&format!(
-            "  run-out     {:.2} s, {} {len} along the path, rotation {:.1} deg ({} whole turns), \
-             energy {:.1} kJ taken by the tyres\n",
+            "  run-out     {:.2} s, {} {len} along the path, rotation {:.1} deg (the shortest \
+             {:.1} deg and {} full turns), energy {:.1} kJ taken by the tyres\n",
             v.time,
             l(v.distance),
             s * v.rotation,
+            pim_core::wrap_degrees(s * v.rotation),
             s as i64 * v.turns,
             v.tyre_work / 1000.0,
         ));
@@ -247,9 +248,10 @@ pub fn scene_svg(
 ) -> Result<String, String> {
     let sae = frame == Convention::Sae;
     let u = |x: f64| units.length(x);
-    // Everything in display units; SAE draws y to the right (the picture mirrored back).
-    let fy = if sae { -1.0 } else { 1.0 };
-    let to = |(x, y): (f64, f64)| (u(x), u(fy * y));
+    // Everything in display units, laid on the page as every figure of the case is (SAE: x up,
+    // y to the right).
+    let page = crate::plan::Page::of(frame);
+    let to = |(x, y): (f64, f64)| page.xy((u(x), u(y)));
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     let mut grow = |p: (f64, f64)| {
@@ -328,13 +330,8 @@ pub fn scene_svg(
             .map_err(|x| e(&x))?;
         chart
             .configure_mesh()
-            .x_desc(format!("x [{len}]"))
-            .y_desc(if sae {
-                format!("y [{len}], SAE: to the right of x")
-            } else {
-                format!("y [{len}]")
-            })
-            .y_label_formatter(&|y: &f64| num(if sae { -*y } else { *y }, 1))
+            .x_desc(page.horizontal_label(len))
+            .y_desc(page.vertical_label(len))
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(225, 225, 225))
             .draw()
@@ -520,8 +517,9 @@ pub fn scene_svg(
             )?;
             line(
                 format!(
-                    "  rotation {:.0} deg",
-                    if sae { -v.rotation } else { v.rotation }
+                    "  rotation {:.0} deg ({} full turns)",
+                    if sae { -v.rotation } else { v.rotation },
+                    if sae { -v.turns } else { v.turns }
                 ),
                 color,
                 12,
@@ -534,7 +532,7 @@ pub fn scene_svg(
                 let shown = if ev.name.contains("heading") {
                     format!("{} deg", num(ev.value, 1))
                 } else {
-                    format!("{} cm", num(100.0 * ev.value, 0))
+                    format!("{} {}", num(units.length(ev.value), 2), units.length_label())
                 };
                 line(
                     format!("  {}: {shown} (z {})", ev.name, num(ev.z, 1)),

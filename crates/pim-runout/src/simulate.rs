@@ -107,9 +107,19 @@ pub struct Runout {
 }
 
 impl Runout {
-    /// Whole turns from separation to rest, towards zero (a rotation of -400 deg is -1).
+    /// Full turns from separation to rest beyond the shortest rotation between the two
+    /// headings, the count of turns of the inverse's candidates and of a reconstruction (a
+    /// rotation of -400 deg is the shortest -40 deg and -1 turn; -659.9 deg is 60.1 deg and -2
+    /// turns). Counter-clockwise positive, as the rotation.
     pub fn turns(&self) -> i64 {
-        (self.rotation / std::f64::consts::TAU).trunc() as i64
+        use std::f64::consts::{PI, TAU};
+        let r = self.rotation;
+        // The shortest rotation, in (-pi, pi].
+        let mut short = r.rem_euclid(TAU);
+        if short > PI {
+            short -= TAU;
+        }
+        ((r - short) / TAU).round() as i64
     }
 
     /// The motion at time `t` since separation (cubic Hermite between accepted steps; the

@@ -55,12 +55,9 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     for r in branch_records {
         if let Some(c) = &r.chi_square {
             table.push_str(&format!(
-                "{}: chi-square {:.3} with {} degrees of freedom, p = {}\n",
+                "{}: {}\n",
                 tables::branch_short(r.moment),
-                c.value,
-                c.degrees_of_freedom,
-                c.p_value
-                    .map_or_else(|| "undefined".to_string(), |p| format!("{p:.4}"))
+                tables::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
             ));
         }
     }
@@ -76,30 +73,18 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         Format::Json => &record,
         Format::Table => &table,
     })?;
+    let mut on_bounds = 0;
     if let Some(b) = report.best_branch() {
-        use pim_fit::ActiveConstraint as A;
-        for a in b.solution.iter().flat_map(|s| &s.active_constraints) {
-            let hint = match a {
-                A::EHigh => "the data want more restitution: widen [bounds] e",
-                A::MuLow | A::MuHigh => "widen [bounds] mu",
-                A::FrictionLow | A::FrictionHigh => "widen [bounds] friction",
-                A::EtLow | A::EtHigh => "widen [bounds] et if it is narrower than [-1, 1]",
-                A::VelocityBound(_) => "widen [bounds] velocity / yaw_rate, or check the estimates",
-                A::EmLow => "em = -1 is the end of its physical range",
-                _ => continue,
-            };
-            let which = match report.model {
-                pim_fit::FitModel::Tangential => "the tangential model's fit".to_string(),
-                pim_fit::FitModel::Pim => format!("the best branch ({})", b.moment.name()),
-            };
-            eprintln!(
-                "pim: warning: {}: {which} ends on a bound: {a}; {hint}",
-                case.file
-            );
-        }
+        let which = match report.model {
+            pim_fit::FitModel::Tangential => "the tangential model's fit".to_string(),
+            pim_fit::FitModel::Pim => format!("the best branch ({})", b.moment.name()),
+        };
+        let active = b.solution.as_ref().map(|s| &s.active_constraints[..]);
+        on_bounds += bound_warnings(&case.file, &which, active.unwrap_or_default());
     }
     if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
         for r in g.ranges.iter().filter(|r| r.at_bound) {
+            on_bounds += 1;
             eprintln!(
                 "pim: warning: {}: the best branch's {} ends on its bound ({:.3}, bounds {:.3} .. \
                  {:.3}): the bound, not the data, ends it; widen [bounds] if the crash allows",
@@ -119,13 +104,36 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         why.push(
             "the best branch rests on a default bound (set it in [bounds] to choose it)".into(),
         );
+    } else if on_bounds > 0 {
+        why.push(format!("the answer ends on {on_bounds} bound(s)"));
     }
     Ok(crate::inputs::strict_status(a.strict, warnings, why))
 }
 
+/// Warns of each bound a fitted impact ends on (the bound, not the data, ends it), with what to
+/// do; returns how many.
+pub(crate) fn bound_warnings(file: &str, which: &str, active: &[pim_fit::ActiveConstraint]) -> usize {
+    use pim_fit::ActiveConstraint as A;
+    let mut n = 0;
+    for a in active {
+        let hint = match a {
+            A::EHigh => "the data want more restitution: widen [bounds] e",
+            A::MuLow | A::MuHigh => "widen [bounds] mu",
+            A::FrictionLow | A::FrictionHigh => "widen [bounds] friction",
+            A::EtLow | A::EtHigh => "widen [bounds] et if it is narrower than [-1, 1]",
+            A::VelocityBound(_) => "widen [bounds] velocity / yaw_rate, or check the estimates",
+            A::EmLow => "em = -1 is the end of its physical range",
+            _ => continue,
+        };
+        n += 1;
+        eprintln!("pim: warning: {file}: {which} ends on a bound: {a}; {hint}");
+    }
+    n
+}
+
 /// `pim fit` of a case with scene evidence: the three phases in one fit.
 fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> Result<ExitCode> {
-    let done = pim_data::reconstruct::reconstruct(case, a.model, a.moment_form, unique(&a.branch))
+    let done = pim_data::consistency::answer(case, a.model, a.moment_form, unique(&a.branch))
         .map_err(Failure::from)?;
     let d = &done.document;
     let units = a.units.map_or_else(
@@ -144,13 +152,5 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
         Format::Json => &record,
         Format::Table => &table,
     })?;
-    if d.status != pim_reconstruct::Status::Found {
-        eprintln!(
-            "pim: {}: no reconstruction: {}",
-            case.file,
-            d.reason.as_deref().unwrap_or("no admissible impact")
-        );
-        return Ok(ExitCode::from(EXIT_NO_ANSWER));
-    }
-    Ok(crate::inputs::strict_status(a.strict, warnings, Vec::new()))
+    super::reconstruction_status(case, d, a.strict, warnings)
 }

@@ -43,6 +43,12 @@ pub struct Diagram {
     pub subtitle: Option<String>,
     /// Lines the key shows under the title (e.g. the bounds a fitted answer rests on).
     pub notes: Vec<String>,
+    /// Where the impact centre C lies in the case's fixed frame (natural axes, m): the origin,
+    /// or the case's `[impact] centre`, so that the plan view and the scene of a case put every
+    /// point at the same place.
+    pub centre: [f64; 2],
+    /// Degrees the drawing is turned on the page (0 until drawn; see [`crate::plan::Page`]).
+    turned: f64,
 }
 
 /// The states and results of a solved (or fitted) collision.
@@ -142,6 +148,8 @@ impl Diagram {
             frame: Convention::Natural,
             subtitle: None,
             notes: Vec::new(),
+            centre: [0.0, 0.0],
+            turned: 0.0,
         }
     }
 
@@ -152,19 +160,50 @@ impl Diagram {
         self
     }
 
+    /// The same diagram with the impact centre at `centre` (natural axes, m).
+    pub fn centred(mut self, centre: [f64; 2]) -> Self {
+        self.centre = centre;
+        self
+    }
+
     /// The geometry in the display length unit (velocities and impulses keep their SI values;
     /// their arrows scale with the vehicles).
+    ///
+    /// Laid on the page as every figure of the case is ([`crate::plan::Page`]): positions and
+    /// vectors turned with it, C at the case's impact centre.
     fn in_display_units(&self) -> Self {
         let k = self.units.length(1.0);
+        let page = crate::plan::Page::of(self.frame);
         let mut d = self.clone();
+        d.turned = page.turn_degrees();
+        let c = page.point(self.centre);
+        d.centre = [k * c[0], k * c[1]];
+        d.normal = page.point(self.normal);
         for v in &mut d.vehicles {
-            v.cg = [k * v.cg[0], k * v.cg[1]];
+            let cg = page.point([self.centre[0] + v.cg[0], self.centre[1] + v.cg[1]]);
+            v.cg = [k * cg[0], k * cg[1]];
+            v.heading += d.turned;
+            for w in [&mut v.contact, &mut v.separation, &mut v.impulse]
+                .into_iter()
+                .flatten()
+            {
+                *w = page.point(*w);
+            }
+            if let Some(p) = &mut v.pdof {
+                p.0 = page.point(p.0);
+            }
             let b = &mut v.outline.body;
             b.cg_to_front *= k;
             b.cg_to_rear *= k;
             b.width *= k;
         }
         d
+    }
+
+    /// Vehicle `k`'s outline as drawn: on the page, in the display length unit (the corners of
+    /// the body, in order).
+    pub fn outline_on_page(&self, k: usize) -> Vec<(f64, f64)> {
+        self.in_display_units().outline_points(k)
     }
 
     /// The PDOF arrow of vehicle `k`, on its own body: along the force, from just inside the
@@ -233,7 +272,7 @@ impl Diagram {
 
     /// Every segment drawn (for the extent of the view).
     fn extent(&self) -> ([f64; 2], [f64; 2]) {
-        let mut pts: Vec<[f64; 2]> = vec![[0.0, 0.0]];
+        let mut pts: Vec<[f64; 2]> = vec![self.centre];
         let sv = self.velocity_scale();
         let si = self.impulse_scale();
         for (k, v) in self.vehicles.iter().enumerate() {
@@ -242,7 +281,7 @@ impl Diagram {
                 pts.push([v.cg[0] + sv * u[0], v.cg[1] + sv * u[1]]);
             }
             if let Some(p) = v.impulse {
-                pts.push([si * p[0], si * p[1]]);
+                pts.push([self.centre[0] + si * p[0], self.centre[1] + si * p[1]]);
             }
             if let Some((a, _)) = self.pdof_arrow(k) {
                 pts.push(a);
@@ -303,6 +342,7 @@ pub fn diagram(
         solved,
     )
     .labelled(UnitSystem::of(&case.written_units), case.written)
+    .centred(case.impact_centre())
 }
 
 /// The diagram of `pim draw`: the case at contact, solved with `options` when it has

@@ -9,7 +9,6 @@ impl Diagram {
         let (lo, hi) = self.extent();
         let units = self.units;
         let len = units.length_label();
-        let sae = self.frame == pim_core::Convention::Sae;
         let pad = 0.08 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + units.length(0.5);
         let (x0, x1) = (lo[0] - pad, hi[0] + pad);
         let (y0, y1) = (lo[1] - pad, hi[1] + pad);
@@ -43,18 +42,13 @@ impl Diagram {
             .y_label_area_size(margin_left)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(|e| err(&e))?;
-        // SAE's y is to the right of x: the same picture, its y ticks counted the other way.
-        let y_tick = |y: &f64| crate::tables::num(if sae { -*y } else { *y }, 1);
-        let y_desc = if sae {
-            format!("y [{len}], SAE: to the right of x")
-        } else {
-            format!("y [{len}]")
-        };
+        // Laid on the page as every figure of the case (SAE: x up, y to the right).
+        let page = crate::plan::Page::of(self.frame);
+        let c0 = self.centre;
         chart
             .configure_mesh()
-            .x_desc(format!("x [{len}]"))
-            .y_desc(y_desc)
-            .y_label_formatter(&y_tick)
+            .x_desc(page.horizontal_label(&len))
+            .y_desc(page.vertical_label(&len))
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(225, 225, 225))
             .draw()
@@ -132,8 +126,8 @@ impl Diagram {
             }
             if let Some(p) = v.impulse {
                 // Each vehicle's impulse in its colour, labelled at its tip.
-                let tip = [si * p[0], si * p[1]];
-                heads.push(draw_arrow(&mut chart, [0.0, 0.0], tip, color, 2)?);
+                let tip = [c0[0] + si * p[0], c0[1] + si * p[1]];
+                heads.push(draw_arrow(&mut chart, c0, tip, color, 2)?);
                 labels.push((format!("on vehicle {}", k + 1), tip, 13.0, color));
             }
             // The yaw rate at separation: an arc about the CG in the sense of rotation, its
@@ -192,44 +186,26 @@ impl Diagram {
         let half = 0.3 * l;
         chart
             .draw_series(LineSeries::new(
-                vec![(-half * t[0], -half * t[1]), (half * t[0], half * t[1])],
+                vec![
+                    (c0[0] - half * t[0], c0[1] - half * t[1]),
+                    (c0[0] + half * t[0], c0[1] + half * t[1]),
+                ],
                 ShapeStyle::from(SURFACE_COLOR).stroke_width(3),
             ))
             .map_err(|e| err(&e))?;
-        heads.push(draw_arrow(
-            &mut chart,
-            [0.0; 2],
-            [0.2 * l * n[0], 0.2 * l * n[1]],
-            SURFACE_COLOR,
-            1,
-        )?);
-        heads.push(draw_arrow(
-            &mut chart,
-            [0.0; 2],
-            [0.12 * l * t[0], 0.12 * l * t[1]],
-            SURFACE_COLOR,
-            1,
-        )?);
-        labels.push((
-            "n".into(),
-            [0.2 * l * n[0], 0.2 * l * n[1]],
-            14.0,
-            SURFACE_COLOR,
-        ));
-        labels.push((
-            "t".into(),
-            [0.12 * l * t[0], 0.12 * l * t[1]],
-            14.0,
-            SURFACE_COLOR,
-        ));
+        let at = |a: f64, d: [f64; 2]| [c0[0] + a * l * d[0], c0[1] + a * l * d[1]];
+        heads.push(draw_arrow(&mut chart, c0, at(0.2, n), SURFACE_COLOR, 1)?);
+        heads.push(draw_arrow(&mut chart, c0, at(0.12, t), SURFACE_COLOR, 1)?);
+        labels.push(("n".into(), at(0.2, n), 14.0, SURFACE_COLOR));
+        labels.push(("t".into(), at(0.12, t), 14.0, SURFACE_COLOR));
         chart
             .draw_series(std::iter::once(Cross::new(
-                (0.0, 0.0),
+                (c0[0], c0[1]),
                 7,
                 BLACK.stroke_width(2),
             )))
             .map_err(|e| err(&e))?;
-        labels.push(("C".into(), [0.0, 0.0], 14.0, BLACK));
+        labels.push(("C".into(), c0, 14.0, BLACK));
         // Scale bar: 1, 2 or 5 length units, about a fifth of the width, bottom left.
         let span = x1 - x0;
         let bar = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
@@ -274,7 +250,7 @@ impl Diagram {
             .iter()
             .filter(|v| !v.barrier)
             .map(|v| (v.cg[0], v.cg[1]))
-            .chain([(0.0, 0.0)])
+            .chain([(c0[0], c0[1])])
         {
             let (x, y) = px(p);
             let (x, y) = (f64::from(x), f64::from(y));
@@ -377,10 +353,13 @@ impl Diagram {
                 if sae {
                     format!(
                         "  nose towards {} deg clockwise",
-                        crate::tables::num(pim_core::wrap_degrees(-v.heading), 1)
+                        crate::tables::num(pim_core::wrap_degrees(self.turned - v.heading), 1)
                     )
                 } else {
-                    format!("  nose towards {} deg", crate::tables::num(v.heading, 1))
+                    format!(
+                        "  nose towards {} deg",
+                        crate::tables::num(pim_core::wrap_degrees(v.heading - self.turned), 1)
+                    )
                 },
                 None,
                 false,
@@ -465,10 +444,11 @@ impl Diagram {
             )?;
         }
         line(
-            if sae {
-                "SAE frame (y right of x), C at the origin".into()
-            } else {
-                "fixed frame, C at the origin".into()
+            match (sae, self.centre == [0.0, 0.0]) {
+                (true, true) => "SAE frame (x up, y right), C at the origin".into(),
+                (true, false) => "SAE frame (x up, y right)".into(),
+                (false, true) => "fixed frame, C at the origin".into(),
+                (false, false) => "fixed frame of the scene".into(),
             },
             None,
             false,

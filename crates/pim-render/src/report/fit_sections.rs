@@ -121,7 +121,7 @@ pub(super) fn branches_table(r: &pim_fit::FitReport, records: &[BranchRecord]) -
                     "{} ({}, {})",
                     num(c.value, 3),
                     c.degrees_of_freedom,
-                    c.p_value.map_or_else(|| "undefined".into(), |p| num(p, 4))
+                    c.p_value.map_or_else(|| "-".into(), crate::tables::format_p)
                 )
             },
         );
@@ -255,14 +255,12 @@ pub(super) fn residual_section(r: &BranchRecord, u: UnitSystem, frame: Conventio
                      suggest; they may be generous"
                 }
                 Some(_) => "the misfit is what the stated standard deviations lead one to expect",
-                None => "undefined: the data leave no degrees of freedom",
+                None => "not a number",
             };
             s.text(format!(
-                "Fit statistics: chi-square {} with {} degrees of freedom (values given minus \
-                 parameters fitted); p = {}: {verdict}.",
-                num(c.value, 3),
-                c.degrees_of_freedom,
-                c.p_value.map_or_else(|| "undefined".into(), |p| num(p, 4))
+                "Fit statistics (degrees of freedom: values given minus parameters fitted): \
+                 {}: {verdict}.",
+                crate::tables::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
             ));
         }
         None => {
