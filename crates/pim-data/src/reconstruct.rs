@@ -39,6 +39,8 @@ pub struct CaseReconstruction {
     pub settings: Settings,
     /// Labels of the contact problem's observations, in order.
     labels: Vec<String>,
+    /// How many of them are the case's `[[observations]]` (the EDR speeds follow).
+    case_observations: usize,
 }
 
 fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {
@@ -228,6 +230,7 @@ pub fn case_reconstruction(
         reconstruction,
         settings,
         labels,
+        case_observations: c.observations.len(),
     })
 }
 
@@ -246,6 +249,9 @@ pub struct EvidenceOut {
     pub name: String,
     /// The phase it belongs to: `pre_impact`, `impact` or `run_out`.
     pub phase: &'static str,
+    /// What it measures, and so its unit here and in a table: `speed` (m/s), `yaw_rate`
+    /// (rad/s), `length` (m) or `angle` (deg).
+    pub quantity: &'static str,
     /// Fitted minus given (m/s, rad/s, m or deg).
     pub residual: f64,
     /// Its standard deviation, same unit.
@@ -413,7 +419,8 @@ fn contact_label(input: &CaseReconstruction, term: ContactTerm) -> (String, &'st
                 .get(i)
                 .cloned()
                 .unwrap_or_else(|| format!("observation {}", i + 1));
-            let phase = if name.contains("EDR") {
+            // The EDR speeds follow the case's own observations.
+            let phase = if i >= input.case_observations {
                 "pre_impact"
             } else {
                 "impact"
@@ -424,6 +431,15 @@ fn contact_label(input: &CaseReconstruction, term: ContactTerm) -> (String, &'st
     }
 }
 
+/// What a piece of the contact evidence measures: a yaw rate for the components omega, else a
+/// speed (every observation kind is one).
+fn contact_quantity(term: ContactTerm) -> &'static str {
+    match term {
+        ContactTerm::Component(k) if k % 3 == 2 => "yaw_rate",
+        _ => "speed",
+    }
+}
+
 /// The document of an outcome.
 pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> ReconstructionOut {
     let r = &input.reconstruction;
@@ -431,10 +447,15 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         let s = &b.solution;
         let u = pim_fit::state_vector(&s.initial, &s.separation);
         let mut evidence = Vec::new();
-        let mut push = |name: String, phase: &'static str, residual: f64, sigma: f64| {
+        let mut push = |name: String,
+                        phase: &'static str,
+                        quantity: &'static str,
+                        residual: f64,
+                        sigma: f64| {
             evidence.push(EvidenceOut {
                 name,
                 phase,
+                quantity,
                 residual,
                 sigma,
                 z: residual / sigma,
@@ -443,7 +464,13 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         };
         for c in r.contact_residuals(&u) {
             let (name, phase) = contact_label(input, c.term);
-            push(name, phase, c.residual, r.sigma_of(&c));
+            push(
+                name,
+                phase,
+                contact_quantity(c.term),
+                c.residual,
+                r.sigma_of(&c),
+            );
         }
         for f in &b.scene {
             for res in &f.residuals {
@@ -456,6 +483,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
                 push(
                     format!("{} {}", f.vehicle, res.name),
                     "run_out",
+                    if heading { "angle" } else { "length" },
                     res.value * k,
                     res.sigma * k,
                 );

@@ -44,6 +44,14 @@ pub struct ReconstructionStudy {
     pub sensitivity: Vec<Sensitivity>,
     /// The inputs drawn, by name.
     pub inputs: Vec<String>,
+    /// Quantities whose nominal value lies outside their own 90 % interval (the draws'
+    /// answers are skewed away from the nominal one: a nonlinear or bounded answer, said
+    /// beside the interval).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub nominal_outside: Vec<String>,
+    /// Every feasible draw's value, by quantity (for the histograms; not in the JSON).
+    #[serde(skip)]
+    pub samples: BTreeMap<String, Vec<f64>>,
 }
 
 /// The quantities of a found reconstruction: name and value (speeds m/s).
@@ -154,7 +162,7 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
             let Some(v) = v else { continue };
             for (i, e) in v.edr.iter().enumerate() {
                 out.push(Input {
-                    name: format!("vehicle{n} EDR speed {}", i + 1),
+                    name: format!("vehicle{n} EDR speed {:.1} s before contact", e.time),
                     spread: Spread::Normal(e.sigma),
                     nominal: e.speed,
                     apply: Box::new(move |c: &mut Case, x| {
@@ -244,24 +252,39 @@ pub fn run(
         .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
         .collect();
     let mut quantities = BTreeMap::new();
+    let mut samples = BTreeMap::new();
     let mut sensitivity = Vec::new();
     let xs: Vec<&Vec<f64>> = feasible.iter().map(|(xs, _)| *xs).collect();
     for (q, name) in names.iter().enumerate() {
         let y: Vec<f64> = feasible.iter().map(|(_, r)| r[q]).collect();
         quantities.insert(name.clone(), Summary::of(&y, false, None));
+        samples.insert(name.clone(), y.clone());
         sensitivity.push(Sensitivity {
             quantity: name.clone(),
             inputs: dominant_inputs(all.iter().map(|i| i.name.as_str()), &xs, &y),
         });
     }
+    let nominal_values: BTreeMap<String, f64> = quantities_of(best).into_iter().collect();
+    // A constant quantity (em on the zero branch) is inside its interval however it rounds.
+    let nominal_outside = quantities
+        .iter()
+        .filter(|(n, q): &(&String, &Summary)| {
+            let v = nominal_values[*n];
+            let tol = 1e-9 * (1.0 + v.abs());
+            !feasible.is_empty() && (v < q.p05 - tol || v > q.p95 + tol)
+        })
+        .map(|(n, _)| n.clone())
+        .collect();
     let study = ReconstructionStudy {
         units: crate::records::SiUnits,
         kind: "reconstruction",
         draws,
         seed,
         feasible_draws: feasible.len(),
-        nominal: quantities_of(best).into_iter().collect(),
+        nominal: nominal_values,
         quantities,
+        nominal_outside,
+        samples,
         sensitivity,
         inputs: all.iter().map(|i| i.name.clone()).collect(),
     };

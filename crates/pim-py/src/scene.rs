@@ -93,46 +93,26 @@ pub(crate) fn reconstruct(
     let branches = crate::convert::branches(branches)?;
     let model = crate::convert::model(model)?;
     let done = detached(py, None, || {
-        pim_data::reconstruct::reconstruct(&case, model, pim_core::MomentForm::Corrected, branches)
+        pim_data::consistency::answer(&case, model, pim_core::MomentForm::Corrected, branches)
     })?
     .map_err(DocumentErrorPy)?;
     let document = to_py(py, &done.document)?;
-    let Some(best) = done
-        .outcome
-        .best
-        .as_ref()
-        .filter(|_| done.outcome.status == pim_reconstruct::Status::Found)
-    else {
+    if done.outcome.best.is_none() || done.outcome.status != pim_reconstruct::Status::Found {
         let err = NoSolution::new_err(format!(
             "{}: no reconstruction: {}",
             case.file,
             done.document
                 .reason
                 .as_deref()
-                .unwrap_or("no admissible impact")
+                .unwrap_or("none found")
         ));
         err.value(py).setattr("document", document)?;
         return Err(err);
-    };
+    }
     let svg = if draw {
         let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
-        let title = pim_render::text::case_title(&case);
-        let runouts = pim_data::runout::runout(&case, None, Some(best.solution.separation), 0.02)
-            .map_err(DocumentErrorPy)?;
-        Some(
-            pim_render::runout::scene_svg(
-                &title,
-                &runouts,
-                &pim_data::reconstruct::skid_lengths(&done.input)
-                    .into_iter()
-                    .map(|(vehicle, length)| pim_render::runout::Approach { vehicle, length })
-                    .collect::<Vec<_>>(),
-                units,
-                case.written,
-                0.5,
-            )
-            .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
-        )
+        pim_render::runout::reconstruction_scene(&case, &done, units)
+            .map_err(pyo3::exceptions::PyRuntimeError::new_err)?
     } else {
         None
     };

@@ -92,18 +92,7 @@ pub fn reconstruction_table(
         "evidence", "residual", "sigma", "z", "share %"
     ));
     for e in &b.evidence {
-        let (scale, unit) = if e.name.contains("heading") {
-            (1.0, "deg")
-        } else if e.phase == "run_out" && !e.name.contains('.')
-            || e.name.contains(" rest.")
-            || e.name.contains(" mark")
-        {
-            (units.length(1.0), len)
-        } else if e.name.ends_with("omega") {
-            (units.yaw_rate(1.0), units.yaw_rate_label())
-        } else {
-            (units.speed(1.0), spd)
-        };
+        let (scale, unit) = evidence_unit(e, units);
         t.push_str(&format!(
             "{:<56} {:>10} {:>10} {:>8.2} {:>8.1}\n",
             format!("{} ({unit})", e.name),
@@ -164,6 +153,16 @@ pub fn reconstruction_table(
         t.push_str(&consistency_lines(c, units));
     }
     t
+}
+
+/// The scale and label of a piece of evidence's unit in `units` (its `quantity`).
+pub fn evidence_unit(e: &pim_data::reconstruct::EvidenceOut, units: UnitSystem) -> (f64, &'static str) {
+    match e.quantity {
+        "angle" => (1.0, "deg"),
+        "length" => (units.length(1.0), units.length_label()),
+        "yaw_rate" => (units.yaw_rate(1.0), units.yaw_rate_label()),
+        _ => (units.speed(1.0), units.speed_label()),
+    }
 }
 
 /// The evidence consistency table as text, speeds in `units`.

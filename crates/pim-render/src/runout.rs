@@ -583,3 +583,32 @@ fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> R
     }
     Ok(())
 }
+
+/// The scene to scale of a case's reconstruction: each run-out from the reconstructed
+/// separation state, the braking before the impact, the scene's evidence, in `units` and the
+/// case's frame (what `pim fit --out`, the report and Python draw alike). `None` without an
+/// answer.
+pub fn reconstruction_scene(
+    case: &pim_data::case::Case,
+    done: &pim_data::reconstruct::Reconstructed,
+    units: UnitSystem,
+) -> Result<Option<String>, String> {
+    let Some(best) = &done.outcome.best else {
+        return Ok(None);
+    };
+    let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
+        .map_err(|e| e.to_string())?;
+    let approach: Vec<Approach> = pim_data::reconstruct::skid_lengths(&done.input)
+        .into_iter()
+        .map(|(vehicle, length)| Approach { vehicle, length })
+        .collect();
+    scene_svg(
+        &crate::text::case_title(case),
+        &runouts,
+        &approach,
+        units,
+        case.written,
+        0.5,
+    )
+    .map(Some)
+}

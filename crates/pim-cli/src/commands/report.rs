@@ -32,10 +32,12 @@ pub fn run(a: &ReportArgs) -> Result<ExitCode> {
     let record = match &made.basis {
         Basis::Fit(f) => json(&f.document)?,
         Basis::Solve(s) => json(&s.document)?,
+        Basis::Reconstruction(r) => json(&r.document)?,
     };
-    let extra = match &made.study {
-        Some(s) => vec![("uncertainty.json".to_string(), json(s)?)],
-        None => Vec::new(),
+    let extra = match (&made.study, &made.scene_study) {
+        (Some(s), _) => vec![("uncertainty.json".to_string(), json(s)?)],
+        (None, Some(s)) => vec![("uncertainty.json".to_string(), json(s)?)],
+        (None, None) => Vec::new(),
     };
     match (&a.out, &a.output) {
         (Some(dir), _) => {
@@ -50,6 +52,9 @@ pub fn run(a: &ReportArgs) -> Result<ExitCode> {
             eprintln!("pim: wrote {}", file.display());
         }
         (None, None) => print_out(&doc.html())?,
+    }
+    if let Basis::Reconstruction(r) = &made.basis {
+        return super::reconstruction_status(&case, &r.document, a.strict, warnings);
     }
     if !answered {
         eprintln!(

@@ -75,31 +75,15 @@ pub fn write_reconstruction(
     table: &str,
     study: Option<(&str, &str)>,
 ) -> Result<()> {
-    let Some(best) = &done.outcome.best else {
-        return Err(Failure::NoAnswer(format!(
-            "{}: no reconstruction to write into {}",
-            case.file,
-            dir.display()
-        ))
-        .into());
-    };
-    // The scene to scale: the run-outs from the reconstructed separation state.
-    let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
-        .map_err(Failure::from)?;
-    let approach: Vec<pim_render::runout::Approach> =
-        pim_data::reconstruct::skid_lengths(&done.input)
-            .into_iter()
-            .map(|(vehicle, length)| pim_render::runout::Approach { vehicle, length })
-            .collect();
-    let svg = pim_render::runout::scene_svg(
-        &title_of(case),
-        &runouts,
-        &approach,
-        units,
-        case.written,
-        0.5,
-    )
-    .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
+    let svg = pim_render::runout::reconstruction_scene(case, done, units)
+        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?
+        .ok_or_else(|| {
+            Failure::NoAnswer(format!(
+                "{}: no reconstruction to write into {}",
+                case.file,
+                dir.display()
+            ))
+        })?;
     let text = match study {
         Some((_, t)) => format!("{table}\n{t}"),
         None => table.to_string(),

@@ -289,7 +289,7 @@ fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem, cost:
 }
 
 /// Title, what was done, and how to read the report.
-fn header(case: &Case, what: &str, u: UnitSystem) -> Document {
+pub(super) fn header(case: &Case, what: &str, u: UnitSystem) -> Document {
     let title = case
         .content
         .title
@@ -334,7 +334,7 @@ fn vehicle_table(v: &[VehicleResult; 2], u: UnitSystem, frame: Convention) -> Ta
     t
 }
 
-fn warnings_section(w: Vec<String>) -> Section {
+pub(super) fn warnings_section(w: Vec<String>) -> Section {
     let mut s = Section::new("Warnings");
     if w.is_empty() {
         s.text("None.");
@@ -429,7 +429,7 @@ fn method(fit: Option<(&str, &Fitted)>) -> Section {
 }
 
 /// The inputs as given: the file, verbatim, and its units and frame.
-fn inputs(case: &Case, u: UnitSystem) -> Section {
+pub(super) fn inputs(case: &Case, u: UnitSystem) -> Section {
     let mut s = Section::new("Inputs as given");
     let v = [&case.content.vehicle1, &case.content.vehicle2];
     let mut t = Table::new(&["", "vehicle 1", "vehicle 2"]);

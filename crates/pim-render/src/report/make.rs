@@ -6,6 +6,8 @@ use super::doc::Document;
 use pim_data::case::Case;
 use pim_data::documents::{self, DocumentError, Fitted, Solved};
 use pim_data::fitcase::CostChoice;
+use pim_data::reconstruct::Reconstructed;
+use pim_data::reconstruct_study::ReconstructionStudy;
 use pim_data::uncertainty::Study;
 use pim_data::units::UnitSystem;
 
@@ -44,13 +46,15 @@ impl Default for Options {
     }
 }
 
-/// What a report was made from: a fit or a solve.
+/// What a report was made from: a fit, a solve or a reconstruction.
 #[derive(Debug, Clone)]
 pub enum Basis {
     /// The fit of a fit case.
     Fit(Box<Fitted>),
     /// The solve of a solve case.
     Solve(Box<Solved>),
+    /// The whole reconstruction of a case with scene evidence (what `pim fit` answers it with).
+    Reconstruction(Box<Reconstructed>),
 }
 
 /// A made report: the document, and what it was made from.
@@ -62,6 +66,8 @@ pub struct Made {
     pub basis: Basis,
     /// The uncertainty study, when one ran and had admissible draws.
     pub study: Option<Study>,
+    /// The study of a reconstruction, when one ran and had admissible draws.
+    pub scene_study: Option<ReconstructionStudy>,
 }
 
 impl Made {
@@ -70,6 +76,9 @@ impl Made {
         match &self.basis {
             Basis::Fit(f) => f.report.best.is_some(),
             Basis::Solve(_) => true,
+            Basis::Reconstruction(r) => {
+                r.document.status == pim_reconstruct::Status::Found
+            }
         }
     }
 }
@@ -80,6 +89,9 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         .units
         .unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let c = &case.content;
+    if !o.solve && o.cost.is_none() && pim_data::reconstruct::has_scene_evidence(case) {
+        return reconstruction(case, o, units);
+    }
     let is_fit = !o.solve && pim_data::fitcase::is_fit_case(case);
     let cannot = |e: String| DocumentError::Input(format!("{}: cannot draw: {e}", case.file));
     if !is_fit {
@@ -89,6 +101,7 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
             document,
             basis: Basis::Solve(Box::new(solved)),
             study: None,
+            scene_study: None,
         });
     }
     let name = o.cost.map_or("custom", |p| p.name());
@@ -123,5 +136,43 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         document,
         basis: Basis::Fit(Box::new(fitted)),
         study,
+        scene_study: None,
+    })
+}
+
+/// The report of a case with scene evidence: its whole reconstruction (as `pim fit` answers
+/// it), with the evidence consistency table when the evidence conflicts and, unless `draws` is
+/// 0, the study through all three phases ([`DEFAULT_DRAWS`] refits by default: the scene's
+/// evidence always has standard deviations).
+fn reconstruction(case: &Case, o: &Options, units: UnitSystem) -> Result<Made, DocumentError> {
+    let branches = o.model.branches(&pim_fit::MomentBranch::ALL);
+    let done = pim_data::consistency::answer(
+        case,
+        o.model,
+        pim_core::MomentForm::Corrected,
+        branches.clone(),
+    )?;
+    let draws = o.draws.unwrap_or(DEFAULT_DRAWS);
+    let study = if draws > 0 && done.document.status == pim_reconstruct::Status::Found {
+        let (s, _) = pim_data::reconstruct_study::run(
+            case,
+            o.model,
+            pim_core::MomentForm::Corrected,
+            branches,
+            draws,
+            o.seed,
+            &|| {},
+        )?;
+        (s.feasible_draws > 0).then_some(s)
+    } else {
+        None
+    };
+    let document = super::scene::reconstruction(case, &done, study.as_ref(), units)
+        .map_err(|e| DocumentError::Input(format!("{}: cannot draw: {e}", case.file)))?;
+    Ok(Made {
+        document,
+        basis: Basis::Reconstruction(Box::new(done)),
+        study: None,
+        scene_study: study,
     })
 }

@@ -14,5 +14,6 @@ mod doc;
 mod fit_sections;
 mod html;
 pub mod make;
+pub mod scene;
 
 pub use doc::{Block, Document, Section, Table};
