@@ -448,6 +448,10 @@ pub struct CaseRecord {
     /// the crush energy as evidence (as `pim fit` gives them).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub damage: Option<crate::damage_fit::FitDamage>,
+    /// A case with scene evidence: its whole reconstruction (status, chi-square, the speeds of
+    /// every phase, the counts of turns); `branch` is then the impact at its answer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reconstruction: Option<crate::batch_scene::SceneRecord>,
 }
 
 /// The quantities whose 90 % intervals are CSV columns.
@@ -495,10 +499,12 @@ impl CaseRecord {
         let b = self.branch.as_ref();
         let v = b.and_then(|b| b.vehicles);
         let per = |k: usize, g: fn(&pim_core::VehicleResult) -> f64| f(v.map(|v| g(&v[k])));
-        let reason = match (&self.error, b.and_then(|b| b.reason.as_ref())) {
-            (Some(e), _) => e.clone(),
-            (None, Some(r)) => r.to_string(),
-            (None, None) => String::new(),
+        let scene = self.reconstruction.as_ref().and_then(|r| r.reason.clone());
+        let reason = match (&self.error, b.and_then(|b| b.reason.as_ref()), scene) {
+            (Some(e), _, _) => e.clone(),
+            (None, Some(r), _) => r.to_string(),
+            (None, None, Some(r)) => r,
+            (None, None, None) => String::new(),
         };
         let mut row = vec![
             self.file.clone(),
@@ -537,13 +543,19 @@ impl CaseRecord {
 
     /// Adds the bootstrap intervals of `pim uncertainty` (`draws` draws, `seed`) to this record.
     pub fn add_intervals(&mut self, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
-        let study = crate::case::Case::from_text(&self.file, text).and_then(|mut case| {
-            plan.apply_to_case_file(&mut case);
-            intervals(&case, self.cost_function, plan, draws, seed)
-        });
+        let study = crate::case::Case::from_text(&self.file, text)
+            .map_err(|e| e.message)
+            .and_then(|mut case| {
+                plan.apply_to_case_file(&mut case);
+                if self.reconstruction.is_some() {
+                    crate::batch_scene::intervals(&case, plan, draws, seed)
+                } else {
+                    intervals(&case, self.cost_function, plan, draws, seed).map_err(|e| e.message)
+                }
+            });
         match study {
             Ok(s) => self.intervals = Some(s),
-            Err(e) => self.intervals_error = Some(e.message),
+            Err(e) => self.intervals_error = Some(e),
         }
     }
 }
@@ -572,6 +584,7 @@ pub fn fit_case_text(
                 intervals_error: None,
                 notes: Vec::new(),
                 damage: None,
+                reconstruction: None,
             })
             .collect()
     };
@@ -582,6 +595,10 @@ pub fn fit_case_text(
         }
         Err(e) => return failed(e.message),
     };
+    if cost == CostChoice::Custom && crate::reconstruct::has_scene_evidence(&case) {
+        // A scene case's answer is its reconstruction, as `pim fit` gives it.
+        return crate::batch_scene::record(file, &case, plan);
+    }
     if let Err(e) = crate::fitcase::check_fit_sections(&case) {
         return failed(e.message);
     }
@@ -628,6 +645,7 @@ pub fn fit_case_text(
             intervals_error: None,
             notes: notes.clone(),
             damage: damage.clone().filter(|_| report.best == Some(b.moment)),
+            reconstruction: None,
         })
         .collect()
 }

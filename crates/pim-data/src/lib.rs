@@ -20,6 +20,7 @@
 //! Bad input is an [`InputError`] whose message names the file, line and field.
 
 pub mod batch;
+pub mod batch_scene;
 pub mod case;
 mod checks;
 pub mod consistency;

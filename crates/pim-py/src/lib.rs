@@ -240,6 +240,15 @@ fn uncertainty(
     let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
     case.impact().map_err(|e| input_error(e.message))?;
+    if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+        // Never the study of the contact estimates alone for a scene case.
+        return Err(input_error(format!(
+            "{}: the case has scene evidence ([scene]): pim.reconstruct_uncertainty(case) draws \
+             the whole reconstruction (the scene, the impact, the pre-impact evidence); \
+             pim.uncertainty(case, cost=...) draws the velocity estimates alone",
+            case.file
+        )));
+    }
     let choice = match cost {
         Some(c) => pim_data::fitcase::CostChoice::Preset(self::cost(c)?),
         None => pim_data::fitcase::CostChoice::Custom,

@@ -213,6 +213,22 @@ fn corners(m: &Motion, (length, width, front): (f64, f64, f64)) -> Vec<(f64, f64
         .collect()
 }
 
+/// Vehicle `k`'s outline at separation (where the run-out starts: its pose at contact) as the
+/// scene figure draws it: on the page of the case's `frame` ([`crate::plan::Page`]), in the
+/// display length unit of `units`.
+pub fn start_outline_on_page(
+    r: &RunoutResult,
+    k: usize,
+    units: UnitSystem,
+    frame: Convention,
+) -> Vec<(f64, f64)> {
+    let page = crate::plan::Page::of(frame);
+    corners(&r.runouts[k].start, outline_of(r, k))
+        .into_iter()
+        .map(|(x, y)| page.xy((units.length(x), units.length(y))))
+        .collect()
+}
+
 /// The plan view of the run-out as SVG: each vehicle's CG path, its outline at separation
 /// (bold), every `every` seconds (light) and at rest (filled), the rest position given by the
 /// scene (dashed outline, cross at its CG) and the marks (circles of one sd).
@@ -394,7 +410,7 @@ pub fn scene_svg(
                     .map_err(|x| e(&x))?;
             }
             // At separation: bold outline, the nose edge thicker.
-            let start: Vec<_> = corners(&run.start, dims).into_iter().map(to).collect();
+            let start = start_outline_on_page(r, k, units, frame);
             chart
                 .draw_series(std::iter::once(PathElement::new(
                     start.clone(),

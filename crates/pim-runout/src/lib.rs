@@ -87,4 +87,4 @@ pub use inverse::{
     estimate, linearise, Candidate, Estimate, EstimateSettings, Evidence, Linearised, Mark,
     Residual, Rest, CONSISTENT_COST, PLAUSIBLE_COST,
 };
-pub use simulate::{simulate, End, Runout, Settings, Step};
+pub use simulate::{full_turns, simulate, End, Runout, Settings, Step};

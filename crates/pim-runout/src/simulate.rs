@@ -106,20 +106,24 @@ pub struct Runout {
     pub evaluations: u32,
 }
 
+/// Full turns of a rotation `r` (rad) beyond the shortest rotation between its ends, which lies
+/// in (-pi, pi]: `r = shortest + 2 pi turns`.
+pub fn full_turns(r: f64) -> i64 {
+    use std::f64::consts::{PI, TAU};
+    let mut short = r.rem_euclid(TAU);
+    if short > PI {
+        short -= TAU;
+    }
+    ((r - short) / TAU).round() as i64
+}
+
 impl Runout {
     /// Full turns from separation to rest beyond the shortest rotation between the two
     /// headings, the count of turns of the inverse's candidates and of a reconstruction (a
     /// rotation of -400 deg is the shortest -40 deg and -1 turn; -659.9 deg is 60.1 deg and -2
     /// turns). Counter-clockwise positive, as the rotation.
     pub fn turns(&self) -> i64 {
-        use std::f64::consts::{PI, TAU};
-        let r = self.rotation;
-        // The shortest rotation, in (-pi, pi].
-        let mut short = r.rem_euclid(TAU);
-        if short > PI {
-            short -= TAU;
-        }
-        ((r - short) / TAU).round() as i64
+        full_turns(self.rotation)
     }
 
     /// The motion at time `t` since separation (cubic Hermite between accepted steps; the
@@ -360,4 +364,28 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         steps,
         evaluations,
     })
+}
+
+#[cfg(test)]
+mod turn_tests {
+    use super::full_turns;
+
+    #[test]
+    fn full_turns_beyond_the_shortest_rotation() {
+        let t = |deg: f64| full_turns(deg.to_radians());
+        // -400 deg: the shortest -40 deg and one turn the other way.
+        assert_eq!(t(-400.0), -1);
+        // -659.9 deg: the shortest +60.1 deg and two turns clockwise.
+        assert_eq!(t(-659.9), -2);
+        // 424 deg: 64 deg and one turn; 272.7 deg: -87.3 deg and one turn.
+        assert_eq!(t(424.0), 1);
+        assert_eq!(t(272.7), 1);
+        assert_eq!(t(179.0), 0);
+        assert_eq!(t(-179.0), 0);
+        assert_eq!(t(0.0), 0);
+        // Mirrored (the SAE frame counts clockwise): the count changes sign with the rotation.
+        for deg in [-659.9, -400.0, 272.7, 424.0, 1000.0] {
+            assert_eq!(t(-deg), -t(deg));
+        }
+    }
 }

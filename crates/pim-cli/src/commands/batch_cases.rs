@@ -279,6 +279,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                                 intervals_error: None,
                                 notes: Vec::new(),
                                 damage: None,
+                                reconstruction: None,
                             })
                             .collect(),
                     };
