@@ -56,7 +56,14 @@ fn every_command_gives_a_scene_case_its_reconstruction() {
         let speeds = contact(&fit);
         // pim report: its result.json is the same reconstruction.
         let out = scratch_dir("scene_answers", &format!("report{i}"));
-        pim_ok(&["report", case, "--draws", "8", "--out", out.to_str().unwrap()]);
+        pim_ok(&[
+            "report",
+            case,
+            "--draws",
+            "8",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
         let report: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap())
                 .unwrap();
@@ -66,7 +73,14 @@ fn every_command_gives_a_scene_case_its_reconstruction() {
         assert!(md.contains("## Evidence and residuals"), "{case}");
         assert!(md.contains("## What is proven and what is not"), "{case}");
         // pim uncertainty: its nominal values are the reconstruction's.
-        let u = json(&pim_ok(&["uncertainty", case, "--draws", "8", "--format", "json"]));
+        let u = json(&pim_ok(&[
+            "uncertainty",
+            case,
+            "--draws",
+            "8",
+            "--format",
+            "json",
+        ]));
         assert_eq!(u["kind"], "reconstruction", "{case}");
         for (k, s) in speeds.iter().enumerate() {
             let n = num(&u["nominal"][format!("vehicle{}.speed_at_contact", k + 1)]);
@@ -84,7 +98,11 @@ fn every_command_gives_a_scene_case_its_reconstruction() {
         let cars = r["reconstruction"]["vehicles"].as_array().unwrap();
         for (k, s) in speeds.iter().enumerate() {
             assert_eq!(num(&cars[k]["speed_at_contact"]), *s, "{case}: batch");
-            assert_eq!(num(&r["vehicles"][k]["speed_initial"]), *s, "{case}: batch csv");
+            assert_eq!(
+                num(&r["vehicles"][k]["speed_initial"]),
+                *s,
+                "{case}: batch csv"
+            );
         }
     }
 }
@@ -93,7 +111,14 @@ fn every_command_gives_a_scene_case_its_reconstruction() {
 #[test]
 fn the_report_of_the_example_reports_its_reconstruction() {
     let out = scratch_dir("scene_answers", "report_us");
-    pim_ok(&["report", CASE, "--draws", "20", "--out", out.to_str().unwrap()]);
+    pim_ok(&[
+        "report",
+        CASE,
+        "--draws",
+        "20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     let row = |v: &str| {
         md.lines()
@@ -103,7 +128,12 @@ fn the_report_of_the_example_reports_its_reconstruction() {
     };
     assert!(row("1").contains("| 37.91 ("), "{}", row("1"));
     assert!(row("2").contains("| 27.09 ("), "{}", row("2"));
-    for f in ["scene.svg", "diagram.svg", "histograms.svg", "uncertainty.json"] {
+    for f in [
+        "scene.svg",
+        "diagram.svg",
+        "histograms.svg",
+        "uncertainty.json",
+    ] {
         assert!(out.join(f).exists(), "{f}");
     }
     // The evidence in the case's units, as a table.
@@ -145,7 +175,10 @@ fn a_conflicting_scene_yields_the_consistency_table() {
     // Without the EDR the speeds are the example's (37.9 and 27.1 mph) within 0.3 mph.
     let s1 = num(&edr["speed_at_contact"][0]) / MPH;
     let s2 = num(&edr["speed_at_contact"][1]) / MPH;
-    assert!((s1 - 37.9).abs() < 0.3 && (s2 - 27.1).abs() < 0.3, "{s1} {s2}");
+    assert!(
+        (s1 - 37.9).abs() < 0.3 && (s2 - 27.1).abs() < 0.3,
+        "{s1} {s2}"
+    );
     assert!(c["summary"].as_str().unwrap().contains("vehicle2 EDR"));
     // Every piece is a row: the estimates, two observations, the EDR, two rests, two marks.
     assert_eq!(rows.len(), 8, "{rows:?}");
@@ -154,7 +187,14 @@ fn a_conflicting_scene_yields_the_consistency_table() {
     let text = String::from_utf8(t.stdout).unwrap();
     assert!(text.contains("evidence consistency"), "{text}");
     let dir = scratch_dir("scene_answers", "edr8_report");
-    let r = pim(&["report", &case, "--draws", "0", "--out", dir.to_str().unwrap()]);
+    let r = pim(&[
+        "report",
+        &case,
+        "--draws",
+        "0",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     assert_eq!(r.status.code(), Some(0), "{}", stderr(&r));
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Evidence consistency"));
@@ -177,6 +217,99 @@ fn no_degrees_of_freedom_are_said_and_judged() {
         .join(" ");
     assert!(!text.contains("undefined"), "{text}");
     assert!(text.contains("judged as one degree of freedom"), "{text}");
-    let v = json(&pim_ok(&["fit", "examples/cases/runout_scene.toml", "--format", "json"]));
+    let v = json(&pim_ok(&[
+        "fit",
+        "examples/cases/runout_scene.toml",
+        "--format",
+        "json",
+    ]));
     assert!(v["best"]["p_value"].is_number());
+}
+
+/// A sigma for every measured input the reconstruction uses: `[uncertainty.vehicleN]` draws
+/// the skid, the braking shares, the EDR's clock and the chassis, in the file's units; a spread
+/// of a value the case does not give, a reconstruction input in a study of the impact alone
+/// and a geometry bound the reconstruction cannot estimate are refused with their place.
+#[test]
+fn every_measured_input_can_carry_a_sigma() {
+    let text = std::fs::read_to_string(repo().join(CASE)).unwrap();
+    let spread = "\n[uncertainty.vehicle1]\nskid = 3.0\nskid_braking = 0.05\n\
+                  cg_to_front_axle = 0.3\n\n[uncertainty.vehicle2]\nedr_time = 0.1\n\
+                  runout_braking = 0.1\n";
+    let case = scratch_file("scene_answers", "spreads.toml", format!("{text}{spread}"));
+    let with = json(&pim_ok(&[
+        "uncertainty",
+        &case,
+        "--draws",
+        "60",
+        "--format",
+        "json",
+    ]));
+    let inputs: Vec<&str> = with["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    for name in [
+        "vehicle1 skid",
+        "vehicle1 skid braking",
+        "vehicle1 cg to front axle",
+        "vehicle2 edr time",
+        "vehicle2 runout braking",
+    ] {
+        assert!(inputs.contains(&name), "{name}: {inputs:?}");
+    }
+    let without = json(&pim_ok(&[
+        "uncertainty",
+        CASE,
+        "--draws",
+        "60",
+        "--format",
+        "json",
+    ]));
+    let sd = |v: &serde_json::Value, q: &str| num(&v["quantities"][q]["sd"]);
+    // The SUV's run-out braking is uncertain now: its speeds spread more.
+    for q in ["vehicle2.speed_at_separation", "vehicle2.speed_at_contact"] {
+        assert!(sd(&with, q) > 1.5 * sd(&without, q), "{q}");
+    }
+    // A spread of a skid vehicle 2 does not have.
+    let bad = scratch_file(
+        "scene_answers",
+        "spread_missing.toml",
+        format!("{text}\n[uncertainty.vehicle2]\nskid = 1.0\n"),
+    );
+    let out = pim(&["uncertainty", &bad, "--draws", "5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("uncertainty.vehicle2.skid"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(
+        stderr(&out).contains("[pre_impact.vehicle2] skid"),
+        "{}",
+        stderr(&out)
+    );
+    // The study of the impact alone does not draw it, and says so.
+    let out = pim(&["uncertainty", &case, "--draws", "5", "--cost", "q3"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("[uncertainty.vehicle1] skid"),
+        "{}",
+        stderr(&out)
+    );
+    // [bounds] crush_angle: refused by the reconstruction, never ignored.
+    let bounds = scratch_file(
+        "scene_answers",
+        "bounds.toml",
+        format!("{text}\n[bounds]\ncrush_angle = [-10.0, 10.0]\n"),
+    );
+    let out = pim(&["fit", &bounds]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("bounds.crush_angle"),
+        "{}",
+        stderr(&out)
+    );
 }

@@ -451,7 +451,7 @@ pub struct CaseRecord {
     /// A case with scene evidence: its whole reconstruction (status, chi-square, the speeds of
     /// every phase, the counts of turns); `branch` is then the impact at its answer.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub reconstruction: Option<crate::batch_scene::SceneRecord>,
+    pub reconstruction: Option<crate::reconstruct_doc::SceneRecord>,
 }
 
 /// The quantities whose 90 % intervals are CSV columns.
@@ -543,19 +543,13 @@ impl CaseRecord {
 
     /// Adds the bootstrap intervals of `pim uncertainty` (`draws` draws, `seed`) to this record.
     pub fn add_intervals(&mut self, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
-        let study = crate::case::Case::from_text(&self.file, text)
-            .map_err(|e| e.message)
-            .and_then(|mut case| {
-                plan.apply_to_case_file(&mut case);
-                if self.reconstruction.is_some() {
-                    crate::batch_scene::intervals(&case, plan, draws, seed)
-                } else {
-                    intervals(&case, self.cost_function, plan, draws, seed).map_err(|e| e.message)
-                }
-            });
+        let study = crate::case::Case::from_text(&self.file, text).and_then(|mut case| {
+            plan.apply_to_case_file(&mut case);
+            intervals(&case, self.cost_function, plan, draws, seed)
+        });
         match study {
             Ok(s) => self.intervals = Some(s),
-            Err(e) => self.intervals_error = Some(e),
+            Err(e) => self.intervals_error = Some(e.message),
         }
     }
 }
@@ -595,10 +589,6 @@ pub fn fit_case_text(
         }
         Err(e) => return failed(e.message),
     };
-    if cost == CostChoice::Custom && crate::reconstruct::has_scene_evidence(&case) {
-        // A scene case's answer is its reconstruction, as `pim fit` gives it.
-        return crate::batch_scene::record(file, &case, plan);
-    }
     if let Err(e) = crate::fitcase::check_fit_sections(&case) {
         return failed(e.message);
     }

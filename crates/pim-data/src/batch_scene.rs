@@ -8,67 +8,44 @@
 
 use crate::batch::{BatchPlan, CaseRecord, Outcome};
 use crate::case::Case;
+pub use crate::reconstruct_doc::{SceneRecord, SceneVehicleRecord};
 use crate::records::BranchRecord;
-use crate::reconstruct::ReconstructionOut;
-use serde::Serialize;
 
-/// A vehicle through the phases of a batch's reconstruction (SI, natural frame).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SceneVehicleRecord {
-    /// 1 or 2.
-    pub vehicle: u8,
-    /// Where its braking began, m/s (with a skid).
-    pub speed_before_braking: Option<f64>,
-    /// At contact, m/s.
-    pub speed_at_contact: f64,
-    /// At separation, m/s.
-    pub speed_at_separation: f64,
-    /// Full turns to rest beyond the shortest rotation to the rest heading (counter-clockwise
-    /// positive), with a rest heading.
-    pub turns: Option<i64>,
-}
-
-/// The reconstruction of a batch record.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SceneRecord {
-    /// `found`, `inconsistent` or `no_solution`.
-    pub status: pim_reconstruct::Status,
-    /// Why there is no answer, or what contradicts it.
-    pub reason: Option<String>,
-    /// The whole chi-square.
-    pub chi_square: Option<f64>,
-    /// Its degrees of freedom.
-    pub degrees_of_freedom: Option<i64>,
-    /// Its probability ([`pim_fit::judged_dof`]).
-    pub p_value: Option<f64>,
-    /// Per vehicle, every phase.
-    pub vehicles: Vec<SceneVehicleRecord>,
-}
-
-impl SceneRecord {
-    fn of(d: &ReconstructionOut) -> Self {
-        let b = d.best.as_ref();
-        SceneRecord {
-            status: d.status,
-            reason: d.reason.clone(),
-            chi_square: b.map(|b| b.chi_square),
-            degrees_of_freedom: b.map(|b| b.degrees_of_freedom),
-            p_value: b.and_then(|b| b.p_value),
-            vehicles: b
-                .map(|b| {
-                    b.vehicles
-                        .iter()
-                        .map(|v| SceneVehicleRecord {
-                            vehicle: v.vehicle,
-                            speed_before_braking: v.speed_before_braking,
-                            speed_at_contact: v.speed_at_contact,
-                            speed_at_separation: v.speed_at_separation,
-                            turns: v.turns,
-                        })
-                        .collect()
-                })
-                .unwrap_or_default(),
+/// The records of one case file of a batch (already read; `text` is its content) under one
+/// cost function: a case with scene evidence under its own cost is answered with its
+/// reconstruction ([`record`]), every other case with the fit of [`crate::batch::fit_case_text`].
+pub fn case_records(
+    file: &str,
+    text: &str,
+    cost: crate::fitcase::CostChoice,
+    plan: &BatchPlan,
+) -> Vec<CaseRecord> {
+    if cost == crate::fitcase::CostChoice::Custom {
+        if let Ok(mut case) = Case::from_text(file, text) {
+            plan.apply_to_case_file(&mut case);
+            if crate::reconstruct::has_scene_evidence(&case) {
+                return record(file, &case, plan);
+            }
         }
+    }
+    crate::batch::fit_case_text(file, text, cost, plan)
+}
+
+/// Adds the bootstrap intervals to a record of [`case_records`]: the reconstruction's study for
+/// a scene case ([`intervals`]), `pim uncertainty`'s for the others.
+pub fn add_intervals(r: &mut CaseRecord, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
+    if r.reconstruction.is_none() {
+        return r.add_intervals(text, plan, draws, seed);
+    }
+    let study = Case::from_text(&r.file, text)
+        .map_err(|e| e.message)
+        .and_then(|mut case| {
+            plan.apply_to_case_file(&mut case);
+            intervals(&case, plan, draws, seed)
+        });
+    match study {
+        Ok(s) => r.intervals = Some(s),
+        Err(e) => r.intervals_error = Some(e),
     }
 }
 

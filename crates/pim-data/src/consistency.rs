@@ -20,11 +20,12 @@
 
 use crate::case::Case;
 use crate::documents::DocumentError;
-use crate::reconstruct::{reconstruct, ReconstructionOut};
+use crate::reconstruct::reconstruct;
+use crate::reconstruct_doc::ReconstructionOut;
+pub use crate::reconstruct_doc::{Consistency, LeftOut};
 use pim_fit::MomentBranch;
 use pim_reconstruct::{Status, INCONSISTENT_P, POOR_FIT_P};
 use rayon::prelude::*;
-use serde::Serialize;
 
 /// Pairs of groups are left out only when there are at most this many groups (and no single
 /// group explains the conflict): 28 pairs for 8 groups.
@@ -74,11 +75,14 @@ impl Piece {
         let c = &mut out.content;
         match self {
             Piece::Rest(k) | Piece::Mark(k, _) => {
-                if let Some(v) = c
-                    .scene
+                if let Some(v) = c.scene.as_mut().and_then(|s| {
+                    if k == 0 {
+                        &mut s.vehicle1
+                    } else {
+                        &mut s.vehicle2
+                    }
                     .as_mut()
-                    .and_then(|s| if k == 0 { &mut s.vehicle1 } else { &mut s.vehicle2 }.as_mut())
-                {
+                }) {
                     match self {
                         Piece::Rest(_) => {
                             v.rest = None;
@@ -92,11 +96,14 @@ impl Piece {
                 }
             }
             Piece::Edr(k, i) => {
-                if let Some(p) = c
-                    .pre_impact
+                if let Some(p) = c.pre_impact.as_mut().and_then(|p| {
+                    if k == 0 {
+                        &mut p.vehicle1
+                    } else {
+                        &mut p.vehicle2
+                    }
                     .as_mut()
-                    .and_then(|p| if k == 0 { &mut p.vehicle1 } else { &mut p.vehicle2 }.as_mut())
-                {
+                }) {
                     p.edr.remove(i);
                 }
             }
@@ -142,46 +149,6 @@ fn pieces(case: &Case) -> Vec<Piece> {
         out.extend((0..v.marks.len()).map(|i| Piece::Mark(k, i)));
     }
     out
-}
-
-/// The reconstruction with some evidence left out.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct LeftOut {
-    /// What was left out (empty: nothing, the whole evidence).
-    pub left_out: Vec<String>,
-    /// `found`, `inconsistent` or `no_solution`; `failed` when the rest cannot be
-    /// reconstructed at all (e.g. no scene evidence left).
-    pub status: String,
-    /// The chi-square of the rest (with an answer).
-    pub chi_square: Option<f64>,
-    /// Its degrees of freedom.
-    pub degrees_of_freedom: Option<i64>,
-    /// `P(chi^2 >= value)`, judged as every chi-square is ([`pim_fit::judged_dof`]).
-    pub p_value: Option<f64>,
-    /// The rest fits within its standard deviations (found, p at least
-    /// [`POOR_FIT_P`]).
-    pub consistent: bool,
-    /// Each vehicle's speed at contact, m/s.
-    pub speed_at_contact: [Option<f64>; 2],
-    /// Each vehicle's speed where its braking began, m/s (with a skid).
-    pub speed_before_braking: [Option<f64>; 2],
-    /// The largest remaining residual, as the evidence table names it, and its z.
-    pub largest: Option<(String, f64)>,
-    /// Why there is no row (a reconstruction that failed on its input).
-    pub error: Option<String>,
-}
-
-/// The evidence consistency table of a reconstruction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Consistency {
-    /// The reconstruction with all of its evidence.
-    pub all: LeftOut,
-    /// One row per piece left out, then (when no single piece explains the conflict) per pair.
-    pub rows: Vec<LeftOut>,
-    /// What can be left out to make the rest consistent (each entry one row's `left_out`).
-    pub consistent_without: Vec<Vec<String>>,
-    /// In words: which pieces disagree.
-    pub summary: String,
 }
 
 fn row(left_out: Vec<String>, d: Result<ReconstructionOut, DocumentError>) -> LeftOut {
@@ -231,7 +198,10 @@ fn row(left_out: Vec<String>, d: Result<ReconstructionOut, DocumentError>) -> Le
 /// True when a reconstruction calls for the table: refused, or found with a probability below
 /// [`POOR_FIT_P`].
 pub fn wanted(d: &ReconstructionOut) -> bool {
-    d.status != Status::Found || d.best.as_ref().is_some_and(|b| b.p_value.is_some_and(|p| p < POOR_FIT_P))
+    d.status != Status::Found
+        || d.best
+            .as_ref()
+            .is_some_and(|b| b.p_value.is_some_and(|p| p < POOR_FIT_P))
 }
 
 /// The consistency table of `case`, whose reconstruction with all its evidence is `all`.
@@ -296,12 +266,7 @@ fn index_key(p: Piece) -> (usize, usize, usize) {
     }
 }
 
-fn summary(
-    all: &LeftOut,
-    rows: &[LeftOut],
-    consistent: &[Vec<String>],
-    groups: usize,
-) -> String {
+fn summary(all: &LeftOut, rows: &[LeftOut], consistent: &[Vec<String>], groups: usize) -> String {
     let p = all
         .p_value
         .map_or_else(|| "no answer".to_string(), |p| format!("p = {p:.1e}"));
@@ -325,7 +290,11 @@ fn summary(
         .filter(|r| r.left_out.len() == 1 && r.consistent)
         .filter(|r| r.chi_square.unwrap_or(f64::INFINITY) <= judged(r))
         .collect();
-    suspects.sort_by(|a, b| a.chi_square.unwrap_or(0.0).total_cmp(&b.chi_square.unwrap_or(0.0)));
+    suspects.sort_by(|a, b| {
+        a.chi_square
+            .unwrap_or(0.0)
+            .total_cmp(&b.chi_square.unwrap_or(0.0))
+    });
     let describe = |r: &&LeftOut| {
         format!(
             "{} (chi-square {:.2} without it)",
@@ -340,7 +309,11 @@ fn summary(
             "{head} Leaving out {} makes the rest fit as well as its standard deviations lead one \
              to expect: {}. {} with the rest of the evidence; {} check {} before signing either \
              answer.",
-            if one { "this piece" } else { "any one of these pieces" },
+            if one {
+                "this piece"
+            } else {
+                "any one of these pieces"
+            },
             named.join("; "),
             if one {
                 "It disagrees"

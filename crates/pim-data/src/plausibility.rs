@@ -151,15 +151,16 @@ impl Case {
                 let other = if reading == "+n" { "-n" } else { "+n" };
                 out.push(format!(
                     "{}: both centres of gravity lie on the {} side of the crush surface \
-                     (vehicle 1 {:.3} m, vehicle 2 {:.3} m above the plane through the impact \
-                     centre, along n at crush_angle): which vehicle is on which side is read \
+                     (vehicle 1 {:.3} {len}, vehicle 2 {:.3} {len} above the plane through the \
+                     impact centre, along n at crush_angle): which vehicle is on which side is read \
                      from the heights weighted by mobility, sgn(m2 h1 - m1 h2), as vehicle 1 \
                      on the {reading} side. If the vehicles met the other way, state it: \
                      [impact] vehicle1_side = \"{other}\"",
                     self.at("impact.crush_angle"),
                     side(if h1.abs() >= h2.abs() { h1 } else { h2 }),
-                    h1,
-                    h2
+                    h1 / self.written_units.length.to_si(),
+                    h2 / self.written_units.length.to_si(),
+                    len = self.written_units.length.label(),
                 ));
             }
         }
@@ -228,6 +229,109 @@ impl Case {
                 }
             }
         }
+        out.extend(self.overlap_warning());
         out
+    }
+
+    /// Outlines at contact that overlap beyond any crush: the two bodies (both given by
+    /// `length`, `width` and `cg_to_front`, placed by the case's geometry) interpenetrate by more than
+    /// [`PLAUSIBLE_ENGAGEMENT`] along the direction that separates them soonest. At contact the
+    /// undeformed outlines overlap by about the crush to come; far more says a CG position, a
+    /// heading or the impact point is off (a hand-computed position, a sign of the frame).
+    fn overlap_warning(&self) -> Option<String> {
+        let c = &self.content;
+        if self.is_barrier() {
+            return None;
+        }
+        let impact = self.impact().ok()?;
+        let cgs = impact.cg_positions();
+        let mut bodies = Vec::new();
+        for (k, (v, id)) in [
+            (&c.vehicle1, pim_core::VehicleId::One),
+            (&c.vehicle2, pim_core::VehicleId::Two),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            // Only outlines the case gives whole: a default CG-to-front would misplace them.
+            let (length, width, front) = (v.length?, v.width?, v.cg_to_front?);
+            let (s, co) = impact.nose_heading(id).to_radians().sin_cos();
+            let corners: Vec<[f64; 2]> = [
+                (front, 0.5 * width),
+                (front, -0.5 * width),
+                (front - length, -0.5 * width),
+                (front - length, 0.5 * width),
+            ]
+            .iter()
+            .map(|(x, y)| [cgs[k][0] + co * x - s * y, cgs[k][1] + s * x + co * y])
+            .collect();
+            bodies.push(corners);
+        }
+        let depth = penetration(&bodies[0], &bodies[1]);
+        let u = self.written_units.length.to_si();
+        let len = self.written_units.length.label();
+        (depth > PLAUSIBLE_ENGAGEMENT).then(|| {
+            format!(
+                "{}: the outlines at contact overlap by {:.2} {len} (vehicle1.position, \
+                 heading, impact_point and vehicle2's as given): more than {:.2} {len}, deeper \
+                 than the crush of car-to-car crashes; check the CG positions, the headings \
+                 and the frame",
+                self.at("vehicle2.position"),
+                depth / u,
+                PLAUSIBLE_ENGAGEMENT / u
+            )
+        })
+    }
+}
+
+/// The deepest the undeformed outlines of two cars can plausibly overlap at contact, m: the
+/// combined crush of both, about a metre in severe car-to-car crashes, with margin.
+pub const PLAUSIBLE_ENGAGEMENT: f64 = 1.2;
+
+/// How deep two convex polygons interpenetrate: the least overlap of their projections over
+/// the normals of their edges (0 when a normal separates them).
+fn penetration(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
+    let mut least = f64::INFINITY;
+    for poly in [a, b] {
+        for i in 0..poly.len() {
+            let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+            let n = [q[1] - p[1], p[0] - q[0]];
+            let norm = n[0].hypot(n[1]);
+            if norm == 0.0 {
+                continue;
+            }
+            let proj = |pts: &[[f64; 2]]| {
+                pts.iter()
+                    .map(|x| (x[0] * n[0] + x[1] * n[1]) / norm)
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                        (lo.min(v), hi.max(v))
+                    })
+            };
+            let (a0, a1) = proj(a);
+            let (b0, b1) = proj(b);
+            let overlap = a1.min(b1) - a0.max(b0);
+            if overlap <= 0.0 {
+                return 0.0;
+            }
+            least = least.min(overlap);
+        }
+    }
+    if least.is_finite() {
+        least
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::penetration;
+
+    #[test]
+    fn penetration_of_rectangles() {
+        let sq = |x: f64, y: f64| vec![[x, y], [x + 2.0, y], [x + 2.0, y + 1.0], [x, y + 1.0]];
+        assert!((penetration(&sq(0.0, 0.0), &sq(1.5, 0.0)) - 0.5).abs() < 1e-12);
+        assert_eq!(penetration(&sq(0.0, 0.0), &sq(2.5, 0.0)), 0.0);
+        assert!((penetration(&sq(0.0, 0.0), &sq(0.0, 0.7)) - 0.3).abs() < 1e-12);
     }
 }

@@ -7,17 +7,17 @@
 use crate::case::Case;
 use crate::documents::DocumentError;
 use crate::fitcase::{self, CostChoice};
+pub use crate::reconstruct_doc::{
+    BestOut, CountsOut, EvidenceOut, ReconstructionOut, VehiclePhasesOut,
+};
 use crate::runout::{MotionOut, PoseOut};
 use crate::scene_sections::PreImpactVehicleSection;
 use pim_core::VehicleId;
-use pim_fit::{
-    Certificate, FitProblem, Knowledge, MomentBranch, Observation, ObservationKind, COMPONENT_NAMES,
-};
+use pim_fit::{FitProblem, Knowledge, MomentBranch, Observation, ObservationKind, COMPONENT_NAMES};
 use pim_reconstruct::{
-    ContactTerm, EvidenceTerm, Outcome, Reconstruction, SceneVehicle, Settings, Skid, Status, Tried,
+    ContactTerm, EvidenceTerm, Outcome, Reconstruction, SceneVehicle, Settings, Skid, Tried,
 };
 use pim_runout::GRAVITY;
-use serde::Serialize;
 
 /// True when the case's `[scene]` gives evidence (a rest position or a mark) for a vehicle:
 /// `pim fit` then reconstructs.
@@ -66,6 +66,25 @@ pub fn case_reconstruction(
 ) -> Result<CaseReconstruction, DocumentError> {
     let c = &case.content;
     let impact = case.impact()?;
+    // The geometry bounds estimate the impact geometry in a fit of the impact alone; the whole
+    // reconstruction holds the geometry as given, so they are refused rather than ignored.
+    if let Some(g) = fitcase::geometry(case)?.first() {
+        let field = match g.input {
+            pim_fit::GeometryInput::CrushAngle => "bounds.crush_angle".to_string(),
+            other => format!("bounds.{}", other.name()),
+        };
+        return Err(case
+            .error_at(
+                &field,
+                format!(
+                    "the whole reconstruction holds the impact geometry as given, so it cannot \
+                     estimate {}: give it a spread in [uncertainty] (drawn by `pim \
+                     uncertainty`), or fit the impact alone with `pim fit --cost ...`",
+                    g.input.name()
+                ),
+            )
+            .into());
+    }
     let unit = fitcase::sigma_unit(case)?;
     let mut contact = if fitcase::is_fit_case(case) {
         if unit.is_none() && (c.estimates.is_some() || !c.observations.is_empty()) {
@@ -240,137 +259,6 @@ pub fn skid_lengths(input: &CaseReconstruction) -> Vec<(VehicleId, f64)> {
         .into_iter()
         .filter_map(|id| input.reconstruction.skids[id.index()].map(|s| (id, s.distance)))
         .collect()
-}
-
-/// One piece of evidence against the reconstruction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct EvidenceOut {
-    /// What it is (`initial.vehicle1.omega`, `vehicle2 rest.x`, `vehicle1 mark 1`, ...).
-    pub name: String,
-    /// The phase it belongs to: `pre_impact`, `impact` or `run_out`.
-    pub phase: &'static str,
-    /// What it measures, and so its unit here and in a table: `speed` (m/s), `yaw_rate`
-    /// (rad/s), `length` (m) or `angle` (deg).
-    pub quantity: &'static str,
-    /// Fitted minus given (m/s, rad/s, m or deg).
-    pub residual: f64,
-    /// Its standard deviation, same unit.
-    pub sigma: f64,
-    /// Residual over sigma.
-    pub z: f64,
-    /// Its share of the chi-square, percent.
-    pub share_percent: f64,
-}
-
-/// One vehicle through the three phases.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct VehiclePhasesOut {
-    /// 1 or 2.
-    pub vehicle: u8,
-    /// Where the braking before the impact began, m/s (with `skid`).
-    pub speed_before_braking: Option<f64>,
-    /// At contact, m/s.
-    pub speed_at_contact: f64,
-    /// At separation, m/s.
-    pub speed_at_separation: f64,
-    /// At rest: 0 with a scene (the run-out ends there), none without.
-    pub speed_at_rest: Option<f64>,
-    /// The velocities at contact (m/s, rad/s).
-    pub contact: MotionOut,
-    /// The velocities at separation.
-    pub separation: MotionOut,
-    /// Full turns to rest beyond the nearest rest heading (with a rest heading).
-    pub turns: Option<i64>,
-    /// Where the run-out ends (with a scene).
-    pub rest: Option<PoseOut>,
-    /// The run-out's distance, m, and time, s.
-    pub runout_distance: Option<f64>,
-    /// The run-out's time, s.
-    pub runout_time: Option<f64>,
-}
-
-/// One combination of counts of turns compared.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct CountsOut {
-    /// Per scene vehicle (in the order of `scene_vehicles`).
-    pub turns: Vec<Option<i64>>,
-    /// The scenes alone at the best their search found for these counts (a lower bound of the
-    /// combination's cost where that search found each count's minimum).
-    pub scene_alone: f64,
-    /// The momentum bound of the linearised problem.
-    pub momentum_bound: Option<f64>,
-    /// The chi-square reached, when refined.
-    pub chi_square: Option<f64>,
-    /// `best`, `refined`, `abandoned`, `not_refined` or `no_impact`.
-    pub state: &'static str,
-    /// Why not refined, or why no impact.
-    pub reason: Option<String>,
-}
-
-/// The reconstruction found.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct BestOut {
-    /// The moment branch.
-    pub branch: MomentBranch,
-    /// Restitution.
-    pub e: f64,
-    /// Equivalent friction.
-    pub mu: f64,
-    /// Moment restitution.
-    pub em: f64,
-    /// Kinetic energy lost in the impact, percent.
-    pub energy_loss_percent: f64,
-    /// The whole chi-square.
-    pub chi_square: f64,
-    /// Its degrees of freedom.
-    pub degrees_of_freedom: i64,
-    /// `P(chi2 >= value)`.
-    pub p_value: Option<f64>,
-    /// Per vehicle, every phase.
-    pub vehicles: Vec<VehiclePhasesOut>,
-    /// Every piece of evidence against the fit.
-    pub evidence: Vec<EvidenceOut>,
-    /// Gauss-Newton iterations, and whether they met their tolerance.
-    pub iterations: usize,
-    /// The iterations met their tolerance.
-    pub converged: bool,
-    /// How the impact fit at the found separation state was established.
-    pub certificate: Certificate,
-    /// The bounds the impact ends on (the bound, not the evidence, ends it there).
-    pub active_constraints: Vec<pim_fit::ActiveConstraint>,
-}
-
-/// The document of a reconstruction (`pim fit --format json` of a scene case).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ReconstructionOut {
-    /// Units of the numbers.
-    pub units: crate::records::SiUnits,
-    /// `reconstruction`.
-    pub kind: &'static str,
-    /// `found` or `no_solution`.
-    pub status: Status,
-    /// Why there is no answer.
-    pub reason: Option<String>,
-    /// The answer.
-    pub best: Option<BestOut>,
-    /// The vehicles whose scene was fitted (1, 2).
-    pub scene_vehicles: Vec<u8>,
-    /// Every combination of counts of turns, compared.
-    pub counts: Vec<CountsOut>,
-    /// Run-outs simulated and impact fits solved.
-    pub runouts: usize,
-    /// Impact fits solved.
-    pub fits: usize,
-    /// How the answer was found.
-    pub method: String,
-    /// What is proven.
-    pub proven: String,
-    /// What the evidence leaves undetermined or the search does not prove.
-    pub undetermined: Vec<String>,
-    /// For a refused or poorly fitting reconstruction: the evidence left out piece by piece
-    /// ([`crate::consistency`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub consistency: Option<crate::consistency::Consistency>,
 }
 
 /// A case's reconstruction, searched, with its document.

@@ -2,7 +2,8 @@
 //! seeded parametric bootstrap. Each draw perturbs the case's estimates and observations by
 //! their standard deviations, the inputs `[uncertainty]` names, the road friction by
 //! `[runout] friction_sigma`, every rest position and heading and every mark by its sigma and
-//! every EDR speed by its sigma; then the whole reconstruction is refitted (from where the
+//! every EDR speed by its sigma, the measured inputs `[uncertainty.vehicleN]` gives a spread
+//! (skid, braking shares, grade, the EDR's clock, the chassis: [`crate::measured_inputs`]); then the whole reconstruction is refitted (from where the
 //! nominal reconstruction ended, for each count of turns it found within a chi-square of 4 of
 //! its best), and the speeds of every phase are recorded. Draw `i` uses its own random stream,
 //! so the result is the same for any thread count.
@@ -200,6 +201,7 @@ pub fn run(
     let unc = case.content.uncertainty.unwrap_or_default();
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
+    all.extend(crate::measured_inputs::measured_inputs(case)?);
     let nominal_input = case_reconstruction(case, model, moment_form, branches.clone())?;
     let nominal =
         pim_reconstruct::reconstruct(&nominal_input.reconstruction, &nominal_input.settings)

@@ -107,8 +107,49 @@ pub struct VehicleSpread {
     /// Angle phi, degrees.
     pub phi: Option<Spread>,
     /// The impact point's x and y (length unit), instead of `d` / `phi`: normal standard
-    /// deviations.
+    /// deviations. The point is in the vehicle's body axes (x forward, y to the left; SAE: to
+    /// the right), also when the case places the vehicle by `position` and `[impact] centre`:
+    /// drawing it moves the impact centre on the vehicle, and the CG with the vehicle.
     pub impact_point: Option<PointSection>,
+    /// The pre-impact skid length (length unit, of `[pre_impact.vehicleN] skid`).
+    pub skid: Option<Spread>,
+    /// The pre-impact braking share (`[pre_impact.vehicleN] braking`).
+    pub skid_braking: Option<Spread>,
+    /// The pre-impact grade (percent, `[pre_impact.vehicleN] grade`).
+    pub grade: Option<Spread>,
+    /// The EDR's clock (s): one offset drawn for all of the vehicle's EDR times.
+    pub edr_time: Option<Spread>,
+    /// The run-out's braking share of the rolling wheels (`[runout.vehicleN] braking`).
+    pub runout_braking: Option<Spread>,
+    /// Wheelbase (length unit, `[runout.vehicleN] wheelbase`).
+    pub wheelbase: Option<Spread>,
+    /// Track (length unit).
+    pub track: Option<Spread>,
+    /// CG to the front axle (length unit): the CG's position along the wheelbase.
+    pub cg_to_front_axle: Option<Spread>,
+    /// CG height (length unit).
+    pub cg_height: Option<Spread>,
+}
+
+impl VehicleSpread {
+    /// The names of the drawn inputs that only a reconstruction uses (the pre-impact and
+    /// run-out inputs), as written.
+    pub fn scene_only(&self) -> Vec<&'static str> {
+        [
+            ("skid", self.skid.is_some()),
+            ("skid_braking", self.skid_braking.is_some()),
+            ("grade", self.grade.is_some()),
+            ("edr_time", self.edr_time.is_some()),
+            ("runout_braking", self.runout_braking.is_some()),
+            ("wheelbase", self.wheelbase.is_some()),
+            ("track", self.track.is_some()),
+            ("cg_to_front_axle", self.cg_to_front_axle.is_some()),
+            ("cg_height", self.cg_height.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(n, given)| given.then_some(n))
+        .collect()
+    }
 }
 
 /// Uncertain crush-surface angle.

@@ -415,6 +415,19 @@ pub fn run(
             ));
         }
     }
+    // The reconstruction's inputs are never dropped in silence by a study of the impact alone.
+    for (n, v) in [(1, &unc.vehicle1), (2, &unc.vehicle2)] {
+        if let Some(key) = v.scene_only().first() {
+            return Err(InputError::new(
+                &case.file,
+                format!(
+                    "[uncertainty.vehicle{n}] {key} is an input of the whole reconstruction \
+                     (a case with [scene] evidence, without --cost); this study fits the \
+                     impact alone and would not draw it"
+                ),
+            ));
+        }
+    }
     let inputs = inputs(case, unc)?;
     if inputs.is_empty() {
         return Err(InputError::new(

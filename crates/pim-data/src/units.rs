@@ -63,6 +63,14 @@ impl LengthUnit {
             LengthUnit::Foot => FOOT,
         }
     }
+
+    /// Its symbol (`m`, `ft`).
+    pub fn label(self) -> &'static str {
+        match self {
+            LengthUnit::Metre => "m",
+            LengthUnit::Foot => "ft",
+        }
+    }
 }
 
 /// Mass unit of a case file (`lb` is the pound mass: a vehicle's weight in pounds).

@@ -187,8 +187,7 @@ pub use problem::{
 };
 pub use report::{
     judged_dof, ActiveConstraint, BranchReport, ChiSquare, FitReport, Identifiability, Limits,
-    Quantity,
-    Reason, Solution, Status, TangentialFit, Violation,
+    Quantity, Reason, Solution, Status, TangentialFit, Violation,
 };
 pub use run::fit;
 pub use settings::{FitModel, FitSettings, SearchSettings, ValidSettings, DEFAULT_E_RANGE};

@@ -152,7 +152,7 @@ pub fn fit_damage_lines(d: &FitDamage, u: UnitSystem) -> String {
             let _ = writeln!(
                 s,
                 "  {}",
-                crate::tables::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
+                crate::statistics::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
             );
         }
         for (when, v) in [("contact   ", &f.initial), ("separation", &f.final_)] {

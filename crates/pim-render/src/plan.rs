@@ -91,6 +91,9 @@ mod tests {
         let cross = (tri[1][0] - tri[0][0]) * (tri[2][1] - tri[0][1])
             - (tri[1][1] - tri[0][1]) * (tri[2][0] - tri[0][0]);
         assert!(cross > 0.0);
-        assert_eq!(Page::of(Convention::Natural).point([10.0, -30.0]), [10.0, -30.0]);
+        assert_eq!(
+            Page::of(Convention::Natural).point([10.0, -30.0]),
+            [10.0, -30.0]
+        );
     }
 }

@@ -48,7 +48,7 @@ pub fn reconstruction_table(
         b.energy_loss_percent
     ));
     for l in wrap(
-        &crate::tables::chi_square_words(b.chi_square, b.degrees_of_freedom, b.p_value),
+        &crate::statistics::chi_square_words(b.chi_square, b.degrees_of_freedom, b.p_value),
         96,
     ) {
         t.push_str(&format!("{l}\n"));
@@ -82,7 +82,8 @@ pub fn reconstruction_table(
             v(p.speed_at_contact),
             v(p.speed_at_separation),
             p.speed_at_rest.map_or_else(|| "-".into(), v),
-            p.turns.map_or_else(|| "-".into(), |k| (s as i64 * k).to_string()),
+            p.turns
+                .map_or_else(|| "-".into(), |k| (s as i64 * k).to_string()),
             rest
         ));
     }
@@ -156,7 +157,10 @@ pub fn reconstruction_table(
 }
 
 /// The scale and label of a piece of evidence's unit in `units` (its `quantity`).
-pub fn evidence_unit(e: &pim_data::reconstruct::EvidenceOut, units: UnitSystem) -> (f64, &'static str) {
+pub fn evidence_unit(
+    e: &pim_data::reconstruct::EvidenceOut,
+    units: UnitSystem,
+) -> (f64, &'static str) {
     match e.quantity {
         "angle" => (1.0, "deg"),
         "length" => (units.length(1.0), units.length_label()),
@@ -203,7 +207,7 @@ pub fn consistency_lines(c: &pim_data::consistency::Consistency, units: UnitSyst
             r.degrees_of_freedom
                 .map_or_else(|| "-".to_string(), |x| x.to_string()),
             r.p_value
-                .map_or_else(|| "-".to_string(), crate::tables::format_p),
+                .map_or_else(|| "-".to_string(), crate::statistics::format_p),
             if r.consistent { "yes" } else { "no" },
             speed(0),
             speed(1),

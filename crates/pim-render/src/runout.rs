@@ -548,7 +548,11 @@ pub fn scene_svg(
                 let shown = if ev.name.contains("heading") {
                     format!("{} deg", num(ev.value, 1))
                 } else {
-                    format!("{} {}", num(units.length(ev.value), 2), units.length_label())
+                    format!(
+                        "{} {}",
+                        num(units.length(ev.value), 2),
+                        units.length_label()
+                    )
                 };
                 line(
                     format!("  {}: {shown} (z {})", ev.name, num(ev.z, 1)),

@@ -95,9 +95,15 @@ fn an_sae_scene_is_read_as_a_map() {
         (w, h)
     };
     let (w1, h1) = span(&diagram.outline_on_page(0));
-    assert!((h1 - 16.0).abs() < 1e-9 && (w1 - 6.0).abs() < 1e-9, "{w1} x {h1}");
+    assert!(
+        (h1 - 16.0).abs() < 1e-9 && (w1 - 6.0).abs() < 1e-9,
+        "{w1} x {h1}"
+    );
     let (w2, h2) = span(&diagram.outline_on_page(1));
-    assert!((w2 - 15.0).abs() < 1e-9 && (h2 - 6.2).abs() < 1e-9, "{w2} x {h2}");
+    assert!(
+        (w2 - 15.0).abs() < 1e-9 && (h2 - 6.2).abs() < 1e-9,
+        "{w2} x {h2}"
+    );
     let done = pim_data::reconstruct::reconstruct(
         &case,
         pim_fit::FitModel::Pim,
@@ -112,9 +118,10 @@ fn an_sae_scene_is_read_as_a_map() {
     assert!(svg.contains("x [ft] (SAE)"));
     // The rest as reconstructed, on the page: (y, x) of the SAE scene.
     let rest = done.document.best.unwrap().vehicles[1].rest.unwrap();
-    let page = pim_render::plan::Page::of(case.written).point([
-        units.length(rest.x),
-        units.length(rest.y),
-    ]);
-    assert!((page[0] - 79.7).abs() < 1.0 && (page[1] - 50.1).abs() < 1.0, "{page:?}");
+    let page = pim_render::plan::Page::of(case.written)
+        .point([units.length(rest.x), units.length(rest.y)]);
+    assert!(
+        (page[0] - 79.7).abs() < 1.0 && (page[1] - 50.1).abs() < 1.0,
+        "{page:?}"
+    );
 }

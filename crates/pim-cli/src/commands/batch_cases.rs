@@ -5,7 +5,8 @@ use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::{io_reason, read_text_file};
 use anyhow::Result;
-use pim_data::batch::{fit_case_text, CaseRecord, Outcome};
+use pim_data::batch::{CaseRecord, Outcome};
+use pim_data::batch_scene::{add_intervals, case_records};
 use pim_data::case::MAX_CASE_BYTES;
 use pim_data::fitcase::CostChoice;
 use rayon::prelude::*;
@@ -255,10 +256,10 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                         Ok(text) => choices
                             .iter()
                             .flat_map(|&c| {
-                                let mut recs = fit_case_text(&name, &text, c, &plan);
+                                let mut recs = case_records(&name, &text, c, &plan);
                                 if a.draws > 0 {
                                     if let Some(best) = recs.iter_mut().find(|r| r.best) {
-                                        best.add_intervals(&text, &plan, a.draws, a.seed);
+                                        add_intervals(best, &text, &plan, a.draws, a.seed);
                                     }
                                 }
                                 recs

@@ -57,7 +57,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             table.push_str(&format!(
                 "{}: {}\n",
                 tables::branch_short(r.moment),
-                tables::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
+                pim_render::statistics::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
             ));
         }
     }
@@ -80,7 +80,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
             pim_fit::FitModel::Pim => format!("the best branch ({})", b.moment.name()),
         };
         let active = b.solution.as_ref().map(|s| &s.active_constraints[..]);
-        on_bounds += bound_warnings(&case.file, &which, active.unwrap_or_default());
+        on_bounds += super::verdict::bound_warnings(&case.file, &which, active.unwrap_or_default());
     }
     if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
         for r in g.ranges.iter().filter(|r| r.at_bound) {
@@ -110,27 +110,6 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     Ok(crate::inputs::strict_status(a.strict, warnings, why))
 }
 
-/// Warns of each bound a fitted impact ends on (the bound, not the data, ends it), with what to
-/// do; returns how many.
-pub(crate) fn bound_warnings(file: &str, which: &str, active: &[pim_fit::ActiveConstraint]) -> usize {
-    use pim_fit::ActiveConstraint as A;
-    let mut n = 0;
-    for a in active {
-        let hint = match a {
-            A::EHigh => "the data want more restitution: widen [bounds] e",
-            A::MuLow | A::MuHigh => "widen [bounds] mu",
-            A::FrictionLow | A::FrictionHigh => "widen [bounds] friction",
-            A::EtLow | A::EtHigh => "widen [bounds] et if it is narrower than [-1, 1]",
-            A::VelocityBound(_) => "widen [bounds] velocity / yaw_rate, or check the estimates",
-            A::EmLow => "em = -1 is the end of its physical range",
-            _ => continue,
-        };
-        n += 1;
-        eprintln!("pim: warning: {file}: {which} ends on a bound: {a}; {hint}");
-    }
-    n
-}
-
 /// `pim fit` of a case with scene evidence: the three phases in one fit.
 fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> Result<ExitCode> {
     let done = pim_data::consistency::answer(case, a.model, a.moment_form, unique(&a.branch))
@@ -152,5 +131,5 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
         Format::Json => &record,
         Format::Table => &table,
     })?;
-    super::reconstruction_status(case, d, a.strict, warnings)
+    super::verdict::reconstruction_status(case, d, a.strict, warnings)
 }

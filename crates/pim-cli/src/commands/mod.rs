@@ -14,6 +14,7 @@ pub mod scene_uncertainty;
 pub mod solve;
 pub mod study;
 pub mod uncertainty;
+pub mod verdict;
 
 use crate::error::Failure;
 use crate::inputs::io_reason;
@@ -33,47 +34,6 @@ pub fn print_out(text: &str) -> Result<()> {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         Err(e) => Err(Failure::Output(format!("cannot write to stdout: {e}")).into()),
     }
-}
-
-/// The exit status of a reconstruction, after its output: 3 when refused (pointing to the
-/// consistency table when there is one), else the `--strict` status, which also counts an
-/// impact on a bound and a poor fit (p below 0.05).
-pub fn reconstruction_status(
-    case: &Case,
-    d: &pim_data::reconstruct::ReconstructionOut,
-    strict: bool,
-    warnings: usize,
-) -> Result<std::process::ExitCode> {
-    let table = if d.consistency.is_some() {
-        " (the evidence consistency table above shows which pieces disagree)"
-    } else {
-        ""
-    };
-    if d.status != pim_reconstruct::Status::Found {
-        eprintln!(
-            "pim: {}: no reconstruction: {}{table}",
-            case.file,
-            d.reason.as_deref().unwrap_or("none found")
-        );
-        return Ok(std::process::ExitCode::from(crate::error::EXIT_NO_ANSWER));
-    }
-    let mut why = Vec::new();
-    if let Some(b) = &d.best {
-        let which = format!("the reconstruction's impact ({} branch)", b.branch.name());
-        let n = fit::bound_warnings(&case.file, &which, &b.active_constraints);
-        if n > 0 {
-            why.push(format!("the answer ends on {n} bound(s)"));
-        }
-        if let Some(p) = b.p_value.filter(|p| *p < pim_reconstruct::POOR_FIT_P) {
-            eprintln!(
-                "pim: warning: {}: the reconstruction fits poorly (p = {}){table}",
-                case.file,
-                pim_render::tables::format_p(p)
-            );
-            why.push("a poor fit".into());
-        }
-    }
-    Ok(crate::inputs::strict_status(strict, warnings, why))
 }
 
 /// Pretty JSON with a final newline.

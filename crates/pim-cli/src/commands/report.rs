@@ -54,7 +54,7 @@ pub fn run(a: &ReportArgs) -> Result<ExitCode> {
         (None, None) => print_out(&doc.html())?,
     }
     if let Basis::Reconstruction(r) = &made.basis {
-        return super::reconstruction_status(&case, &r.document, a.strict, warnings);
+        return super::verdict::reconstruction_status(&case, &r.document, a.strict, warnings);
     }
     if !answered {
         eprintln!(

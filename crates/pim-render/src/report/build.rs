@@ -42,15 +42,16 @@ const HOW_TO_READ: [&str; 5] = [
 ];
 
 /// Which side of the crush surface vehicle 1 lies on, and what that rests on, in a sentence.
-fn side_sentence(side: &pim_data::records::SideOut) -> String {
-    let [h1, h2] = side.cg_heights;
+fn side_sentence(side: &pim_data::records::SideOut, u: UnitSystem) -> String {
+    let [h1, h2] = side.cg_heights.map(|h| u.length(h));
+    let len = u.length_label();
     let basis = match side.basis {
         pim_core::SideBasis::Geometry => {
             "the two centres of gravity lie on opposite sides of the crush plane".to_string()
         }
         pim_core::SideBasis::Mobility => format!(
-            "read from the heights of the centres of gravity above the crush plane ({h1:.3} m \
-             and {h2:.3} m: both on one side) weighted by mobility; a choice, which the case \
+            "read from the heights of the centres of gravity above the crush plane ({h1:.3} {len} \
+             and {h2:.3} {len}: both on one side) weighted by mobility; a choice, which the case \
              can state with [impact] vehicle1_side"
         ),
         pim_core::SideBasis::Case => "as the case states ([impact] vehicle1_side)".to_string(),
@@ -98,7 +99,7 @@ pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String>
         "Along the crush surface: {}.",
         crate::tables::tangential_words(&r, s.document.model.as_ref())
     ));
-    answer.text(side_sentence(&s.document.side));
+    answer.text(side_sentence(&s.document.side, u));
     let mut warnings = case.warnings();
     if !r.admissibility.admissible {
         for reason in r.inadmissibility_reasons() {
@@ -144,7 +145,7 @@ pub fn fit(
         .find(|r| Some(r.moment) == report.best);
     let mut doc = header(case, &format!("Fit, cost function {cost}"), u);
     let mut answer = Section::new("Answer");
-    answer.text(side_sentence(&f.document.side));
+    answer.text(side_sentence(&f.document.side, u));
     let mut warnings = case.warnings();
     warnings.extend(report.notes.iter().cloned());
     match (best, best.and_then(|b| b.solution.as_ref())) {

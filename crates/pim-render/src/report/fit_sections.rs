@@ -121,7 +121,8 @@ pub(super) fn branches_table(r: &pim_fit::FitReport, records: &[BranchRecord]) -
                     "{} ({}, {})",
                     num(c.value, 3),
                     c.degrees_of_freedom,
-                    c.p_value.map_or_else(|| "-".into(), crate::tables::format_p)
+                    c.p_value
+                        .map_or_else(|| "-".into(), crate::statistics::format_p)
                 )
             },
         );
@@ -260,7 +261,7 @@ pub(super) fn residual_section(r: &BranchRecord, u: UnitSystem, frame: Conventio
             s.text(format!(
                 "Fit statistics (degrees of freedom: values given minus parameters fitted): \
                  {}: {verdict}.",
-                crate::tables::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
+                crate::statistics::chi_square_words(c.value, c.degrees_of_freedom, c.p_value)
             ));
         }
         None => {

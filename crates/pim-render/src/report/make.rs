@@ -76,9 +76,7 @@ impl Made {
         match &self.basis {
             Basis::Fit(f) => f.report.best.is_some(),
             Basis::Solve(_) => true,
-            Basis::Reconstruction(r) => {
-                r.document.status == pim_reconstruct::Status::Found
-            }
+            Basis::Reconstruction(r) => r.document.status == pim_reconstruct::Status::Found,
         }
     }
 }

@@ -10,7 +10,8 @@
 
 use super::build::{header, inputs, warnings_section};
 use super::doc::{Block, Document, Section, Table};
-use crate::tables::{chi_square_words, format_p, num};
+use crate::statistics::{chi_square_words, format_p};
+use crate::tables::num;
 use crate::Figure;
 use pim_core::Convention;
 use pim_data::case::Case;
@@ -102,7 +103,11 @@ fn answer(
         study
             .and_then(|st| st.quantities.get(name))
             .map_or_else(String::new, |q| {
-                format!(" ({} .. {})", num(u.speed(q.p05), 1), num(u.speed(q.p95), 1))
+                format!(
+                    " ({} .. {})",
+                    num(u.speed(q.p05), 1),
+                    num(u.speed(q.p95), 1)
+                )
             })
     };
     let sgn = if frame == Convention::Sae { -1.0 } else { 1.0 };
@@ -168,8 +173,9 @@ fn answer(
                 "counter-clockwise positive"
             }
         ),
-        None => "No uncertainty study was run (`--draws 0`): the speeds have no intervals here."
-            .into(),
+        None => {
+            "No uncertainty study was run (`--draws 0`): the speeds have no intervals here.".into()
+        }
     });
     s.text(format!(
         "The impact: restitution e = {}, impulse ratio mu = {}, moment restitution em = {} ({} \
@@ -301,7 +307,9 @@ fn proven(d: &ReconstructionOut, frame: Convention) -> Section {
             c.state.replace('_', " "),
         ]);
     }
-    s.text("The counts of turns refined (the others' bounds exclude them; all are in result.json):");
+    s.text(
+        "The counts of turns refined (the others' bounds exclude them; all are in result.json):",
+    );
     s.blocks.push(Block::Table(t));
     if !d.undetermined.is_empty() {
         s.text("Not determined by the evidence, or not proven:");
@@ -371,16 +379,21 @@ fn histograms(st: &ReconstructionStudy, u: UnitSystem) -> Result<Figure, String>
     let spd = u.speed_label();
     crate::svg_figure("histograms.svg", (1000, 300 * rows as u32), |root| {
         for (area, name) in root.split_evenly((rows, 2)).iter().zip(&names) {
-            let v: Vec<f64> = st.samples.get(*name).map_or_else(Vec::new, |v| {
-                v.iter().map(|x| x * k).collect()
-            });
+            let v: Vec<f64> = st
+                .samples
+                .get(*name)
+                .map_or_else(Vec::new, |v| v.iter().map(|x| x * k).collect());
             let q = &st.quantities[*name];
             let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
             let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             if !(lo.is_finite() && hi.is_finite()) {
                 continue;
             }
-            let (lo, hi) = if hi > lo { (lo, hi) } else { (lo - 0.5, hi + 0.5) };
+            let (lo, hi) = if hi > lo {
+                (lo, hi)
+            } else {
+                (lo - 0.5, hi + 0.5)
+            };
             let bins = 25usize;
             let w = (hi - lo) / bins as f64;
             let mut counts = vec![0usize; bins];
@@ -412,15 +425,19 @@ fn histograms(st: &ReconstructionStudy, u: UnitSystem) -> Result<Figure, String>
                 )))
                 .map_err(crate::err)?;
             chart
-                .draw_series(counts.iter().enumerate().filter(|(_, c)| **c > 0).map(
-                    |(i, c)| {
-                        let x0 = lo + i as f64 * w;
-                        Rectangle::new(
-                            [(x0, 0.0), (x0 + 0.92 * w, *c as f64)],
-                            RGBColor(31, 119, 180).filled(),
-                        )
-                    },
-                ))
+                .draw_series(
+                    counts
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, c)| **c > 0)
+                        .map(|(i, c)| {
+                            let x0 = lo + i as f64 * w;
+                            Rectangle::new(
+                                [(x0, 0.0), (x0 + 0.92 * w, *c as f64)],
+                                RGBColor(31, 119, 180).filled(),
+                            )
+                        }),
+                )
                 .map_err(crate::err)?;
             if let Some(n) = st.nominal.get(*name) {
                 chart
