@@ -138,7 +138,10 @@ fn intervals_through_all_phases() {
         .iter()
         .map(|x| x.as_str().unwrap())
         .collect();
-    assert!(inputs.contains(&"road friction") && inputs.contains(&"vehicle2 EDR speed 1"));
+    assert!(
+        inputs.contains(&"road friction")
+            && inputs.contains(&"vehicle2 EDR speed 0.5 s before contact")
+    );
 }
 
 /// The report of a reconstruction with its intervals: `pim uncertainty --out` writes the nominal

@@ -16,7 +16,7 @@
 //! Each row is a whole reconstruction (every count of turns searched), so the table costs about
 //! as many reconstructions as there are groups; the rows run in parallel on the current rayon
 //! pool. When no single group explains the conflict, pairs are left out too (up to
-//! [`MAX_PAIR_GROUPS`] groups).
+//! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_RUNOUTS`] run-outs.
 
 use crate::case::Case;
 use crate::documents::DocumentError;
@@ -26,6 +26,12 @@ pub use crate::reconstruct_doc::{Consistency, LeftOut};
 use pim_fit::MomentBranch;
 use pim_reconstruct::{Status, INCONSISTENT_P, POOR_FIT_P};
 use rayon::prelude::*;
+
+/// The table's budget of work, in run-outs (each row is a whole reconstruction, costing about
+/// as many run-outs as the reconstruction with all the evidence: the example's 3,300). Beyond
+/// it the table is not computed and says so; the count, not the time, decides, so the answer is
+/// the same on every machine.
+pub const TABLE_RUNOUTS: usize = 40_000;
 
 /// Pairs of groups are left out only when there are at most this many groups (and no single
 /// group explains the conflict): 28 pairs for 8 groups.
@@ -231,9 +237,32 @@ pub fn table(
     };
     let all_row = row(Vec::new(), Ok(all.clone()));
     let groups = pieces(case);
+    // The work of a row is about that of the whole reconstruction: a budget of run-outs, so
+    // that the table's cost is bounded the same on every machine.
+    let per_row = all.runouts.max(1);
+    if groups.len() * per_row > TABLE_RUNOUTS {
+        let summary = format!(
+            "Not computed: leaving out each of its {} pieces would take about {} run-outs \
+             ({} per reconstruction), beyond the table's budget of {TABLE_RUNOUTS}. Leave out \
+             the pieces with the largest residuals by hand, one at a time.",
+            groups.len(),
+            groups.len() * per_row,
+            per_row
+        );
+        return Consistency {
+            all: all_row,
+            rows: Vec::new(),
+            consistent_without: Vec::new(),
+            summary,
+        };
+    }
     let singles: Vec<Vec<Piece>> = groups.iter().map(|p| vec![*p]).collect();
     let mut rows: Vec<LeftOut> = singles.par_iter().map(|w| run(w)).collect();
-    if !rows.iter().any(|r| r.consistent) && groups.len() <= MAX_PAIR_GROUPS {
+    let pairs_count = groups.len() * groups.len().saturating_sub(1) / 2;
+    if !rows.iter().any(|r| r.consistent)
+        && groups.len() <= MAX_PAIR_GROUPS
+        && (groups.len() + pairs_count) * per_row <= TABLE_RUNOUTS
+    {
         let pairs: Vec<Vec<Piece>> = (0..groups.len())
             .flat_map(|i| (i + 1..groups.len()).map(move |j| (i, j)))
             .map(|(i, j)| vec![groups[i], groups[j]])

@@ -361,8 +361,16 @@ pub const CASE_E_RANGE: [f64; 2] = [0.0, 1.0];
 /// True when the case's `[bounds]` sets `bound` itself (rather than leaving it to the
 /// default).
 pub fn sets_bound(case: &Case, bound: pim_fit::SearchBound) -> bool {
+    bound_in(case.content.bounds.as_ref(), bound)
+}
+
+/// True when `[bounds]` (as given) sets `bound`.
+pub fn bound_in(
+    bounds: Option<&crate::sections::BoundsSection>,
+    bound: pim_fit::SearchBound,
+) -> bool {
     use pim_fit::SearchBound as B;
-    let Some(b) = case.content.bounds else {
+    let Some(b) = bounds else {
         return false;
     };
     match bound {

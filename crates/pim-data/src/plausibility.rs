@@ -331,7 +331,7 @@ mod tests {
     fn penetration_of_rectangles() {
         let sq = |x: f64, y: f64| vec![[x, y], [x + 2.0, y], [x + 2.0, y + 1.0], [x, y + 1.0]];
         assert!((penetration(&sq(0.0, 0.0), &sq(1.5, 0.0)) - 0.5).abs() < 1e-12);
-        assert_eq!(penetration(&sq(0.0, 0.0), &sq(2.5, 0.0)), 0.0);
+        assert!(penetration(&sq(0.0, 0.0), &sq(2.5, 0.0)).abs() < 1e-15);
         assert!((penetration(&sq(0.0, 0.0), &sq(0.0, 0.7)) - 0.3).abs() < 1e-12);
     }
 }

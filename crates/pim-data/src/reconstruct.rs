@@ -41,6 +41,8 @@ pub struct CaseReconstruction {
     labels: Vec<String>,
     /// How many of them are the case's `[[observations]]` (the EDR speeds follow).
     case_observations: usize,
+    /// The case's `[bounds]` (who set a bound the answer reaches).
+    bounds: Option<crate::sections::BoundsSection>,
 }
 
 fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {
@@ -250,6 +252,7 @@ pub fn case_reconstruction(
         settings,
         labels,
         case_observations: c.observations.len(),
+        bounds: c.bounds,
     })
 }
 
@@ -439,7 +442,23 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             iterations: b.iterations,
             converged: b.converged,
             certificate: b.certificate.clone(),
-            active_constraints: s.active_constraints.clone(),
+            bounds_reached: {
+                let branch = pim_fit::BranchReport {
+                    moment: b.branch,
+                    status: pim_fit::Status::Optimal,
+                    reason: None,
+                    solution: Some(s.clone()),
+                    identifiability: Vec::new(),
+                    certificate: b.certificate.clone(),
+                    geometry: None,
+                };
+                let bounds = input.bounds;
+                crate::records::BranchRecord::new(&branch)
+                    .with_bounds(&branch, input.settings.fit.get(), &|x| {
+                        fitcase::bound_in(bounds.as_ref(), x)
+                    })
+                    .bounds_reached
+            },
         }
     });
     let best_cost = outcome.best.as_ref().map(|b| b.chi_square);

@@ -102,8 +102,9 @@ pub struct BestOut {
     pub converged: bool,
     /// How the impact fit at the found separation state was established.
     pub certificate: Certificate,
-    /// The bounds the impact ends on (the bound, not the evidence, ends it there).
-    pub active_constraints: Vec<pim_fit::ActiveConstraint>,
+    /// The search bounds the impact ends on (the bound, not the evidence, ends it there),
+    /// each with who set it.
+    pub bounds_reached: Vec<crate::records::BoundReached>,
 }
 
 /// The document of a reconstruction (`pim fit --format json` of a scene case).

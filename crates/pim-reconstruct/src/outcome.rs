@@ -306,9 +306,15 @@ pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradicti
     };
     let statement = format!(
         "the best reconstruction found has a chi-square of {:.1} with {} degrees of \
-         freedom{judged}, p = {p:.1e}: none of the impacts and run-outs searched reaches this \
+         freedom{judged}, p {}: none of the impacts and run-outs searched reaches this \
          evidence within its standard deviations",
-        f.chi_square, f.degrees_of_freedom
+        f.chi_square,
+        f.degrees_of_freedom,
+        if p < 1e-300 {
+            "below 1e-300".to_string()
+        } else {
+            format!("= {p:.1e}")
+        }
     );
     terms.truncate(3);
     Some(Contradiction {

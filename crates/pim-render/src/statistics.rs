@@ -5,7 +5,7 @@
 /// degrees of freedom, p = 0.9999`; with none left, what that means and how it is judged
 /// ([`pim_fit::judged_dof`]).
 pub fn chi_square_words(value: f64, dof: i64, p: Option<f64>) -> String {
-    let p = p.map_or_else(|| "not a number".to_string(), |p| format_p(p));
+    let p = p.map_or_else(|| "not a number".to_string(), format_p);
     if dof > 0 {
         return format!("chi-square {value:.3} with {dof} degrees of freedom, p = {p}");
     }

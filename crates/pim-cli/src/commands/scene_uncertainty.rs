@@ -49,6 +49,13 @@ pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
         "(speeds in {}, energy loss in %; the 90 % interval is p05 to p95)\n",
         u.speed_label()
     );
+    for q in &s.nominal_outside {
+        let _ = writeln!(
+            t,
+            "note: the nominal {q} lies outside its own 90 % interval: the draws' answers are \
+             skewed away from it (a nonlinear or bounded answer); read the interval\n"
+        );
+    }
     let _ = writeln!(
         t,
         "what dominates each speed (first-order index from the draws):"

@@ -46,6 +46,13 @@ fn table(title: &str, s: &Study, u: UnitSystem) -> String {
             q.sd,
             if q.not_determined {
                 "  NOT DETERMINED by the data: not a confidence interval".to_string()
+            } else if s.nominal.get(name).is_some_and(|v| {
+                let tol = 1e-9 * (1.0 + v.abs());
+                *v < q.p05 - tol || *v > q.p95 + tol
+            }) {
+                "  the nominal value lies OUTSIDE its 90 % interval: the draws' answers are \
+                 skewed away from it"
+                    .to_string()
             } else if let Some(h) = q.reaches_bound {
                 format!(
                     "  ENDED BY the {} bound ({}; {:.0} % of the draws rest on it), not by the data",

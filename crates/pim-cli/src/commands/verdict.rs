@@ -13,7 +13,7 @@ pub fn reconstruction_status(
     strict: bool,
     warnings: usize,
 ) -> Result<std::process::ExitCode> {
-    let table = if d.consistency.is_some() {
+    let table = if d.consistency.as_ref().is_some_and(|c| !c.rows.is_empty()) {
         " (the evidence consistency table above shows which pieces disagree)"
     } else {
         ""
@@ -28,10 +28,27 @@ pub fn reconstruction_status(
     }
     let mut why = Vec::new();
     if let Some(b) = &d.best {
-        let which = format!("the reconstruction's impact ({} branch)", b.branch.name());
-        let n = bound_warnings(&case.file, &which, &b.active_constraints);
-        if n > 0 {
-            why.push(format!("the answer ends on {n} bound(s)"));
+        for r in &b.bounds_reached {
+            let default = r.source == pim_data::records::BoundSource::Default;
+            eprintln!(
+                "pim: warning: {}: the reconstruction's impact ({} branch) ends on a bound: {} at \
+                 [bounds] {} ({}); the bound, not the evidence, ends it there",
+                case.file,
+                b.branch.name(),
+                r.at,
+                r.bound,
+                if default {
+                    "a default: set it in [bounds] to choose it"
+                } else {
+                    "set in [bounds]"
+                }
+            );
+        }
+        if b.bounds_reached
+            .iter()
+            .any(|r| r.source == pim_data::records::BoundSource::Default)
+        {
+            why.push("the reconstruction rests on a default bound".into());
         }
         if let Some(p) = b.p_value.filter(|p| *p < pim_reconstruct::POOR_FIT_P) {
             eprintln!(

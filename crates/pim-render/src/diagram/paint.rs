@@ -47,8 +47,8 @@ impl Diagram {
         let c0 = self.centre;
         chart
             .configure_mesh()
-            .x_desc(page.horizontal_label(&len))
-            .y_desc(page.vertical_label(&len))
+            .x_desc(page.horizontal_label(len))
+            .y_desc(page.vertical_label(len))
             .light_line_style(RGBColor(240, 240, 240))
             .bold_line_style(RGBColor(225, 225, 225))
             .draw()
@@ -444,7 +444,7 @@ impl Diagram {
             )?;
         }
         line(
-            match (sae, self.centre == [0.0, 0.0]) {
+            match (sae, self.centre[0].abs() + self.centre[1].abs() < 1e-12) {
                 (true, true) => "SAE frame (x up, y right), C at the origin".into(),
                 (true, false) => "SAE frame (x up, y right)".into(),
                 (false, true) => "fixed frame, C at the origin".into(),

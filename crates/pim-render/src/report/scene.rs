@@ -197,9 +197,16 @@ fn answer(
             format_p(p)
         ));
     }
-    for a in &b.active_constraints {
+    for r in &b.bounds_reached {
         warnings.push(format!(
-            "The impact ends on a bound ({a}): the bound, not the evidence, ends it there."
+            "The impact ends on a bound ({} at [bounds] {}, {}): the bound, not the evidence, \
+             ends it there.",
+            r.at,
+            r.bound,
+            match r.source {
+                pim_data::records::BoundSource::Case => "set for this crash",
+                pim_data::records::BoundSource::Default => "a default, not set for this crash",
+            }
         ));
     }
     if let Some(st) = study {
@@ -401,7 +408,7 @@ fn histograms(st: &ReconstructionStudy, u: UnitSystem) -> Result<Figure, String>
                 counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
             }
             let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
-            let label = format!("{} [{spd}]", name.replace('.', " ").replace('_', " "));
+            let label = format!("{} [{spd}]", name.replace(['.', '_'], " "));
             let mut chart = ChartBuilder::on(area)
                 .caption(
                     format!("{label}: 90 % {:.1} .. {:.1}", q.p05 * k, q.p95 * k),
