@@ -101,10 +101,7 @@ pub(crate) fn reconstruct(
         let err = NoSolution::new_err(format!(
             "{}: no reconstruction: {}",
             case.file,
-            done.document
-                .reason
-                .as_deref()
-                .unwrap_or("none found")
+            done.document.reason.as_deref().unwrap_or("none found")
         ));
         err.value(py).setattr("document", document)?;
         return Err(err);
