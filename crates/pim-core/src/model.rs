@@ -72,6 +72,10 @@ pub enum SideBasis {
     Mobility,
     /// The case states it ([`Impact::with_side`]).
     Case,
+    /// Both CGs lie on one side of the crush plane, and the side is the one under which the
+    /// case's contact-velocity estimates approach at C (under the other they would separate):
+    /// [`Impact::with_side_from_velocities`].
+    Velocities,
 }
 
 impl Vehicle {
@@ -458,6 +462,35 @@ impl Impact {
         self.side = side.signum();
         self.side_basis = SideBasis::Case;
         self
+    }
+
+    /// Where the geometry leaves the side open ([`SideBasis::Mobility`]): the side under which
+    /// the contact velocities `v` approach at C, when exactly one of the two does; otherwise
+    /// the impact unchanged (both or neither approach: mobility decides).
+    pub fn with_side_from_velocities(self, v: &Velocities) -> Self {
+        if self.side_basis != SideBasis::Mobility {
+            return self;
+        }
+        let approaches = |side: f64| {
+            let mut i = self;
+            i.side = side;
+            i.check_approach(v).is_ok()
+        };
+        match (approaches(1.0), approaches(-1.0)) {
+            (true, false) | (false, true) => {
+                let mut i = self;
+                i.side = if approaches(1.0) { 1.0 } else { -1.0 };
+                i.side_basis = SideBasis::Velocities;
+                i
+            }
+            _ => self,
+        }
+    }
+
+    /// True when the side is fixed for every geometry of a fit (stated by the case, or read
+    /// from its contact-velocity estimates), not read anew from each geometry.
+    pub fn side_is_fixed(&self) -> bool {
+        matches!(self.side_basis, SideBasis::Case | SideBasis::Velocities)
     }
 
     /// Velocity of each vehicle's material point at C, m/s: `[(x, y) of vehicle 1, of vehicle 2]`.

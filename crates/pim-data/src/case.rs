@@ -460,7 +460,24 @@ impl Case {
             .map_err(|e| InputError::new(&self.file, e))?;
         Ok(match self.stated_side()? {
             Some(side) => impact.with_side(side),
-            None => impact,
+            // Both CGs on one side: the side under which the estimated contact velocities
+            // approach, when they say; mobility otherwise.
+            None => match self.estimated_contact() {
+                Some(v) => impact.with_side_from_velocities(&v),
+                None => impact,
+            },
+        })
+    }
+
+    /// The contact velocities the case estimates (`[estimates.initial]`, all six given), in
+    /// the natural frame and SI.
+    pub fn estimated_contact(&self) -> Option<pim_core::Velocities> {
+        let est = self.content.estimates?.initial?.components();
+        let v: Option<Vec<f64>> = est.iter().copied().collect();
+        v.map(|v| {
+            pim_core::Velocities::from_vector(&nalgebra::Vector6::new(
+                v[0], v[1], v[2], v[3], v[4], v[5],
+            ))
         })
     }
 

@@ -24,6 +24,22 @@ pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
+/// The line (and column 1) that nests deepest: the most dots in a key or table header, plus
+/// the brackets and braces opened on it (for a key nested beyond the parser's limit, which it
+/// reports without a place).
+fn deepest_line(text: &str) -> Option<(usize, usize)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let key = l.split('=').next().unwrap_or("");
+            let depth = key.matches('.').count() + l.matches(['[', '{']).count();
+            (depth, i)
+        })
+        .max_by_key(|&(d, i)| (d, std::cmp::Reverse(i)))
+        .filter(|&(d, _)| d > 0)
+        .map(|(_, i)| (i + 1, 1))
+}
+
 /// Parses TOML into `T`, with errors as `file:line:col: field: message` (the field as its
 /// dotted path, e.g. `vehicle1.mass`).
 pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T> {
@@ -61,15 +77,16 @@ pub fn parse_toml<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Res
                 );
             }
         }
+        let deep = msg.starts_with("tables or lists nested too deeply");
         let what = match field {
             Some(f) if !f.is_empty() && f != "." => format!("{f}: {msg}"),
             _ => msg,
         };
-        match e.span() {
-            Some(span) => {
-                let (line, col) = line_col(text, span.start);
-                InputError::located(file, format!("{file}:{line}:{col}: {what}"))
-            }
+        match e.span().map(|s| line_col(text, s.start)).or_else(|| {
+            // The parser gives no place for a key nested too deeply: the deepest line is it.
+            deep.then(|| deepest_line(text)).flatten()
+        }) {
+            Some((line, col)) => InputError::located(file, format!("{file}:{line}:{col}: {what}")),
             None => InputError::new(file, what),
         }
     };

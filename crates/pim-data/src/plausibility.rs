@@ -144,6 +144,18 @@ impl Case {
         }
         // The side of the crush surface: a choice, not a fact, when both CGs lie on one side.
         if let Ok(impact) = self.impact() {
+            if impact.side_basis() == pim_core::SideBasis::Velocities {
+                let side = if impact.side() >= 0.0 { "+n" } else { "-n" };
+                let other = if side == "+n" { "-n" } else { "+n" };
+                out.push(format!(
+                    "{}: both centres of gravity lie on one side of the crush surface: which \
+                     vehicle is on which side is read from the estimated contact velocities \
+                     ([estimates.initial]), which approach at the impact centre only with \
+                     vehicle 1 on the {side} side. If the vehicles met the other way, state it: \
+                     [impact] vehicle1_side = \"{other}\"",
+                    self.at("impact.crush_angle"),
+                ));
+            }
             if impact.side_basis() == pim_core::SideBasis::Mobility && !self.is_barrier() {
                 let [h1, h2] = impact.cg_heights();
                 let side = |x: f64| if x >= 0.0 { "+n" } else { "-n" };

@@ -163,6 +163,15 @@ impl Tally {
     }
 }
 
+/// `Ok` when `e` is stdout's reader having gone away (a closed pipe, `pim batch ... | head`),
+/// which is not an error of ours; the error otherwise.
+fn closed_or(e: csv::Error) -> Result<()> {
+    match e.kind() {
+        csv::ErrorKind::Io(io) if io.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        _ => Err(Failure::Output(format!("cannot write to stdout: {e}")).into()),
+    }
+}
+
 fn out_err(path: &Path, e: std::io::Error) -> Failure {
     Failure::Output(format!(
         "{}: cannot write: {}",
@@ -231,7 +240,10 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
     let mut stdout_csv =
         (a.format == BatchFormat::Csv).then(|| csv::Writer::from_writer(stdout.lock()));
     if let Some(w) = &mut stdout_csv {
-        w.write_record(CaseRecord::CSV_HEADER)?;
+        if let Err(e) = w.write_record(CaseRecord::CSV_HEADER) {
+            closed_or(e)?;
+            stdout_csv = None;
+        }
     }
     let show = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let bar = if show {
@@ -317,7 +329,11 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                 match a.format {
                     BatchFormat::Csv => {
                         if let Some(w) = &mut stdout_csv {
-                            w.write_record(&row)?;
+                            if let Err(e) = w.write_record(&row) {
+                                // A reader that stopped (`| head`) ends our stdout quietly.
+                                closed_or(e)?;
+                                stdout_csv = None;
+                            }
                         }
                     }
                     BatchFormat::Json => {
@@ -330,7 +346,10 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
             }
         }
         if let Some(w) = &mut stdout_csv {
-            w.flush()?;
+            if let Err(e) = w.flush() {
+                closed_or(csv::Error::from(e))?;
+                stdout_csv = None;
+            }
         }
     }
     bar.finish_and_clear();

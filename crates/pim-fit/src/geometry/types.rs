@@ -303,7 +303,7 @@ pub fn impact_at(
     c: pim_core::Collision,
 ) -> pim_core::Result<pim_core::Impact> {
     let impact = pim_core::Impact::new(c)?;
-    Ok(if base.side_basis() == pim_core::SideBasis::Case {
+    Ok(if base.side_is_fixed() {
         impact.with_side(base.side())
     } else {
         impact

@@ -318,9 +318,7 @@ impl Diagram {
 
 /// The estimated contact velocities of a fit case, when all six are given.
 pub fn estimated_contact(case: &pim_data::case::Case) -> Option<Velocities> {
-    let est = case.content.estimates?.initial?.components();
-    let v: Option<Vec<f64>> = est.iter().copied().collect();
-    v.map(|v| Velocities::from_vector(&nalgebra::Vector6::new(v[0], v[1], v[2], v[3], v[4], v[5])))
+    case.estimated_contact()
 }
 
 /// The diagram of a case, solved or not, labelled in the case's own units and frame.

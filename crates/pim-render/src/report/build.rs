@@ -55,6 +55,11 @@ fn side_sentence(side: &pim_data::records::SideOut, u: UnitSystem) -> String {
              can state with [impact] vehicle1_side"
         ),
         pim_core::SideBasis::Case => "as the case states ([impact] vehicle1_side)".to_string(),
+        pim_core::SideBasis::Velocities => format!(
+            "both centres of gravity lie on one side of the crush plane ({h1:.3} {len} and \
+             {h2:.3} {len} above it), and the side is the one under which the case's estimated \
+             contact velocities approach; the case can state it with [impact] vehicle1_side"
+        ),
     };
     format!(
         "Vehicle 1 lies on the {} side of the crush surface (n at the crush angle): {basis}.",

@@ -94,9 +94,10 @@ fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Option<&'static 
     if !settings.mu_max_condition {
         return Some("the mu <= mu_max condition is off");
     }
-    if problem.impact.side_basis() == pim_core::SideBasis::Case {
+    if problem.impact.side_is_fixed() {
         return Some(
-            "the case states the side of the crush surface (the bound reads it from the geometry)",
+            "the case states the side of the crush surface, or its estimates fix it (the bound \
+             reads it from the geometry)",
         );
     }
     None
