@@ -70,8 +70,11 @@ full turns to rest is compared. Before the impact, per vehicle:
 The output: per vehicle the speed before braking (v0^2 = vc^2 + 2 a d), at contact, at
 separation and at rest; e, mu, em; every piece of evidence (residual, sigma, share of the
 chi-square); every combination of counts of turns with its cost or why it was not refined;
-what is proven and what the evidence leaves open. Evidence no admissible impact reaches
-(chi-square beyond p = 1e-6) is refused with its largest residuals (exit 3). --out writes
+what is proven and what the evidence leaves open. Evidence that none of the searched impacts
+and run-outs reaches (chi-square beyond p = 1e-6, with zero degrees of freedom judged as one)
+is refused with its largest residuals and the evidence consistency table (exit 3); a fit with
+p below 0.05 is warned and shows the table too. The refinements end on a budget of work, so
+the answer is the same on every machine. --out writes
 result.json, the table, report.html and the scene to scale (scene.svg).
 Example: examples/cases/reconstruction_us.toml
 

@@ -16,7 +16,7 @@
 //! Each row is a whole reconstruction (every count of turns searched), so the table costs about
 //! as many reconstructions as there are groups; the rows run in parallel on the current rayon
 //! pool. When no single group explains the conflict, pairs are left out too (up to
-//! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_RUNOUTS`] run-outs.
+//! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_WORK`].
 
 use crate::case::Case;
 use crate::documents::DocumentError;
@@ -27,11 +27,12 @@ use pim_fit::MomentBranch;
 use pim_reconstruct::{Status, INCONSISTENT_P, POOR_FIT_P};
 use rayon::prelude::*;
 
-/// The table's budget of work, in run-outs (each row is a whole reconstruction, costing about
-/// as many run-outs as the reconstruction with all the evidence: the example's 3,300). Beyond
-/// it the table is not computed and says so; the count, not the time, decides, so the answer is
-/// the same on every machine.
-pub const TABLE_RUNOUTS: usize = 40_000;
+/// The table's budget of work: run-out right-hand side evaluations and their equivalents for
+/// the impact fits, as a reconstruction counts its refinements (`work` of its document; each
+/// row costs about as much as the reconstruction with all the evidence: the example's 2.3
+/// million). Beyond it the table is not computed and says so; the count, not the time,
+/// decides, so the answer is the same on every machine.
+pub const TABLE_WORK: u64 = 60_000_000;
 
 /// Pairs of groups are left out only when there are at most this many groups (and no single
 /// group explains the conflict): 28 pairs for 8 groups.
@@ -210,7 +211,9 @@ pub fn wanted(d: &ReconstructionOut) -> bool {
             .is_some_and(|b| b.p_value.is_some_and(|p| p < POOR_FIT_P))
 }
 
-/// The consistency table of `case`, whose reconstruction with all its evidence is `all`.
+/// The consistency table of `case`, whose reconstruction with all its evidence is `all`
+/// (`ended`: its refinements were ended by the safety time limit, so the table is not
+/// computed).
 ///
 /// # Errors
 /// None of its own: a row whose reconstruction fails on its input says so in the row.
@@ -220,6 +223,7 @@ pub fn table(
     model: pim_fit::FitModel,
     moment_form: pim_core::MomentForm,
     branches: &[MomentBranch],
+    ended: bool,
 ) -> Consistency {
     let run = |without: &[Piece]| {
         let mut c = case.clone();
@@ -237,18 +241,28 @@ pub fn table(
     };
     let all_row = row(Vec::new(), Ok(all.clone()));
     let groups = pieces(case);
-    // The work of a row is about that of the whole reconstruction: a budget of run-outs, so
-    // that the table's cost is bounded the same on every machine.
-    let per_row = all.runouts.max(1);
-    if groups.len() * per_row > TABLE_RUNOUTS {
-        let summary = format!(
-            "Not computed: leaving out each of its {} pieces would take about {} run-outs \
-             ({} per reconstruction), beyond the table's budget of {TABLE_RUNOUTS}. Leave out \
-             the pieces with the largest residuals by hand, one at a time.",
-            groups.len(),
-            groups.len() * per_row,
-            per_row
-        );
+    // The work of a row is about that of the whole reconstruction: a budget of work, so that
+    // the table's cost is bounded the same on every machine. A reconstruction that its own
+    // budget ended is not repeated.
+    let per_row = all.work.max(1);
+    let ended = ended || all.work > pim_reconstruct::REFINE_WORK;
+    if ended || groups.len() as u64 * per_row > TABLE_WORK {
+        let summary = if ended {
+            "Not computed: the reconstruction itself ended on its budget of work or its safety \
+             time limit (its impact fits or run-outs are very slow), so leaving out each piece \
+             would repeat that. \
+             Leave out the pieces with the largest residuals by hand, one at a time."
+                .to_string()
+        } else {
+            format!(
+                "Not computed: leaving out each of its {} pieces would take about {} units of \
+                 work ({per_row} per reconstruction), beyond the table's budget of \
+                 {TABLE_WORK}. Leave out the pieces with the largest residuals by hand, one at \
+                 a time.",
+                groups.len(),
+                groups.len() as u64 * per_row
+            )
+        };
         return Consistency {
             all: all_row,
             rows: Vec::new(),
@@ -261,7 +275,7 @@ pub fn table(
     let pairs_count = groups.len() * groups.len().saturating_sub(1) / 2;
     if !rows.iter().any(|r| r.consistent)
         && groups.len() <= MAX_PAIR_GROUPS
-        && (groups.len() + pairs_count) * per_row <= TABLE_RUNOUTS
+        && (groups.len() + pairs_count) as u64 * per_row <= TABLE_WORK
     {
         let pairs: Vec<Vec<Piece>> = (0..groups.len())
             .flat_map(|i| (i + 1..groups.len()).map(move |j| (i, j)))
@@ -419,7 +433,14 @@ pub fn answer(
 ) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
     let mut done = reconstruct(case, model, moment_form, branches.clone())?;
     if wanted(&done.document) {
-        let t = table(case, &done.document, model, moment_form, &branches);
+        let t = table(
+            case,
+            &done.document,
+            model,
+            moment_form,
+            &branches,
+            done.outcome.timed_out,
+        );
         done.document.consistency = Some(t);
     }
     Ok(done)

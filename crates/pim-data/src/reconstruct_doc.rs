@@ -128,6 +128,10 @@ pub struct ReconstructionOut {
     pub runouts: usize,
     /// Impact fits solved.
     pub fits: usize,
+    /// The refinements' work: run-out right-hand side evaluations and the impact fits'
+    /// equivalents, counted against their budget (`pim_reconstruct::REFINE_WORK`), so that the
+    /// answer is the same on every machine.
+    pub work: u64,
     /// How the answer was found.
     pub method: String,
     /// What is proven.

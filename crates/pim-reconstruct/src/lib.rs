@@ -71,5 +71,8 @@ pub use outcome::{
     Contradiction, EvidenceTerm, Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts,
     INCONSISTENT_P, POOR_FIT_P,
 };
-pub use problem::{ContactResidual, ContactTerm, Reconstruction, SceneVehicle, Settings, Skid};
+pub use problem::{
+    ContactResidual, ContactTerm, Reconstruction, SceneVehicle, Settings, Skid, REFINE_TIME_LIMIT,
+    REFINE_WORK,
+};
 pub use search::{reconstruct, redo};

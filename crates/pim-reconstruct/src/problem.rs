@@ -253,8 +253,16 @@ pub struct ContactResidual {
     pub weight: f64,
 }
 
-/// The default [`Settings::refine_time_limit`], 8 s: the refinements of the example
-/// `reconstruction_us.toml` take 0.1 s, of 100 random simulated crashes at most 2 s.
+/// The default [`Settings::refine_work`]: run-out right-hand side evaluations (and their
+/// equivalents for the impact fits) the refinements may spend. The refinements of the example
+/// `reconstruction_us.toml` spend 2.3 million of its 30 million (the slowest scenes of the tests reach
+/// it in about 9 s on a 2-core EPYC); a budget, not a time, so that the
+/// answer is the same on a slow and a fast machine.
+pub const REFINE_WORK: u64 = 30_000_000;
+
+/// The default [`Settings::refine_time_limit`], 8 s: a safety for evidence whose impact fits
+/// are very slow per operation; the examples and the simulated crashes of the tests end on
+/// their convergence or their budget of work first.
 pub const REFINE_TIME_LIMIT: std::time::Duration = std::time::Duration::from_secs(8);
 
 /// How a reconstruction searches.
@@ -273,17 +281,21 @@ pub struct Settings {
     pub refine_margin: f64,
     /// At most this many combinations of counts are refined (the lowest first).
     pub max_refined: usize,
-    /// Wall time after which the refinements stop (the one in progress after its current
-    /// step, with at least one point) and the combinations not yet refined are left, each
-    /// with that reason: a bound of the time spent on evidence whose impact fits or run-outs
-    /// are very slow (a reconstruction that reaches it depends on the machine's speed, and
-    /// says so).
+    /// The work after which the refinements stop (the one in progress after its current step,
+    /// with at least one point) and the combinations not yet refined are left, each with that
+    /// reason: run-out right-hand side evaluations, an impact fit counted by its quadratic
+    /// programs and grid points. Counted, not timed: the same answer on every machine, and a
+    /// bound of the time spent on evidence whose impact fits or run-outs are very slow.
+    pub refine_work: u64,
+    /// A safety behind the budget of work: the wall time after which the refinements stop
+    /// anyway ([`REFINE_TIME_LIMIT`]). Only evidence whose impact fits are very slow per
+    /// operation reaches it first, and the answer then says it may differ on another machine.
     pub refine_time_limit: std::time::Duration,
 }
 
 impl Settings {
     /// Default search settings around the given fit settings: turns -3 to 3, 40 iterations, a
-    /// margin of 25 (a 5-sigma misfit), at most 6 refined combinations, [`REFINE_TIME_LIMIT`]. The impact fits inside
+    /// margin of 25 (a 5-sigma misfit), at most 6 refined combinations, [`REFINE_WORK`]. The impact fits inside
     /// the search skip the identifiability scans ([`pim_fit::FitSettings::ranges`]): the
     /// search needs each fit's optimum, not its ranges.
     pub fn new(fit: ValidSettings) -> Self {
@@ -298,6 +310,7 @@ impl Settings {
             max_iterations: 40,
             refine_margin: 25.0,
             max_refined: 6,
+            refine_work: REFINE_WORK,
             refine_time_limit: REFINE_TIME_LIMIT,
         }
     }

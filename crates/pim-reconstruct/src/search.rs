@@ -129,7 +129,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
-    let deadline = std::time::Instant::now() + settings.refine_time_limit;
+    let work = crate::refine::Work::new(settings.refine_work, settings.refine_time_limit);
     for &i in &order {
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = *first[i].1.as_ref().expect("filtered");
@@ -153,11 +153,20 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             ));
             continue;
         }
-        if std::time::Instant::now() > deadline {
-            skipped_reason[i] = Some(format!(
-                "not refined: the refinements before it reached their time limit ({} s)",
-                settings.refine_time_limit.as_secs_f64()
-            ));
+        if work.exhausted() {
+            skipped_reason[i] = Some(if work.timed_out() {
+                format!(
+                    "not refined: the refinements before it reached the safety time limit ({} \
+                     s) before their budget of work: this answer may differ on another machine",
+                    settings.refine_time_limit.as_secs_f64()
+                )
+            } else {
+                format!(
+                    "not refined: the refinements before it spent their budget of work ({} \
+                     run-out evaluations or their equivalent; Settings::refine_work)",
+                    settings.refine_work
+                )
+            });
             continue;
         }
         if count >= settings.max_refined {
@@ -174,7 +183,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match refine(r, settings, start, lowest_best, deadline) {
+        match refine(r, settings, start, lowest_best, &work) {
             Ok(x) => {
                 fits += x.fits;
                 runouts +=
@@ -234,8 +243,9 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         return Ok(Outcome {
             status: Status::NoSolution,
             reason: Some(format!(
-                "no admissible impact reaches the scene's run-outs for any count of turns \
-                 ({} combinations tried); the first reason: {reason}",
+                "none found: no impact fit from the scenes' own separation states was \
+                 admissible for any of the {} combinations of counts of turns tried (a local \
+                 search, not a proof that none exists); the first reason: {reason}",
                 tried.len()
             )),
             contradiction: None,
@@ -244,6 +254,8 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             estimates,
             runouts,
             fits,
+            work: work.spent(),
+            timed_out: work.timed_out(),
         });
     };
     let found = Found::new(r, point, iterations, converged);
@@ -264,6 +276,8 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         estimates,
         runouts,
         fits,
+        work: work.spent(),
+        timed_out: work.timed_out(),
     })
 }
 
@@ -285,7 +299,7 @@ pub fn redo(
         return Ok(None);
     };
     let mut found: Option<Refined> = None;
-    let deadline = std::time::Instant::now() + settings.refine_time_limit;
+    let work = crate::refine::Work::new(settings.refine_work, settings.refine_time_limit);
     for t in &nominal.tried {
         let (Tried::Refined { cost, .. }, Some(end)) = (&t.state, &t.end) else {
             continue;
@@ -300,7 +314,7 @@ pub fn redo(
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        if let Ok(x) = refine(r, settings, start, lowest, deadline) {
+        if let Ok(x) = refine(r, settings, start, lowest, &work) {
             if x.point.total < lowest {
                 found = Some(x);
             }

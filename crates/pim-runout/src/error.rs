@@ -19,6 +19,9 @@ pub enum RunoutError {
         time: f64,
         /// The integrator's reason.
         reason: String,
+        /// Right-hand side evaluations spent before it gave up (at least six per accepted step):
+        /// the work of a failed run-out, for a caller that budgets work.
+        evaluations: u64,
     },
 }
 

@@ -308,7 +308,11 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
                     IntegrationError::StepSizeUnderflow { x } => (x, "step size underflow".into()),
                     IntegrationError::StiffnessDetected { x } => (x, "the motion is stiff".into()),
                 };
-                return Err(RunoutError::Integration { time, reason });
+                return Err(RunoutError::Integration {
+                    time,
+                    reason,
+                    evaluations: 6 * log.len() as u64,
+                });
             }
         }
     }

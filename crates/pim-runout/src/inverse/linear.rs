@@ -27,6 +27,8 @@ pub struct Linearised {
     pub runout: Runout,
     /// Run-outs simulated.
     pub runouts: usize,
+    /// Right-hand side evaluations of those run-outs: the work of the linearisation.
+    pub evaluations: u64,
 }
 
 /// The residuals of `evidence` against the run-out from `separation` (its position, heading and
@@ -57,6 +59,7 @@ pub fn linearise(
         heading: nearest.map(|h| h + TAU * turns as f64),
         settings,
         estimate_friction: false,
+        work: Default::default(),
     };
     let theta = [separation.vx, separation.vy, separation.yaw_rate];
     let mut runouts = 1;
@@ -76,5 +79,6 @@ pub fn linearise(
         jacobian: jac,
         runout,
         runouts,
+        evaluations: p.work.load(std::sync::atomic::Ordering::Relaxed),
     })
 }

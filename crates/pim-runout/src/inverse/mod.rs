@@ -115,6 +115,7 @@ pub fn estimate(
                 heading: nearest.map(|h| h + TAU * k.unwrap_or(0) as f64),
                 settings: &settings.runout,
                 estimate_friction,
+                work: Default::default(),
             };
             solve(&problem, k, settings.max_iterations, &[])
         })
@@ -161,6 +162,7 @@ pub fn estimate(
                     heading: nearest.map(|h| h + TAU * c.turns.unwrap_or(0) as f64),
                     settings: &settings.runout,
                     estimate_friction,
+                    work: Default::default(),
                 };
                 solve(&problem, c.turns, settings.max_iterations, &starts).map(Some)
             })

@@ -17,6 +17,8 @@ pub(crate) struct Problem<'a> {
     pub(crate) heading: Option<f64>,
     pub(crate) settings: &'a Settings,
     pub(crate) estimate_friction: bool,
+    /// Right-hand side evaluations of every run-out of this problem so far (failed ones too).
+    pub(crate) work: std::sync::atomic::AtomicU64,
 }
 
 impl Problem<'_> {
@@ -53,7 +55,15 @@ impl Problem<'_> {
             yaw_rate: theta[2],
             ..self.start
         };
-        run(&Dynamics::new(&chassis), &start, self.settings)
+        let r = run(&Dynamics::new(&chassis), &start, self.settings);
+        let spent = match &r {
+            Ok(x) => u64::from(x.evaluations),
+            Err(RunoutError::Integration { evaluations, .. }) => *evaluations,
+            Err(_) => 1,
+        };
+        self.work
+            .fetch_add(spent, std::sync::atomic::Ordering::Relaxed);
+        r
     }
 
     /// The residuals (fitted minus given, and their sigmas) of a run-out.
@@ -110,6 +120,7 @@ pub fn residuals_of(chassis: &Chassis, evidence: &Evidence, runout: &Runout) -> 
         heading,
         settings: &settings,
         estimate_friction: false,
+        work: Default::default(),
     };
     p.residuals(&[], runout)
 }

@@ -212,8 +212,13 @@ pub(crate) fn solve(
         ..*p.settings
     };
     let coarse = Problem {
+        chassis: p.chassis,
+        start: p.start,
+        evidence: p.evidence,
+        heading: p.heading,
         settings: &coarse_settings,
-        ..*p
+        estimate_friction: p.estimate_friction,
+        work: Default::default(),
     };
     let rest_only = Evidence {
         marks: Vec::new(),
@@ -261,8 +266,13 @@ pub(crate) fn solve(
     if !second_pass && !good(&explored) && !p.evidence.marks.is_empty() && p.evidence.rest.is_some()
     {
         let q = Problem {
+            chassis: coarse.chassis,
+            start: coarse.start,
             evidence: &rest_only,
-            ..coarse
+            heading: coarse.heading,
+            settings: coarse.settings,
+            estimate_friction: coarse.estimate_friction,
+            work: Default::default(),
         };
         let first = levenberg(&q, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
         let s = levenberg(&coarse, first.theta, EXPLORE_ITERATIONS, &mut runouts)?;
