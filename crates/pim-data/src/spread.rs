@@ -109,7 +109,8 @@ pub struct VehicleSpread {
     /// The impact point's x and y (length unit), instead of `d` / `phi`: normal standard
     /// deviations. The point is in the vehicle's body axes (x forward, y to the left; SAE: to
     /// the right), also when the case places the vehicle by `position` and `[impact] centre`:
-    /// drawing it moves the impact centre on the vehicle, and the CG with the vehicle.
+    /// a draw moves the impact centre on the vehicle, so the CG moves against the impact centre,
+    /// which stays where the case puts it.
     pub impact_point: Option<PointSection>,
     /// The pre-impact skid length (length unit, of `[pre_impact.vehicleN] skid`).
     pub skid: Option<Spread>,
