@@ -155,6 +155,7 @@ pub mod prediction;
 pub mod reduction;
 mod report;
 mod sensitivity;
+mod side;
 mod solve;
 pub mod tangential;
 

@@ -52,9 +52,9 @@ pub struct Impact {
     /// Unit tangent of the crush surface, `(-sin Gamma, cos Gamma)`.
     t: [f64; 2],
     /// +1 when vehicle 1's CG lies on the +n side of vehicle 2's CG, -1 on the -n side, 0 if undecided.
-    side: f64,
+    pub(crate) side: f64,
     /// What the side rests on.
-    side_basis: SideBasis,
+    pub(crate) side_basis: SideBasis,
     /// Heights of the two CGs above the crush plane through C, along n, m.
     heights: [f64; 2],
     /// Unit forward (nose) axes of vehicle 1 and 2 in the fixed frame.
@@ -455,42 +455,6 @@ impl Impact {
     /// (0 for a barrier).
     pub fn cg_heights(&self) -> [f64; 2] {
         self.heights
-    }
-
-    /// The impact with vehicle 1 stated on the `+n` (`side` = +1) or `-n` (-1) side.
-    pub fn with_side(mut self, side: f64) -> Self {
-        self.side = side.signum();
-        self.side_basis = SideBasis::Case;
-        self
-    }
-
-    /// Where the geometry leaves the side open ([`SideBasis::Mobility`]): the side under which
-    /// the contact velocities `v` approach at C, when exactly one of the two does; otherwise
-    /// the impact unchanged (both or neither approach: mobility decides).
-    pub fn with_side_from_velocities(self, v: &Velocities) -> Self {
-        if self.side_basis != SideBasis::Mobility {
-            return self;
-        }
-        let approaches = |side: f64| {
-            let mut i = self;
-            i.side = side;
-            i.check_approach(v).is_ok()
-        };
-        match (approaches(1.0), approaches(-1.0)) {
-            (true, false) | (false, true) => {
-                let mut i = self;
-                i.side = if approaches(1.0) { 1.0 } else { -1.0 };
-                i.side_basis = SideBasis::Velocities;
-                i
-            }
-            _ => self,
-        }
-    }
-
-    /// True when the side is fixed for every geometry of a fit (stated by the case, or read
-    /// from its contact-velocity estimates), not read anew from each geometry.
-    pub fn side_is_fixed(&self) -> bool {
-        matches!(self.side_basis, SideBasis::Case | SideBasis::Velocities)
     }
 
     /// Velocity of each vehicle's material point at C, m/s: `[(x, y) of vehicle 1, of vehicle 2]`.

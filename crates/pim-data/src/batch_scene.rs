@@ -6,14 +6,15 @@
 //! coefficients read the same as for an impact case) and a `reconstruction` summary: the
 //! status, the chi-square and each vehicle's speeds of every phase and its count of turns.
 
-use crate::batch::{BatchPlan, CaseRecord, Outcome};
+use crate::batch::{BatchPlan, Outcome};
 use crate::case::Case;
+use crate::case_records::CaseRecord;
 pub use crate::reconstruct_doc::{SceneRecord, SceneVehicleRecord};
 use crate::records::BranchRecord;
 
 /// The records of one case file of a batch (already read; `text` is its content) under one
 /// cost function: a case with scene evidence under its own cost is answered with its
-/// reconstruction ([`record`]), every other case with the fit of [`crate::batch::fit_case_text`].
+/// reconstruction ([`record`]), every other case with the fit of [`crate::case_records::fit_case_text`].
 pub fn case_records(
     file: &str,
     text: &str,
@@ -28,7 +29,7 @@ pub fn case_records(
             }
         }
     }
-    crate::batch::fit_case_text(file, text, cost, plan)
+    crate::case_records::fit_case_text(file, text, cost, plan)
 }
 
 /// Adds the bootstrap intervals to a record of [`case_records`]: the reconstruction's study for
@@ -99,24 +100,12 @@ pub fn record(file: &str, case: &Case, plan: &BatchPlan) -> Vec<CaseRecord> {
 }
 
 fn empty(file: &str, plan: &BatchPlan) -> CaseRecord {
-    CaseRecord {
-        file: file.to_string(),
-        cost_function: crate::fitcase::CostChoice::Custom,
-        outcome: Outcome::Failed,
-        moment_branch: plan
-            .branches
-            .first()
-            .copied()
-            .unwrap_or(pim_fit::MomentBranch::Free),
-        best: false,
-        error: None,
-        branch: None,
-        intervals: None,
-        intervals_error: None,
-        notes: Vec::new(),
-        damage: None,
-        reconstruction: None,
-    }
+    let branch = plan
+        .branches
+        .first()
+        .copied()
+        .unwrap_or(pim_fit::MomentBranch::Free);
+    CaseRecord::failed(file, crate::fitcase::CostChoice::Custom, branch, None)
 }
 
 /// The intervals of a scene case's record (`pim batch --draws`): the reconstruction's study,

@@ -469,18 +469,6 @@ impl Case {
         })
     }
 
-    /// The contact velocities the case estimates (`[estimates.initial]`, all six given), in
-    /// the natural frame and SI.
-    pub fn estimated_contact(&self) -> Option<pim_core::Velocities> {
-        let est = self.content.estimates?.initial?.components();
-        let v: Option<Vec<f64>> = est.iter().copied().collect();
-        v.map(|v| {
-            pim_core::Velocities::from_vector(&nalgebra::Vector6::new(
-                v[0], v[1], v[2], v[3], v[4], v[5],
-            ))
-        })
-    }
-
     /// The side of the crush surface the case states for vehicle 1 (`[impact] vehicle1_side`):
     /// +1 for `"+n"`, -1 for `"-n"`.
     pub fn stated_side(&self) -> Result<Option<f64>> {

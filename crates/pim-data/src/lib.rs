@@ -22,6 +22,7 @@
 pub mod batch;
 pub mod batch_scene;
 pub mod case;
+pub mod case_records;
 mod checks;
 pub mod consistency;
 pub mod damage;

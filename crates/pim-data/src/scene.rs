@@ -62,6 +62,18 @@ impl Case {
         self.content.runout.is_some() || self.content.scene.is_some()
     }
 
+    /// The contact velocities the case estimates (`[estimates.initial]`, all six given), in
+    /// the natural frame and SI.
+    pub fn estimated_contact(&self) -> Option<pim_core::Velocities> {
+        let est = self.content.estimates?.initial?.components();
+        let v: Option<Vec<f64>> = est.iter().copied().collect();
+        v.map(|v| {
+            pim_core::Velocities::from_vector(&nalgebra::Vector6::new(
+                v[0], v[1], v[2], v[3], v[4], v[5],
+            ))
+        })
+    }
+
     /// Where the impact centre lies in the case's fixed frame: natural axes, m (the case's
     /// `[impact] centre`, or the origin).
     pub fn impact_centre(&self) -> [f64; 2] {

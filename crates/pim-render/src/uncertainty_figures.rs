@@ -36,72 +36,27 @@ pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, String> {
         );
     }
     let mut figures = Vec::new();
-    let figure =
-        svg_figure("histograms.svg", (1000, 700), |root| {
-            for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
-                let q = index(name);
-                let v: Vec<f64> = s.samples.iter().map(|d| d[q]).collect();
-                let sum = &s.quantities[name];
-                let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
-                let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                let (lo, hi) = if hi > lo {
-                    (lo, hi)
-                } else {
-                    (lo - 0.5, hi + 0.5)
-                };
-                let bins = 25usize;
-                let w = (hi - lo) / bins as f64;
-                let mut counts = vec![0usize; bins];
-                for x in &v {
-                    counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
-                }
-                let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
-                let label = format!("{label} [{speed}]");
-                let ended = sum
-                    .reaches_bound
-                    .map(|h| format!(" (ended by the {} bound)", h.bound))
-                    .unwrap_or_default();
-                let mut chart = ChartBuilder::on(area)
-                    .caption(
-                        format!("{label}: 90 % {:.2} .. {:.2}{ended}", sum.p05, sum.p95),
-                        ("sans-serif", 15),
-                    )
-                    .margin(10)
-                    .x_label_area_size(35)
-                    .y_label_area_size(45)
-                    .build_cartesian_2d(lo..hi, 0.0..top)
-                    .map_err(err)?;
-                chart
-                    .configure_mesh()
-                    .x_desc(&label)
-                    .y_desc("draws")
-                    .draw()
-                    .map_err(err)?;
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(sum.p05, 0.0), (sum.p95, top)],
-                        BAND.mix(0.15).filled(),
-                    )))
-                    .map_err(err)?;
-                chart
-                    .draw_series(counts.iter().enumerate().filter(|(_, c)| **c > 0).map(
-                        |(i, c)| {
-                            let x0 = lo + i as f64 * w;
-                            Rectangle::new([(x0, 0.0), (x0 + 0.92 * w, *c as f64)], BAR.filled())
-                        },
-                    ))
-                    .map_err(err)?;
-                if let Some(n) = s.nominal.get(name) {
-                    chart
-                        .draw_series(LineSeries::new(
-                            [(*n, 0.0), (*n, top)],
-                            BLACK.stroke_width(2),
-                        ))
-                        .map_err(err)?;
-                }
-            }
-            Ok(())
-        })?;
+    let figure = svg_figure("histograms.svg", (1000, 700), |root| {
+        for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
+            let q = index(name);
+            let v: Vec<f64> = s.samples.iter().map(|d| d[q]).collect();
+            let sum = &s.quantities[name];
+            let ended = sum
+                .reaches_bound
+                .map(|h| format!(" (ended by the {} bound)", h.bound))
+                .unwrap_or_default();
+            let label = format!("{label} [{speed}]");
+            histogram(
+                area,
+                &v,
+                [sum.p05, sum.p95],
+                s.nominal.get(name).copied(),
+                &label,
+                format!("{label}: 90 % {:.2} .. {:.2}{ended}", sum.p05, sum.p95),
+            )?;
+        }
+        Ok(())
+    })?;
     figures.push(figure);
 
     let figure = svg_figure("speeds.svg", (620, 560), |root| {
@@ -218,4 +173,70 @@ pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, String> {
     })?;
     figures.push(figure);
     Ok(figures)
+}
+
+/// One histogram panel of a study's draws: 25 bars of `v`, its 90 % interval `band` shaded and
+/// the nominal answer as a black line; `label` names the axis, `caption` heads the panel.
+pub(crate) fn histogram(
+    area: &plotters::drawing::DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    v: &[f64],
+    band: [f64; 2],
+    nominal: Option<f64>,
+    label: &str,
+    caption: String,
+) -> Result<(), String> {
+    let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Ok(());
+    }
+    let (lo, hi) = if hi > lo {
+        (lo, hi)
+    } else {
+        (lo - 0.5, hi + 0.5)
+    };
+    let bins = 25usize;
+    let w = (hi - lo) / bins as f64;
+    let mut counts = vec![0usize; bins];
+    for x in v {
+        counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
+    }
+    let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 15))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(45)
+        .build_cartesian_2d(lo..hi, 0.0..top)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(label)
+        .y_desc("draws")
+        .draw()
+        .map_err(err)?;
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(band[0], 0.0), (band[1], top)],
+            BAND.mix(0.15).filled(),
+        )))
+        .map_err(err)?;
+    chart
+        .draw_series(
+            counts
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| **c > 0)
+                .map(|(i, c)| {
+                    let x0 = lo + i as f64 * w;
+                    Rectangle::new([(x0, 0.0), (x0 + 0.92 * w, *c as f64)], BAR.filled())
+                }),
+        )
+        .map_err(err)?;
+    if let Some(n) = nominal {
+        chart
+            .draw_series(LineSeries::new([(n, 0.0), (n, top)], BLACK.stroke_width(2)))
+            .map_err(err)?;
+    }
+    Ok(())
 }

@@ -5,9 +5,10 @@ use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::{io_reason, read_text_file};
 use anyhow::Result;
-use pim_data::batch::{CaseRecord, Outcome};
+use pim_data::batch::Outcome;
 use pim_data::batch_scene::{add_intervals, case_records};
 use pim_data::case::MAX_CASE_BYTES;
+use pim_data::case_records::CaseRecord;
 use pim_data::fitcase::CostChoice;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -280,20 +281,7 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                         Err(e) => choices
                             .iter()
                             .flat_map(|&c| plan.branches.iter().map(move |&m| (c, m)))
-                            .map(|(c, m)| CaseRecord {
-                                file: name.clone(),
-                                cost_function: c,
-                                outcome: Outcome::Failed,
-                                moment_branch: m,
-                                best: false,
-                                error: Some(e.clone()),
-                                branch: None,
-                                intervals: None,
-                                intervals_error: None,
-                                notes: Vec::new(),
-                                damage: None,
-                                reconstruction: None,
-                            })
+                            .map(|(c, m)| CaseRecord::failed(&name, c, m, Some(e.clone())))
                             .collect(),
                     };
                     bar.inc(1);

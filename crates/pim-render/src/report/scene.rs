@@ -18,7 +18,6 @@ use pim_data::case::Case;
 use pim_data::reconstruct::{Reconstructed, ReconstructionOut};
 use pim_data::reconstruct_study::ReconstructionStudy;
 use pim_data::units::UnitSystem;
-use plotters::prelude::*;
 
 /// How to read the report of a reconstruction, the same for every crash.
 const HOW_TO_READ: [&str; 6] = [
@@ -391,69 +390,15 @@ fn histograms(st: &ReconstructionStudy, u: UnitSystem) -> Result<Figure, String>
                 .get(*name)
                 .map_or_else(Vec::new, |v| v.iter().map(|x| x * k).collect());
             let q = &st.quantities[*name];
-            let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            if !(lo.is_finite() && hi.is_finite()) {
-                continue;
-            }
-            let (lo, hi) = if hi > lo {
-                (lo, hi)
-            } else {
-                (lo - 0.5, hi + 0.5)
-            };
-            let bins = 25usize;
-            let w = (hi - lo) / bins as f64;
-            let mut counts = vec![0usize; bins];
-            for x in &v {
-                counts[(((x - lo) / w) as usize).min(bins - 1)] += 1;
-            }
-            let top = counts.iter().copied().max().unwrap_or(1) as f64 * 1.1;
             let label = format!("{} [{spd}]", name.replace(['.', '_'], " "));
-            let mut chart = ChartBuilder::on(area)
-                .caption(
-                    format!("{label}: 90 % {:.1} .. {:.1}", q.p05 * k, q.p95 * k),
-                    ("sans-serif", 14),
-                )
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(45)
-                .build_cartesian_2d(lo..hi, 0.0..top)
-                .map_err(crate::err)?;
-            chart
-                .configure_mesh()
-                .x_desc(&label)
-                .y_desc("draws")
-                .draw()
-                .map_err(crate::err)?;
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(q.p05 * k, 0.0), (q.p95 * k, top)],
-                    RGBColor(255, 127, 14).mix(0.15).filled(),
-                )))
-                .map_err(crate::err)?;
-            chart
-                .draw_series(
-                    counts
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, c)| **c > 0)
-                        .map(|(i, c)| {
-                            let x0 = lo + i as f64 * w;
-                            Rectangle::new(
-                                [(x0, 0.0), (x0 + 0.92 * w, *c as f64)],
-                                RGBColor(31, 119, 180).filled(),
-                            )
-                        }),
-                )
-                .map_err(crate::err)?;
-            if let Some(n) = st.nominal.get(*name) {
-                chart
-                    .draw_series(LineSeries::new(
-                        [(n * k, 0.0), (n * k, top)],
-                        BLACK.stroke_width(2),
-                    ))
-                    .map_err(crate::err)?;
-            }
+            crate::uncertainty_figures::histogram(
+                area,
+                &v,
+                [q.p05 * k, q.p95 * k],
+                st.nominal.get(*name).map(|n| n * k),
+                &label,
+                format!("{label}: 90 % {:.1} .. {:.1}", q.p05 * k, q.p95 * k),
+            )?;
         }
         Ok(())
     })
