@@ -434,7 +434,7 @@ impl Case {
     }
 
     /// The collision in the papers' form (pim-core's [`Vehicle`]) for a given convention.
-    fn collision(&self, convention: Convention) -> Collision {
+    pub(crate) fn collision(&self, convention: Convention) -> Collision {
         let v = |s: &VehicleSection, id: VehicleId| {
             if s.barrier {
                 return Vehicle::barrier();

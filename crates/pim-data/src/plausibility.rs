@@ -147,13 +147,34 @@ impl Case {
             if impact.side_basis() == pim_core::SideBasis::Velocities {
                 let side = if impact.side() >= 0.0 { "+n" } else { "-n" };
                 let other = if side == "+n" { "-n" } else { "+n" };
+                let [g1, g2] = impact.cg_positions();
+                // Both on one side is also what a heading written in the other form gives.
+                let conv = self.content.convention.other();
+                let hint = match pim_core::Impact::new(self.collision(conv)) {
+                    Ok(alt) if alt.side_basis() == pim_core::SideBasis::Geometry => format!(
+                        " With convention = \"{}\" ({}) they would lie on opposite sides: check \
+                         which form the headings were written in.",
+                        conv.name(),
+                        if conv == pim_core::Convention::Brach {
+                            "vehicle 1's heading is its tail, as in Brach's papers"
+                        } else {
+                            "vehicle 1's heading is where its nose points"
+                        }
+                    ),
+                    _ => String::new(),
+                };
                 out.push(format!(
-                    "{}: both centres of gravity lie on one side of the crush surface: which \
-                     vehicle is on which side is read from the estimated contact velocities \
-                     ([estimates.initial]), which approach at the impact centre only with \
-                     vehicle 1 on the {side} side. If the vehicles met the other way, state it: \
-                     [impact] vehicle1_side = \"{other}\"",
+                    "{}: both centres of gravity lie on one side of the crush surface (vehicle 1's \
+                     CG at ({:.2}, {:.2}) m, vehicle 2's at ({:.2}, {:.2}) m from the impact \
+                     centre, natural axes): which vehicle is on which side is read from the \
+                     estimated contact velocities ([estimates.initial]), which approach at the \
+                     impact centre only with vehicle 1 on the {side} side.{hint} If the vehicles \
+                     met the other way, state it: [impact] vehicle1_side = \"{other}\"",
                     self.at("impact.crush_angle"),
+                    g1[0] + 0.0,
+                    g1[1] + 0.0,
+                    g2[0] + 0.0,
+                    g2[1] + 0.0,
                 ));
             }
             if impact.side_basis() == pim_core::SideBasis::Mobility && !self.is_barrier() {
