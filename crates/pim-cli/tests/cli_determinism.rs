@@ -1,6 +1,7 @@
-//! The same answer on every machine: a reconstruction whose refinements end on their budget of
-//! work gives the same document, byte for byte, on an idle machine and on a busy one (its
-//! budget counts run-out evaluations and impact-fit work, never time).
+//! The same answer on every machine: a reconstruction with much work to do gives the same
+//! document, byte for byte, on an idle machine and on a busy one (its refinements end on their
+//! convergence or their budget of work, which counts run-out evaluations and impact-fit work,
+//! never time).
 mod common;
 use common::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -10,21 +11,26 @@ use std::sync::Arc;
 fn a_reconstruction_is_the_same_on_a_busy_machine() {
     let text =
         std::fs::read_to_string(repo().join("examples/cases/reconstruction_us.toml")).unwrap();
-    // The sedan's rest 865 ft off: evidence no impact reaches, whose refinements run to the
-    // end of their budget.
-    let from = "rest = { x = 11.9, y = 2.9, heading = 144.0 }";
-    assert!(text.contains(from));
-    let case = scratch_file(
-        "determinism",
-        "far_rest.toml",
-        text.replace(from, "rest = { x = 11.9, y = -862.13, heading = 144.0 }"),
-    );
+    // The example with its EDR moved 8 mph and without its [estimates]: a scene whose
+    // refinements fit the impact many times on the grid route (about 13 million units of work).
+    let mut case_text = text.replace("speed = 27.5, time = 0.5", "speed = 35.5, time = 0.5");
+    for l in [
+        "[estimates.initial]\nvehicle1 = { omega = 0.0 }\nvehicle2 = { omega = 0.0 }\n",
+        "[sigma.initial]\nvehicle1 = { omega = 5.0 }          # deg/s\nvehicle2 = { omega = 5.0 }\n",
+    ] {
+        assert!(case_text.contains(l), "{l}");
+        case_text = case_text.replace(l, "");
+    }
+    let case = scratch_file("determinism", "heavy.toml", case_text);
     let idle = pim(&["fit", &case, "--format", "json"]);
     let doc: serde_json::Value = serde_json::from_slice(&idle.stdout).unwrap();
     let work = doc["work"].as_u64().unwrap();
+    assert!(work > 5_000_000, "a scene with much work to do: {work}");
+    // Ended by its own convergence or budget, never by the safety time limit.
+    let undetermined = doc["undetermined"].to_string();
     assert!(
-        work > pim_reconstruct::REFINE_WORK,
-        "the budget must end this reconstruction: {work}"
+        !undetermined.contains("safety time limit"),
+        "{undetermined}"
     );
     // Every core busy while the same reconstruction runs again.
     let stop = Arc::new(AtomicBool::new(false));

@@ -255,8 +255,8 @@ pub struct ContactResidual {
 
 /// The default [`Settings::refine_work`]: run-out right-hand side evaluations (and their
 /// equivalents for the impact fits) the refinements may spend. The refinements of the example
-/// `reconstruction_us.toml` spend 2.3 million of its 30 million (the slowest scenes of the tests reach
-/// it in about 9 s on a 2-core EPYC); a budget, not a time, so that the
+/// `reconstruction_us.toml` spend 0.44 million of its 30 million (the heaviest scenes of the tests
+/// spend about 14 million); a budget, not a time, so that the
 /// answer is the same on a slow and a fast machine.
 pub const REFINE_WORK: u64 = 30_000_000;
 

@@ -93,7 +93,7 @@ fn fit_work(c: &pim_fit::Certificate) -> u64 {
 pub(crate) const CONVEX_FIT_EVALUATIONS: u64 = 150;
 
 /// An operation of an impact fit on the grid route, in run-out evaluations.
-pub(crate) const GRID_OP_EVALUATIONS: u64 = 100;
+pub(crate) const GRID_OP_EVALUATIONS: u64 = 10;
 
 fn scene_data(p: Option<&Point>) -> usize {
     p.map_or(0, |c| c.scene.iter().map(|l| l.lin.weighted.len()).sum())
