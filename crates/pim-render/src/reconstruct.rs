@@ -169,6 +169,35 @@ pub fn evidence_unit(
     }
 }
 
+/// One row of the evidence consistency table as the text table and the report show it: what
+/// was left out, chi-square, dof, p, consistent, each vehicle's speed at contact in `units`,
+/// and the largest remaining residual.
+pub fn consistency_cells(r: &pim_data::consistency::LeftOut, units: UnitSystem) -> [String; 8] {
+    let speed = |k: usize| {
+        r.speed_at_contact[k].map_or_else(|| "-".to_string(), |v| num(units.speed(v), 2))
+    };
+    [
+        if r.left_out.is_empty() {
+            "(nothing: all the evidence)".to_string()
+        } else {
+            r.left_out.join(" + ")
+        },
+        r.chi_square.map_or_else(|| "-".to_string(), |x| num(x, 2)),
+        r.degrees_of_freedom
+            .map_or_else(|| "-".to_string(), |x| x.to_string()),
+        r.p_value
+            .map_or_else(|| "-".to_string(), crate::statistics::format_p),
+        if r.consistent { "yes" } else { "no" }.to_string(),
+        speed(0),
+        speed(1),
+        match (&r.largest, &r.error) {
+            (_, Some(e)) => format!("cannot reconstruct: {e}"),
+            (Some((n, z)), None) => format!("{n} ({z:+.1})"),
+            (None, None) => "-".to_string(),
+        },
+    ]
+}
+
 /// The evidence consistency table as text, speeds in `units`.
 pub fn consistency_lines(c: &pim_data::consistency::Consistency, units: UnitSystem) -> String {
     let mut t = String::from(
@@ -187,31 +216,9 @@ pub fn consistency_lines(c: &pim_data::consistency::Consistency, units: UnitSyst
         "largest remaining residual (z)"
     ));
     for r in std::iter::once(&c.all).chain(&c.rows) {
-        let name = if r.left_out.is_empty() {
-            "(nothing: all the evidence)".to_string()
-        } else {
-            r.left_out.join(" + ")
-        };
-        let speed = |k: usize| {
-            r.speed_at_contact[k].map_or_else(|| "-".to_string(), |v| num(units.speed(v), 2))
-        };
-        let largest = match (&r.largest, &r.error) {
-            (_, Some(e)) => format!("cannot reconstruct: {e}"),
-            (Some((n, z)), None) => format!("{n} ({z:+.1})"),
-            (None, None) => "-".to_string(),
-        };
+        let [name, chi, dof, p, consistent, v1, v2, largest] = consistency_cells(r, units);
         t.push_str(&format!(
-            "{:<44} {:>10} {:>4} {:>8} {:>10} {:>9} {:>9}  {}\n",
-            name,
-            r.chi_square.map_or_else(|| "-".to_string(), |x| num(x, 2)),
-            r.degrees_of_freedom
-                .map_or_else(|| "-".to_string(), |x| x.to_string()),
-            r.p_value
-                .map_or_else(|| "-".to_string(), crate::statistics::format_p),
-            if r.consistent { "yes" } else { "no" },
-            speed(0),
-            speed(1),
-            largest
+            "{name:<44} {chi:>10} {dof:>4} {p:>8} {consistent:>10} {v1:>9} {v2:>9}  {largest}\n"
         ));
     }
     t.push_str("(v1, v2: speeds at contact)\n");

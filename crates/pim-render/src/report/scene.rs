@@ -262,27 +262,7 @@ fn consistency(c: &pim_data::consistency::Consistency, u: UnitSystem) -> Section
     t.numeric[4] = false;
     t.numeric[7] = false;
     for r in std::iter::once(&c.all).chain(&c.rows) {
-        let speed =
-            |k: usize| r.speed_at_contact[k].map_or_else(|| "-".into(), |v| num(u.speed(v), 2));
-        t.row(vec![
-            if r.left_out.is_empty() {
-                "(nothing: all the evidence)".into()
-            } else {
-                r.left_out.join(" + ")
-            },
-            r.chi_square.map_or_else(|| "-".into(), |x| num(x, 2)),
-            r.degrees_of_freedom
-                .map_or_else(|| "-".into(), |x| x.to_string()),
-            r.p_value.map_or_else(|| "-".into(), format_p),
-            if r.consistent { "yes" } else { "no" }.into(),
-            speed(0),
-            speed(1),
-            match (&r.largest, &r.error) {
-                (_, Some(e)) => format!("cannot reconstruct: {e}"),
-                (Some((n, z)), None) => format!("{n} ({z:+.1})"),
-                (None, None) => "-".into(),
-            },
-        ]);
+        t.row(crate::reconstruct::consistency_cells(r, u).to_vec());
     }
     s.blocks.push(Block::Table(t));
     s.text(c.summary.clone());
