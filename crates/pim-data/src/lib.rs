@@ -14,6 +14,7 @@
 //! - [`predict`]: Brach 1984's delta-V prediction for every test of a data file;
 //! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit;
 //! - [`scene`]: the `[runout]` and `[scene]` sections, read into pim-runout's inputs;
+//! - [`edit`]: a case file edited in place, its comments and formatting kept;
 //! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
 //! - [`uncertainty`]: the seeded parametric bootstrap of `pim uncertainty`.
 //!
@@ -30,6 +31,7 @@ pub mod damage_assess;
 mod damage_draws;
 pub mod damage_fit;
 pub mod documents;
+pub mod edit;
 mod error;
 pub mod fitcase;
 mod forms;

@@ -1,0 +1,306 @@
+//! Editing a case file in place: change one value and write the text back with the user's
+//! comments, key order, spacing and number formatting kept everywhere else.
+//!
+//! A [`CaseEdit`] holds the file as an edit-preserving TOML document (`toml_edit`). A value is
+//! addressed by its dotted path as the file writes it (`scene.vehicle2.rest.x`,
+//! `runout.vehicle1.wheels.front_left`, `observations.0.sigma` or `observations[0].sigma` for
+//! the first `[[observations]]`). A number can be given as written (in the file's units) or in
+//! SI with its [`Quantity`], which is then written in the unit the file's `[units]` gives that
+//! quantity (a rest position dragged to 3.6576 m is written `12.0` in a file in feet). Headings
+//! and other angles are always degrees in a case file; in SI they are radians.
+//!
+//! With no edit the text comes back byte for byte. An edit can make a case invalid (a negative
+//! mass, an unknown wheel state): [`CaseEdit::check`] reads the edited text as `pim` does and
+//! gives the same message.
+
+use crate::case::Case;
+use crate::error::{InputError, Result};
+use crate::units::UnitsSection;
+use toml_edit::{DocumentMut, Item, Table, Value};
+
+/// What an SI number measures, so that it is written in the file's unit for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// A distance or position (m in SI; `[units] length`).
+    Length,
+    /// A speed (m/s; `[units] speed`).
+    Speed,
+    /// A mass (kg; `[units] mass`).
+    Mass,
+    /// A yaw inertia (kg m^2; `[units] yaw_inertia`).
+    YawInertia,
+    /// A yaw rate (rad/s; `[units] yaw_rate`).
+    YawRate,
+    /// An angle or heading (rad; always degrees in the file).
+    Angle,
+    /// A crush depth, damage width or offset (m; `[units] crush`, else the length unit).
+    Crush,
+    /// A number without unit (a coefficient, a friction, a weight): written as given.
+    Plain,
+}
+
+impl Quantity {
+    /// SI per unit of this quantity in a file with these units.
+    fn si_per_unit(self, units: &UnitsSection) -> f64 {
+        match self {
+            Quantity::Length => units.length.to_si(),
+            Quantity::Speed => units.speed.to_si(),
+            Quantity::Mass => units.mass.to_si(),
+            Quantity::YawInertia => units.yaw_inertia.to_si(),
+            Quantity::YawRate => units.yaw_rate.to_si(),
+            Quantity::Angle => 1f64.to_radians(),
+            Quantity::Crush => units
+                .crush
+                .map_or_else(|| units.length.to_si(), |c| c.to_si()),
+            Quantity::Plain => 1.0,
+        }
+    }
+}
+
+/// A value to write.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NewValue {
+    /// A number in SI, written in the file's unit for its quantity.
+    Si(f64, Quantity),
+    /// A number as it is to be written (already in the file's units).
+    Written(f64),
+    /// A text (a wheel state, a description, a kind).
+    Text(String),
+    /// A yes/no value.
+    Bool(bool),
+}
+
+/// A case file open for editing; see the [module docs](self).
+#[derive(Debug, Clone)]
+pub struct CaseEdit {
+    file: String,
+    doc: DocumentMut,
+}
+
+/// Only the `[units]` of a case (every other key ignored).
+#[derive(serde::Deserialize)]
+struct UnitsOnly {
+    #[serde(default)]
+    units: UnitsSection,
+}
+
+impl CaseEdit {
+    /// Opens case-file text for editing; `file` names it in messages. The text must be TOML;
+    /// whether it is a valid case is [`check`](Self::check)'s question.
+    pub fn new(file: &str, text: &str) -> Result<Self> {
+        let doc = text.parse::<DocumentMut>().map_err(|e| {
+            let at = e
+                .span()
+                .map(|s| crate::parse::line_col(text, s.start))
+                .map_or(String::new(), |(l, c)| format!(":{l}:{c}"));
+            InputError::located(
+                file,
+                format!("{file}{at}: {}", e.message().trim_end_matches('\n')),
+            )
+        })?;
+        Ok(CaseEdit {
+            file: file.to_string(),
+            doc,
+        })
+    }
+
+    /// The units the file's `[units]` gives (the defaults, SI, where it gives none).
+    pub fn units(&self) -> Result<UnitsSection> {
+        crate::parse::parse_toml::<UnitsOnly>(&self.file, &self.doc.to_string()).map(|u| u.units)
+    }
+
+    /// Sets the value at `path`, creating the key (and its tables) where the file has none.
+    /// The comment and spacing around the old value are kept.
+    pub fn set(&mut self, path: &str, value: NewValue) -> Result<()> {
+        let finite = |x: f64| {
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(self.error(path, format!("must be a finite number, got {x}")))
+            }
+        };
+        let new = match value {
+            NewValue::Si(x, q) => number(finite(x)? / q.si_per_unit(&self.units()?)),
+            NewValue::Written(x) => number(finite(x)?),
+            NewValue::Text(s) => Value::from(s),
+            NewValue::Bool(b) => Value::from(b),
+        };
+        let keys = segments(path);
+        let Some((last, parents)) = keys.split_last() else {
+            return Err(self.error(path, "is not a key"));
+        };
+        let mut slot = Slot::Table(self.doc.as_table_mut());
+        for (i, key) in parents.iter().enumerate() {
+            slot = slot
+                .step(key, true)
+                .map_err(|what| InputError::new(&self.file, format!("{path}: {}: {what}", keys[..=i].join("."))))?;
+        }
+        slot.put(last, new)
+            .map_err(|what| InputError::new(&self.file, format!("{path}: {what}")))
+    }
+
+    /// Removes the key at `path`; `false` when the file does not write it.
+    pub fn remove(&mut self, path: &str) -> bool {
+        let keys = segments(path);
+        let Some((last, parents)) = keys.split_last() else {
+            return false;
+        };
+        let mut slot = Slot::Table(self.doc.as_table_mut());
+        for key in parents {
+            match slot.step(key, false) {
+                Ok(next) => slot = next,
+                Err(_) => return false,
+            }
+        }
+        match slot {
+            Slot::Table(t) => t.remove(last).is_some(),
+            Slot::Value(Value::InlineTable(t)) => t.remove(last).is_some(),
+            Slot::Item(Item::Table(t)) => t.remove(last).is_some(),
+            Slot::Item(Item::Value(Value::InlineTable(t))) => t.remove(last).is_some(),
+            _ => false,
+        }
+    }
+
+    /// The value written at `path`, as written (`12.0`, `"locked"`), if the file writes it.
+    pub fn get(&self, path: &str) -> Option<String> {
+        let mut doc = self.doc.clone();
+        let mut slot = Slot::Table(doc.as_table_mut());
+        for key in segments(path) {
+            slot = slot.step(&key, false).ok()?;
+        }
+        match slot {
+            Slot::Value(v) | Slot::Item(Item::Value(v)) => Some(v.to_string().trim().to_string()),
+            _ => None,
+        }
+    }
+
+    /// The edited text: the file as it was but for the edits.
+    pub fn text(&self) -> String {
+        self.doc.to_string()
+    }
+
+    /// Reads the edited text as a case, with the same checks and messages as `pim`.
+    pub fn check(&self) -> Result<Case> {
+        Case::from_text(&self.file, &self.text())
+    }
+
+    fn error(&self, path: &str, what: impl std::fmt::Display) -> InputError {
+        InputError::new(&self.file, format!("{path}: {what}"))
+    }
+}
+
+/// `a.b[0].c` and `a.b.0.c` as segments.
+fn segments(path: &str) -> Vec<String> {
+    path.replace('[', ".")
+        .replace(']', "")
+        .split('.')
+        .filter(|s| !s.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// A number as a TOML float, rounded to nine significant digits (what a unit conversion adds
+/// beyond them is noise) and written in its shortest form.
+fn number(x: f64) -> Value {
+    let rounded: f64 = format!("{x:.8e}").parse().unwrap_or(x);
+    // Adding zero turns a negative zero into a zero.
+    Value::from(rounded + 0.0)
+}
+
+/// A place in the document a path passes through.
+enum Slot<'a> {
+    Table(&'a mut Table),
+    Item(&'a mut Item),
+    Value(&'a mut Value),
+}
+
+impl<'a> Slot<'a> {
+    /// One step down the path: a key of a table, an index of an array. With `create`, a key a
+    /// table does not have becomes a new table.
+    fn step(self, key: &str, create: bool) -> std::result::Result<Slot<'a>, String> {
+        let index = key.parse::<usize>().ok();
+        match self {
+            Slot::Table(t) => {
+                if create && !t.contains_key(key) {
+                    let mut new = Table::new();
+                    new.set_implicit(true);
+                    t.insert(key, Item::Table(new));
+                }
+                t.get_mut(key)
+                    .map(Slot::Item)
+                    .ok_or_else(|| "is not written in the file".to_string())
+            }
+            Slot::Item(Item::Table(t)) => Slot::Table(t).step(key, create),
+            Slot::Item(Item::ArrayOfTables(a)) => {
+                let n = a.len();
+                index
+                    .and_then(|i| a.get_mut(i))
+                    .map(Slot::Table)
+                    .ok_or_else(|| format!("the file has {n} of them; give an index 0 to {}", n.saturating_sub(1)))
+            }
+            Slot::Item(Item::Value(v)) => Slot::Value(v).step(key, create),
+            Slot::Value(Value::InlineTable(t)) => {
+                if create && !t.contains_key(key) {
+                    t.insert(key, Value::InlineTable(toml_edit::InlineTable::new()));
+                }
+                t.get_mut(key)
+                    .map(Slot::Value)
+                    .ok_or_else(|| "is not written in the file".to_string())
+            }
+            Slot::Value(Value::Array(a)) => {
+                let n = a.len();
+                index
+                    .and_then(|i| a.get_mut(i))
+                    .map(Slot::Value)
+                    .ok_or_else(|| format!("the array has {n} entries; give an index 0 to {}", n.saturating_sub(1)))
+            }
+            _ => Err("is a value, not a table".to_string()),
+        }
+    }
+
+    /// Writes `new` under `key` here, keeping the old value's comment and spacing.
+    fn put(self, key: &str, mut new: Value) -> std::result::Result<(), String> {
+        match self {
+            Slot::Table(t) => match t.get_mut(key) {
+                Some(Item::Value(old)) => {
+                    *new.decor_mut() = old.decor().clone();
+                    *old = new;
+                    Ok(())
+                }
+                Some(_) => Err("is a table, not a value".to_string()),
+                None => {
+                    t.insert(key, Item::Value(new));
+                    Ok(())
+                }
+            },
+            Slot::Item(Item::Table(t)) => Slot::Table(t).put(key, new),
+            Slot::Item(Item::Value(v)) => Slot::Value(v).put(key, new),
+            Slot::Value(Value::InlineTable(t)) => match t.get_mut(key) {
+                Some(old) => {
+                    if old.is_inline_table() || old.is_array() {
+                        return Err("is a table or an array, not a value".to_string());
+                    }
+                    *new.decor_mut() = old.decor().clone();
+                    *old = new;
+                    Ok(())
+                }
+                None => {
+                    t.insert(key, new);
+                    Ok(())
+                }
+            },
+            Slot::Value(Value::Array(a)) => {
+                let n = a.len();
+                match key.parse::<usize>().ok().and_then(|i| a.get_mut(i)) {
+                    Some(old) => {
+                        *new.decor_mut() = old.decor().clone();
+                        *old = new;
+                        Ok(())
+                    }
+                    None => Err(format!("the array has {n} entries")),
+                }
+            }
+            _ => Err("is not inside a table".to_string()),
+        }
+    }
+}
