@@ -4,7 +4,7 @@ use crate::error::{PimError, Result};
 use serde::{Deserialize, Serialize};
 
 /// The three impact coefficients.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Coefficients {
     /// Coefficient of restitution e (normal to the crush surface), in [0, 1].
     pub e: f64,
@@ -45,7 +45,9 @@ impl Coefficients {
 }
 
 /// Which form of the moment equation (6) to use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum MomentForm {
     /// The corrected form of the 1984 appendix: `(W2 - W1)(1 - em) = em B`. The default.
@@ -57,7 +59,9 @@ pub enum MomentForm {
 }
 
 /// Which tangential condition closes the system.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum TangentialCondition {
     /// Equation 5: the tangential impulse is mu' times the normal impulse. The default.
@@ -68,7 +72,9 @@ pub enum TangentialCondition {
 }
 
 /// Options of a solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub struct SolveOptions {
     /// Form of the moment equation.
     pub moment_form: MomentForm,

@@ -3,7 +3,17 @@
 use std::fmt;
 
 /// Which of the two vehicles a message is about.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 pub enum VehicleId {
     /// Vehicle 1 (the papers' vehicle A).
     One,
@@ -40,7 +50,17 @@ impl fmt::Display for VehicleId {
 }
 
 /// One of the six impact equations (numbered as in Brach 1983 and in this crate's documentation).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+    schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum Equation {
     /// (1) conservation of linear momentum along x.

@@ -47,7 +47,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 pub const REPORT_TOL: f64 = 1e-9;
 
 /// What happens along the crush surface.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum TangentialOutcome {
     /// The vehicles still slide at separation, in the initial direction (|mu| < |mu_max|).
@@ -70,7 +70,9 @@ pub enum FrictionSign {
 }
 
 /// Where the sign factor of equation 5 comes from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum FrictionBasis {
     /// The contact point slides at contact: `s = sgn(vn) sgn(vt)`.
@@ -139,6 +141,8 @@ pub fn friction_direction(
         ),
     }
 }
+
+crate::json_schema_as!(FrictionSign, {"type": "number", "description": "The sign of the friction impulse along the crush surface: 1 or -1."});
 
 impl Serialize for FrictionSign {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {

@@ -15,7 +15,7 @@ use crate::tangential::{solve_tangential, ContactMode, TangentialCoefficients};
 use serde::Serialize;
 
 /// For a model that decides between sticking and sliding: which acted, and the impulse ratios.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ContactOutcome {
     /// Stick or slide.
     pub mode: ContactMode,

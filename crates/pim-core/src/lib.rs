@@ -189,3 +189,24 @@ pub use tangential::{
     solve_tangential, stick_transfer, ContactMode, StickMaps, TangentialCoefficients,
     TangentialReport,
 };
+
+/// Implements `schemars::JsonSchema` for a type whose `Serialize` is written by hand (a number,
+/// a word, a map of words): the schema is given inline, as `schemars::json_schema!` reads it.
+#[macro_export]
+macro_rules! json_schema_as {
+    ($t:ty, $($schema:tt)+) => {
+        impl ::schemars::JsonSchema for $t {
+            fn schema_name() -> ::std::borrow::Cow<'static, str> {
+                stringify!($t).into()
+            }
+
+            fn inline_schema() -> bool {
+                true
+            }
+
+            fn json_schema(_: &mut ::schemars::SchemaGenerator) -> ::schemars::Schema {
+                ::schemars::json_schema!($($schema)+)
+            }
+        }
+    };
+}

@@ -19,7 +19,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The plan-view outline of a vehicle about its CG, m.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Outline {
     /// Distance from the CG to the front face, m.
     pub cg_to_front: f64,
@@ -30,7 +30,7 @@ pub struct Outline {
 }
 
 /// A face of the outline.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Face {
     /// The front.

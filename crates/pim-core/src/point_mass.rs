@@ -19,7 +19,7 @@ use crate::error::{PimError, Result};
 use serde::{Deserialize, Serialize};
 
 /// A point-mass impact: masses, crush angle and the two planar velocities at contact.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PointMassImpact {
     /// Masses `[m1, m2]`, kg (`m2` infinite for a fixed barrier: the reduced mass is then m1).
     pub masses: [f64; 2],
@@ -30,7 +30,7 @@ pub struct PointMassImpact {
 }
 
 /// The closed-form solution.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct PointMassSolution {
     /// Velocities `[[V1x, V1y], [V2x, V2y]]` at separation, m/s.
     pub separation: [[f64; 2]; 2],

@@ -10,7 +10,7 @@ use crate::model::{Impact, Velocities};
 use serde::{Deserialize, Serialize};
 
 /// Velocity of each vehicle's material point at the impact centre C, m/s.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ContactPoints {
     /// `[x, y]` of vehicle 1's point at C, at contact.
     pub vehicle1_initial: [f64; 2],
@@ -23,7 +23,7 @@ pub struct ContactPoints {
 }
 
 /// Relative velocity at C (vehicle 1 minus vehicle 2) along the crush-surface normal n and tangent t, m/s.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RelativeVelocity {
     /// vn at contact.
     pub normal_initial: f64,
@@ -36,7 +36,7 @@ pub struct RelativeVelocity {
 }
 
 /// The impulses acting on vehicle 1 (vehicle 2 receives the opposite).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Impulse {
     /// Px = m1 (V1x - v1x), N s.
     pub px: f64,
@@ -51,7 +51,7 @@ pub struct Impulse {
 }
 
 /// Velocity change of one vehicle.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct DeltaV {
     /// V x - v x, m/s.
     pub dvx: f64,
@@ -67,7 +67,7 @@ pub struct DeltaV {
 
 /// What a reconstructionist reads for one vehicle: speeds, delta-V in the vehicle's own axes,
 /// the principal direction of force and the yaw-rate change.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct VehicleResult {
     /// Direction the nose points, degrees counter-clockwise from the fixed x axis, (-180, 180].
     pub heading: f64,
@@ -165,7 +165,7 @@ fn vehicle_result(
 }
 
 /// Kinetic energy balance of the impact.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Energy {
     /// Total kinetic energy at contact, J.
     pub initial: f64,
@@ -179,7 +179,7 @@ pub struct Energy {
 }
 
 /// Whether a solution is physically admissible.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Admissibility {
     /// True when every condition below holds.
     pub admissible: bool,
@@ -190,7 +190,7 @@ pub struct Admissibility {
 }
 
 /// Residual of each of the six equations, in the equation's own units.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Residuals {
     /// Which equation each value belongs to.
     pub equations: [Equation; 6],
@@ -209,7 +209,7 @@ impl Residuals {
 }
 
 /// Everything a solve produces.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ImpactReport {
     /// The coefficients used.
     pub coefficients: Coefficients,

@@ -14,7 +14,7 @@ use crate::solve::solve_forward;
 use serde::{Deserialize, Serialize};
 
 /// One of the three coefficients.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum CoefficientName {
     /// Restitution e.
@@ -26,7 +26,7 @@ pub enum CoefficientName {
 }
 
 /// Level of a coefficient in the study.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Level {
     /// The numerically smaller of value x (1 - p) and value x (1 + p).
@@ -38,7 +38,7 @@ pub enum Level {
 }
 
 /// One combination of levels and its solution.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SensitivityCase {
     /// Levels of e, mu and em.
     pub levels: [Level; 3],
@@ -49,7 +49,7 @@ pub struct SensitivityCase {
 }
 
 /// Averages over all combinations with one coefficient at one level (1983 Table 6).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct LevelAverage {
     /// The coefficient held at this level.
     pub coefficient: CoefficientName,
@@ -70,7 +70,7 @@ pub struct LevelAverage {
 }
 
 /// The complete study.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SensitivityStudy {
     /// The variation p in percent.
     pub percent: f64,

@@ -51,7 +51,7 @@ use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
 
 /// Coefficients of the tangential-restitution model.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TangentialCoefficients {
     /// Normal restitution: `vn' = -e vn`, in [0, 1].
     pub e: f64,
@@ -112,7 +112,7 @@ impl TangentialCoefficients {
 }
 
 /// Which condition decided the tangential impulse.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactMode {
     /// The tangential restitution was reached within the friction limit.
@@ -123,7 +123,7 @@ pub enum ContactMode {
 }
 
 /// The solution of the tangential-restitution model.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TangentialReport {
     /// The model's coefficients.
     pub coefficients: TangentialCoefficients,

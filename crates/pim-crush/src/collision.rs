@@ -33,7 +33,7 @@ pub fn balanced_profile(
 }
 
 /// Standard deviations of a damage profile's inputs (each 0 when exact).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ProfileSigmas {
     /// Of A, N/m.
     pub a: f64,
@@ -110,7 +110,9 @@ pub fn crush_energy_sigma(
 }
 
 /// What the crush energy is compared with.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum EnergyRelation {
     /// CRASH3's convention: the crush energy is the kinetic energy the collision loses.

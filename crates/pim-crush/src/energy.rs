@@ -23,7 +23,7 @@ pub(crate) fn input(field: &'static str, reason: impl Into<String>) -> CrushErro
 }
 
 /// Linear stiffness per unit of damage width: `F / w = A + B C`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Stiffness {
     /// A, N/m (force per unit width at the onset of residual crush).
     pub a: f64,
@@ -98,7 +98,7 @@ impl Stiffness {
 
 /// A damage profile: its width and the residual crush depths measured at equally spaced
 /// points across it, from one end to the other.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Profile {
     /// Damage width L, m.
     pub width: f64,

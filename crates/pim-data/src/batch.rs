@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 /// The outcome of one record: the fit's status, or `failed` when the row could not be fitted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Outcome {
     /// The global optimum was found.
@@ -169,7 +169,7 @@ impl BatchPlan {
 }
 
 /// One record per (test, cost, branch).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct BatchRecord {
     /// RICSAC test number.
     pub test: u32,

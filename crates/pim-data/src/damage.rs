@@ -31,7 +31,7 @@ use pim_crush::{EnergyRelation, Profile, ProfileSigmas, Stiffness};
 use serde::{Deserialize, Serialize};
 
 /// The damaged face of a vehicle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Side {
     /// The front.
@@ -77,7 +77,7 @@ impl Side {
 }
 
 /// One vehicle's damage, checked, in SI and the natural frame.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct VehicleDamage {
     /// The damaged face.
     pub side: Side,
@@ -96,7 +96,7 @@ pub struct VehicleDamage {
 }
 
 /// A case's damage, checked.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Damage {
     /// What the crush energy is compared with.
     pub relation: EnergyRelation,

@@ -8,7 +8,7 @@ use pim_fit::Vector12;
 use serde::Serialize;
 
 /// One vehicle's crush at a pair of states.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct VehicleAssessment {
     /// The damaged face.
     pub side: crate::damage::Side,
@@ -45,7 +45,7 @@ pub struct VehicleAssessment {
 }
 
 /// Both vehicles' crush against PIM's energy loss at a pair of states.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Assessment {
     /// What the crush energy is compared with.
     pub relation: EnergyRelation,

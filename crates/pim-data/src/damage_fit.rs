@@ -9,7 +9,7 @@ use pim_fit::{FitProblem, FitReport, MomentBranch, NonlinearTerm, ValidSettings}
 use serde::Serialize;
 
 /// The damage of a fit, in the document of `pim fit`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct FitDamage {
     /// The crush at the best answer of the fit without the crush energy.
     pub at_fit: Option<Assessment>,
@@ -24,7 +24,7 @@ pub struct FitDamage {
 }
 
 /// The fit with the crush energy as evidence.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct EnergyFit {
     /// The moment branch of the answer.
     pub moment: MomentBranch,

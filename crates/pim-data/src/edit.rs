@@ -131,9 +131,12 @@ impl CaseEdit {
         };
         let mut slot = Slot::Table(self.doc.as_table_mut());
         for (i, key) in parents.iter().enumerate() {
-            slot = slot
-                .step(key, true)
-                .map_err(|what| InputError::new(&self.file, format!("{path}: {}: {what}", keys[..=i].join("."))))?;
+            slot = slot.step(key, true).map_err(|what| {
+                InputError::new(
+                    &self.file,
+                    format!("{path}: {}: {what}", keys[..=i].join(".")),
+                )
+            })?;
         }
         slot.put(last, new)
             .map_err(|what| InputError::new(&self.file, format!("{path}: {what}")))
@@ -236,7 +239,12 @@ impl<'a> Slot<'a> {
                 index
                     .and_then(|i| a.get_mut(i))
                     .map(Slot::Table)
-                    .ok_or_else(|| format!("the file has {n} of them; give an index 0 to {}", n.saturating_sub(1)))
+                    .ok_or_else(|| {
+                        format!(
+                            "the file has {n} of them; give an index 0 to {}",
+                            n.saturating_sub(1)
+                        )
+                    })
             }
             Slot::Item(Item::Value(v)) => Slot::Value(v).step(key, create),
             Slot::Value(Value::InlineTable(t)) => {
@@ -252,7 +260,12 @@ impl<'a> Slot<'a> {
                 index
                     .and_then(|i| a.get_mut(i))
                     .map(Slot::Value)
-                    .ok_or_else(|| format!("the array has {n} entries; give an index 0 to {}", n.saturating_sub(1)))
+                    .ok_or_else(|| {
+                        format!(
+                            "the array has {n} entries; give an index 0 to {}",
+                            n.saturating_sub(1)
+                        )
+                    })
             }
             _ => Err("is a value, not a table".to_string()),
         }

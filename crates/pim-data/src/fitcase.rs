@@ -27,6 +27,8 @@ impl CostChoice {
     }
 }
 
+pim_core::json_schema_as!(CostChoice, {"type": "string", "description": "The cost function: its name as the case file writes it."});
+
 impl serde::Serialize for CostChoice {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         s.serialize_str(self.name())

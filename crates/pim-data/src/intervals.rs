@@ -6,7 +6,7 @@ use pim_fit::SearchBound;
 use serde::Serialize;
 
 /// Summary of one quantity over the feasible draws.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Summary {
     /// 5th percentile.
     pub p05: f64,
@@ -68,7 +68,7 @@ pub fn dominant_inputs<'a>(
 }
 
 /// A search bound that ends a quantity's interval.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BoundHit {
     /// The bound (its `[bounds]` key).
     pub bound: SearchBound,

@@ -53,6 +53,7 @@ pub mod ricsac_damage;
 pub mod runout;
 pub mod scene;
 pub mod scene_sections;
+pub mod schema;
 pub mod sections;
 pub mod spread;
 pub mod tolerances;

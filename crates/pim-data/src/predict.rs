@@ -7,7 +7,7 @@ use pim_core::prediction::{delta_v_eq14, l_factor, point_mass_eq17};
 use serde::Serialize;
 
 /// Delta-V of one vehicle: measured and the three predictions, m/s.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct DeltaVPrediction {
     /// Measured (data file).
     pub measured: f64,
@@ -20,7 +20,7 @@ pub struct DeltaVPrediction {
 }
 
 /// One test's prediction.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TestPrediction {
     /// Test number.
     pub test: u32,

@@ -9,7 +9,7 @@ use pim_reconstruct::Status;
 use serde::Serialize;
 
 /// One piece of evidence against the reconstruction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EvidenceOut {
     /// What it is (`initial.vehicle1.omega`, `vehicle2 rest.x`, `vehicle1 mark 1`, ...).
     pub name: String,
@@ -29,7 +29,7 @@ pub struct EvidenceOut {
 }
 
 /// One vehicle through the three phases.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct VehiclePhasesOut {
     /// 1 or 2.
     pub vehicle: u8,
@@ -56,7 +56,7 @@ pub struct VehiclePhasesOut {
 }
 
 /// One combination of counts of turns compared.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CountsOut {
     /// Per scene vehicle (in the order of `scene_vehicles`).
     pub turns: Vec<Option<i64>>,
@@ -74,7 +74,7 @@ pub struct CountsOut {
 }
 
 /// The reconstruction found.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BestOut {
     /// The moment branch.
     pub branch: MomentBranch,
@@ -108,7 +108,7 @@ pub struct BestOut {
 }
 
 /// The document of a reconstruction (`pim fit --format json` of a scene case).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ReconstructionOut {
     /// Units of the numbers.
     pub units: crate::records::SiUnits,
@@ -145,7 +145,7 @@ pub struct ReconstructionOut {
 }
 
 /// The reconstruction with some evidence left out.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct LeftOut {
     /// What was left out (empty: nothing, the whole evidence).
     pub left_out: Vec<String>,
@@ -172,7 +172,7 @@ pub struct LeftOut {
 }
 
 /// The evidence consistency table of a reconstruction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Consistency {
     /// The reconstruction with all of its evidence.
     pub all: LeftOut,
@@ -185,7 +185,7 @@ pub struct Consistency {
 }
 
 /// A vehicle through the phases of a batch's reconstruction (SI, natural frame).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SceneVehicleRecord {
     /// 1 or 2.
     pub vehicle: u8,
@@ -201,7 +201,7 @@ pub struct SceneVehicleRecord {
 }
 
 /// The reconstruction of a batch record.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SceneRecord {
     /// `found`, `inconsistent` or `no_solution`.
     pub status: pim_reconstruct::Status,

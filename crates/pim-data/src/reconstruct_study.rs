@@ -25,7 +25,7 @@ use std::collections::BTreeMap;
 pub const COUNTS_MARGIN: f64 = 4.0;
 
 /// The study of a reconstruction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ReconstructionStudy {
     /// SI, natural frame.
     pub units: crate::records::SiUnits,

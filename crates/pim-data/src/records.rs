@@ -4,7 +4,7 @@ use pim_core::{ImpactReport, SensitivityStudy, Velocities};
 use serde::Serialize;
 
 /// One vehicle's velocity in the output.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct VelocityOut {
     /// m/s.
     pub vx: f64,
@@ -15,7 +15,7 @@ pub struct VelocityOut {
 }
 
 /// Both vehicles' velocities.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct StateOut {
     /// Vehicle 1.
     pub vehicle1: VelocityOut,
@@ -46,7 +46,7 @@ impl From<&Velocities> for StateOut {
 }
 
 /// Delta-V magnitudes, m/s.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct DeltaVOut {
     /// |V1 - v1|.
     pub vehicle1: f64,
@@ -55,7 +55,7 @@ pub struct DeltaVOut {
 }
 
 /// Energy balance.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct EnergyOut {
     /// J.
     pub initial: f64,
@@ -73,6 +73,8 @@ pub struct EnergyOut {
 /// `[units]` and `convention` (the tables and figures show those).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SiUnits;
+
+pim_core::json_schema_as!(SiUnits, {"type": "object", "description": "The units of every number of the document: SI, angles in degrees, the natural frame.", "additionalProperties": {"type": "string"}});
 
 impl Serialize for SiUnits {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -99,7 +101,7 @@ impl Serialize for SiUnits {
 }
 
 /// The JSON record of one forward or backward solve.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct SolveOut {
     /// The units of the document's numbers (always SI; see [`SiUnits`]).
     pub units: SiUnits,
@@ -208,7 +210,7 @@ impl SolveOut {
 }
 
 /// One combination of a sensitivity study.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct SensitivityCaseOut {
     /// Levels of e, mu, em (`low`, `high`, `nominal`).
     pub levels: [pim_core::Level; 3],
@@ -218,7 +220,7 @@ pub struct SensitivityCaseOut {
 }
 
 /// The JSON of `pim sensitivity`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct SensitivityOut {
     /// p, percent.
     pub percent: f64,
@@ -250,7 +252,7 @@ impl SensitivityOut {
 }
 
 /// One fitted branch as a flat record (the JSON of `pim fit` and of `pim batch`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct BranchRecord {
     /// `free` (em in [-1, 0]) or `zero` (em = 1).
     pub moment: pim_fit::MomentBranch,
@@ -322,7 +324,7 @@ pub struct BranchRecord {
 }
 
 /// Where a search bound came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum BoundSource {
     /// The case's `[bounds]` (or a batch's stated conditions) set it.
@@ -376,7 +378,7 @@ pub fn bounds_reached(
 }
 
 /// A search bound a fitted answer rests on.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BoundReached {
     /// The `[bounds]` key: `e`, `mu`, `et`, `friction`, `velocity`, `yaw_rate`, or a geometry
     /// input (`vehicle1.d`, `crush_angle`, ...).
@@ -460,7 +462,7 @@ impl BranchRecord {
 }
 
 /// The JSON of `pim fit`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct FitOut {
     /// The units of the document's numbers (always SI; see [`SiUnits`]).
     pub units: SiUnits,
@@ -484,7 +486,7 @@ pub struct FitOut {
 
 /// Which side of the crush surface vehicle 1 lies on (the vehicles approach when the normal
 /// relative velocity at C points the other way), and what that rests on.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SideOut {
     /// `+n` or `-n` (n at the crush angle), `undecided` when nothing says.
     pub vehicle1: &'static str,
@@ -514,7 +516,7 @@ impl SideOut {
 }
 
 /// The second model's part of a solve document.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ModelOut {
     /// The model's name (`tangential`, `impc`).
     pub name: &'static str,

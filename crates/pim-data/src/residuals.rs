@@ -12,7 +12,7 @@ use pim_fit::{FitProblem, Knowledge, ObservationKind, COMPONENT_NAMES};
 use serde::Serialize;
 
 /// One term of the cost: an estimated component or an observation, against the fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Residual {
     /// What was given: a velocity component (`final.vehicle1.vx`) or an observation by its
     /// label (`observation "EDR"`, `observation 2`).

@@ -66,7 +66,7 @@ pub struct CrushRow {
 }
 
 /// One row of `data/reference/neades2011_table5_3.csv`: corrected delta-V, m/s.
-#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize, schemars::JsonSchema)]
 pub struct MeasuredDeltaV {
     /// RICSAC test.
     pub test: u32,
@@ -124,7 +124,7 @@ pub fn parse_measured(text: &str) -> Result<Vec<MeasuredDeltaV>, String> {
 }
 
 /// One test's crush against its fit.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct DamageRecord {
     /// RICSAC test.
     pub test: u32,

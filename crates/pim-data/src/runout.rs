@@ -15,7 +15,7 @@ use serde::Serialize;
 pub const MAX_PATH_SAMPLES: usize = 100_000;
 
 /// Where the separation velocities come from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Source {
     /// The case's `[final]`.
@@ -41,7 +41,7 @@ impl Source {
 }
 
 /// A pose or motion in the document: m, deg, m/s, rad/s.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct MotionOut {
     /// CG x, m.
     pub x: f64,
@@ -71,7 +71,7 @@ impl From<&Motion> for MotionOut {
 }
 
 /// The rest pose: m, deg.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PoseOut {
     /// CG x, m.
     pub x: f64,
@@ -82,7 +82,7 @@ pub struct PoseOut {
 }
 
 /// One sample of the path.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct PathPoint {
     /// Time since separation, s.
     pub t: f64,
@@ -99,7 +99,7 @@ pub struct PathPoint {
 }
 
 /// One piece of evidence against the run-out: fitted minus given.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ResidualOut {
     /// `rest.x`, `rest.y`, `rest.heading`, `mark 1`, `mark 1 heading`, `friction`.
     pub name: String,
@@ -112,7 +112,7 @@ pub struct ResidualOut {
 }
 
 /// A candidate of the estimate (one count of turns).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CandidateOut {
     /// Full turns beyond the rotation to the nearest rest heading (null without a rest
     /// heading).
@@ -143,7 +143,7 @@ pub struct CandidateOut {
 }
 
 /// The estimate of one vehicle's separation velocities.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EstimateOut {
     /// The unknowns, in the order of each candidate's `sigma` and `free`.
     pub unknowns: Vec<String>,
@@ -156,7 +156,7 @@ pub struct EstimateOut {
 }
 
 /// One vehicle's run-out.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct VehicleRunoutOut {
     /// 1 or 2.
     pub vehicle: u8,
@@ -193,7 +193,7 @@ pub struct VehicleRunoutOut {
 }
 
 /// The document of `pim runout`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct RunoutOut {
     /// The units of every number.
     pub units: &'static str,

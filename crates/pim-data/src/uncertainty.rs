@@ -76,7 +76,7 @@ pub struct DrawResult {
 }
 
 /// One input's share of a quantity's spread.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Sensitivity {
     /// The quantity.
     pub quantity: String,
@@ -85,7 +85,7 @@ pub struct Sensitivity {
 }
 
 /// The whole study.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Study {
     /// The units of the document's numbers (always SI: speeds and delta-V in m/s).
     pub units: crate::records::SiUnits,

@@ -18,7 +18,9 @@ pub const POUND_FORCE: f64 = 4.448_221_615_260_5;
 pub const SLUG: f64 = POUND_FORCE / FOOT;
 
 /// Speed unit of a case file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum SpeedUnit {
     /// Metres per second (default).
     #[default]
@@ -44,7 +46,9 @@ impl SpeedUnit {
 }
 
 /// Length unit of a case file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum LengthUnit {
     /// Metres (default).
     #[default]
@@ -74,7 +78,9 @@ impl LengthUnit {
 }
 
 /// Mass unit of a case file (`lb` is the pound mass: a vehicle's weight in pounds).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum MassUnit {
     /// Kilograms (default).
     #[default]
@@ -96,7 +102,9 @@ impl MassUnit {
 }
 
 /// Yaw-inertia unit of a case file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum InertiaUnit {
     /// kg m^2 (default).
     #[default]
@@ -118,7 +126,9 @@ impl InertiaUnit {
 }
 
 /// Yaw-rate unit of a case file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum YawRateUnit {
     /// Radians per second (default).
     #[default]
@@ -140,7 +150,9 @@ impl YawRateUnit {
 }
 
 /// Unit of the stiffness coefficients (`[units] stiffness`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub enum StiffnessUnit {
     /// A in N/m, B in N/m^2 (default).
     #[default]
@@ -183,7 +195,7 @@ impl StiffnessUnit {
 }
 
 /// Unit of crush depths, damage widths and offsets (`[units] crush`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub enum CrushUnit {
     /// Metres.
     #[serde(rename = "m")]
@@ -217,7 +229,9 @@ impl CrushUnit {
 
 /// `[units]` of a case file: the unit of every number of its kind in the file. Angles are
 /// always degrees; coefficients and weights have no unit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(deny_unknown_fields)]
 pub struct UnitsSection {
     /// Velocities, delta-V observations and the velocity bound: `m/s`, `km/h` or `mph`.

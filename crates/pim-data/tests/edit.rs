@@ -21,7 +21,9 @@ fn examples() -> Vec<PathBuf> {
 }
 
 fn read(name: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases").join(name);
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/cases")
+        .join(name);
     std::fs::read_to_string(p).unwrap()
 }
 
@@ -51,8 +53,11 @@ fn a_rest_position_dragged_in_metres_is_written_in_feet() {
     let text = read("reconstruction_us.toml");
     let mut edit = CaseEdit::new("reconstruction_us.toml", &text).unwrap();
     // 12 ft dragged on a plan that works in metres.
-    edit.set("scene.vehicle1.rest.x", NewValue::Si(12.0 * FOOT, Quantity::Length))
-        .unwrap();
+    edit.set(
+        "scene.vehicle1.rest.x",
+        NewValue::Si(12.0 * FOOT, Quantity::Length),
+    )
+    .unwrap();
     assert_eq!(edit.get("scene.vehicle1.rest.x").as_deref(), Some("12.0"));
     let changed = changed_lines(&text, &edit.text());
     assert_eq!(
@@ -66,7 +71,10 @@ fn a_rest_position_dragged_in_metres_is_written_in_feet() {
     let by_hand = text.replace("x = 11.9, y = 2.9", "x = 12.0, y = 2.9");
     let (a, b) = (
         edit.check().unwrap().scene_inputs().unwrap(),
-        Case::from_text("by_hand.toml", &by_hand).unwrap().scene_inputs().unwrap(),
+        Case::from_text("by_hand.toml", &by_hand)
+            .unwrap()
+            .scene_inputs()
+            .unwrap(),
     );
     let rest = |s: &pim_data::scene::SceneInputs| {
         let r = s.vehicles[0].evidence.as_ref().unwrap().rest.unwrap();
@@ -79,12 +87,24 @@ fn a_rest_position_dragged_in_metres_is_written_in_feet() {
 fn a_heading_in_radians_is_written_in_degrees_and_a_speed_in_mph() {
     let text = read("reconstruction_us.toml");
     let mut edit = CaseEdit::new("reconstruction_us.toml", &text).unwrap();
-    edit.set("scene.vehicle2.rest.heading", NewValue::Si(250f64.to_radians(), Quantity::Angle))
-        .unwrap();
-    edit.set("pre_impact.vehicle2.edr.0.speed", NewValue::Si(30.0 * 0.447_04, Quantity::Speed))
-        .unwrap();
-    assert_eq!(edit.get("scene.vehicle2.rest.heading").as_deref(), Some("250.0"));
-    assert_eq!(edit.get("pre_impact.vehicle2.edr[0].speed").as_deref(), Some("30.0"));
+    edit.set(
+        "scene.vehicle2.rest.heading",
+        NewValue::Si(250f64.to_radians(), Quantity::Angle),
+    )
+    .unwrap();
+    edit.set(
+        "pre_impact.vehicle2.edr.0.speed",
+        NewValue::Si(30.0 * 0.447_04, Quantity::Speed),
+    )
+    .unwrap();
+    assert_eq!(
+        edit.get("scene.vehicle2.rest.heading").as_deref(),
+        Some("250.0")
+    );
+    assert_eq!(
+        edit.get("pre_impact.vehicle2.edr[0].speed").as_deref(),
+        Some("30.0")
+    );
     assert_eq!(changed_lines(&text, &edit.text()).len(), 2);
     edit.check().unwrap();
 }
@@ -93,10 +113,15 @@ fn a_heading_in_radians_is_written_in_degrees_and_a_speed_in_mph() {
 fn a_sigma_and_a_wheel_state_keep_their_comments() {
     let text = read("reconstruction_us.toml");
     let mut edit = CaseEdit::new("reconstruction_us.toml", &text).unwrap();
-    edit.set("observations[0].sigma", NewValue::Written(2.5)).unwrap();
-    edit.set("runout.vehicle1.wheels.front_right", NewValue::Text("locked".into()))
+    edit.set("observations[0].sigma", NewValue::Written(2.5))
         .unwrap();
-    edit.set("runout.friction_sigma", NewValue::Written(0.08)).unwrap();
+    edit.set(
+        "runout.vehicle1.wheels.front_right",
+        NewValue::Text("locked".into()),
+    )
+    .unwrap();
+    edit.set("runout.friction_sigma", NewValue::Written(0.08))
+        .unwrap();
     let changed = changed_lines(&text, &edit.text());
     let after: Vec<&str> = changed.iter().map(|(_, b)| b.as_str()).collect();
     assert_eq!(
@@ -117,7 +142,8 @@ fn a_sigma_and_a_wheel_state_keep_their_comments() {
 fn a_new_key_is_added_where_it_belongs_and_can_be_removed_again() {
     let text = read("reconstruction_us.toml");
     let mut edit = CaseEdit::new("reconstruction_us.toml", &text).unwrap();
-    edit.set("scene.vehicle1.turns", NewValue::Written(0.0)).unwrap();
+    edit.set("scene.vehicle1.turns", NewValue::Written(0.0))
+        .unwrap();
     assert!(edit.text().contains("[scene.vehicle1]\nrest = "));
     assert_eq!(edit.get("scene.vehicle1.turns").as_deref(), Some("0.0"));
     // A float where the case wants a count of turns: the same message as `pim`.
@@ -133,9 +159,18 @@ fn bad_paths_and_values_are_refused_with_the_path() {
     let text = read("reconstruction_us.toml");
     let mut edit = CaseEdit::new("reconstruction_us.toml", &text).unwrap();
     let refused = |e: pim_data::InputError| e.to_string();
-    let e = refused(edit.set("observations.7.sigma", NewValue::Written(1.0)).unwrap_err());
-    assert!(e.contains("observations.7.sigma") && e.contains("has 2"), "{e}");
-    let e = refused(edit.set("scene.vehicle1", NewValue::Written(1.0)).unwrap_err());
+    let e = refused(
+        edit.set("observations.7.sigma", NewValue::Written(1.0))
+            .unwrap_err(),
+    );
+    assert!(
+        e.contains("observations.7.sigma") && e.contains("has 2"),
+        "{e}"
+    );
+    let e = refused(
+        edit.set("scene.vehicle1", NewValue::Written(1.0))
+            .unwrap_err(),
+    );
     assert!(e.contains("is a table"), "{e}");
     let e = refused(edit.set("title.x", NewValue::Written(1.0)).unwrap_err());
     assert!(e.contains("title.x"), "{e}");
@@ -148,9 +183,14 @@ fn bad_paths_and_values_are_refused_with_the_path() {
     // An edit that breaks the case is caught by the case's own checks.
     edit.set("vehicle1.mass", NewValue::Written(-5.0)).unwrap();
     let e = edit.check().unwrap_err().to_string();
-    assert!(e.starts_with("reconstruction_us.toml:") && e.contains("vehicle1.mass"), "{e}");
+    assert!(
+        e.starts_with("reconstruction_us.toml:") && e.contains("vehicle1.mass"),
+        "{e}"
+    );
     // Not TOML at all: the line and column.
-    let e = CaseEdit::new("broken.toml", "a = 1\nb = = 2\n").unwrap_err().to_string();
+    let e = CaseEdit::new("broken.toml", "a = 1\nb = = 2\n")
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("broken.toml:2:"), "{e}");
 }
 
@@ -160,7 +200,8 @@ fn si_files_take_si_values_as_they_are() {
     let mut edit = CaseEdit::new("runout_scene.toml", &text).unwrap();
     let units = edit.units().unwrap();
     assert!((units.length.to_si() - 1.0).abs() < 1e-15);
-    edit.set("vehicle1.mass", NewValue::Si(1234.5, Quantity::Mass)).unwrap();
+    edit.set("vehicle1.mass", NewValue::Si(1234.5, Quantity::Mass))
+        .unwrap();
     assert_eq!(edit.get("vehicle1.mass").as_deref(), Some("1234.5"));
     assert_eq!(changed_lines(&text, &edit.text()).len(), 1);
 }

@@ -11,7 +11,9 @@ use crate::settings::FitSettings;
 use serde::Serialize;
 
 /// A limit of the search that a fitted answer can rest on; named as its `[bounds]` key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum SearchBound {
     /// The range of e.

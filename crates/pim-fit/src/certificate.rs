@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The solver route that decided a branch (see the crate docs, "Which route a problem takes").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Route {
     /// The exact convex decomposition over the contact state and the impulse.
@@ -14,7 +14,7 @@ pub enum Route {
 }
 
 /// Why a branch was decided by the grid search instead of the convex decomposition.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Fallback {
     /// Turned off in the settings (`SearchSettings::convex = false`).
@@ -88,7 +88,7 @@ impl Fallback {
 
 /// How a branch was solved: the route, why the convex route was not taken (if it was not),
 /// and the method in words.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Method {
     /// The route that decided the branch.
     pub route: Route,
@@ -99,7 +99,7 @@ pub struct Method {
 }
 
 /// How the optimum was established.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Certificate {
     /// The route, the reason for a fallback and the method in words.
     pub method: Method,

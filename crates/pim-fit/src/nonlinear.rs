@@ -31,7 +31,7 @@ pub trait NonlinearTerm: Sync {
 }
 
 /// How the nonlinear fit ended.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct NonlinearFit {
     /// The moment branch of the best end.
     pub moment: MomentBranch,

@@ -54,6 +54,12 @@ impl fmt::Display for Component {
     }
 }
 
+pim_core::json_schema_as!(Component, {
+    "type": "string",
+    "description": "A velocity component, by its path in the case file.",
+    "enum": COMPONENT_NAMES
+});
+
 impl Serialize for Component {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         s.serialize_str(self.name())
@@ -61,7 +67,7 @@ impl Serialize for Component {
 }
 
 /// What is known about one velocity component.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Knowledge {
     /// Known exactly: held fixed at this value (m/s or rad/s).
@@ -81,7 +87,7 @@ pub enum Knowledge {
 }
 
 /// The cost-function presets of Vossou & Koulocheris (eq. 9-11).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum CostPreset {
     /// Separation velocities known exactly, contact velocities estimated.
@@ -154,7 +160,7 @@ pub fn state_vector(initial: &Velocities, separation: &Velocities) -> Vector12 {
 }
 
 /// What an observation measures (all linear in U).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ObservationKind {
     /// Velocity change along the vehicle's forward axis, m/s (what an EDR records).
@@ -179,7 +185,7 @@ impl ObservationKind {
 }
 
 /// An observation: a linear function of U with a target and a weight.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Observation {
     /// What is observed.
     pub kind: ObservationKind,
@@ -406,7 +412,7 @@ fn check_weight(what: &str, w: f64) -> Result<()> {
 }
 
 /// The moment-coefficient branches (Brach 1984 Table 1 A and B).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum MomentBranch {
     /// e_m free in [-1, 0] (a moment impulse acts at the impact centre).

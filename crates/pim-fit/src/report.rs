@@ -13,7 +13,7 @@ fn as_words<T: fmt::Display, S: Serializer>(v: &T, s: S) -> Result<S::Ok, S::Err
 }
 
 /// Outcome of a branch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// The global optimum within the stated tolerances was found.
@@ -248,6 +248,8 @@ impl fmt::Display for Reason {
     }
 }
 
+pim_core::json_schema_as!(Reason, {"type": "string", "description": "Why the fit is not identifiable, in words."});
+
 impl Serialize for Reason {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         as_words(self, s)
@@ -361,6 +363,8 @@ impl ActiveConstraint {
     }
 }
 
+pim_core::json_schema_as!(ActiveConstraint, {"type": "string", "description": "A constraint that holds with equality at the solution, in words."});
+
 impl Serialize for ActiveConstraint {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         as_words(self, s)
@@ -368,7 +372,7 @@ impl Serialize for ActiveConstraint {
 }
 
 /// A quantity whose identifiability is reported.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Quantity {
     /// Restitution.
@@ -407,7 +411,7 @@ impl fmt::Display for Quantity {
 /// each coefficient. When one whole state is known (Q1, Q2) those scans run along mu and em with
 /// e at its best, and on each scanned line the ends of the e interval whose cost is within the
 /// tolerance are computed exactly (the cost is a quadratic along e there).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Identifiability {
     /// `e`, `mu`, `em`, or `speed1` / `speed2` (speed of each vehicle at contact, m/s).
     pub coefficient: Quantity,
@@ -426,7 +430,7 @@ pub struct Identifiability {
 }
 
 /// The tangential model's reading of a fitted solution.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TangentialFit {
     /// Sticking or sliding.
     pub mode: pim_core::ContactMode,
@@ -446,7 +450,7 @@ pub struct TangentialFit {
 }
 
 /// The fitted solution of one moment branch.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Solution {
     /// Restitution.
     pub e: f64,
@@ -500,7 +504,7 @@ pub struct Solution {
 }
 
 /// The result of one moment branch.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BranchReport {
     /// The branch.
     pub moment: MomentBranch,
@@ -522,7 +526,7 @@ pub struct BranchReport {
 }
 
 /// The result of a fit.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct FitReport {
     /// The model fitted.
     pub model: crate::FitModel,
@@ -545,7 +549,7 @@ impl FitReport {
 
 /// The cost of a fit read as a chi-square, when its weights are inverse variances
 /// (`w_k = u / sigma_k^2` with one common unit `u`, m^2/s^2).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ChiSquare {
     /// `sum (r_k / sigma_k)^2 = cost / u`.
     pub value: f64,

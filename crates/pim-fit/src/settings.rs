@@ -7,7 +7,9 @@ use pim_core::MomentForm;
 use serde::{Deserialize, Serialize};
 
 /// The impact model a fit estimates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum FitModel {
     /// Planar Impact Mechanics: `e`, `mu`, `e_m` (the moment branches).
@@ -53,7 +55,7 @@ impl FitModel {
 pub const DEFAULT_E_RANGE: [f64; 2] = [0.0, 0.2];
 
 /// Settings of a fit, before checking ([`FitSettings::check`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FitSettings {
     /// Range of e (default [0, 0.2]).
     pub e: [f64; 2],
@@ -139,7 +141,7 @@ fn friction_default() -> [f64; 2] {
 
 /// Tolerances, grid sizes and iteration limits of the search (the defaults are what the
 /// benchmarks and the RICSAC results were measured with).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(default)]
 pub struct SearchSettings {
     /// Smallest closing speed at the impact centre at contact, m/s (default 1e-3).

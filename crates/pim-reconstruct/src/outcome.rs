@@ -9,7 +9,7 @@ use pim_runout::{Estimate, Residual, Runout};
 use serde::Serialize;
 
 /// Whether a reconstruction was found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Status {
     /// The best combination found (see [`Outcome::tried`] for what was compared).
@@ -33,7 +33,7 @@ pub const INCONSISTENT_P: f64 = 1e-6;
 pub const POOR_FIT_P: f64 = 0.05;
 
 /// One vehicle's scene against the reconstruction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SceneFit {
     /// Which vehicle.
     pub vehicle: VehicleId,
@@ -48,7 +48,7 @@ pub struct SceneFit {
 }
 
 /// A vehicle's speed in each phase.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Phases {
     /// Which vehicle.
     pub vehicle: VehicleId,
@@ -65,7 +65,7 @@ pub struct Phases {
 }
 
 /// The reconstruction found.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Found {
     /// The moment branch of the impact.
     pub branch: MomentBranch,
@@ -140,7 +140,7 @@ impl Found {
 }
 
 /// What became of one combination of counts of turns.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Tried {
     /// Refined to a (local) minimum of the whole cost.
@@ -170,7 +170,7 @@ pub enum Tried {
 
 /// One combination of counts of turns (one per scene vehicle, in the order of
 /// [`Reconstruction::scene`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TriedCounts {
     /// The counts (none for a scene without a rest heading).
     pub counts: Vec<Option<i64>>,
@@ -191,7 +191,7 @@ pub struct TriedCounts {
 }
 
 /// A reconstruction's answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Outcome {
     /// Found or not.
     pub status: Status,
@@ -233,7 +233,7 @@ impl Outcome {
 }
 
 /// A piece of evidence against a reconstruction: the contact problem's, or a scene's.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum EvidenceTerm {
     /// A piece of the contact problem's evidence.
@@ -248,7 +248,7 @@ pub enum EvidenceTerm {
 }
 
 /// Why the best reconstruction found contradicts the evidence.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Contradiction {
     /// What is contradicted, in words.
     pub statement: String,

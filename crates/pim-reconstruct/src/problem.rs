@@ -23,7 +23,7 @@ pub struct SceneVehicle {
 
 /// A skid or yaw mark laid down before the impact: the vehicle braked over `distance` up to the
 /// point of contact.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Skid {
     /// Length of the braking before contact, m.
     pub distance: f64,
@@ -216,7 +216,7 @@ impl Reconstruction {
 }
 
 /// Which piece of the contact problem's evidence.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactTerm {
     /// The estimate of component `k` of U.

@@ -26,7 +26,7 @@ pub const DEFAULT_SATURATION_ANGLE: f64 = 10.0 * std::f64::consts::PI / 180.0;
 pub const MAX_FRICTION: f64 = 1.5;
 
 /// What one wheel does during the run-out.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum WheelState {
     /// Locked or sliding (also a wheel the impact damaged so that it cannot turn): Coulomb
@@ -47,7 +47,7 @@ pub const WHEEL_NAMES: [&str; 4] = ["front_left", "front_right", "rear_left", "r
 /// The body frame has x forward along the centreline and y to the left, its origin at the
 /// centre of gravity (CG). The front axle is `cg_to_front_axle` ahead of the CG, the rear axle
 /// `wheelbase - cg_to_front_axle` behind it, each wheel `track / 2` to its side.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Chassis {
     /// Mass, kg.
     pub mass: f64,
@@ -258,7 +258,7 @@ impl Chassis {
 /// Where a vehicle is and how it moves, in a fixed (road) frame: x, y in m, heading in rad
 /// counter-clockwise from +x (where the nose points; not wrapped, so that a run-out's turns
 /// add up), velocities of the CG in m/s and the yaw rate in rad/s (counter-clockwise).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Motion {
     /// CG position along x, m.
     pub x: f64,

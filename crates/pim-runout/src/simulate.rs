@@ -8,7 +8,7 @@ use ode_solvers::{Dopri5, System};
 use serde::{Deserialize, Serialize};
 
 /// How a run-out is integrated.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Settings {
     /// Relative tolerance of the Dormand-Prince 5(4) step control.
     pub rtol: f64,
@@ -55,7 +55,7 @@ impl Settings {
 }
 
 /// How a run-out ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum End {
     /// The vehicle came to rest.
@@ -67,7 +67,7 @@ pub enum End {
 
 /// One accepted step of the integration: the state and its rates, from which the path is
 /// interpolated (cubic Hermite) between steps.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Step {
     /// Time since separation, s.
     pub time: f64,
@@ -82,7 +82,7 @@ pub struct Step {
 }
 
 /// A run-out from separation to rest.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Runout {
     /// The motion at separation.
     pub start: Motion,

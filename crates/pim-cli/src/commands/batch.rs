@@ -191,7 +191,10 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .as_ref()
         .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2) && !pim_records.is_empty())
         .map(|b| batch_tables::brach_table(&pim_records, b));
-    let records_json = json(&serde_json::json!({ "data": file, "records": records }))?;
+    let records_json = json(&pim_data::schema::DataBatchOut {
+        data: file.clone(),
+        records: records.clone(),
+    })?;
     let v18_text = v18.map(|p| batch_tables::v18_table(&pim_records, &p));
     let records_csv =
         batch_tables::records_csv(&records).map_err(|e| Failure::Output(e.to_string()))?;
@@ -254,7 +257,10 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             )?;
             out.write(
                 "damage.json",
-                &json(&serde_json::json!({ "data": file, "records": d }))?,
+                &json(&pim_data::schema::DamageBatchOut {
+                    data: file.clone(),
+                    records: d.clone(),
+                })?,
             )?;
             tables += 1;
             figs.push(

@@ -56,7 +56,9 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     let file = a.data.display().to_string();
     let tests = load_ricsac(&a.data)?;
     let rows = pim_data::predict::predict_all(&file, &tests, a.e)?;
-    let record = json(&serde_json::json!({ "tests": rows }))?;
+    let record = json(&pim_data::schema::PredictionsOut {
+        tests: rows.clone(),
+    })?;
     let units = a.units.map_or(UnitSystem::Si, Into::into);
     let text = table(&file, a.e, &rows, units);
     if let Some(dir) = &a.out {

@@ -4,7 +4,7 @@ use pim_core::{Collision, Vehicle};
 use serde::{Deserialize, Serialize};
 
 /// An input of the impact geometry that a fit may estimate. Vehicles are numbered 1 and 2.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum GeometryInput {
     /// Distance from the vehicle's CG to the impact centre, m.
@@ -103,7 +103,7 @@ fn vehicle_mut(c: &mut Collision, v: u8) -> &mut Vehicle {
 
 /// One estimated geometry input and its bounds `[low, high]` (m or degrees). The problem's
 /// collision gives the start, which must lie within them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct GeometryBound {
     /// The input.
     pub input: GeometryInput,
@@ -112,7 +112,7 @@ pub struct GeometryBound {
 }
 
 /// The impact centre of one vehicle in polar form.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct CentreEstimate {
     /// CG to impact centre, m.
     pub d: f64,
@@ -122,7 +122,7 @@ pub struct CentreEstimate {
 
 /// How well the data pin down one geometry input: the values along a scan through the optimum
 /// (the other inputs held) whose cost is within the identifiability tolerance.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct GeometryRange {
     /// The input's name (as in [`GeometryInput::name`]).
     pub input: String,
@@ -145,7 +145,7 @@ pub struct GeometryRange {
 }
 
 /// What the search over the geometry did, for one branch.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct GeometrySearch {
     /// The method, in words.
     pub method: String,
@@ -162,7 +162,7 @@ pub struct GeometrySearch {
 }
 
 /// What is proven about a branch's optimum over the geometry box.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ProofStatus {
     /// The reported geometry's cost is within the tolerance of the optimum over the box.
@@ -179,7 +179,7 @@ pub enum ProofStatus {
 
 /// The proof of the optimum over the geometry box (branch-and-bound over boxes of the
 /// estimated inputs, each bounded below by weak duality; see the crate docs).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct GeometryProof {
     /// What is proven.
     pub status: ProofStatus,
@@ -250,7 +250,7 @@ impl GeometryProof {
 }
 
 /// The estimated geometry of one branch.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct GeometryEstimate {
     /// Vehicle 1's impact centre.
     pub vehicle1: CentreEstimate,

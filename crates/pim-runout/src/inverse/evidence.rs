@@ -32,7 +32,7 @@ pub const CONSISTENT_COST: f64 = 1e-6;
 pub const PLAUSIBLE_COST: f64 = 4.0;
 
 /// The rest position (and heading) of the vehicle, with standard deviations.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Rest {
     /// CG position, m.
     pub x: f64,
@@ -48,7 +48,7 @@ pub struct Rest {
 
 /// A point the CG passed (a tyre mark or gouge placed at the CG's path), with a standard
 /// deviation, optionally with the heading there.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Mark {
     /// Position, m.
     pub x: f64,
@@ -61,7 +61,7 @@ pub struct Mark {
 }
 
 /// The evidence of one vehicle's run-out.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Evidence {
     /// The rest position and heading.
     pub rest: Option<Rest>,
@@ -76,7 +76,7 @@ pub struct Evidence {
 }
 
 /// How the separation velocities are searched.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct EstimateSettings {
     /// The counts of full turns tried, from the first to the second inclusive.
     pub turns: (i64, i64),
@@ -98,7 +98,7 @@ impl Default for EstimateSettings {
 }
 
 /// One residual of a candidate.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Residual {
     /// What it is: `rest.x`, `rest.y`, `rest.heading`, `mark 1`, `mark 1 heading`, `friction`.
     pub name: String,
@@ -109,7 +109,7 @@ pub struct Residual {
 }
 
 /// The best separation state for one count of turns.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Candidate {
     /// Full turns beyond the rotation to the nearest rest heading (none when the rest heading
     /// is not given).
@@ -147,7 +147,7 @@ pub struct Candidate {
 }
 
 /// The separation velocities of one vehicle estimated from its run-out evidence.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Estimate {
     /// The names of the unknowns, in the order of [`Candidate::sigma`].
     pub unknowns: Vec<String>,
