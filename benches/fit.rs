@@ -71,7 +71,13 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("batch");
     g.sample_size(20);
     g.bench_function("ricsac_66_records_all_threads", |b| {
-        b.iter(|| black_box(pim_data::batch::run(&tests, &plan, &|| {})))
+        b.iter(|| {
+            black_box(pim_data::batch::run(
+                &tests,
+                &plan,
+                &pim_data::watch::Unwatched,
+            ))
+        })
     });
     g.finish();
 }

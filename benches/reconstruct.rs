@@ -54,7 +54,7 @@ fn reconstruction(c: &mut Criterion) {
                 MomentBranch::ALL.to_vec(),
                 20,
                 1,
-                &|| {},
+                &pim_data::watch::Unwatched,
             )
             .unwrap()
         })

@@ -97,7 +97,7 @@ fn bench(c: &mut Criterion) {
                                 FitSettings::default(),
                                 200,
                                 1,
-                                &|| {},
+                                &pim_data::watch::Unwatched,
                             )
                             .unwrap(),
                         )

@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         timing: false,
         case_e_max: None,
     };
-    let records = pim_data::batch::run(&tests, &plan, &|| {});
+    let records = pim_data::batch::run(&tests, &plan, &pim_data::watch::Unwatched);
     println!("test  outcome        e      mu     cost  loss %");
     for r in &records {
         match (&r.branch, r.solved()) {

@@ -50,7 +50,7 @@ fn coverage(cases: usize, draws: usize, seed: u64) -> [f64; 4] {
             settings,
             draws,
             n as u64,
-            &|| {},
+            &pim_data::watch::Unwatched,
         )
         .unwrap();
         let truths = [
@@ -125,7 +125,7 @@ fn linearised_and_monte_carlo_standard_deviations_agree_for_a_well_determined_ca
         settings,
         400,
         3,
-        &|| {},
+        &pim_data::watch::Unwatched,
     )
     .unwrap();
     for q in [

@@ -337,7 +337,7 @@ fn ours_under_v18_conditions_at_or_below_v18() {
     )
     .unwrap()
     .with_v18_conditions();
-    let records = pim_data::batch::run(&tests, &plan, &|| {});
+    let records = pim_data::batch::run(&tests, &plan, &pim_data::watch::Unwatched);
     let (mut compared, mut explained) = (0, 0);
     println!("test cost  rebuilt   ours | why V18's solution is outside V18's conditions");
     for preset in CostPreset::ALL {

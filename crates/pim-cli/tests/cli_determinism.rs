@@ -12,7 +12,7 @@ fn a_reconstruction_is_the_same_on_a_busy_machine() {
     let text =
         std::fs::read_to_string(repo().join("examples/cases/reconstruction_us.toml")).unwrap();
     // The example with its EDR moved 8 mph and without its [estimates]: a scene whose
-    // refinements fit the impact many times on the grid route (about 13 million units of work).
+    // refinements fit the impact many times on the grid route (about 3.2 million units of work).
     let mut case_text = text.replace("speed = 27.5, time = 0.5", "speed = 35.5, time = 0.5");
     for l in [
         "[estimates.initial]\nvehicle1 = { omega = 0.0 }\nvehicle2 = { omega = 0.0 }\n",
@@ -25,13 +25,10 @@ fn a_reconstruction_is_the_same_on_a_busy_machine() {
     let idle = pim(&["fit", &case, "--format", "json"]);
     let doc: serde_json::Value = serde_json::from_slice(&idle.stdout).unwrap();
     let work = doc["work"].as_u64().unwrap();
-    assert!(work > 5_000_000, "a scene with much work to do: {work}");
-    // Ended by its own convergence or budget, never by the safety time limit.
+    assert!(work > 2_000_000, "a scene with much work to do: {work}");
+    // No stop of the search depends on the clock.
     let undetermined = doc["undetermined"].to_string();
-    assert!(
-        !undetermined.contains("safety time limit"),
-        "{undetermined}"
-    );
+    assert!(!undetermined.contains("time"), "{undetermined}");
     // Every core busy while the same reconstruction runs again.
     let stop = Arc::new(AtomicBool::new(false));
     let burners: Vec<_> = (0..4)

@@ -220,16 +220,25 @@ impl BatchRecord {
 }
 
 /// Runs the plan over the tests, in parallel; the records come out in (test, cost, model,
-/// branch) order whatever the thread count. `tick` is called once per finished fit (of all the
-/// models of a test and cost).
-pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> Vec<BatchRecord> {
+/// branch) order whatever the thread count. The observer sees each finished job (phase
+/// `fits`: all the models of a test and cost); once it cancels, no new job starts and the
+/// records of the jobs finished are returned.
+pub fn run(
+    tests: &[RicsacTest],
+    plan: &BatchPlan,
+    observer: &dyn crate::watch::Observer,
+) -> Vec<BatchRecord> {
     let jobs: Vec<(&RicsacTest, CostPreset)> = tests
         .iter()
         .flat_map(|t| plan.costs.iter().map(move |&c| (t, c)))
         .collect();
+    let phase = crate::watch::Phase::start(observer, "fits", jobs.len());
     let results: Vec<Vec<BatchRecord>> = jobs
         .par_iter()
         .map(|&(t, cost)| {
+            if phase.stopped() {
+                return Vec::new();
+            }
             let start = std::time::Instant::now();
             let mut out: Vec<BatchRecord> = plan
                 .models
@@ -240,7 +249,7 @@ pub fn run(tests: &[RicsacTest], plan: &BatchPlan, tick: &(dyn Fn() + Sync)) -> 
                 let secs = start.elapsed().as_secs_f64();
                 out.iter_mut().for_each(|r| r.fit_seconds = Some(secs));
             }
-            tick();
+            phase.step();
             out
         })
         .collect();
@@ -369,8 +378,16 @@ pub(crate) fn intervals(
     seed: u64,
 ) -> crate::error::Result<BTreeMap<String, Summary>> {
     let unc = case.content.uncertainty.unwrap_or_default();
-    crate::uncertainty::run(case, &unc, cost, plan.case_settings(), draws, seed, &|| {})
-        .map(|s| s.quantities)
+    crate::uncertainty::run(
+        case,
+        &unc,
+        cost,
+        plan.case_settings(),
+        draws,
+        seed,
+        &crate::watch::Unwatched,
+    )
+    .map(|s| s.quantities)
 }
 
 /// Adds the bootstrap intervals of `pim uncertainty` to the best record of each (test, cost) of

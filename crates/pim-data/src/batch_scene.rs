@@ -125,7 +125,7 @@ pub fn intervals(
         plan.branches.clone(),
         draws,
         seed,
-        &|| {},
+        &crate::watch::Unwatched,
     )
     .map_err(|e| e.to_string())?;
     Ok(study

@@ -59,5 +59,6 @@ pub mod spread;
 pub mod tolerances;
 pub mod uncertainty;
 pub mod units;
+pub mod watch;
 
 pub use error::{InputError, Result};

@@ -548,14 +548,6 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             ));
         }
     }
-    if outcome.timed_out {
-        undetermined.push(format!(
-            "the search: the refinements reached the safety time limit ({} s) before their \
-             budget of work (very slow impact fits), so this answer may differ on another \
-             machine",
-            pim_reconstruct::REFINE_TIME_LIMIT.as_secs_f64()
-        ));
-    }
     undetermined.push(
         "the road friction is taken as given in the fit; its spread enters through `pim \
          uncertainty`"

@@ -182,6 +182,10 @@ pub struct Consistency {
     pub consistent_without: Vec<Vec<String>>,
     /// In words: which pieces disagree.
     pub summary: String,
+    /// Present when the table was cancelled: the rows asked for and finished (`rows` holds
+    /// those).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cancelled: Option<crate::watch::Cancelled>,
 }
 
 /// A vehicle through the phases of a batch's reconstruction (SI, natural frame).

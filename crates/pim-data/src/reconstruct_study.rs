@@ -31,7 +31,7 @@ pub struct ReconstructionStudy {
     pub units: crate::records::SiUnits,
     /// `reconstruction`.
     pub kind: &'static str,
-    /// Draws asked for.
+    /// Draws made (those asked for, unless the study was cancelled).
     pub draws: usize,
     /// Seed of the random streams.
     pub seed: u64,
@@ -50,6 +50,9 @@ pub struct ReconstructionStudy {
     /// beside the interval).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub nominal_outside: Vec<String>,
+    /// Present when the study was cancelled: the draws asked for and finished.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cancelled: Option<crate::watch::Cancelled>,
     /// Every feasible draw's value, by quantity (for the histograms; not in the JSON).
     #[serde(skip)]
     pub samples: BTreeMap<String, Vec<f64>>,
@@ -185,7 +188,9 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
     out
 }
 
-/// Runs the study of a case with scene evidence; `tick` is called once per finished draw.
+/// Runs the study of a case with scene evidence. The observer sees each finished draw (phase
+/// `draws`) and can cancel the study: then the draws finished make the answer and
+/// [`ReconstructionStudy::cancelled`] says so.
 ///
 /// # Errors
 /// Bad input (located), or nothing uncertain.
@@ -196,7 +201,7 @@ pub fn run(
     branches: Vec<MomentBranch>,
     draws: usize,
     seed: u64,
-    tick: &(dyn Fn() + Sync),
+    observer: &dyn crate::watch::Observer,
 ) -> Result<(ReconstructionStudy, Outcome), DocumentError> {
     let unc = case.content.uncertainty.unwrap_or_default();
     let mut all = inputs(case, &unc)?;
@@ -221,9 +226,13 @@ pub fn run(
         )));
     };
     let names: Vec<String> = quantities_of(best).into_iter().map(|(n, _)| n).collect();
+    let phase = crate::watch::Phase::start(observer, "draws", draws);
     let results: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..draws)
         .into_par_iter()
-        .map(|i| {
+        .filter_map(|i| {
+            if phase.stopped() {
+                return None;
+            }
             let mut rng = stream(seed, i as u64);
             let mut c = case.clone();
             let xs: Vec<f64> = all
@@ -245,8 +254,8 @@ pub fn run(
                         .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
                         .collect()
                 });
-            tick();
-            (xs, out)
+            phase.step();
+            Some((xs, out))
         })
         .collect();
     let feasible: Vec<(&Vec<f64>, &Vec<f64>)> = results
@@ -280,13 +289,14 @@ pub fn run(
     let study = ReconstructionStudy {
         units: crate::records::SiUnits,
         kind: "reconstruction",
-        draws,
+        draws: results.len(),
         seed,
         feasible_draws: feasible.len(),
         nominal: nominal_values,
         quantities,
         nominal_outside,
         samples,
+        cancelled: phase.cancelled(),
         sensitivity,
         inputs: all.iter().map(|i| i.name.clone()).collect(),
     };

@@ -91,7 +91,7 @@ pub struct Study {
     pub units: crate::records::SiUnits,
     /// The model fitted by every draw; it names the coefficients ([`quantities`]).
     pub model: FitModel,
-    /// Draws asked for.
+    /// Draws made (those asked for, unless the study was cancelled).
     pub draws: usize,
     /// Seed of the random streams.
     pub seed: u64,
@@ -118,6 +118,10 @@ pub struct Study {
     /// `sqrt(sum (dq/dx_i sd_i)^2)`, independent inputs; a uniform input counts with its
     /// standard deviation `(hi - lo) / sqrt 12`. Absent when a refit at a step fails.
     pub linearised_sd: BTreeMap<String, f64>,
+    /// Present when the study was cancelled: the draws asked for and finished (`draws` is
+    /// then the draws finished, and the intervals are theirs).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cancelled: Option<crate::watch::Cancelled>,
     /// The values of [`Study::names`] of every feasible draw, in draw order (for figures; not
     /// serialised).
     #[serde(skip)]
@@ -391,7 +395,8 @@ fn best_of(report: &pim_fit::FitReport, settings: &FitSettings) -> Option<DrawRe
 pub const DRAW_POLISH_LAST_STEP: f64 = 1e-5;
 
 /// Runs the study: `draws` perturbed refits of `case` under `choice`, seeded by `seed`.
-/// `tick` is called once per finished draw.
+/// The observer sees each finished draw (phase `draws`) and can cancel the study: then the
+/// draws finished make the answer and [`Study::cancelled`] says so.
 pub fn run(
     case: &Case,
     unc: &UncertaintySection,
@@ -399,7 +404,7 @@ pub fn run(
     settings: FitSettings,
     draws: usize,
     seed: u64,
-    tick: &(dyn Fn() + Sync),
+    observer: &dyn crate::watch::Observer,
 ) -> Result<Study> {
     // The geometry [bounds] estimates is an unknown of every draw's fit (a full fit over the
     // geometry box); drawing it as well would make it both, so one of the two must go.
@@ -479,9 +484,13 @@ pub fn run(
     let draw_settings = draw_settings
         .check()
         .map_err(|e| InputError::new(&case.file, e))?;
+    let phase = crate::watch::Phase::start(observer, "draws", draws);
     let results: Vec<(Vec<f64>, Option<DrawResult>)> = (0..draws)
         .into_par_iter()
-        .map(|i| {
+        .filter_map(|i| {
+            if phase.stopped() {
+                return None;
+            }
             let mut rng = stream(seed, i as u64);
             let mut c = case.clone();
             let xs: Vec<f64> = inputs
@@ -493,8 +502,8 @@ pub fn run(
                 })
                 .collect();
             let r = fit_once(&c, choice, &draw_settings);
-            tick();
-            (xs, r)
+            phase.step();
+            Some((xs, r))
         })
         .collect();
     let feasible: Vec<(&Vec<f64>, &DrawResult)> = results
@@ -532,7 +541,12 @@ pub fn run(
             inputs: dominant_inputs(inputs.iter().map(|i| i.name.as_str()), &xs, &y),
         });
     }
-    let linearised_sd = linearised(case, &inputs, choice, &draw_settings);
+    let cancelled = phase.cancelled();
+    let linearised_sd = if cancelled.is_some() {
+        BTreeMap::new()
+    } else {
+        linearised(case, &inputs, choice, &draw_settings)
+    };
     let mut branch_share = BTreeMap::new();
     for b in [MomentBranch::Free, MomentBranch::Zero] {
         let k = feasible.iter().filter(|(_, r)| r.branch == b).count();
@@ -544,7 +558,7 @@ pub fn run(
     Ok(Study {
         units: crate::records::SiUnits,
         model: settings.get().model,
-        draws,
+        draws: results.len(),
         seed,
         feasible_draws: feasible.len(),
         nominal: nominal
@@ -567,6 +581,7 @@ pub fn run(
         branch_share,
         sensitivity,
         linearised_sd,
+        cancelled,
         samples: feasible.iter().map(|(_, r)| r.values).collect(),
     })
 }

@@ -461,7 +461,7 @@ fn fits_and_draws_agree(a: &Case, b: &Case) {
             pim_fit::FitSettings::default(),
             40,
             7,
-            &|| {},
+            &pim_data::watch::Unwatched,
         )
         .unwrap()
     };

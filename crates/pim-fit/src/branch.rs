@@ -12,7 +12,7 @@ use crate::search::{near_limit, Outcome, Point, Sample};
 use crate::settings::FitSettings;
 use pim_core::{SolveOptions, Velocities};
 
-fn certificate(out: &Outcome) -> Certificate {
+fn certificate(out: &Outcome, inner: &Inner) -> Certificate {
     let (route, description) = if let Some(c) = out.convex {
         let what = if out.friction_max.is_some() {
             "the tangential model's modes: over the contact state and the impulse every \
@@ -96,6 +96,7 @@ fn certificate(out: &Outcome) -> Certificate {
         refinements: out.refinements,
         refinements_agreeing: out.refinements_agreeing,
         energy_uncertified_points: out.uncertified,
+        operations: inner.operations.load(std::sync::atomic::Ordering::Relaxed),
     }
 }
 
@@ -106,7 +107,7 @@ pub(crate) fn report(
     branch: MomentBranch,
     out: &Outcome,
 ) -> Result<BranchReport> {
-    let certificate = certificate(out);
+    let certificate = certificate(out, inner);
     let Some(best) = out.best else {
         return Ok(BranchReport {
             moment: branch,

@@ -117,4 +117,10 @@ pub struct Certificate {
     pub refinements_agreeing: usize,
     /// Points where the energy constraint could not be enforced exactly (treated as infeasible).
     pub energy_uncertified_points: usize,
+    /// Elementary operations of the inner problems of the whole fit (every branch): linear
+    /// solves, active-set steps, and ten
+    /// per iteration of the interior-point QP solver. A count, not a time: the same on every
+    /// machine, it is what a caller's budget of work charges for the fit.
+    #[serde(default)]
+    pub operations: u64,
 }

@@ -246,6 +246,82 @@ pub(crate) fn detached<T: Send>(
     Ok(py.detach(|| pool.install(f)))
 }
 
+/// The observer of a study run from Python: the workers record the latest progress, and the
+/// calling thread (which holds the interpreter between polls) passes it to the `progress`
+/// callback, stops the study when the callback returns a true value, and on Ctrl-C.
+struct PyWatch {
+    latest: std::sync::Mutex<Option<(u64, u64, String)>>,
+    stop: std::sync::atomic::AtomicBool,
+}
+
+impl pim_data::watch::Observer for PyWatch {
+    fn progress(&self, done: u64, total: u64, phase: &str) {
+        if let Ok(mut l) = self.latest.lock() {
+            *l = Some((done, total, phase.to_string()));
+        }
+    }
+
+    fn cancelled(&self) -> bool {
+        self.stop.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+/// Runs a study on `threads` threads without the interpreter lock, watched: `progress(done,
+/// total, phase)` is called from this thread about every 50 ms while it runs (and once at the
+/// end); a true return value cancels the study, which then returns what it has (its document
+/// says `cancelled`). Ctrl-C cancels it too, and raises `KeyboardInterrupt` once the workers
+/// have stopped. An exception in the callback cancels the study and is raised.
+pub(crate) fn watched<T: Send>(
+    py: Python<'_>,
+    threads: Option<usize>,
+    progress: Option<Bound<'_, PyAny>>,
+    f: impl FnOnce(&dyn pim_data::watch::Observer) -> T + Send,
+) -> PyResult<T> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| input_error(format!("threads: {e}")))?;
+    let watch = PyWatch {
+        latest: std::sync::Mutex::new(None),
+        stop: std::sync::atomic::AtomicBool::new(false),
+    };
+    let mut raised: Option<PyErr> = None;
+    let report = |py: Python<'_>, raised: &mut Option<PyErr>| {
+        let latest = watch.latest.lock().ok().and_then(|mut l| l.take());
+        let answer = match (&progress, latest) {
+            (Some(cb), Some((done, total, phase))) => cb.call1((done, total, phase)).map(Some),
+            _ => Ok(None),
+        };
+        let stop = match answer.and_then(|a| a.map_or(Ok(false), |a| a.is_truthy())) {
+            Ok(stop) => stop,
+            Err(e) => {
+                raised.get_or_insert(e);
+                true
+            }
+        };
+        if let Err(e) = py.check_signals() {
+            raised.get_or_insert(e);
+        }
+        if stop || raised.is_some() {
+            watch.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    };
+    let out = std::thread::scope(|s| {
+        let handle = s.spawn(|| pool.install(|| f(&watch)));
+        while !handle.is_finished() {
+            py.detach(|| std::thread::sleep(std::time::Duration::from_millis(50)));
+            report(py, &mut raised);
+        }
+        handle.join()
+    });
+    report(py, &mut raised);
+    let out = out.map_err(|_| input_error("the study stopped on an internal error".to_string()))?;
+    match raised {
+        Some(e) => Err(e),
+        None => Ok(out),
+    }
+}
+
 /// A `units` argument: `"si"`, `"us"`, `"kmh"` or `None` (the case's own).
 pub(crate) fn units_of(units: Option<&str>) -> PyResult<Option<pim_data::units::UnitSystem>> {
     use pim_data::units::UnitSystem;

@@ -190,7 +190,9 @@ fn batch(
         rows.retain(|r| keep.contains(&r.test));
     }
     let threads = threads_arg(threads.as_ref())?;
-    let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;
+    let records = detached(py, threads, || {
+        pim_data::batch::run(&rows, &plan, &pim_data::watch::Unwatched)
+    })?;
     to_py(py, &records)
 }
 
@@ -219,15 +221,20 @@ fn batch_csv(
     let plan = batch_plan(costs, branches, e_max, moment_form, models, conditions)?;
     let rows = pim_data::ricsac::parse(name, text).map_err(|e| input_error(e.message))?;
     let threads = threads_arg(threads.as_ref())?;
-    let records = detached(py, threads, || pim_data::batch::run(&rows, &plan, &|| {}))?;
+    let records = detached(py, threads, || {
+        pim_data::batch::run(&rows, &plan, &pim_data::watch::Unwatched)
+    })?;
     pim_render::batch_tables::records_csv(&records).map_err(input_error)
 }
 
 /// Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit by a
 /// seeded parametric bootstrap; the document of `pim uncertainty --format json`.
 #[pyfunction]
-#[pyo3(signature = (case, cost = None, draws = None, seed = None, threads = None, model = "pim"))]
-#[pyo3(text_signature = "(case, cost=None, draws=200, seed=1, threads=None, model='pim')")]
+#[pyo3(signature = (case, cost = None, draws = None, seed = None, threads = None, model = "pim", progress = None))]
+#[pyo3(
+    text_signature = "(case, cost=None, draws=200, seed=1, threads=None, model='pim', progress=None)"
+)]
+#[allow(clippy::too_many_arguments)] // one per keyword argument of the Python function
 fn uncertainty(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
@@ -236,6 +243,7 @@ fn uncertainty(
     seed: Option<Bound<'_, PyAny>>,
     threads: Option<Bound<'_, PyAny>>,
     model: &str,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
@@ -255,7 +263,7 @@ fn uncertainty(
     };
     let unc = case.content.uncertainty.unwrap_or_default();
     let model = self::model(model)?;
-    let study = detached(py, threads, || {
+    let study = crate::convert::watched(py, threads, progress, |observer| {
         pim_data::uncertainty::run(
             &case,
             &unc,
@@ -266,7 +274,7 @@ fn uncertainty(
             },
             draws,
             seed,
-            &|| {},
+            observer,
         )
     })?
     .map_err(|e| input_error(e.message))?;
@@ -284,7 +292,7 @@ fn predict_dv(py: Python<'_>, path: std::path::PathBuf, e: f64) -> PyResult<Py<P
         .map_err(|e| input_error(e.message))?;
     let rows =
         pim_data::predict::predict_all(&file, &tests, e).map_err(|e| input_error(e.message))?;
-    to_py(py, &serde_json::json!({ "tests": rows }))
+    to_py(py, &pim_data::schema::PredictionsOut { tests: rows })
 }
 
 /// The scale diagram of `pim draw` as SVG text: the case at contact (outlines, CGs, impact

@@ -92,8 +92,14 @@ pub(crate) fn reconstruct(
     let case = load_case(py, case)?;
     let branches = crate::convert::branches(branches)?;
     let model = crate::convert::model(model)?;
-    let done = detached(py, None, || {
-        pim_data::consistency::answer(&case, model, pim_core::MomentForm::Corrected, branches)
+    let done = crate::convert::watched(py, None, None, |observer| {
+        pim_data::consistency::answer(
+            &case,
+            model,
+            pim_core::MomentForm::Corrected,
+            branches,
+            observer,
+        )
     })?
     .map_err(DocumentErrorPy)?;
     let document = to_py(py, &done.document)?;
@@ -119,7 +125,7 @@ pub(crate) fn reconstruct(
 /// Intervals through all three phases of a case with scene evidence (`pim uncertainty` of
 /// such a case): the study's document.
 #[pyfunction]
-#[pyo3(signature = (case, draws = None, seed = None, threads = None, model = "pim"))]
+#[pyo3(signature = (case, draws = None, seed = None, threads = None, model = "pim", progress = None))]
 pub(crate) fn reconstruct_uncertainty(
     py: Python<'_>,
     case: &Bound<'_, PyAny>,
@@ -127,11 +133,12 @@ pub(crate) fn reconstruct_uncertainty(
     seed: Option<Bound<'_, PyAny>>,
     threads: Option<Bound<'_, PyAny>>,
     model: &str,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
     let model = crate::convert::model(model)?;
-    let (study, _) = detached(py, threads, || {
+    let (study, _) = crate::convert::watched(py, threads, progress, |observer| {
         pim_data::reconstruct_study::run(
             &case,
             model,
@@ -139,7 +146,7 @@ pub(crate) fn reconstruct_uncertainty(
             pim_fit::MomentBranch::ALL.to_vec(),
             draws,
             seed,
-            &|| {},
+            observer,
         )
     })?
     .map_err(DocumentErrorPy)?;

@@ -89,6 +89,29 @@ def test_uncertainty_and_predict_dv_equal_the_cli_documents():
     assert pim.predict_dv(e=0.1) == cli_json("predict-dv", "--e", "0.1")
 
 
+def test_a_study_reports_its_progress_and_can_be_cancelled():
+    case = "examples/cases/ricsac7_uncertainty.toml"
+    seen = []
+
+    def watch(done, total, phase):
+        seen.append((done, total, phase))
+
+    u = pim.uncertainty(case, cost="q2", draws=40, seed=3, threads=2, progress=watch)
+    assert seen and seen[-1] == (40, 40, "draws") and u.cancelled is None
+    # Watched or not, the same answer.
+    assert u.to_dict() == pim.uncertainty(case, cost="q2", draws=40, seed=3).to_dict()
+
+    def stop_after_a_few(done, total, phase):
+        return done >= 3
+
+    asked = 100_000
+    c = pim.uncertainty(case, cost="q2", draws=asked, seed=3, threads=1,
+                        progress=stop_after_a_few)
+    assert c.cancelled is not None and c.cancelled["asked"] == asked
+    assert 3 <= c.draws == c.cancelled["done"] < asked and c.feasible_draws <= c.draws
+    assert c["speed1"].p05 <= c["speed1"].p95
+
+
 def test_input_errors_carry_the_cli_message(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text((REPO / R7_FIT).read_text().replace("mass = 1955.0", "mass = -5.0"))

@@ -72,7 +72,6 @@ pub use outcome::{
     INCONSISTENT_P, POOR_FIT_P,
 };
 pub use problem::{
-    ContactResidual, ContactTerm, Reconstruction, SceneVehicle, Settings, Skid, REFINE_TIME_LIMIT,
-    REFINE_WORK,
+    ContactResidual, ContactTerm, Reconstruction, SceneVehicle, Settings, Skid, REFINE_WORK,
 };
 pub use search::{reconstruct, redo};

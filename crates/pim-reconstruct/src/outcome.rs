@@ -213,9 +213,6 @@ pub struct Outcome {
     /// The refinements' work ([`crate::Settings::refine_work`]): run-out right-hand side
     /// evaluations and the impact fits' equivalents.
     pub work: u64,
-    /// The wall-time safety ([`crate::Settings::refine_time_limit`]) ended the refinements
-    /// before their budget of work: the answer may differ on another machine.
-    pub timed_out: bool,
 }
 
 impl Outcome {

@@ -129,7 +129,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
-    let work = crate::refine::Work::new(settings.refine_work, settings.refine_time_limit);
+    let work = crate::refine::Work::new(settings.refine_work);
     for &i in &order {
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = *first[i].1.as_ref().expect("filtered");
@@ -154,19 +154,11 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             continue;
         }
         if work.exhausted() {
-            skipped_reason[i] = Some(if work.timed_out() {
-                format!(
-                    "not refined: the refinements before it reached the safety time limit ({} \
-                     s) before their budget of work: this answer may differ on another machine",
-                    settings.refine_time_limit.as_secs_f64()
-                )
-            } else {
-                format!(
-                    "not refined: the refinements before it spent their budget of work ({} \
-                     run-out evaluations or their equivalent; Settings::refine_work)",
-                    settings.refine_work
-                )
-            });
+            skipped_reason[i] = Some(format!(
+                "not refined: the refinements before it spent their budget of work ({} \
+                 run-out evaluations or their equivalent; Settings::refine_work)",
+                settings.refine_work
+            ));
             continue;
         }
         if count >= settings.max_refined {
@@ -255,7 +247,6 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             runouts,
             fits,
             work: work.spent(),
-            timed_out: work.timed_out(),
         });
     };
     let found = Found::new(r, point, iterations, converged);
@@ -277,7 +268,6 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         runouts,
         fits,
         work: work.spent(),
-        timed_out: work.timed_out(),
     })
 }
 
@@ -299,7 +289,7 @@ pub fn redo(
         return Ok(None);
     };
     let mut found: Option<Refined> = None;
-    let work = crate::refine::Work::new(settings.refine_work, settings.refine_time_limit);
+    let work = crate::refine::Work::new(settings.refine_work);
     for t in &nominal.tried {
         let (Tried::Refined { cost, .. }, Some(end)) = (&t.state, &t.end) else {
             continue;

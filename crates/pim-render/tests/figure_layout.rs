@@ -27,7 +27,7 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
     )
     .unwrap()
     .with_models(&[FitModel::Pim, FitModel::Tangential]);
-    let records = batch::run(&tests, &plan, &|| {});
+    let records = batch::run(&tests, &plan, &pim_data::watch::Unwatched);
     let pim: Vec<_> = records
         .iter()
         .filter(|r| r.model == FitModel::Pim)
@@ -53,7 +53,7 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
         pim_fit::FitSettings::default(),
         60,
         1,
-        &|| {},
+        &pim_data::watch::Unwatched,
     )
     .unwrap();
     figures.extend(

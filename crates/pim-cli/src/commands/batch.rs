@@ -102,9 +102,9 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let tick = || bar.inc(1);
+    let observer = super::study::Bar(bar.clone());
     let work = || {
-        let mut records = batch::run(&tests, &plan, &tick);
+        let mut records = batch::run(&tests, &plan, &observer);
         if let Some(t) = &tolerances {
             bar.set_message("intervals");
             batch::add_data_intervals(&mut records, &tests, &file, t, &plan, a.draws, a.seed);

@@ -108,8 +108,11 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
 
 /// `pim fit` of a case with scene evidence: the three phases in one fit.
 fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> Result<ExitCode> {
-    let done = pim_data::consistency::answer(case, a.model, a.moment_form, unique(&a.branch))
+    // The consistency table of a conflicting scene takes seconds: its rows on a bar.
+    let bar = super::study::Bar::on_terminal(a.format == crate::args::Format::Table);
+    let done = pim_data::consistency::answer(case, a.model, a.moment_form, unique(&a.branch), &bar)
         .map_err(Failure::from)?;
+    bar.0.finish_and_clear();
     let d = &done.document;
     let units = a.units.map_or_else(
         || pim_data::units::UnitSystem::of(&case.written_units),

@@ -117,7 +117,7 @@ pub fn write_reconstruction(
 /// The study of a scene case.
 pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
     let (pool, bar) = super::study::pool_and_bar(a)?;
-    let tick = || bar.inc(1);
+    let observer = super::study::Bar(bar.clone());
     let (study, _) = pool
         .install(|| {
             reconstruct_study::run(
@@ -127,7 +127,7 @@ pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode
                 pim_fit::MomentBranch::ALL.to_vec(),
                 a.draws,
                 a.seed,
-                &tick,
+                &observer,
             )
         })
         .map_err(Failure::from)?;

@@ -6,6 +6,32 @@ use crate::error::Failure;
 use anyhow::Result;
 use pim_data::uncertainty::Sensitivity;
 
+/// A progress bar as a study's observer: it shows the study's phase and its steps done.
+pub struct Bar(pub indicatif::ProgressBar);
+
+impl Bar {
+    /// A bar on standard error when `show` and standard error is a terminal, else hidden.
+    pub fn on_terminal(show: bool) -> Self {
+        Bar(
+            if show && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+                indicatif::ProgressBar::new(0)
+            } else {
+                indicatif::ProgressBar::hidden()
+            },
+        )
+    }
+}
+
+impl pim_data::watch::Observer for Bar {
+    fn progress(&self, done: u64, total: u64, phase: &str) {
+        if self.0.length() != Some(total) {
+            self.0.set_length(total);
+        }
+        self.0.set_position(done);
+        self.0.set_message(phase.to_string());
+    }
+}
+
 /// The three inputs that dominate a quantity, with their first-order indices.
 pub fn dominant(sens: &Sensitivity) -> String {
     let list: Vec<String> = sens

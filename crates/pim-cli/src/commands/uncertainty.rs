@@ -121,7 +121,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     };
     let unc = case.content.uncertainty.unwrap_or_default();
     let (pool, bar) = super::study::pool_and_bar(a)?;
-    let tick = || bar.inc(1);
+    let observer = super::study::Bar(bar.clone());
     let study = pool.install(|| {
         uncertainty::run(
             &case,
@@ -133,7 +133,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
             },
             a.draws,
             a.seed,
-            &tick,
+            &observer,
         )
     })?;
     bar.finish_and_clear();

@@ -18,7 +18,9 @@
 
 use super::constraints::{ConstraintSet, RowX};
 use super::objective::OverX;
-use super::qp::{certainly_infeasible, nearly_singular, qp, solve_spd, to6, to_d, QpOutcome};
+use super::qp::{
+    certainly_infeasible, nearly_singular, qp, solve_spd, to6, to_d, QpHooks, QpOutcome,
+};
 use super::{At, Candidate, Eval, Inner};
 use crate::report::Violation;
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
@@ -197,6 +199,7 @@ impl Inner {
         let solve = |lambda: f64| -> Result<Vector6<f64>, Violation> {
             let p = hy + zq * lambda;
             let q = gy - lq * lambda;
+            self.spend(1);
             if let Some(y) = solve_spd(&p, &q) {
                 let xl = ox.xp + to6(&(&*ox.z * &y));
                 if inside(&xl) {
@@ -211,7 +214,10 @@ impl Inner {
                 cs.tol,
                 self.settings.qp_iterations,
                 &mut active,
-                &proven_empty,
+                QpHooks {
+                    proven_empty: &proven_empty,
+                    spend: &|n| self.spend(n),
+                },
             ) {
                 QpOutcome::Solved(y) => Ok(ox.xp + to6(&(&*ox.z * &y))),
                 QpOutcome::Infeasible => Err(Violation::Infeasible),

@@ -92,6 +92,9 @@ pub(crate) struct Inner {
     pub settings: SearchSettings,
     /// Feasibility tolerance, m/s.
     pub(super) tol: f64,
+    /// Elementary operations spent so far: linear solves of the inner problem and iterations
+    /// of its QP solvers (see [`crate::Certificate::operations`]).
+    pub(crate) operations: std::sync::atomic::AtomicU64,
 }
 
 /// The linear constraint set of a sign.
@@ -103,6 +106,12 @@ pub(super) fn sign_index(s: FrictionSign) -> usize {
 }
 
 impl Inner {
+    /// Counts `n` elementary operations.
+    pub(crate) fn spend(&self, n: u64) {
+        self.operations
+            .fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+    }
+
     pub fn new(problem: &FitProblem, settings: &FitSettings) -> Self {
         let impact = problem.impact;
         let objective = Objective::new(problem);
@@ -171,6 +180,7 @@ impl Inner {
             .flatten()
             .map(|maps| (maps, rows(&maps.a), rows(&maps.b)));
         Inner {
+            operations: std::sync::atomic::AtomicU64::new(0),
             reduction: Reduction::new(&impact, moment_form),
             known,
             known_state,

@@ -51,7 +51,7 @@ field), :class:`NoSolution` when the model has no answer.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union
 
 from . import _pim
 from ._frame import COLUMNS, fit_frame
@@ -141,6 +141,8 @@ MomentBranch = Literal["free", "zero"]
 MomentForm = Literal["corrected", "brach1983"]
 Model = Literal["pim", "tangential"]
 Units = Literal["si", "us", "kmh"]
+Progress = Callable[[int, int, str], Any]
+"""A study's progress callback: ``progress(done, total, phase)``; a true return value cancels."""
 
 
 def solve(case: Case, no_slip: bool = False, moment_form: MomentForm = "corrected") -> SolveResult:
@@ -227,19 +229,23 @@ def uncertainty(
     seed: Optional[int] = None,
     threads: Optional[int] = None,
     model: Model = "pim",
+    progress: Optional[Progress] = None,
 ) -> Uncertainty:
     """Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit
     by a seeded parametric bootstrap (``pim uncertainty``): ``draws`` refits (default 200)
     from ``seed`` (default 1), the same numbers for any ``threads``. ``model="tangential"``
     fits the second model in every draw (its quantities ``e``, ``et``, ``friction`` in the
-    places of ``mu`` and ``em``).
+    places of ``mu`` and ``em``). ``progress(done, total, phase)`` is called about every
+    50 ms while the draws run; a true return value cancels the study, which then returns the
+    draws finished (``cancelled`` says how many of how many); Ctrl-C stops the draws and
+    raises ``KeyboardInterrupt``.
 
     >>> u = uncertainty("examples/cases/ricsac7_uncertainty.toml", cost="q2", draws=20)
     >>> u.feasible_draws, u["speed1"].unit, u["speed1"].p05 < u["speed1"].p95
     (20, 'm/s', True)
     """
     return Uncertainty._read(_pim.uncertainty(case, cost=cost, draws=draws, seed=seed,
-                                              threads=threads, model=model))
+                                              threads=threads, model=model, progress=progress))
 
 
 def predict_dv(path: PathArg = "data/ricsac.csv", e: float = 0.0) -> Dict[str, Any]:
@@ -339,11 +345,13 @@ def reconstruct_uncertainty(
     seed: Optional[int] = None,
     threads: Optional[int] = None,
     model: Model = "pim",
+    progress: Optional[Progress] = None,
 ) -> ReconstructionStudy:
     """Intervals through all three phases (``pim uncertainty`` of a case with scene
     evidence): ``draws`` (default 200) refits of the whole reconstruction with the estimates,
     observations, EDR speeds, rest positions, headings, marks, the road friction
     (``[runout] friction_sigma``) and ``[uncertainty]`` drawn, from ``seed`` (default 1).
+    ``progress`` and Ctrl-C as for :func:`uncertainty`.
 
     >>> u = reconstruct_uncertainty("examples/cases/reconstruction_us.toml", draws=20)
     >>> q = u["vehicle1.speed_at_contact"]
@@ -351,7 +359,8 @@ def reconstruct_uncertainty(
     (20, True, 'road friction')
     """
     return ReconstructionStudy._read(
-        _pim.reconstruct_uncertainty(case, draws=draws, seed=seed, threads=threads, model=model)
+        _pim.reconstruct_uncertainty(case, draws=draws, seed=seed, threads=threads, model=model,
+                                     progress=progress)
     )
 
 

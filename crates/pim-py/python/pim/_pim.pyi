@@ -2,7 +2,7 @@
 of the package ``pim``, which return typed results."""
 
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 __all__ = [
     "__version__",
@@ -71,6 +71,7 @@ def uncertainty(
     seed: Optional[int] = ...,
     threads: Optional[int] = ...,
     model: str = ...,
+    progress: Optional[Callable[[int, int, str], Any]] = ...,
 ) -> Dict[str, Any]: ...
 def predict_dv(path: _PathArg = ..., e: float = ...) -> Dict[str, Any]: ...
 def report(
@@ -109,4 +110,5 @@ def reconstruct_uncertainty(
     seed: Optional[int] = ...,
     threads: Optional[int] = ...,
     model: str = ...,
+    progress: Optional[Callable[[int, int, str], Any]] = ...,
 ) -> Dict[str, Any]: ...

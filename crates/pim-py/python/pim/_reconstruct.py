@@ -183,6 +183,8 @@ class ReconstructionStudy:
     quantities: Dict[str, PhaseInterval]
     inputs: Tuple[str, ...]
     document: Document = field(default_factory=dict, repr=False)
+    cancelled: Optional[Dict[str, Any]] = None
+    """Set when the study was cancelled: ``phase``, ``done`` and ``asked``."""
 
     def __getitem__(self, name: str) -> PhaseInterval:
         return self.quantities[name]
@@ -210,4 +212,5 @@ class ReconstructionStudy:
             quantities=q,
             inputs=tuple(str(i) for i in d["inputs"]),
             document=d,
+            cancelled=d.get("cancelled"),
         )

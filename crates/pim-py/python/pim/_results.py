@@ -456,6 +456,9 @@ class Uncertainty:
     sensitivity: Tuple[Dict[str, Any], ...]
     units: Dict[str, str]
     _document: Document = field(repr=False, compare=False)
+    cancelled: Optional[Dict[str, Any]] = None
+    """Set when the study was cancelled: ``phase``, ``done`` and ``asked`` (``draws`` is then
+    the draws finished)."""
 
     @classmethod
     def _read(cls, d: Document) -> Uncertainty:
@@ -488,6 +491,7 @@ class Uncertainty:
             sensitivity=tuple(d.get("sensitivity", ())),
             units=dict(d.get("units", {})),
             _document=d,
+            cancelled=d.get("cancelled"),
         )
 
     def __repr__(self) -> str:

@@ -123,7 +123,7 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
             },
             draws,
             o.seed,
-            &|| {},
+            &pim_data::watch::Unwatched,
         )?;
         (s.feasible_draws > 0).then_some(s)
     } else {
@@ -149,6 +149,7 @@ fn reconstruction(case: &Case, o: &Options, units: UnitSystem) -> Result<Made, D
         o.model,
         pim_core::MomentForm::Corrected,
         branches.clone(),
+        &pim_data::watch::Unwatched,
     )?;
     let draws = o.draws.unwrap_or(DEFAULT_DRAWS);
     let study = if draws > 0 && done.document.status == pim_reconstruct::Status::Found {
@@ -159,7 +160,7 @@ fn reconstruction(case: &Case, o: &Options, units: UnitSystem) -> Result<Made, D
             branches,
             draws,
             o.seed,
-            &|| {},
+            &pim_data::watch::Unwatched,
         )?;
         (s.feasible_draws > 0).then_some(s)
     } else {
