@@ -3,8 +3,8 @@
 //! RICSAC tests beside their Q2 fits (`pim batch --damage`'s work).
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 use criterion::{criterion_group, criterion_main, Criterion};
+use pim_case::case::Case;
 use pim_core::MomentForm;
-use pim_data::case::Case;
 use pim_fit::{CostPreset, FitModel, MomentBranch};
 use std::hint::black_box;
 
@@ -18,7 +18,7 @@ fn damage(c: &mut Criterion) {
         &read("examples/cases/ricsac7_damage.toml"),
     )
     .unwrap();
-    let damage = pim_data::damage::Damage::of(&case).unwrap().unwrap();
+    let damage = pim_case::damage::Damage::of(&case).unwrap().unwrap();
     let problem =
         pim_data::fitcase::problem(&case, pim_data::fitcase::CostChoice::Preset(CostPreset::Q2))
             .unwrap();
@@ -46,7 +46,7 @@ fn damage(c: &mut Criterion) {
             .unwrap()
         })
     });
-    let tests = pim_data::ricsac::parse("data/ricsac.csv", &read("data/ricsac.csv")).unwrap();
+    let tests = pim_case::ricsac::parse("data/ricsac.csv", &read("data/ricsac.csv")).unwrap();
     let crush = pim_data::ricsac_damage::parse_crush(&read("data/ricsac_vehicles.csv")).unwrap();
     let measured =
         pim_data::ricsac_damage::parse_measured(&read("data/reference/neades2011_table5_3.csv"))

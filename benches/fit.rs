@@ -6,7 +6,7 @@ use std::hint::black_box;
 
 fn problems() -> Vec<(u32, CostPreset, FitProblem)> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
-    let tests = pim_data::ricsac::parse(
+    let tests = pim_case::ricsac::parse(
         "data/ricsac.csv",
         &std::fs::read_to_string(&path).expect("data/ricsac.csv"),
     )
@@ -58,7 +58,7 @@ fn bench(c: &mut Criterion) {
 
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
     let tests =
-        pim_data::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(&path).unwrap())
+        pim_case::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(&path).unwrap())
             .unwrap();
     let plan = pim_data::batch::BatchPlan {
         costs: CostPreset::ALL.to_vec(),

@@ -3,8 +3,8 @@
 //! case, and 20 draws of its uncertainty study.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 use criterion::{criterion_group, criterion_main, Criterion};
+use pim_case::case::Case;
 use pim_core::MomentForm;
-use pim_data::case::Case;
 use pim_fit::{FitModel, MomentBranch};
 use std::hint::black_box;
 

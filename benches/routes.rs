@@ -14,7 +14,7 @@ fn root(p: &str) -> std::path::PathBuf {
 }
 
 fn ricsac(test: u32, cost: CostPreset) -> FitProblem {
-    let tests = pim_data::ricsac::parse(
+    let tests = pim_case::ricsac::parse(
         "data/ricsac.csv",
         &std::fs::read_to_string(root("data/ricsac.csv")).expect("data/ricsac.csv"),
     )
@@ -29,9 +29,9 @@ fn ricsac(test: u32, cost: CostPreset) -> FitProblem {
     )
 }
 
-fn case(path: &str) -> pim_data::case::Case {
+fn case(path: &str) -> pim_case::case::Case {
     let text = std::fs::read_to_string(root(path)).expect("case file");
-    pim_data::case::Case::from_text(path, &text).expect("valid case")
+    pim_case::case::Case::from_text(path, &text).expect("valid case")
 }
 
 fn settings(model: FitModel, branches: &[MomentBranch]) -> ValidSettings {

@@ -3,7 +3,7 @@ use pim_fit::{CostPreset, FitSettings, MomentBranch};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
-    let tests = pim_data::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(path)?)?;
+    let tests = pim_case::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(path)?)?;
     let plan = pim_data::batch::BatchPlan {
         costs: vec![CostPreset::Q2],
         branches: vec![MomentBranch::Zero],

@@ -338,7 +338,7 @@ fn table3_from_natural_case_files_in_us_units() {
         let test = row.text("test");
         let file = format!("examples/cases/ricsac{test}_us.toml");
         let text = std::fs::read_to_string(repo_path(&file)).unwrap();
-        let case = pim_data::case::Case::from_text(&file, &text).unwrap();
+        let case = pim_case::case::Case::from_text(&file, &text).unwrap();
         let impact = case.impact().unwrap();
         let (state, forward) = case.known_state().unwrap();
         assert!(forward);

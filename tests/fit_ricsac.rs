@@ -42,9 +42,9 @@ fn vossou_cost(preset: CostPreset) -> HashMap<u32, f64> {
     let path = format!(
         "{}/data/reference/{}",
         env!("CARGO_MANIFEST_DIR"),
-        pim_data::reference::vossou_table(preset)
+        pim_case::reference::vossou_table(preset)
     );
-    pim_data::reference::parse_vossou(&std::fs::read_to_string(path).unwrap())
+    pim_case::reference::parse_vossou(&std::fs::read_to_string(path).unwrap())
         .unwrap()
         .into_iter()
         .collect()

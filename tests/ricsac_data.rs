@@ -2,9 +2,9 @@
 //! recomputed, and each test solved forwards with Brach 1984 Table 1B.
 mod common;
 use common::*;
+use pim_case::ricsac::RicsacTest;
 use pim_core::outline::{impact_centre_distance, Outline};
 use pim_core::*;
-use pim_data::ricsac::RicsacTest;
 
 fn tests() -> Vec<RicsacTest> {
     ricsac_tests()

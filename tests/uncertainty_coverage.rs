@@ -2,8 +2,8 @@
 //! drawn with the stated sigmas, the parametric bootstrap run on each (seeded).
 mod common;
 use common::{normal, ricsac9_truth, sigma_toml, state_toml, RICSAC9_GEOMETRY};
+use pim_case::case::Case;
 use pim_core::*;
-use pim_data::case::Case;
 use pim_data::fitcase::CostChoice;
 use pim_data::uncertainty::{self, UncertaintySection};
 use pim_fit::CostPreset;

@@ -19,7 +19,7 @@ use std::collections::HashMap;
 fn printed(preset: CostPreset) -> HashMap<u32, Vec<(usize, f64)>> {
     let file = format!(
         "data/reference/{}",
-        pim_data::reference::vossou_table(preset)
+        pim_case::reference::vossou_table(preset)
     );
     let names = [
         "vi1x", "vi1y", "wi1", "vi2x", "vi2y", "wi2", "vf1x", "vf1y", "wf1", "vf2x", "vf2y", "wf2",
@@ -39,14 +39,14 @@ fn printed(preset: CostPreset) -> HashMap<u32, Vec<(usize, f64)>> {
 }
 
 /// The twelve measured components of a test.
-fn measured(t: &pim_data::ricsac::RicsacTest) -> [f64; 12] {
+fn measured(t: &pim_case::ricsac::RicsacTest) -> [f64; 12] {
     let (a, b) = (t.initial().to_vector(), t.separation().to_vector());
     std::array::from_fn(|k| if k < 6 { a[k] } else { b[k - 6] })
 }
 
 /// The linear-momentum residual of a 12-vector (contact, separation) in x and y, as the change
 /// of vehicle 2's velocity that would close it, m/s.
-fn momentum_miss(t: &pim_data::ricsac::RicsacTest, u: &[f64; 12]) -> [f64; 2] {
+fn momentum_miss(t: &pim_case::ricsac::RicsacTest, u: &[f64; 12]) -> [f64; 2] {
     let (m1, m2) = (t.mass1_kg, t.mass2_kg);
     let p = |k1: usize, k2: usize| (m1 * (u[6 + k1] - u[k1]) + m2 * (u[6 + k2] - u[k2])) / m2;
     [p(0, 3).abs(), p(1, 4).abs()]
@@ -55,7 +55,7 @@ fn momentum_miss(t: &pim_data::ricsac::RicsacTest, u: &[f64; 12]) -> [f64; 2] {
 /// The rebuilt state under one reading: `abs` reads the errors as `|fitted| - |measured|`
 /// (signs chosen to conserve momentum best), otherwise as `fitted - measured`.
 fn rebuild(
-    t: &pim_data::ricsac::RicsacTest,
+    t: &pim_case::ricsac::RicsacTest,
     errors: &[(usize, f64)],
     abs: bool,
 ) -> ([f64; 12], usize) {
@@ -97,7 +97,7 @@ fn rebuild(
 }
 
 /// e implied by a 12-vector: `-Vn / vn` at the impact centre.
-fn implied_e(t: &pim_data::ricsac::RicsacTest, u: &[f64; 12]) -> f64 {
+fn implied_e(t: &pim_case::ricsac::RicsacTest, u: &[f64; 12]) -> f64 {
     let impact = t.impact().unwrap();
     let row = pim_core::equations::normal_velocity_row(&impact);
     let x = nalgebra::Vector6::from_column_slice(&u[..6]);
@@ -191,7 +191,7 @@ fn vossou_columns_are_differences_of_magnitudes() {
 /// mu implied by the vector (e = -Vn/vn, mu = |Pt/Pn|), under one form of the moment equation:
 /// (em, largest linear miss m/s, largest yaw miss rad/s, mu, mu_max of that solve).
 fn closest_solve(
-    t: &pim_data::ricsac::RicsacTest,
+    t: &pim_case::ricsac::RicsacTest,
     u: &[f64; 12],
     form: pim_core::MomentForm,
 ) -> Option<(f64, f64, f64, f64, Option<f64>)> {
@@ -277,7 +277,7 @@ fn which_moment_equation_vossou_solved() {
 /// What keeps a rebuilt V18 solution from being a point of V18's own conditions (Brach's 1983
 /// moment equation with em in [-1, 0], e in [0, 0.2], mu in [0, 1.2], the velocity bounds,
 /// linear momentum with the data's masses, no energy created), by name; empty if nothing does.
-fn outside_v18_conditions(t: &pim_data::ricsac::RicsacTest, u: &[f64; 12]) -> Vec<String> {
+fn outside_v18_conditions(t: &pim_case::ricsac::RicsacTest, u: &[f64; 12]) -> Vec<String> {
     let mut why = Vec::new();
     let miss = momentum_miss(t, u);
     if miss[0].max(miss[1]) > 0.05 {

@@ -10,10 +10,10 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// The RICSAC tests of `data/ricsac.csv`.
-pub fn ricsac_tests() -> Vec<pim_data::ricsac::RicsacTest> {
+pub fn ricsac_tests() -> Vec<pim_case::ricsac::RicsacTest> {
     let path = repo_path("data/ricsac.csv");
     let text = std::fs::read_to_string(&path).expect("data/ricsac.csv");
-    pim_data::ricsac::parse("data/ricsac.csv", &text).expect("valid data file")
+    pim_case::ricsac::parse("data/ricsac.csv", &text).expect("valid data file")
 }
 
 /// Path of a file under the repository root.
@@ -180,7 +180,7 @@ pub fn ricsac9_truth(
     mu_fraction: impl FnOnce() -> f64,
 ) -> Option<(pim_core::Impact, pim_core::ImpactReport)> {
     use pim_core::{critical_friction, solve_forward, Coefficients, SolveOptions};
-    let impact = pim_data::case::Case::from_text("geometry", RICSAC9_GEOMETRY)
+    let impact = pim_case::case::Case::from_text("geometry", RICSAC9_GEOMETRY)
         .unwrap()
         .impact()
         .unwrap();

@@ -104,7 +104,7 @@ pub enum UnitsArg {
     Kmh,
 }
 
-impl From<UnitsArg> for pim_data::units::UnitSystem {
+impl From<UnitsArg> for pim_case::units::UnitSystem {
     fn from(u: UnitsArg) -> Self {
         match u {
             UnitsArg::Si => Self::Si,
@@ -135,7 +135,7 @@ fn choice<T: Copy + Send + Sync + 'static>(
     })
 }
 
-pub use pim_data::ranges::{MAX_DRAWS, MAX_THREADS};
+pub use pim_case::ranges::{MAX_DRAWS, MAX_THREADS};
 
 /// A count between `lo` and `hi`.
 fn count(s: &str, lo: usize, hi: usize, what: &str) -> Result<usize, String> {

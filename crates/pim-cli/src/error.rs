@@ -72,8 +72,8 @@ impl fmt::Display for Failure {
 
 impl std::error::Error for Failure {}
 
-impl From<pim_data::InputError> for Failure {
-    fn from(e: pim_data::InputError) -> Self {
+impl From<pim_case::InputError> for Failure {
+    fn from(e: pim_case::InputError) -> Self {
         Failure::Input(e.message)
     }
 }

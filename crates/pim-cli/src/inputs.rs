@@ -1,21 +1,21 @@
 //! Reading input files (the only file reads of the toolkit) and handing their text to pim-data.
 
 use crate::error::Failure;
-use pim_data::case::{Case, MAX_CASE_BYTES};
-use pim_data::ricsac::{RicsacTest, MAX_DATA_BYTES};
+use pim_case::case::{Case, MAX_CASE_BYTES};
+use pim_case::ricsac::{RicsacTest, MAX_DATA_BYTES};
 use std::path::Path;
 
 /// Reads a file that must be a small regular text file, with messages naming it: refused
-/// unless it is a regular file, and read with a cap (pim-data's [`pim_data::input`]), so that
+/// unless it is a regular file, and read with a cap (pim-data's [`pim_case::input`]), so that
 /// no input can make the command wait or read without end.
 pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, Failure> {
     let name = path.display().to_string();
     let meta = std::fs::metadata(path)
         .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    pim_data::input::check_file(&name, &meta, max_bytes)?;
+    pim_case::input::check_file(&name, &meta, max_bytes)?;
     let file = std::fs::File::open(path)
         .map_err(|e| Failure::Input(format!("{name}: cannot read: {}", io_reason(&e))))?;
-    Ok(pim_data::input::read_text(&name, file, max_bytes)?)
+    Ok(pim_case::input::read_text(&name, file, max_bytes)?)
 }
 
 /// A short reason for an I/O error.
@@ -33,7 +33,7 @@ pub fn load_case(path: &Path) -> Result<Case, Failure> {
     let case = Case::from_text(&path.display().to_string(), &text)?;
     // The damage is read where it is used; checked here so that every command refuses a case
     // whose crush cannot be.
-    pim_data::damage::Damage::of(&case)?;
+    pim_case::damage::Damage::of(&case)?;
     Ok(case)
 }
 
@@ -71,5 +71,5 @@ pub fn strict_status(
 /// Reads and parses a RICSAC data file.
 pub fn load_ricsac(path: &Path) -> Result<Vec<RicsacTest>, Failure> {
     let text = read_text_file(path, MAX_DATA_BYTES)?;
-    Ok(pim_data::ricsac::parse(&path.display().to_string(), &text)?)
+    Ok(pim_case::ricsac::parse(&path.display().to_string(), &text)?)
 }

@@ -142,7 +142,22 @@ pub fn friction_direction(
     }
 }
 
-crate::json_schema_as!(FrictionSign, {"type": "number", "description": "The sign of the friction impulse along the crush surface: 1 or -1."});
+impl schemars::JsonSchema for FrictionSign {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "FrictionSign".into()
+    }
+
+    fn inline_schema() -> bool {
+        true
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "type": "number",
+            "description": "The sign of the friction impulse along the crush surface: 1 or -1."
+        })
+    }
+}
 
 impl Serialize for FrictionSign {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {

@@ -3,6 +3,7 @@
 use crate::error::{PimError, Result, VehicleId};
 use crate::friction::FrictionSign;
 use nalgebra::Vector6;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// One vehicle: its inertial properties and where the impact centre C sits on it.
@@ -11,7 +12,7 @@ use serde::{Deserialize, Serialize};
 /// at rest before and after the impact. The equations then take their limits as vehicle 2's
 /// mass and inertia grow without bound (see [`crate::equations`]): vehicle 2 does not move, the
 /// impulse acts on vehicle 1 alone, and momentum is not conserved (the ground takes it).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Vehicle {
     /// Mass m, kg (> 0; infinite for a barrier).
     pub mass: f64,
@@ -27,7 +28,7 @@ pub struct Vehicle {
 }
 
 /// A two-vehicle impact configuration: both vehicles and the crush surface.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct Collision {
     /// Vehicle 1 (the papers' vehicle A).
     pub vehicle1: Vehicle,
@@ -62,9 +63,7 @@ pub struct Impact {
 }
 
 /// What the side of the crush surface each vehicle is on ([`Impact::side`]) rests on.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SideBasis {
     /// The two CGs lie on opposite sides of the crush plane: the geometry decides.
@@ -173,9 +172,7 @@ pub fn wrap_degrees(a: f64) -> f64 {
 }
 
 /// How a case gives the vehicles' headings.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, schemars::JsonSchema,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Convention {
     /// Both headings are the direction the nose points (counter-clockwise from +x, degrees),
@@ -535,7 +532,7 @@ impl Impact {
 }
 
 /// Velocity of one vehicle: CG velocity components and yaw rate.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct VehicleVelocity {
     /// CG velocity along the fixed x axis, m/s.
     pub vx: f64,
@@ -553,7 +550,7 @@ impl VehicleVelocity {
 }
 
 /// The velocities of both vehicles at one instant (contact or separation).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 pub struct Velocities {
     /// Vehicle 1.
     pub vehicle1: VehicleVelocity,

@@ -3,8 +3,8 @@
 
 use crate::fitcase::CostChoice;
 use crate::records::BranchRecord;
-use crate::ricsac::RicsacTest;
 use crate::uncertainty::{Summary, Tolerances};
+use pim_case::ricsac::RicsacTest;
 use pim_fit::{
     CostPreset, FitModel, FitProblem, FitSettings, MomentBranch, Status, COMPONENT_NAMES,
 };
@@ -89,7 +89,7 @@ impl BatchPlan {
 
     /// A case file of the batch with what the batch states for every case: e's upper bound
     /// `--e-max`, when given, where the file's `[bounds]` does not set e.
-    pub fn apply_to_case_file(&self, case: &mut crate::case::Case) {
+    pub fn apply_to_case_file(&self, case: &mut pim_case::case::Case) {
         if let Some(hi) = self.case_e_max {
             let b = case.content.bounds.get_or_insert_with(Default::default);
             b.e.get_or_insert([0.0, hi]);
@@ -98,7 +98,7 @@ impl BatchPlan {
 
     /// A data-file test as a case with the batch's bounds stated (V18's velocity and yaw-rate
     /// bounds, e and mu of the plan), so that its draws search what its fit searched.
-    pub fn apply_to_data_case(&self, case: &mut crate::case::Case) {
+    pub fn apply_to_data_case(&self, case: &mut pim_case::case::Case) {
         let s = &self.settings;
         let b = case.content.bounds.get_or_insert_with(Default::default);
         b.e = Some(s.e);
@@ -371,12 +371,12 @@ fn fit_one(
 /// The summaries of `pim uncertainty` for one case under one cost function and the plan's
 /// branches and settings.
 pub(crate) fn intervals(
-    case: &crate::case::Case,
+    case: &pim_case::case::Case,
     cost: CostChoice,
     plan: &BatchPlan,
     draws: usize,
     seed: u64,
-) -> crate::error::Result<BTreeMap<String, Summary>> {
+) -> pim_case::Result<BTreeMap<String, Summary>> {
     let unc = case.content.uncertainty.unwrap_or_default();
     crate::uncertainty::run(
         case,

@@ -7,10 +7,10 @@
 //! status, the chi-square and each vehicle's speeds of every phase and its count of turns.
 
 use crate::batch::{BatchPlan, Outcome};
-use crate::case::Case;
 use crate::case_records::CaseRecord;
 pub use crate::reconstruct_doc::{SceneRecord, SceneVehicleRecord};
 use crate::records::BranchRecord;
+use pim_case::case::Case;
 
 /// The records of one case file of a batch (already read; `text` is its content) under one
 /// cost function: a case with scene evidence under its own cost is answered with its

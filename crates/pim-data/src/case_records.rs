@@ -163,7 +163,7 @@ impl CaseRecord {
 
     /// Adds the bootstrap intervals of `pim uncertainty` (`draws` draws, `seed`) to this record.
     pub fn add_intervals(&mut self, text: &str, plan: &BatchPlan, draws: usize, seed: u64) {
-        let study = crate::case::Case::from_text(&self.file, text).and_then(|mut case| {
+        let study = pim_case::case::Case::from_text(&self.file, text).and_then(|mut case| {
             plan.apply_to_case_file(&mut case);
             intervals(&case, self.cost_function, plan, draws, seed)
         });
@@ -189,7 +189,7 @@ pub fn fit_case_text(
             .map(|&m| CaseRecord::failed(file, cost, m, Some(msg.clone())))
             .collect()
     };
-    let case = match crate::case::Case::from_text(file, text) {
+    let case = match pim_case::case::Case::from_text(file, text) {
         Ok(mut c) => {
             plan.apply_to_case_file(&mut c);
             c

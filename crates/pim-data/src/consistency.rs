@@ -18,11 +18,11 @@
 //! pool. When no single group explains the conflict, pairs are left out too (up to
 //! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_WORK`].
 
-use crate::case::Case;
 use crate::documents::DocumentError;
 use crate::reconstruct::reconstruct;
 use crate::reconstruct_doc::ReconstructionOut;
 pub use crate::reconstruct_doc::{Consistency, LeftOut};
+use pim_case::case::Case;
 use pim_fit::MomentBranch;
 use pim_reconstruct::{Status, INCONSISTENT_P, POOR_FIT_P};
 use rayon::prelude::*;

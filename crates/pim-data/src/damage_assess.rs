@@ -1,7 +1,7 @@
 //! The crush energies at a pair of states: set beside PIM's energy loss and delta-V, and as a
 //! residual of a fit.
 
-use crate::damage::Damage;
+use pim_case::damage::Damage;
 use pim_core::{Impact, VehicleId, Velocities};
 use pim_crush::{EnergyRelation, MAX_PDOF_CORRECTION_ANGLE};
 use pim_fit::Vector12;
@@ -11,7 +11,7 @@ use serde::Serialize;
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct VehicleAssessment {
     /// The damaged face.
-    pub side: crate::damage::Side,
+    pub side: pim_case::damage::Side,
     /// False when the profile follows from the other vehicle's by the force balance.
     pub measured: bool,
     /// The crush depths used, m.

@@ -1,7 +1,7 @@
 //! The damage's inputs of an uncertainty study: each stiffness coefficient, damage width and
 //! crush depth with a standard deviation is drawn (in the case file's own units).
 
-use crate::case::Case;
+use pim_case::case::Case;
 
 /// Writes a drawn value into a copy of the case.
 pub(crate) type Apply = Box<dyn Fn(&mut Case, f64) + Sync + Send>;
@@ -28,7 +28,7 @@ pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
             };
             // Crush and stiffness are drawn in the file's own units, kept where they can be:
             // A and depths at least 0, B and the width above 0.
-            type Set = fn(&mut crate::sections::DamageVehicleSection, f64, f64);
+            type Set = fn(&mut pim_case::sections::DamageVehicleSection, f64, f64);
             let fields: [(&str, Option<f64>, Option<f64>, Set); 3] = [
                 ("a", v.a, v.a_sigma, |s, x, _| s.a = Some(x.max(0.0))),
                 ("b", v.b, v.b_sigma, |s, x, n| s.b = Some(x.max(1e-6 * n))),
@@ -79,7 +79,7 @@ pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
 fn damage_vehicle_mut(
     case: &mut Case,
     k: usize,
-) -> Option<&mut crate::sections::DamageVehicleSection> {
+) -> Option<&mut pim_case::sections::DamageVehicleSection> {
     let d = case.content.damage.as_mut()?;
     if k == 0 {
         d.vehicle1.as_mut()

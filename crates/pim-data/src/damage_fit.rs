@@ -1,10 +1,10 @@
 //! The damage in a fit: the crush at the fit's answer, and the fit with the crush energy as
 //! evidence.
 
-use crate::case::Case;
-use crate::damage::Damage;
 use crate::damage_assess::{assess, Assessment, EnergyTerm};
-use crate::error::Result;
+use pim_case::case::Case;
+use pim_case::damage::Damage;
+use pim_case::Result;
 use pim_fit::{FitProblem, FitReport, MomentBranch, NonlinearTerm, ValidSettings};
 use serde::Serialize;
 
@@ -100,7 +100,7 @@ pub fn fit_damage(
             Some((g, s)) => {
                 let impact = g
                     .impact(&problem.impact)
-                    .map_err(|e| crate::InputError::new(&case.file, e))?;
+                    .map_err(|e| pim_case::InputError::new(&case.file, e))?;
                 assess(
                     &damage,
                     &impact,
@@ -124,7 +124,7 @@ pub fn fit_damage(
         }));
     }
     let fitted = fit_damage_of(&damage, problem, report, settings, unit)
-        .map_err(|e| crate::InputError::new(&case.file, e))?;
+        .map_err(|e| pim_case::InputError::new(&case.file, e))?;
     if needs_sigma(&fitted.at_fit) {
         return Err(no_sigma());
     }

@@ -2,9 +2,9 @@
 //! command, so that every front end (the command line, the Python package) gives the same
 //! document for the same input.
 
-use crate::case::Case;
 use crate::fitcase;
 use crate::records::{BranchRecord, FitOut, ModelOut, SolveOut};
+use pim_case::case::Case;
 use pim_core::{Impact, ImpactReport, SolveOptions};
 use pim_fit::{CostPreset, FitProblem, FitReport, MomentBranch};
 
@@ -19,8 +19,8 @@ pub enum DocumentError {
     NoAnswer(String),
 }
 
-impl From<crate::InputError> for DocumentError {
-    fn from(e: crate::InputError) -> Self {
+impl From<pim_case::InputError> for DocumentError {
+    fn from(e: pim_case::InputError) -> Self {
         DocumentError::Input(e.message)
     }
 }
@@ -81,7 +81,7 @@ pub fn solve(case: &Case, options: &SolveOptions) -> Result<Solved, DocumentErro
             stick_ratio: c.stick_ratio,
         });
     }
-    if let Some(damage) = crate::damage::Damage::of(case)? {
+    if let Some(damage) = pim_case::damage::Damage::of(case)? {
         let r = &solution.report;
         let u = pim_fit::state_vector(&r.initial, &r.separation);
         document.damage = crate::damage_assess::assess(&damage, &impact, &u);

@@ -1,7 +1,7 @@
 //! Building a fit problem from a case file (`pim fit`).
 
-use crate::case::Case;
-use crate::error::{InputError, Result};
+use pim_case::case::Case;
+use pim_case::{InputError, Result};
 use pim_core::VehicleId;
 use pim_fit::{
     CostPreset, FitProblem, FitSettings, GeometryBound, Knowledge, MomentBranch, Observation,
@@ -71,7 +71,7 @@ pub fn sigma_unit(case: &Case) -> Result<Option<f64>> {
                 format!(
                     "{}: a standard deviation must be a number of at least {SIGMA_MIN} (m/s or \
                      rad/s)",
-                    crate::ranges::short(*s)
+                    pim_case::ranges::short(*s)
                 ),
             ));
         }
@@ -130,9 +130,9 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
                             "a standard deviation of {} is {:.1e} times the smallest of the \
                              case ({}): its weight 1/sigma^2 underflows to 0. Give a standard \
                              deviation within 1e100 of the smallest, or leave the estimate out",
-                            crate::ranges::short(s),
+                            pim_case::ranges::short(s),
                             s / u.sqrt(),
-                            crate::ranges::short(u.sqrt())
+                            pim_case::ranges::short(u.sqrt())
                         ),
                     ),
                     _ => case.error_at(
@@ -368,7 +368,7 @@ pub fn sets_bound(case: &Case, bound: pim_fit::SearchBound) -> bool {
 
 /// True when `[bounds]` (as given) sets `bound`.
 pub fn bound_in(
-    bounds: Option<&crate::sections::BoundsSection>,
+    bounds: Option<&pim_case::sections::BoundsSection>,
     bound: pim_fit::SearchBound,
 ) -> bool {
     use pim_fit::SearchBound as B;
@@ -386,14 +386,14 @@ pub fn bound_in(
 }
 
 /// The case's settings on top of `base`, checked: the velocity limits of a case file (the
-/// physical ranges of `crate::ranges` unless `[bounds]` sets them), then its `[bounds]`.
+/// physical ranges of `pim_case::ranges` unless `[bounds]` sets them), then its `[bounds]`.
 pub fn settings_from(case: &Case, base: FitSettings) -> Result<pim_fit::ValidSettings> {
     let mut s = base;
     // A case file's crash is whatever the user brings: its velocities are bounded by the
     // physical ranges of the inputs (100 m/s, 15 rad/s), not by the RICSAC setting of Vossou &
     // Koulocheris (20 m/s, 5 rad/s), unless its [bounds] say otherwise.
-    s.velocity_bound = crate::ranges::SPEED.hi;
-    s.yaw_rate_bound = crate::ranges::YAW_RATE.hi;
+    s.velocity_bound = pim_case::ranges::SPEED.hi;
+    s.yaw_rate_bound = pim_case::ranges::YAW_RATE.hi;
     // Likewise e: its physical range, from perfectly plastic to perfectly elastic, not the
     // [0, 0.2] that suits RICSAC's speeds.
     s.e = CASE_E_RANGE;

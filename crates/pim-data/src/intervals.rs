@@ -157,7 +157,7 @@ pub fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spread::standard_normal;
+    use pim_case::spread::standard_normal;
     use rand::SeedableRng;
 
     #[test]

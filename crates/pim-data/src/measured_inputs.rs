@@ -5,11 +5,11 @@
 //! and applied to the field it names; a spread whose field the case does not give is refused
 //! with its place, never dropped.
 
-use crate::case::Case;
-use crate::scene_sections::{PreImpactVehicleSection, RunoutVehicleSection};
-use crate::spread::Spread;
 use crate::uncertainty::Input;
-use crate::Result;
+use pim_case::case::Case;
+use pim_case::scene_sections::{PreImpactVehicleSection, RunoutVehicleSection};
+use pim_case::spread::Spread;
+use pim_case::Result;
 
 fn pre_impact(c: &mut Case, k: usize) -> Option<&mut PreImpactVehicleSection> {
     let p = c.content.pre_impact.as_mut()?;

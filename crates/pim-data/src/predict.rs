@@ -1,7 +1,7 @@
 //! `pim predict-dv`: Brach 1984 section 6 applied to every test of a data file (see
 //! [`pim_core::prediction`] for the equations).
 
-use crate::ricsac::RicsacTest;
+use pim_case::ricsac::RicsacTest;
 use pim_core::point_mass::PointMassImpact;
 use pim_core::prediction::{delta_v_eq14, l_factor, point_mass_eq17};
 use serde::Serialize;
@@ -48,9 +48,9 @@ pub fn predict_all(
     file: &str,
     tests: &[RicsacTest],
     e: f64,
-) -> std::result::Result<Vec<TestPrediction>, crate::InputError> {
+) -> std::result::Result<Vec<TestPrediction>, pim_case::InputError> {
     if !(e.is_finite() && (0.0..=1.0).contains(&e)) {
-        return Err(crate::InputError::new(
+        return Err(pim_case::InputError::new(
             file,
             format!("e = {e}: must be in [0, 1]"),
         ));
@@ -59,7 +59,7 @@ pub fn predict_all(
         .iter()
         .map(|t| {
             predict(t, e).map_err(|err| {
-                crate::InputError::new(file, format!("test {} (line {}): {err}", t.test, t.line))
+                pim_case::InputError::new(file, format!("test {} (line {}): {err}", t.test, t.line))
             })
         })
         .collect()

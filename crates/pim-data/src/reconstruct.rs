@@ -4,14 +4,14 @@
 //!
 //! The JSON is SI in the natural frame, angles in degrees, like every other document.
 
-use crate::case::Case;
 use crate::documents::DocumentError;
 use crate::fitcase::{self, CostChoice};
 pub use crate::reconstruct_doc::{
     BestOut, CountsOut, EvidenceOut, ReconstructionOut, VehiclePhasesOut,
 };
 use crate::runout::{MotionOut, PoseOut};
-use crate::scene_sections::PreImpactVehicleSection;
+use pim_case::case::Case;
+use pim_case::scene_sections::PreImpactVehicleSection;
 use pim_core::VehicleId;
 use pim_fit::{FitProblem, Knowledge, MomentBranch, Observation, ObservationKind, COMPONENT_NAMES};
 use pim_reconstruct::{
@@ -42,7 +42,7 @@ pub struct CaseReconstruction {
     /// How many of them are the case's `[[observations]]` (the EDR speeds follow).
     case_observations: usize,
     /// The case's `[bounds]` (who set a bound the answer reaches).
-    bounds: Option<crate::sections::BoundsSection>,
+    bounds: Option<pim_case::sections::BoundsSection>,
 }
 
 fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {

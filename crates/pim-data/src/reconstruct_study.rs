@@ -8,12 +8,12 @@
 //! its best), and the speeds of every phase are recorded. Draw `i` uses its own random stream,
 //! so the result is the same for any thread count.
 
-use crate::case::Case;
 use crate::documents::DocumentError;
 use crate::intervals::{dominant_inputs, Summary};
 use crate::reconstruct::case_reconstruction;
-use crate::spread::Spread;
 use crate::uncertainty::{inputs, stream, Input, Sensitivity};
+use pim_case::case::Case;
+use pim_case::spread::Spread;
 use pim_fit::MomentBranch;
 use pim_reconstruct::{redo, Found, Outcome};
 use rayon::prelude::*;
@@ -96,7 +96,7 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
             });
         }
     }
-    type Pick = fn(&mut Case) -> Option<&mut crate::scene_sections::SceneVehicleSection>;
+    type Pick = fn(&mut Case) -> Option<&mut pim_case::scene_sections::SceneVehicleSection>;
     let picks: [(usize, Pick); 2] = [
         (1, |c| {
             c.content.scene.as_mut().and_then(|s| s.vehicle1.as_mut())

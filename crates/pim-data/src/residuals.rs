@@ -7,7 +7,7 @@
 //! `share` is the term's part of the cost, `weight residual^2 / cost`. All values SI (m/s,
 //! rad/s) in the natural frame, like the rest of the JSON.
 
-use crate::case::Case;
+use pim_case::case::Case;
 use pim_fit::{FitProblem, Knowledge, ObservationKind, COMPONENT_NAMES};
 use serde::Serialize;
 

@@ -9,9 +9,9 @@
 //! standard deviation of the crush or the stiffness is published; the energy as evidence
 //! assumes [`ASSUMED_STIFFNESS_SIGMA`] of A and B and [`ASSUMED_DEPTH_SIGMA`] of each depth.
 
-use crate::damage::{Damage, Side, VehicleDamage};
 use crate::damage_fit::{fit_damage_of, FitDamage};
-use crate::ricsac::RicsacTest;
+use pim_case::damage::{Damage, Side, VehicleDamage};
+use pim_case::ricsac::RicsacTest;
 use pim_core::outline::{damaged_face, Face, Outline};
 use pim_crush::{EnergyRelation, Profile, ProfileSigmas, Stiffness};
 use pim_fit::{CostPreset, FitProblem, FitSettings};

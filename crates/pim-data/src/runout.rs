@@ -4,9 +4,9 @@
 //! The JSON is SI in the natural frame with angles in degrees (counter-clockwise from +x),
 //! like every other document of the toolkit.
 
-use crate::case::Case;
 use crate::documents::DocumentError;
-use crate::scene::VehicleRunout;
+use pim_case::case::Case;
+use pim_case::scene::VehicleRunout;
 use pim_core::{VehicleId, Velocities};
 use pim_runout::{Candidate, End, Estimate, EstimateSettings, Motion, Runout, Settings};
 use serde::Serialize;

@@ -6,12 +6,14 @@
 //! records the quantities a report needs. Draw `i` uses its own random stream (seeded from
 //! `seed` and `i`), so the result is bit-identical for any thread count.
 
-use crate::case::Case;
-use crate::error::{InputError, Result};
 use crate::fitcase::{self, CostChoice};
 use crate::intervals::dominant_inputs;
 pub use crate::intervals::{BoundHit, Summary};
-pub use crate::spread::{standard_normal, ImpactSpread, Spread, UncertaintySection, VehicleSpread};
+use pim_case::case::Case;
+pub use pim_case::spread::{
+    standard_normal, ImpactSpread, Spread, UncertaintySection, VehicleSpread,
+};
+use pim_case::{InputError, Result};
 use pim_fit::{FitModel, FitSettings, MomentBranch, Quantity, Status};
 use rand::SeedableRng;
 use rayon::prelude::*;
@@ -221,7 +223,7 @@ pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>
     for (id, spread) in [(0usize, unc.vehicle1), (1, unc.vehicle2)] {
         let name = ["vehicle1", "vehicle2"][id];
         let v = if id == 0 { &c.vehicle1 } else { &c.vehicle2 };
-        type Setter = fn(&mut crate::case::VehicleSection, f64);
+        type Setter = fn(&mut pim_case::case::VehicleSection, f64);
         let fields: [(&str, Option<Spread>, f64, Setter); 5] = [
             ("mass", spread.mass, v.mass, |s, x| s.mass = x),
             ("yaw_inertia", spread.yaw_inertia, v.yaw_inertia, |s, x| {

@@ -2,10 +2,10 @@
 //! collision, a barrier test's crush giving its speed back through a case file, and fits with
 //! the crush energy as evidence recovering the coefficients of data made by the forward model.
 use approx::assert_relative_eq;
+use pim_case::case::Case;
+use pim_case::damage::{Damage, Side, VehicleDamage};
 use pim_core::*;
 use pim_crush::{EnergyRelation, Profile, ProfileSigmas, Stiffness};
-use pim_data::case::Case;
-use pim_data::damage::{Damage, Side, VehicleDamage};
 use pim_data::damage_assess::{assess, EnergyTerm};
 use pim_fit::*;
 use proptest::prelude::*;

@@ -1,9 +1,10 @@
 //! Fuzzing the parsers and the solver entry points with arbitrary and hostile input (proptest,
 //! seeded): no panic, every call returns, and every error names a culprit. Inputs that once
 //! broke something are kept in `tests/fuzz-corpus/` and replayed first.
+use pim_case::case::Case;
+use pim_case::ricsac;
 use pim_core::*;
-use pim_data::case::Case;
-use pim_data::{fitcase, ricsac};
+use pim_data::fitcase;
 mod mutate;
 use mutate::{hostile_number, replace_number};
 use proptest::prelude::*;

@@ -4,10 +4,10 @@
 //! vehicle 1's nose. Tolerance 1e-12 (relative to the size of each number): only round-off of
 //! the unit factors and of one rotation separates the forms.
 
+use pim_case::case::Case;
 use pim_core::{wrap_degrees, SolveOptions, Velocities};
-use pim_data::case::Case;
 
-use pim_data::units::{FOOT as FT, MPH, POUND as LB, SLUG};
+use pim_case::units::{FOOT as FT, MPH, POUND as LB, SLUG};
 
 /// kg m^2 per slug ft^2 (the `[units] yaw_inertia = "slug ft^2"` factor).
 const SLUG_FT2: f64 = SLUG * FT * FT;

@@ -2,7 +2,7 @@
 //! promptly with the steps it finished and says so, while a watched study that is not cancelled
 //! gives exactly the answer of an unwatched one.
 
-use pim_data::case::Case;
+use pim_case::case::Case;
 use pim_data::watch::{Observer, Unwatched};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;

@@ -1,7 +1,7 @@
 //! What every function of the package shares: its exceptions, reading a case, converting
 //! arguments and documents between Python and Rust.
 
-use pim_data::case::Case;
+use pim_case::case::Case;
 use pim_data::documents::DocumentError;
 use pim_fit::{CostPreset, MomentBranch};
 use pyo3::create_exception;
@@ -74,8 +74,8 @@ impl From<DocumentError> for DocumentErrorPy {
     }
 }
 
-impl From<pim_data::InputError> for DocumentErrorPy {
-    fn from(e: pim_data::InputError) -> Self {
+impl From<pim_case::InputError> for DocumentErrorPy {
+    fn from(e: pim_case::InputError) -> Self {
         DocumentErrorPy(e.into())
     }
 }
@@ -95,10 +95,10 @@ pub(crate) fn read(path: &Path, max_bytes: u64) -> PyResult<String> {
     let name = path.display().to_string();
     let meta =
         std::fs::metadata(path).map_err(|e| input_error(format!("{name}: cannot read: {e}")))?;
-    pim_data::input::check_file(&name, &meta, max_bytes).map_err(|e| input_error(e.message))?;
+    pim_case::input::check_file(&name, &meta, max_bytes).map_err(|e| input_error(e.message))?;
     let file =
         std::fs::File::open(path).map_err(|e| input_error(format!("{name}: cannot read: {e}")))?;
-    pim_data::input::read_text(&name, file, max_bytes).map_err(|e| input_error(e.message))
+    pim_case::input::read_text(&name, file, max_bytes).map_err(|e| input_error(e.message))
 }
 
 /// A case from TOML text, a path (str or os.PathLike) or a dict of the case file's shape.
@@ -123,7 +123,7 @@ pub(crate) fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Cas
         if looks_like_path {
             (
                 s.clone(),
-                read(Path::new(&s), pim_data::case::MAX_CASE_BYTES)?,
+                read(Path::new(&s), pim_case::case::MAX_CASE_BYTES)?,
             )
         } else {
             ("<text>".to_string(), s)
@@ -131,7 +131,7 @@ pub(crate) fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Cas
     } else if let Ok(p) = case.extract::<std::path::PathBuf>() {
         (
             p.display().to_string(),
-            read(&p, pim_data::case::MAX_CASE_BYTES)?,
+            read(&p, pim_case::case::MAX_CASE_BYTES)?,
         )
     } else {
         return Err(input_error(
@@ -139,7 +139,7 @@ pub(crate) fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Cas
         ));
     };
     let case = Case::from_text(&name, &text).map_err(|e| input_error(e.message))?;
-    pim_data::damage::Damage::of(&case).map_err(|e| input_error(e.message))?;
+    pim_case::damage::Damage::of(&case).map_err(|e| input_error(e.message))?;
     Ok(case)
 }
 
@@ -194,7 +194,7 @@ pub(crate) fn branches(names: Vec<String>) -> PyResult<Vec<MomentBranch>> {
 pub(crate) fn draws_arg(draws: Option<&Bound<'_, PyAny>>, lo: u64) -> PyResult<Option<usize>> {
     draws
         .filter(|d| !d.is_none())
-        .map(|d| Ok(whole(d, "draws", lo, pim_data::ranges::MAX_DRAWS as u64)? as usize))
+        .map(|d| Ok(whole(d, "draws", lo, pim_case::ranges::MAX_DRAWS as u64)? as usize))
         .transpose()
 }
 
@@ -229,7 +229,7 @@ pub(crate) fn whole(value: &Bound<'_, PyAny>, name: &str, lo: u64, hi: u64) -> P
 pub(crate) fn threads_arg(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     threads
         .filter(|t| !t.is_none())
-        .map(|t| whole(t, "threads", 1, pim_data::ranges::MAX_THREADS as u64).map(|n| n as usize))
+        .map(|t| whole(t, "threads", 1, pim_case::ranges::MAX_THREADS as u64).map(|n| n as usize))
         .transpose()
 }
 
@@ -323,8 +323,8 @@ pub(crate) fn watched<T: Send>(
 }
 
 /// A `units` argument: `"si"`, `"us"`, `"kmh"` or `None` (the case's own).
-pub(crate) fn units_of(units: Option<&str>) -> PyResult<Option<pim_data::units::UnitSystem>> {
-    use pim_data::units::UnitSystem;
+pub(crate) fn units_of(units: Option<&str>) -> PyResult<Option<pim_case::units::UnitSystem>> {
+    use pim_case::units::UnitSystem;
     Ok(match units {
         None => None,
         Some("si") => Some(UnitSystem::Si),

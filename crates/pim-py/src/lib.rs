@@ -179,7 +179,7 @@ fn batch(
 ) -> PyResult<Py<PyAny>> {
     let plan = batch_plan(costs, branches, e_max, moment_form, models, conditions)?;
     let file = path.display().to_string();
-    let mut rows = pim_data::ricsac::parse(&file, &read(&path, pim_data::ricsac::MAX_DATA_BYTES)?)
+    let mut rows = pim_case::ricsac::parse(&file, &read(&path, pim_case::ricsac::MAX_DATA_BYTES)?)
         .map_err(|e| input_error(e.message))?;
     if let Some(keep) = tests {
         for t in &keep {
@@ -219,7 +219,7 @@ fn batch_csv(
     conditions: &str,
 ) -> PyResult<String> {
     let plan = batch_plan(costs, branches, e_max, moment_form, models, conditions)?;
-    let rows = pim_data::ricsac::parse(name, text).map_err(|e| input_error(e.message))?;
+    let rows = pim_case::ricsac::parse(name, text).map_err(|e| input_error(e.message))?;
     let threads = threads_arg(threads.as_ref())?;
     let records = detached(py, threads, || {
         pim_data::batch::run(&rows, &plan, &pim_data::watch::Unwatched)
@@ -288,7 +288,7 @@ fn uncertainty(
 #[pyo3(text_signature = "(path='data/ricsac.csv', e=0.0)")]
 fn predict_dv(py: Python<'_>, path: std::path::PathBuf, e: f64) -> PyResult<Py<PyAny>> {
     let file = path.display().to_string();
-    let tests = pim_data::ricsac::parse(&file, &read(&path, pim_data::ricsac::MAX_DATA_BYTES)?)
+    let tests = pim_case::ricsac::parse(&file, &read(&path, pim_case::ricsac::MAX_DATA_BYTES)?)
         .map_err(|e| input_error(e.message))?;
     let rows =
         pim_data::predict::predict_all(&file, &tests, e).map_err(|e| input_error(e.message))?;

@@ -64,7 +64,7 @@ pub(crate) fn runout(
         return Err(err);
     }
     let svg = if draw {
-        let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
+        let units = units.unwrap_or_else(|| pim_case::units::UnitSystem::of(&case.written_units));
         let title = pim_render::text::case_title(&case);
         Some(
             pim_render::runout::runout_svg(&title, &result, units, case.written, every)
@@ -113,7 +113,7 @@ pub(crate) fn reconstruct(
         return Err(err);
     }
     let svg = if draw {
-        let units = units.unwrap_or_else(|| pim_data::units::UnitSystem::of(&case.written_units));
+        let units = units.unwrap_or_else(|| pim_case::units::UnitSystem::of(&case.written_units));
         pim_render::runout::reconstruction_scene(&case, &done, units)
             .map_err(pyo3::exceptions::PyRuntimeError::new_err)?
     } else {

@@ -1,10 +1,10 @@
 //! Tables, CSV files and the Brach 1984 comparison of a batch run.
 
+use pim_case::reference::BrachRow;
+use pim_case::units::UnitSystem;
 use pim_data::batch::{BatchRecord, Outcome};
 use pim_data::records::BranchRecord;
-use pim_data::reference::BrachRow;
 use pim_data::uncertainty::Summary;
-use pim_data::units::UnitSystem;
 use pim_fit::{CostPreset, MomentBranch, COMPONENT_NAMES};
 use serde::Serialize;
 use std::fmt::Write as _;

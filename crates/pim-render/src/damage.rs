@@ -1,9 +1,9 @@
 //! The damage in tables: the crush energies beside PIM's energy loss, CRASH3's delta-V beside
 //! PIM's, and the fit with the crush energy as evidence.
 
+use pim_case::units::UnitSystem;
 use pim_data::damage_assess::Assessment;
 use pim_data::damage_fit::FitDamage;
-use pim_data::units::UnitSystem;
 use std::fmt::Write;
 
 fn kj(x: f64) -> String {

@@ -2,8 +2,8 @@
 //! figure of crush energy against the fitted energy loss.
 
 use crate::{err, svg_figure, Figure};
+use pim_case::units::UnitSystem;
 use pim_data::ricsac_damage::DamageRecord;
-use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 use std::fmt::Write;
 

@@ -1,6 +1,6 @@
 //! The lines of the table output that give a branch's estimated impact geometry.
 
-use pim_data::units::UnitSystem;
+use pim_case::units::UnitSystem;
 use std::fmt::Write as _;
 
 /// The estimated geometry of a branch: each input with its range, and the search over it.

@@ -20,7 +20,7 @@
 //!                         pim-cli (the `pim` binary), pim-py (Python)
 //! ```
 //!
-//! Numbers are printed in the unit system the caller asks for ([`pim_data::units::UnitSystem`]);
+//! Numbers are printed in the unit system the caller asks for ([`pim_case::units::UnitSystem`]);
 //! the JSON documents, made by pim-data, stay SI.
 
 pub mod batch_tables;

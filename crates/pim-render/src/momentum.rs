@@ -8,9 +8,9 @@
 //! natural one mirrored) and impulse unit.
 
 use crate::{err, svg_figure, Figure};
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
 use pim_core::{Convention, Velocities};
-use pim_data::case::Case;
-use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 const COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];

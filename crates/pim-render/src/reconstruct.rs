@@ -3,9 +3,9 @@
 
 use crate::tables::num;
 use crate::text::wrap;
+use pim_case::units::UnitSystem;
 use pim_core::Convention;
 use pim_data::reconstruct::ReconstructionOut;
-use pim_data::units::UnitSystem;
 
 /// The reconstruction's table in `units` and the case's `frame` (SAE: y to the right, headings
 /// clockwise).

@@ -3,9 +3,9 @@
 
 use crate::tables::num;
 use crate::text::wrap;
+use pim_case::units::UnitSystem;
 use pim_core::Convention;
 use pim_data::runout::{RunoutResult, Source};
-use pim_data::units::UnitSystem;
 use pim_runout::{Motion, WheelState};
 use plotters::prelude::*;
 
@@ -609,7 +609,7 @@ fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> R
 /// case's frame (what `pim fit --out`, the report and Python draw alike). `None` without an
 /// answer.
 pub fn reconstruction_scene(
-    case: &pim_data::case::Case,
+    case: &pim_case::case::Case,
     done: &pim_data::reconstruct::Reconstructed,
     units: UnitSystem,
 ) -> Result<Option<String>, String> {

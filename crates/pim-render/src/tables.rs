@@ -1,10 +1,10 @@
 //! Human-readable tables of `pim solve`, `pim sensitivity` and `pim fit`.
 
 use crate::geometry_lines::geometry_block;
+use pim_case::units::UnitSystem;
 use pim_core::Convention;
 use pim_core::ImpactReport;
 use pim_core::SensitivityStudy;
-use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 
 /// `x` to `prec` decimals, without a minus sign on a value that rounds to zero.

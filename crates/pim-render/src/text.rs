@@ -23,7 +23,7 @@ pub fn wrap(text: &str, width: usize) -> Vec<String> {
 
 /// The title of a case's tables and drawings: the file, its title and the vehicles'
 /// descriptions.
-pub fn case_title(case: &pim_data::case::Case) -> String {
+pub fn case_title(case: &pim_case::case::Case) -> String {
     let c = &case.content;
     let mut t = match &c.title {
         Some(t) => format!("{} ({t})", case.file),

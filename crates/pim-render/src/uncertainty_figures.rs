@@ -3,8 +3,8 @@
 //! that dominate each of them.
 
 use crate::{err, svg_figure, Figure};
+use pim_case::units::UnitSystem;
 use pim_data::uncertainty::{Study, QUANTITIES};
-use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 const BAR: RGBColor = RGBColor(31, 119, 180);

@@ -8,7 +8,7 @@
 
 mod svg_layout;
 
-use pim_data::case::Case;
+use pim_case::case::Case;
 use pim_data::documents;
 use std::path::Path;
 use svg_layout::defects;
@@ -66,7 +66,7 @@ fn no_diagram_has_overlapping_labels_or_leaves_its_canvas() {
         cases.push(load(f));
     }
     let data = std::fs::read_to_string(repo().join("data/ricsac.csv")).unwrap();
-    let tests = pim_data::ricsac::parse("data/ricsac.csv", &data).unwrap();
+    let tests = pim_case::ricsac::parse("data/ricsac.csv", &data).unwrap();
     assert_eq!(tests.len(), 11);
     for t in &tests {
         cases.push(t.case(&format!("RICSAC test {}", t.test)).unwrap());

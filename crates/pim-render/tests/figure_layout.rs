@@ -17,7 +17,7 @@ fn repo() -> std::path::PathBuf {
 fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
     let path = repo().join("data/ricsac.csv");
     let text = std::fs::read_to_string(&path).unwrap();
-    let tests = pim_data::ricsac::parse("data/ricsac.csv", &text).unwrap();
+    let tests = pim_case::ricsac::parse("data/ricsac.csv", &text).unwrap();
     let costs = [CostPreset::Q1, CostPreset::Q2, CostPreset::Q3];
     let plan = BatchPlan::new(
         &costs,
@@ -40,7 +40,7 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
     );
 
     let case_path = repo().join("examples/cases/tbone_sae_us.toml");
-    let case = pim_data::case::Case::from_text(
+    let case = pim_case::case::Case::from_text(
         "tbone_sae_us.toml",
         &std::fs::read_to_string(&case_path).unwrap(),
     )
@@ -57,7 +57,7 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
     )
     .unwrap();
     figures.extend(
-        pim_render::uncertainty_figures::figures(&study, pim_data::units::UnitSystem::Us).unwrap(),
+        pim_render::uncertainty_figures::figures(&study, pim_case::units::UnitSystem::Us).unwrap(),
     );
 
     let names: Vec<&str> = figures.iter().map(|f| f.name.as_str()).collect();

@@ -3,8 +3,8 @@
 //! outline at contact on the same page coordinates, in the case's frame and units; an SAE
 //! scene lies as a map (x up, y to the right).
 
-use pim_data::case::Case;
-use pim_data::units::UnitSystem;
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
 use std::path::Path;
 
 fn load(name: &str) -> Case {

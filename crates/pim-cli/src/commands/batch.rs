@@ -6,14 +6,14 @@ use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::load_ricsac;
 use anyhow::Result;
+use pim_case::reference::parse_brach;
 use pim_data::batch;
-use pim_data::reference::parse_brach;
 use pim_render::{batch_tables, figures};
 use std::process::ExitCode;
 
 /// Reads a tolerances file (`--tolerances`).
 fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tolerances, Failure> {
-    let text = crate::inputs::read_text_file(path, pim_data::case::MAX_CASE_BYTES)?;
+    let text = crate::inputs::read_text_file(path, pim_case::case::MAX_CASE_BYTES)?;
     Ok(pim_data::uncertainty::Tolerances::from_text(
         &path.display().to_string(),
         &text,
@@ -90,8 +90,8 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
     }
     let plan = plan(a)?;
     // A data file has no [units]: its tables are SI unless --units says otherwise.
-    let units: pim_data::units::UnitSystem =
-        a.units.map_or(pim_data::units::UnitSystem::Si, Into::into);
+    let units: pim_case::units::UnitSystem =
+        a.units.map_or(pim_case::units::UnitSystem::Si, Into::into);
     let n_jobs = (tests.len() * plan.costs.len()) as u64;
     let show =
         a.format != BatchFormat::Json && std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -141,7 +141,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .parent()
         .map(|d| d.join("reference").join("brach1984_table1.csv"))
         .filter(|p| p.is_file())
-        .and_then(|p| crate::inputs::read_text_file(&p, pim_data::ricsac::MAX_DATA_BYTES).ok())
+        .and_then(|p| crate::inputs::read_text_file(&p, pim_case::ricsac::MAX_DATA_BYTES).ok())
         .and_then(|t| parse_brach(&t).ok());
     // V18's printed costs, per cost function, when the batch runs under their conditions.
     let v18 = (a.conditions == crate::args::Conditions::V18)
@@ -154,10 +154,10 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
                 let path = data
                     .parent()?
                     .join("reference")
-                    .join(pim_data::reference::vossou_table(cost));
+                    .join(pim_case::reference::vossou_table(cost));
                 let text =
-                    crate::inputs::read_text_file(&path, pim_data::ricsac::MAX_DATA_BYTES).ok()?;
-                let rows = pim_data::reference::parse_vossou(&text).ok()?;
+                    crate::inputs::read_text_file(&path, pim_case::ricsac::MAX_DATA_BYTES).ok()?;
+                let rows = pim_case::reference::parse_vossou(&text).ok()?;
                 printed.push((cost, rows));
             }
             Some(printed)

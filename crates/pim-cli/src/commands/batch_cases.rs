@@ -5,9 +5,9 @@ use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::{io_reason, read_text_file};
 use anyhow::Result;
+use pim_case::case::MAX_CASE_BYTES;
 use pim_data::batch::Outcome;
 use pim_data::batch_scene::{add_intervals, case_records};
-use pim_data::case::MAX_CASE_BYTES;
 use pim_data::case_records::CaseRecord;
 use pim_data::fitcase::CostChoice;
 use rayon::prelude::*;
@@ -54,7 +54,7 @@ fn case_files(inputs: &[PathBuf]) -> Result<Vec<Entry>, Failure> {
                 }
                 let name = f.display().to_string();
                 let why = match std::fs::metadata(&f) {
-                    Ok(m) => pim_data::input::check_regular(&name, &m)
+                    Ok(m) => pim_case::input::check_regular(&name, &m)
                         .err()
                         .map(|e| e.to_string()),
                     Err(e) => Some(format!(

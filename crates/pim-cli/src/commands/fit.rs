@@ -44,7 +44,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
         .iter()
         .find(|r| Some(r.moment) == report.best);
     let units = a.units.map_or_else(
-        || pim_data::units::UnitSystem::of(&case.written_units),
+        || pim_case::units::UnitSystem::of(&case.written_units),
         Into::into,
     );
     // Shown in the case's own frame and units (an SAE case is fitted mirrored into the natural
@@ -107,7 +107,7 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
 }
 
 /// `pim fit` of a case with scene evidence: the three phases in one fit.
-fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> Result<ExitCode> {
+fn reconstruction(a: &FitArgs, case: &pim_case::case::Case, warnings: usize) -> Result<ExitCode> {
     // The consistency table of a conflicting scene takes seconds: its rows on a bar.
     let bar = super::study::Bar::on_terminal(a.format == crate::args::Format::Table);
     let done = pim_data::consistency::answer(case, a.model, a.moment_form, unique(&a.branch), &bar)
@@ -115,7 +115,7 @@ fn reconstruction(a: &FitArgs, case: &pim_data::case::Case, warnings: usize) -> 
     bar.0.finish_and_clear();
     let d = &done.document;
     let units = a.units.map_or_else(
-        || pim_data::units::UnitSystem::of(&case.written_units),
+        || pim_case::units::UnitSystem::of(&case.written_units),
         Into::into,
     );
     let record = json(d)?;

@@ -19,8 +19,8 @@ pub mod verdict;
 use crate::error::Failure;
 use crate::inputs::io_reason;
 use anyhow::Result;
+use pim_case::case::Case;
 use pim_core::{SolveOptions, TangentialCondition};
-use pim_data::case::Case;
 use pim_render::diagram::Diagram;
 use std::io::Write;
 use std::path::Path;
@@ -165,7 +165,7 @@ pub fn write_figures(out: &output::OutDir, figures: &[pim_render::Figure]) -> Re
 
 /// The whole reconstruction does not take the crush: a case with `[damage]` and a scene is
 /// told so (on stderr), and how to compare its crush.
-pub fn note_damage_not_in_reconstruction(case: &pim_data::case::Case) {
+pub fn note_damage_not_in_reconstruction(case: &pim_case::case::Case) {
     if case.content.damage.is_some() {
         eprintln!(
             "pim: note: {}: the whole reconstruction does not take the crush ([damage]) as \

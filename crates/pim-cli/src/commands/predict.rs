@@ -5,8 +5,8 @@ use crate::args::{Format, PredictArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_ricsac;
 use anyhow::Result;
+use pim_case::units::UnitSystem;
 use pim_data::predict::TestPrediction;
-use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 

@@ -7,8 +7,8 @@ use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
 use crate::inputs::load_case;
 use crate::runout_help::RunoutSource;
 use anyhow::Result;
+use pim_case::units::UnitSystem;
 use pim_data::runout::Source;
-use pim_data::units::UnitSystem;
 use std::process::ExitCode;
 
 /// `pim runout`.

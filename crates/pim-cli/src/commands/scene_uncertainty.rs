@@ -4,9 +4,9 @@ use super::{json, print_out, title_of};
 use crate::args::{Format, UncertaintyArgs};
 use crate::error::Failure;
 use anyhow::Result;
-use pim_data::case::Case;
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
 use pim_data::reconstruct_study::{self, ReconstructionStudy};
-use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 

@@ -5,10 +5,10 @@ use crate::args::{Format, UncertaintyArgs};
 use crate::error::Failure;
 use crate::inputs::{checked_impact, load_case};
 use anyhow::Result;
+use pim_case::units::UnitSystem;
 use pim_data::fitcase::CostChoice;
 use pim_data::records::BoundSource;
 use pim_data::uncertainty::{self, Study};
-use pim_data::units::UnitSystem;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 

@@ -2,7 +2,7 @@
 //! refused or fitting poorly, an answer ending on a bound, and what `--strict` counts.
 
 use anyhow::Result;
-use pim_data::case::Case;
+use pim_case::case::Case;
 
 /// The exit status of a reconstruction, after its output: 3 when refused (pointing to the
 /// consistency table when there is one), else the `--strict` status, which also counts an

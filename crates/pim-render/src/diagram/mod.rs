@@ -6,9 +6,9 @@
 //! (and at separation when solved), the impulse on each vehicle at C, the PDOF arrows, a scale
 //! bar and the axes; the thick edge of each outline is its front. A key on the right names every element and states the arrow scales.
 
+use pim_case::case::VehicleSection;
+use pim_case::units::UnitSystem;
 use pim_core::{Convention, Impact, VehicleId, VehicleResult, Velocities};
-use pim_data::case::VehicleSection;
-use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 mod labels;
@@ -317,13 +317,13 @@ impl Diagram {
 }
 
 /// The estimated contact velocities of a fit case, when all six are given.
-pub fn estimated_contact(case: &pim_data::case::Case) -> Option<Velocities> {
+pub fn estimated_contact(case: &pim_case::case::Case) -> Option<Velocities> {
     case.estimated_contact()
 }
 
 /// The diagram of a case, solved or not, labelled in the case's own units and frame.
 pub fn diagram(
-    case: &pim_data::case::Case,
+    case: &pim_case::case::Case,
     impact: &Impact,
     contact: Option<&Velocities>,
     solved: Option<Solved>,
@@ -346,7 +346,7 @@ pub fn diagram(
 /// The diagram of `pim draw`: the case at contact, solved with `options` when it has
 /// `[coefficients]` and a state, with the estimated contact velocities when it is a fit case.
 pub fn case_diagram(
-    case: &pim_data::case::Case,
+    case: &pim_case::case::Case,
     options: &pim_core::SolveOptions,
 ) -> Result<Diagram, pim_data::documents::DocumentError> {
     let impact = case.impact()?;
@@ -367,7 +367,7 @@ pub fn case_diagram(
 
 /// The diagram of a solved case (`pim solve --out`, the report): the solved states, with a
 /// subtitle saying it is a solve and with which coefficients.
-pub fn of_solve(case: &pim_data::case::Case, s: &pim_data::documents::Solved) -> Diagram {
+pub fn of_solve(case: &pim_case::case::Case, s: &pim_data::documents::Solved) -> Diagram {
     let contact = estimated_contact(case);
     let mut d = diagram(
         case,
@@ -390,7 +390,7 @@ pub fn of_solve(case: &pim_data::case::Case, s: &pim_data::documents::Solved) ->
 /// at its own geometry, with a subtitle naming the fit, its cost function, branch and cost, and
 /// the bounds the answer rests on in the key. `cost` is the cost function's name.
 pub fn of_fit(
-    case: &pim_data::case::Case,
+    case: &pim_case::case::Case,
     f: &pim_data::documents::Fitted,
     cost: &str,
 ) -> Result<Diagram, String> {

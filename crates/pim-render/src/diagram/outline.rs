@@ -1,7 +1,7 @@
 //! The vehicles as drawn: outlines about the CG, and a barrier as a wall.
 
+use pim_case::case::VehicleSection;
 use pim_core::Impact;
-use pim_data::case::VehicleSection;
 
 /// A vehicle's plan-view outline as drawn: pim-core's outline about the CG, and whether its
 /// dimensions are the case's or defaults for the mass class.

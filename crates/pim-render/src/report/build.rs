@@ -7,11 +7,11 @@
 use super::doc::{Block, Document, Section, Table};
 use super::fit_sections::{branches_table, ranges, residual_section, undetermined};
 use crate::tables::{branch_short, branch_words, how_found, in_frame, num, vehicle_rows};
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
 use pim_core::{Convention, VehicleResult};
-use pim_data::case::Case;
 use pim_data::documents::{Fitted, Solved};
 use pim_data::uncertainty::Study;
-use pim_data::units::UnitSystem;
 
 /// The references the method cites.
 const REFERENCES: [&str; 4] = [

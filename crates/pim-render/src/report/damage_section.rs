@@ -4,11 +4,11 @@
 
 use super::doc::{Block, Section, Table};
 use crate::{err, svg_figure, Figure};
-use pim_data::case::Case;
-use pim_data::damage::Side;
+use pim_case::case::Case;
+use pim_case::damage::Side;
+use pim_case::units::UnitSystem;
 use pim_data::damage_assess::Assessment;
 use pim_data::damage_fit::FitDamage;
-use pim_data::units::UnitSystem;
 use plotters::prelude::*;
 
 /// The damage section (`None` when the case has no damage to show).

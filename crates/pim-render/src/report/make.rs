@@ -3,13 +3,13 @@
 //! document.
 
 use super::doc::Document;
-use pim_data::case::Case;
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
 use pim_data::documents::{self, DocumentError, Fitted, Solved};
 use pim_data::fitcase::CostChoice;
 use pim_data::reconstruct::Reconstructed;
 use pim_data::reconstruct_study::ReconstructionStudy;
 use pim_data::uncertainty::Study;
-use pim_data::units::UnitSystem;
 
 /// The draws of a report's uncertainty study when none are asked for and the case gives
 /// `[sigma]` or `[uncertainty]`.

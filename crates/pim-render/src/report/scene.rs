@@ -13,11 +13,11 @@ use super::doc::{Block, Document, Section, Table};
 use crate::statistics::{chi_square_words, format_p};
 use crate::tables::num;
 use crate::Figure;
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_data::case::Case;
 use pim_data::reconstruct::{Reconstructed, ReconstructionOut};
 use pim_data::reconstruct_study::ReconstructionStudy;
-use pim_data::units::UnitSystem;
 
 /// How to read the report of a reconstruction, the same for every crash.
 const HOW_TO_READ: [&str; 6] = [

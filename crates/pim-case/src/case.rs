@@ -115,12 +115,7 @@ pub use crate::parse::printable;
 
 /// An input error at the dotted field `path` of the text `source` of `file` (see
 /// [`Case::error_at`]).
-pub(crate) fn error_at(
-    file: &str,
-    source: &str,
-    path: &str,
-    what: impl std::fmt::Display,
-) -> InputError {
+pub fn error_at(file: &str, source: &str, path: &str, what: impl std::fmt::Display) -> InputError {
     let shown = crate::parse::display_path(source, path);
     // A field the file does not write itself (`vx` of a velocity given as speed and
     // direction) is placed at the nearest enclosing one it does write.

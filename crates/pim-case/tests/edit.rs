@@ -3,9 +3,9 @@
 //! every other number kept); an SI value is written in the file's units and reads back as that
 //! SI value; an edit that breaks the case is caught by the same checks as `pim`.
 
-use pim_data::case::Case;
-use pim_data::edit::{CaseEdit, NewValue, Quantity};
-use pim_data::units::FOOT;
+use pim_case::case::Case;
+use pim_case::edit::{CaseEdit, NewValue, Quantity};
+use pim_case::units::FOOT;
 use std::path::PathBuf;
 
 fn examples() -> Vec<PathBuf> {
@@ -76,7 +76,7 @@ fn a_rest_position_dragged_in_metres_is_written_in_feet() {
             .scene_inputs()
             .unwrap(),
     );
-    let rest = |s: &pim_data::scene::SceneInputs| {
+    let rest = |s: &pim_case::scene::SceneInputs| {
         let r = s.vehicles[0].evidence.as_ref().unwrap().rest.unwrap();
         format!("{r:?}")
     };
@@ -158,7 +158,7 @@ fn a_new_key_is_added_where_it_belongs_and_can_be_removed_again() {
 fn bad_paths_and_values_are_refused_with_the_path() {
     let text = read("reconstruction_us.toml");
     let mut edit = CaseEdit::new("reconstruction_us.toml", &text).unwrap();
-    let refused = |e: pim_data::InputError| e.to_string();
+    let refused = |e: pim_case::InputError| e.to_string();
     let e = refused(
         edit.set("observations.7.sigma", NewValue::Written(1.0))
             .unwrap_err(),

@@ -1,5 +1,5 @@
 //! The RICSAC data loader rejects malformed files with a message naming file, line and column.
-use pim_data::ricsac::parse;
+use pim_case::ricsac::parse;
 
 fn good() -> String {
     std::fs::read_to_string(concat!(
@@ -144,7 +144,7 @@ fn structural_problems_are_reported() {
 fn no_ricsac_test_draws_a_plausibility_warning() {
     // Each test of the bundled data as a case (as the batch's draws see it): real crashes,
     // so any warning would be a false alarm.
-    let tests = pim_data::ricsac::parse("data/ricsac.csv", &good()).unwrap();
+    let tests = pim_case::ricsac::parse("data/ricsac.csv", &good()).unwrap();
     assert!(tests.len() >= 10);
     for t in &tests {
         let case = t.case(&format!("data/ricsac.csv test {}", t.test)).unwrap();

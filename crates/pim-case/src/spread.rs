@@ -20,7 +20,8 @@ pub enum Spread {
 }
 
 impl Spread {
-    pub(crate) fn scaled(self, k: f64) -> Self {
+    /// The spread of `k` times the quantity (a change of unit).
+    pub fn scaled(self, k: f64) -> Self {
         match self {
             Spread::Normal(s) => Spread::Normal(s * k),
             Spread::Uniform { uniform: [a, b] } => Spread::Uniform {
@@ -29,7 +30,9 @@ impl Spread {
         }
     }
 
-    pub(crate) fn draw(self, nominal: f64, rng: &mut impl Rng) -> f64 {
+    /// One draw around `nominal`: a normal deviate times the standard deviation added, or a
+    /// uniform value on the stated interval.
+    pub fn draw(self, nominal: f64, rng: &mut impl Rng) -> f64 {
         match self {
             Spread::Normal(s) => nominal + s * standard_normal(rng),
             Spread::Uniform { uniform: [a, b] } => a + (b - a) * rng.random::<f64>(),
@@ -37,7 +40,7 @@ impl Spread {
     }
 
     /// Standard deviation.
-    pub(crate) fn sd(self) -> f64 {
+    pub fn sd(self) -> f64 {
         match self {
             Spread::Normal(s) => s,
             Spread::Uniform { uniform: [a, b] } => (b - a) / 12f64.sqrt(),
@@ -47,7 +50,7 @@ impl Spread {
     /// Checks the spread against the value it qualifies (in SI): a positive quantity (mass,
     /// inertia, distance) needs a standard deviation smaller than the value and a uniform range
     /// above 0; an angle a standard deviation of at most 90 deg and a range within one turn.
-    pub(crate) fn check_against(
+    pub fn check_against(
         self,
         what: &str,
         nominal: f64,
@@ -79,7 +82,7 @@ impl Spread {
     }
 
     /// A standard deviation >= 0, or a uniform range with low <= high, both finite.
-    pub(crate) fn check_own(self) -> std::result::Result<(), String> {
+    pub fn check_own(self) -> std::result::Result<(), String> {
         let ok = match self {
             Spread::Normal(s) => s.is_finite() && s >= 0.0,
             Spread::Uniform { uniform: [a, b] } => a.is_finite() && b.is_finite() && a <= b,

@@ -1,0 +1,38 @@
+//! # pim-case: the case of the PIM toolkit
+//!
+//! The bottom layer every face and every study stands on: input text to a typed, checked case,
+//! with no file or terminal I/O of its own (callers read the text and pass it in).
+//!
+//! - [`case`]: the TOML case file of a solve, a fit, a run-out or a whole reconstruction
+//!   ([`case::Case`]), its [`sections`], its `[uncertainty]` section ([`spread`]), its
+//!   `[runout]`/`[scene]`/`[pre_impact]` sections ([`scene_sections`], read into pim-runout's
+//!   inputs by [`scene`]) and its `[damage]` ([`damage`]);
+//! - the careless-input checks: [`plausibility`] and [`ranges`] (values outside what road
+//!   vehicles have), the forms a crash may be written in ([`mod@input`]);
+//! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
+//! - [`edit`]: a case file edited in place, its comments and formatting kept;
+//! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
+//!   collision, in the papers' geometry;
+//! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`.
+//!
+//! Bad input is an [`InputError`] whose message names the file, line and field.
+
+pub mod case;
+mod checks;
+pub mod damage;
+pub mod edit;
+mod error;
+mod forms;
+pub mod input;
+pub mod parse;
+pub mod plausibility;
+pub mod ranges;
+pub mod reference;
+pub mod ricsac;
+pub mod scene;
+pub mod scene_sections;
+pub mod sections;
+pub mod spread;
+pub mod units;
+
+pub use error::{InputError, Result};
