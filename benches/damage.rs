@@ -19,10 +19,12 @@ fn damage(c: &mut Criterion) {
     )
     .unwrap();
     let damage = pim_case::damage::Damage::of(&case).unwrap().unwrap();
-    let problem =
-        pim_data::fitcase::problem(&case, pim_data::fitcase::CostChoice::Preset(CostPreset::Q2))
-            .unwrap();
-    let settings = pim_data::fitcase::settings(
+    let problem = pim_studies::fitcase::problem(
+        &case,
+        pim_studies::fitcase::CostChoice::Preset(CostPreset::Q2),
+    )
+    .unwrap();
+    let settings = pim_studies::fitcase::settings(
         &case,
         FitModel::Pim,
         MomentForm::Corrected,
@@ -36,7 +38,7 @@ fn damage(c: &mut Criterion) {
     let base = pim_fit::fit(&problem, &settings).unwrap();
     g.bench_function("ricsac7 q2, the crush energy fitted on top", |b| {
         b.iter(|| {
-            pim_data::damage_fit::fit_damage_of(
+            pim_studies::damage_fit::fit_damage_of(
                 black_box(&damage),
                 &problem,
                 &base,
@@ -47,9 +49,9 @@ fn damage(c: &mut Criterion) {
         })
     });
     let tests = pim_case::ricsac::parse("data/ricsac.csv", &read("data/ricsac.csv")).unwrap();
-    let crush = pim_data::ricsac_damage::parse_crush(&read("data/ricsac_vehicles.csv")).unwrap();
+    let crush = pim_studies::ricsac_damage::parse_crush(&read("data/ricsac_vehicles.csv")).unwrap();
     let measured =
-        pim_data::ricsac_damage::parse_measured(&read("data/reference/neades2011_table5_3.csv"))
+        pim_studies::ricsac_damage::parse_measured(&read("data/reference/neades2011_table5_3.csv"))
             .unwrap();
     let plan = pim_fit::FitSettings {
         velocity_bound: 20.0,
@@ -59,7 +61,7 @@ fn damage(c: &mut Criterion) {
     g.sample_size(20);
     g.bench_function("ricsac, 11 tests with their crush", |b| {
         b.iter(|| {
-            pim_data::ricsac_damage::damage_records(black_box(&tests), &crush, &measured, &plan)
+            pim_studies::ricsac_damage::damage_records(black_box(&tests), &crush, &measured, &plan)
         })
     });
     g.finish();

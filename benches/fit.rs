@@ -60,7 +60,7 @@ fn bench(c: &mut Criterion) {
     let tests =
         pim_case::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(&path).unwrap())
             .unwrap();
-    let plan = pim_data::batch::BatchPlan {
+    let plan = pim_studies::batch::BatchPlan {
         costs: CostPreset::ALL.to_vec(),
         branches: MomentBranch::ALL.to_vec(),
         models: vec![pim_fit::FitModel::Pim],
@@ -72,10 +72,10 @@ fn bench(c: &mut Criterion) {
     g.sample_size(20);
     g.bench_function("ricsac_66_records_all_threads", |b| {
         b.iter(|| {
-            black_box(pim_data::batch::run(
+            black_box(pim_studies::batch::run(
                 &tests,
                 &plan,
-                &pim_data::watch::Unwatched,
+                &pim_studies::watch::Unwatched,
             ))
         })
     });

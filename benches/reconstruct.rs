@@ -19,7 +19,7 @@ fn case() -> Case {
 
 fn reconstruction(c: &mut Criterion) {
     let case = case();
-    let input = pim_data::reconstruct::case_reconstruction(
+    let input = pim_studies::reconstruct::case_reconstruction(
         &case,
         FitModel::Pim,
         MomentForm::Corrected,
@@ -47,14 +47,14 @@ fn reconstruction(c: &mut Criterion) {
     });
     g.bench_function("reconstruction_us, study of 20 draws", |b| {
         b.iter(|| {
-            pim_data::reconstruct_study::run(
+            pim_studies::reconstruct_study::run(
                 &case,
                 FitModel::Pim,
                 MomentForm::Corrected,
                 MomentBranch::ALL.to_vec(),
                 20,
                 1,
-                &pim_data::watch::Unwatched,
+                &pim_studies::watch::Unwatched,
             )
             .unwrap()
         })

@@ -5,8 +5,8 @@
 //! `pim uncertainty` (RICSAC 7, 200 draws on one thread, divided by 200 in the README).
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 use criterion::{criterion_group, criterion_main, Criterion};
-use pim_data::fitcase::CostChoice;
 use pim_fit::*;
+use pim_studies::fitcase::CostChoice;
 use std::hint::black_box;
 
 fn root(p: &str) -> std::path::PathBuf {
@@ -65,12 +65,12 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("geometry");
     g.sample_size(10);
     let geo = case("examples/cases/ricsac6_geometry.toml");
-    let s = pim_data::fitcase::settings_from(&geo, FitSettings::default()).unwrap();
+    let s = pim_studies::fitcase::settings_from(&geo, FitSettings::default()).unwrap();
     // The whole geometry fit: grid, refinements, the proof over the box, the scans.
     for cost in [CostPreset::Q2, CostPreset::Q3] {
-        let problem = pim_data::fitcase::problem(&geo, CostChoice::Preset(cost)).unwrap();
+        let problem = pim_studies::fitcase::problem(&geo, CostChoice::Preset(cost)).unwrap();
         g.bench_function(format!("ricsac6_geometry_{}", cost.name()), |b| {
-            b.iter(|| black_box(pim_data::fitcase::fit(&geo, &problem, &s).unwrap()))
+            b.iter(|| black_box(pim_studies::fitcase::fit(&geo, &problem, &s).unwrap()))
         });
     }
     g.finish();
@@ -90,14 +90,14 @@ fn bench(c: &mut Criterion) {
                 b.iter(|| {
                     pool.install(|| {
                         black_box(
-                            pim_data::uncertainty::run(
+                            pim_studies::uncertainty::run(
                                 &unc_case,
                                 &unc,
                                 CostChoice::Preset(cost),
                                 FitSettings::default(),
                                 200,
                                 1,
-                                &pim_data::watch::Unwatched,
+                                &pim_studies::watch::Unwatched,
                             )
                             .unwrap(),
                         )

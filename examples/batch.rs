@@ -4,7 +4,7 @@ use pim_fit::{CostPreset, FitSettings, MomentBranch};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/ricsac.csv");
     let tests = pim_case::ricsac::parse("data/ricsac.csv", &std::fs::read_to_string(path)?)?;
-    let plan = pim_data::batch::BatchPlan {
+    let plan = pim_studies::batch::BatchPlan {
         costs: vec![CostPreset::Q2],
         branches: vec![MomentBranch::Zero],
         models: vec![pim_fit::FitModel::Pim],
@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         timing: false,
         case_e_max: None,
     };
-    let records = pim_data::batch::run(&tests, &plan, &pim_data::watch::Unwatched);
+    let records = pim_studies::batch::run(&tests, &plan, &pim_studies::watch::Unwatched);
     println!("test  outcome        e      mu     cost  loss %");
     for r in &records {
         match (&r.branch, r.solved()) {

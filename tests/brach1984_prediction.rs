@@ -1,7 +1,7 @@
 //! Brach 1984 section 6 (delta-V prediction, eq. 13-17) on the data file's eleven tests.
 mod common;
 use common::ricsac_tests;
-use pim_data::predict::predict;
+use pim_studies::predict::predict;
 
 #[test]
 fn collision_1_point_mass_critical_friction() {

@@ -5,8 +5,8 @@ mod common;
 use common::{normal, ricsac9_truth, sigma_toml, state_toml, RICSAC9_GEOMETRY};
 use pim_case::case::Case;
 use pim_core::*;
-use pim_data::fitcase::{self, CostChoice};
 use pim_fit::{ChiSquare, CostPreset, MomentBranch, Status};
+use pim_studies::fitcase::{self, CostChoice};
 use rand::SeedableRng;
 
 #[test]

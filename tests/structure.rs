@@ -14,14 +14,15 @@ use std::path::{Path, PathBuf};
 const MAX_LINES: usize = 650;
 
 /// The library and binary crates whose files are checked (their `src` folders).
-const CRATES: [&str; 10] = [
+const CRATES: [&str; 11] = [
     "crates/pim-core",
     "crates/pim-runout",
     "crates/pim-reconstruct",
     "crates/pim-crush",
     "crates/pim-fit",
     "crates/pim-case",
-    "crates/pim-data",
+    "crates/pim-documents",
+    "crates/pim-studies",
     "crates/pim-render",
     "crates/pim-cli",
     "crates/pim-py",

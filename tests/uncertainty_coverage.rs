@@ -4,9 +4,9 @@ mod common;
 use common::{normal, ricsac9_truth, sigma_toml, state_toml, RICSAC9_GEOMETRY};
 use pim_case::case::Case;
 use pim_core::*;
-use pim_data::fitcase::CostChoice;
-use pim_data::uncertainty::{self, UncertaintySection};
 use pim_fit::CostPreset;
+use pim_studies::fitcase::CostChoice;
+use pim_studies::uncertainty::{self, UncertaintySection};
 use rand::{Rng, SeedableRng};
 
 /// Share of cases whose 90 % interval contains the truth, for speed1, speed2, delta_v1, delta_v2.
@@ -50,7 +50,7 @@ fn coverage(cases: usize, draws: usize, seed: u64) -> [f64; 4] {
             settings,
             draws,
             n as u64,
-            &pim_data::watch::Unwatched,
+            &pim_studies::watch::Unwatched,
         )
         .unwrap();
         let truths = [
@@ -125,7 +125,7 @@ fn linearised_and_monte_carlo_standard_deviations_agree_for_a_well_determined_ca
         settings,
         400,
         3,
-        &pim_data::watch::Unwatched,
+        &pim_studies::watch::Unwatched,
     )
     .unwrap();
     for q in [

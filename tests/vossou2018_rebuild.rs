@@ -329,7 +329,7 @@ fn outside_v18_conditions(t: &pim_case::ricsac::RicsacTest, u: &[f64; 12]) -> Ve
 #[test]
 fn ours_under_v18_conditions_at_or_below_v18() {
     let tests = ricsac_tests();
-    let plan = pim_data::batch::BatchPlan::new(
+    let plan = pim_studies::batch::BatchPlan::new(
         &CostPreset::ALL,
         &pim_fit::MomentBranch::ALL,
         0.2,
@@ -337,7 +337,7 @@ fn ours_under_v18_conditions_at_or_below_v18() {
     )
     .unwrap()
     .with_v18_conditions();
-    let records = pim_data::batch::run(&tests, &plan, &pim_data::watch::Unwatched);
+    let records = pim_studies::batch::run(&tests, &plan, &pim_studies::watch::Unwatched);
     let (mut compared, mut explained) = (0, 0);
     println!("test cost  rebuilt   ours | why V18's solution is outside V18's conditions");
     for preset in CostPreset::ALL {

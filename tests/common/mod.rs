@@ -107,7 +107,7 @@ pub fn brach1983_ricsac9() -> (Collision, Velocities) {
 
 /// A standard normal number, for simulated measurement noise (the bootstrap's own generator).
 pub fn normal(rng: &mut rand::rngs::StdRng) -> f64 {
-    pim_data::uncertainty::standard_normal(rng)
+    pim_studies::uncertainty::standard_normal(rng)
 }
 
 /// A state with measurement noise from [`normal`]: standard deviations 0.25 m/s on the

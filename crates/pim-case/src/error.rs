@@ -1,4 +1,4 @@
-//! The error type of pim-data: input text that cannot be used, with a message that names the
+//! The error type of pim-studies: input text that cannot be used, with a message that names the
 //! file, the line and the field.
 
 /// Bad input: the message names the file, line (where known) and field, e.g.
@@ -30,5 +30,5 @@ impl InputError {
     }
 }
 
-/// Result alias of pim-data.
+/// Result alias of pim-studies.
 pub type Result<T> = std::result::Result<T, InputError>;

@@ -58,7 +58,7 @@ impl Failure {
     /// Classifies a pim-core error raised while solving the case in `file`: singular or
     /// inconsistent equations are "no answer" (3), anything else bad input (2).
     pub fn from_core(file: &str, e: pim_core::PimError) -> Self {
-        pim_data::documents::DocumentError::from_core(file, e).into()
+        pim_studies::documents::DocumentError::from_core(file, e).into()
     }
 }
 
@@ -78,9 +78,9 @@ impl From<pim_case::InputError> for Failure {
     }
 }
 
-impl From<pim_data::documents::DocumentError> for Failure {
-    fn from(e: pim_data::documents::DocumentError) -> Self {
-        use pim_data::documents::DocumentError as D;
+impl From<pim_studies::documents::DocumentError> for Failure {
+    fn from(e: pim_studies::documents::DocumentError) -> Self {
+        use pim_studies::documents::DocumentError as D;
         match e {
             D::Input(m) => Failure::Input(m),
             D::NoAnswer(m) => Failure::NoAnswer(m),

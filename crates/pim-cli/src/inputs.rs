@@ -1,4 +1,4 @@
-//! Reading input files (the only file reads of the toolkit) and handing their text to pim-data.
+//! Reading input files (the only file reads of the toolkit) and handing their text to pim-studies.
 
 use crate::error::Failure;
 use pim_case::case::{Case, MAX_CASE_BYTES};
@@ -6,7 +6,7 @@ use pim_case::ricsac::{RicsacTest, MAX_DATA_BYTES};
 use std::path::Path;
 
 /// Reads a file that must be a small regular text file, with messages naming it: refused
-/// unless it is a regular file, and read with a cap (pim-data's [`pim_case::input`]), so that
+/// unless it is a regular file, and read with a cap (pim-studies's [`pim_case::input`]), so that
 /// no input can make the command wait or read without end.
 pub fn read_text_file(path: &Path, max_bytes: u64) -> Result<String, Failure> {
     let name = path.display().to_string();

@@ -2,7 +2,7 @@
 //!
 //! `main` only maps the outcome of [`run`] to an exit status; every message is printed once.
 //! Modules: [`args`] (the command line and its help), [`commands`] (one per subcommand),
-//! [`inputs`] (reading files into pim-data's parsers), [`runout_help`] (the help of `pim
+//! [`inputs`] (reading files into pim-studies's parsers), [`runout_help`] (the help of `pim
 //! runout`), [`error`] (failure categories and exit codes); tables, CSV and figures come from
 //! pim-render.
 

@@ -11,7 +11,7 @@
 //! `tests/fuzz-corpus/`, which is replayed through the command first, every run).
 mod common;
 // The mutations of the parsers' fuzz tests.
-#[path = "../../pim-data/tests/mutate/mod.rs"]
+#[path = "../../pim-studies/tests/mutate/mod.rs"]
 mod mutate;
 use common::*;
 use mutate::{hostile_number, replace_number};

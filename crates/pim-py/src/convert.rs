@@ -2,7 +2,7 @@
 //! arguments and documents between Python and Rust.
 
 use pim_case::case::Case;
-use pim_data::documents::DocumentError;
+use pim_studies::documents::DocumentError;
 use pim_fit::{CostPreset, MomentBranch};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
@@ -254,7 +254,7 @@ struct PyWatch {
     stop: std::sync::atomic::AtomicBool,
 }
 
-impl pim_data::watch::Observer for PyWatch {
+impl pim_studies::watch::Observer for PyWatch {
     fn progress(&self, done: u64, total: u64, phase: &str) {
         if let Ok(mut l) = self.latest.lock() {
             *l = Some((done, total, phase.to_string()));
@@ -275,7 +275,7 @@ pub(crate) fn watched<T: Send>(
     py: Python<'_>,
     threads: Option<usize>,
     progress: Option<Bound<'_, PyAny>>,
-    f: impl FnOnce(&dyn pim_data::watch::Observer) -> T + Send,
+    f: impl FnOnce(&dyn pim_studies::watch::Observer) -> T + Send,
 ) -> PyResult<T> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))

@@ -1,14 +1,14 @@
 //! Python bindings of the PIM toolkit: the module `pim._pim`, re-exported by the package `pim`.
 //!
 //! Every function returns the document that the `pim` command prints with `--format json`, made
-//! by the same library code (`pim_data::documents`, `pim_data::batch`, `pim_data::uncertainty`,
-//! `pim_data::predict`), as Python objects (dicts, lists, floats). Nothing is computed here.
+//! by the same library code (`pim_studies::documents`, `pim_studies::batch`, `pim_studies::uncertainty`,
+//! `pim_studies::predict`), as Python objects (dicts, lists, floats). Nothing is computed here.
 
 mod convert;
 mod scene;
 
 use convert::*;
-use pim_data::documents;
+use pim_studies::documents;
 use pyo3::prelude::*;
 
 /// The report of `pim report` for a case: its HTML page and its Markdown, as a pair (the
@@ -93,7 +93,7 @@ fn fit(
 ) -> PyResult<Py<PyAny>> {
     let case = load_case(py, case)?;
     let cost = cost.map(self::cost).transpose()?;
-    if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+    if cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
         return Err(input_error(format!(
             "{}: the case has scene evidence ([scene]): pim.reconstruct(case) fits all three \
              phases (the scene, the impact, the pre-impact evidence); pim.fit(case, cost=...) \
@@ -128,7 +128,7 @@ fn batch_plan(
     moment_form: &str,
     models: Vec<String>,
     conditions: &str,
-) -> PyResult<pim_data::batch::BatchPlan> {
+) -> PyResult<pim_studies::batch::BatchPlan> {
     let costs = costs
         .iter()
         .map(|c| cost(c))
@@ -137,7 +137,7 @@ fn batch_plan(
         .iter()
         .map(|m| model(m))
         .collect::<PyResult<Vec<_>>>()?;
-    let plan = pim_data::batch::BatchPlan::new(
+    let plan = pim_studies::batch::BatchPlan::new(
         &costs,
         &self::branches(branches)?,
         e_max,
@@ -191,7 +191,7 @@ fn batch(
     }
     let threads = threads_arg(threads.as_ref())?;
     let records = detached(py, threads, || {
-        pim_data::batch::run(&rows, &plan, &pim_data::watch::Unwatched)
+        pim_studies::batch::run(&rows, &plan, &pim_studies::watch::Unwatched)
     })?;
     to_py(py, &records)
 }
@@ -222,7 +222,7 @@ fn batch_csv(
     let rows = pim_case::ricsac::parse(name, text).map_err(|e| input_error(e.message))?;
     let threads = threads_arg(threads.as_ref())?;
     let records = detached(py, threads, || {
-        pim_data::batch::run(&rows, &plan, &pim_data::watch::Unwatched)
+        pim_studies::batch::run(&rows, &plan, &pim_studies::watch::Unwatched)
     })?;
     pim_render::batch_tables::records_csv(&records).map_err(input_error)
 }
@@ -248,7 +248,7 @@ fn uncertainty(
     let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
     case.impact().map_err(|e| input_error(e.message))?;
-    if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+    if cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
         // Never the study of the contact estimates alone for a scene case.
         return Err(input_error(format!(
             "{}: the case has scene evidence ([scene]): pim.reconstruct_uncertainty(case) draws \
@@ -258,13 +258,13 @@ fn uncertainty(
         )));
     }
     let choice = match cost {
-        Some(c) => pim_data::fitcase::CostChoice::Preset(self::cost(c)?),
-        None => pim_data::fitcase::CostChoice::Custom,
+        Some(c) => pim_studies::fitcase::CostChoice::Preset(self::cost(c)?),
+        None => pim_studies::fitcase::CostChoice::Custom,
     };
     let unc = case.content.uncertainty.unwrap_or_default();
     let model = self::model(model)?;
     let study = crate::convert::watched(py, threads, progress, |observer| {
-        pim_data::uncertainty::run(
+        pim_studies::uncertainty::run(
             &case,
             &unc,
             choice,
@@ -291,8 +291,8 @@ fn predict_dv(py: Python<'_>, path: std::path::PathBuf, e: f64) -> PyResult<Py<P
     let tests = pim_case::ricsac::parse(&file, &read(&path, pim_case::ricsac::MAX_DATA_BYTES)?)
         .map_err(|e| input_error(e.message))?;
     let rows =
-        pim_data::predict::predict_all(&file, &tests, e).map_err(|e| input_error(e.message))?;
-    to_py(py, &pim_data::schema::PredictionsOut { tests: rows })
+        pim_studies::predict::predict_all(&file, &tests, e).map_err(|e| input_error(e.message))?;
+    to_py(py, &pim_documents::schema::PredictionsOut { tests: rows })
 }
 
 /// The scale diagram of `pim draw` as SVG text: the case at contact (outlines, CGs, impact

@@ -3,7 +3,7 @@
 use crate::convert::{
     detached, input_error, load_case, study_args, to_py, units_of, DocumentErrorPy, NoSolution,
 };
-use pim_data::documents::DocumentError;
+use pim_studies::documents::DocumentError;
 use pyo3::prelude::*;
 
 /// The run-out of `pim runout` for a case: each vehicle from its separation velocities to rest,
@@ -25,7 +25,7 @@ pub(crate) fn runout(
     every: f64,
     units: Option<&str>,
 ) -> PyResult<(Py<PyAny>, Option<String>)> {
-    use pim_data::runout::Source;
+    use pim_studies::runout::Source;
     for (name, x) in [("sample", sample), ("every", every)] {
         if !(x.is_finite() && (0.001..=3600.0).contains(&x)) {
             return Err(input_error(format!(
@@ -51,10 +51,10 @@ pub(crate) fn runout(
     let case = load_case(py, case)?;
     let result = detached(py, None, || -> Result<_, DocumentError> {
         let given = match source {
-            Some(Source::Fit) => Some(pim_data::runout::fitted_separation(&case, cost)?),
+            Some(Source::Fit) => Some(pim_studies::runout::fitted_separation(&case, cost)?),
             _ => None,
         };
-        pim_data::runout::runout(&case, source, given, sample)
+        pim_studies::runout::runout(&case, source, given, sample)
     })?
     .map_err(DocumentErrorPy)?;
     let document = to_py(py, &result.document)?;
@@ -93,7 +93,7 @@ pub(crate) fn reconstruct(
     let branches = crate::convert::branches(branches)?;
     let model = crate::convert::model(model)?;
     let done = crate::convert::watched(py, None, None, |observer| {
-        pim_data::consistency::answer(
+        pim_studies::consistency::answer(
             &case,
             model,
             pim_core::MomentForm::Corrected,
@@ -139,7 +139,7 @@ pub(crate) fn reconstruct_uncertainty(
     let case = load_case(py, case)?;
     let model = crate::convert::model(model)?;
     let (study, _) = crate::convert::watched(py, threads, progress, |observer| {
-        pim_data::reconstruct_study::run(
+        pim_studies::reconstruct_study::run(
             &case,
             model,
             pim_core::MomentForm::Corrected,

@@ -2,10 +2,10 @@
 
 use pim_case::reference::BrachRow;
 use pim_case::units::UnitSystem;
-use pim_data::batch::{BatchRecord, Outcome};
-use pim_data::records::BranchRecord;
-use pim_data::uncertainty::Summary;
+use pim_documents::records::BranchRecord;
 use pim_fit::{CostPreset, MomentBranch, COMPONENT_NAMES};
+use pim_studies::batch::{BatchRecord, Outcome};
+use pim_studies::uncertainty::Summary;
 use serde::Serialize;
 use std::fmt::Write as _;
 

@@ -2,8 +2,8 @@
 //! PIM's, and the fit with the crush energy as evidence.
 
 use pim_case::units::UnitSystem;
-use pim_data::damage_assess::Assessment;
-use pim_data::damage_fit::FitDamage;
+use pim_studies::damage_assess::Assessment;
+use pim_studies::damage_fit::FitDamage;
 use std::fmt::Write;
 
 fn kj(x: f64) -> String {

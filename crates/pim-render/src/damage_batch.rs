@@ -3,7 +3,7 @@
 
 use crate::{err, svg_figure, Figure};
 use pim_case::units::UnitSystem;
-use pim_data::ricsac_damage::DamageRecord;
+use pim_studies::ricsac_damage::DamageRecord;
 use plotters::prelude::*;
 use std::fmt::Write;
 

@@ -2,7 +2,7 @@
 //! relative delta-V error per vehicle, and fitted against measured separation velocities.
 
 use crate::{err, svg_figure, Figure};
-use pim_data::batch::BatchRecord;
+use pim_studies::batch::BatchRecord;
 use plotters::prelude::*;
 
 const COLORS: [RGBColor; 3] = [

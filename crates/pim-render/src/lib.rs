@@ -6,7 +6,7 @@
 //! table, a CSV or Markdown string; the caller writes files.
 //!
 //! ```text
-//!   pim-core  (equations, reports)        pim-fit (fit reports)        pim-data (cases, records)
+//!   pim-core  (equations, reports)        pim-fit (fit reports)        pim-studies (cases, records)
 //!        \__________________________________|________________________________/
 //!                                           |
 //!                                      pim-render
@@ -21,7 +21,7 @@
 //! ```
 //!
 //! Numbers are printed in the unit system the caller asks for ([`pim_case::units::UnitSystem`]);
-//! the JSON documents, made by pim-data, stay SI.
+//! the JSON documents, made by pim-studies, stay SI.
 
 pub mod batch_tables;
 pub mod damage;

@@ -3,7 +3,7 @@
 
 use crate::{err, svg_figure, Figure};
 use pim_core::prediction::l_factor;
-use pim_data::predict::TestPrediction;
+use pim_studies::predict::TestPrediction;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -93,7 +93,7 @@ fn draw(rows: &[TestPrediction], root: &DrawingArea<SVGBackend<'_>, Shift>) -> R
     chart
         .draw_series(LineSeries::new([(0.0, 0.0), (max, max)], BLACK.mix(0.4)))
         .map_err(err)?;
-    type Pick = fn(&pim_data::predict::DeltaVPrediction) -> f64;
+    type Pick = fn(&pim_studies::predict::DeltaVPrediction) -> f64;
     let sets: [(&str, Pick); 3] = [
         ("eq. 14, L of eq. 16", |d| d.eq14),
         ("eq. 14, L = 2/3", |d| d.eq14_two_thirds),

@@ -5,7 +5,7 @@ use crate::tables::num;
 use crate::text::wrap;
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_data::reconstruct::ReconstructionOut;
+use pim_studies::reconstruct::ReconstructionOut;
 
 /// The reconstruction's table in `units` and the case's `frame` (SAE: y to the right, headings
 /// clockwise).
@@ -158,7 +158,7 @@ pub fn reconstruction_table(
 
 /// The scale and label of a piece of evidence's unit in `units` (its `quantity`).
 pub fn evidence_unit(
-    e: &pim_data::reconstruct::EvidenceOut,
+    e: &pim_studies::reconstruct::EvidenceOut,
     units: UnitSystem,
 ) -> (f64, &'static str) {
     match e.quantity {
@@ -172,7 +172,7 @@ pub fn evidence_unit(
 /// One row of the evidence consistency table as the text table and the report show it: what
 /// was left out, chi-square, dof, p, consistent, each vehicle's speed at contact in `units`,
 /// and the largest remaining residual.
-pub fn consistency_cells(r: &pim_data::consistency::LeftOut, units: UnitSystem) -> [String; 8] {
+pub fn consistency_cells(r: &pim_studies::consistency::LeftOut, units: UnitSystem) -> [String; 8] {
     let speed = |k: usize| {
         r.speed_at_contact[k].map_or_else(|| "-".to_string(), |v| num(units.speed(v), 2))
     };
@@ -199,7 +199,7 @@ pub fn consistency_cells(r: &pim_data::consistency::LeftOut, units: UnitSystem) 
 }
 
 /// The evidence consistency table as text, speeds in `units`.
-pub fn consistency_lines(c: &pim_data::consistency::Consistency, units: UnitSystem) -> String {
+pub fn consistency_lines(c: &pim_studies::consistency::Consistency, units: UnitSystem) -> String {
     let mut t = String::from(
         "\nevidence consistency: the reconstruction with each piece of evidence left out in turn\n",
     );

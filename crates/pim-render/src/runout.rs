@@ -5,8 +5,8 @@ use crate::tables::num;
 use crate::text::wrap;
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_data::runout::{RunoutResult, Source};
 use pim_runout::{Motion, WheelState};
+use pim_studies::runout::{RunoutResult, Source};
 use plotters::prelude::*;
 
 const COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
@@ -610,15 +610,15 @@ fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> R
 /// answer.
 pub fn reconstruction_scene(
     case: &pim_case::case::Case,
-    done: &pim_data::reconstruct::Reconstructed,
+    done: &pim_studies::reconstruct::Reconstructed,
     units: UnitSystem,
 ) -> Result<Option<String>, String> {
     let Some(best) = &done.outcome.best else {
         return Ok(None);
     };
-    let runouts = pim_data::runout::runout(case, None, Some(best.solution.separation), 0.02)
+    let runouts = pim_studies::runout::runout(case, None, Some(best.solution.separation), 0.02)
         .map_err(|e| e.to_string())?;
-    let approach: Vec<Approach> = pim_data::reconstruct::skid_lengths(&done.input)
+    let approach: Vec<Approach> = pim_studies::reconstruct::skid_lengths(&done.input)
         .into_iter()
         .map(|(vehicle, length)| Approach { vehicle, length })
         .collect();

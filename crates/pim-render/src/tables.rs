@@ -22,7 +22,10 @@ fn opt(x: Option<f64>, prec: usize) -> String {
 /// the direction of friction comes from when the contact point does not slide at contact.
 /// `model` is the second model's record (tangential restitution with a friction limit, or
 /// IMPC's), `None` for PIM.
-pub fn tangential_words(r: &ImpactReport, model: Option<&pim_data::records::ModelOut>) -> String {
+pub fn tangential_words(
+    r: &ImpactReport,
+    model: Option<&pim_documents::records::ModelOut>,
+) -> String {
     let tol = pim_core::REPORT_TOL;
     let rv = &r.relative;
     let scale = rv.normal_initial.abs().max(1.0);
@@ -164,7 +167,7 @@ pub fn solve_table(
     title: &str,
     impact: &pim_core::Impact,
     r: &ImpactReport,
-    model: Option<&pim_data::records::ModelOut>,
+    model: Option<&pim_documents::records::ModelOut>,
     forward: bool,
     u: UnitSystem,
     frame: Convention,
@@ -562,7 +565,7 @@ fn tangential_lines(s: &mut String, e: f64, t: &pim_fit::TangentialFit) {
 
 /// The line that names a model other than PIM and says what it did, before PIM's equivalent
 /// of its solution.
-pub fn model_line(m: &pim_data::records::ModelOut) -> String {
+pub fn model_line(m: &pim_documents::records::ModelOut) -> String {
     let friction = m.coefficients.get("friction").copied().unwrap_or(f64::NAN);
     let how = match m.mode {
         pim_core::ContactMode::Stick => format!(
@@ -592,11 +595,11 @@ pub fn model_line(m: &pim_data::records::ModelOut) -> String {
 /// reader learns that the bound, not the data, decides that part of the answer (empty when
 /// none).
 pub fn bounds_lines(
-    records: &[pim_data::records::BranchRecord],
+    records: &[pim_documents::records::BranchRecord],
     best: Option<pim_fit::MomentBranch>,
     u: UnitSystem,
 ) -> String {
-    use pim_data::records::BoundSource;
+    use pim_documents::records::BoundSource;
     let mut s = String::new();
     for r in records.iter().filter(|r| !r.bounds_reached.is_empty()) {
         let items: Vec<String> = r

@@ -4,7 +4,7 @@
 
 use crate::{err, svg_figure, Figure};
 use pim_case::units::UnitSystem;
-use pim_data::uncertainty::{Study, QUANTITIES};
+use pim_studies::uncertainty::{Study, QUANTITIES};
 use plotters::prelude::*;
 
 const BAR: RGBColor = RGBColor(31, 119, 180);

@@ -9,7 +9,7 @@
 mod svg_layout;
 
 use pim_case::case::Case;
-use pim_data::documents;
+use pim_studies::documents;
 use std::path::Path;
 use svg_layout::defects;
 

@@ -4,8 +4,8 @@
 
 mod svg_layout;
 
-use pim_data::batch::{self, BatchPlan};
 use pim_fit::{CostPreset, FitModel, MomentBranch};
+use pim_studies::batch::{self, BatchPlan};
 use std::path::Path;
 use svg_layout::defects;
 
@@ -27,7 +27,7 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
     )
     .unwrap()
     .with_models(&[FitModel::Pim, FitModel::Tangential]);
-    let records = batch::run(&tests, &plan, &pim_data::watch::Unwatched);
+    let records = batch::run(&tests, &plan, &pim_studies::watch::Unwatched);
     let pim: Vec<_> = records
         .iter()
         .filter(|r| r.model == FitModel::Pim)
@@ -46,14 +46,14 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
     )
     .unwrap();
     let unc = case.content.uncertainty.unwrap_or_default();
-    let study = pim_data::uncertainty::run(
+    let study = pim_studies::uncertainty::run(
         &case,
         &unc,
-        pim_data::fitcase::CostChoice::Custom,
+        pim_studies::fitcase::CostChoice::Custom,
         pim_fit::FitSettings::default(),
         60,
         1,
-        &pim_data::watch::Unwatched,
+        &pim_studies::watch::Unwatched,
     )
     .unwrap();
     figures.extend(

@@ -32,10 +32,10 @@ fn plan_view_and_scene_put_every_point_at_one_place() {
         let case = load(name);
         let units = UnitSystem::of(&case.written_units);
         let diagram = pim_render::diagram::case_diagram(&case, &Default::default()).unwrap();
-        let runouts = pim_data::runout::runout(&case, None, None, 0.02);
+        let runouts = pim_studies::runout::runout(&case, None, None, 0.02);
         let Ok(runouts) = runouts else {
             // A case whose run-out needs the reconstruction's separation state.
-            let done = pim_data::reconstruct::reconstruct(
+            let done = pim_studies::reconstruct::reconstruct(
                 &case,
                 pim_fit::FitModel::Pim,
                 pim_core::MomentForm::Corrected,
@@ -43,7 +43,7 @@ fn plan_view_and_scene_put_every_point_at_one_place() {
             )
             .unwrap();
             let sep = done.outcome.best.unwrap().solution.separation;
-            let r = pim_data::runout::runout(&case, None, Some(sep), 0.02).unwrap();
+            let r = pim_studies::runout::runout(&case, None, Some(sep), 0.02).unwrap();
             check(&case, &diagram, &r, units);
             continue;
         };
@@ -54,7 +54,7 @@ fn plan_view_and_scene_put_every_point_at_one_place() {
 fn check(
     case: &Case,
     diagram: &pim_render::diagram::Diagram,
-    r: &pim_data::runout::RunoutResult,
+    r: &pim_studies::runout::RunoutResult,
     units: UnitSystem,
 ) {
     for (k, input) in r.inputs.iter().enumerate() {
@@ -104,7 +104,7 @@ fn an_sae_scene_is_read_as_a_map() {
         (w2 - 15.0).abs() < 1e-9 && (h2 - 6.2).abs() < 1e-9,
         "{w2} x {h2}"
     );
-    let done = pim_data::reconstruct::reconstruct(
+    let done = pim_studies::reconstruct::reconstruct(
         &case,
         pim_fit::FitModel::Pim,
         pim_core::MomentForm::Corrected,

@@ -7,14 +7,16 @@ use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::load_ricsac;
 use anyhow::Result;
 use pim_case::reference::parse_brach;
-use pim_data::batch;
 use pim_render::{batch_tables, figures};
+use pim_studies::batch;
 use std::process::ExitCode;
 
 /// Reads a tolerances file (`--tolerances`).
-fn load_tolerances(path: &std::path::Path) -> Result<pim_data::uncertainty::Tolerances, Failure> {
+fn load_tolerances(
+    path: &std::path::Path,
+) -> Result<pim_studies::uncertainty::Tolerances, Failure> {
     let text = crate::inputs::read_text_file(path, pim_case::case::MAX_CASE_BYTES)?;
-    Ok(pim_data::uncertainty::Tolerances::from_text(
+    Ok(pim_studies::uncertainty::Tolerances::from_text(
         &path.display().to_string(),
         &text,
     )?)
@@ -191,7 +193,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .as_ref()
         .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2) && !pim_records.is_empty())
         .map(|b| batch_tables::brach_table(&pim_records, b));
-    let records_json = json(&pim_data::schema::DataBatchOut {
+    let records_json = json(&pim_documents::schema::DataBatchOut {
         data: file.clone(),
         records: records.clone(),
     })?;
@@ -257,7 +259,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             )?;
             out.write(
                 "damage.json",
-                &json(&pim_data::schema::DamageBatchOut {
+                &json(&pim_documents::schema::DamageBatchOut {
                     data: file.clone(),
                     records: d.clone(),
                 })?,

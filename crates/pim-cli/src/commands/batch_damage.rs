@@ -2,7 +2,7 @@
 
 use crate::error::Failure;
 use pim_case::ricsac::RicsacTest;
-use pim_data::ricsac_damage::{damage_records, parse_crush, parse_measured, DamageRecord};
+use pim_studies::ricsac_damage::{damage_records, parse_crush, parse_measured, DamageRecord};
 use std::path::Path;
 
 /// The damage records of `tests` from the crush file `path`, with Neades' Table 5.3 when

@@ -2,7 +2,7 @@
 
 use crate::args::{unique, BatchArgs};
 use crate::error::Failure;
-use pim_data::batch;
+use pim_studies::batch;
 
 /// The plan of a batch from its flags, checked once (a bad flag is an input error, not a failed
 /// record per fit): `--threads`, `--e-max`, `--moment-form`, `--cost`, `--branch`, `--timing`.

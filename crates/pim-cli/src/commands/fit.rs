@@ -5,8 +5,8 @@ use crate::args::{unique, FitArgs, Format};
 use crate::error::{Failure, EXIT_NO_ANSWER};
 use crate::inputs::load_case;
 use anyhow::Result;
-use pim_data::documents;
 use pim_render::tables;
+use pim_studies::documents;
 use std::process::ExitCode;
 
 /// `pim fit`.
@@ -15,11 +15,11 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let cost = a.cost;
     let name = cost.map_or("custom", |p| p.name());
     let (_, warnings) = crate::inputs::checked_impact(&case)?;
-    if cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+    if cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
         super::note_damage_not_in_reconstruction(&case);
         return reconstruction(a, &case, warnings);
     }
-    if cost.is_some() && pim_data::reconstruct::has_scene_evidence(&case) {
+    if cost.is_some() && pim_studies::reconstruct::has_scene_evidence(&case) {
         eprintln!(
             "pim: note: {}: with --cost the fit reads the estimates only; without it the case's \
              scene ([scene]) is fitted too, through the run-outs",
@@ -110,8 +110,9 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
 fn reconstruction(a: &FitArgs, case: &pim_case::case::Case, warnings: usize) -> Result<ExitCode> {
     // The consistency table of a conflicting scene takes seconds: its rows on a bar.
     let bar = super::study::Bar::on_terminal(a.format == crate::args::Format::Table);
-    let done = pim_data::consistency::answer(case, a.model, a.moment_form, unique(&a.branch), &bar)
-        .map_err(Failure::from)?;
+    let done =
+        pim_studies::consistency::answer(case, a.model, a.moment_form, unique(&a.branch), &bar)
+            .map_err(Failure::from)?;
     bar.0.finish_and_clear();
     let d = &done.document;
     let units = a.units.map_or_else(

@@ -6,7 +6,7 @@ use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_ricsac;
 use anyhow::Result;
 use pim_case::units::UnitSystem;
-use pim_data::predict::TestPrediction;
+use pim_studies::predict::TestPrediction;
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -55,8 +55,8 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     }
     let file = a.data.display().to_string();
     let tests = load_ricsac(&a.data)?;
-    let rows = pim_data::predict::predict_all(&file, &tests, a.e)?;
-    let record = json(&pim_data::schema::PredictionsOut {
+    let rows = pim_studies::predict::predict_all(&file, &tests, a.e)?;
+    let record = json(&pim_documents::schema::PredictionsOut {
         tests: rows.clone(),
     })?;
     let units = a.units.map_or(UnitSystem::Si, Into::into);

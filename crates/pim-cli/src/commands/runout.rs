@@ -8,7 +8,7 @@ use crate::inputs::load_case;
 use crate::runout_help::RunoutSource;
 use anyhow::Result;
 use pim_case::units::UnitSystem;
-use pim_data::runout::Source;
+use pim_studies::runout::Source;
 use std::process::ExitCode;
 
 /// `pim runout`.
@@ -30,11 +30,12 @@ pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
         RunoutSource::Scene => Source::Scene,
     });
     let given = if source == Some(Source::Fit) {
-        Some(pim_data::runout::fitted_separation(&case, a.cost).map_err(Failure::from)?)
+        Some(pim_studies::runout::fitted_separation(&case, a.cost).map_err(Failure::from)?)
     } else {
         None
     };
-    let result = pim_data::runout::runout(&case, source, given, a.sample).map_err(Failure::from)?;
+    let result =
+        pim_studies::runout::runout(&case, source, given, a.sample).map_err(Failure::from)?;
     let units = a
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);

@@ -6,7 +6,7 @@ use crate::error::Failure;
 use anyhow::Result;
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
-use pim_data::reconstruct_study::{self, ReconstructionStudy};
+use pim_studies::reconstruct_study::{self, ReconstructionStudy};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -76,7 +76,7 @@ pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
 pub fn write_reconstruction(
     dir: &std::path::Path,
     case: &Case,
-    done: &pim_data::reconstruct::Reconstructed,
+    done: &pim_studies::reconstruct::Reconstructed,
     units: UnitSystem,
     record: &str,
     table: &str,
@@ -146,7 +146,7 @@ pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode
     let text = table(&title_of(case), &study, units);
     if let Some(dir) = &a.out {
         // The report: the nominal reconstruction with the intervals of every phase.
-        let done = pim_data::reconstruct::reconstruct(
+        let done = pim_studies::reconstruct::reconstruct(
             case,
             a.model,
             pim_core::MomentForm::Corrected,

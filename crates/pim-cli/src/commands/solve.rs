@@ -7,8 +7,9 @@ use crate::inputs::load_case;
 use anyhow::Result;
 use pim_case::units::UnitSystem;
 use pim_core::{Convention, SolveOptions};
-use pim_data::{documents, records};
+use pim_documents::records;
 use pim_render::tables;
+use pim_studies::documents;
 use std::process::ExitCode;
 
 fn options(a: &SolveArgs) -> SolveOptions {

@@ -4,7 +4,7 @@
 use crate::args::{Format, UncertaintyArgs};
 use crate::error::Failure;
 use anyhow::Result;
-use pim_data::uncertainty::Sensitivity;
+use pim_studies::uncertainty::Sensitivity;
 
 /// A progress bar as a study's observer: it shows the study's phase and its steps done.
 pub struct Bar(pub indicatif::ProgressBar);
@@ -22,7 +22,7 @@ impl Bar {
     }
 }
 
-impl pim_data::watch::Observer for Bar {
+impl pim_studies::watch::Observer for Bar {
     fn progress(&self, done: u64, total: u64, phase: &str) {
         if self.0.length() != Some(total) {
             self.0.set_length(total);

@@ -6,9 +6,9 @@ use crate::error::Failure;
 use crate::inputs::{checked_impact, load_case};
 use anyhow::Result;
 use pim_case::units::UnitSystem;
-use pim_data::fitcase::CostChoice;
-use pim_data::records::BoundSource;
-use pim_data::uncertainty::{self, Study};
+use pim_documents::records::BoundSource;
+use pim_studies::fitcase::CostChoice;
+use pim_studies::uncertainty::{self, Study};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -111,7 +111,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     if a.draws == 0 {
         return Err(Failure::Input("--draws must be at least 1".into()).into());
     }
-    if a.cost.is_none() && pim_data::reconstruct::has_scene_evidence(&case) {
+    if a.cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
         super::note_damage_not_in_reconstruction(&case);
         return super::scene_uncertainty::run(a, &case, warnings);
     }
@@ -153,7 +153,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     let text = table(&title_of(&case), &study, units);
     if let Some(dir) = &a.out {
         // The report of the nominal fit with the study's ranges and figures.
-        let fitted = pim_data::documents::fit(
+        let fitted = pim_studies::documents::fit(
             &case,
             a.cost,
             pim_fit::FitModel::Pim,

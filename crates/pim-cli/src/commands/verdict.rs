@@ -9,7 +9,7 @@ use pim_case::case::Case;
 /// impact on a bound and a poor fit (p below 0.05).
 pub fn reconstruction_status(
     case: &Case,
-    d: &pim_data::reconstruct::ReconstructionOut,
+    d: &pim_studies::reconstruct::ReconstructionOut,
     strict: bool,
     warnings: usize,
 ) -> Result<std::process::ExitCode> {
@@ -29,7 +29,7 @@ pub fn reconstruction_status(
     let mut why = Vec::new();
     if let Some(b) = &d.best {
         for r in &b.bounds_reached {
-            let default = r.source == pim_data::records::BoundSource::Default;
+            let default = r.source == pim_documents::records::BoundSource::Default;
             eprintln!(
                 "pim: warning: {}: the reconstruction's impact ({} branch) ends on a bound: {} at \
                  [bounds] {} ({}); the bound, not the evidence, ends it there",
@@ -46,7 +46,7 @@ pub fn reconstruction_status(
         }
         if b.bounds_reached
             .iter()
-            .any(|r| r.source == pim_data::records::BoundSource::Default)
+            .any(|r| r.source == pim_documents::records::BoundSource::Default)
         {
             why.push("the reconstruction rests on a default bound".into());
         }

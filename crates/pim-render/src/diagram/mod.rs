@@ -348,11 +348,11 @@ pub fn diagram(
 pub fn case_diagram(
     case: &pim_case::case::Case,
     options: &pim_core::SolveOptions,
-) -> Result<Diagram, pim_data::documents::DocumentError> {
+) -> Result<Diagram, pim_studies::documents::DocumentError> {
     let impact = case.impact()?;
     let c = &case.content;
     let solved = if c.coefficients.is_some() && (c.initial.is_some() || c.final_.is_some()) {
-        Some(pim_data::documents::solve(case, options)?.report)
+        Some(pim_studies::documents::solve(case, options)?.report)
     } else {
         None
     };
@@ -367,7 +367,7 @@ pub fn case_diagram(
 
 /// The diagram of a solved case (`pim solve --out`, the report): the solved states, with a
 /// subtitle saying it is a solve and with which coefficients.
-pub fn of_solve(case: &pim_case::case::Case, s: &pim_data::documents::Solved) -> Diagram {
+pub fn of_solve(case: &pim_case::case::Case, s: &pim_studies::documents::Solved) -> Diagram {
     let contact = estimated_contact(case);
     let mut d = diagram(
         case,
@@ -391,7 +391,7 @@ pub fn of_solve(case: &pim_case::case::Case, s: &pim_data::documents::Solved) ->
 /// the bounds the answer rests on in the key. `cost` is the cost function's name.
 pub fn of_fit(
     case: &pim_case::case::Case,
-    f: &pim_data::documents::Fitted,
+    f: &pim_studies::documents::Fitted,
     cost: &str,
 ) -> Result<Diagram, String> {
     let report = &f.report;
@@ -432,8 +432,8 @@ pub fn of_fit(
             b.bound,
             b.at,
             match b.source {
-                pim_data::records::BoundSource::Case => "set in the case",
-                pim_data::records::BoundSource::Default => "a default",
+                pim_documents::records::BoundSource::Case => "set in the case",
+                pim_documents::records::BoundSource::Default => "a default",
             }
         ));
     }

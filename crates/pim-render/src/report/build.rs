@@ -10,8 +10,8 @@ use crate::tables::{branch_short, branch_words, how_found, in_frame, num, vehicl
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
 use pim_core::{Convention, VehicleResult};
-use pim_data::documents::{Fitted, Solved};
-use pim_data::uncertainty::Study;
+use pim_studies::documents::{Fitted, Solved};
+use pim_studies::uncertainty::Study;
 
 /// The references the method cites.
 const REFERENCES: [&str; 4] = [
@@ -42,7 +42,7 @@ const HOW_TO_READ: [&str; 5] = [
 ];
 
 /// Which side of the crush surface vehicle 1 lies on, and what that rests on, in a sentence.
-fn side_sentence(side: &pim_data::records::SideOut, u: UnitSystem) -> String {
+fn side_sentence(side: &pim_documents::records::SideOut, u: UnitSystem) -> String {
     let [h1, h2] = side.cg_heights.map(|h| u.length(h));
     let len = u.length_label();
     let basis = match side.basis {

@@ -7,8 +7,8 @@ use crate::{err, svg_figure, Figure};
 use pim_case::case::Case;
 use pim_case::damage::Side;
 use pim_case::units::UnitSystem;
-use pim_data::damage_assess::Assessment;
-use pim_data::damage_fit::FitDamage;
+use pim_studies::damage_assess::Assessment;
+use pim_studies::damage_fit::FitDamage;
 use plotters::prelude::*;
 
 /// The damage section (`None` when the case has no damage to show).

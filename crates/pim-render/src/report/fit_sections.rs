@@ -5,9 +5,9 @@ use super::doc::{Block, Section, Table};
 use crate::tables::{branch_short, num};
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_data::records::{BoundSource, BranchRecord};
-use pim_data::residuals::Residual;
-use pim_data::uncertainty::Study;
+use pim_documents::records::{BoundSource, BranchRecord};
+use pim_studies::residuals::Residual;
+use pim_studies::uncertainty::Study;
 
 /// The answer's 90 % ranges from the uncertainty study.
 pub(super) fn ranges(s: &mut Section, study: &Study, u: UnitSystem) {

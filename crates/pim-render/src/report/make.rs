@@ -5,11 +5,11 @@
 use super::doc::Document;
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
-use pim_data::documents::{self, DocumentError, Fitted, Solved};
-use pim_data::fitcase::CostChoice;
-use pim_data::reconstruct::Reconstructed;
-use pim_data::reconstruct_study::ReconstructionStudy;
-use pim_data::uncertainty::Study;
+use pim_studies::documents::{self, DocumentError, Fitted, Solved};
+use pim_studies::fitcase::CostChoice;
+use pim_studies::reconstruct::Reconstructed;
+use pim_studies::reconstruct_study::ReconstructionStudy;
+use pim_studies::uncertainty::Study;
 
 /// The draws of a report's uncertainty study when none are asked for and the case gives
 /// `[sigma]` or `[uncertainty]`.
@@ -87,10 +87,10 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         .units
         .unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let c = &case.content;
-    if !o.solve && o.cost.is_none() && pim_data::reconstruct::has_scene_evidence(case) {
+    if !o.solve && o.cost.is_none() && pim_studies::reconstruct::has_scene_evidence(case) {
         return reconstruction(case, o, units);
     }
-    let is_fit = !o.solve && pim_data::fitcase::is_fit_case(case);
+    let is_fit = !o.solve && pim_studies::fitcase::is_fit_case(case);
     let cannot = |e: String| DocumentError::Input(format!("{}: cannot draw: {e}", case.file));
     if !is_fit {
         let solved = documents::solve(case, &pim_core::SolveOptions::default())?;
@@ -113,7 +113,7 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
     let uncertain = c.sigma.is_some() || c.uncertainty.is_some();
     let draws = o.draws.unwrap_or(if uncertain { DEFAULT_DRAWS } else { 0 });
     let study = if draws > 0 && fitted.report.best.is_some() {
-        let s = pim_data::uncertainty::run(
+        let s = pim_studies::uncertainty::run(
             case,
             &c.uncertainty.unwrap_or_default(),
             o.cost.map_or(CostChoice::Custom, CostChoice::Preset),
@@ -123,7 +123,7 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
             },
             draws,
             o.seed,
-            &pim_data::watch::Unwatched,
+            &pim_studies::watch::Unwatched,
         )?;
         (s.feasible_draws > 0).then_some(s)
     } else {
@@ -144,23 +144,23 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
 /// evidence always has standard deviations).
 fn reconstruction(case: &Case, o: &Options, units: UnitSystem) -> Result<Made, DocumentError> {
     let branches = o.model.branches(&pim_fit::MomentBranch::ALL);
-    let done = pim_data::consistency::answer(
+    let done = pim_studies::consistency::answer(
         case,
         o.model,
         pim_core::MomentForm::Corrected,
         branches.clone(),
-        &pim_data::watch::Unwatched,
+        &pim_studies::watch::Unwatched,
     )?;
     let draws = o.draws.unwrap_or(DEFAULT_DRAWS);
     let study = if draws > 0 && done.document.status == pim_reconstruct::Status::Found {
-        let (s, _) = pim_data::reconstruct_study::run(
+        let (s, _) = pim_studies::reconstruct_study::run(
             case,
             o.model,
             pim_core::MomentForm::Corrected,
             branches,
             draws,
             o.seed,
-            &pim_data::watch::Unwatched,
+            &pim_studies::watch::Unwatched,
         )?;
         (s.feasible_draws > 0).then_some(s)
     } else {

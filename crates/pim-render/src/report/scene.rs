@@ -16,8 +16,8 @@ use crate::Figure;
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_data::reconstruct::{Reconstructed, ReconstructionOut};
-use pim_data::reconstruct_study::ReconstructionStudy;
+use pim_studies::reconstruct::{Reconstructed, ReconstructionOut};
+use pim_studies::reconstruct_study::ReconstructionStudy;
 
 /// How to read the report of a reconstruction, the same for every crash.
 const HOW_TO_READ: [&str; 6] = [
@@ -203,8 +203,8 @@ fn answer(
             r.at,
             r.bound,
             match r.source {
-                pim_data::records::BoundSource::Case => "set for this crash",
-                pim_data::records::BoundSource::Default => "a default, not set for this crash",
+                pim_documents::records::BoundSource::Case => "set for this crash",
+                pim_documents::records::BoundSource::Default => "a default, not set for this crash",
             }
         ));
     }
@@ -241,7 +241,7 @@ fn evidence_table(d: &ReconstructionOut, u: UnitSystem) -> Table {
     t
 }
 
-fn consistency(c: &pim_data::consistency::Consistency, u: UnitSystem) -> Section {
+fn consistency(c: &pim_studies::consistency::Consistency, u: UnitSystem) -> Section {
     let mut s = Section::new("Evidence consistency");
     s.text(
         "The whole reconstruction again with each piece of evidence left out in turn (a \

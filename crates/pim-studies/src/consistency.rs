@@ -1,0 +1,469 @@
+//! Which pieces of a scene's evidence agree: the reconstruction with each piece (or group of
+//! pieces) left out in turn, its chi-square, probability and speeds, and the subsets that are
+//! consistent.
+//!
+//! A refused or poorly fitting reconstruction says that the evidence as a whole disagrees, not
+//! which of it. Leaving out one group at a time and refitting answers that: a group whose
+//! removal makes the rest consistent is the suspect (or the one the others outvote), and the
+//! spread of the speeds over the rows shows how much the answer rests on each piece.
+//!
+//! The groups are what a reconstructionist weighs as one piece of evidence: a vehicle's rest
+//! position (its x, y and heading together), each tyre mark, each EDR speed, each named
+//! observation, and the case's `[estimates]` as a whole. A pre-impact skid is not a group: it
+//! turns the contact speed into the speed before braking and adds no residual, so it cannot
+//! conflict with anything.
+//!
+//! Each row is a whole reconstruction (every count of turns searched), so the table costs about
+//! as many reconstructions as there are groups; the rows run in parallel on the current rayon
+//! pool. When no single group explains the conflict, pairs are left out too (up to
+//! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_WORK`].
+
+use crate::documents::DocumentError;
+use crate::reconstruct::reconstruct;
+use pim_case::case::Case;
+use pim_documents::reconstruct_doc::ReconstructionOut;
+pub use pim_documents::reconstruct_doc::{Consistency, LeftOut};
+use pim_fit::MomentBranch;
+use pim_reconstruct::{Status, INCONSISTENT_P, POOR_FIT_P};
+use rayon::prelude::*;
+
+/// The table's budget of work: run-out right-hand side evaluations and their equivalents for
+/// the impact fits, as a reconstruction counts its refinements (`work` of its document; each
+/// row costs about as much as the reconstruction with all the evidence: 1.4 million for the
+/// example with its EDR moved 8 mph, whose eight rows take 6 s on two cores). Beyond it the
+/// table is not computed and says so; the count, not the time, decides, so the answer is the
+/// same on every machine. A unit takes 0.4 to 1.3 us on one core of a 2020s machine.
+pub const TABLE_WORK: u64 = 24_000_000;
+
+/// Pairs of groups are left out only when there are at most this many groups (and no single
+/// group explains the conflict): 28 pairs for 8 groups.
+pub const MAX_PAIR_GROUPS: usize = 8;
+
+/// One piece (or group) of evidence that can be left out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Piece {
+    /// Vehicle `k`'s rest position and heading.
+    Rest(usize),
+    /// Vehicle `k`'s mark `i`.
+    Mark(usize, usize),
+    /// Vehicle `k`'s EDR record `i`.
+    Edr(usize, usize),
+    /// Observation `i` of `[[observations]]`.
+    Observation(usize),
+    /// The `[estimates]` (with their `[sigma]`).
+    Estimates,
+}
+
+impl Piece {
+    fn name(self, case: &Case) -> String {
+        let c = &case.content;
+        match self {
+            Piece::Rest(k) => format!("vehicle{} rest", k + 1),
+            Piece::Mark(k, i) => format!("vehicle{} mark {}", k + 1, i + 1),
+            Piece::Edr(k, i) => {
+                let t = c
+                    .pre_impact
+                    .as_ref()
+                    .and_then(|p| if k == 0 { &p.vehicle1 } else { &p.vehicle2 }.as_ref())
+                    .and_then(|p| p.edr.get(i))
+                    .map_or(0.0, |e| e.time);
+                format!("vehicle{} EDR speed {t:.1} s before contact", k + 1)
+            }
+            Piece::Observation(i) => match c.observations.get(i).and_then(|o| o.name.clone()) {
+                Some(n) => n,
+                None => format!("observation {}", i + 1),
+            },
+            Piece::Estimates => "the estimates ([estimates])".to_string(),
+        }
+    }
+
+    /// The case without this piece.
+    fn leave_out(self, case: &Case) -> Case {
+        let mut out = case.clone();
+        let c = &mut out.content;
+        match self {
+            Piece::Rest(k) | Piece::Mark(k, _) => {
+                if let Some(v) = c.scene.as_mut().and_then(|s| {
+                    if k == 0 {
+                        &mut s.vehicle1
+                    } else {
+                        &mut s.vehicle2
+                    }
+                    .as_mut()
+                }) {
+                    match self {
+                        Piece::Rest(_) => {
+                            v.rest = None;
+                            v.rest_sigma = None;
+                        }
+                        Piece::Mark(_, i) => {
+                            v.marks.remove(i);
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            Piece::Edr(k, i) => {
+                if let Some(p) = c.pre_impact.as_mut().and_then(|p| {
+                    if k == 0 {
+                        &mut p.vehicle1
+                    } else {
+                        &mut p.vehicle2
+                    }
+                    .as_mut()
+                }) {
+                    p.edr.remove(i);
+                }
+            }
+            Piece::Observation(i) => {
+                c.observations.remove(i);
+            }
+            Piece::Estimates => {
+                c.estimates = None;
+                c.sigma = None;
+            }
+        }
+        out
+    }
+}
+
+/// The pieces of evidence of a case, in the order of the evidence table.
+fn pieces(case: &Case) -> Vec<Piece> {
+    let c = &case.content;
+    let mut out = Vec::new();
+    if c.estimates.is_some() {
+        out.push(Piece::Estimates);
+    }
+    out.extend((0..c.observations.len()).map(Piece::Observation));
+    for k in 0..2 {
+        let edr = c
+            .pre_impact
+            .as_ref()
+            .and_then(|p| if k == 0 { &p.vehicle1 } else { &p.vehicle2 }.as_ref())
+            .map_or(0, |p| p.edr.len());
+        out.extend((0..edr).map(|i| Piece::Edr(k, i)));
+    }
+    for k in 0..2 {
+        let Some(v) = c
+            .scene
+            .as_ref()
+            .and_then(|s| if k == 0 { &s.vehicle1 } else { &s.vehicle2 }.as_ref())
+        else {
+            continue;
+        };
+        if v.rest.is_some() {
+            out.push(Piece::Rest(k));
+        }
+        out.extend((0..v.marks.len()).map(|i| Piece::Mark(k, i)));
+    }
+    out
+}
+
+fn row(left_out: Vec<String>, d: Result<ReconstructionOut, DocumentError>) -> LeftOut {
+    let mut r = LeftOut {
+        left_out,
+        status: "failed".into(),
+        chi_square: None,
+        degrees_of_freedom: None,
+        p_value: None,
+        consistent: false,
+        speed_at_contact: [None; 2],
+        speed_before_braking: [None; 2],
+        largest: None,
+        error: None,
+    };
+    match d {
+        Err(e) => r.error = Some(e.to_string()),
+        Ok(d) => {
+            r.status = match d.status {
+                Status::Found => "found",
+                Status::Inconsistent => "inconsistent",
+                Status::NoSolution => "no_solution",
+            }
+            .into();
+            if let Some(b) = &d.best {
+                r.chi_square = Some(b.chi_square);
+                r.degrees_of_freedom = Some(b.degrees_of_freedom);
+                r.p_value = b.p_value;
+                r.consistent =
+                    d.status == Status::Found && b.p_value.is_some_and(|p| p >= POOR_FIT_P);
+                for v in &b.vehicles {
+                    let k = usize::from(v.vehicle - 1).min(1);
+                    r.speed_at_contact[k] = Some(v.speed_at_contact);
+                    r.speed_before_braking[k] = v.speed_before_braking;
+                }
+                r.largest = b
+                    .evidence
+                    .iter()
+                    .max_by(|a, b| a.z.abs().total_cmp(&b.z.abs()))
+                    .map(|e| (e.name.clone(), e.z));
+            }
+        }
+    }
+    r
+}
+
+/// True when a reconstruction calls for the table: refused, or found with a probability below
+/// [`POOR_FIT_P`].
+pub fn wanted(d: &ReconstructionOut) -> bool {
+    d.status != Status::Found
+        || d.best
+            .as_ref()
+            .is_some_and(|b| b.p_value.is_some_and(|p| p < POOR_FIT_P))
+}
+
+/// The consistency table of `case`, whose reconstruction with all its evidence is `all`.
+///
+/// # Errors
+/// None of its own: a row whose reconstruction fails on its input says so in the row.
+pub fn table(
+    case: &Case,
+    all: &ReconstructionOut,
+    model: pim_fit::FitModel,
+    moment_form: pim_core::MomentForm,
+    branches: &[MomentBranch],
+    observer: &dyn crate::watch::Observer,
+) -> Consistency {
+    let run = |without: &[Piece]| {
+        let mut c = case.clone();
+        // Later pieces first, so that the indices of earlier ones stay valid.
+        let mut sorted = without.to_vec();
+        sorted.sort_by_key(|p| std::cmp::Reverse(index_key(*p)));
+        for p in sorted {
+            c = p.leave_out(&c);
+        }
+        let names = without.iter().map(|p| p.name(case)).collect();
+        row(
+            names,
+            reconstruct(&c, model, moment_form, branches.to_vec()).map(|r| r.document),
+        )
+    };
+    let all_row = row(Vec::new(), Ok(all.clone()));
+    let groups = pieces(case);
+    // The work of a row is about that of the whole reconstruction: a budget of work, so that
+    // the table's cost is bounded the same on every machine. A reconstruction that its own
+    // budget ended is not repeated.
+    let per_row = all.work.max(1);
+    let ended = all.work > pim_reconstruct::REFINE_WORK;
+    if ended || groups.len() as u64 * per_row > TABLE_WORK {
+        let summary = if ended {
+            "Not computed: the reconstruction itself ended on its budget of work (its impact \
+             fits or run-outs are very slow), so leaving out each piece would repeat that. \
+             Leave out the pieces with the largest residuals by hand, one at a time."
+                .to_string()
+        } else {
+            format!(
+                "Not computed: leaving out each of its {} pieces would take about {} units of \
+                 work ({per_row} per reconstruction), beyond the table's budget of \
+                 {TABLE_WORK}. Leave out the pieces with the largest residuals by hand, one at \
+                 a time.",
+                groups.len(),
+                groups.len() as u64 * per_row
+            )
+        };
+        return Consistency {
+            all: all_row,
+            rows: Vec::new(),
+            consistent_without: Vec::new(),
+            summary,
+            cancelled: None,
+        };
+    }
+    let singles: Vec<Vec<Piece>> = groups.iter().map(|p| vec![*p]).collect();
+    let pairs_count = groups.len() * groups.len().saturating_sub(1) / 2;
+    let phase = crate::watch::Phase::start(observer, "pieces left out", singles.len());
+    let run_all = |list: &[Vec<Piece>], phase: &crate::watch::Phase| -> Vec<LeftOut> {
+        list.par_iter()
+            .filter_map(|w| {
+                if phase.stopped() {
+                    return None;
+                }
+                let r = run(w);
+                phase.step();
+                Some(r)
+            })
+            .collect()
+    };
+    let mut rows = run_all(&singles, &phase);
+    let mut cancelled = phase.cancelled();
+    if cancelled.is_none()
+        && !rows.iter().any(|r| r.consistent)
+        && groups.len() <= MAX_PAIR_GROUPS
+        && (groups.len() + pairs_count) as u64 * per_row <= TABLE_WORK
+    {
+        let pairs: Vec<Vec<Piece>> = (0..groups.len())
+            .flat_map(|i| (i + 1..groups.len()).map(move |j| (i, j)))
+            .map(|(i, j)| vec![groups[i], groups[j]])
+            .collect();
+        let phase = crate::watch::Phase::start(observer, "pairs left out", pairs.len());
+        rows.extend(run_all(&pairs, &phase));
+        cancelled = phase.cancelled();
+    }
+    let consistent_without: Vec<Vec<String>> = rows
+        .iter()
+        .filter(|r| r.consistent)
+        .map(|r| r.left_out.clone())
+        .collect();
+    let mut summary = summary(&all_row, &rows, &consistent_without, groups.len());
+    if let Some(c) = &cancelled {
+        summary = format!("The table was {c}. {summary}");
+    }
+    Consistency {
+        all: all_row,
+        rows,
+        consistent_without,
+        summary,
+        cancelled,
+    }
+}
+
+/// A key that orders pieces of one list (marks of one vehicle, EDRs of one vehicle,
+/// observations) by their index.
+fn index_key(p: Piece) -> (usize, usize, usize) {
+    match p {
+        Piece::Estimates => (0, 0, 0),
+        Piece::Observation(i) => (1, 0, i),
+        Piece::Edr(k, i) => (2, k, i),
+        Piece::Rest(k) => (3, k, 0),
+        Piece::Mark(k, i) => (4, k, i),
+    }
+}
+
+fn summary(all: &LeftOut, rows: &[LeftOut], consistent: &[Vec<String>], groups: usize) -> String {
+    let p = all
+        .p_value
+        .map_or_else(|| "no answer".to_string(), |p| format!("p = {p:.1e}"));
+    let head = format!(
+        "With all of its evidence the reconstruction {} ({p}).",
+        if all.status == "found" && all.consistent {
+            "fits"
+        } else if all.p_value.is_some_and(|p| p >= INCONSISTENT_P) {
+            "fits poorly"
+        } else {
+            "is refused"
+        }
+    );
+    if groups == 0 {
+        return format!("{head} It has no piece of evidence that can be left out.");
+    }
+    // The suspects: pieces without which the rest fits as well as its standard deviations
+    // lead one to expect (chi-square at most its degrees of freedom), best first.
+    let mut suspects: Vec<&LeftOut> = rows
+        .iter()
+        .filter(|r| r.left_out.len() == 1 && r.consistent)
+        .filter(|r| r.chi_square.unwrap_or(f64::INFINITY) <= judged(r))
+        .collect();
+    suspects.sort_by(|a, b| {
+        a.chi_square
+            .unwrap_or(0.0)
+            .total_cmp(&b.chi_square.unwrap_or(0.0))
+    });
+    let describe = |r: &&LeftOut| {
+        format!(
+            "{} (chi-square {:.2} without it)",
+            r.left_out[0],
+            r.chi_square.unwrap_or(f64::NAN)
+        )
+    };
+    if !suspects.is_empty() {
+        let named: Vec<String> = suspects.iter().map(describe).collect();
+        let one = named.len() == 1;
+        return format!(
+            "{head} Leaving out {} makes the rest fit as well as its standard deviations lead one \
+             to expect: {}. {} with the rest of the evidence; {} check {} before signing either \
+             answer.",
+            if one {
+                "this piece"
+            } else {
+                "any one of these pieces"
+            },
+            named.join("; "),
+            if one {
+                "It disagrees"
+            } else {
+                "Each disagrees"
+            },
+            if one {
+                "the speeds without it show what it moves;"
+            } else {
+                "the evidence alone cannot say which is wrong, and the speeds without each show \
+                 what the choice moves;"
+            },
+            if one { "it" } else { "them" }
+        );
+    }
+    let singles: Vec<String> = consistent
+        .iter()
+        .filter(|w| w.len() == 1)
+        .map(|w| w[0].clone())
+        .collect();
+    if !singles.is_empty() {
+        return format!(
+            "{head} Without {} the rest is consistent, though not a close fit: look at {} first.",
+            join_or(&singles),
+            if singles.len() == 1 { "it" } else { "them" }
+        );
+    }
+    let pairs: Vec<String> = consistent
+        .iter()
+        .filter(|w| w.len() == 2)
+        .map(|w| format!("{} with {}", w[0], w[1]))
+        .collect();
+    if !pairs.is_empty() {
+        return format!(
+            "{head} No single piece explains the conflict; leaving out {} together makes the \
+             rest consistent.",
+            join_or(&pairs)
+        );
+    }
+    let tried = if rows.len() > groups {
+        "no piece and no pair of pieces"
+    } else {
+        "no single piece"
+    };
+    format!(
+        "{head} Leaving out {tried} makes the rest consistent: the conflict is spread over \
+         several pieces, or the model's inputs (friction, wheels, masses, geometry) are off."
+    )
+}
+
+/// The chi-square a fit with these degrees of freedom is expected to reach (its mean).
+fn judged(r: &LeftOut) -> f64 {
+    pim_fit::judged_dof(r.degrees_of_freedom.unwrap_or(1)) as f64
+}
+
+fn join_or(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [a] => a.clone(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
+/// A case's reconstruction as every face answers it: [`reconstruct`], with the consistency
+/// table when the answer is refused or fits poorly ([`wanted`]); the observer watches the
+/// table's rows and can cancel it.
+///
+/// # Errors
+/// Bad input ([`DocumentError::Input`], located).
+pub fn answer(
+    case: &Case,
+    model: pim_fit::FitModel,
+    moment_form: pim_core::MomentForm,
+    branches: Vec<MomentBranch>,
+    observer: &dyn crate::watch::Observer,
+) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
+    let mut done = reconstruct(case, model, moment_form, branches.clone())?;
+    if wanted(&done.document) {
+        let t = table(
+            case,
+            &done.document,
+            model,
+            moment_form,
+            &branches,
+            observer,
+        );
+        done.document.consistency = Some(t);
+    }
+    Ok(done)
+}

@@ -1,0 +1,270 @@
+//! Intervals through all three phases (`pim uncertainty` of a case with scene evidence): a
+//! seeded parametric bootstrap. Each draw perturbs the case's estimates and observations by
+//! their standard deviations, the inputs `[uncertainty]` names, the road friction by
+//! `[runout] friction_sigma`, every rest position and heading and every mark by its sigma and
+//! every EDR speed by its sigma, the measured inputs `[uncertainty.vehicleN]` gives a spread
+//! (skid, braking shares, grade, the EDR's clock, the chassis: [`crate::measured_inputs`]); then the whole reconstruction is refitted (from where the
+//! nominal reconstruction ended, for each count of turns it found within a chi-square of 4 of
+//! its best), and the speeds of every phase are recorded. Draw `i` uses its own random stream,
+//! so the result is the same for any thread count.
+
+use crate::documents::DocumentError;
+use crate::intervals::{dominant_inputs, Summary};
+use crate::reconstruct::case_reconstruction;
+use crate::uncertainty::{inputs, stream, Input, Sensitivity};
+use pim_case::case::Case;
+use pim_case::spread::Spread;
+pub use pim_documents::reconstruct_study::ReconstructionStudy;
+use pim_fit::MomentBranch;
+use pim_reconstruct::{redo, Found, Outcome};
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+
+/// Counts of turns whose nominal cost lies within this chi-square of the best are refitted in
+/// every draw (a count the nominal evidence does not exclude).
+pub const COUNTS_MARGIN: f64 = 4.0;
+
+/// The quantities of a found reconstruction: name and value (speeds m/s).
+pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
+    let s = &found.solution;
+    let mut out = vec![
+        ("e".to_string(), s.e),
+        ("mu".to_string(), s.mu),
+        ("em".to_string(), s.em),
+        ("energy_loss_percent".to_string(), s.energy_loss_percent),
+    ];
+    for p in &found.phases {
+        let v = p.vehicle.index() + 1;
+        if let Some(b) = p.before_braking {
+            out.push((format!("vehicle{v}.speed_before_braking"), b));
+        }
+        out.push((format!("vehicle{v}.speed_at_contact"), p.contact));
+        out.push((format!("vehicle{v}.speed_at_separation"), p.separation));
+    }
+    out
+}
+
+/// The scene's, the friction's and the EDR's drawn inputs (in the file's units).
+fn scene_inputs(case: &Case) -> Vec<Input> {
+    let mut out: Vec<Input> = Vec::new();
+    let c = &case.content;
+    if let Some(r) = &c.runout {
+        if let (Some(s), Some(f)) = (r.friction_sigma, r.friction) {
+            out.push(Input {
+                name: "road friction".into(),
+                spread: Spread::Normal(s),
+                nominal: f,
+                apply: Box::new(|case: &mut Case, x| {
+                    if let Some(r) = case.content.runout.as_mut() {
+                        r.friction = Some(x.clamp(0.05, 1.5));
+                    }
+                }),
+            });
+        }
+    }
+    type Pick = fn(&mut Case) -> Option<&mut pim_case::scene_sections::SceneVehicleSection>;
+    let picks: [(usize, Pick); 2] = [
+        (1, |c| {
+            c.content.scene.as_mut().and_then(|s| s.vehicle1.as_mut())
+        }),
+        (2, |c| {
+            c.content.scene.as_mut().and_then(|s| s.vehicle2.as_mut())
+        }),
+    ];
+    for (n, pick) in picks {
+        let mut probe = case.clone();
+        let Some(v) = pick(&mut probe) else { continue };
+        if let (Some(rest), Some(sd)) = (v.rest, v.rest_sigma) {
+            out.push(Input {
+                name: format!("vehicle{n} rest.x"),
+                spread: Spread::Normal(sd.x),
+                nominal: rest.x,
+                apply: Box::new(move |c: &mut Case, x| {
+                    if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
+                        r.x = x;
+                    }
+                }),
+            });
+            out.push(Input {
+                name: format!("vehicle{n} rest.y"),
+                spread: Spread::Normal(sd.y),
+                nominal: rest.y,
+                apply: Box::new(move |c: &mut Case, x| {
+                    if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
+                        r.y = x;
+                    }
+                }),
+            });
+            if let (Some(h), Some(sh)) = (rest.heading, sd.heading) {
+                out.push(Input {
+                    name: format!("vehicle{n} rest.heading"),
+                    spread: Spread::Normal(sh),
+                    nominal: h,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
+                            r.heading = Some(x);
+                        }
+                    }),
+                });
+            }
+        }
+        for (i, m) in v.marks.iter().enumerate() {
+            for (axis, nominal) in [("x", m.x), ("y", m.y)] {
+                out.push(Input {
+                    name: format!("vehicle{n} mark {} {axis}", i + 1),
+                    spread: Spread::Normal(m.sigma),
+                    nominal,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        if let Some(m) = pick(c).and_then(|v| v.marks.get_mut(i)) {
+                            if axis == "x" {
+                                m.x = x;
+                            } else {
+                                m.y = x;
+                            }
+                        }
+                    }),
+                });
+            }
+        }
+    }
+    if let Some(p) = &c.pre_impact {
+        for (n, v) in [(1usize, &p.vehicle1), (2, &p.vehicle2)] {
+            let Some(v) = v else { continue };
+            for (i, e) in v.edr.iter().enumerate() {
+                out.push(Input {
+                    name: format!("vehicle{n} EDR speed {:.1} s before contact", e.time),
+                    spread: Spread::Normal(e.sigma),
+                    nominal: e.speed,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        let p = c.content.pre_impact.as_mut().and_then(|p| {
+                            if n == 1 {
+                                p.vehicle1.as_mut()
+                            } else {
+                                p.vehicle2.as_mut()
+                            }
+                        });
+                        if let Some(e) = p.and_then(|p| p.edr.get_mut(i)) {
+                            e.speed = x.max(0.0);
+                        }
+                    }),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Runs the study of a case with scene evidence. The observer sees each finished draw (phase
+/// `draws`) and can cancel the study: then the draws finished make the answer and
+/// [`ReconstructionStudy::cancelled`] says so.
+///
+/// # Errors
+/// Bad input (located), or nothing uncertain.
+pub fn run(
+    case: &Case,
+    model: pim_fit::FitModel,
+    moment_form: pim_core::MomentForm,
+    branches: Vec<MomentBranch>,
+    draws: usize,
+    seed: u64,
+    observer: &dyn crate::watch::Observer,
+) -> Result<(ReconstructionStudy, Outcome), DocumentError> {
+    let unc = case.content.uncertainty.unwrap_or_default();
+    let mut all = inputs(case, &unc)?;
+    all.extend(scene_inputs(case));
+    all.extend(crate::measured_inputs::measured_inputs(case)?);
+    let nominal_input = case_reconstruction(case, model, moment_form, branches.clone())?;
+    let nominal =
+        pim_reconstruct::reconstruct(&nominal_input.reconstruction, &nominal_input.settings)
+            .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
+    if nominal.status == pim_reconstruct::Status::Inconsistent {
+        return Err(DocumentError::NoAnswer(format!(
+            "{}: the evidence contradicts every reconstruction: {}",
+            case.file,
+            nominal.reason.as_deref().unwrap_or("")
+        )));
+    }
+    let Some(best) = &nominal.best else {
+        return Err(DocumentError::NoAnswer(format!(
+            "{}: no reconstruction to draw around: {}",
+            case.file,
+            nominal.reason.as_deref().unwrap_or("no admissible impact")
+        )));
+    };
+    let names: Vec<String> = quantities_of(best).into_iter().map(|(n, _)| n).collect();
+    let phase = crate::watch::Phase::start(observer, "draws", draws);
+    let results: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..draws)
+        .into_par_iter()
+        .filter_map(|i| {
+            if phase.stopped() {
+                return None;
+            }
+            let mut rng = stream(seed, i as u64);
+            let mut c = case.clone();
+            let xs: Vec<f64> = all
+                .iter()
+                .map(|inp| {
+                    let x = inp.spread.draw(inp.nominal, &mut rng);
+                    (inp.apply)(&mut c, x);
+                    x
+                })
+                .collect();
+            let out = case_reconstruction(&c, model, moment_form, branches.clone())
+                .ok()
+                .and_then(|r| redo(&r.reconstruction, &r.settings, &nominal, COUNTS_MARGIN).ok())
+                .flatten()
+                .map(|f| {
+                    let q = quantities_of(&f);
+                    names
+                        .iter()
+                        .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
+                        .collect()
+                });
+            phase.step();
+            Some((xs, out))
+        })
+        .collect();
+    let feasible: Vec<(&Vec<f64>, &Vec<f64>)> = results
+        .iter()
+        .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
+        .collect();
+    let mut quantities = BTreeMap::new();
+    let mut samples = BTreeMap::new();
+    let mut sensitivity = Vec::new();
+    let xs: Vec<&Vec<f64>> = feasible.iter().map(|(xs, _)| *xs).collect();
+    for (q, name) in names.iter().enumerate() {
+        let y: Vec<f64> = feasible.iter().map(|(_, r)| r[q]).collect();
+        quantities.insert(name.clone(), Summary::of(&y, false, None));
+        samples.insert(name.clone(), y.clone());
+        sensitivity.push(Sensitivity {
+            quantity: name.clone(),
+            inputs: dominant_inputs(all.iter().map(|i| i.name.as_str()), &xs, &y),
+        });
+    }
+    let nominal_values: BTreeMap<String, f64> = quantities_of(best).into_iter().collect();
+    // A constant quantity (em on the zero branch) is inside its interval however it rounds.
+    let nominal_outside = quantities
+        .iter()
+        .filter(|(n, q): &(&String, &Summary)| {
+            let v = nominal_values[*n];
+            let tol = 1e-9 * (1.0 + v.abs());
+            !feasible.is_empty() && (v < q.p05 - tol || v > q.p95 + tol)
+        })
+        .map(|(n, _)| n.clone())
+        .collect();
+    let study = ReconstructionStudy {
+        units: pim_documents::records::SiUnits,
+        kind: "reconstruction",
+        draws: results.len(),
+        seed,
+        feasible_draws: feasible.len(),
+        nominal: nominal_values,
+        quantities,
+        nominal_outside,
+        samples,
+        cancelled: phase.cancelled(),
+        sensitivity,
+        inputs: all.iter().map(|i| i.name.clone()).collect(),
+    };
+    Ok((study, nominal))
+}

@@ -1,0 +1,399 @@
+//! The document of `pim runout`: each vehicle from its separation velocities to rest, and the
+//! separation velocities estimated from the scene when the case gives no other source.
+//!
+//! The JSON is SI in the natural frame with angles in degrees (counter-clockwise from +x),
+//! like every other document of the toolkit.
+
+use crate::documents::DocumentError;
+use pim_case::case::Case;
+use pim_case::scene::VehicleRunout;
+use pim_core::{VehicleId, Velocities};
+pub use pim_documents::runout::{
+    CandidateOut, EstimateOut, MotionOut, PathPoint, PoseOut, ResidualOut, RunoutOut, Source,
+    VehicleRunoutOut,
+};
+use pim_runout::{Candidate, End, Estimate, EstimateSettings, Motion, Runout, Settings};
+
+/// Most samples of a path in the document (a longer motion is sampled more coarsely).
+pub const MAX_PATH_SAMPLES: usize = 100_000;
+
+/// A computed run-out: the document and the typed results (for drawings).
+#[derive(Debug, Clone)]
+pub struct RunoutResult {
+    /// The inputs per vehicle.
+    pub inputs: Vec<VehicleRunout>,
+    /// The run-out of each vehicle, same order.
+    pub runouts: Vec<Runout>,
+    /// The estimate of each vehicle (source `scene`).
+    pub estimates: Vec<Option<Estimate>>,
+    /// The document.
+    pub document: RunoutOut,
+}
+
+impl RunoutResult {
+    /// True when some run-out reached its time limit or no candidate reaches the evidence.
+    pub fn no_answer(&self) -> Option<String> {
+        for (r, v) in self.runouts.iter().zip(&self.document.vehicles) {
+            if r.end == End::TimeLimit {
+                return Some(format!(
+                    "vehicle {}: the run-out reached its time limit ({:.1} s) still moving at \
+                     {:.3} m/s: it does not come to rest (raise [runout] time_limit, or check \
+                     the wheels: free-rolling wheels roll far)",
+                    v.vehicle,
+                    r.time,
+                    r.rest.vx.hypot(r.rest.vy)
+                ));
+            }
+        }
+        for (e, v) in self.estimates.iter().zip(&self.document.vehicles) {
+            if let Some(best) = e.as_ref().and_then(|e| e.best()) {
+                if let Some(why) = &best.reason {
+                    return Some(format!("vehicle {}: {why}", v.vehicle));
+                }
+            }
+        }
+        None
+    }
+}
+
+/// The separation velocities of the case from `source`, or the first the case has: `[final]`,
+/// then `[coefficients]` with `[initial]`; `None` when it has neither (the scene decides).
+fn separation(
+    case: &Case,
+    source: Option<Source>,
+) -> Result<Option<(Velocities, Source)>, DocumentError> {
+    let c = &case.content;
+    let wanted = source.or(if c.final_.is_some() {
+        Some(Source::Final)
+    } else if c.coefficients.is_some() && c.initial.is_some() {
+        Some(Source::Solve)
+    } else {
+        None
+    });
+    match wanted {
+        None | Some(Source::Scene) => Ok(None),
+        Some(Source::Final) => {
+            if c.final_.is_none() {
+                return Err(DocumentError::Input(format!(
+                    "{}: --from final needs [final]",
+                    case.file
+                )));
+            }
+            let (state, forward) = case.known_state()?;
+            if forward {
+                // [initial] and [final] both given: the [final] section is the one asked for.
+                let solved = crate::documents::solve(case, &pim_core::SolveOptions::default())?;
+                return Ok(Some((solved.report.separation, Source::Final)));
+            }
+            Ok(Some((state, Source::Final)))
+        }
+        Some(Source::Solve) => {
+            let solved = crate::documents::solve(case, &pim_core::SolveOptions::default())?;
+            if !solved.forward {
+                return Err(DocumentError::Input(format!(
+                    "{}: --from solve needs [coefficients] and [initial]",
+                    case.file
+                )));
+            }
+            Ok(Some((solved.report.separation, Source::Solve)))
+        }
+        Some(Source::Fit) => Err(DocumentError::Input(format!(
+            "{}: the fit's separation velocities are passed in by the caller",
+            case.file
+        ))),
+    }
+}
+
+/// The separation velocities of the case's fit (`pim runout --from fit`): the best branch of
+/// the fit under `cost` (the case's own estimates with `None`).
+///
+/// # Errors
+/// Bad input, or [`DocumentError::NoAnswer`] when the fit has no admissible solution.
+pub fn fitted_separation(
+    case: &Case,
+    cost: Option<pim_fit::CostPreset>,
+) -> Result<Velocities, DocumentError> {
+    let fitted = crate::documents::fit(
+        case,
+        cost,
+        pim_fit::FitModel::Pim,
+        pim_core::MomentForm::default(),
+        pim_fit::MomentBranch::ALL.to_vec(),
+    )?;
+    fitted
+        .report
+        .best_branch()
+        .and_then(|b| b.solution.as_ref())
+        .map(|s| s.separation)
+        .ok_or_else(|| {
+            DocumentError::NoAnswer(format!(
+                "{}: the fit has no admissible solution, so there are no separation velocities \
+                 to run out (see `pim fit`)",
+                case.file
+            ))
+        })
+}
+
+/// `pim runout`: every vehicle with a `[runout.vehicleN]` from its separation velocities to
+/// rest. `given` are separation velocities from elsewhere (a fit); otherwise they come from
+/// `source` or the first source the case has, and from the scene when it has none.
+///
+/// # Errors
+/// Bad input ([`DocumentError::Input`], located), or an impact that cannot be solved.
+pub fn runout(
+    case: &Case,
+    source: Option<Source>,
+    given: Option<Velocities>,
+    sample: f64,
+) -> Result<RunoutResult, DocumentError> {
+    let inputs = case.scene_inputs()?;
+    let settings = Settings {
+        time_limit: inputs.time_limit,
+        ..Settings::default()
+    };
+    let from = match given {
+        Some(v) => Some((v, Source::Fit)),
+        None => separation(case, source)?,
+    };
+    let source = from.map_or(Source::Scene, |(_, s)| s);
+    let mut runouts = Vec::new();
+    let mut estimates = Vec::new();
+    let mut vehicles = Vec::new();
+    let mut notes = Vec::new();
+    for v in &inputs.vehicles {
+        let k = v.id.index();
+        let name = format!("vehicle{}", k + 1);
+        let (runout, estimate) = match &from {
+            Some((state, _)) => {
+                let vel = if v.id == VehicleId::One {
+                    state.vehicle1
+                } else {
+                    state.vehicle2
+                };
+                let start = Motion {
+                    vx: vel.vx,
+                    vy: vel.vy,
+                    yaw_rate: vel.omega,
+                    ..v.start
+                };
+                let r = pim_runout::simulate(&v.chassis, &start, &settings)
+                    .map_err(|e| runout_failure(case, &name, e))?;
+                (r, None)
+            }
+            None => {
+                let Some(evidence) = &v.evidence else {
+                    return Err(DocumentError::Input(format!(
+                        "{}: {name}: no separation velocities and no scene evidence: give \
+                         [final], [coefficients] with [initial], or [scene.{name}] with the rest \
+                         position",
+                        case.file
+                    )));
+                };
+                let es = EstimateSettings {
+                    runout: settings,
+                    ..EstimateSettings::default()
+                };
+                let e = pim_runout::estimate(&v.chassis, &v.start, evidence, &es)
+                    .map_err(|e| runout_failure(case, &name, e))?;
+                let best = e
+                    .best()
+                    .expect("an estimate has at least one candidate")
+                    .runout
+                    .clone();
+                (best, Some(e))
+            }
+        };
+        // The evidence against a run-out from given separation velocities.
+        let evidence = match (&estimate, &v.evidence) {
+            (None, Some(ev)) => evidence_against(v, ev, &runout),
+            (Some(e), _) => e
+                .best()
+                .map(|c| c.residuals.iter().map(residual_out).collect())
+                .unwrap_or_default(),
+            _ => Vec::new(),
+        };
+        let estimate_out = estimate
+            .as_ref()
+            .map(|e| estimate_out(e, &name, &mut notes));
+        vehicles.push(vehicle_out(k, v, &runout, evidence, estimate_out, sample));
+        runouts.push(runout);
+        estimates.push(estimate);
+    }
+    for (r, v) in runouts.iter().zip(&vehicles) {
+        if r.end == End::TimeLimit {
+            notes.push(format!(
+                "vehicle {}: the run-out reached its time limit ({:.1} s) still moving",
+                v.vehicle, r.time
+            ));
+        }
+    }
+    Ok(RunoutResult {
+        inputs: inputs.vehicles,
+        runouts,
+        estimates,
+        document: RunoutOut {
+            units: "SI (m, s, m/s, rad/s, J); angles in degrees counter-clockwise from +x (natural frame)",
+            source,
+            vehicles,
+            notes,
+        },
+    })
+}
+
+fn runout_failure(case: &Case, name: &str, e: pim_runout::RunoutError) -> DocumentError {
+    match e {
+        pim_runout::RunoutError::Input { .. } => {
+            DocumentError::Input(case.runout_error(name, e).message)
+        }
+        other => DocumentError::NoAnswer(format!("{}: {name}: {other}", case.file)),
+    }
+}
+
+fn residual_out(r: &pim_runout::inverse::Residual) -> ResidualOut {
+    let angle = r.name.contains("heading");
+    let f = |x: f64| if angle { x.to_degrees() } else { x };
+    ResidualOut {
+        name: r.name.clone(),
+        value: f(r.value),
+        sigma: f(r.sigma),
+        z: r.value / r.sigma,
+    }
+}
+
+/// The residuals of given evidence against a run-out: the nearest rest heading counts (the
+/// run-out's own rotation decides the turns).
+fn evidence_against(v: &VehicleRunout, ev: &pim_runout::Evidence, r: &Runout) -> Vec<ResidualOut> {
+    pim_runout::inverse::residuals_of(&v.chassis, ev, r)
+        .iter()
+        .map(residual_out)
+        .collect()
+}
+
+fn candidate_out(c: &Candidate) -> CandidateOut {
+    CandidateOut {
+        turns: c.turns,
+        separation: MotionOut::from(&c.separation),
+        friction: c.friction,
+        cost: c.cost,
+        consistent: c.consistent,
+        plausible: c.plausible,
+        converged: c.converged,
+        runouts: c.runouts,
+        sigma: c.sigma.clone(),
+        free: c.free.clone(),
+        residuals: c.residuals.iter().map(residual_out).collect(),
+        reason: c.reason.clone(),
+    }
+}
+
+fn estimate_out(e: &Estimate, name: &str, notes: &mut Vec<String>) -> EstimateOut {
+    let mut undetermined = Vec::new();
+    let consistent: Vec<&Candidate> = e.consistent().collect();
+    // Whether the evidence is reached at all (when not, that is the answer, said elsewhere).
+    let reached = e.best().is_some_and(|b| b.reason.is_none());
+    if reached && consistent.len() > 1 {
+        let counts: Vec<String> = consistent
+            .iter()
+            .map(|c| c.turns.map_or("-".into(), |t| t.to_string()))
+            .collect();
+        let line = format!(
+            "{name}: the count of turns to rest: {} candidates reach the evidence equally well \
+             (turns {}); the run-out shown is the first, not the answer: marks along the path, \
+             a stated count ([scene.{name}] turns) or the impact decide",
+            consistent.len(),
+            counts.join(", ")
+        );
+        undetermined.push(line.clone());
+        notes.push(line);
+    }
+    let plausible: Vec<&Candidate> = e.candidates.iter().filter(|c| c.plausible).collect();
+    if reached && consistent.len() == 1 && plausible.len() > 1 {
+        let others: Vec<String> = plausible
+            .iter()
+            .skip(1)
+            .map(|c| {
+                format!(
+                    "{} (cost {:+.2})",
+                    c.turns.map_or("-".into(), |t| t.to_string()),
+                    c.cost - plausible[0].cost
+                )
+            })
+            .collect();
+        undetermined.push(format!(
+            "{name}: the count of turns: the evidence favours {} but does not exclude {} \
+             (within a cost of {} of the best: a likelihood ratio above e^-2)",
+            plausible[0].turns.map_or("-".into(), |t| t.to_string()),
+            others.join(", "),
+            pim_runout::PLAUSIBLE_COST
+        ));
+    }
+    if let Some(best) = e.best() {
+        for dir in &best.free {
+            let parts: Vec<String> = e
+                .unknowns
+                .iter()
+                .zip(dir)
+                .filter(|(_, x)| x.abs() > 1e-3)
+                .map(|(n, x)| format!("{x:+.3} {n}"))
+                .collect();
+            undetermined.push(format!(
+                "{name}: the evidence does not determine the direction ({}) of the unknowns: \
+                 along it the cost does not change",
+                parts.join(", ")
+            ));
+        }
+    }
+    EstimateOut {
+        unknowns: e.unknowns.clone(),
+        candidates: e.candidates.iter().map(candidate_out).collect(),
+        runouts: e.candidates.iter().map(|c| c.runouts).sum(),
+        undetermined,
+    }
+}
+
+fn vehicle_out(
+    k: usize,
+    v: &VehicleRunout,
+    r: &Runout,
+    evidence: Vec<ResidualOut>,
+    estimate: Option<EstimateOut>,
+    sample: f64,
+) -> VehicleRunoutOut {
+    // At most MAX_PATH_SAMPLES samples, whatever the interval asked for and the motion's time.
+    let path = r
+        .sample(sample.max(r.time / MAX_PATH_SAMPLES as f64))
+        .iter()
+        .map(|(t, m)| PathPoint {
+            t: *t,
+            x: m.x,
+            y: m.y,
+            heading: m.heading.to_degrees(),
+            speed: m.vx.hypot(m.vy),
+            yaw_rate: m.yaw_rate,
+        })
+        .collect();
+    VehicleRunoutOut {
+        vehicle: k as u8 + 1,
+        separation: MotionOut::from(&r.start),
+        friction: estimate
+            .as_ref()
+            .and_then(|e| e.candidates.first())
+            .map_or(v.chassis.friction, |c| c.friction),
+        wheels: v.chassis.wheels,
+        end: r.end,
+        rest: PoseOut {
+            x: r.rest.x,
+            y: r.rest.y,
+            heading: r.rest.heading.to_degrees(),
+        },
+        distance: r.distance,
+        time: r.time,
+        rotation: r.rotation.to_degrees(),
+        turns: r.turns(),
+        initial_energy: r.initial_energy,
+        tyre_work: r.tyre_work,
+        path,
+        evidence,
+        estimate,
+    }
+}
