@@ -60,7 +60,10 @@ fn every_dependency_goes_down_a_layer() {
     for (krate, l) in LAYERS {
         for dep in dependencies(krate) {
             if layer(&dep) >= l {
-                wrong.push(format!("{krate} (layer {l}) depends on {dep} (layer {})", layer(&dep)));
+                wrong.push(format!(
+                    "{krate} (layer {l}) depends on {dep} (layer {})",
+                    layer(&dep)
+                ));
             }
         }
     }

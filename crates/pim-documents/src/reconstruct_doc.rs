@@ -139,7 +139,7 @@ pub struct ReconstructionOut {
     /// What the evidence leaves undetermined or the search does not prove.
     pub undetermined: Vec<String>,
     /// For a refused or poorly fitting reconstruction: the evidence left out piece by piece
-    /// ([`crate::consistency`]).
+    /// (pim-studies' `consistency`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub consistency: Option<Consistency>,
 }

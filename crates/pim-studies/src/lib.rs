@@ -1,27 +1,29 @@
-//! # pim-studies: the PIM toolkit's inputs and records
+//! # pim-studies: the questions the PIM toolkit answers
 //!
-//! What every front end of the toolkit shares (the `pim` command, the tests, benchmarks and
-//! examples, language bindings), with no file or terminal I/O of its own: callers read the text
-//! and pass it in.
+//! One entry per question, each a case (pim-case) and options in and a document
+//! (pim-documents) out, with no file or terminal I/O of its own: the faces (the `pim` command,
+//! the Python package, the scene editor) read the files, call a study, and write or show its
+//! document.
 //!
-//! - [`case`]: the TOML case file of a solve, a sensitivity study or a fit ([`case::Case`]),
-//!   its [`sections`] and its `[uncertainty]` section ([`spread`]), and [`fitcase`], the fit
-//!   problem and settings it describes;
-//! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
-//!   collision, in the papers' geometry;
-//! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`;
-//! - [`batch`]: the batch refit of a data file, as typed [`batch::BatchRecord`]s;
+//! - [`documents`]: the solve ([`documents::solve`]) and the fit ([`documents::fit`]) of a case;
+//! - [`reconstruct`]: the whole reconstruction of a case with scene evidence, and
+//!   [`consistency`], its evidence consistency table ([`consistency::answer`]: the
+//!   reconstruction as every face answers it);
+//! - [`runout`]: each vehicle from separation to rest, or the separation from the scene;
+//! - [`uncertainty`] and [`reconstruct_study`]: the seeded parametric bootstraps of `pim
+//!   uncertainty` (of an impact fit, of a whole reconstruction);
+//! - [`batch`]: the refit of a data file; [`case_batch`]: a batch of case files;
 //! - [`predict`]: Brach 1984's delta-V prediction for every test of a data file;
-//! - [`records`]: the JSON documents of a solve, a sensitivity study and a fit;
-//! - [`scene`]: the `[runout]` and `[scene]` sections, read into pim-runout's inputs;
-//! - [`edit`]: a case file edited in place, its comments and formatting kept;
-//! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
-//! - [`uncertainty`]: the seeded parametric bootstrap of `pim uncertainty`.
+//! - [`damage_fit`], [`damage_assess`], [`ricsac_damage`]: the crush as evidence;
+//! - [`watch`]: the one observer every long study reports its progress to and can be
+//!   cancelled from.
 //!
-//! Bad input is an [`InputError`] whose message names the file, line and field.
+//! Every stop of a study is a count, never a time: the same case gives the same document on
+//! every machine. Bad input is an [`InputError`] whose message names the file, line and field.
 
 pub mod batch;
 pub mod batch_scene;
+pub mod case_batch;
 pub mod case_records;
 pub mod consistency;
 pub mod damage_assess;

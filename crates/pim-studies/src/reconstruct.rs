@@ -267,12 +267,26 @@ pub fn skid_lengths(input: &CaseReconstruction) -> Vec<(VehicleId, f64)> {
 /// A case's reconstruction, searched, with its document.
 #[derive(Debug, Clone)]
 pub struct Reconstructed {
+    /// How it was reconstructed (what a study around it redoes in every draw).
+    pub how: How,
     /// The inputs.
     pub input: CaseReconstruction,
     /// The search's answer.
     pub outcome: Outcome,
     /// The document.
     pub document: ReconstructionOut,
+}
+
+/// How a case is reconstructed: the impact model fitted, its moment equation and the moment
+/// branches searched.
+#[derive(Debug, Clone, PartialEq)]
+pub struct How {
+    /// The impact model.
+    pub model: pim_fit::FitModel,
+    /// The moment equation.
+    pub moment_form: pim_core::MomentForm,
+    /// The moment branches searched.
+    pub branches: Vec<MomentBranch>,
 }
 
 /// Reconstructs a case (see [`case_reconstruction`]).
@@ -285,11 +299,17 @@ pub fn reconstruct(
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<Reconstructed, DocumentError> {
+    let how = How {
+        model,
+        moment_form,
+        branches: branches.clone(),
+    };
     let input = case_reconstruction(case, model, moment_form, branches)?;
     let outcome = pim_reconstruct::reconstruct(&input.reconstruction, &input.settings)
         .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
     let document = document(&input, &outcome);
     Ok(Reconstructed {
+        how,
         input,
         outcome,
         document,

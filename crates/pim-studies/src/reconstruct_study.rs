@@ -3,7 +3,7 @@
 //! their standard deviations, the inputs `[uncertainty]` names, the road friction by
 //! `[runout] friction_sigma`, every rest position and heading and every mark by its sigma and
 //! every EDR speed by its sigma, the measured inputs `[uncertainty.vehicleN]` gives a spread
-//! (skid, braking shares, grade, the EDR's clock, the chassis: [`crate::measured_inputs`]); then the whole reconstruction is refitted (from where the
+//! (skid, braking shares, grade, the EDR's clock, the chassis: `measured_inputs`); then the whole reconstruction is refitted (from where the
 //! nominal reconstruction ended, for each count of turns it found within a chi-square of 4 of
 //! its best), and the speeds of every phase are recorded. Draw `i` uses its own random stream,
 //! so the result is the same for any thread count.
@@ -16,7 +16,7 @@ use pim_case::case::Case;
 use pim_case::spread::Spread;
 pub use pim_documents::reconstruct_study::ReconstructionStudy;
 use pim_fit::MomentBranch;
-use pim_reconstruct::{redo, Found, Outcome};
+use pim_reconstruct::{redo, Found};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -154,9 +154,8 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
     out
 }
 
-/// Runs the study of a case with scene evidence. The observer sees each finished draw (phase
-/// `draws`) and can cancel the study: then the draws finished make the answer and
-/// [`ReconstructionStudy::cancelled`] says so.
+/// Runs the study of a case with scene evidence: its nominal reconstruction, then the draws
+/// around it ([`run_around`]); both are returned.
 ///
 /// # Errors
 /// Bad input (located), or nothing uncertain.
@@ -168,15 +167,36 @@ pub fn run(
     draws: usize,
     seed: u64,
     observer: &dyn crate::watch::Observer,
-) -> Result<(ReconstructionStudy, Outcome), DocumentError> {
+) -> Result<(ReconstructionStudy, crate::reconstruct::Reconstructed), DocumentError> {
+    let done = crate::reconstruct::reconstruct(case, model, moment_form, branches)?;
+    let study = run_around(case, &done, draws, seed, observer)?;
+    Ok((study, done))
+}
+
+/// The study around a nominal reconstruction `done` of `case` (as [`crate::consistency::answer`]
+/// or [`crate::reconstruct::reconstruct`] gave it: never computed twice). The observer sees
+/// each finished draw (phase `draws`) and can cancel the study: then the draws finished make
+/// the answer and [`ReconstructionStudy::cancelled`] says so.
+///
+/// # Errors
+/// Bad input (located), or nothing uncertain, or no nominal reconstruction to draw around.
+pub fn run_around(
+    case: &Case,
+    done: &crate::reconstruct::Reconstructed,
+    draws: usize,
+    seed: u64,
+    observer: &dyn crate::watch::Observer,
+) -> Result<ReconstructionStudy, DocumentError> {
+    let crate::reconstruct::How {
+        model,
+        moment_form,
+        branches,
+    } = done.how.clone();
     let unc = case.content.uncertainty.unwrap_or_default();
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
     all.extend(crate::measured_inputs::measured_inputs(case)?);
-    let nominal_input = case_reconstruction(case, model, moment_form, branches.clone())?;
-    let nominal =
-        pim_reconstruct::reconstruct(&nominal_input.reconstruction, &nominal_input.settings)
-            .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
+    let nominal = &done.outcome;
     if nominal.status == pim_reconstruct::Status::Inconsistent {
         return Err(DocumentError::NoAnswer(format!(
             "{}: the evidence contradicts every reconstruction: {}",
@@ -211,7 +231,7 @@ pub fn run(
                 .collect();
             let out = case_reconstruction(&c, model, moment_form, branches.clone())
                 .ok()
-                .and_then(|r| redo(&r.reconstruction, &r.settings, &nominal, COUNTS_MARGIN).ok())
+                .and_then(|r| redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN).ok())
                 .flatten()
                 .map(|f| {
                     let q = quantities_of(&f);
@@ -266,5 +286,5 @@ pub fn run(
         sensitivity,
         inputs: all.iter().map(|i| i.name.clone()).collect(),
     };
-    Ok((study, nominal))
+    Ok(study)
 }

@@ -1,7 +1,7 @@
 //! `pim batch` and `pim compare-costs`: the refit of a data file.
 
 use super::batch_plan::plan;
-use super::{json, print_out};
+use super::print_out;
 use crate::args::{BatchArgs, BatchFormat};
 use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::load_ricsac;
@@ -193,7 +193,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
         .as_ref()
         .filter(|_| plan.costs.contains(&pim_fit::CostPreset::Q2) && !pim_records.is_empty())
         .map(|b| batch_tables::brach_table(&pim_records, b));
-    let records_json = json(&pim_documents::schema::DataBatchOut {
+    let records_json = super::json_sorted(&pim_documents::schema::DataBatchOut {
         data: file.clone(),
         records: records.clone(),
     })?;
@@ -259,7 +259,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             )?;
             out.write(
                 "damage.json",
-                &json(&pim_documents::schema::DamageBatchOut {
+                &super::json_sorted(&pim_documents::schema::DamageBatchOut {
                     data: file.clone(),
                     records: d.clone(),
                 })?,

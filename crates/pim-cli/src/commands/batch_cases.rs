@@ -6,12 +6,9 @@ use crate::error::{Failure, EXIT_OK, EXIT_SOME_FAILED};
 use crate::inputs::{io_reason, read_text_file};
 use anyhow::Result;
 use pim_case::case::MAX_CASE_BYTES;
-use pim_studies::batch::Outcome;
-use pim_studies::batch_scene::{add_intervals, case_records};
+use pim_studies::case_batch::{CaseBatch, CaseText, Tally};
 use pim_studies::case_records::CaseRecord;
 use pim_studies::fitcase::CostChoice;
-use rayon::prelude::*;
-use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -87,81 +84,45 @@ fn case_files(inputs: &[PathBuf]) -> Result<Vec<Entry>, Failure> {
     Ok(out)
 }
 
-/// Counts for the summary.
-#[derive(Default)]
-struct Tally {
-    by_cost: BTreeMap<String, BTreeMap<String, usize>>,
-    records: usize,
-    unsolved: usize,
-    files_failed: usize,
-    /// Each file that could not be read or fitted, with its reason.
-    failed: Vec<String>,
-    /// Records without the intervals `--draws` asked for, with the reason (e.g. nothing in
-    /// the case is uncertain).
-    no_intervals: Vec<String>,
-    /// What in the files had no effect (each once).
-    notes: Vec<String>,
-}
-
-impl Tally {
-    fn add(&mut self, r: &CaseRecord) {
-        *self
-            .by_cost
-            .entry(r.cost_function.name().to_string())
-            .or_default()
-            .entry(r.outcome.to_string())
-            .or_default() += 1;
-        self.records += 1;
-        if !r.outcome.solved() {
-            self.unsolved += 1;
-        }
-        if let Some(why) = &r.intervals_error {
-            self.no_intervals.push(why.clone());
-        }
-        for n in &r.notes {
-            if !self.notes.contains(n) {
-                self.notes.push(n.clone());
-            }
+/// The summary of a batch of case files: the counts, the notes, the files without intervals
+/// and those that could not be read or fitted.
+fn summary_text(tally: &Tally, files: usize) -> String {
+    let t = tally;
+    let mut s = format!(
+        "{files} case files, {} records ({} solved, {} without a solution); {} files could not be read or fitted\n\n",
+        t.records,
+        t.records - t.unsolved,
+        t.unsolved,
+        t.files_failed
+    );
+    s.push_str("cost    outcome          records\n");
+    for (cost, outcomes) in &t.by_cost {
+        for (o, n) in outcomes {
+            s.push_str(&format!("{cost:<7} {o:<16} {n:>7}\n"));
         }
     }
-
-    fn text(&self, files: usize) -> String {
-        let mut s = format!(
-            "{files} case files, {} records ({} solved, {} without a solution); {} files could not be read or fitted\n\n",
-            self.records,
-            self.records - self.unsolved,
-            self.unsolved,
-            self.files_failed
-        );
-        s.push_str("cost    outcome          records\n");
-        for (cost, outcomes) in &self.by_cost {
-            for (o, n) in outcomes {
-                s.push_str(&format!("{cost:<7} {o:<16} {n:>7}\n"));
-            }
+    if !t.notes.is_empty() {
+        s.push_str("\nnotes:\n");
+        for n in &t.notes {
+            s.push_str(&format!("  {n}\n"));
         }
-        if !self.notes.is_empty() {
-            s.push_str("\nnotes:\n");
-            for n in &self.notes {
-                s.push_str(&format!("  {n}\n"));
-            }
-        }
-        if !self.no_intervals.is_empty() {
-            s.push_str(&format!(
-                "\nno intervals for {} records (--draws):\n",
-                self.no_intervals.len()
-            ));
-            for why in &self.no_intervals {
-                s.push_str(&format!("  {why}\n"));
-            }
-        }
-        if !self.failed.is_empty() {
-            s.push_str("\nfiles that could not be read or fitted:\n");
-            for f in &self.failed {
-                s.push_str(&format!("  {f}\n"));
-            }
-        }
-        s
     }
+    if !t.no_intervals.is_empty() {
+        s.push_str(&format!(
+            "\nno intervals for {} records (--draws):\n",
+            t.no_intervals.len()
+        ));
+        for why in &t.no_intervals {
+            s.push_str(&format!("  {why}\n"));
+        }
+    }
+    if !t.failed.is_empty() {
+        s.push_str("\nfiles that could not be read or fitted:\n");
+        for f in &t.failed {
+            s.push_str(&format!("  {f}\n"));
+        }
+    }
+    s
 }
 
 /// `Ok` when `e` is stdout's reader having gone away (a closed pipe, `pim batch ... | head`),
@@ -212,6 +173,12 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
     } else {
         plan.costs.iter().map(|&c| CostChoice::Preset(c)).collect()
     };
+    let batch = CaseBatch {
+        choices,
+        plan,
+        draws: a.draws,
+        seed: a.seed,
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()
@@ -246,65 +213,30 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
             stdout_csv = None;
         }
     }
-    let show = std::io::IsTerminal::is_terminal(&std::io::stderr());
-    let bar = if show {
-        let b = indicatif::ProgressBar::new(files.len() as u64);
-        b.set_message("fitting case files");
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = super::study::Bar::on_terminal(true);
+    bar.0.set_length(files.len() as u64);
     let mut tally = Tally::default();
-    for chunk in files.chunks(CHUNK) {
-        let records: Vec<Vec<CaseRecord>> = pool.install(|| {
-            chunk
-                .par_iter()
-                .map(|(path, unreadable)| {
-                    let name = path.display().to_string();
-                    let text = match unreadable {
-                        Some(why) => Err(why.clone()),
-                        None => read_text_file(path, MAX_CASE_BYTES).map_err(|e| e.to_string()),
-                    };
-                    let out = match text {
-                        Ok(text) => choices
-                            .iter()
-                            .flat_map(|&c| {
-                                let mut recs = case_records(&name, &text, c, &plan);
-                                if a.draws > 0 {
-                                    if let Some(best) = recs.iter_mut().find(|r| r.best) {
-                                        add_intervals(best, &text, &plan, a.draws, a.seed);
-                                    }
-                                }
-                                recs
-                            })
-                            .collect(),
-                        Err(e) => choices
-                            .iter()
-                            .flat_map(|&c| plan.branches.iter().map(move |&m| (c, m)))
-                            .map(|(c, m)| CaseRecord::failed(&name, c, m, Some(e.clone())))
-                            .collect(),
-                    };
-                    bar.inc(1);
-                    out
-                })
-                .collect()
-        });
+    for (k, chunk) in files.chunks(CHUNK).enumerate() {
+        let texts: Vec<CaseText> = chunk
+            .iter()
+            .map(|(path, unreadable)| CaseText {
+                name: path.display().to_string(),
+                text: match unreadable {
+                    Some(why) => Err(why.clone()),
+                    None => read_text_file(path, MAX_CASE_BYTES).map_err(|e| e.to_string()),
+                },
+            })
+            .collect();
+        let progress = super::study::Offset {
+            bar: &bar,
+            before: (k * CHUNK) as u64,
+        };
+        let records = pool.install(|| batch.records(&texts, &progress));
         for file_records in records {
-            if file_records.iter().all(|r| r.outcome == Outcome::Failed) {
-                tally.files_failed += 1;
-                // The error names the file (and line and field).
-                let mut reasons: Vec<&str> = file_records
-                    .iter()
-                    .filter_map(|r| r.error.as_deref())
-                    .collect();
-                reasons.dedup();
-                for why in reasons {
-                    eprintln!("pim: {why}");
-                    tally.failed.push(why.to_string());
-                }
+            for why in tally.add_file(&file_records) {
+                eprintln!("pim: {why}");
             }
             for r in &file_records {
-                tally.add(r);
                 let row = r.csv_row();
                 if let Some((p, w)) = &mut csv_file {
                     w.write_record(&row)
@@ -340,8 +272,8 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
             }
         }
     }
-    bar.finish_and_clear();
-    let summary = tally.text(files.len());
+    bar.0.finish_and_clear();
+    let summary = summary_text(&tally, files.len());
     if let Some((p, mut w)) = csv_file {
         w.flush().map_err(|e| out_err(&p, e))?;
     }

@@ -36,6 +36,12 @@ pub fn print_out(text: &str) -> Result<()> {
     }
 }
 
+/// Pretty JSON with a final newline, every object's keys in alphabetical order: the form the
+/// data-file batch and `predict-dv` have always been written in.
+pub fn json_sorted<T: serde::Serialize>(value: &T) -> Result<String> {
+    json(&serde_json::to_value(value)?)
+}
+
 /// Pretty JSON with a final newline.
 pub fn json<T: serde::Serialize>(value: &T) -> Result<String> {
     let mut s = serde_json::to_string_pretty(value)?;

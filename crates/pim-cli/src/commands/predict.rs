@@ -1,6 +1,6 @@
 //! `pim predict-dv`: Brach 1984's delta-V prediction for every test of a data file.
 
-use super::{json, print_out};
+use super::print_out;
 use crate::args::{Format, PredictArgs};
 use crate::error::{Failure, EXIT_OK};
 use crate::inputs::load_ricsac;
@@ -56,7 +56,7 @@ pub fn run(a: &PredictArgs) -> Result<ExitCode> {
     let file = a.data.display().to_string();
     let tests = load_ricsac(&a.data)?;
     let rows = pim_studies::predict::predict_all(&file, &tests, a.e)?;
-    let record = json(&pim_documents::schema::PredictionsOut {
+    let record = super::json_sorted(&pim_documents::schema::PredictionsOut {
         tests: rows.clone(),
     })?;
     let units = a.units.map_or(UnitSystem::Si, Into::into);

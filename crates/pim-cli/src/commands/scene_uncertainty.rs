@@ -118,7 +118,7 @@ pub fn write_reconstruction(
 pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
     let (pool, bar) = super::study::pool_and_bar(a)?;
     let observer = super::study::Bar(bar.clone());
-    let (study, _) = pool
+    let (study, done) = pool
         .install(|| {
             reconstruct_study::run(
                 case,
@@ -145,14 +145,8 @@ pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode
     let record = json(&study)?;
     let text = table(&title_of(case), &study, units);
     if let Some(dir) = &a.out {
-        // The report: the nominal reconstruction with the intervals of every phase.
-        let done = pim_studies::reconstruct::reconstruct(
-            case,
-            a.model,
-            pim_core::MomentForm::Corrected,
-            pim_fit::MomentBranch::ALL.to_vec(),
-        )
-        .map_err(Failure::from)?;
+        // The report: the nominal reconstruction (the study's centre) with the intervals of
+        // every phase.
         let nominal = json(&done.document)?;
         let fit_table = pim_render::reconstruct::reconstruction_table(
             &title_of(case),

@@ -32,6 +32,21 @@ impl pim_studies::watch::Observer for Bar {
     }
 }
 
+/// A bar that several calls of a study fill one after the other: a call's steps are shown
+/// after the `before` steps of the calls before it.
+pub struct Offset<'a> {
+    /// The bar.
+    pub bar: &'a Bar,
+    /// Steps done before this call.
+    pub before: u64,
+}
+
+impl pim_studies::watch::Observer for Offset<'_> {
+    fn progress(&self, done: u64, _total: u64, _phase: &str) {
+        self.bar.0.set_position(self.before + done);
+    }
+}
+
 /// The three inputs that dominate a quantity, with their first-order indices.
 pub fn dominant(sens: &Sensitivity) -> String {
     let list: Vec<String> = sens

@@ -56,18 +56,17 @@ from typing import Any, Callable, Dict, Iterable, List, Literal, Mapping, Option
 from . import _pim
 from ._frame import COLUMNS, fit_frame
 from ._pim import InputError, NoSolution, __version__
+from ._base import Motion, Velocities
 from ._results import (
     Branch,
     ChiSquare,
     FitResult,
     Interval,
-    Motion,
     Records,
     Residual,
     SolveResult,
     Uncertainty,
     Vehicle,
-    Velocities,
 )
 from ._damage import CrushVehicle, Damage, DamageFit, EnergyFit
 from ._reconstruct import (

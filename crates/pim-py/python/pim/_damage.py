@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Dict, Mapping, Optional, Tuple
 
-from ._results import Velocities
+from ._base import Velocities
 
 
 def _opt(d: Mapping[str, Any], key: str) -> Optional[float]:

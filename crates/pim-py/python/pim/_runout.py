@@ -7,7 +7,7 @@ import copy
 from dataclasses import dataclass, field
 from typing import Any, Dict, Mapping, Optional, Tuple
 
-from ._results import _fmt, _table
+from ._base import _fmt, _table
 
 Document = Dict[str, Any]
 

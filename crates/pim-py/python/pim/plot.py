@@ -21,7 +21,8 @@ from __future__ import annotations
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from . import _CONVERT
-from ._results import Records, Uncertainty, _fmt
+from ._base import _fmt
+from ._results import Records, Uncertainty
 
 _SPEEDS = ("speed1", "speed2", "delta_v1", "delta_v2")
 _LABELS = {

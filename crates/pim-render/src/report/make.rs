@@ -148,16 +148,15 @@ fn reconstruction(case: &Case, o: &Options, units: UnitSystem) -> Result<Made, D
         case,
         o.model,
         pim_core::MomentForm::Corrected,
-        branches.clone(),
+        branches,
         &pim_studies::watch::Unwatched,
     )?;
     let draws = o.draws.unwrap_or(DEFAULT_DRAWS);
     let study = if draws > 0 && done.document.status == pim_reconstruct::Status::Found {
-        let (s, _) = pim_studies::reconstruct_study::run(
+        // Around the reconstruction just made, not a second one.
+        let s = pim_studies::reconstruct_study::run_around(
             case,
-            o.model,
-            pim_core::MomentForm::Corrected,
-            branches,
+            &done,
             draws,
             o.seed,
             &pim_studies::watch::Unwatched,
