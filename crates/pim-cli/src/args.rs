@@ -409,6 +409,13 @@ pub enum Command {
     /// the momentum diagram.
     #[command(after_help = format!("{CASE_HELP}\n\n{EXIT_CODES_HELP}"))]
     Report(ReportArgs),
+    /// Change values of a case file in place: each KEY=VALUE names a value by its dotted path
+    /// as the file writes it (`scene.vehicle1.rest.x`, `runout.vehicle1.wheels.front_left`,
+    /// `observations.0.sigma` for the first [[observations]]), in the file's own units. The
+    /// file's comments, key order and number formatting are kept everywhere else; the edited
+    /// case is checked as every command reads a case before it is written.
+    #[command(after_help = crate::set_args::SET_HELP)]
+    Set(crate::set_args::SetArgs),
     /// Brach 1984 section 6: predict each test's delta-V from its impact speeds, masses and
     /// energy loss (eq. 14 with L from eq. 16 and with L = 2/3) and from the point-mass
     /// solution at the critical friction (eq. 17), beside the measured delta-V.

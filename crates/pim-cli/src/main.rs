@@ -12,6 +12,7 @@ mod error;
 mod fit_help;
 mod inputs;
 mod runout_help;
+mod set_args;
 
 use anyhow::Result;
 use args::{Cli, Command};
@@ -31,6 +32,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::PredictDv(a) => commands::predict::run(a),
         Command::Batch(a) => commands::batch::run(a, false),
         Command::CompareCosts(a) => commands::batch::run(a, true),
+        Command::Set(a) => commands::set::run(a),
     }
 }
 

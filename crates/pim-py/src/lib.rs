@@ -93,7 +93,9 @@ fn fit(
 ) -> PyResult<Py<PyAny>> {
     let case = load_case(py, case)?;
     let cost = cost.map(self::cost).transpose()?;
-    if cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
+    if pim_studies::question::Question::of(&case, cost).question
+        == pim_studies::question::Question::Reconstruction
+    {
         return Err(input_error(format!(
             "{}: the case has scene evidence ([scene]): pim.reconstruct(case) fits all three \
              phases (the scene, the impact, the pre-impact evidence); pim.fit(case, cost=...) \
@@ -248,7 +250,10 @@ fn uncertainty(
     let (draws, seed, threads) = study_args(draws, seed, threads)?;
     let case = load_case(py, case)?;
     case.impact().map_err(|e| input_error(e.message))?;
-    if cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
+    let preset = cost.map(self::cost).transpose()?;
+    if pim_studies::question::Question::of(&case, preset).question
+        == pim_studies::question::Question::Reconstruction
+    {
         // Never the study of the contact estimates alone for a scene case.
         return Err(input_error(format!(
             "{}: the case has scene evidence ([scene]): pim.reconstruct_uncertainty(case) draws \
@@ -257,8 +262,8 @@ fn uncertainty(
             case.file
         )));
     }
-    let choice = match cost {
-        Some(c) => pim_studies::fitcase::CostChoice::Preset(self::cost(c)?),
+    let choice = match preset {
+        Some(c) => pim_studies::fitcase::CostChoice::Preset(c),
         None => pim_studies::fitcase::CostChoice::Custom,
     };
     let unc = case.content.uncertainty.unwrap_or_default();

@@ -24,8 +24,13 @@ pub fn case_records(
     if cost == crate::fitcase::CostChoice::Custom {
         if let Ok(mut case) = Case::from_text(file, text) {
             plan.apply_to_case_file(&mut case);
-            if crate::reconstruct::has_scene_evidence(&case) {
-                return record(file, &case, plan);
+            let asked = crate::question::Question::of(&case, None);
+            if asked.question == crate::question::Question::Reconstruction {
+                let mut records = record(file, &case, plan);
+                for r in &mut records {
+                    r.notes.extend(asked.notes.iter().cloned());
+                }
+                return records;
             }
         }
     }

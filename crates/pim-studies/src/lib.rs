@@ -5,6 +5,8 @@
 //! the Python package, the scene editor) read the files, call a study, and write or show its
 //! document.
 //!
+//! - [`question`]: which question a case asks (the fit of its impact, or its whole
+//!   reconstruction), decided once for every face;
 //! - [`documents`]: the solve ([`documents::solve`]) and the fit ([`documents::fit`]) of a case;
 //! - [`reconstruct`]: the whole reconstruction of a case with scene evidence, and
 //!   [`consistency`], its evidence consistency table ([`consistency::answer`]: the
@@ -34,6 +36,7 @@ pub mod fitcase;
 pub mod intervals;
 mod measured_inputs;
 pub mod predict;
+pub mod question;
 pub mod reconstruct;
 pub mod reconstruct_study;
 pub mod residuals;

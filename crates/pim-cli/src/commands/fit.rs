@@ -7,6 +7,7 @@ use crate::inputs::load_case;
 use anyhow::Result;
 use pim_render::tables;
 use pim_studies::documents;
+use pim_studies::question::Question;
 use std::process::ExitCode;
 
 /// `pim fit`.
@@ -15,16 +16,10 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     let cost = a.cost;
     let name = cost.map_or("custom", |p| p.name());
     let (_, warnings) = crate::inputs::checked_impact(&case)?;
-    if cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
-        super::note_damage_not_in_reconstruction(&case);
+    let asked = Question::of(&case, cost);
+    super::notes(&asked);
+    if asked.question == Question::Reconstruction {
         return reconstruction(a, &case, warnings);
-    }
-    if cost.is_some() && pim_studies::reconstruct::has_scene_evidence(&case) {
-        eprintln!(
-            "pim: note: {}: with --cost the fit reads the estimates only; without it the case's \
-             scene ([scene]) is fitted too, through the run-outs",
-            case.file
-        );
     }
     if let Some(why) =
         pim_render::diagram::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))

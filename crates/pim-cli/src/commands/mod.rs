@@ -11,6 +11,7 @@ pub mod predict;
 pub mod report;
 pub mod runout;
 pub mod scene_uncertainty;
+pub mod set;
 pub mod solve;
 pub mod study;
 pub mod uncertainty;
@@ -169,15 +170,9 @@ pub fn write_figures(out: &output::OutDir, figures: &[pim_render::Figure]) -> Re
     Ok(figures.len())
 }
 
-/// The whole reconstruction does not take the crush: a case with `[damage]` and a scene is
-/// told so (on stderr), and how to compare its crush.
-pub fn note_damage_not_in_reconstruction(case: &pim_case::case::Case) {
-    if case.content.damage.is_some() {
-        eprintln!(
-            "pim: note: {}: the whole reconstruction does not take the crush ([damage]) as \
-             evidence; `pim fit` of the case without its [scene] sets the crush beside the \
-             impact fit and fits it",
-            case.file
-        );
+/// The notes of the question a case asks, on standard error.
+pub fn notes(asked: &pim_studies::question::Asked) {
+    for n in &asked.notes {
+        eprintln!("pim: note: {n}");
     }
 }

@@ -111,8 +111,9 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
     if a.draws == 0 {
         return Err(Failure::Input("--draws must be at least 1".into()).into());
     }
-    if a.cost.is_none() && pim_studies::reconstruct::has_scene_evidence(&case) {
-        super::note_damage_not_in_reconstruction(&case);
+    let asked = pim_studies::question::Question::of(&case, a.cost);
+    super::notes(&asked);
+    if asked.question == pim_studies::question::Question::Reconstruction {
         return super::scene_uncertainty::run(a, &case, warnings);
     }
     let choice = match a.cost {

@@ -87,7 +87,8 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         .units
         .unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let c = &case.content;
-    if !o.solve && o.cost.is_none() && pim_studies::reconstruct::has_scene_evidence(case) {
+    let asked = pim_studies::question::Question::of(case, o.cost);
+    if !o.solve && asked.question == pim_studies::question::Question::Reconstruction {
         return reconstruction(case, o, units);
     }
     let is_fit = !o.solve && pim_studies::fitcase::is_fit_case(case);

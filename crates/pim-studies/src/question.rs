@@ -1,0 +1,58 @@
+//! Which question a case asks, decided once for every face.
+//!
+//! A case with scene evidence (`[scene]` rest positions or marks) asks for its whole
+//! reconstruction: the scene, the impact and the pre-impact evidence in one fit. With a cost
+//! preset (`--cost`, `cost=`) the same case asks for the fit of its contact estimates alone.
+//! Every other case asks for the fit of its impact. `pim fit`, `pim uncertainty`, `pim report`,
+//! `pim batch` and the Python package all decide through [`Question::of`], and show the notes
+//! it gives.
+
+use pim_case::case::Case;
+use pim_fit::CostPreset;
+
+/// The question a case asks under a cost choice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Question {
+    /// The fit of the impact (its estimates, observations and known components).
+    Impact,
+    /// The whole reconstruction ([`crate::reconstruct`], [`crate::consistency::answer`]).
+    Reconstruction,
+}
+
+/// A question and what a face says of it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Asked {
+    /// The question.
+    pub question: Question,
+    /// Notes to show with the answer: evidence of the case this question does not use.
+    pub notes: Vec<String>,
+}
+
+impl Question {
+    /// The question `case` asks with the cost preset `cost` (`None`: the case's own cost).
+    pub fn of(case: &Case, cost: Option<CostPreset>) -> Asked {
+        let scene = crate::reconstruct::has_scene_evidence(case);
+        let mut notes = Vec::new();
+        let question = if scene && cost.is_none() {
+            if case.content.damage.is_some() {
+                notes.push(format!(
+                    "{}: the whole reconstruction does not take the crush ([damage]) as \
+                     evidence; `pim fit` of the case without its [scene] sets the crush beside \
+                     the impact fit and fits it",
+                    case.file
+                ));
+            }
+            Question::Reconstruction
+        } else {
+            if scene {
+                notes.push(format!(
+                    "{}: with --cost the fit reads the estimates only; without it the case's \
+                     scene ([scene]) is fitted too, through the run-outs",
+                    case.file
+                ));
+            }
+            Question::Impact
+        };
+        Asked { question, notes }
+    }
+}
