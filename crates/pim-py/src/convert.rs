@@ -2,8 +2,8 @@
 //! arguments and documents between Python and Rust.
 
 use pim_case::case::Case;
-use pim_studies::documents::DocumentError;
 use pim_fit::{CostPreset, MomentBranch};
+use pim_studies::documents::DocumentError;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
