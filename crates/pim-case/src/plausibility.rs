@@ -35,9 +35,19 @@ pub const PLAUSIBLE_YAW_RATE: f64 = 8.0;
 /// A sideslip above this (degrees) with no yaw rate draws a warning.
 pub const PLAUSIBLE_SIDESLIP: f64 = 30.0;
 
-/// An angle in degrees that looks like radians: not zero, within 2 pi, not a whole number.
+/// Reading an angle written in radians as degrees matters when the two readings differ by more
+/// than this (degrees): below it (a heading of 0.04, 2.3 deg apart) the warning would only be
+/// noise about a vehicle nearly along an axis.
+pub const RADIANS_MISREAD: f64 = 5.0;
+
+/// An angle in degrees that looks like radians: not zero, within 2 pi, not a whole number, and
+/// large enough that its radian reading lies more than [`RADIANS_MISREAD`] from it
+/// (`|a| (180/pi - 1) > 5`, that is `|a| > 0.089`).
 fn looks_like_radians(a: f64) -> bool {
-    a != 0.0 && a.abs() <= std::f64::consts::TAU && a.fract() != 0.0
+    a != 0.0
+        && a.abs() <= std::f64::consts::TAU
+        && a.fract() != 0.0
+        && (a.to_degrees() - a).abs() > RADIANS_MISREAD
 }
 
 impl Case {

@@ -14,7 +14,9 @@
 //! wheels = "locked"             # "locked", "rolling", a braking share 0-1, or per wheel:
 //! # wheels = { front_left = "locked", front_right = "rolling", rear_left = 0.3, rear_right = "rolling" }
 //! braking = 0.0                 # braking share of the wheels given as "rolling"
-//! steer = 0.0                   # deg, front wheels (counter-clockwise; SAE: clockwise)
+//! steer = 0.0                   # deg, front wheels (counter-clockwise; SAE: clockwise), or
+//! # steer = { front_left = 6.1, front_right = 4.4 }   # each front wheel, or
+//! # steering_wheel = 90.0       # deg, with steer_ratio = 16.0: the Ackermann angles of 90/16
 //!
 //! [scene.vehicle1]
 //! rest = { x = 14.2, y = 3.1, heading = 215.0 }
@@ -30,7 +32,9 @@
 
 use crate::case::{error_at, Case};
 use crate::error::{InputError, Result};
-use crate::scene_sections::{SceneVehicleSection, WheelWritten, WheelsWritten};
+use crate::scene_sections::{
+    RunoutVehicleSection, SceneVehicleSection, SteerWritten, WheelWritten, WheelsWritten,
+};
 use pim_core::{Convention, VehicleId};
 use pim_runout::{Chassis, Evidence, Mark, Motion, Rest, RunoutError, WheelState};
 
@@ -149,24 +153,44 @@ impl Case {
                 .friction
                 .or(runout.friction)
                 .unwrap_or(pim_runout::DEFAULT_FRICTION);
-            let saturation = match (w.saturation_angle, w.cornering_stiffness) {
-                (Some(_), Some(_)) => {
-                    return Err(self.error_at(
-                        &at("cornering_stiffness"),
-                        "give either saturation_angle or cornering_stiffness, not both",
-                    ))
+            // One of three ways to give the linear tyre's slope (see RunoutVehicleSection).
+            let given: Vec<&str> = [
+                ("saturation_angle", w.saturation_angle.is_some()),
+                ("cornering_stiffness", w.cornering_stiffness.is_some()),
+                ("max_slip_angle", w.max_slip_angle.is_some()),
+            ]
+            .iter()
+            .filter(|(_, g)| *g)
+            .map(|(n, _)| *n)
+            .collect();
+            if given.len() > 1 {
+                return Err(self.error_at(
+                    &at(given[1]),
+                    format!(
+                        "give one of saturation_angle, cornering_stiffness and max_slip_angle \
+                         (PC-Crash's), not {}",
+                        given.join(" and ")
+                    ),
+                ));
+            }
+            let positive = |key: &str, v: f64, unit: &str| {
+                if v.is_finite() && v > 0.0 {
+                    Ok(v)
+                } else {
+                    Err(self.error_at(&at(key), format!("{v}: must be above 0 ({unit})")))
                 }
-                (Some(a), None) => a.to_radians(),
-                (None, Some(cs)) => {
-                    if !(cs.is_finite() && cs > 0.0) {
-                        return Err(self.error_at(
-                            &at("cornering_stiffness"),
-                            format!("{cs}: must be above 0 (per unit load, per degree)"),
-                        ));
-                    }
-                    (friction / cs).to_radians()
-                }
-                (None, None) => pim_runout::DEFAULT_SATURATION_ANGLE,
+            };
+            let saturation = if let Some(a) = w.saturation_angle {
+                a.to_radians()
+            } else if let Some(cs) = w.cornering_stiffness {
+                let cs = positive("cornering_stiffness", cs, "per unit load, per degree")?;
+                (friction / cs).to_radians()
+            } else if let Some(m) = w.max_slip_angle {
+                // PC-Crash: F/Fz = min(alpha / m, friction), so the force saturates at
+                // friction x m.
+                (friction * positive("max_slip_angle", m, "degrees")?).to_radians()
+            } else {
+                pim_runout::DEFAULT_SATURATION_ANGLE
             };
             let braking = w.braking.unwrap_or(0.0);
             let wheels = self.wheels_of(&name, w.wheels.as_ref(), braking)?;
@@ -178,7 +202,7 @@ impl Case {
                 track: w.track * length,
                 cg_height: w.cg_height.map(|h| h * length),
                 wheels,
-                steer: flip * w.steer.unwrap_or(0.0).to_radians(),
+                steer: self.steer_of(&name, w, flip)?,
                 friction,
                 rolling_resistance: w
                     .rolling_resistance
@@ -275,6 +299,65 @@ impl Case {
         } else {
             None
         }
+    }
+
+    /// The front wheels' steer angles (left, right; rad, natural frame) of `[runout.vehicleN]`:
+    /// `steer` (one angle or one per wheel), or `steering_wheel / steer_ratio` through
+    /// Ackermann geometry (pim-runout's `ackermann`).
+    fn steer_of(&self, name: &str, w: &RunoutVehicleSection, flip: f64) -> Result<[f64; 2]> {
+        let at = |k: &str| format!("runout.{name}.{k}");
+        let degrees =
+            match (w.steer, w.steering_wheel, w.steer_ratio) {
+                (Some(_), Some(_), _) => return Err(self.error_at(
+                    &at("steering_wheel"),
+                    "give either steer (the wheels' angles) or steering_wheel with steer_ratio, \
+                     not both",
+                )),
+                (_, Some(_), None) => return Err(self.error_at(
+                    &at("steering_wheel"),
+                    "needs steer_ratio (steering-wheel degrees per degree of the wheels, about \
+                     16 for a car)",
+                )),
+                (_, None, Some(_)) => {
+                    return Err(self.error_at(
+                        &at("steer_ratio"),
+                        "goes with steering_wheel (the steering-wheel angle, degrees)",
+                    ))
+                }
+                (None, None, None) => [0.0; 2],
+                (Some(SteerWritten::Both(a)), None, None) => [a; 2],
+                (Some(SteerWritten::Each(f)), None, None) => [f.front_left, f.front_right],
+                (None, Some(sw), Some(ratio)) => {
+                    if !(ratio.is_finite() && ratio >= 1.0) {
+                        return Err(self.error_at(
+                            &at("steer_ratio"),
+                            format!("{ratio}: must be at least 1 (about 16 for a car)"),
+                        ));
+                    }
+                    let track = w.track * self.written_units.length.to_si();
+                    let wheelbase = w.wheelbase * self.written_units.length.to_si();
+                    let delta = flip * (sw / ratio).to_radians();
+                    let angles =
+                        pim_runout::ackermann(delta, wheelbase, track).ok_or_else(|| {
+                            self.error_at(
+                                &at("steering_wheel"),
+                                format!(
+                            "{sw} deg over a ratio of {ratio} turns the inner wheel 90 deg or \
+                             more for this wheelbase and track"
+                        ),
+                            )
+                        })?;
+                    // Already in the natural frame.
+                    return Ok(angles);
+                }
+            };
+        if let Some(a) = degrees.iter().find(|a| !(a.is_finite() && a.abs() < 90.0)) {
+            return Err(self.error_at(
+                &at("steer"),
+                format!("{a}: must lie between -90 and 90 deg"),
+            ));
+        }
+        Ok(degrees.map(|a| flip * a.to_radians()))
     }
 
     fn wheels_of(

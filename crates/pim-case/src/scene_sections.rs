@@ -45,6 +45,26 @@ pub enum WheelsWritten {
     Each(BTreeMap<String, WheelWritten>),
 }
 
+/// `steer = ...`: one angle for both front wheels, or each front wheel's angle, degrees.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(untagged)]
+pub enum SteerWritten {
+    /// The same angle on both front wheels.
+    Both(f64),
+    /// `{ front_left = .., front_right = .. }`.
+    Each(FrontWheels),
+}
+
+/// An angle per front wheel, degrees.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrontWheels {
+    /// The front left wheel.
+    pub front_left: f64,
+    /// The front right wheel.
+    pub front_right: f64,
+}
+
 /// `[runout.vehicleN]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -65,22 +85,36 @@ pub struct RunoutVehicleSection {
     /// Braking share of the wheels given as `"rolling"` (0 to 1, default 0).
     #[serde(default)]
     pub braking: Option<f64>,
-    /// Steer angle of the front wheels, degrees.
+    /// Steer angle of the front wheels, degrees: one for both, or `{ front_left, front_right }`.
     #[serde(default)]
-    pub steer: Option<f64>,
+    pub steer: Option<SteerWritten>,
+    /// Steering-wheel angle, degrees (instead of `steer`, with `steer_ratio`): the front wheels
+    /// then take the Ackermann angles of `steering_wheel / steer_ratio`.
+    #[serde(default)]
+    pub steering_wheel: Option<f64>,
+    /// Steering-wheel degrees per degree of the front wheels (about 16 for a car).
+    #[serde(default)]
+    pub steer_ratio: Option<f64>,
     /// Road friction under this vehicle (instead of `[runout] friction`).
     #[serde(default)]
     pub friction: Option<f64>,
     /// Rolling resistance, a fraction of the load (default 0.015).
     #[serde(default)]
     pub rolling_resistance: Option<f64>,
-    /// Slip angle at which a rolling wheel's lateral force saturates, degrees (default 10).
+    /// Slip angle at which a rolling wheel's lateral force reaches the friction, degrees
+    /// (default 10): the force per unit load is `friction x min(alpha / saturation_angle, 1)`.
     #[serde(default)]
     pub saturation_angle: Option<f64>,
     /// Cornering stiffness per unit load, per degree (instead of `saturation_angle`:
     /// saturation angle = friction / cornering_stiffness).
     #[serde(default)]
     pub cornering_stiffness: Option<f64>,
+    /// PC-Crash's "maximum slip angle", degrees (instead of `saturation_angle`): PC-Crash's
+    /// lateral force per unit load is `min(alpha / max_slip_angle, friction)`, so it saturates
+    /// at `friction x max_slip_angle` (7.6 deg for PC-Crash's 10 deg on a 0.76 road); the
+    /// cornering stiffness per unit load is `1 / max_slip_angle` whatever the friction.
+    #[serde(default)]
+    pub max_slip_angle: Option<f64>,
 }
 
 /// A point as written: `{ x, y }` with an optional heading.

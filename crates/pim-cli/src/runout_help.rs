@@ -18,10 +18,15 @@ velocities [final], or [coefficients] with [initial], or --from fit, or scene ev
                                    # share 0-1, or per wheel: { front_left = \"locked\",
                                    # front_right = \"rolling\", rear_left = 0.3, rear_right = .. }
   # braking = 0.3                  # braking share of the wheels given as \"rolling\"
-  # steer = 5.0                    # deg, front wheels
+  # steer = 5.0                    # deg, both front wheels; or each wheel:
+  #                                #   { front_left = 6.1, front_right = 4.4 }; or
+  # steering_wheel = 90.0          #   deg, with steer_ratio = 16.0: the Ackermann angles
+  #                                #   of 90/16 deg from the wheelbase and track
   # rolling_resistance = 0.015     # of the load (Gillespie 1992)
-  # saturation_angle = 10.0        # deg: the linear tyre's lateral force saturates there
-  #                                #   (PC-Crash's default), or cornering_stiffness per deg
+  # saturation_angle = 10.0        # deg: the linear tyre's lateral force reaches the
+  #                                #   friction there; or cornering_stiffness (per deg), or
+  # max_slip_angle = 10.0          #   PC-Crash's \"max. slip angle\": force min(alpha/10, mu),
+  #                                #   saturating at mu x 10 deg (7.6 deg on a 0.76 road)
   [scene.vehicle1]                 # the evidence (positions in the case's frame: the impact
                                    # centre is the origin, or [impact] centre's frame)
   rest = { x = 14.2, y = 3.1, heading = 215.0 }

@@ -138,3 +138,23 @@ fn heavy_vehicles_are_accepted_with_a_warning() {
         stderr(&out)
     );
 }
+
+/// A heading a few hundredths of a degree off an axis is a measured heading, not radians: its
+/// radian reading (2.3 deg) is within 5 deg of it, so no warning; at 0.1 the readings are 5.6
+/// deg apart and it warns.
+#[test]
+fn a_heading_nearly_along_an_axis_is_not_taken_for_radians() {
+    let side = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    let near = side.replace("heading = 90.0", "heading = 0.04");
+    assert_ne!(near, side);
+    let msg = warnings(&near, "near_axis.toml");
+    assert!(!msg.contains("radians"), "{msg}");
+    let msg = warnings(
+        &side.replace("heading = 90.0", "heading = 0.1"),
+        "tenth.toml",
+    );
+    assert!(
+        msg.contains("vehicle2.heading: 0.1 is read as degrees; it looks like radians (5.7 deg)"),
+        "{msg}"
+    );
+}

@@ -235,6 +235,15 @@ impl ValidSettings {
     pub fn get(&self) -> &FitSettings {
         &self.0
     }
+
+    /// The same settings without the identifiability scans ([`FitSettings::ranges`] off): for a
+    /// caller that needs each fit's optimum only. Still valid: no check depends on the scans.
+    pub fn without_ranges(&self) -> ValidSettings {
+        ValidSettings(FitSettings {
+            ranges: false,
+            ..self.0.clone()
+        })
+    }
 }
 
 impl FitSettings {

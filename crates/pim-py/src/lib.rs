@@ -5,6 +5,7 @@
 //! `pim_studies::predict`), as Python objects (dicts, lists, floats). Nothing is computed here.
 
 mod convert;
+mod edit;
 mod scene;
 
 use convert::*;
@@ -340,6 +341,7 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(uncertainty, m)?)?;
     m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
     m.add_function(wrap_pyfunction!(draw, m)?)?;
+    m.add_function(wrap_pyfunction!(edit::edit_case, m)?)?;
     m.add_function(wrap_pyfunction!(scene::runout, m)?)?;
     m.add_function(wrap_pyfunction!(scene::reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(scene::reconstruct_uncertainty, m)?)?;

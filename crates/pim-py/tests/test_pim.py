@@ -425,3 +425,21 @@ def test_a_scene_case_is_answered_with_its_reconstruction():
     assert "## Evidence and residuals" in rep.markdown
     with pytest.raises(pim.InputError, match="reconstruct_uncertainty"):
         pim.uncertainty(case)
+
+
+def test_edit_case_changes_one_value_and_keeps_the_file(tmp_path):
+    original = (REPO / "examples/cases/reconstruction_us.toml").read_text()
+    case = tmp_path / "case.toml"
+    case.write_text(original)
+    text = pim.edit_case(case, {"scene.vehicle1.rest.x": 12.0,
+                                "runout.vehicle1.wheels.front_right": "locked"})
+    assert case.read_text() == text
+    changed = [(a, b) for a, b in zip(original.splitlines(), text.splitlines()) if a != b]
+    assert len(changed) == 2 and len(text.splitlines()) == len(original.splitlines())
+    assert changed[1][1].startswith("rest = { x = 12.0, y = 2.9, heading = 144.0 }     # ft")
+    # The edited file answers as the command answers it.
+    assert pim.reconstruct(case).document == cli_json("fit", str(case))
+    # A value the case refuses: the command's message, the file untouched.
+    with pytest.raises(pim.InputError, match="vehicle1.mass"):
+        pim.edit_case(case, {"vehicle1.mass": -5.0})
+    assert case.read_text() == text

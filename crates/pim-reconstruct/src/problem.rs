@@ -291,12 +291,8 @@ impl Settings {
     /// the search skip the identifiability scans ([`pim_fit::FitSettings::ranges`]): the
     /// search needs each fit's optimum, not its ranges.
     pub fn new(fit: ValidSettings) -> Self {
-        let inner = pim_fit::FitSettings {
-            ranges: false,
-            ..fit.get().clone()
-        };
         Settings {
-            fit: inner.check().unwrap_or(fit),
+            fit: fit.without_ranges(),
             runout: RunoutSettings::default(),
             turns: (-3, 3),
             max_iterations: 40,

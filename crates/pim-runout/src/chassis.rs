@@ -18,8 +18,9 @@ pub const DEFAULT_FRICTION: f64 = 0.7;
 pub const DEFAULT_ROLLING_RESISTANCE: f64 = 0.015;
 
 /// Slip angle at which a rolling wheel's lateral force reaches the friction limit when a case
-/// gives none: 10 degrees (in radians), the default of the linear tyre of PC-Crash (Steffan and
-/// Moser, SAE 960886).
+/// gives none: 10 degrees (in radians). Not PC-Crash's "maximum slip angle" of 10 degrees,
+/// whose force `min(alpha / 10 deg, mu)` saturates at `mu x 10` degrees (7.6 on a 0.76 road):
+/// a case gives that one as `max_slip_angle`.
 pub const DEFAULT_SATURATION_ANGLE: f64 = 10.0 * std::f64::consts::PI / 180.0;
 
 /// Highest road friction accepted (a coefficient beyond it is a typing error, not a road).
@@ -64,8 +65,9 @@ pub struct Chassis {
     pub cg_height: Option<f64>,
     /// Front left, front right, rear left, rear right.
     pub wheels: [WheelState; 4],
-    /// Steer angle of both front wheels, rad, positive to the left (counter-clockwise).
-    pub steer: f64,
+    /// Steer angles of the front left and front right wheels, rad, positive to the left
+    /// (counter-clockwise); [`ackermann`] gives them from one steer angle.
+    pub steer: [f64; 2],
     /// Road friction coefficient under this vehicle.
     pub friction: f64,
     /// Rolling resistance of a rolling or braked wheel, a fraction of its load (> 0).
@@ -100,7 +102,7 @@ impl Chassis {
             track,
             cg_height: None,
             wheels: [state; 4],
-            steer: 0.0,
+            steer: [0.0; 2],
             friction: DEFAULT_FRICTION,
             rolling_resistance: DEFAULT_ROLLING_RESISTANCE,
             saturation_angle: DEFAULT_SATURATION_ANGLE,
@@ -203,14 +205,13 @@ impl Chassis {
                 ),
             );
         }
-        if !(self.steer.is_finite() && self.steer.abs() < half_pi) {
-            return bad(
-                "steer",
-                format!(
-                    "{} deg: must lie between -90 and 90 deg",
-                    self.steer.to_degrees()
-                ),
-            );
+        for s in self.steer {
+            if !(s.is_finite() && s.abs() < half_pi) {
+                return bad(
+                    "steer",
+                    format!("{} deg: must lie between -90 and 90 deg", s.to_degrees()),
+                );
+            }
         }
         for (i, w) in self.wheels.iter().enumerate() {
             if let WheelState::Braked(b) = w {
@@ -294,4 +295,19 @@ impl Motion {
         }
         Ok(())
     }
+}
+
+/// The front wheels' steer angles (left, right; rad, positive to the left) of Ackermann
+/// geometry for the steer angle `delta` of a single wheel at the middle of the front axle (the
+/// bicycle model: a steering-wheel angle over the steer ratio). Every wheel then rolls about
+/// one centre on the rear axle's line, `R = wheelbase / tan delta` to the left of the middle:
+/// `tan delta_left = wheelbase / (R - track / 2)`, `tan delta_right = wheelbase / (R + track /
+/// 2)`, that is `tan delta_w = tan delta / (1 -+ tan delta x track / (2 wheelbase))`. The inner
+/// wheel turns more. `None` when the inner wheel would turn 90 degrees or more (the centre
+/// inside the track).
+pub fn ackermann(delta: f64, wheelbase: f64, track: f64) -> Option<[f64; 2]> {
+    let t = delta.tan();
+    let k = t * track / (2.0 * wheelbase);
+    let (left, right) = (1.0 - k, 1.0 + k);
+    (left > 0.0 && right > 0.0 && t.is_finite()).then(|| [(t / left).atan(), (t / right).atan()])
 }

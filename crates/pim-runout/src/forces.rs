@@ -62,7 +62,7 @@ impl Dynamics {
         let mu = c.friction;
         let wheels = std::array::from_fn(|i| {
             let r = c.wheel_position(i);
-            let steer = if i < 2 { c.steer } else { 0.0 };
+            let steer = if i < 2 { c.steer[i] } else { 0.0 };
             let tyre = match c.wheels[i] {
                 WheelState::Locked => Tyre::Sliding { mu },
                 WheelState::Rolling => rolling(mu, c.rolling_resistance),

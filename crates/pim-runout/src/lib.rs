@@ -40,11 +40,13 @@
 //!   linear tyre of Steffan (SAE 960886, as PC-Crash and pycrash use it),
 //!   `-F_s min(alpha / alpha_s, 1) sgn(u_s)` with the slip angle `alpha = atan(|u_s| / |u_l|)`,
 //!   saturation angle `alpha_s` (default 10 deg; the cornering stiffness per unit load is
-//!   `mu / alpha_s`) and `F_s = sqrt(mu^2 - f_r^2) Fz`, so that the force never leaves the
+//!   `mu / alpha_s`; PC-Crash's "maximum slip angle" `alpha_m` is the same tyre with
+//!   `alpha_s = mu alpha_m`, its force `min(alpha / alpha_m, mu)`) and `F_s = sqrt(mu^2 - f_r^2) Fz`, so that the force never leaves the
 //!   friction circle `mu Fz`;
 //! - *braked* with a share `b`: as rolling with `b mu` (at least `f_r`) along the wheel and
 //!   `sqrt(1 - b^2) mu Fz` available across it;
-//! - *steered*: the front wheels' axes turned by the steer angle.
+//! - *steered*: each front wheel's axis turned by its own steer angle (one angle for both, an
+//!   angle per wheel, or the Ackermann angles of [`ackermann`]).
 //!
 //! `u_l`, `u_s` are the patch velocity along and across the wheel. Below a sliding speed of
 //! [`SLIDING_DEADBAND`] (1 cm/s) each `sgn` and `u / |u|` is replaced by its linear
@@ -78,7 +80,7 @@ pub mod inverse;
 pub mod simulate;
 
 pub use chassis::{
-    Chassis, Motion, WheelState, DEFAULT_FRICTION, DEFAULT_ROLLING_RESISTANCE,
+    ackermann, Chassis, Motion, WheelState, DEFAULT_FRICTION, DEFAULT_ROLLING_RESISTANCE,
     DEFAULT_SATURATION_ANGLE, GRAVITY, MAX_FRICTION, WHEEL_NAMES,
 };
 pub use error::{Result, RunoutError};

@@ -122,6 +122,7 @@ __all__ = [
     "Velocities",
     "batch",
     "draw",
+    "edit_case",
     "fit",
     "fit_frame",
     "predict_dv",
@@ -259,6 +260,23 @@ class SVG(str):
 
     def _repr_svg_(self) -> str:
         return str(self)
+
+
+def edit_case(path: PathArg, values: Mapping[str, Union[float, bool, str]],
+              write: bool = True) -> str:
+    """Changes values of a case file in place (``pim set``): ``values`` maps dotted paths as the
+    file writes them (``"scene.vehicle1.rest.x"``, ``"observations.0.sigma"``) to numbers in
+    the file's own units, booleans or text. The edited case is checked as every command reads
+    it (:class:`InputError` otherwise, the file untouched); with ``write`` the file is written
+    back with its comments, key order and number formatting kept everywhere else. Returns the
+    edited text.
+
+    >>> text = edit_case("examples/cases/reconstruction_us.toml",
+    ...                  {"scene.vehicle1.rest.x": 12.0}, write=False)
+    >>> "rest = { x = 12.0, y = 2.9, heading = 144.0 }" in text
+    True
+    """
+    return _pim.edit_case(path, dict(values), write=write)
 
 
 def draw(

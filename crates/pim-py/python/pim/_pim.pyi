@@ -16,6 +16,7 @@ __all__ = [
     "uncertainty",
     "predict_dv",
     "draw",
+    "edit_case",
     "runout",
     "reconstruct",
     "reconstruct_uncertainty",
@@ -112,3 +113,4 @@ def reconstruct_uncertainty(
     model: str = ...,
     progress: Optional[Callable[[int, int, str], Any]] = ...,
 ) -> Dict[str, Any]: ...
+def edit_case(path: _PathArg, values: Dict[str, Any], write: bool = ...) -> str: ...

@@ -46,7 +46,8 @@ pub fn random_chassis(rng: &mut StdRng, kind: Kind) -> Chassis {
     };
     c.wheels = match kind {
         Kind::Mixed => {
-            c.steer = rng.random_range(-0.3..0.3);
+            let s = rng.random_range(-0.3..0.3);
+            c.steer = [s, s];
             std::array::from_fn(|_| {
                 let k = [Kind::Locked, Kind::Rolling, Kind::Braked][rng.random_range(0..3)];
                 one(rng, k)
@@ -118,7 +119,7 @@ impl Reference<'_> {
         } else {
             -c.track / 2.0
         };
-        let steer = if i < 2 { c.steer } else { 0.0 };
+        let steer = if i < 2 { c.steer[i] } else { 0.0 };
         ([x, y], steer)
     }
 

@@ -1,0 +1,8 @@
+//! Helpers of the reconstruction tests: the run-out's random chassis and starts, and random
+//! collisions with a known truth.
+#![allow(dead_code)]
+
+mod impact;
+#[path = "../../../pim-runout/tests/common/runout.rs"]
+pub mod runout;
+pub use impact::*;
