@@ -251,6 +251,9 @@ pub struct RunoutArgs {
     /// Sample the JSON path every this many seconds (at most 100,000 samples per path).
     #[arg(long, default_value_t = 0.1, value_parser = crate::runout_help::positive_seconds)]
     pub sample: f64,
+    /// With each sample of the JSON path, each wheel's normal load, slip angle and tyre force.
+    #[arg(long)]
+    pub wheels: bool,
     /// Also draw the plan view of the run-out to this SVG file.
     #[arg(long)]
     pub draw: Option<PathBuf>,

@@ -162,3 +162,18 @@ fn batches_and_predictions_validate() {
     }
     assert!(lines >= 15, "{lines} records");
 }
+
+#[test]
+fn a_runout_with_its_wheels_validates() {
+    let out = pim_ok(&[
+        "runout",
+        "examples/cases/runout_spin.toml",
+        "--format",
+        "json",
+        "--wheels",
+    ]);
+    let doc = document(&out);
+    check(&schema("runout.schema.json"), "runout --wheels", &doc);
+    let first = &doc["vehicles"][0]["path"][0]["wheels"];
+    assert_eq!(first.as_array().map(Vec::len), Some(4), "{first}");
+}

@@ -46,6 +46,31 @@ pub struct MotionOut {
     pub yaw_rate: f64,
 }
 
+/// One wheel at one sample of the path.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct WheelOut {
+    /// Normal load, N (0 when the wheel lifts).
+    pub load: f64,
+    /// Slip angle, deg: the contact patch's velocity from the wheel's axis, positive when the
+    /// patch slides to the wheel's left.
+    pub slip_angle: f64,
+    /// Tyre force along the vehicle (x forward), N.
+    pub force_x: f64,
+    /// Tyre force across the vehicle (y to its left), N.
+    pub force_y: f64,
+}
+
+impl From<pim_runout::WheelAt> for WheelOut {
+    fn from(w: pim_runout::WheelAt) -> Self {
+        WheelOut {
+            load: w.load,
+            slip_angle: w.slip_angle.to_degrees(),
+            force_x: w.force[0],
+            force_y: w.force[1],
+        }
+    }
+}
+
 impl From<&Motion> for MotionOut {
     fn from(m: &Motion) -> Self {
         MotionOut {
@@ -85,6 +110,10 @@ pub struct PathPoint {
     pub speed: f64,
     /// Yaw rate, rad/s.
     pub yaw_rate: f64,
+    /// Each wheel (front left, front right, rear left, rear right), when asked for
+    /// (`pim runout --wheels`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wheels: Option<[WheelOut; 4]>,
 }
 
 /// One piece of evidence against the run-out: fitted minus given.

@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 /// `source="fit"`. Raises NoSolution (its `document` the run-out's) when a run-out reaches its
 /// time limit or no candidate reaches the scene's evidence.
 #[pyfunction]
-#[pyo3(signature = (case, source = None, cost = None, sample = 0.1, draw = false, every = 0.5, units = None))]
+#[pyo3(signature = (case, source = None, cost = None, sample = 0.1, draw = false, every = 0.5, units = None, wheels = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn runout(
     py: Python<'_>,
@@ -24,6 +24,7 @@ pub(crate) fn runout(
     draw: bool,
     every: f64,
     units: Option<&str>,
+    wheels: bool,
 ) -> PyResult<(Py<PyAny>, Option<String>)> {
     use pim_studies::runout::Source;
     for (name, x) in [("sample", sample), ("every", every)] {
@@ -54,7 +55,7 @@ pub(crate) fn runout(
             Some(Source::Fit) => Some(pim_studies::runout::fitted_separation(&case, cost)?),
             _ => None,
         };
-        pim_studies::runout::runout(&case, source, given, sample)
+        pim_studies::runout::runout(&case, source, given, sample, wheels)
     })?
     .map_err(DocumentErrorPy)?;
     let document = to_py(py, &result.document)?;

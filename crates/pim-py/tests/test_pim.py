@@ -443,3 +443,12 @@ def test_edit_case_changes_one_value_and_keeps_the_file(tmp_path):
     with pytest.raises(pim.InputError, match="vehicle1.mass"):
         pim.edit_case(case, {"vehicle1.mass": -5.0})
     assert case.read_text() == text
+
+
+def test_runout_wheels_in_the_path_and_its_frame():
+    case = "examples/cases/runout_spin.toml"
+    r = pim.runout(case, wheels=True)
+    assert r.to_dict() == cli_json("runout", case, "--wheels")
+    frame = r.vehicles[0].path_frame()
+    assert {"fl_load_n", "rr_slip_angle_deg", "fr_force_x_n", "rl_force_y_n"} <= set(frame.columns)
+    assert "wheels" not in pim.runout(case).to_dict()["vehicles"][0]["path"][0]

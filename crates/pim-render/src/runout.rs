@@ -616,8 +616,9 @@ pub fn reconstruction_scene(
     let Some(best) = &done.outcome.best else {
         return Ok(None);
     };
-    let runouts = pim_studies::runout::runout(case, None, Some(best.solution.separation), 0.02)
-        .map_err(|e| e.to_string())?;
+    let runouts =
+        pim_studies::runout::runout(case, None, Some(best.solution.separation), 0.02, false)
+            .map_err(|e| e.to_string())?;
     let approach: Vec<Approach> = pim_studies::reconstruct::skid_lengths(&done.input)
         .into_iter()
         .map(|(vehicle, length)| Approach { vehicle, length })

@@ -32,7 +32,7 @@ fn plan_view_and_scene_put_every_point_at_one_place() {
         let case = load(name);
         let units = UnitSystem::of(&case.written_units);
         let diagram = pim_render::diagram::case_diagram(&case, &Default::default()).unwrap();
-        let runouts = pim_studies::runout::runout(&case, None, None, 0.02);
+        let runouts = pim_studies::runout::runout(&case, None, None, 0.02, false);
         let Ok(runouts) = runouts else {
             // A case whose run-out needs the reconstruction's separation state.
             let done = pim_studies::reconstruct::reconstruct(
@@ -43,7 +43,7 @@ fn plan_view_and_scene_put_every_point_at_one_place() {
             )
             .unwrap();
             let sep = done.outcome.best.unwrap().solution.separation;
-            let r = pim_studies::runout::runout(&case, None, Some(sep), 0.02).unwrap();
+            let r = pim_studies::runout::runout(&case, None, Some(sep), 0.02, false).unwrap();
             check(&case, &diagram, &r, units);
             continue;
         };

@@ -12,6 +12,25 @@ pub const SLIDING_DEADBAND: f64 = 1e-2;
 /// (J, positive: energy taken out) and the distance travelled by the CG (m).
 pub(crate) type State = nalgebra::SVector<f64, 8>;
 
+/// One wheel at one instant of a run-out.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelAt {
+    /// Normal load, N (0 when the wheel lifts).
+    pub load: f64,
+    /// Slip angle, rad: the direction of the contact patch's velocity from the wheel's axis,
+    /// `atan2(u_s, |u_l|)`, positive when the patch slides to the wheel's left.
+    pub slip_angle: f64,
+    /// Tyre force on the vehicle, N, in the body frame (x forward, y left).
+    pub force: [f64; 2],
+}
+
+/// Each wheel's normal load, slip angle and tyre force for `chassis` in the motion `m` (front
+/// left, front right, rear left, rear right), as the run-out's equations of motion use them.
+pub fn wheels_at(chassis: &Chassis, m: &crate::Motion) -> [WheelAt; 4] {
+    let y = State::from([m.x, m.y, m.heading, m.vx, m.vy, m.yaw_rate, 0.0, 0.0]);
+    Dynamics::new(chassis).wheels_at(&y)
+}
+
 /// What one wheel does, in numbers per unit of normal load.
 #[derive(Debug, Clone, Copy)]
 enum Tyre {
@@ -141,6 +160,23 @@ impl Dynamics {
             yaw: mz / self.inertia,
             power: power.max(0.0),
         }
+    }
+
+    /// Each wheel's normal load, slip angle and tyre force at `y`: what [`Dynamics::rates`]
+    /// sums, wheel by wheel.
+    pub(crate) fn wheels_at(&self, y: &State) -> [WheelAt; 4] {
+        let u = self.patch_velocities(y);
+        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i]));
+        let loads = self.loads(&g);
+        std::array::from_fn(|i| {
+            let [c, s] = self.wheels[i].dir;
+            let (ul, us) = (c * u[i][0] + s * u[i][1], -s * u[i][0] + c * u[i][1]);
+            WheelAt {
+                load: loads[i],
+                slip_angle: us.atan2(ul.abs()),
+                force: [loads[i] * g[i][0], loads[i] * g[i][1]],
+            }
+        })
     }
 
     /// The normal loads, N. Without a CG height the static ones. With it each load is affine in

@@ -84,7 +84,7 @@ pub use chassis::{
     DEFAULT_SATURATION_ANGLE, GRAVITY, MAX_FRICTION, WHEEL_NAMES,
 };
 pub use error::{Result, RunoutError};
-pub use forces::SLIDING_DEADBAND;
+pub use forces::{wheels_at, WheelAt, SLIDING_DEADBAND};
 pub use inverse::{
     estimate, linearise, Candidate, Estimate, EstimateSettings, Evidence, Linearised, Mark,
     Residual, Rest, CONSISTENT_COST, PLAUSIBLE_COST,

@@ -312,3 +312,53 @@ fn per_wheel_steer_is_mirror_symmetric_and_agrees_with_the_reference() {
     let h = worst.iter().map(|w| w.1).fold(0.0, f64::max);
     assert!(d < 0.01 && h < 0.1, "{d} m, {h} deg");
 }
+
+/// Each wheel's load, slip angle and force: four locked wheels sliding straight ahead carry the
+/// weight and each brakes with mu times its load against the motion; a free-rolling car
+/// sliding sideways has the slip angle of its patches' velocity and a force across each wheel
+/// against it, never beyond the friction circle.
+#[test]
+fn the_wheels_at_an_instant() {
+    use pim_runout::wheels_at;
+    let mut c = Chassis::new(1500.0, 2500.0, 2.7, 1.2, 1.55, WheelState::Locked);
+    c.friction = 0.8;
+    let m = Motion {
+        x: 3.0,
+        y: -2.0,
+        heading: 0.4,
+        vx: 12.0 * 0.4f64.cos(),
+        vy: 12.0 * 0.4f64.sin(),
+        yaw_rate: 0.0,
+    };
+    let w = wheels_at(&c, &m);
+    let weight: f64 = w.iter().map(|w| w.load).sum();
+    assert!(
+        (weight - 1500.0 * GRAVITY).abs() < 1e-9 * weight,
+        "{weight}"
+    );
+    for wheel in &w {
+        assert!(wheel.slip_angle.abs() < 1e-12);
+        assert!(
+            (wheel.force[0] + 0.8 * wheel.load).abs() < 1e-9 * wheel.load,
+            "{wheel:?}"
+        );
+        assert!(wheel.force[1].abs() < 1e-9 * wheel.load);
+    }
+    // Rolling, with the body sliding 5 deg to the left of its heading.
+    c.wheels = [WheelState::Rolling; 4];
+    let slide = 0.4 + 5f64.to_radians();
+    let m = Motion {
+        vx: 12.0 * slide.cos(),
+        vy: 12.0 * slide.sin(),
+        ..m
+    };
+    for wheel in wheels_at(&c, &m) {
+        assert!(
+            (wheel.slip_angle - 5f64.to_radians()).abs() < 1e-12,
+            "{wheel:?}"
+        );
+        // Across the wheel against the sliding, within the friction circle.
+        assert!(wheel.force[1] < 0.0 && wheel.force[0] < 0.0, "{wheel:?}");
+        assert!(wheel.force[0].hypot(wheel.force[1]) <= 0.8 * wheel.load * (1.0 + 1e-12));
+    }
+}

@@ -10,7 +10,7 @@ use pim_case::scene::VehicleRunout;
 use pim_core::{VehicleId, Velocities};
 pub use pim_documents::runout::{
     CandidateOut, EstimateOut, MotionOut, PathPoint, PoseOut, ResidualOut, RunoutOut, Source,
-    VehicleRunoutOut,
+    VehicleRunoutOut, WheelOut,
 };
 use pim_runout::{Candidate, End, Estimate, EstimateSettings, Motion, Runout, Settings};
 
@@ -145,6 +145,7 @@ pub fn runout(
     source: Option<Source>,
     given: Option<Velocities>,
     sample: f64,
+    wheels: bool,
 ) -> Result<RunoutResult, DocumentError> {
     let inputs = case.scene_inputs()?;
     let settings = Settings {
@@ -215,7 +216,14 @@ pub fn runout(
         let estimate_out = estimate
             .as_ref()
             .map(|e| estimate_out(e, &name, &mut notes));
-        vehicles.push(vehicle_out(k, v, &runout, evidence, estimate_out, sample));
+        vehicles.push(vehicle_out(
+            k,
+            v,
+            &runout,
+            evidence,
+            estimate_out,
+            (sample, wheels),
+        ));
         runouts.push(runout);
         estimates.push(estimate);
     }
@@ -357,7 +365,7 @@ fn vehicle_out(
     r: &Runout,
     evidence: Vec<ResidualOut>,
     estimate: Option<EstimateOut>,
-    sample: f64,
+    (sample, wheels): (f64, bool),
 ) -> VehicleRunoutOut {
     // At most MAX_PATH_SAMPLES samples, whatever the interval asked for and the motion's time.
     let path = r
@@ -370,6 +378,7 @@ fn vehicle_out(
             heading: m.heading.to_degrees(),
             speed: m.vx.hypot(m.vy),
             yaw_rate: m.yaw_rate,
+            wheels: wheels.then(|| pim_runout::wheels_at(&v.chassis, m).map(WheelOut::from)),
         })
         .collect();
     VehicleRunoutOut {

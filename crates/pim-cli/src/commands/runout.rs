@@ -34,8 +34,8 @@ pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
     } else {
         None
     };
-    let result =
-        pim_studies::runout::runout(&case, source, given, a.sample).map_err(Failure::from)?;
+    let result = pim_studies::runout::runout(&case, source, given, a.sample, a.wheels)
+        .map_err(Failure::from)?;
     let units = a
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);

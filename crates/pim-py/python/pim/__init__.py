@@ -306,11 +306,13 @@ def runout(
     draw: bool = False,
     every: float = 0.5,
     units: Optional[Units] = None,
+    wheels: bool = False,
 ) -> RunoutResult:
     """Each vehicle of a case with ``[runout]`` from its separation velocities to rest, or its
     separation velocities estimated from ``[scene.vehicleN]`` (``pim runout``). ``source``:
     ``"final"``, ``"solve"``, ``"fit"`` (with ``cost``) or ``"scene"``; by default the first the
-    case has. The path is sampled every ``sample`` seconds (:meth:`VehicleRunout.path_frame`);
+    case has. The path is sampled every ``sample`` seconds (:meth:`VehicleRunout.path_frame`;
+    with ``wheels=True`` each sample carries each wheel's load, slip angle and tyre force);
     ``draw=True`` adds the plan view as ``svg`` (outlines every ``every`` seconds, labelled in
     ``units``). Raises :class:`NoSolution` (its ``document`` the run-out's) when a run-out
     reaches its time limit or no candidate reaches the scene's evidence.
@@ -325,7 +327,8 @@ def runout(
     ([1], 7.34)
     """
     document, svg = _pim.runout(
-        case, source=source, cost=cost, sample=sample, draw=draw, every=every, units=units
+        case, source=source, cost=cost, sample=sample, draw=draw, every=every, units=units,
+        wheels=wheels,
     )
     return RunoutResult._read(document, None if svg is None else SVG(svg))
 

@@ -97,6 +97,7 @@ def runout(
     draw: bool = ...,
     every: float = ...,
     units: Optional[str] = ...,
+    wheels: bool = ...,
 ) -> Tuple[Dict[str, Any], Optional[str]]: ...
 def reconstruct(
     case: _Case,

@@ -112,16 +112,29 @@ class VehicleRunout:
     tyre_work: float
     evidence: Tuple[RunoutResidual, ...]
     estimate: Optional[RunoutEstimate]
-    path: Tuple[Dict[str, float], ...] = field(repr=False)
+    path: Tuple[Dict[str, Any], ...] = field(repr=False)
 
     def path_frame(self) -> Any:
         """The path as a pandas DataFrame: columns ``t`` (s), ``x``, ``y`` (m), ``heading``
-        (deg), ``speed`` (m/s), ``yaw_rate`` (rad/s), one row per sample."""
+        (deg), ``speed`` (m/s), ``yaw_rate`` (rad/s), one row per sample; with
+        ``runout(..., wheels=True)`` also each wheel's ``{w}_load_n``, ``{w}_slip_angle_deg``,
+        ``{w}_force_x_n`` and ``{w}_force_y_n`` (body frame) for ``w`` in ``fl``, ``fr``,
+        ``rl``, ``rr``."""
         try:
             import pandas as pd
         except ImportError as e:  # pragma: no cover - the message is the point
             raise ImportError("path_frame needs pandas: pip install pandas") from e
-        return pd.DataFrame(list(self.path), columns=["t", "x", "y", "heading", "speed", "yaw_rate"])
+        columns = ["t", "x", "y", "heading", "speed", "yaw_rate"]
+        rows = []
+        for p in self.path:
+            row = {c: p[c] for c in columns}
+            for name, w in zip(("fl", "fr", "rl", "rr"), p.get("wheels") or ()):
+                row[f"{name}_load_n"] = w["load"]
+                row[f"{name}_slip_angle_deg"] = w["slip_angle"]
+                row[f"{name}_force_x_n"] = w["force_x"]
+                row[f"{name}_force_y_n"] = w["force_y"]
+            rows.append(row)
+        return pd.DataFrame(rows, columns=list(rows[0]) if rows else columns)
 
     @classmethod
     def _read(cls, d: Mapping[str, Any]) -> VehicleRunout:
@@ -141,7 +154,11 @@ class VehicleRunout:
             tyre_work=float(d["tyre_work"]),
             evidence=tuple(RunoutResidual._read(r) for r in d["evidence"]),
             estimate=None if est is None else RunoutEstimate._read(est),
-            path=tuple({k: float(v) for k, v in p.items()} for p in d["path"]),
+            path=tuple(
+                {k: (tuple(dict(w) for w in v) if k == "wheels" else float(v))
+                 for k, v in p.items()}
+                for p in d["path"]
+            ),
         )
 
 
