@@ -98,7 +98,8 @@ pub struct RunoutVehicleSection {
     /// Road friction under this vehicle (instead of `[runout] friction`).
     #[serde(default)]
     pub friction: Option<f64>,
-    /// Rolling resistance, a fraction of the load (default 0.015).
+    /// Rolling resistance, a fraction of the load (default 0.015; 0 is free rolling, whose
+    /// run-out is followed to the time limit).
     #[serde(default)]
     pub rolling_resistance: Option<f64>,
     /// Slip angle at which a rolling wheel's lateral force reaches the friction, degrees

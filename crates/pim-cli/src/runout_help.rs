@@ -22,7 +22,8 @@ velocities [final], or [coefficients] with [initial], or --from fit, or scene ev
   #                                #   { front_left = 6.1, front_right = 4.4 }; or
   # steering_wheel = 90.0          #   deg, with steer_ratio = 16.0: the Ackermann angles
   #                                #   of 90/16 deg from the wheelbase and track
-  # rolling_resistance = 0.015     # of the load (Gillespie 1992)
+  # rolling_resistance = 0.015     # of the load (Gillespie 1992); 0: free rolling (PC-Crash's),
+  #                                #   followed to [runout] time_limit, its end the state there
   # saturation_angle = 10.0        # deg: the linear tyre's lateral force reaches the
   #                                #   friction there; or cornering_stiffness (per deg), or
   # max_slip_angle = 10.0          #   PC-Crash's \"max. slip angle\": force min(alpha/10, mu),

@@ -431,3 +431,47 @@ fn unreachable_evidence_is_exit_3() {
         .iter()
         .any(|u| u.as_str().unwrap().contains("equally well")));
 }
+
+/// PC-Crash's free rolling: `rolling_resistance = 0` is accepted, and a car whose wheels roll
+/// on without resistance is followed to the time limit, whose state is its answer (exit 0, said
+/// in the notes), while a time limit reached by a car that should have stopped stays a failure.
+#[test]
+fn free_rolling_is_followed_to_the_time_limit() {
+    let text = std::fs::read_to_string(repo().join("examples/cases/runout_spin.toml")).unwrap();
+    let free = text
+        .replace(
+            "friction = 0.75                        # dry asphalt",
+            "friction = 0.75\ntime_limit = 4.0",
+        )
+        .replace(
+            "braking = 0.8                          # the driver brakes hard after the impact",
+            "rolling_resistance = 0.0",
+        );
+    assert_ne!(free, text);
+    let f = scratch_file("runout", "free_rolling.toml", &free);
+    let out = pim_ok(&["runout", &f, "--format", "json"]);
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v1 = &doc["vehicles"][0];
+    assert_eq!(v1["end"], "time_limit", "{v1}");
+    assert!(
+        (v1["time"].as_f64().unwrap() - 4.0).abs() < 1e-9,
+        "{}",
+        v1["time"]
+    );
+    let notes = doc["notes"].to_string();
+    assert!(
+        notes.contains("vehicle 1: free-rolling wheels without rolling resistance do not stop"),
+        "{notes}"
+    );
+    // With the default resistance the same car stops well within the limit? It rolls far: at
+    // 4 s it is still moving, and that is a failure (exit 3), not an answer.
+    let slow = free.replace("rolling_resistance = 0.0", "rolling_resistance = 0.015");
+    let f = scratch_file("runout", "resisting.toml", &slow);
+    let out = pim(&["runout", &f, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("does not come to rest"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -112,6 +112,13 @@ impl Chassis {
         }
     }
 
+    /// True when nothing stops the vehicle rolling straight on: a wheel rolls freely
+    /// ([`WheelState::Rolling`]) and the rolling resistance is 0 (PC-Crash's free rolling). Its
+    /// run-out is followed to the time limit, which is then its answer, not a failure.
+    pub fn rolls_on(&self) -> bool {
+        self.rolling_resistance <= 0.0 && self.wheels.contains(&WheelState::Rolling)
+    }
+
     /// The wheel's position in the body frame (x forward, y left), m.
     pub fn wheel_position(&self, wheel: usize) -> [f64; 2] {
         let x = if wheel < 2 {
@@ -181,13 +188,14 @@ impl Chassis {
             );
         }
         if !(self.rolling_resistance.is_finite()
-            && self.rolling_resistance > 0.0
+            && self.rolling_resistance >= 0.0
             && self.rolling_resistance < self.friction)
         {
             return bad(
                 "rolling_resistance",
                 format!(
-                    "{}: must be above 0 and below the friction {} (tyres roll at about 0.015)",
+                    "{}: must be at least 0 (free rolling) and below the friction {} (tyres roll \
+                     at about 0.015)",
                     self.rolling_resistance, self.friction
                 ),
             );

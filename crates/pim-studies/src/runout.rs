@@ -33,8 +33,15 @@ pub struct RunoutResult {
 impl RunoutResult {
     /// True when some run-out reached its time limit or no candidate reaches the evidence.
     pub fn no_answer(&self) -> Option<String> {
-        for (r, v) in self.runouts.iter().zip(&self.document.vehicles) {
-            if r.end == End::TimeLimit {
+        for ((r, v), input) in self
+            .runouts
+            .iter()
+            .zip(&self.document.vehicles)
+            .zip(&self.inputs)
+        {
+            // A vehicle set up to roll on (no rolling resistance) ends at the time limit by
+            // design: the state there is its answer.
+            if r.end == End::TimeLimit && !input.chassis.rolls_on() {
                 return Some(format!(
                     "vehicle {}: the run-out reached its time limit ({:.1} s) still moving at \
                      {:.3} m/s: it does not come to rest (raise [runout] time_limit, or check \
@@ -227,12 +234,23 @@ pub fn runout(
         runouts.push(runout);
         estimates.push(estimate);
     }
-    for (r, v) in runouts.iter().zip(&vehicles) {
+    for ((r, v), input) in runouts.iter().zip(&vehicles).zip(&inputs.vehicles) {
         if r.end == End::TimeLimit {
-            notes.push(format!(
-                "vehicle {}: the run-out reached its time limit ({:.1} s) still moving",
-                v.vehicle, r.time
-            ));
+            notes.push(if input.chassis.rolls_on() {
+                format!(
+                    "vehicle {}: free-rolling wheels without rolling resistance do not stop: the \
+                     run-out is followed to its time limit ({:.1} s), and its end is the state \
+                     there, still moving at {:.3} m/s",
+                    v.vehicle,
+                    r.time,
+                    r.rest.vx.hypot(r.rest.vy)
+                )
+            } else {
+                format!(
+                    "vehicle {}: the run-out reached its time limit ({:.1} s) still moving",
+                    v.vehicle, r.time
+                )
+            });
         }
     }
     Ok(RunoutResult {
