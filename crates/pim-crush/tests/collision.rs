@@ -19,8 +19,11 @@ proptest! {
         v2 in -40.0..40.0f64,
     ) {
         let common = (m1 * v1 + m2 * v2) / (m1 + m2);
-        let loss = 0.5 * m1 * v1 * v1 + 0.5 * m2 * v2 * v2 - 0.5 * (m1 + m2) * common * common;
-        let dv = crash3_delta_v(loss.max(0.0), [m1, m2], [1.0, 1.0]).unwrap();
+        // The loss in its closed form: as a difference of the kinetic energies it cancels to
+        // 1e-16 of them (two cars at 32.3154 and 32.3152 m/s lose 2e-5 J out of 2e7 J, which
+        // leaves it a relative 1e-4 off), and that is the test's round-off, not CRASH3's.
+        let loss = m1 * m2 * (v1 - v2) * (v1 - v2) / (2.0 * (m1 + m2));
+        let dv = crash3_delta_v(loss, [m1, m2], [1.0, 1.0]).unwrap();
         let scale = 1.0 + (v1 - v2).abs();
         prop_assert!((dv[0] - (common - v1).abs()).abs() <= 1e-9 * scale);
         prop_assert!((dv[1] - (common - v2).abs()).abs() <= 1e-9 * scale);
