@@ -11,13 +11,12 @@
 use crate::documents::DocumentError;
 use crate::intervals::{dominant_inputs, Summary};
 use crate::reconstruct::case_reconstruction;
-use crate::uncertainty::{inputs, stream, Input, Sensitivity};
+use crate::uncertainty::{draw_each, inputs, Input, Sensitivity};
 use pim_case::case::Case;
 use pim_case::spread::Spread;
 pub use pim_documents::reconstruct_study::ReconstructionStudy;
 use pim_fit::MomentBranch;
 use pim_reconstruct::{redo, Found};
-use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// Counts of turns whose nominal cost lies within this chi-square of the best are refitted in
@@ -212,38 +211,19 @@ pub fn run_around(
         )));
     };
     let names: Vec<String> = quantities_of(best).into_iter().map(|(n, _)| n).collect();
-    let phase = crate::watch::Phase::start(observer, "draws", draws);
-    let results: Vec<(Vec<f64>, Option<Vec<f64>>)> = (0..draws)
-        .into_par_iter()
-        .filter_map(|i| {
-            if phase.stopped() {
-                return None;
-            }
-            let mut rng = stream(seed, i as u64);
-            let mut c = case.clone();
-            let xs: Vec<f64> = all
-                .iter()
-                .map(|inp| {
-                    let x = inp.spread.draw(inp.nominal, &mut rng);
-                    (inp.apply)(&mut c, x);
-                    x
-                })
-                .collect();
-            let out = case_reconstruction(&c, model, moment_form, branches.clone())
-                .ok()
-                .and_then(|r| redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN).ok())
-                .flatten()
-                .map(|f| {
-                    let q = quantities_of(&f);
-                    names
-                        .iter()
-                        .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
-                        .collect()
-                });
-            phase.step();
-            Some((xs, out))
-        })
-        .collect();
+    let (results, cancelled) = draw_each(case, &all, (draws, seed), observer, |c| {
+        case_reconstruction(c, model, moment_form, branches.clone())
+            .ok()
+            .and_then(|r| redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN).ok())
+            .flatten()
+            .map(|f| {
+                let q = quantities_of(&f);
+                names
+                    .iter()
+                    .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
+                    .collect::<Vec<f64>>()
+            })
+    });
     let feasible: Vec<(&Vec<f64>, &Vec<f64>)> = results
         .iter()
         .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
@@ -282,7 +262,7 @@ pub fn run_around(
         quantities,
         nominal_outside,
         samples,
-        cancelled: phase.cancelled(),
+        cancelled,
         sensitivity,
         inputs: all.iter().map(|i| i.name.clone()).collect(),
     };

@@ -55,6 +55,43 @@ pub(crate) struct Input {
     pub(crate) nominal: f64,
 }
 
+/// The draws of a study, in parallel and watched: draw `i` perturbs a copy of `case` by every
+/// input from its own random stream (`seed`, `i`), so the result is the same for any thread
+/// count, and `answer` answers the copy. Each finished draw is a step of the phase `draws`;
+/// once the observer cancels no new draw starts. The inputs drawn and the answer of every draw
+/// made, in draw order, and whether the study was cancelled.
+pub(crate) fn draw_each<T: Send>(
+    case: &Case,
+    inputs: &[Input],
+    (draws, seed): (usize, u64),
+    observer: &dyn crate::watch::Observer,
+    answer: impl Fn(&Case) -> T + Sync,
+) -> (Vec<(Vec<f64>, T)>, Option<crate::watch::Cancelled>) {
+    let phase = crate::watch::Phase::start(observer, "draws", draws);
+    let results = (0..draws)
+        .into_par_iter()
+        .filter_map(|i| {
+            if phase.stopped() {
+                return None;
+            }
+            let mut rng = stream(seed, i as u64);
+            let mut c = case.clone();
+            let xs: Vec<f64> = inputs
+                .iter()
+                .map(|inp| {
+                    let x = inp.spread.draw(inp.nominal, &mut rng);
+                    (inp.apply)(&mut c, x);
+                    x
+                })
+                .collect();
+            let out = answer(&c);
+            phase.step();
+            Some((xs, out))
+        })
+        .collect();
+    (results, phase.cancelled())
+}
+
 pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
     let mut out: Vec<Input> = Vec::new();
     let c = &case.content;
@@ -354,28 +391,9 @@ pub fn run(
     let draw_settings = draw_settings
         .check()
         .map_err(|e| InputError::new(&case.file, e))?;
-    let phase = crate::watch::Phase::start(observer, "draws", draws);
-    let results: Vec<(Vec<f64>, Option<DrawResult>)> = (0..draws)
-        .into_par_iter()
-        .filter_map(|i| {
-            if phase.stopped() {
-                return None;
-            }
-            let mut rng = stream(seed, i as u64);
-            let mut c = case.clone();
-            let xs: Vec<f64> = inputs
-                .iter()
-                .map(|inp| {
-                    let x = inp.spread.draw(inp.nominal, &mut rng);
-                    (inp.apply)(&mut c, x);
-                    x
-                })
-                .collect();
-            let r = fit_once(&c, choice, &draw_settings);
-            phase.step();
-            Some((xs, r))
-        })
-        .collect();
+    let (results, cancelled) = draw_each(case, &inputs, (draws, seed), observer, |c| {
+        fit_once(c, choice, &draw_settings)
+    });
     let feasible: Vec<(&Vec<f64>, &DrawResult)> = results
         .iter()
         .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
@@ -411,7 +429,6 @@ pub fn run(
             inputs: dominant_inputs(inputs.iter().map(|i| i.name.as_str()), &xs, &y),
         });
     }
-    let cancelled = phase.cancelled();
     let linearised_sd = if cancelled.is_some() {
         BTreeMap::new()
     } else {
