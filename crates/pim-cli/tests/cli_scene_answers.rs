@@ -116,7 +116,7 @@ fn every_command_gives_a_scene_case_its_reconstruction() {
     }
 }
 
-/// The guide's own example: `pim report` reports 37.9 and 27.1 mph, as `pim fit` does.
+/// The guide's own example: `pim report` reports 38.1 and 27.2 mph, as `pim fit` does.
 #[test]
 fn the_report_of_the_example_reports_its_reconstruction() {
     let out = scratch_dir("scene_answers", "report_us");
@@ -135,8 +135,8 @@ fn the_report_of_the_example_reports_its_reconstruction() {
             .unwrap_or_else(|| panic!("no row of vehicle {v}:\n{md}"))
             .to_string()
     };
-    assert!(row("1").contains("| 37.91 ("), "{}", row("1"));
-    assert!(row("2").contains("| 27.09 ("), "{}", row("2"));
+    assert!(row("1").contains("| 38.09 ("), "{}", row("1"));
+    assert!(row("2").contains("| 27.20 ("), "{}", row("2"));
     for f in [
         "scene.svg",
         "diagram.svg",
@@ -150,7 +150,7 @@ fn the_report_of_the_example_reports_its_reconstruction() {
     assert!(md.contains("| vehicle1 rest.x | run-out | ft |"));
     let v = json(&pim_ok(&["fit", CASE, "--format", "json"]));
     let [a, b] = contact(&v);
-    assert!((a / MPH - 37.91).abs() < 0.005 && (b / MPH - 27.09).abs() < 0.005);
+    assert!((a / MPH - 38.09).abs() < 0.005 && (b / MPH - 27.20).abs() < 0.005);
 }
 
 /// The example with its EDR moved 8 mph: the fit is poor, and the consistency table names the
@@ -181,11 +181,11 @@ fn a_conflicting_scene_yields_the_consistency_table() {
     assert_eq!(edr["consistent"], true);
     let dof = num(&edr["degrees_of_freedom"]);
     assert!(num(&edr["chi_square"]) <= dof.max(1.0), "{edr}");
-    // Without the EDR the speeds are the example's (37.9 and 27.1 mph) within 0.3 mph.
+    // Without the EDR the speeds are the example's (38.1 and 27.2 mph) within 0.3 mph.
     let s1 = num(&edr["speed_at_contact"][0]) / MPH;
     let s2 = num(&edr["speed_at_contact"][1]) / MPH;
     assert!(
-        (s1 - 37.9).abs() < 0.3 && (s2 - 27.1).abs() < 0.3,
+        (s1 - 38.1).abs() < 0.3 && (s2 - 27.2).abs() < 0.3,
         "{s1} {s2}"
     );
     assert!(c["summary"].as_str().unwrap().contains("vehicle2 EDR"));

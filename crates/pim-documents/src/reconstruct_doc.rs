@@ -132,6 +132,9 @@ pub struct ReconstructionOut {
     /// equivalents, counted against their budget (`pim_reconstruct::REFINE_WORK`), so that the
     /// answer is the same on every machine.
     pub work: u64,
+    /// The work of the first search alone: `work` without that of the second search from a
+    /// scatter of separation states, when the first answer fit worse than its median.
+    pub first_search_work: u64,
     /// How the answer was found.
     pub method: String,
     /// What is proven.

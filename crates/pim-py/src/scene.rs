@@ -153,3 +153,83 @@ pub(crate) fn reconstruct_uncertainty(
     .map_err(DocumentErrorPy)?;
     to_py(py, &study)
 }
+
+/// One record of a scene case for `pim.scene_frame`: its reconstruction's status, chi-square,
+/// coefficients, each vehicle's speeds per phase and turns, and the fitted road friction (SI);
+/// a case that cannot be read or reconstructed gives its status and reason only.
+fn scene_record(name: &str, text: &str) -> serde_json::Value {
+    use serde_json::json;
+    let failed = |reason: String| json!({"case": name, "status": "failed", "reason": reason});
+    let case = match pim_case::case::Case::from_text(name, text) {
+        Ok(c) => c,
+        Err(e) => return failed(e.to_string()),
+    };
+    if !pim_studies::reconstruct::has_scene_evidence(&case) {
+        return failed(format!(
+            "{name}: no scene evidence ([scene] rest positions or marks): not a reconstruction"
+        ));
+    }
+    let done = match pim_studies::reconstruct::reconstruct(
+        &case,
+        pim_fit::FitModel::Pim,
+        pim_core::MomentForm::Corrected,
+        vec![pim_fit::MomentBranch::Free, pim_fit::MomentBranch::Zero],
+    ) {
+        Ok(d) => d,
+        Err(e) => return failed(e.to_string()),
+    };
+    let d = &done.document;
+    let mut row = json!({
+        "case": name,
+        "status": serde_json::to_value(d.status).unwrap_or_default(),
+        "reason": d.reason,
+    });
+    let Some(b) = &d.best else { return row };
+    row["chi_square"] = json!(b.chi_square);
+    row["degrees_of_freedom"] = json!(b.degrees_of_freedom);
+    row["p_value"] = json!(b.p_value);
+    row["e"] = json!(b.e);
+    row["mu"] = json!(b.mu);
+    row["em"] = json!(b.em);
+    row["energy_loss_percent"] = json!(b.energy_loss_percent);
+    for v in &b.vehicles {
+        let k = v.vehicle;
+        row[format!("v{k}_before_braking")] = json!(v.speed_before_braking);
+        row[format!("v{k}_contact")] = json!(v.speed_at_contact);
+        row[format!("v{k}_separation")] = json!(v.speed_at_separation);
+        row[format!("v{k}_turns")] = json!(v.turns);
+    }
+    if let Some(best) = &done.outcome.best {
+        row["road_friction"] = json!(best.frictions.first());
+    }
+    row
+}
+
+/// The records of many scene cases, reconstructed in parallel on `threads` cores (`None`:
+/// every core), in the order given, as a JSON list (`pim.scene_frame`).
+#[pyfunction]
+#[pyo3(signature = (names, texts, threads = None))]
+pub(crate) fn reconstruct_many(
+    py: Python<'_>,
+    names: Vec<String>,
+    texts: Vec<String>,
+    threads: Option<Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    use rayon::prelude::*;
+    if names.len() != texts.len() {
+        return Err(input_error(format!(
+            "{} names for {} case texts",
+            names.len(),
+            texts.len()
+        )));
+    }
+    let threads = crate::convert::threads_arg(threads.as_ref())?;
+    let rows: Vec<serde_json::Value> = detached(py, threads, || {
+        names
+            .par_iter()
+            .zip(&texts)
+            .map(|(n, t)| scene_record(n, t))
+            .collect()
+    })?;
+    serde_json::to_string(&rows).map_err(|e| input_error(e.to_string()))
+}

@@ -2,7 +2,7 @@
 //! every combination of counts of turns compared.
 
 use crate::point::Point;
-use crate::problem::{ContactTerm, Reconstruction};
+use crate::problem::{ContactTerm, Reconstruction, Skid};
 use pim_core::VehicleId;
 use pim_fit::{Certificate, Knowledge, MomentBranch, Solution};
 use pim_runout::{Estimate, Residual, Runout};
@@ -89,6 +89,9 @@ pub struct Found {
     pub converged: bool,
     /// Per vehicle, its speeds before braking, at contact, at separation.
     pub phases: [Phases; 2],
+    /// The fitted road frictions, one per [`Reconstruction::frictions`] (their stated values
+    /// and standard deviations there; each is a datum of the chi-square).
+    pub frictions: Vec<f64>,
 }
 
 impl Found {
@@ -102,17 +105,33 @@ impl Found {
             } else {
                 (s.initial.vehicle2, s.separation.vehicle2)
             };
-            let contact = c.vx.hypot(c.vy);
+            // As every report of the impact measures a speed (pim_core::VehicleVelocity::speed).
+            let contact = c.speed();
             let run = scene.iter().find(|f| f.vehicle == id).map(|f| &f.runout);
             Phases {
                 vehicle: id,
-                before_braking: r.skids[k].map(|sk| sk.speed_before(contact)),
+                before_braking: r.skids[k].map(|sk| {
+                    // On a fitted road, at its fitted friction.
+                    let fitted = r
+                        .frictions
+                        .iter()
+                        .zip(&p.mus)
+                        .find(|(f, _)| f.skids.contains(&k))
+                        .map(|(_, m)| *m);
+                    Skid {
+                        friction: fitted.unwrap_or(sk.friction),
+                        ..sk
+                    }
+                    .speed_before(contact)
+                }),
                 contact,
-                separation: sep.vx.hypot(sep.vy),
+                separation: sep.speed(),
                 runout_distance: run.map(|x| x.distance),
                 runout_time: run.map(|x| x.time),
             }
         });
+        // Each fitted friction is a datum (its stated value) and an unknown: the degrees of
+        // freedom do not change with it.
         let data = r.contact_data() + scene.iter().map(|f| f.residuals.len()).sum::<usize>();
         let free = r
             .contact
@@ -135,6 +154,7 @@ impl Found {
             phases,
             solution: p.solution,
             scene,
+            frictions: p.mus,
         }
     }
 }
@@ -213,6 +233,12 @@ pub struct Outcome {
     /// The refinements' work ([`crate::Settings::refine_work`]): run-out right-hand side
     /// evaluations and the impact fits' equivalents.
     pub work: u64,
+    /// The scenes were searched a second time, each count also from a scatter of separation
+    /// states ([`pim_runout::EstimateSettings::scatter`]), because the first search's answer
+    /// fit worse than the median of its chi-square or was refused; the better answer is kept.
+    pub scattered: bool,
+    /// The work of the first search alone ([`Outcome::work`] without the second's).
+    pub first_work: u64,
 }
 
 impl Outcome {
@@ -242,6 +268,9 @@ pub enum EvidenceTerm {
         /// Its name.
         name: String,
     },
+    /// A fitted road friction against its stated value (index into
+    /// [`Reconstruction::frictions`]).
+    Friction(usize),
 }
 
 /// Why the best reconstruction found contradicts the evidence.
@@ -271,8 +300,17 @@ impl Contradiction {
     /// Names without the case's labels ([`ContactTerm::name`], `vehicleN rest.x`).
     pub fn default_name(r: &Reconstruction, t: &EvidenceTerm) -> String {
         match t {
+            EvidenceTerm::Contact(crate::ContactTerm::Nonlinear(i)) => r
+                .nonlinear
+                .0
+                .get(*i)
+                .map_or_else(|| format!("nonlinear evidence {}", i + 1), |t| t.name()),
             EvidenceTerm::Contact(c) => c.name(&r.contact),
             EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
+            EvidenceTerm::Friction(g) => r
+                .frictions
+                .get(*g)
+                .map_or_else(|| format!("friction {}", g + 1), |f| f.name.clone()),
         }
     }
 }
@@ -286,6 +324,9 @@ pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradicti
         .iter()
         .map(|c| (EvidenceTerm::Contact(c.term), c.residual / r.sigma_of(c)))
         .collect();
+    for (g, z) in r.friction_z(&f.frictions).into_iter().enumerate() {
+        terms.push((EvidenceTerm::Friction(g), z));
+    }
     for s in &f.scene {
         for x in &s.residuals {
             terms.push((

@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::problem::{Reconstruction, SceneVehicle, Settings};
 use pim_core::Velocities;
 use pim_fit::{MomentBranch, Solution};
-use pim_runout::{linearise, Linearised, Motion};
+use pim_runout::{linearise, linearise_with_friction, Linearised, Motion};
 
 /// The scene of one vehicle linearised at one separation state.
 #[derive(Debug, Clone)]
@@ -16,6 +16,8 @@ pub(crate) struct Lin {
     pub(crate) turns: i64,
     /// The separation velocity `(vx, vy, yaw_rate)` linearised at.
     pub(crate) at: [f64; 3],
+    /// The road friction of its run-out.
+    pub(crate) mu: f64,
     pub(crate) lin: Linearised,
 }
 
@@ -38,7 +40,22 @@ pub(crate) struct Point {
     pub(crate) certificate: pim_fit::Certificate,
     pub(crate) contact: f64,
     pub(crate) scene: Vec<Lin>,
+    /// The fitted road frictions ([`Reconstruction::frictions`]).
+    pub(crate) mus: Vec<f64>,
     pub(crate) total: f64,
+}
+
+/// The friction scene vehicle `vehicle` runs out on with the fitted frictions `mus` (its
+/// chassis's own when not fitted).
+pub(crate) fn friction_for(r: &Reconstruction, vehicle: usize, mus: &[f64]) -> f64 {
+    r.friction_of(vehicle)
+        .and_then(|g| mus.get(g).copied())
+        .unwrap_or(r.scene[vehicle].chassis.friction)
+}
+
+/// The stated frictions: where every search starts.
+pub(crate) fn stated_frictions(r: &Reconstruction) -> Vec<f64> {
+    r.frictions.iter().map(|f| f.value).collect()
 }
 
 /// The separation velocity of scene vehicle `v` in a state.
@@ -58,6 +75,7 @@ pub(crate) fn linearised(
     turns: i64,
     at: [f64; 3],
     jacobian: bool,
+    mus: &[f64],
 ) -> Result<Lin> {
     let s = &r.scene[vehicle];
     let start = Motion {
@@ -66,18 +84,29 @@ pub(crate) fn linearised(
         yaw_rate: at[2],
         ..s.pose
     };
-    let lin = linearise(
-        &s.chassis,
-        &start,
-        &s.evidence,
-        turns,
-        &settings.runout,
-        jacobian,
-    )?;
+    let mu = friction_for(r, vehicle, mus);
+    let mut chassis = s.chassis.clone();
+    if r.friction_of(vehicle).is_some() {
+        chassis.friction = mu;
+        chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * mu);
+    }
+    let lin = if jacobian && r.friction_of(vehicle).is_some() {
+        linearise_with_friction(&chassis, &start, &s.evidence, turns, &settings.runout)?
+    } else {
+        linearise(
+            &chassis,
+            &start,
+            &s.evidence,
+            turns,
+            &settings.runout,
+            jacobian,
+        )?
+    };
     Ok(Lin {
         vehicle,
         turns,
         at,
+        mu,
         lin,
     })
 }

@@ -76,6 +76,38 @@ impl Skid {
     }
 }
 
+/// A piece of evidence that is a nonlinear function of the velocities `U = (contact state,
+/// separation state)`: the crush energy of the damage against the energy PIM's impact takes
+/// out, say. Its residual joins the chi-square as `(value / sigma)^2`; the search linearises
+/// it at each point (forward differences over the free components of U) as it linearises the
+/// scenes.
+pub trait StateEvidence: Send + Sync + std::fmt::Debug {
+    /// Its name in the evidence table (`crush energy`).
+    fn name(&self) -> String;
+    /// What its value measures, for display (`energy`).
+    fn quantity(&self) -> &'static str;
+    /// At `u`: fitted minus given and its standard deviation (both in the quantity's SI unit;
+    /// the standard deviation may depend on `u`). `None` where it is not defined (no impulse):
+    /// such a state is no answer.
+    fn residual(&self, u: &Vector12) -> Option<(f64, f64)>;
+}
+
+/// The nonlinear evidence of a reconstruction ([`StateEvidence`]), shared: two are equal when
+/// they are the same pieces.
+#[derive(Debug, Clone, Default)]
+pub struct NonlinearEvidence(pub Vec<std::sync::Arc<dyn StateEvidence>>);
+
+impl PartialEq for NonlinearEvidence {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.len() == other.0.len()
+            && self
+                .0
+                .iter()
+                .zip(&other.0)
+                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b))
+    }
+}
+
 /// A reconstruction: the impact fit's own evidence (the contact state's estimates and
 /// observations, e.g. EDR speeds, no lateral velocity), the scene of each vehicle that has one,
 /// and the pre-impact marks.
@@ -91,7 +123,33 @@ pub struct Reconstruction {
     pub scene: Vec<SceneVehicle>,
     /// Braking before the impact, per vehicle.
     pub skids: [Option<Skid>; 2],
+    /// Evidence on the velocities that is not linear in them (the crush energy).
+    pub nonlinear: NonlinearEvidence,
+    /// Road frictions fitted with the other unknowns (none: every vehicle's friction is held
+    /// at its chassis's value).
+    pub frictions: Vec<RoadFriction>,
 }
+
+/// A road friction fitted with the velocities: its stated value and standard deviation (a
+/// datum of the chi-square, `((mu - value) / sigma)^2`) and the scene vehicles that ran out on
+/// it (one surface under both, or one each where they came to rest on different surfaces).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoadFriction {
+    /// Its name in the evidence table (`road friction`).
+    pub name: String,
+    /// The stated value, coefficient.
+    pub value: f64,
+    /// Its standard deviation.
+    pub sigma: f64,
+    /// The vehicles on it: indices into [`Reconstruction::scene`].
+    pub vehicles: Vec<usize>,
+    /// The vehicles (0: vehicle 1, 1: vehicle 2) whose braking before the impact
+    /// ([`Reconstruction::skids`]) was on it: their speed before braking takes the fitted value.
+    pub skids: Vec<usize>,
+}
+
+/// Smallest and largest friction the search tries.
+pub(crate) const FRICTION_RANGE: (f64, f64) = (0.05, pim_runout::MAX_FRICTION);
 
 impl Reconstruction {
     /// Checks what the search needs.
@@ -147,7 +205,54 @@ impl Reconstruction {
         for s in self.skids.iter().flatten() {
             s.check()?;
         }
+        for (g, f) in self.frictions.iter().enumerate() {
+            let bad = |reason: String| {
+                Err(ReconstructError::Input {
+                    field: "friction",
+                    reason,
+                })
+            };
+            if !(f.value.is_finite() && f.value >= FRICTION_RANGE.0 && f.value <= FRICTION_RANGE.1)
+            {
+                return bad(format!(
+                    "{}: a road friction from {} to {}",
+                    f.value, FRICTION_RANGE.0, FRICTION_RANGE.1
+                ));
+            }
+            if !(f.sigma.is_finite() && f.sigma > 0.0 && f.sigma <= 1.0) {
+                return bad(format!(
+                    "{}: the friction's standard deviation must be above 0 and at most 1",
+                    f.sigma
+                ));
+            }
+            if f.vehicles.is_empty()
+                || f.vehicles.iter().any(|&v| {
+                    v >= self.scene.len()
+                        || self.frictions[..g].iter().any(|h| h.vehicles.contains(&v))
+                })
+            {
+                return bad(format!(
+                    "{}: each fitted friction needs scene vehicles of its own",
+                    f.name
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// The fitted friction the scene vehicle `v` runs out on, if any.
+    pub fn friction_of(&self, v: usize) -> Option<usize> {
+        self.frictions.iter().position(|f| f.vehicles.contains(&v))
+    }
+
+    /// The frictions' residuals at `mus` (one per [`Reconstruction::frictions`]) in standard
+    /// deviations.
+    pub fn friction_z(&self, mus: &[f64]) -> Vec<f64> {
+        self.frictions
+            .iter()
+            .zip(mus)
+            .map(|(f, m)| (m - f.value) / f.sigma)
+            .collect()
     }
 
     /// Every piece of the contact problem's evidence at `u`, in the order of the problem
@@ -184,7 +289,28 @@ impl Reconstruction {
                 residual: c.row.dot(u) - c.value,
                 weight: c.weight,
             });
-        components.chain(observations).chain(combinations).collect()
+        let unit = self.unit.unwrap_or(1.0);
+        let nonlinear = self.nonlinear.0.iter().enumerate().filter_map(|(i, t)| {
+            let (value, sigma) = t.residual(u)?;
+            Some(ContactResidual {
+                term: ContactTerm::Nonlinear(i),
+                residual: value,
+                weight: unit / (sigma * sigma),
+            })
+        });
+        components
+            .chain(observations)
+            .chain(combinations)
+            .chain(nonlinear)
+            .collect()
+    }
+
+    /// Whether every piece of nonlinear evidence is defined at `u`.
+    pub fn nonlinear_defined(&self, u: &Vector12) -> bool {
+        self.nonlinear.0.iter().all(|t| {
+            t.residual(u)
+                .is_some_and(|(v, s)| v.is_finite() && s.is_finite() && s > 0.0)
+        })
     }
 
     /// The standard deviation of a contact residual: `sqrt(unit / weight)`.
@@ -212,6 +338,7 @@ impl Reconstruction {
             .count()
             + self.contact.observations.len()
             + self.contact.combinations.len()
+            + self.nonlinear.0.len()
     }
 }
 
@@ -225,6 +352,8 @@ pub enum ContactTerm {
     Observation(usize),
     /// Combination `i` of the problem.
     Combination(usize),
+    /// Nonlinear evidence `i` of the reconstruction ([`Reconstruction::nonlinear`]).
+    Nonlinear(usize),
 }
 
 impl ContactTerm {
@@ -238,6 +367,7 @@ impl ContactTerm {
                 format!("observation {} ({:?} of {})", i + 1, o.kind, o.vehicle)
             }
             ContactTerm::Combination(i) => format!("combination {}", i + 1),
+            ContactTerm::Nonlinear(i) => format!("nonlinear evidence {}", i + 1),
         }
     }
 }
@@ -261,6 +391,10 @@ pub struct ContactResidual {
 /// core: the budget bounds a reconstruction to about 10 s).
 pub const REFINE_WORK: u64 = 12_000_000;
 
+/// The chi-square's probability below which a first search's answer is searched again from a
+/// scatter: its median. See the crate docs (*What is proven and what is the best found*).
+pub const SCATTER_BELOW_P: f64 = 0.5;
+
 /// How a reconstruction searches.
 #[derive(Debug, Clone)]
 pub struct Settings {
@@ -283,6 +417,9 @@ pub struct Settings {
     /// programs and grid points. Counted, not timed: the same answer on every machine, and a
     /// bound of the time spent on evidence whose impact fits or run-outs are very slow.
     pub refine_work: u64,
+    /// An answer whose chi-square's probability lies below this is searched again from a
+    /// scatter of separation states ([`SCATTER_BELOW_P`], its median; 0: never).
+    pub scatter_below_p: f64,
 }
 
 impl Settings {
@@ -299,6 +436,7 @@ impl Settings {
             refine_margin: 25.0,
             max_refined: 6,
             refine_work: REFINE_WORK,
+            scatter_below_p: SCATTER_BELOW_P,
         }
     }
 }

@@ -2,9 +2,12 @@
 //! exact impact fit inside.
 
 use crate::point::{linearised, velocity_of, Lin, Point};
+use crate::problem::FRICTION_RANGE;
 use crate::problem::{Reconstruction, Settings};
+use nalgebra::{DMatrix, DVector};
 use pim_fit::{
     fit, state_vector, Combination, FitProblem, MomentBranch, Solution, Status as FitStatus,
+    Vector12,
 };
 use rayon::prelude::*;
 
@@ -21,6 +24,14 @@ impl Work {
         Work {
             spent: std::sync::atomic::AtomicU64::new(0),
             limit,
+        }
+    }
+
+    /// The same count with its limit lowered to `limit` (never raised).
+    pub(crate) fn limited(&self, limit: u64) -> Self {
+        Work {
+            spent: std::sync::atomic::AtomicU64::new(self.spent()),
+            limit: limit.min(self.limit),
         }
     }
 
@@ -90,39 +101,50 @@ fn scene_data(p: Option<&Point>) -> usize {
 /// The impact fit with each scene linearised (rows in chi-square units, weight 1 each) and,
 /// with `damping`, Marquardt's rows that keep the separation state near the current one. Every
 /// weight is scaled by one factor into (0, 1]; the fit's cost over that factor is the
-/// chi-square of the linearised problem.
+/// chi-square of the linearised problem. With fitted frictions, the scenes' rows and the
+/// frictions' own rows are projected onto the complement of the frictions' columns: the
+/// linearised cost minimised over the frictions for every velocity state (exact for a linear
+/// model), and the [`FrictionStep`] that gives those frictions back.
 pub(crate) fn assemble(
     r: &Reconstruction,
     lins: &[Lin],
     damping: Option<(f64, &[Lin])>,
-) -> (FitProblem, f64) {
+    at: Option<&Vector12>,
+) -> (FitProblem, f64, Option<FrictionStep>) {
     let unit = r.unit.unwrap_or(1.0);
     let mut problem = r.contact.clone();
     // Chi-square weights first.
     for w in problem.weights_mut() {
         *w /= unit;
     }
-    for l in lins {
-        let base = 6 + 3 * r.scene[l.vehicle].id.index();
-        let j = l.jacobian();
-        for i in 0..j.nrows() {
-            let mut row = pim_fit::Vector12::zeros();
-            let mut target = -l.lin.weighted[i];
-            for c in 0..3 {
-                row[base + c] = j[(i, c)];
-                target += j[(i, c)] * l.at[c];
-            }
-            // A residual that no separation velocity moves adds only a constant.
-            let norm = row.norm();
-            if norm > 1e-12 {
-                problem.combinations.push(Combination {
-                    row: row / norm,
-                    value: target / norm,
-                    weight: norm * norm,
-                });
+    // The nonlinear evidence linearised at the current state (none before the first).
+    if let Some(u) = at {
+        problem.combinations.extend(nonlinear_rows(r, u));
+    }
+    let step = if r.frictions.is_empty() {
+        for l in lins {
+            let base = 6 + 3 * r.scene[l.vehicle].id.index();
+            let j = l.jacobian();
+            for i in 0..j.nrows() {
+                let mut row = Vector12::zeros();
+                let mut target = -l.lin.weighted[i];
+                for c in 0..3 {
+                    row[base + c] = j[(i, c)];
+                    target += j[(i, c)] * l.at[c];
+                }
+                push_row(&mut problem, row, target);
             }
         }
-    }
+        None
+    } else {
+        let step = FrictionStep::new(r, lins);
+        let projected = step.projected();
+        for k in 0..projected.0.nrows() {
+            let row = Vector12::from_iterator(projected.0.row(k).iter().copied());
+            push_row(&mut problem, row, row.dot(&step.at) - projected.1[k]);
+        }
+        Some(step)
+    };
     if let Some((lambda, around)) = damping {
         for l in around {
             let base = 6 + 3 * r.scene[l.vehicle].id.index();
@@ -130,7 +152,7 @@ pub(crate) fn assemble(
             let jtj = j.transpose() * j;
             let largest = (0..3).map(|c| jtj[(c, c)]).fold(0.0, f64::max).max(1e-12);
             for c in 0..3 {
-                let mut row = pim_fit::Vector12::zeros();
+                let mut row = Vector12::zeros();
                 row[base + c] = 1.0;
                 problem.combinations.push(Combination {
                     row,
@@ -145,7 +167,152 @@ pub(crate) fn assemble(
     for w in problem.weights_mut() {
         *w = (*w * scale).max(f64::MIN_POSITIVE);
     }
-    (problem, scale)
+    (problem, scale, step)
+}
+
+/// A linearised row `(row . U - target)^2` as a combination of the problem (a row that no
+/// velocity moves adds only a constant and is left out).
+fn push_row(problem: &mut FitProblem, row: Vector12, target: f64) {
+    let norm = row.norm();
+    if norm > 1e-12 {
+        problem.combinations.push(Combination {
+            row: row / norm,
+            value: target / norm,
+            weight: norm * norm,
+        });
+    }
+}
+
+/// The scenes and the fitted frictions linearised together: rows `b + A (U - at) + M dmu` (the
+/// scenes' weighted residuals, then each friction's `(mu - value) / sigma`), with `A` over the
+/// twelve velocities and `M` over the frictions.
+pub(crate) struct FrictionStep {
+    a: DMatrix<f64>,
+    b: DVector<f64>,
+    m: DMatrix<f64>,
+    /// `(M^T M)^-1` (the frictions' own rows make it positive definite).
+    mtm_inv: DMatrix<f64>,
+    /// The velocities linearised at (the separation components; the rest 0).
+    at: Vector12,
+    /// The frictions linearised at.
+    mus: Vec<f64>,
+}
+
+impl FrictionStep {
+    fn new(r: &Reconstruction, lins: &[Lin]) -> FrictionStep {
+        let groups = r.frictions.len();
+        let mus: Vec<f64> = (0..groups)
+            .map(|g| {
+                lins.iter()
+                    .find(|l| r.friction_of(l.vehicle) == Some(g))
+                    .map_or(r.frictions[g].value, |l| l.mu)
+            })
+            .collect();
+        let rows: usize = lins.iter().map(|l| l.lin.weighted.len()).sum::<usize>() + groups;
+        let mut a = DMatrix::zeros(rows, 12);
+        let mut b = DVector::zeros(rows);
+        let mut m = DMatrix::zeros(rows, groups);
+        let mut at = Vector12::zeros();
+        let mut k = 0;
+        for l in lins {
+            let base = 6 + 3 * r.scene[l.vehicle].id.index();
+            for c in 0..3 {
+                at[base + c] = l.at[c];
+            }
+            let j = l.jacobian();
+            let g = r.friction_of(l.vehicle);
+            for i in 0..j.nrows() {
+                for c in 0..3 {
+                    a[(k, base + c)] = j[(i, c)];
+                }
+                b[k] = l.lin.weighted[i];
+                if let (Some(g), Some(d)) = (g, &l.lin.friction) {
+                    m[(k, g)] = d[i];
+                }
+                k += 1;
+            }
+        }
+        for (g, f) in r.frictions.iter().enumerate() {
+            b[k] = (mus[g] - f.value) / f.sigma;
+            m[(k, g)] = 1.0 / f.sigma;
+            k += 1;
+        }
+        let mtm = m.transpose() * &m;
+        let mtm_inv = mtm
+            .clone()
+            .try_inverse()
+            .unwrap_or_else(|| DMatrix::identity(groups, groups));
+        FrictionStep {
+            a,
+            b,
+            m,
+            mtm_inv,
+            at,
+            mus,
+        }
+    }
+
+    /// `P A` and `P b` with `P = I - M (M^T M)^-1 M^T`.
+    fn projected(&self) -> (DMatrix<f64>, DVector<f64>) {
+        let mt = self.m.transpose();
+        let pa = &self.a - &self.m * (&self.mtm_inv * (&mt * &self.a));
+        let pb = &self.b - &self.m * (&self.mtm_inv * (&mt * &self.b));
+        (pa, pb)
+    }
+
+    /// The frictions that minimise the linearised cost at the velocities `u`, kept within the
+    /// searched range: `mu + dmu`, `dmu = -(M^T M)^-1 M^T (b + A (u - at))`.
+    pub(crate) fn frictions_at(&self, u: &Vector12) -> Vec<f64> {
+        let du = DVector::from_iterator(12, (u - self.at).iter().copied());
+        let r = &self.b + &self.a * du;
+        let dmu = -(&self.mtm_inv * (self.m.transpose() * r));
+        self.mus
+            .iter()
+            .zip(dmu.iter())
+            .map(|(m, d)| (m + d).clamp(FRICTION_RANGE.0, FRICTION_RANGE.1))
+            .collect()
+    }
+}
+
+/// Each piece of nonlinear evidence linearised at `u`, `z(U) ~ z(u) + g (U - u)` with `z` the
+/// residual in standard deviations and `g` by forward differences over the free components:
+/// a combination row in chi-square units.
+fn nonlinear_rows(r: &Reconstruction, u: &Vector12) -> Vec<Combination> {
+    let z = |v: &Vector12, t: &dyn crate::StateEvidence| t.residual(v).map(|(x, s)| x / s);
+    let free: Vec<usize> = (0..12)
+        .filter(|&k| !matches!(r.contact.components[k], pim_fit::Knowledge::Known { .. }))
+        .collect();
+    let mut rows = Vec::new();
+    for t in &r.nonlinear.0 {
+        let Some(z0) = z(u, t.as_ref()) else { continue };
+        let mut g = Vector12::zeros();
+        for &k in &free {
+            let h = 1e-6 * (1.0 + u[k].abs());
+            let mut v = *u;
+            v[k] += h;
+            if let Some(z1) = z(&v, t.as_ref()) {
+                g[k] = (z1 - z0) / h;
+            }
+        }
+        let norm = g.norm();
+        if norm > 1e-300 {
+            rows.push(Combination {
+                row: g / norm,
+                value: (g.dot(u) - z0) / norm,
+                weight: norm * norm,
+            });
+        }
+    }
+    rows
+}
+
+/// An impact fit's answer: its branch, solution and certificate, and the frictions that go
+/// with its velocities.
+struct Fitted {
+    branch: MomentBranch,
+    solution: Solution,
+    certificate: pim_fit::Certificate,
+    mus: Vec<f64>,
 }
 
 /// One impact fit of the linearised problem: the best optimal branch, or why there is none.
@@ -154,9 +321,10 @@ fn fit_once(
     settings: &Settings,
     lins: &[Lin],
     damping: Option<(f64, &[Lin])>,
+    at: Option<&Vector12>,
     work: &Work,
-) -> std::result::Result<(MomentBranch, Solution, pim_fit::Certificate, f64), String> {
-    let (problem, scale) = assemble(r, lins, damping);
+) -> std::result::Result<Fitted, String> {
+    let (problem, _, step) = assemble(r, lins, damping, at);
     let report = fit(&problem, &settings.fit).map_err(|e| e.to_string())?;
     work.add(fit_work(&report));
     let best = report.best_branch().ok_or_else(|| {
@@ -167,12 +335,17 @@ fn fit_once(
             .unwrap_or_else(|| "no admissible impact".into())
     })?;
     match (&best.status, &best.solution) {
-        (FitStatus::Optimal, Some(s)) => Ok((
-            best.moment,
-            s.clone(),
-            best.certificate.clone(),
-            s.cost / scale,
-        )),
+        (FitStatus::Optimal, Some(s)) => {
+            let mus = step.map_or_else(Vec::new, |st| {
+                st.frictions_at(&state_vector(&s.initial, &s.separation))
+            });
+            Ok(Fitted {
+                branch: best.moment,
+                solution: s.clone(),
+                certificate: best.certificate.clone(),
+                mus,
+            })
+        }
         _ => Err(format!("the impact fit ended {:?}", best.status)),
     }
 }
@@ -182,12 +355,19 @@ fn evaluate(
     r: &Reconstruction,
     settings: &Settings,
     counts: &[i64],
-    branch: MomentBranch,
-    solution: Solution,
-    certificate: pim_fit::Certificate,
+    fitted: Fitted,
     work: &Work,
 ) -> Option<Point> {
+    let Fitted {
+        branch,
+        solution,
+        certificate,
+        mus,
+    } = fitted;
     let u = state_vector(&solution.initial, &solution.separation);
+    if !r.nonlinear_defined(&u) {
+        return None;
+    }
     let contact = r.contact_chi_square(&u);
     let scene: Option<Vec<Lin>> = r
         .scene
@@ -201,18 +381,21 @@ fn evaluate(
                 counts[i],
                 velocity_of(&solution.separation, s),
                 false,
+                &mus,
             ))
             .ok()
         })
         .collect();
     let scene = scene?;
-    let total = contact + scene.iter().map(|l| l.lin.cost).sum::<f64>();
+    let frictions: f64 = r.friction_z(&mus).iter().map(|z| z * z).sum();
+    let total = contact + frictions + scene.iter().map(|l| l.lin.cost).sum::<f64>();
     Some(Point {
         branch,
         solution,
         certificate,
         contact,
         scene,
+        mus,
         total,
     })
 }
@@ -241,9 +424,12 @@ pub(crate) fn refine(
         iterations += 1;
         let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
         fits += 1;
-        let fitted = fit_once(r, settings, &lins, damping, work);
-        let trial = fitted.and_then(|(b, s, c, _)| {
-            evaluate(r, settings, &counts, b, s, c, work)
+        let at = current
+            .as_ref()
+            .map(|c| state_vector(&c.solution.initial, &c.solution.separation));
+        let fitted = fit_once(r, settings, &lins, damping, at.as_ref(), work);
+        let trial = fitted.and_then(|f| {
+            evaluate(r, settings, &counts, f, work)
                 .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
         });
         let accepted = match (&trial, &current) {
@@ -273,8 +459,10 @@ pub(crate) fn refine(
                 .scene
                 .par_iter()
                 .map(|l| {
-                    work.charge(linearised(r, settings, l.vehicle, l.turns, l.at, true))
-                        .map_err(|e| e.to_string())
+                    work.charge(linearised(
+                        r, settings, l.vehicle, l.turns, l.at, true, &p.mus,
+                    ))
+                    .map_err(|e| e.to_string())
                 })
                 .collect();
             lins = next?;

@@ -13,7 +13,12 @@ use rayon::prelude::*;
 const CANDIDATE_TOLERANCE: f64 = 1e-7;
 
 /// The candidates of one scene vehicle from the run-out inverse.
-fn candidates(r: &Reconstruction, settings: &Settings, vehicle: usize) -> Result<Estimate> {
+fn candidates(
+    r: &Reconstruction,
+    settings: &Settings,
+    vehicle: usize,
+    scatter: bool,
+) -> Result<Estimate> {
     let s = &r.scene[vehicle];
     // The road friction is held at its value in the reconstruction (its spread is drawn by an
     // uncertainty study), so the scene alone is searched with it held too.
@@ -30,19 +35,55 @@ fn candidates(r: &Reconstruction, settings: &Settings, vehicle: usize) -> Result
             atol: CANDIDATE_TOLERANCE.max(settings.runout.atol),
             ..settings.runout
         },
+        scatter,
         ..EstimateSettings::default()
     };
     Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
 }
 
-/// Every combination of one candidate per vehicle.
-fn combinations(estimates: &[Estimate]) -> Vec<Vec<usize>> {
+/// A separation state the refinement may start from: a scene's candidate for a count of
+/// turns, or another local minimum of that count's scene ([`pim_runout::Alternative`]).
+struct Start {
+    turns: Option<i64>,
+    at: [f64; 3],
+    /// The scene's cost there.
+    cost: f64,
+}
+
+/// Each vehicle's starts: every candidate, then its alternatives.
+fn starts_of(estimates: &[Estimate]) -> Vec<Vec<Start>> {
+    estimates
+        .iter()
+        .map(|e| {
+            let mut out: Vec<Start> = e
+                .candidates
+                .iter()
+                .map(|c| Start {
+                    turns: c.turns,
+                    at: [c.separation.vx, c.separation.vy, c.separation.yaw_rate],
+                    cost: c.cost,
+                })
+                .collect();
+            for c in &e.candidates {
+                out.extend(c.alternatives.iter().map(|a| Start {
+                    turns: c.turns,
+                    at: a.velocity,
+                    cost: a.cost,
+                }));
+            }
+            out
+        })
+        .collect()
+}
+
+/// Every combination of one start per vehicle.
+fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
     let mut out: Vec<Vec<usize>> = vec![Vec::new()];
-    for e in estimates {
+    for e in starts {
         out = out
             .into_iter()
             .flat_map(|c| {
-                (0..e.candidates.len()).map(move |i| {
+                (0..e.len()).map(move |i| {
                     let mut c = c.clone();
                     c.push(i);
                     c
@@ -60,33 +101,90 @@ fn combinations(estimates: &[Estimate]) -> Vec<Vec<usize>> {
 /// reaches is an [`Outcome`] with [`Status::NoSolution`].
 pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     r.check()?;
+    // One budget of work for both searches: the second refines only what the first left.
+    let work = crate::refine::Work::new(settings.refine_work);
+    let first = search(r, settings, false, &work)?;
+    let fits_well = first.best.as_ref().is_some_and(|b| {
+        pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
+            .is_some_and(|p| p >= settings.scatter_below_p)
+    });
+    if fits_well || work.exhausted() {
+        return Ok(searched(r, first));
+    }
+    // The second search refines with at most as much work again as the first spent (and at
+    // least a quarter of the budget): a bound of its time on evidence whose impact fits or
+    // run-outs are slow.
+    let spent = work.spent();
+    let work = work.limited(spent + spent.max(settings.refine_work / 4));
+    let second = search(r, settings, true, &work)?;
+    let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
+    let (runouts, fits, work) = (
+        first.runouts + second.runouts,
+        first.fits + second.fits,
+        work.spent(),
+    );
+    let mut out = if cost(&second) <= cost(&first) {
+        second
+    } else {
+        first
+    };
+    out.runouts = runouts;
+    out.fits = fits;
+    out.work = work;
+    out.first_work = spent;
+    out.scattered = true;
+    Ok(searched(r, out))
+}
+
+/// A refusal says what was searched: it rests on a search, not a proof.
+fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
+    let refined = out
+        .tried
+        .iter()
+        .filter(|t| matches!(t.state, Tried::Refined { .. }))
+        .count();
+    let what = format!(
+        " (searched: {} combinations of counts of turns, {refined} refined{}; a search, not a \
+         proof that no state reaches it)",
+        out.tried.len(),
+        if out.scattered {
+            ", and again from each scene's rest curve"
+        } else {
+            ""
+        }
+    );
+    if let Some(c) = out.contradiction.as_mut() {
+        c.statement.push_str(&what);
+        out.reason = Some(c.describe(|t| Contradiction::default_name(r, t)));
+    }
+    out
+}
+
+/// One search: the scenes' candidates (from a scatter too, with `scatter`), the bounds, the
+/// refinements.
+fn search(
+    r: &Reconstruction,
+    settings: &Settings,
+    scatter: bool,
+    work: &crate::refine::Work,
+) -> Result<Outcome> {
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
-        .map(|i| candidates(r, settings, i))
+        .map(|i| candidates(r, settings, i, scatter))
         .collect::<Result<_>>()?;
     let mut runouts: usize = estimates
         .iter()
         .flat_map(|e| e.candidates.iter().map(|c| c.runouts))
         .sum();
-    // Each candidate linearised once (shared by every combination it is part of).
-    let lins: Vec<Vec<Option<Lin>>> = estimates
-        .par_iter()
+    let starts = starts_of(&estimates);
+    let mus = crate::point::stated_frictions(r);
+    // Each start linearised once (shared by every combination it is part of).
+    let lins: Vec<Vec<Option<Lin>>> = starts
+        .iter()
         .enumerate()
         .map(|(i, e)| {
-            e.candidates
-                .iter()
-                .map(|c| {
-                    let s = &c.separation;
-                    linearised(
-                        r,
-                        settings,
-                        i,
-                        c.turns.unwrap_or(0),
-                        [s.vx, s.vy, s.yaw_rate],
-                        true,
-                    )
-                    .ok()
-                })
+            e.par_iter()
+                .map(|c| linearised(r, settings, i, c.turns.unwrap_or(0), c.at, true, &mus).ok())
                 .collect()
         })
         .collect();
@@ -97,7 +195,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         .map(|l| l.lin.runouts)
         .sum::<usize>();
     // 1. Each combination's bound: the linearised problem under the momentum balance alone.
-    let combos = combinations(&estimates);
+    let combos = combinations(&starts);
     let first: Vec<(Vec<usize>, std::result::Result<f64, String>)> = combos
         .into_iter()
         .map(|c| {
@@ -109,7 +207,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             let out = match start {
                 None => Err("a candidate's run-out could not be linearised".to_string()),
                 Some(start) => {
-                    let (problem, scale) = assemble(r, &start, None);
+                    let (problem, scale, _) = assemble(r, &start, None, None);
                     Ok(crate::relax::momentum_bound(&problem) / scale)
                 }
             };
@@ -129,7 +227,6 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     let mut count = 0;
-    let work = crate::refine::Work::new(settings.refine_work);
     for &i in &order {
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = *first[i].1.as_ref().expect("filtered");
@@ -137,7 +234,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             .0
             .iter()
             .enumerate()
-            .map(|(v, &k)| estimates[v].candidates[k].cost)
+            .map(|(v, &k)| starts[v][k].cost)
             .sum();
         if scene_bound >= lowest_best {
             skipped_reason[i] = Some(format!(
@@ -175,7 +272,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match refine(r, settings, start, lowest_best, &work) {
+        match refine(r, settings, start, lowest_best, work) {
             Ok(x) => {
                 fits += x.fits;
                 runouts +=
@@ -189,20 +286,16 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             Err(e) => refined[i] = Some(Err(e)),
         }
     }
-    let tried: Vec<TriedCounts> = first
+    let all: Vec<TriedCounts> = first
         .iter()
         .enumerate()
         .map(|(i, (c, lin))| {
             let counts = c
                 .iter()
                 .enumerate()
-                .map(|(v, &k)| estimates[v].candidates[k].turns)
+                .map(|(v, &k)| starts[v][k].turns)
                 .collect();
-            let scene_alone = c
-                .iter()
-                .enumerate()
-                .map(|(v, &k)| estimates[v].candidates[k].cost)
-                .sum();
+            let scene_alone = c.iter().enumerate().map(|(v, &k)| starts[v][k].cost).sum();
             let state = match (&refined[i], lin) {
                 (Some(Ok((cost, iterations, converged, abandoned))), _) => Tried::Refined {
                     cost: *cost,
@@ -224,6 +317,7 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             }
         })
         .collect();
+    let tried = one_per_counts(all);
     let Some((_, point, iterations, converged)) = best else {
         let reason = tried
             .iter()
@@ -247,6 +341,8 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
             runouts,
             fits,
             work: work.spent(),
+            first_work: work.spent(),
+            scattered: scatter,
         });
     };
     let found = Found::new(r, point, iterations, converged);
@@ -268,6 +364,8 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
         runouts,
         fits,
         work: work.spent(),
+        first_work: work.spent(),
+        scattered: scatter,
     })
 }
 
@@ -300,7 +398,17 @@ pub fn redo(
         let start: std::result::Result<Vec<Lin>, _> = end
             .iter()
             .enumerate()
-            .map(|(v, at)| linearised(r, settings, v, t.counts[v].unwrap_or(0), *at, true))
+            .map(|(v, at)| {
+                linearised(
+                    r,
+                    settings,
+                    v,
+                    t.counts[v].unwrap_or(0),
+                    *at,
+                    true,
+                    &crate::point::stated_frictions(r),
+                )
+            })
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
@@ -311,4 +419,30 @@ pub fn redo(
         }
     }
     Ok(found.map(|x| Found::new(r, x.point, x.iterations, x.converged)))
+}
+
+/// One entry per combination of counts of turns, in the order they first appear: where several
+/// starts of the same counts were tried, the one refined to the lowest cost (else the one with
+/// the lowest momentum bound), its scene-alone cost the lowest of them.
+fn one_per_counts(all: Vec<TriedCounts>) -> Vec<TriedCounts> {
+    let rank = |t: &TriedCounts| match t.state {
+        Tried::Refined { cost, .. } => (0, cost),
+        Tried::NotRefined { .. } => (1, t.momentum_bound.unwrap_or(f64::INFINITY)),
+        Tried::NoImpact { .. } => (2, f64::INFINITY),
+    };
+    let mut out: Vec<TriedCounts> = Vec::new();
+    for t in all {
+        match out.iter_mut().find(|o| o.counts == t.counts) {
+            None => out.push(t),
+            Some(o) => {
+                let scene = o.scene_alone.min(t.scene_alone);
+                let (a, b) = (rank(o), rank(&t));
+                if b.0 < a.0 || (b.0 == a.0 && b.1 < a.1) {
+                    *o = t;
+                }
+                o.scene_alone = scene;
+            }
+        }
+    }
+    out
 }

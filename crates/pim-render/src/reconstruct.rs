@@ -96,7 +96,11 @@ pub fn reconstruction_table(
         let (scale, unit) = evidence_unit(e, units);
         t.push_str(&format!(
             "{:<56} {:>10} {:>10} {:>8.2} {:>8.1}\n",
-            format!("{} ({unit})", e.name),
+            if unit.is_empty() {
+                e.name.clone()
+            } else {
+                format!("{} ({unit})", e.name)
+            },
             num(e.residual * scale, 3),
             num(e.sigma * scale, 3),
             e.z,
@@ -165,6 +169,9 @@ pub fn evidence_unit(
         "angle" => (1.0, "deg"),
         "length" => (units.length(1.0), units.length_label()),
         "yaw_rate" => (units.yaw_rate(1.0), units.yaw_rate_label()),
+        "energy" => (units.energy(1.0), units.energy_label()),
+        // A coefficient: no unit.
+        "friction" => (1.0, ""),
         _ => (units.speed(1.0), units.speed_label()),
     }
 }

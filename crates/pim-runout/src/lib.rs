@@ -86,7 +86,8 @@ pub use chassis::{
 pub use error::{Result, RunoutError};
 pub use forces::{wheels_at, WheelAt, SLIDING_DEADBAND};
 pub use inverse::{
-    estimate, linearise, Candidate, Estimate, EstimateSettings, Evidence, Linearised, Mark,
-    Residual, Rest, CONSISTENT_COST, PLAUSIBLE_COST,
+    estimate, linearise, linearise_with_friction, Alternative, Candidate, Estimate,
+    EstimateSettings, Evidence, Linearised, Mark, Residual, Rest, ALTERNATIVE_COST,
+    CONSISTENT_COST, MAX_ALTERNATIVES, PLAUSIBLE_COST,
 };
 pub use simulate::{full_turns, simulate, End, Runout, Settings, Step};

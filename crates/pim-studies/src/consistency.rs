@@ -233,9 +233,17 @@ pub fn table(
             c = p.leave_out(&c);
         }
         let names = without.iter().map(|p| p.name(case)).collect();
+        // Each row by the first search alone: the rows are compared with each other, and a
+        // row that fits poorly without one piece is what the table looks for, not a reason to
+        // search it again.
+        let how = crate::reconstruct::How {
+            model,
+            moment_form,
+            branches: branches.to_vec(),
+        };
         row(
             names,
-            reconstruct(&c, model, moment_form, branches.to_vec()).map(|r| r.document),
+            crate::reconstruct::reconstruct_searching(&c, how, false).map(|r| r.document),
         )
     };
     let all_row = row(Vec::new(), Ok(all.clone()));
@@ -243,8 +251,8 @@ pub fn table(
     // The work of a row is about that of the whole reconstruction: a budget of work, so that
     // the table's cost is bounded the same on every machine. A reconstruction that its own
     // budget ended is not repeated.
-    let per_row = all.work.max(1);
-    let ended = all.work > pim_reconstruct::REFINE_WORK;
+    let per_row = all.first_search_work.max(1);
+    let ended = all.first_search_work > pim_reconstruct::REFINE_WORK;
     if ended || groups.len() as u64 * per_row > TABLE_WORK {
         let summary = if ended {
             "Not computed: the reconstruction itself ended on its budget of work (its impact \

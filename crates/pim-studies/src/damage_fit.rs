@@ -158,3 +158,80 @@ pub fn fit_damage_of(
     });
     Ok(out)
 }
+
+/// The crush energy of a case's damage as evidence of the whole reconstruction: at the
+/// velocities `U`, the energy PIM's impact takes out minus the crush energy (with the PDOF
+/// factors and the relation at those states), and its standard deviation.
+#[derive(Debug)]
+pub struct CrushEnergy {
+    /// The damage.
+    pub damage: Damage,
+    /// The collision.
+    pub impact: pim_core::Impact,
+}
+
+impl pim_reconstruct::StateEvidence for CrushEnergy {
+    fn name(&self) -> String {
+        "crush energy".into()
+    }
+
+    fn quantity(&self) -> &'static str {
+        "energy"
+    }
+
+    fn residual(&self, u: &pim_fit::Vector12) -> Option<(f64, f64)> {
+        let a = assess(&self.damage, &self.impact, u)?;
+        (a.expected_loss_sigma > 0.0).then_some((a.difference, a.expected_loss_sigma))
+    }
+}
+
+impl CrushEnergy {
+    /// The crush energy of `case` as evidence of its reconstruction: `None` without
+    /// `[damage]`, with `evidence = false`, or without a standard deviation of the crush (then
+    /// the reason, to note).
+    ///
+    /// # Errors
+    /// `evidence = true` without a standard deviation (located), or a damage section the crush
+    /// model cannot read.
+    pub fn of_case(
+        case: &Case,
+        impact: &pim_core::Impact,
+    ) -> Result<(Option<CrushEnergy>, Option<String>)> {
+        let Some(damage) = Damage::of(case)? else {
+            return Ok((None, None));
+        };
+        let has_sigma = damage.vehicles.iter().flatten().any(|v| {
+            let s = &v.sigmas;
+            s.a > 0.0 || s.b > 0.0 || s.depth > 0.0 || s.width > 0.0
+        });
+        match (damage.evidence, has_sigma) {
+            (Some(false), _) => Ok((
+                None,
+                Some(format!(
+                    "{}: [damage] evidence = false: the crush is not fitted with the scene",
+                    case.file
+                )),
+            )),
+            (Some(true), false) => Err(case.error_at(
+                "damage.evidence",
+                "the crush energy as evidence needs its standard deviation: give a_sigma, \
+                 b_sigma, depth_sigma or width_sigma in [damage.vehicleN]",
+            )),
+            (None, false) => Ok((
+                None,
+                Some(format!(
+                    "{}: the crush energy has no standard deviation (give a_sigma, b_sigma, \
+                     depth_sigma or width_sigma in [damage.vehicleN]): not fitted with the scene",
+                    case.file
+                )),
+            )),
+            (_, true) => Ok((
+                Some(CrushEnergy {
+                    damage,
+                    impact: *impact,
+                }),
+                None,
+            )),
+        }
+    }
+}

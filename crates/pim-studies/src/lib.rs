@@ -38,6 +38,7 @@ mod measured_inputs;
 pub mod predict;
 pub mod question;
 pub mod reconstruct;
+mod reconstruct_friction;
 pub mod reconstruct_study;
 pub mod residuals;
 pub mod ricsac_damage;

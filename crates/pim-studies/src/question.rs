@@ -34,13 +34,11 @@ impl Question {
         let scene = crate::reconstruct::has_scene_evidence(case);
         let mut notes = Vec::new();
         let question = if scene && cost.is_none() {
-            if case.content.damage.is_some() {
-                notes.push(format!(
-                    "{}: the whole reconstruction does not take the crush ([damage]) as \
-                     evidence; `pim fit` of the case without its [scene] sets the crush beside \
-                     the impact fit and fits it",
-                    case.file
-                ));
+            if let Ok(impact) = case.impact() {
+                if let Ok((_, Some(note))) = crate::damage_fit::CrushEnergy::of_case(case, &impact)
+                {
+                    notes.push(note);
+                }
             }
             Question::Reconstruction
         } else {

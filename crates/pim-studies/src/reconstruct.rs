@@ -15,7 +15,8 @@ pub use pim_documents::reconstruct_doc::{
 };
 use pim_fit::{FitProblem, Knowledge, MomentBranch, Observation, ObservationKind, COMPONENT_NAMES};
 use pim_reconstruct::{
-    ContactTerm, EvidenceTerm, Outcome, Reconstruction, SceneVehicle, Settings, Skid, Tried,
+    ContactTerm, Contradiction, EvidenceTerm, Outcome, Reconstruction, SceneVehicle, Settings,
+    Skid, Tried,
 };
 use pim_runout::GRAVITY;
 
@@ -238,11 +239,23 @@ pub fn case_reconstruction(
     let fit_settings = fitcase::settings(case, model, moment_form, branches)?;
     let mut settings = Settings::new(fit_settings);
     settings.runout.time_limit = inputs.time_limit;
+    let (crush, _) = crate::damage_fit::CrushEnergy::of_case(case, &impact)?;
+    let mut nonlinear = pim_reconstruct::NonlinearEvidence::default();
+    if let Some(c) = crush {
+        nonlinear.0.push(std::sync::Arc::new(c));
+    }
+    // A skid whose friction is not stated apart brakes on the road of the run-outs.
+    let skids_on_road = [0, 1].map(|k| {
+        skids[k].is_some() && pre_impact_of(case, k).is_some_and(|p| p.friction.is_none())
+    });
+    let frictions = crate::reconstruct_friction::frictions_of(case, &scene, skids_on_road);
     let reconstruction = Reconstruction {
         contact,
         unit,
         scene,
         skids,
+        nonlinear,
+        frictions,
     };
     reconstruction
         .check()
@@ -304,7 +317,23 @@ pub fn reconstruct(
         moment_form,
         branches: branches.clone(),
     };
-    let input = case_reconstruction(case, model, moment_form, branches)?;
+    reconstruct_searching(case, how, true)
+}
+
+/// As [`reconstruct`]; without `second_search` an answer that fits worse than its median is
+/// not searched again (a row of the consistency table, compared with the others).
+///
+/// # Errors
+/// Bad input ([`DocumentError::Input`], located).
+pub fn reconstruct_searching(
+    case: &Case,
+    how: How,
+    second_search: bool,
+) -> Result<Reconstructed, DocumentError> {
+    let mut input = case_reconstruction(case, how.model, how.moment_form, how.branches.clone())?;
+    if !second_search {
+        input.settings.scatter_below_p = 0.0;
+    }
     let outcome = pim_reconstruct::reconstruct(&input.reconstruction, &input.settings)
         .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
     let document = document(&input, &outcome);
@@ -339,14 +368,24 @@ fn contact_label(input: &CaseReconstruction, term: ContactTerm) -> (String, &'st
             (name, phase)
         }
         ContactTerm::Combination(_) => (term.name(&input.reconstruction.contact), "impact"),
+        ContactTerm::Nonlinear(i) => (
+            input
+                .reconstruction
+                .nonlinear
+                .0
+                .get(i)
+                .map_or_else(|| term.name(&input.reconstruction.contact), |t| t.name()),
+            "impact",
+        ),
     }
 }
 
-/// What a piece of the contact evidence measures: a yaw rate for the components omega, else a
-/// speed (every observation kind is one).
-fn contact_quantity(term: ContactTerm) -> &'static str {
+/// What a piece of the contact evidence measures: a yaw rate for the components omega, the
+/// nonlinear evidence's own quantity, else a speed (every observation kind is one).
+fn contact_quantity(r: &Reconstruction, term: ContactTerm) -> &'static str {
     match term {
         ContactTerm::Component(k) if k % 3 == 2 => "yaw_rate",
+        ContactTerm::Nonlinear(i) => r.nonlinear.0.get(i).map_or("speed", |t| t.quantity()),
         _ => "speed",
     }
 }
@@ -378,10 +417,13 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             push(
                 name,
                 phase,
-                contact_quantity(c.term),
+                contact_quantity(r, c.term),
                 c.residual,
                 r.sigma_of(&c),
             );
+        }
+        for (f, mu) in r.frictions.iter().zip(&b.frictions) {
+            push(f.name.clone(), "run_out", "friction", mu - f.value, f.sigma);
         }
         for f in &b.scene {
             for res in &f.residuals {
@@ -513,15 +555,22 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         })
         .collect::<Vec<_>>();
     let refined = counts.iter().filter(|c| c.chi_square.is_some()).count();
-    let method = format!(
-        "each scene alone gave one separation state per count of turns ({} combinations); \
-         each combination was bounded by its momentum balance, and {refined} refined by \
-         Gauss-Newton over the separation state with the exact impact fit inside ({} run-outs, \
-         {} impact fits)",
+    let mut method = format!(
+        "each scene alone gave one separation state per count of turns and the other local \
+         minima near it ({} combinations of counts); each combination was bounded by its \
+         momentum balance, and {refined} refined by Gauss-Newton over the separation state with \
+         the exact impact fit inside ({} run-outs, {} impact fits)",
         counts.len(),
         outcome.runouts,
         outcome.fits
     );
+    if outcome.scattered {
+        method.push_str(
+            "; the first search's answer fit worse than its median, so every scene was searched \
+             again with each count also explored from the separation states whose run-outs end at \
+             the rest position (one per yaw rate from -10 to 10 rad/s), and the lower answer kept",
+        );
+    }
     let proven = match &outcome.best {
         Some(b) => format!(
             "the coefficients and both velocity states are the certified optimum of the impact \
@@ -568,11 +617,11 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             ));
         }
     }
-    undetermined.push(
-        "the road friction is taken as given in the fit; its spread enters through `pim \
-         uncertainty`"
-            .into(),
-    );
+    undetermined.extend(crate::reconstruct_friction::notes(
+        r,
+        &input.settings.runout,
+        outcome.best.as_ref(),
+    ));
     ReconstructionOut {
         units: pim_documents::records::SiUnits,
         kind: "reconstruction",
@@ -582,6 +631,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             Some(c) => Some(c.describe(|t| match t {
                 EvidenceTerm::Contact(term) => contact_label(input, *term).0,
                 EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
+                EvidenceTerm::Friction(_) => Contradiction::default_name(r, t),
             })),
             None => outcome.reason.clone(),
         },
@@ -591,6 +641,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         runouts: outcome.runouts,
         fits: outcome.fits,
         work: outcome.work,
+        first_search_work: outcome.first_work,
         method,
         proven,
         undetermined,

@@ -23,7 +23,8 @@ use std::collections::BTreeMap;
 /// every draw (a count the nominal evidence does not exclude).
 pub const COUNTS_MARGIN: f64 = 4.0;
 
-/// The quantities of a found reconstruction: name and value (speeds m/s).
+/// The quantities of a found reconstruction: name and value (speeds m/s, frictions as
+/// coefficients).
 pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
     let s = &found.solution;
     let mut out = vec![
@@ -39,6 +40,16 @@ pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
         }
         out.push((format!("vehicle{v}.speed_at_contact"), p.contact));
         out.push((format!("vehicle{v}.speed_at_separation"), p.separation));
+    }
+    // The fitted road frictions (`[runout] friction_sigma`): the first `road_friction`, a
+    // second (each vehicle on its own surface) `road_friction_2`.
+    for (g, mu) in found.frictions.iter().enumerate() {
+        let name = if g == 0 {
+            "road_friction".to_string()
+        } else {
+            format!("road_friction_{}", g + 1)
+        };
+        out.push((name, *mu));
     }
     out
 }
@@ -59,6 +70,36 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
                     }
                 }),
             });
+        }
+        // A vehicle on a surface of its own: its friction drawn by the same spread.
+        if let Some(s) = r.friction_sigma {
+            type Own = fn(&mut Case) -> Option<&mut pim_case::scene_sections::RunoutVehicleSection>;
+            let own: [(&str, Own, Option<f64>); 2] = [
+                (
+                    "vehicle1",
+                    |c| c.content.runout.as_mut().and_then(|r| r.vehicle1.as_mut()),
+                    r.vehicle1.as_ref().and_then(|v| v.friction),
+                ),
+                (
+                    "vehicle2",
+                    |c| c.content.runout.as_mut().and_then(|r| r.vehicle2.as_mut()),
+                    r.vehicle2.as_ref().and_then(|v| v.friction),
+                ),
+            ];
+            for (name, pick, value) in own {
+                if let Some(f) = value {
+                    out.push(Input {
+                        name: format!("road friction under {name}"),
+                        spread: Spread::Normal(s),
+                        nominal: f,
+                        apply: Box::new(move |case: &mut Case, x| {
+                            if let Some(v) = pick(case) {
+                                v.friction = Some(x.clamp(0.05, 1.5));
+                            }
+                        }),
+                    });
+                }
+            }
         }
     }
     type Pick = fn(&mut Case) -> Option<&mut pim_case::scene_sections::SceneVehicleSection>;

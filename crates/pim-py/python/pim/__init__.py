@@ -54,7 +54,7 @@ import os
 from typing import Any, Callable, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Union
 
 from . import _pim
-from ._frame import COLUMNS, fit_frame
+from ._frame import COLUMNS, SCENE_COLUMNS, fit_frame, scene_frame
 from ._pim import InputError, NoSolution, __version__
 from ._base import Motion, Velocities
 from ._results import (
@@ -125,6 +125,8 @@ __all__ = [
     "edit_case",
     "fit",
     "fit_frame",
+    "scene_frame",
+    "SCENE_COLUMNS",
     "predict_dv",
     "records_frame",
     "report",
@@ -349,9 +351,9 @@ def reconstruct(
 
     >>> r = reconstruct("examples/cases/reconstruction_us.toml")
     >>> [round(v.contact / 0.44704, 1) for v in r.vehicles], r.branch
-    ([37.9, 27.1], 'zero')
+    ([38.1, 27.2], 'zero')
     >>> round(r.vehicle(1).before_braking / 0.44704, 1), [c.turns for c in r.counts if c.state == "best"]
-    (48.4, [(0, 0)])
+    (48.6, [(0, 0)])
     """
     document, svg = _pim.reconstruct(
         case, branches=list(branches), model=model, draw=draw, units=units

@@ -20,6 +20,7 @@ __all__ = [
     "runout",
     "reconstruct",
     "reconstruct_uncertainty",
+    "reconstruct_many",
 ]
 
 __version__: str
@@ -54,6 +55,9 @@ def batch(
     models: Sequence[str] = ...,
     conditions: str = ...,
 ) -> List[Dict[str, Any]]: ...
+def reconstruct_many(
+    names: Sequence[str], texts: Sequence[str], threads: Optional[int] = ...
+) -> str: ...
 def batch_csv(
     text: str,
     name: str = ...,

@@ -20,6 +20,15 @@ pub struct RandomImpact {
 /// branches, a quarter sticking truths (`None`: the draw is no admissible impact; draw again).
 #[allow(dead_code)]
 pub fn random_impact(rng: &mut rand::rngs::StdRng) -> Option<RandomImpact> {
+    random_impact_with(rng, 4.0..18.0)
+}
+
+/// As [`random_impact`], the speeds at contact drawn from `speeds` (m/s).
+#[allow(dead_code)]
+pub fn random_impact_with(
+    rng: &mut rand::rngs::StdRng,
+    speeds: std::ops::Range<f64>,
+) -> Option<RandomImpact> {
     use pim_core::*;
     use rand::rngs::StdRng;
     use rand::Rng;
@@ -44,7 +53,7 @@ pub fn random_impact(rng: &mut rand::rngs::StdRng) -> Option<RandomImpact> {
     .ok()?;
     // Travel directions: vehicle 1 forward is its heading + 180 deg in the papers' geometry.
     let motion = |heading: f64, rng: &mut StdRng| {
-        let speed: f64 = rng.random_range(4.0..18.0);
+        let speed: f64 = rng.random_range(speeds.clone());
         let dir = (heading + rng.random_range(-12.0..12.0)).to_radians();
         VehicleVelocity {
             vx: speed * dir.cos(),

@@ -84,15 +84,21 @@ pub struct EstimateSettings {
     pub max_iterations: usize,
     /// How each run-out is integrated.
     pub runout: Settings,
+    /// Explore the counts also from a scatter of separation states over the yaw rates of road
+    /// crashes (see the module docs): about 800 to 1,500 more run-outs per vehicle and a dozen
+    /// more searches, for a search that must not stop at the first basin that fits the scene.
+    #[serde(default)]
+    pub scatter: bool,
 }
 
 impl Default for EstimateSettings {
-    /// Turns -3 to 3, 100 iterations, the default run-out settings.
+    /// Turns -3 to 3, 100 iterations, the default run-out settings, no scatter.
     fn default() -> Self {
         EstimateSettings {
             turns: (-3, 3),
             max_iterations: 100,
             runout: Settings::default(),
+            scatter: false,
         }
     }
 }
@@ -144,7 +150,34 @@ pub struct Candidate {
     pub reason: Option<String>,
     /// The run-out from the estimated separation state.
     pub runout: Runout,
+    /// Other local minima of this count's cost that the search passed through (distinct
+    /// separation states within [`ALTERNATIVE_COST`] of this candidate's cost, the lowest first,
+    /// at most [`MAX_ALTERNATIVES`]; found on the exploring run-outs, not polished). The scene
+    /// alone prefers the candidate; evidence beyond the scene (the impact) may prefer one of
+    /// these.
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub alternatives: Vec<Alternative>,
 }
+
+/// Another local minimum of a candidate's cost ([`Candidate::alternatives`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Alternative {
+    /// The separation velocities `(vx, vy, yaw_rate)`, m/s and rad/s.
+    pub velocity: [f64; 3],
+    /// The friction there (estimated or as given).
+    pub friction: f64,
+    /// Its cost (sum of the squared weighted residuals) on the exploring run-outs.
+    pub cost: f64,
+}
+
+/// Alternatives are kept up to this cost above their candidate's (a misfit of five standard
+/// deviations in one residual: beyond it, no other evidence of an ordinary case brings them
+/// back).
+pub const ALTERNATIVE_COST: f64 = 25.0;
+
+/// Most alternatives kept per candidate.
+pub const MAX_ALTERNATIVES: usize = 3;
 
 /// The separation velocities of one vehicle estimated from its run-out evidence.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -173,7 +206,35 @@ pub(crate) fn input(field: &'static str, reason: String) -> RunoutError {
     RunoutError::Input { field, reason }
 }
 
+/// Smallest standard deviation of a position (rest or mark) in the softened cost, m.
+const SOFT_POSITION: f64 = 1.0;
+/// Smallest standard deviation of a heading in the softened cost, rad (10 deg).
+const SOFT_HEADING: f64 = 0.175;
+
 impl Evidence {
+    /// The evidence with its standard deviations raised to `factor` times [`SOFT_POSITION`] and
+    /// [`SOFT_HEADING`]:
+    /// a smoother cost of the same minimum for noise-free evidence. With marks of a few centimetres
+    /// the cost of a state a metre off is dominated by which part of the path passes nearest each
+    /// mark, and ranks the scatter by chance; softened, it ranks by how close the run-out comes to
+    /// the whole scene, and a search on it first (then on the evidence as given) is drawn into the
+    /// right basin from farther off.
+    pub(crate) fn softened(&self, factor: f64) -> Evidence {
+        let (position, heading) = (factor * SOFT_POSITION, factor * SOFT_HEADING);
+        let mut e = self.clone();
+        if let Some(r) = e.rest.as_mut() {
+            r.sigma_xy = r.sigma_xy.map(|s| s.max(position));
+            r.sigma_heading = r.sigma_heading.max(heading);
+        }
+        for m in &mut e.marks {
+            m.sigma = m.sigma.max(position);
+            if let Some((_, s)) = m.heading.as_mut() {
+                *s = s.max(heading);
+            }
+        }
+        e
+    }
+
     /// Checks the evidence: finite numbers, sigmas above 0, something to fit.
     pub fn check(&self) -> Result<()> {
         let within = |field: &'static str, x: f64, lo: f64, hi: f64, unit: &str| {

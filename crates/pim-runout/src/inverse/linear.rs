@@ -29,6 +29,9 @@ pub struct Linearised {
     pub runouts: usize,
     /// Right-hand side evaluations of those run-outs: the work of the linearisation.
     pub evaluations: u64,
+    /// Derivatives of [`Linearised::weighted`] with respect to the road friction, by a forward
+    /// difference (one more run-out), when asked for ([`linearise_with_friction`]).
+    pub friction: Option<DVector<f64>>,
 }
 
 /// The residuals of `evidence` against the run-out from `separation` (its position, heading and
@@ -80,5 +83,35 @@ pub fn linearise(
         runout,
         runouts,
         evaluations: p.work.load(std::sync::atomic::Ordering::Relaxed),
+        friction: None,
     })
+}
+
+/// As [`linearise`] with `jacobian_too`, and the derivatives with respect to the road friction
+/// too ([`Linearised::friction`]): the friction stepped by `sqrt(rtol) (1 + friction)` (back
+/// when the step would pass [`MAX_FRICTION`](crate::MAX_FRICTION)), the rolling resistance
+/// held at most half the friction as the scene's own search holds it.
+///
+/// # Errors
+/// As [`linearise`].
+pub fn linearise_with_friction(
+    chassis: &Chassis,
+    separation: &Motion,
+    evidence: &Evidence,
+    turns: i64,
+    settings: &Settings,
+) -> Result<Linearised> {
+    let mut lin = linearise(chassis, separation, evidence, turns, settings, true)?;
+    let mut h = settings.rtol.sqrt() * (1.0 + chassis.friction);
+    if chassis.friction + h > crate::chassis::MAX_FRICTION {
+        h = -h;
+    }
+    let mut stepped = chassis.clone();
+    stepped.friction += h;
+    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
+    let other = linearise(&stepped, separation, evidence, turns, settings, false)?;
+    lin.runouts += other.runouts;
+    lin.evaluations += other.evaluations;
+    lin.friction = Some((&other.weighted - &lin.weighted) / h);
+    Ok(lin)
 }

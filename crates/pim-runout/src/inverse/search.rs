@@ -1,7 +1,10 @@
 //! The least-squares search of one candidate: starts, Levenberg-Marquardt, what the evidence
 //! determines at the answer.
 
-use super::evidence::{Candidate, Evidence, Mark, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
+use super::evidence::{
+    Alternative, Candidate, Evidence, Mark, Residual, ALTERNATIVE_COST, MAX_ALTERNATIVES,
+    MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE,
+};
 use super::problem::Problem;
 use crate::chassis::{Motion, GRAVITY};
 use crate::error::Result;
@@ -12,7 +15,7 @@ use nalgebra::{DMatrix, DVector};
 /// the rest (or the first mark), turning through the candidate's rotation in the same time;
 /// then scaled by trial run-outs until the distance (or, for a vehicle that barely moves, the
 /// rotation) matches.
-fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
+pub(crate) fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
     let target = p
         .evidence
         .rest
@@ -82,7 +85,7 @@ fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
 
 /// Scales a start into the separation states a search tries (within 95 % of
 /// [`MAX_SEARCH_SPEED`] and [`MAX_SEARCH_YAW_RATE`]).
-fn bounded(theta: &mut [f64]) {
+pub(crate) fn bounded(theta: &mut [f64]) {
     let speed = theta[0].hypot(theta[1]);
     if speed > 0.95 * MAX_SEARCH_SPEED {
         let k = 0.95 * MAX_SEARCH_SPEED / speed;
@@ -183,7 +186,7 @@ fn levenberg(
 }
 
 /// Tolerances of the run-outs that explore from each start before the best is polished.
-const EXPLORE_TOLERANCE: f64 = 1e-6;
+pub(crate) const EXPLORE_TOLERANCE: f64 = 1e-6;
 
 /// Iterations of an exploring search.
 const EXPLORE_ITERATIONS: usize = 12;
@@ -201,6 +204,7 @@ pub(crate) fn solve(
     turns: Option<i64>,
     max_iterations: usize,
     others: &[Vec<f64>],
+    scattered: &[Vec<f64>],
 ) -> Result<Candidate> {
     let mut runouts = 0;
     // A second pass (others given) tries only the others: the rest were tried in the first.
@@ -250,7 +254,10 @@ pub(crate) fn solve(
         });
     let mut iterations = 0;
     let mut explored: Option<Search> = None;
+    // Every explored end, for the alternatives.
+    let ends = std::cell::RefCell::new(Vec::<(Vec<f64>, f64)>::new());
     let consider = |s: Search, explored: &mut Option<Search>| {
+        ends.borrow_mut().push((s.theta.clone(), s.cost));
         if explored.as_ref().is_none_or(|b| s.cost < b.cost) {
             *explored = Some(s);
         }
@@ -259,6 +266,27 @@ pub(crate) fn solve(
     // 1. The first guess.
     if !second_pass {
         let s = levenberg(&coarse, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
+        iterations += s.iterations;
+        consider(s, &mut explored);
+    }
+    // 1b. The lowest points of the shared scatter that end nearest this count, each searched
+    //     on the softened evidence and then on the evidence as given (each whatever the first
+    //     guess found: other basins are the alternatives).
+    let soft_evidence = [1.0, 0.2].map(|f| p.evidence.softened(f));
+    let soft = soft_evidence.each_ref().map(|e| Problem {
+        evidence: e,
+        work: Default::default(),
+        ..coarse
+    });
+    for start in scattered {
+        let mut theta = start.clone();
+        bounded(&mut theta);
+        for q in &soft {
+            let s = levenberg(q, theta, EXPLORE_ITERATIONS, &mut runouts)?;
+            iterations += s.iterations;
+            theta = s.theta;
+        }
+        let s = levenberg(&coarse, theta, EXPLORE_ITERATIONS, &mut runouts)?;
         iterations += s.iterations;
         consider(s, &mut explored);
     }
@@ -348,6 +376,7 @@ pub(crate) fn solve(
         converged,
         ..
     } = best;
+    let alternatives = alternatives_of(&theta, cost, p.chassis.friction, ends.into_inner());
     let residuals = p.residuals(&theta, &run_now);
     let (sigma, mut free) = determinacy(&jac);
     if p.estimate_friction {
@@ -382,7 +411,42 @@ pub(crate) fn solve(
         runouts,
         reason,
         runout: run_now,
+        alternatives,
     })
+}
+
+/// The distinct explored minima other than the answer `theta` (cost `cost`): within
+/// [`ALTERNATIVE_COST`] of it, the lowest first, at most [`MAX_ALTERNATIVES`]. Two states are
+/// the same minimum when their speeds differ by less than 5 % (and 0.2 m/s) and their yaw
+/// rates by less than 0.3 rad/s.
+fn alternatives_of(
+    theta: &[f64],
+    cost: f64,
+    friction: f64,
+    mut ends: Vec<(Vec<f64>, f64)>,
+) -> Vec<Alternative> {
+    let same = |a: &[f64], b: &[f64]| {
+        let scale = 0.05 * a[0].hypot(a[1]).max(b[0].hypot(b[1])) + 0.2;
+        (a[0] - b[0]).hypot(a[1] - b[1]) < scale && (a[2] - b[2]).abs() < 0.3
+    };
+    ends.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let mut kept: Vec<Vec<f64>> = vec![theta.to_vec()];
+    let mut out = Vec::new();
+    for (t, c) in ends {
+        if out.len() >= MAX_ALTERNATIVES || c > cost + ALTERNATIVE_COST {
+            break;
+        }
+        if !c.is_finite() || kept.iter().any(|k| same(k, &t)) {
+            continue;
+        }
+        out.push(Alternative {
+            velocity: [t[0], t[1], t[2]],
+            friction: t.get(3).copied().unwrap_or(friction),
+            cost: c,
+        });
+        kept.push(t);
+    }
+    out
 }
 
 fn norm(x: &[f64]) -> f64 {

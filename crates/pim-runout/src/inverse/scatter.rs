@@ -1,0 +1,257 @@
+//! One scatter of single run-outs shared by every count of turns: each run-out ends nearest one
+//! count, and each count is explored from its lowest scatter points as well as from its own
+//! first guess.
+//!
+//! A first guess and its variations (yaw rate scaled, direction turned) search near the state
+//! a uniform deceleration suggests; a vehicle whose tyres turn it back (high yaw rate at
+//! separation, little net rotation) or that spins through most of its run-out lies far from
+//! it, in a basin of its own, often narrow in speed (a rolling car's rest moves metres with a
+//! few per cent of speed). With a rest position the scatter follows the *rest curve*: the rest
+//! position is two equations in the three unknowns, so the states that reach it form a curve,
+//! followed here by the yaw rate (-10 to 10 rad/s in steps of 0.25, the CG velocity by Newton's
+//! method at each, continued from the last): about 800 run-outs per vehicle, each ending at the
+//! rest position, whose heading and marks then rank it. Without a rest position, a grid: yaw
+//! rates -8 to 8 rad/s in steps of 0.5, nine directions about the line to the first mark (±0.8
+//! rad) and five speeds (0.7 to 1.5 times the first guess's), 1,485 run-outs. Either is run at
+//! the exploring tolerance, once per vehicle, not once per count; of each count's six lowest
+//! distinct points (by the softened cost) the twelve lowest over all counts are explored.
+
+use super::problem::Problem;
+use super::search::{bounded, first_guess, EXPLORE_TOLERANCE};
+use crate::simulate::Settings;
+use rayon::prelude::*;
+
+/// The scatter's yaw rates: -8 to 8 rad/s in steps of 0.5.
+fn yaw_rates() -> impl Iterator<Item = f64> {
+    (0..33).map(|i| -8.0 + 0.5 * f64::from(i))
+}
+/// Its directions about the first guess's: -0.8 to 0.8 rad in steps of 0.2.
+fn directions() -> impl Iterator<Item = f64> {
+    (0..9).map(|i| -0.8 + 0.2 * f64::from(i))
+}
+/// Its speeds as multiples of the first guess's.
+const SPEEDS: [f64; 5] = [0.7, 0.9, 1.1, 1.3, 1.5];
+/// Distinct scatter points kept per count...
+const PER_COUNT: usize = 6;
+/// ... and explored in all, the lowest over every count.
+const IN_ALL: usize = 12;
+
+/// For each count (one per heading of `headings`): its lowest scatter points by the softened
+/// cost ([`Evidence::softened`](super::evidence::Evidence::softened); distinct yaw rates or directions) and the run-outs the scatter spent on
+/// it.
+pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<f64>>, usize)> {
+    let mut out: Vec<(Vec<Vec<f64>>, usize)> = vec![(Vec::new(), 0); headings.len()];
+    if headings.is_empty() {
+        return out;
+    }
+    let coarse = Settings {
+        rtol: EXPLORE_TOLERANCE.max(base.settings.rtol),
+        atol: EXPLORE_TOLERANCE.max(base.settings.atol),
+        ..*base.settings
+    };
+    let soft = base.evidence.softened(1.0);
+    let problem = |heading: Option<f64>| Problem {
+        chassis: base.chassis,
+        start: base.start,
+        evidence: &soft,
+        heading,
+        settings: &coarse,
+        estimate_friction: base.estimate_friction,
+        work: Default::default(),
+    };
+    let mut guess_runouts = 0;
+    let guess = first_guess(base, &mut guess_runouts);
+    let points = match base.evidence.rest {
+        Some(rest) => {
+            let path = Problem {
+                evidence: base.evidence,
+                ..problem(None)
+            };
+            let (points, spent) = rest_curve(&path, &guess, [rest.x, rest.y]);
+            guess_runouts += spent;
+            points
+        }
+        None => grid(&guess),
+    };
+    let problems: Vec<Problem> = headings.iter().map(|&h| problem(h)).collect();
+    let heading = |k: usize| problems[k].heading;
+    // Each point's run-out, the count it ends nearest, and its cost there.
+    let ends: Vec<Option<(usize, f64)>> = points
+        .par_iter()
+        .map(|t| {
+            let run = problems[0].runout(t).ok()?;
+            let k = (0..headings.len()).min_by(|&a, &b| {
+                let off = |i: usize| heading(i).map_or(0.0, |h| (run.rest.heading - h).abs());
+                off(a).total_cmp(&off(b))
+            })?;
+            let cost: f64 = problems[k]
+                .residuals(t, &run)
+                .iter()
+                .map(|r| (r.value / r.sigma).powi(2))
+                .sum();
+            cost.is_finite().then_some((k, cost))
+        })
+        .collect();
+    let mut by_count: Vec<Vec<(f64, &Vec<f64>)>> = vec![Vec::new(); headings.len()];
+    for (t, e) in points.iter().zip(&ends) {
+        if let Some((k, cost)) = e {
+            by_count[*k].push((*cost, t));
+        }
+    }
+    // The run-outs spent, each on the count it ended nearest (the failed ones on the first).
+    out[0].1 += guess_runouts + ends.iter().filter(|e| e.is_none()).count();
+    // Each count's distinct points, the lowest first (at most PER_COUNT)...
+    let mut candidates: Vec<(f64, usize, &Vec<f64>)> = Vec::new();
+    for (k, mut list) in by_count.into_iter().enumerate() {
+        out[k].1 += list.len();
+        list.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut chosen: Vec<&Vec<f64>> = Vec::new();
+        for (cost, t) in list {
+            if chosen.len() >= PER_COUNT {
+                break;
+            }
+            let distinct = chosen.iter().all(|c| {
+                (c[2] - t[2]).abs() > 0.4 || (c[1].atan2(c[0]) - t[1].atan2(t[0])).abs() > 0.2
+            });
+            if distinct {
+                chosen.push(t);
+                candidates.push((cost, k, t));
+            }
+        }
+    }
+    // ... and of those the IN_ALL lowest over every count are explored.
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    for (_, k, t) in candidates.into_iter().take(IN_ALL) {
+        out[k].0.push(t.clone());
+    }
+    out
+}
+
+/// The grid of separation states about the first guess: every direction, speed and yaw rate of
+/// the scatter.
+fn grid(guess: &[f64]) -> Vec<Vec<f64>> {
+    let mut points = Vec::new();
+    for turn in directions() {
+        for speed in SPEEDS {
+            for yaw in yaw_rates() {
+                let (s, c) = turn.sin_cos();
+                let mut t = guess.to_vec();
+                t[0] = speed * (c * guess[0] - s * guess[1]);
+                t[1] = speed * (s * guess[0] + c * guess[1]);
+                t[2] = yaw;
+                bounded(&mut t);
+                points.push(t);
+            }
+        }
+    }
+    points
+}
+
+/// Yaw rates along the rest curve: -10 to 10 rad/s in steps of 0.25.
+const CURVE_STEP: f64 = 0.25;
+/// See [`CURVE_STEP`].
+const CURVE_LIMIT: f64 = 10.0;
+
+/// The separation states whose run-out ends at the rest position `target`, one per yaw rate of
+/// the scan: the rest position is two equations in the three unknowns, so (the friction held)
+/// the states that reach it form a curve, here followed by the yaw rate. At each yaw rate the
+/// CG velocity is solved by Newton's method (forward differences) from the last one's
+/// (continuation from 0 upwards and downwards, the first guess's velocity at 0). A yaw rate
+/// where it does not converge gives its best point and the next starts again from the first
+/// guess. With the points, the run-outs spent.
+fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, usize) {
+    let steps = (CURVE_LIMIT / CURVE_STEP).round() as i32;
+    let follow = |sign: f64| {
+        let mut spent = 0;
+        let mut points = Vec::new();
+        let mut from = guess.to_vec();
+        for i in 0..=steps {
+            if sign < 0.0 && i == 0 {
+                continue;
+            }
+            let yaw = sign * CURVE_STEP * f64::from(i);
+            let mut t = from.clone();
+            t[2] = yaw;
+            let (end, ok) = to_rest(p, t, target, &mut spent);
+            from = if ok { end.clone() } else { guess.to_vec() };
+            points.push(end);
+        }
+        (points, spent)
+    };
+    let ((mut up, a), (down, b)) = rayon::join(|| follow(1.0), || follow(-1.0));
+    up.extend(down);
+    (up, a + b)
+}
+
+/// Newton's method on the CG velocity (the yaw rate held) to bring the run-out's rest to
+/// `target`: the state reached and whether it is within 1 % of the distance (and 0.5 m).
+fn to_rest(p: &Problem, mut t: Vec<f64>, target: [f64; 2], spent: &mut usize) -> (Vec<f64>, bool) {
+    let dist = (target[0] - p.start.x).hypot(target[1] - p.start.y);
+    let tolerance = (0.01 * dist).max(0.5);
+    let miss = |t: &[f64], spent: &mut usize| -> Option<[f64; 2]> {
+        *spent += 1;
+        let r = p.runout(t).ok()?;
+        Some([r.rest.x - target[0], r.rest.y - target[1]])
+    };
+    bounded(&mut t);
+    let Some(mut r) = miss(&t, spent) else {
+        return (t, false);
+    };
+    for _ in 0..8 {
+        if r[0].hypot(r[1]) < tolerance {
+            return (t, true);
+        }
+        // The 2 x 2 Jacobian of the rest position in (vx, vy).
+        let mut j = [[0.0; 2]; 2];
+        for c in 0..2 {
+            let h = 1e-3 * (1.0 + t[c].abs());
+            let mut u = t.clone();
+            u[c] += h;
+            let Some(rc) = miss(&u, spent) else {
+                return (t, false);
+            };
+            j[0][c] = (rc[0] - r[0]) / h;
+            j[1][c] = (rc[1] - r[1]) / h;
+        }
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        if det.is_nan() || det.abs() <= 1e-12 {
+            return (t, false);
+        }
+        let mut dx = -(j[1][1] * r[0] - j[0][1] * r[1]) / det;
+        let mut dy = -(-j[1][0] * r[0] + j[0][0] * r[1]) / det;
+        // A step of at most 30 % of the speed (and 1 m/s).
+        let limit = (0.3 * t[0].hypot(t[1])).max(1.0);
+        let len = dx.hypot(dy);
+        if len > limit {
+            dx *= limit / len;
+            dy *= limit / len;
+        }
+        let mut u = t.clone();
+        u[0] += dx;
+        u[1] += dy;
+        bounded(&mut u);
+        let Some(ru) = miss(&u, spent) else {
+            return (t, false);
+        };
+        if ru[0].hypot(ru[1]) >= r[0].hypot(r[1]) {
+            // Halved once; a second failure ends the search at this yaw rate.
+            u = t.clone();
+            u[0] += 0.5 * dx;
+            u[1] += 0.5 * dy;
+            bounded(&mut u);
+            let Some(rh) = miss(&u, spent) else {
+                return (t, false);
+            };
+            if rh[0].hypot(rh[1]) >= r[0].hypot(r[1]) {
+                return (t, false);
+            }
+            t = u;
+            r = rh;
+        } else {
+            t = u;
+            r = ru;
+        }
+    }
+    let ok = r[0].hypot(r[1]) < tolerance;
+    (t, ok)
+}
