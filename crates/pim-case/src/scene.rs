@@ -5,6 +5,7 @@
 //! [runout]
 //! friction = 0.7                # road friction (default 0.7, dry asphalt)
 //! friction_sigma = 0.05         # optional: estimate the friction around it with this sd
+//! duration = 0.5                # optional: follow each run-out this long, s (not to rest)
 //!
 //! [runout.vehicle1]
 //! wheelbase = 2.8               # length unit
@@ -56,8 +57,10 @@ pub struct VehicleRunout {
 pub struct SceneInputs {
     /// The vehicles with a `[runout.vehicleN]` section (a barrier has none).
     pub vehicles: Vec<VehicleRunout>,
-    /// The time limit, s.
+    /// The time limit, s (the duration when one is stated).
     pub time_limit: f64,
+    /// `[runout] duration`, s: each run-out followed for this long, its end the state then.
+    pub duration: Option<f64>,
 }
 
 impl Case {
@@ -251,9 +254,26 @@ impl Case {
                 format!("{time_limit}: must be above 0 and at most 3600 s"),
             ));
         }
+        let duration = runout.duration;
+        if let Some(d) = duration {
+            if runout.time_limit.is_some() {
+                return Err(self.error_at(
+                    "runout.duration",
+                    "give a duration (the motion for that long) or a time limit (to rest, given \
+                     up after it), not both",
+                ));
+            }
+            if !(d.is_finite() && d > 0.0 && d <= 3600.0) {
+                return Err(self.error_at(
+                    "runout.duration",
+                    format!("{d}: must be above 0 and at most 3600 s"),
+                ));
+            }
+        }
         Ok(SceneInputs {
             vehicles,
-            time_limit,
+            time_limit: duration.unwrap_or(time_limit),
+            duration,
         })
     }
 

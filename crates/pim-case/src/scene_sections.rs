@@ -17,6 +17,10 @@ pub struct RunoutSection {
     /// The run-out is given up after this time, s (default 60).
     #[serde(default)]
     pub time_limit: Option<f64>,
+    /// Follow each run-out for this long, s, and give the state then (PC-Crash's fixed window
+    /// of motion), instead of to rest; a vehicle that stops before comes to rest as usual.
+    #[serde(default)]
+    pub duration: Option<f64>,
     /// Vehicle 1's wheels.
     #[serde(default)]
     pub vehicle1: Option<RunoutVehicleSection>,

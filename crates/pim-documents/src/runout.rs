@@ -221,4 +221,8 @@ pub struct RunoutOut {
     pub vehicles: Vec<VehicleRunoutOut>,
     /// Warnings (a motion ended by the time limit, equally consistent candidates).
     pub notes: Vec<String>,
+    /// `[runout] duration`, s: each run-out followed for this long, its end (`end: time_limit`)
+    /// the state then.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub duration: Option<f64>,
 }

@@ -67,6 +67,7 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
         ));
         let ended = match v.end {
             pim_runout::End::Rest => "rest",
+            pim_runout::End::TimeLimit if r.duration.is_some() => "after (still moving)",
             pim_runout::End::TimeLimit => "TIME LIMIT (still moving)",
         };
         t.push_str(&format!(

@@ -31,7 +31,7 @@ pub struct Asked {
 impl Question {
     /// The question `case` asks with the cost preset `cost` (`None`: the case's own cost).
     pub fn of(case: &Case, cost: Option<CostPreset>) -> Asked {
-        let scene = crate::reconstruct::has_scene_evidence(case);
+        let scene = has_scene_evidence(case);
         let mut notes = Vec::new();
         let question = if scene && cost.is_none() {
             if let Ok(impact) = case.impact() {
@@ -53,4 +53,15 @@ impl Question {
         };
         Asked { question, notes }
     }
+}
+
+/// True when the case's `[scene]` gives evidence (a rest position or a mark) for a vehicle:
+/// `pim fit` then reconstructs.
+pub fn has_scene_evidence(case: &Case) -> bool {
+    case.content.scene.as_ref().is_some_and(|s| {
+        [&s.vehicle1, &s.vehicle2]
+            .into_iter()
+            .flatten()
+            .any(|v| v.rest.is_some() || !v.marks.is_empty())
+    })
 }

@@ -20,16 +20,7 @@ use pim_reconstruct::{
 };
 use pim_runout::GRAVITY;
 
-/// True when the case's `[scene]` gives evidence (a rest position or a mark) for a vehicle:
-/// `pim fit` then reconstructs.
-pub fn has_scene_evidence(case: &Case) -> bool {
-    case.content.scene.as_ref().is_some_and(|s| {
-        [&s.vehicle1, &s.vehicle2]
-            .into_iter()
-            .flatten()
-            .any(|v| v.rest.is_some() || !v.marks.is_empty())
-    })
-}
+pub use crate::question::has_scene_evidence;
 
 /// A case's reconstruction and how to search it.
 #[derive(Debug, Clone)]
@@ -238,6 +229,13 @@ pub fn case_reconstruction(
         .collect();
     let fit_settings = fitcase::settings(case, model, moment_form, branches)?;
     let mut settings = Settings::new(fit_settings);
+    if inputs.duration.is_some() {
+        return Err(DocumentError::Input(format!(
+            "{}: [runout] duration follows a run-out for a stated time; a scene's rest is where \
+             the vehicle stopped: leave duration out to reconstruct from the scene",
+            case.file
+        )));
+    }
     settings.runout.time_limit = inputs.time_limit;
     let (crush, _) = crate::damage_fit::CrushEnergy::of_case(case, &impact)?;
     let mut nonlinear = pim_reconstruct::NonlinearEvidence::default();

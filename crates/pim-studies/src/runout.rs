@@ -28,6 +28,8 @@ pub struct RunoutResult {
     pub estimates: Vec<Option<Estimate>>,
     /// The document.
     pub document: RunoutOut,
+    /// `[runout] duration`: each run-out followed for this long, s.
+    pub duration: Option<f64>,
 }
 
 impl RunoutResult {
@@ -41,7 +43,7 @@ impl RunoutResult {
         {
             // A vehicle set up to roll on (no rolling resistance) ends at the time limit by
             // design: the state there is its answer.
-            if r.end == End::TimeLimit && !input.chassis.rolls_on() {
+            if r.end == End::TimeLimit && !input.chassis.rolls_on() && self.duration.is_none() {
                 return Some(format!(
                     "vehicle {}: the run-out reached its time limit ({:.1} s) still moving at \
                      {:.3} m/s: it does not come to rest (raise [runout] time_limit, or check \
@@ -236,7 +238,14 @@ pub fn runout(
     }
     for ((r, v), input) in runouts.iter().zip(&vehicles).zip(&inputs.vehicles) {
         if r.end == End::TimeLimit {
-            notes.push(if input.chassis.rolls_on() {
+            notes.push(if let Some(d) = inputs.duration {
+                format!(
+                    "vehicle {}: followed for the stated duration ({d} s): its end is the state \
+                     then, still moving at {:.3} m/s",
+                    v.vehicle,
+                    r.rest.vx.hypot(r.rest.vy)
+                )
+            } else if input.chassis.rolls_on() {
                 format!(
                     "vehicle {}: free-rolling wheels without rolling resistance do not stop: the \
                      run-out is followed to its time limit ({:.1} s), and its end is the state \
@@ -254,6 +263,7 @@ pub fn runout(
         }
     }
     Ok(RunoutResult {
+        duration: inputs.duration,
         inputs: inputs.vehicles,
         runouts,
         estimates,
@@ -262,6 +272,7 @@ pub fn runout(
             source,
             vehicles,
             notes,
+            duration: inputs.duration,
         },
     })
 }
