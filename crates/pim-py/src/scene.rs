@@ -179,20 +179,22 @@ fn scene_record(name: &str, text: &str) -> serde_json::Value {
         Err(e) => return failed(e.to_string()),
     };
     let d = &done.document;
+    // The summary `pim batch` records, flattened, with the coefficients and the friction.
+    let rec = pim_documents::reconstruct_doc::SceneRecord::of(d);
     let mut row = json!({
         "case": name,
-        "status": serde_json::to_value(d.status).unwrap_or_default(),
-        "reason": d.reason,
+        "status": serde_json::to_value(rec.status).unwrap_or_default(),
+        "reason": rec.reason,
     });
     let Some(b) = &d.best else { return row };
-    row["chi_square"] = json!(b.chi_square);
-    row["degrees_of_freedom"] = json!(b.degrees_of_freedom);
-    row["p_value"] = json!(b.p_value);
+    row["chi_square"] = json!(rec.chi_square);
+    row["degrees_of_freedom"] = json!(rec.degrees_of_freedom);
+    row["p_value"] = json!(rec.p_value);
     row["e"] = json!(b.e);
     row["mu"] = json!(b.mu);
     row["em"] = json!(b.em);
     row["energy_loss_percent"] = json!(b.energy_loss_percent);
-    for v in &b.vehicles {
+    for v in &rec.vehicles {
         let k = v.vehicle;
         row[format!("v{k}_before_braking")] = json!(v.speed_before_braking);
         row[format!("v{k}_contact")] = json!(v.speed_at_contact);
