@@ -70,9 +70,7 @@ fn the_exact_energy_loss_keeps_the_truth() {
         assert_eq!(out.status, Status::Found, "seed {seed}: {:?}", out.reason);
         let b = out.best.as_ref().unwrap();
         let s = &b.solution;
-        let err = (s.initial.vehicle1.speed() - c.contact.vehicle1.speed())
-            .abs()
-            .max((s.initial.vehicle2.speed() - c.contact.vehicle2.speed()).abs());
+        let err = c.speed_error(b);
         assert!(err < 1e-3, "seed {seed}: impact speed off by {err}");
         let u = pim_fit::state_vector(&s.initial, &s.separation);
         let z = (term.of(&u) - term.measured) / term.sigma;

@@ -36,10 +36,7 @@ fn noise_free(crashes: usize) {
         let el = t.elapsed();
         assert_eq!(out.status, Status::Found, "seed {seed}: {:?}", out.reason);
         let b = out.best.as_ref().unwrap();
-        let s = &b.solution;
-        let err = (s.initial.vehicle1.speed() - c.contact.vehicle1.speed())
-            .abs()
-            .max((s.initial.vehicle2.speed() - c.contact.vehicle2.speed()).abs());
+        let err = c.speed_error(b);
         eprintln!(
             "seed {seed}: chi2 {:.3e}, speed error {err:.2e}, {} fits, {} runouts, {:?}, tried {}",
             b.chi_square,

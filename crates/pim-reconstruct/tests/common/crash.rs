@@ -36,6 +36,16 @@ pub fn crashes(noise: f64) -> impl Iterator<Item = (u64, Crash)> {
     (1..).filter_map(move |seed| crash(seed, noise).map(|c| (seed, c)))
 }
 
+impl Crash {
+    /// The larger error of the two impact speeds of a found answer against the truth, m/s.
+    pub fn speed_error(&self, found: &pim_reconstruct::Found) -> f64 {
+        let s = &found.solution;
+        (s.initial.vehicle1.speed() - self.contact.vehicle1.speed())
+            .abs()
+            .max((s.initial.vehicle2.speed() - self.contact.vehicle2.speed()).abs())
+    }
+}
+
 /// A crash of contact speeds drawn from `speeds` (m/s).
 pub fn crash_with(seed: u64, noise: f64, speeds: std::ops::Range<f64>) -> Option<Crash> {
     let mut rng = StdRng::seed_from_u64(seed);
