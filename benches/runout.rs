@@ -87,6 +87,22 @@ fn inverse(c: &mut Criterion) {
     group.bench_function("rest and two marks, the count stated", |b| {
         b.iter(|| estimate(&chassis, &pose, black_box(&stated), &settings).unwrap())
     });
+    // The quick look the whole reconstruction's first search takes, at its run-out tolerance.
+    let quick = EstimateSettings {
+        quick: true,
+        runout: pim_runout::Settings {
+            rtol: 1e-6,
+            atol: 1e-6,
+            ..pim_runout::Settings::default()
+        },
+        ..settings
+    };
+    group.bench_function("rest, 7 counts of turns, quick look", |b| {
+        b.iter(|| estimate(&chassis, &pose, black_box(&rest_only), &quick).unwrap())
+    });
+    group.bench_function("rest and two marks, 7 counts of turns, quick look", |b| {
+        b.iter(|| estimate(&chassis, &pose, black_box(&marks), &quick).unwrap())
+    });
     group.finish();
 }
 

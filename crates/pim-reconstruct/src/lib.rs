@@ -46,11 +46,20 @@
 //!    already cost at least the best found (a bound, the impact only adding cost, where the
 //!    scenes' own search found each count's minimum), its momentum
 //!    bound lies more than [`Settings::refine_margin`] above the best found, or
-//!    [`Settings::max_refined`] were refined already; [`Outcome::tried`] says which.
+//!    [`Settings::max_refined`] were refined already; [`Outcome::tried`] says which. A
+//!    refinement is abandoned where it cannot matter: its first point lies more than the margin
+//!    above the best found and more than the margin above what its own linearised fit
+//!    predicted (the scenes' candidates are far from the separation states the impact gives, so
+//!    the bound that chose it does not hold there), or a step fails while it lies more than the
+//!    margin above the best. It stops converged when a step gains less than 1e-6 (1 + chi-square)
+//!    or a trial lies within that of the current point (the step is lost in the run-outs'
+//!    precision).
 //!
 //! 4. **A second search from a scatter** when the first answer's chi-square lies above its
-//!    median (p below [`SCATTER_BELOW_P`]) or the first search found none: each scene searched
-//!    again with every count also explored from a scatter of separation states over the yaw
+//!    median (p below [`SCATTER_BELOW_P`]) or the first search found none. The first search
+//!    takes the scenes' quick look ([`pim_runout::EstimateSettings::quick`]: each count from its
+//!    first guess and its neighbours' answers, polished to a chi-square gain of 1e-6); the second
+//!    searches each scene again from every start, with every count also explored from a scatter of separation states over the yaw
 //!    rates of road crashes (with a rest position, those whose run-outs end there, one per yaw
 //!    rate from -10 to 10 rad/s; [`pim_runout::EstimateSettings::scatter`]), and steps
 //!    1 to 3 repeated; the lower of the two answers is kept ([`Outcome::scattered`]). The two

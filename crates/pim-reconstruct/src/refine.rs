@@ -313,6 +313,8 @@ struct Fitted {
     solution: Solution,
     certificate: pim_fit::Certificate,
     mus: Vec<f64>,
+    /// The linearised problem's chi-square at the fit (damping rows included).
+    predicted: f64,
 }
 
 /// One impact fit of the linearised problem: the best optimal branch, or why there is none.
@@ -324,7 +326,7 @@ fn fit_once(
     at: Option<&Vector12>,
     work: &Work,
 ) -> std::result::Result<Fitted, String> {
-    let (problem, _, step) = assemble(r, lins, damping, at);
+    let (problem, scale, step) = assemble(r, lins, damping, at);
     let report = fit(&problem, &settings.fit).map_err(|e| e.to_string())?;
     work.add(fit_work(&report));
     let best = report.best_branch().ok_or_else(|| {
@@ -344,6 +346,7 @@ fn fit_once(
                 solution: s.clone(),
                 certificate: best.certificate.clone(),
                 mus,
+                predicted: s.cost / scale,
             })
         }
         _ => Err(format!("the impact fit ended {:?}", best.status)),
@@ -363,6 +366,7 @@ fn evaluate(
         solution,
         certificate,
         mus,
+        ..
     } = fitted;
     let u = state_vector(&solution.initial, &solution.separation);
     if !r.nonlinear_defined(&u) {
@@ -428,6 +432,7 @@ pub(crate) fn refine(
             .as_ref()
             .map(|c| state_vector(&c.solution.initial, &c.solution.separation));
         let fitted = fit_once(r, settings, &lins, damping, at.as_ref(), work);
+        let predicted = fitted.as_ref().map_or(f64::NAN, |f| f.predicted);
         let trial = fitted.and_then(|f| {
             evaluate(r, settings, &counts, f, work)
                 .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
@@ -440,6 +445,15 @@ pub(crate) fn refine(
         };
         if accepted {
             let p = trial.expect("accepted");
+            // The first point far above the best found and far from what its linearisation
+            // predicted (the candidates' run-outs are not near the impact's separation state):
+            // the linearised bound that chose this combination does not hold, abandoned.
+            let margin = settings.refine_margin;
+            if iterations == 1 && p.total > best_so_far + margin && p.total > predicted + margin {
+                current = Some(p);
+                abandoned = true;
+                break;
+            }
             let gain = current
                 .as_ref()
                 .map_or(f64::INFINITY, |c| c.total - p.total);
@@ -493,6 +507,23 @@ pub(crate) fn refine(
                 break;
             }
         } else {
+            // A trial no worse than the current point by more than the convergence tolerance:
+            // the step is lost in the run-outs' precision, and so is anything left to gain.
+            if let (Ok(p), Some(c)) = (&trial, &current) {
+                if p.total - c.total < 1e-6 * (1.0 + c.total) {
+                    converged = true;
+                    break;
+                }
+            }
+            // Far above the best found, and the linearisation's step fails there: the
+            // combination's scenes are not near what its linearised bound assumed.
+            if current
+                .as_ref()
+                .is_some_and(|c| c.total > best_so_far + settings.refine_margin)
+            {
+                abandoned = true;
+                break;
+            }
             lambda = if lambda == 0.0 { 1e-3 } else { lambda * 10.0 };
             if lambda > 1e6 {
                 // No step lowers the cost: a (local) minimum to the run-outs' precision.

@@ -10,7 +10,7 @@ use pim_runout::{Estimate, EstimateSettings};
 use rayon::prelude::*;
 
 /// Tolerance of the run-outs of the scene-alone candidates.
-const CANDIDATE_TOLERANCE: f64 = 1e-7;
+const CANDIDATE_TOLERANCE: f64 = 1e-6;
 
 /// The candidates of one scene vehicle from the run-out inverse.
 fn candidates(
@@ -36,6 +36,9 @@ fn candidates(
             ..settings.runout
         },
         scatter,
+        // The first search looks quickly; the second (where the first answer fits worse than
+        // its median) from every start and the scatter.
+        quick: !scatter,
         ..EstimateSettings::default()
     };
     Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)

@@ -59,6 +59,9 @@ pub(crate) struct Dynamics {
     inertia: f64,
     wheels: [Wheel; 4],
     saturation: f64,
+    /// `tan(saturation)`: a slip whose tangent reaches it saturates the tyre, no arctangent
+    /// needed.
+    tan_saturation: f64,
     load_transfer: bool,
 }
 
@@ -114,13 +117,18 @@ impl Dynamics {
             inertia: c.yaw_inertia,
             wheels,
             saturation: c.saturation_angle,
+            tan_saturation: c.saturation_angle.tan(),
             load_transfer: c.cg_height.is_some(),
         }
     }
 
     /// Velocity of each contact patch in the body frame, m/s.
     pub(crate) fn patch_velocities(&self, y: &State) -> [[f64; 2]; 4] {
-        let (s, c) = y[2].sin_cos();
+        self.patch_velocities_turned(y, y[2].sin_cos())
+    }
+
+    /// [`Dynamics::patch_velocities`] with the heading's sine and cosine already known.
+    fn patch_velocities_turned(&self, y: &State, (s, c): (f64, f64)) -> [[f64; 2]; 4] {
         let (vx, vy, w) = (c * y[3] + s * y[4], -s * y[3] + c * y[4], y[5]);
         self.wheels.map(|wh| [vx - w * wh.r[1], vy + w * wh.r[0]])
     }
@@ -140,7 +148,8 @@ impl Dynamics {
 
     /// The accelerations and the power of the tyre forces at `y`.
     pub(crate) fn rates(&self, y: &State) -> Rates {
-        let u = self.patch_velocities(y);
+        let (s, c) = y[2].sin_cos();
+        let u = self.patch_velocities_turned(y, (s, c));
         // Force per unit normal load of each wheel, body frame.
         let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i]));
         let loads = self.loads(&g);
@@ -153,7 +162,6 @@ impl Dynamics {
             mz += r[0] * f[1] - r[1] * f[0];
             power -= f[0] * u[i][0] + f[1] * u[i][1];
         }
-        let (s, c) = y[2].sin_cos();
         Rates {
             ax: (c * fx - s * fy) / self.mass,
             ay: (s * fx + c * fy) / self.mass,
@@ -237,8 +245,15 @@ impl Dynamics {
                 let ul = c * u[0] + s * u[1];
                 let us = -s * u[0] + c * u[1];
                 let fl = -along * ul / ul.abs().max(SLIDING_DEADBAND);
-                let alpha = us.abs().atan2(ul.abs().max(SLIDING_DEADBAND));
-                let fs = -across * (alpha / self.saturation).min(1.0) * us.signum();
+                let along_speed = ul.abs().max(SLIDING_DEADBAND);
+                // min(alpha / saturation, 1) with alpha = atan2(|u_s|, |u_l|): at or beyond
+                // the saturation angle 1 (the tangent decides, without the arctangent).
+                let share = if us.abs() >= self.tan_saturation * along_speed {
+                    1.0
+                } else {
+                    (us.abs().atan2(along_speed) / self.saturation).min(1.0)
+                };
+                let fs = -across * share * us.signum();
                 [c * fl - s * fs, s * fl + c * fs]
             }
         }

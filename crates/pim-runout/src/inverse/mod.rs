@@ -144,7 +144,14 @@ pub fn estimate(
         .zip(&scatter)
         .map(|(&k, (starts, spent))| {
             let problem = problem_of(k);
-            let mut c = solve(&problem, k, settings.max_iterations, &[], starts)?;
+            let mut c = solve(
+                &problem,
+                k,
+                settings.max_iterations,
+                &[],
+                starts,
+                settings.quick,
+            )?;
             c.runouts += spent;
             Ok(c)
         })
@@ -173,8 +180,13 @@ pub fn estimate(
                 if c.cost <= c.residuals.len() as f64 {
                     return Ok(None);
                 }
+                // A quick search starts only from the neighbouring counts' answers.
                 let starts: Vec<Vec<f64>> = good
                     .iter()
+                    .filter(|(k, _)| {
+                        !settings.quick
+                            || matches!((k, c.turns), (Some(a), Some(b)) if (a - b).abs() <= 1)
+                    })
                     .map(|(k, theta)| {
                         let mut t = theta.clone();
                         let (from, to) = (rotation(*k), rotation(c.turns));
@@ -184,8 +196,19 @@ pub fn estimate(
                         t
                     })
                     .collect();
+                if starts.is_empty() {
+                    return Ok(None);
+                }
                 let problem = problem_of(c.turns);
-                solve(&problem, c.turns, settings.max_iterations, &starts, &[]).map(Some)
+                solve(
+                    &problem,
+                    c.turns,
+                    settings.max_iterations,
+                    &starts,
+                    &[],
+                    settings.quick,
+                )
+                .map(Some)
             })
             .collect::<Result<Vec<_>>>()?;
         for (c, r) in candidates.iter_mut().zip(redone) {

@@ -106,13 +106,30 @@ struct Search {
     iterations: usize,
 }
 
-/// Levenberg-Marquardt (Marquardt's scaling) from `theta`.
+/// An exploring search (and a quick candidate's polish) has converged when a step gains less
+/// than this times (1 + its chi-square): a change of a millionth in a chi-square is far below
+/// any statistical meaning (the whole reconstruction's refinement stops at the same gain). A
+/// precise polish goes on to the run-outs' own precision.
+pub(crate) const GAIN: f64 = 1e-6;
+
+/// Levenberg-Marquardt (Marquardt's scaling) from `theta`, the Jacobian by forward
+/// differences at every point; `precise`: converged only at the run-outs' precision (a gain
+/// below 1e-7 of the cost), else at a gain of [`GAIN`].
 fn levenberg(
     p: &Problem,
     mut theta: Vec<f64>,
     max_iterations: usize,
     runouts: &mut usize,
+    precise: bool,
 ) -> Result<Search> {
+    // The least gain worth a step, and the least predicted gain worth a run-out.
+    let least = |cost: f64| {
+        if precise {
+            (1e-7 * cost + 1e-14, 1e-9 * cost + 1e-22)
+        } else {
+            (GAIN * (1.0 + cost), 0.1 * GAIN * (1.0 + cost))
+        }
+    };
     let n = p.n();
     *runouts += 1;
     let (mut r, mut run_now) = p.weighted(&theta)?;
@@ -140,10 +157,10 @@ fn levenberg(
                 lambda *= 4.0;
                 continue;
             };
-            // The decrease the linear model predicts: below the run-outs' precision there is
+            // The decrease the linear model predicts: below the least worth a run-out there is
             // nothing left to gain.
             let predicted = -(2.0 * g.dot(&step) + (&a * &step).dot(&step));
-            if predicted < 1e-9 * cost + 1e-22 {
+            if predicted < least(cost).1 {
                 break;
             }
             let trial: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t + s).collect();
@@ -152,7 +169,7 @@ fn levenberg(
                 Ok((rt, run_t)) if rt.norm_squared() < cost => {
                     let new_cost = rt.norm_squared();
                     let small_step = step.norm() < 1e-10 * (1.0 + norm(&theta));
-                    let small_gain = cost - new_cost < 1e-7 * cost + 1e-14;
+                    let small_gain = cost - new_cost < least(cost).0;
                     theta = trial;
                     r = rt;
                     run_now = run_t;
@@ -205,6 +222,7 @@ pub(crate) fn solve(
     max_iterations: usize,
     others: &[Vec<f64>],
     scattered: &[Vec<f64>],
+    quick: bool,
 ) -> Result<Candidate> {
     let mut runouts = 0;
     // A second pass (others given) tries only the others: the rest were tried in the first.
@@ -265,7 +283,13 @@ pub(crate) fn solve(
     let good = |s: &Option<Search>| s.as_ref().is_some_and(|s| s.cost <= s.r.len() as f64);
     // 1. The first guess.
     if !second_pass {
-        let s = levenberg(&coarse, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
+        let s = levenberg(
+            &coarse,
+            guess.clone(),
+            EXPLORE_ITERATIONS,
+            &mut runouts,
+            false,
+        )?;
         iterations += s.iterations;
         consider(s, &mut explored);
     }
@@ -282,11 +306,11 @@ pub(crate) fn solve(
         let mut theta = start.clone();
         bounded(&mut theta);
         for q in &soft {
-            let s = levenberg(q, theta, EXPLORE_ITERATIONS, &mut runouts)?;
+            let s = levenberg(q, theta, EXPLORE_ITERATIONS, &mut runouts, false)?;
             iterations += s.iterations;
             theta = s.theta;
         }
-        let s = levenberg(&coarse, theta, EXPLORE_ITERATIONS, &mut runouts)?;
+        let s = levenberg(&coarse, theta, EXPLORE_ITERATIONS, &mut runouts, false)?;
         iterations += s.iterations;
         consider(s, &mut explored);
     }
@@ -302,8 +326,14 @@ pub(crate) fn solve(
             estimate_friction: coarse.estimate_friction,
             work: Default::default(),
         };
-        let first = levenberg(&q, guess.clone(), EXPLORE_ITERATIONS, &mut runouts)?;
-        let s = levenberg(&coarse, first.theta, EXPLORE_ITERATIONS, &mut runouts)?;
+        let first = levenberg(&q, guess.clone(), EXPLORE_ITERATIONS, &mut runouts, false)?;
+        let s = levenberg(
+            &coarse,
+            first.theta,
+            EXPLORE_ITERATIONS,
+            &mut runouts,
+            false,
+        )?;
         iterations += first.iterations + s.iterations;
         consider(s, &mut explored);
     }
@@ -318,7 +348,7 @@ pub(crate) fn solve(
     let mut starts = Vec::new();
     if second_pass {
         starts.extend(others.iter().cloned());
-    } else {
+    } else if !quick {
         starts.extend([spun(2.5), spun(0.4), turned(0.4), turned(-0.4), spun(-1.0)]);
         starts.extend(toward_mark);
     }
@@ -328,13 +358,13 @@ pub(crate) fn solve(
         }
         let mut start = start;
         bounded(&mut start);
-        let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
+        let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts, false)?;
         iterations += s.iterations;
         consider(s, &mut explored);
     }
     // 4. Still above the expectation: a scatter of single run-outs around the first guess
     //    (direction, speed, yaw rate), searched from the two lowest.
-    if !second_pass && !good(&explored) {
+    if !second_pass && !quick && !good(&explored) {
         let mut scattered: Vec<(f64, Vec<f64>)> = Vec::new();
         for turn in [-0.5, 0.0, 0.5] {
             for speed in [0.8, 1.25] {
@@ -357,7 +387,7 @@ pub(crate) fn solve(
             }
             let mut start = start;
             bounded(&mut start);
-            let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts)?;
+            let s = levenberg(&coarse, start, EXPLORE_ITERATIONS, &mut runouts, false)?;
             iterations += s.iterations;
             consider(s, &mut explored);
         }
@@ -366,16 +396,24 @@ pub(crate) fn solve(
     //    slightly different model: a long free-rolling run-out moves by millimetres between
     //    tolerances 1e-9 and 1e-10).
     let from = explored.map_or(guess, |s| s.theta);
-    let best = levenberg(p, from, max_iterations, &mut runouts)?;
+    let best = levenberg(p, from, max_iterations, &mut runouts, !quick)?;
     iterations += best.iterations;
     let Search {
         theta,
+        r,
         run: run_now,
         cost,
         jac,
         converged,
         ..
     } = best;
+    // The standard errors from the Jacobian at the answer itself (the search's last one was
+    // taken before its last step); a quick candidate keeps the last one.
+    let jac = if quick {
+        jac
+    } else {
+        jacobian(p, &theta, &r, &mut runouts)?
+    };
     let alternatives = alternatives_of(&theta, cost, p.chassis.friction, ends.into_inner());
     let residuals = p.residuals(&theta, &run_now);
     let (sigma, mut free) = determinacy(&jac);
