@@ -5,12 +5,13 @@
 //! pim-reconstruct); the case (pim-case: case files to typed cases); the documents
 //! (pim-documents: the typed answers); the studies (pim-studies: one entry per question, a
 //! case in, a document out); the rendering (pim-render: tables, reports, figures); and on top
-//! the faces (pim-cli, pim-py), which import from every layer below and never from each other.
+//! the faces: the scene editor's server (pim-serve), and pim-cli (which serves it with `pim
+//! serve`) and pim-py, which import from every layer below and never from each other.
 
 use std::path::Path;
 
 /// Each crate with its layer (0 the bottom).
-const LAYERS: [(&str, u8); 11] = [
+const LAYERS: [(&str, u8); 12] = [
     ("pim-core", 0),
     ("pim-crush", 1),
     ("pim-runout", 1),
@@ -20,8 +21,9 @@ const LAYERS: [(&str, u8); 11] = [
     ("pim-documents", 4),
     ("pim-studies", 5),
     ("pim-render", 6),
-    ("pim-cli", 7),
-    ("pim-py", 7),
+    ("pim-serve", 7),
+    ("pim-cli", 8),
+    ("pim-py", 8),
 ];
 
 /// The toolkit crates a crate's manifest depends on (normal dependencies, not dev).

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 const MAX_LINES: usize = 650;
 
 /// The library and binary crates whose files are checked (their `src` folders).
-const CRATES: [&str; 11] = [
+const CRATES: [&str; 12] = [
     "crates/pim-core",
     "crates/pim-runout",
     "crates/pim-reconstruct",
@@ -23,6 +23,7 @@ const CRATES: [&str; 11] = [
     "crates/pim-case",
     "crates/pim-documents",
     "crates/pim-studies",
+    "crates/pim-serve",
     "crates/pim-render",
     "crates/pim-cli",
     "crates/pim-py",

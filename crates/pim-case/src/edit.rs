@@ -41,7 +41,7 @@ pub enum Quantity {
 
 impl Quantity {
     /// SI per unit of this quantity in a file with these units.
-    fn si_per_unit(self, units: &UnitsSection) -> f64 {
+    pub fn si_per_unit(self, units: &UnitsSection) -> f64 {
         match self {
             Quantity::Length => units.length.to_si(),
             Quantity::Speed => units.speed.to_si(),

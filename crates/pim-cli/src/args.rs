@@ -419,6 +419,14 @@ pub enum Command {
     /// case is checked as every command reads a case before it is written.
     #[command(after_help = crate::set_args::SET_HELP)]
     Set(crate::set_args::SetArgs),
+    /// The scene editor in the browser: serves a folder of case files (or one case and its
+    /// folder) on this machine and prints the address to open. The page draws the scene to
+    /// scale (vehicles at contact and at rest, run-out paths, rest positions and marks with
+    /// their standard deviations), the speeds and the case's TOML side by side; drag a rest
+    /// position, or edit the TOML, and the case is solved again; Save writes the TOML back
+    /// (comments and layout kept), where `pim fit FILE` gives what the page showed.
+    #[command(after_help = crate::serve_args::SERVE_HELP)]
+    Serve(crate::serve_args::ServeArgs),
     /// Brach 1984 section 6: predict each test's delta-V from its impact speeds, masses and
     /// energy loss (eq. 14 with L from eq. 16 and with L = 2/3) and from the point-mass
     /// solution at the critical friction (eq. 17), beside the measured delta-V.

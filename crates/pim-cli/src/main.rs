@@ -12,6 +12,7 @@ mod error;
 mod fit_help;
 mod inputs;
 mod runout_help;
+mod serve_args;
 mod set_args;
 
 use anyhow::Result;
@@ -33,6 +34,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Batch(a) => commands::batch::run(a, false),
         Command::CompareCosts(a) => commands::batch::run(a, true),
         Command::Set(a) => commands::set::run(a),
+        Command::Serve(a) => commands::serve::run(a),
     }
 }
 

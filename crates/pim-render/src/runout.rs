@@ -223,8 +223,20 @@ pub fn start_outline_on_page(
     units: UnitSystem,
     frame: Convention,
 ) -> Vec<(f64, f64)> {
+    outline_on_page(r, k, &r.runouts[k].start, units, frame)
+}
+
+/// Vehicle `k`'s outline in the pose `m` (natural frame, SI), on the page of `frame` in the
+/// display length unit of `units`: the closed outline's five corners.
+pub fn outline_on_page(
+    r: &RunoutResult,
+    k: usize,
+    m: &Motion,
+    units: UnitSystem,
+    frame: Convention,
+) -> Vec<(f64, f64)> {
     let page = crate::plan::Page::of(frame);
-    corners(&r.runouts[k].start, outline_of(r, k))
+    corners(m, outline_of(r, k))
         .into_iter()
         .map(|(x, y)| page.xy((units.length(x), units.length(y))))
         .collect()

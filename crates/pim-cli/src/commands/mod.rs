@@ -11,6 +11,7 @@ pub mod predict;
 pub mod report;
 pub mod runout;
 pub mod scene_uncertainty;
+pub mod serve;
 pub mod set;
 pub mod solve;
 pub mod study;

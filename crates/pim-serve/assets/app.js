@@ -1,0 +1,310 @@
+// pim serve: the scene editor. The server answers in pim's own documents; this page draws
+// them, lets the rest positions be dragged and the TOML edited, and saves the case back.
+"use strict";
+
+const NS = "http://www.w3.org/2000/svg";
+const $ = (id) => document.getElementById(id);
+const state = {
+  path: null, text: "", saved: "", answer: null, busy: false, pending: false,
+  view: null, dragging: null, timings: [],
+};
+window.pim = state; // for the tests and the curious
+
+function el(name, attrs, parent) {
+  const e = document.createElementNS(NS, name);
+  for (const [k, v] of Object.entries(attrs || {})) e.setAttribute(k, v);
+  if (parent) parent.appendChild(e);
+  return e;
+}
+// Page coordinates (right, up) to the SVG's (right, down).
+const pts = (list) => list.map(([h, v]) => `${h},${-v}`).join(" ");
+
+function status(msg) {
+  $("status").textContent = msg;
+  $("status").classList.toggle("dirty", state.text !== state.saved);
+}
+
+async function api(method, url, body) {
+  const res = await fetch(url, {
+    method, headers: body ? { "content-type": "application/json" } : {},
+    body: body ? JSON.stringify(body) : undefined,
+  });
+  const data = await res.json().catch(() => ({ error: `${res.status} ${res.statusText}` }));
+  if (!res.ok) throw Object.assign(new Error(data.error || res.statusText), { status: res.status });
+  return { data, res };
+}
+
+async function loadCases() {
+  const { data } = await api("GET", "/api/cases");
+  const sel = $("cases");
+  sel.innerHTML = "";
+  for (const c of data.cases) {
+    const o = document.createElement("option");
+    o.value = o.textContent = c;
+    sel.appendChild(o);
+  }
+  const first = data.initial || (data.cases.includes("reconstruction_us.toml")
+    ? "reconstruction_us.toml" : data.cases[0]);
+  const wanted = new URLSearchParams(location.search).get("case") || first;
+  if (wanted) { sel.value = wanted; await openCase(wanted); }
+}
+
+async function openCase(path) {
+  const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
+  state.path = path; state.text = state.saved = data.text; state.view = null;
+  $("toml").value = data.text;
+  await solve();
+}
+
+// Solves the current text; a request made while one runs waits for it (the newest wins).
+async function solve() {
+  if (state.busy) { state.pending = true; return; }
+  state.busy = true;
+  status("solving…");
+  const t0 = performance.now();
+  try {
+    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text });
+    state.answer = data;
+    const server = /dur=([0-9.]+)/.exec(res.headers.get("server-timing") || "");
+    state.timings.push({ server: server ? +server[1] : null, page: performance.now() - t0 });
+    performance.measure("answer", { start: t0, end: performance.now() });
+    $("error").hidden = true;
+    $("toml").classList.remove("bad");
+    render();
+    status(`solved in ${server ? server[1] : "?"} ms`);
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+    $("toml").classList.add("bad");
+    status("not solved");
+  } finally {
+    state.busy = false;
+    if (state.pending) { state.pending = false; solve(); }
+  }
+}
+
+function speedsTable(a) {
+  const t = $("speeds");
+  t.innerHTML = "";
+  const best = a.document && a.document.best;
+  const u = a.plan.speed_metres || 1;
+  if (a.question !== "reconstruction" || !best) {
+    t.innerHTML = "<tr><td>no reconstruction of the speeds: see what pim fit prints</td></tr>";
+    return;
+  }
+  const head = t.insertRow();
+  for (const h of ["vehicle", "before braking", "at contact", "at separation"]) {
+    const th = document.createElement("th"); th.textContent = h; head.appendChild(th);
+  }
+  for (const v of best.vehicles) {
+    const r = t.insertRow();
+    r.className = `v${v.vehicle}`;
+    r.dataset.vehicle = v.vehicle;
+    const cells = [String(v.vehicle),
+      v.speed_before_braking == null ? "-" : (v.speed_before_braking / u).toFixed(2),
+      (v.speed_at_contact / u).toFixed(2), (v.speed_at_separation / u).toFixed(2)];
+    cells.forEach((c, i) => { const td = r.insertCell(); td.textContent = c; if (i === 2) td.className = "contact"; });
+  }
+  const cap = t.createCaption(); cap.textContent = `speeds, ${a.plan.speed_label}`;
+}
+
+function summary(a) {
+  const d = a.document, best = d && d.best;
+  const s = $("summary");
+  if (a.question === "reconstruction" && best) {
+    s.textContent = `chi-square ${best.chi_square.toFixed(3)} with ${best.degrees_of_freedom} dof, ` +
+      `p = ${best.p_value.toFixed(4)}; e ${best.e.toFixed(3)}, mu ${best.mu.toFixed(3)}` +
+      (d.status !== "found" ? ` — ${d.status}: ${d.reason || ""}` : "");
+  } else if (a.question === "reconstruction") {
+    s.textContent = `${d.status}: ${d.reason || ""}`;
+  } else {
+    s.textContent = "an impact fit (no scene evidence to reconstruct from)";
+  }
+  $("table").textContent = a.table;
+}
+
+function bounds(plan) {
+  const all = [];
+  for (const v of plan.vehicles) {
+    all.push(...v.contact, ...v.rest, ...v.path);
+    if (v.given_rest) all.push(...v.given_rest.outline);
+    for (const m of v.marks) all.push([m[0], m[1]]);
+  }
+  if (!all.length) return { x: -10, y: -10, w: 20, h: 20 };
+  const hs = all.map((p) => p[0]), vs = all.map((p) => -p[1]);
+  const x0 = Math.min(...hs), x1 = Math.max(...hs), y0 = Math.min(...vs), y1 = Math.max(...vs);
+  const pad = 0.08 * Math.max(x1 - x0, y1 - y0, 5);
+  return { x: x0 - pad, y: y0 - pad, w: x1 - x0 + 2 * pad, h: y1 - y0 + 2 * pad };
+}
+
+function fitView() {
+  if (!state.answer) return;
+  const svg = $("plan"), b = bounds(state.answer.plan);
+  const aspect = svg.clientWidth / Math.max(svg.clientHeight, 1);
+  let { x, y, w, h } = b;
+  if (w / h < aspect) { const w2 = h * aspect; x -= (w2 - w) / 2; w = w2; } else { const h2 = w / aspect; y -= (h2 - h) / 2; h = h2; }
+  state.view = { x, y, w, h };
+  render();
+}
+
+function pxPerUnit() {
+  return $("plan").clientWidth / state.view.w;
+}
+
+function grid(g) {
+  const v = state.view;
+  const target = 80 / pxPerUnit(); // about 80 px between lines
+  const p10 = 10 ** Math.floor(Math.log10(target));
+  const step = [1, 2, 5, 10].map((k) => k * p10).find((s) => s >= target);
+  for (let x = Math.ceil(v.x / step) * step; x <= v.x + v.w; x += step)
+    el("line", { x1: x, y1: v.y, x2: x, y2: v.y + v.h, class: Math.abs(x) < step / 2 ? "axis" : "grid" }, g);
+  for (let y = Math.ceil(v.y / step) * step; y <= v.y + v.h; y += step)
+    el("line", { x1: v.x, y1: y, x2: v.x + v.w, y2: y, class: Math.abs(y) < step / 2 ? "axis" : "grid" }, g);
+  const a = state.answer.plan;
+  const along = a.frame === "sae" ? "x up, y to the right (SAE)" : "x to the right, y up";
+  $("scale-note").textContent = `grid ${+step.toPrecision(3)} ${a.length_label}; ${along}`;
+}
+
+function render() {
+  const a = state.answer;
+  if (!a) return;
+  speedsTable(a);
+  summary(a);
+  if (!state.view) { fitView(); return; }
+  const svg = $("plan");
+  const v = state.view;
+  svg.setAttribute("viewBox", `${v.x} ${v.y} ${v.w} ${v.h}`);
+  svg.innerHTML = "";
+  grid(el("g", {}, svg));
+  const r = 7 / pxPerUnit();
+  for (const veh of a.plan.vehicles) {
+    const g = el("g", { class: `v${veh.vehicle}`, "data-vehicle": veh.vehicle }, svg);
+    for (const o of veh.every) el("polygon", { points: pts(o), class: "outline every" }, g);
+    el("polyline", { points: pts(veh.path), class: "path" }, g);
+    el("polygon", { points: pts(veh.contact), class: "outline contact" }, g);
+    el("polygon", { points: pts(veh.rest), class: "outline rest" }, g);
+    for (const m of veh.marks) {
+      el("circle", { cx: m[0], cy: -m[1], r: m[2], class: "sigma" }, g);
+      el("path", { d: `M${m[0] - r} ${-m[1]}h${2 * r}M${m[0]} ${-m[1] - r}v${2 * r}`, class: "mark" }, g);
+    }
+    if (veh.given_rest) {
+      const gr = veh.given_rest;
+      const moved = el("g", { class: "given-rest" }, g);
+      el("polygon", { points: pts(gr.outline), class: "outline given" }, moved);
+      // The one-sigma ellipse: sigma along the written frame's x and y, turned onto the page.
+      const [sx, sy] = a.plan.frame === "sae" ? [gr.sigma[1], gr.sigma[0]] : gr.sigma;
+      el("ellipse", { cx: gr.at[0], cy: -gr.at[1], rx: sx, ry: sy, class: "sigma" }, moved);
+      const h = el("circle", { cx: gr.at[0], cy: -gr.at[1], r, class: "handle", "data-vehicle": veh.vehicle }, moved);
+      const d = state.dragging;
+      if (d && d.vehicle === veh.vehicle) {
+        Object.assign(d, { group: moved, base: gr.at });
+        h.classList.add("dragging");
+        follow(d);
+      }
+      h.addEventListener("pointerdown", (e) => startDrag(e, veh.vehicle, gr.at, moved, h));
+    }
+  }
+}
+
+function svgPoint(e) {
+  const svg = $("plan");
+  const p = svg.createSVGPoint(); p.x = e.clientX; p.y = e.clientY;
+  return p.matrixTransform(svg.getScreenCTM().inverse());
+}
+
+// Dragging a rest position: the handle follows the pointer; the case is moved and solved
+// again whenever the last answer is in (while dragging), and once more on release.
+function startDrag(e, vehicle, at, group, handle) {
+  e.stopPropagation();
+  const svg = $("plan");
+  svg.setPointerCapture(e.pointerId);
+  const from = svgPoint(e);
+  handle.classList.add("dragging");
+  state.dragging = { vehicle, group, base: at, to: at };
+  const move = (ev) => {
+    const p = svgPoint(ev);
+    const d = state.dragging;
+    d.to = [at[0] + p.x - from.x, at[1] - (p.y - from.y)];
+    follow(d);
+    if (!state.busy) moveTo(vehicle, d.to);
+  };
+  const up = () => {
+    svg.removeEventListener("pointermove", move);
+    svg.removeEventListener("pointerup", up);
+    const to = state.dragging.to;
+    state.dragging = null;
+    moveTo(vehicle, to);
+  };
+  svg.addEventListener("pointermove", move);
+  svg.addEventListener("pointerup", up);
+}
+
+// The dragged rest drawn where the pointer is (its group drawn at `base`).
+function follow(d) {
+  d.group.setAttribute("transform", `translate(${d.to[0] - d.base[0]} ${-(d.to[1] - d.base[1])})`);
+}
+
+async function moveTo(vehicle, at) {
+  try {
+    const { data } = await api("POST", "/api/move", { path: state.path, text: state.text, vehicle, at });
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+  }
+}
+
+function panAndZoom() {
+  const svg = $("plan");
+  svg.addEventListener("wheel", (e) => {
+    if (!state.view) return;
+    e.preventDefault();
+    const p = svgPoint(e), k = Math.exp(e.deltaY * 0.0015), v = state.view;
+    state.view = { x: p.x - (p.x - v.x) * k, y: p.y - (p.y - v.y) * k, w: v.w * k, h: v.h * k };
+    render();
+  }, { passive: false });
+  svg.addEventListener("pointerdown", (e) => {
+    if (!state.view || state.dragging) return;
+    svg.setPointerCapture(e.pointerId);
+    svg.classList.add("panning");
+    const start = { x: e.clientX, y: e.clientY, view: { ...state.view } };
+    const move = (ev) => {
+      const k = state.view.w / svg.clientWidth;
+      state.view = { ...start.view, x: start.view.x - (ev.clientX - start.x) * k, y: start.view.y - (ev.clientY - start.y) * k };
+      render();
+    };
+    const up = () => {
+      svg.classList.remove("panning");
+      svg.removeEventListener("pointermove", move);
+      svg.removeEventListener("pointerup", up);
+    };
+    svg.addEventListener("pointermove", move);
+    svg.addEventListener("pointerup", up);
+  });
+}
+
+async function save() {
+  try {
+    const { data } = await api("POST", "/api/save", { path: state.path, text: state.text });
+    state.saved = state.text;
+    status(`saved ${data.saved} (${data.bytes} bytes)`);
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+    status("not saved");
+  }
+}
+
+let typing = null;
+$("toml").addEventListener("input", () => {
+  clearTimeout(typing);
+  typing = setTimeout(() => { state.text = $("toml").value; solve(); }, 300);
+});
+$("cases").addEventListener("change", (e) => openCase(e.target.value));
+$("fit").addEventListener("click", fitView);
+$("save").addEventListener("click", save);
+window.addEventListener("resize", () => state.view && fitView());
+panAndZoom();
+loadCases().catch((e) => { $("error").hidden = false; $("error").textContent = e.message; });

@@ -1,0 +1,273 @@
+//! A case's answer as the page shows it: the document `pim fit --format json` writes, the table
+//! `pim fit` prints, and the scene drawn to scale.
+
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
+use pim_core::{Convention, MomentForm};
+use pim_fit::{FitModel, MomentBranch};
+use pim_studies::question::Question;
+use serde::Serialize;
+
+/// Why a case has no answer to show.
+#[derive(Debug, thiserror::Error)]
+pub enum AnswerError {
+    /// The text is not a valid case (the message names the file, line and field).
+    #[error("{0}")]
+    Input(String),
+    /// The case is valid but its question cannot be answered here yet.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// The answer of one case.
+#[derive(Debug, Serialize)]
+pub struct Answer {
+    /// `reconstruction` (a scene case) or `fit`.
+    pub question: &'static str,
+    /// The document of `pim fit FILE --format json`.
+    pub document: serde_json::Value,
+    /// The text `pim fit FILE` prints.
+    pub table: String,
+    /// The scene to scale.
+    pub plan: Plan,
+}
+
+/// The scene on the page: positions to the right and up, in the case's display length unit
+/// (`length_label`), the frame's way round (`frame`: an SAE case is drawn as a map, x up).
+#[derive(Debug, Serialize, Default)]
+pub struct Plan {
+    /// `natural` or `sae`.
+    pub frame: &'static str,
+    /// The length unit's label (`m`, `ft`).
+    pub length_label: &'static str,
+    /// Metres per display length unit.
+    pub metres: f64,
+    /// The speed unit's label.
+    pub speed_label: &'static str,
+    /// Metres per second per display speed unit.
+    pub speed_metres: f64,
+    /// Each vehicle.
+    pub vehicles: Vec<PlanVehicle>,
+}
+
+/// One vehicle on the page.
+#[derive(Debug, Serialize, Default)]
+pub struct PlanVehicle {
+    /// 1 or 2.
+    pub vehicle: u8,
+    /// Its outline at contact (closed polygon).
+    pub contact: Vec<[f64; 2]>,
+    /// Its outline at rest, where the run-out ends.
+    pub rest: Vec<[f64; 2]>,
+    /// Its outline every half second of the run-out.
+    pub every: Vec<Vec<[f64; 2]>>,
+    /// The CG's path.
+    pub path: Vec<[f64; 2]>,
+    /// The rest position the scene gives (CG), its heading on the page (deg counter-clockwise
+    /// from the page's right) and its standard deviations.
+    pub given_rest: Option<GivenRest>,
+    /// The marks the scene gives: CG position and standard deviation.
+    pub marks: Vec<[f64; 3]>,
+}
+
+/// A rest position given by the scene, on the page.
+#[derive(Debug, Serialize)]
+pub struct GivenRest {
+    /// Its CG.
+    pub at: [f64; 2],
+    /// Its standard deviations along the written frame's x and y.
+    pub sigma: [f64; 2],
+    /// The vehicle's outline there.
+    pub outline: Vec<[f64; 2]>,
+}
+
+/// The answer of the case text `text` (named `file` in messages).
+///
+/// # Errors
+/// [`AnswerError::Input`] for text that is not a valid case, with `pim`'s message.
+pub fn answer(file: &str, text: &str) -> Result<Answer, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let asked = Question::of(&case, None);
+    let units = UnitSystem::of(&case.written_units);
+    let title = pim_render::text::case_title(&case);
+    let branches = vec![MomentBranch::Free, MomentBranch::Zero];
+    match asked.question {
+        Question::Reconstruction => {
+            let done = pim_studies::consistency::answer(
+                &case,
+                FitModel::Pim,
+                MomentForm::Corrected,
+                branches,
+                &pim_studies::watch::Unwatched,
+            )
+            .map_err(|e| input(&e))?;
+            let table = pim_render::reconstruct::reconstruction_table(
+                &title,
+                &done.document,
+                units,
+                case.written,
+            );
+            let plan = match &done.outcome.best {
+                Some(best) => plan(&case, Some(best.solution.separation), units)?,
+                None => plan(&case, None, units).unwrap_or_default(),
+            };
+            Ok(Answer {
+                question: "reconstruction",
+                document: serde_json::to_value(&done.document).map_err(|e| input(&e))?,
+                table,
+                plan,
+            })
+        }
+        _ => {
+            let fitted = pim_studies::documents::fit(
+                &case,
+                None,
+                FitModel::Pim,
+                MomentForm::Corrected,
+                branches,
+            )
+            .map_err(|e| input(&e))?;
+            let table = pim_render::tables::fit_table(
+                &title,
+                "custom",
+                &fitted.report,
+                units,
+                case.written,
+            );
+            let separation = fitted
+                .report
+                .best_branch()
+                .and_then(|b| b.solution.as_ref())
+                .map(|s| s.separation);
+            let plan = if case.has_runout() {
+                plan(&case, separation, units).unwrap_or_default()
+            } else {
+                Plan::default()
+            };
+            Ok(Answer {
+                question: "fit",
+                document: serde_json::to_value(&fitted.document).map_err(|e| input(&e))?,
+                table,
+                plan,
+            })
+        }
+    }
+}
+
+/// The scene on the page: each run-out from `separation` (or without one, the vehicles where
+/// they stand and the evidence only).
+fn plan(
+    case: &Case,
+    separation: Option<pim_core::Velocities>,
+    units: UnitSystem,
+) -> Result<Plan, AnswerError> {
+    let page = pim_render::plan::Page::of(case.written);
+    let metres = units.length(1.0).recip();
+    let speed_metres = units.speed(1.0).recip();
+    let mut out = Plan {
+        frame: match case.written {
+            Convention::Sae => "sae",
+            _ => "natural",
+        },
+        length_label: units.length_label(),
+        metres,
+        speed_label: units.speed_label(),
+        speed_metres,
+        vehicles: Vec::new(),
+    };
+    let Some(sep) = separation else {
+        return Ok(out);
+    };
+    let r = pim_studies::runout::runout(case, None, Some(sep), 0.02, false)
+        .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
+    let on_page = |x: f64, y: f64| {
+        let (h, v) = page.xy((units.length(x), units.length(y)));
+        [h, v]
+    };
+    let outline = |k: usize, m: &pim_runout::Motion| -> Vec<[f64; 2]> {
+        pim_render::runout::outline_on_page(&r, k, m, units, case.written)
+            .into_iter()
+            .map(|(h, v)| [h, v])
+            .collect()
+    };
+    for (k, (input, run)) in r.inputs.iter().zip(&r.runouts).enumerate() {
+        let evidence = input.evidence.as_ref();
+        let given_rest = evidence.and_then(|e| e.rest).map(|rest| {
+            let pose = pim_runout::Motion {
+                x: rest.x,
+                y: rest.y,
+                heading: rest.heading.unwrap_or(run.rest.heading),
+                ..pim_runout::Motion::default()
+            };
+            GivenRest {
+                at: on_page(rest.x, rest.y),
+                sigma: [
+                    units.length(rest.sigma_xy[0]),
+                    units.length(rest.sigma_xy[1]),
+                ],
+                outline: outline(k, &pose),
+            }
+        });
+        let marks = evidence
+            .map(|e| {
+                e.marks
+                    .iter()
+                    .map(|m| {
+                        let [h, v] = on_page(m.x, m.y);
+                        [h, v, units.length(m.sigma)]
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let every = run.sample(0.5).iter().map(|(_, m)| outline(k, m)).collect();
+        out.vehicles.push(PlanVehicle {
+            vehicle: input.id.index() as u8 + 1,
+            contact: outline(k, &run.start),
+            rest: outline(k, &run.rest),
+            every,
+            path: run
+                .sample(0.05)
+                .iter()
+                .map(|(_, m)| on_page(m.x, m.y))
+                .collect(),
+            given_rest,
+            marks,
+        });
+    }
+    Ok(out)
+}
+
+/// The case text with vehicle `vehicle`'s rest position moved to the page point `at` (in the
+/// plan's display length unit): `scene.vehicleN.rest.x` and `.y` rewritten in the file's
+/// length unit and frame, every other byte kept.
+///
+/// # Errors
+/// Text that is not TOML, or a case whose units cannot be read.
+pub fn move_rest(file: &str, text: &str, vehicle: u8, at: [f64; 2]) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
+        return Err(AnswerError::Input(format!(
+            "{file}: a rest position of vehicle {vehicle} at {at:?} cannot be written"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let units = UnitSystem::of(&case.written_units);
+    let m = units.length(1.0).recip();
+    // The page is the written frame turned: natural (h, v) = (x, y); SAE (h, v) = (y, x).
+    let (x, y) = match case.written {
+        Convention::Sae => (at[1] * m, at[0] * m),
+        _ => (at[0] * m, at[1] * m),
+    };
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    for (key, value) in [("x", x), ("y", y)] {
+        let path = format!("scene.vehicle{vehicle}.rest.{key}");
+        // To a hundredth of the file's unit, as a scene diagram gives it.
+        let written = (value / per_unit * 100.0).round() / 100.0;
+        edit.set(&path, pim_case::edit::NewValue::Written(written))
+            .map_err(|e| input(&e))?;
+    }
+    Ok(edit.text())
+}

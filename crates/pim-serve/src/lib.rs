@@ -1,0 +1,52 @@
+//! `pim serve`: the scene editor in the browser, served by the `pim` binary itself.
+//!
+//! The page shows a case's scene to scale (the plan view of every figure of the case: the
+//! natural frame with x to the right and y up, an SAE case as a map with x up and y to the
+//! right), the vehicles at contact and at rest with their run-out paths, the scene's evidence
+//! (rest positions with their one-sigma circles, tyre marks), the speeds of every phase and the
+//! case's TOML beside it. Dragging a rest position rewrites that position in the TOML (an
+//! edit-preserving write: comments and layout kept, [`pim_case::edit::CaseEdit`]) and solves
+//! the case again; an edit of the TOML does the same. Saving writes the text back into the
+//! served folder, where `pim fit FILE` gives exactly what the page showed.
+//!
+//! The server answers in the documents `pim ... --format json` writes: `POST /api/answer` of a
+//! case gives `{question, document, table, plan}`, whose `document` is the JSON of `pim fit
+//! FILE --format json` (a reconstruction for a case with scene evidence, the impact fit
+//! otherwise), `table` the text `pim fit` prints, and `plan` the drawing of the scene in the
+//! case's frame and length unit (the page's only own geometry).
+//!
+//! # Safety of a local server
+//! - It binds 127.0.0.1 unless told otherwise.
+//! - Every request needs the run's token: the address `pim serve` prints carries it
+//!   (`/?token=...`); the page then holds it as a cookie (`HttpOnly`, `SameSite=Strict`).
+//! - A request whose `Host` header is not a loopback name (or the host the server was told to
+//!   bind) is refused: a page of another site cannot reach the server through a DNS name that
+//!   resolves to 127.0.0.1 (DNS rebinding).
+//! - Files are read and written only inside the folder served: a path with `..`, an absolute
+//!   path, or one that leads outside through a link is refused; only `.toml` files are read or
+//!   written.
+//! - Request bodies are limited to [`BODY_LIMIT`] bytes.
+
+mod answer;
+mod guard;
+mod routes;
+mod served;
+
+pub use answer::{answer, move_rest, Answer, AnswerError, Plan};
+pub use guard::{inside, Guard};
+pub use served::{Served, BODY_LIMIT};
+
+use std::sync::Arc;
+
+/// The web application of `served`.
+pub fn app(served: Served) -> axum::Router {
+    routes::router(Arc::new(served))
+}
+
+/// Serves `served` on `listener` until the process ends.
+///
+/// # Errors
+/// The listener's I/O errors.
+pub async fn run(listener: tokio::net::TcpListener, served: Served) -> std::io::Result<()> {
+    axum::serve(listener, app(served)).await
+}

@@ -1,0 +1,214 @@
+//! The routes: the page, its assets and the API.
+
+use crate::guard::{inside, Guard, COOKIE};
+use crate::served::{Served, BODY_LIMIT};
+use axum::body::Body;
+use axum::extract::{DefaultBodyLimit, Query, Request, State};
+use axum::http::{header, StatusCode};
+use axum::middleware::{self, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use serde::Deserialize;
+use serde_json::json;
+use std::sync::Arc;
+
+/// The page's files, embedded in the binary.
+#[derive(rust_embed::Embed)]
+#[folder = "assets/"]
+struct Assets;
+
+type App = Arc<Served>;
+
+pub(crate) fn router(served: App) -> Router {
+    Router::new()
+        .route("/", get(index))
+        .route("/assets/{file}", get(asset))
+        .route("/api/cases", get(cases))
+        .route("/api/case", get(case))
+        .route("/api/answer", post(answer))
+        .route("/api/move", post(move_rest))
+        .route("/api/save", post(save))
+        .layer(middleware::from_fn_with_state(served.clone(), guard))
+        .layer(DefaultBodyLimit::max(BODY_LIMIT))
+        .with_state(served)
+}
+
+fn refused(status: StatusCode, why: &str) -> Response {
+    (status, Json(json!({ "error": why }))).into_response()
+}
+
+/// Every request: a Host that names this server, and the token (as the cookie, or in the
+/// address of the page itself).
+async fn guard(State(s): State<App>, req: Request, next: Next) -> Response {
+    let g = Guard {
+        token: s.token.clone(),
+        hosts: s.hosts.clone(),
+    };
+    let headers = req.headers();
+    let text = |h: header::HeaderName| headers.get(h).and_then(|v| v.to_str().ok());
+    if !g.host_allowed(text(header::HOST)) {
+        return refused(
+            StatusCode::FORBIDDEN,
+            "refused: the Host header does not name this server (pim serve answers only to \
+             the names of this machine it was started for)",
+        );
+    }
+    let with_token = req.uri().path() == "/"
+        && req
+            .uri()
+            .query()
+            .is_some_and(|q| q.split('&').any(|kv| kv == format!("token={}", s.token)));
+    if !(with_token || g.cookie_allowed(text(header::COOKIE))) {
+        return refused(
+            StatusCode::FORBIDDEN,
+            "refused: no token; open the address pim serve printed (it carries the token)",
+        );
+    }
+    next.run(req).await
+}
+
+/// The page; with the token in its address, the token becomes a cookie and the address drops
+/// it.
+async fn index(State(s): State<App>, req: Request) -> Response {
+    let html = Assets::get("index.html").expect("embedded");
+    let mut res = Response::new(Body::from(html.data.into_owned()));
+    let h = res.headers_mut();
+    h.insert(
+        header::CONTENT_TYPE,
+        "text/html; charset=utf-8".parse().expect("header"),
+    );
+    if req.uri().query().is_some() {
+        let cookie = format!("{COOKIE}={}; HttpOnly; SameSite=Strict; Path=/", s.token);
+        h.insert(header::SET_COOKIE, cookie.parse().expect("header"));
+    }
+    res
+}
+
+async fn asset(axum::extract::Path(file): axum::extract::Path<String>) -> Response {
+    let Some(f) = Assets::get(&file) else {
+        return refused(StatusCode::NOT_FOUND, "no such file");
+    };
+    let kind = match file.rsplit('.').next() {
+        Some("js") => "text/javascript; charset=utf-8",
+        Some("css") => "text/css; charset=utf-8",
+        Some("svg") => "image/svg+xml",
+        _ => "application/octet-stream",
+    };
+    ([(header::CONTENT_TYPE, kind)], f.data.into_owned()).into_response()
+}
+
+/// The case files of the folder served (sorted; subfolders included).
+async fn cases(State(s): State<App>) -> Response {
+    let mut out = Vec::new();
+    let mut dirs = vec![s.root.clone()];
+    while let Some(d) = dirs.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if p.extension().is_some_and(|x| x == "toml") {
+                if let Ok(rel) = p.strip_prefix(&s.root) {
+                    out.push(rel.to_string_lossy().replace('\\', "/"));
+                }
+            }
+        }
+    }
+    out.sort();
+    Json(json!({
+        "root": s.root.display().to_string(),
+        "cases": out,
+        "initial": s.initial,
+    }))
+    .into_response()
+}
+
+#[derive(Deserialize)]
+struct CasePath {
+    path: String,
+}
+
+async fn case(State(s): State<App>, Query(q): Query<CasePath>) -> Response {
+    let Some(file) = inside(&s.root, &q.path) else {
+        return outside(&q.path);
+    };
+    match std::fs::read_to_string(&file) {
+        Ok(text) => Json(json!({ "path": q.path, "text": text })).into_response(),
+        Err(e) => refused(StatusCode::NOT_FOUND, &format!("{}: {e}", q.path)),
+    }
+}
+
+fn outside(path: &str) -> Response {
+    refused(
+        StatusCode::FORBIDDEN,
+        &format!(
+            "refused: {path}: only the case files (.toml) inside the folder served can be read \
+             or written"
+        ),
+    )
+}
+
+#[derive(Deserialize)]
+struct CaseText {
+    path: String,
+    text: String,
+}
+
+fn unanswered(e: crate::AnswerError) -> Response {
+    refused(StatusCode::UNPROCESSABLE_ENTITY, &e.to_string())
+}
+
+async fn answer(Json(c): Json<CaseText>) -> Response {
+    let done = tokio::task::spawn_blocking(move || {
+        let started = std::time::Instant::now();
+        crate::answer(&c.path, &c.text).map(|a| (a, started.elapsed()))
+    })
+    .await;
+    match done {
+        Ok(Ok((a, took))) => {
+            let mut res = Json(a).into_response();
+            // The server's time, for the page's performance marks.
+            let timing = format!("solve;dur={:.1}", took.as_secs_f64() * 1e3);
+            res.headers_mut()
+                .insert("server-timing", timing.parse().expect("header"));
+            res
+        }
+        Ok(Err(e)) => unanswered(e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
+    }
+}
+
+#[derive(Deserialize)]
+struct Move {
+    path: String,
+    text: String,
+    vehicle: u8,
+    at: [f64; 2],
+}
+
+async fn move_rest(Json(m): Json<Move>) -> Response {
+    match crate::move_rest(&m.path, &m.text, m.vehicle, m.at) {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
+/// Saves a case: only a valid case, only inside the folder.
+async fn save(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
+    let Some(file) = inside(&s.root, &c.path) else {
+        return outside(&c.path);
+    };
+    if let Err(e) = pim_case::case::Case::from_text(&c.path, &c.text) {
+        return refused(StatusCode::UNPROCESSABLE_ENTITY, &format!("not saved: {e}"));
+    }
+    match std::fs::write(&file, &c.text) {
+        Ok(()) => Json(json!({ "saved": c.path, "bytes": c.text.len() })).into_response(),
+        Err(e) => refused(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            &format!("not saved: {}: {e}", c.path),
+        ),
+    }
+}

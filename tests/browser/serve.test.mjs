@@ -1,0 +1,195 @@
+// End-to-end tests of `pim serve` in a real browser: Debian's chromium driven by playwright-core.
+// Run from the repository: `cargo build --release -p pim-cli && (cd tests/browser && npm install
+// && npm test)`. The binary is target/release/pim (PIM_BIN overrides), the browser
+// /usr/bin/chromium (CHROMIUM overrides). Screenshots go to target/browser-screenshots/.
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { spawn, execFileSync } from "node:child_process";
+import fs from "node:fs";
+import os from "node:os";
+import path from "node:path";
+import http from "node:http";
+import { chromium } from "playwright-core";
+
+const repo = path.resolve(import.meta.dirname, "../..");
+const pimBin = process.env.PIM_BIN || path.join(repo, "target/release/pim");
+const shots = path.join(repo, "target/browser-screenshots");
+const CASE = "reconstruction_us.toml";
+let dir, server, url, base, token, browser, page;
+let timings = [];
+
+before(async () => {
+  fs.mkdirSync(shots, { recursive: true });
+  dir = fs.mkdtempSync(path.join(os.tmpdir(), "pim-serve-"));
+  fs.cpSync(path.join(repo, "examples/cases"), dir, { recursive: true });
+  server = spawn(pimBin, ["serve", dir, "--port", "0"], { stdio: ["ignore", "pipe", "inherit"] });
+  url = await new Promise((resolve, reject) => {
+    let out = "";
+    server.stdout.on("data", (d) => {
+      out += d;
+      const m = /(http:\/\/\S+)/.exec(out);
+      if (m) resolve(m[1]);
+    });
+    server.on("exit", (c) => reject(new Error(`pim serve exited ${c}: ${out}`)));
+  });
+  base = url.replace(/\/\?.*$/, "");
+  token = /token=([0-9a-f]+)/.exec(url)[1];
+  browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+    args: ["--no-sandbox"],
+  });
+  page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+});
+
+after(async () => {
+  if (browser) await browser.close();
+  if (server) server.kill();
+  if (dir) fs.rmSync(dir, { recursive: true, force: true });
+});
+
+// A request as another site's page or a stray client would make it (Node sets any Host).
+function raw(method, pathname, { host, cookie, body } = {}) {
+  return new Promise((resolve, reject) => {
+    const u = new URL(base);
+    const req = http.request({
+      host: u.hostname, port: u.port, method, path: pathname,
+      headers: {
+        host: host || u.host,
+        ...(cookie ? { cookie } : {}),
+        ...(body ? { "content-type": "application/json" } : {}),
+      },
+    }, (res) => {
+      let data = "";
+      res.on("data", (d) => (data += d));
+      res.on("end", () => resolve({ status: res.statusCode, body: data }));
+    });
+    req.on("error", reject);
+    if (body) req.write(JSON.stringify(body));
+    req.end();
+  });
+}
+
+const idle = () => page.waitForFunction(() => window.pim && !window.pim.busy && !window.pim.pending && !window.pim.dragging);
+const speeds = () => page.$$eval("#speeds tr[data-vehicle] td.contact", (tds) => tds.map((t) => +t.textContent));
+
+test("opens the example and shows its reconstruction", async () => {
+  await page.goto(url);
+  await page.waitForSelector("#speeds td.contact");
+  await idle();
+  assert.deepEqual(await speeds(), [38.10, 27.20]);
+  // The address drops nothing a reload needs: the token is now a cookie.
+  const cookies = await page.context().cookies();
+  assert.ok(cookies.some((c) => c.name === "pim_token" && c.httpOnly && c.sameSite === "Strict"));
+  assert.equal(await page.locator("circle.handle").count(), 2);
+  await page.screenshot({ path: path.join(shots, "01-opened.png") });
+});
+
+test("dragging car 2's rest 2 m changes the speeds, the TOML and the residuals", async () => {
+  const before = await speeds();
+  const text0 = await page.inputValue("#toml");
+  const handle = page.locator('circle.handle[data-vehicle="2"]');
+  const box = await handle.boundingBox();
+  // 2 m in the case's feet, in screen pixels: the view's width over the plan's width.
+  const pxPerFt = await page.evaluate(() => document.getElementById("plan").clientWidth / window.pim.view.w);
+  const dx = (2 / 0.3048) * pxPerFt;
+  const x0 = box.x + box.width / 2, y0 = box.y + box.height / 2;
+  await page.mouse.move(x0, y0);
+  await page.mouse.down();
+  for (let i = 1; i <= 10; i++) await page.mouse.move(x0 + (dx * i) / 10, y0);
+  await page.mouse.up();
+  await idle();
+  const after = await speeds();
+  const text1 = await page.inputValue("#toml");
+  const rest = (t) => /\[scene\.vehicle2\]\nrest = \{ x = ([-0-9.]+), y = ([-0-9.]+)/.exec(t);
+  const [, x0ft, y0ft] = rest(text0), [, x1ft, y1ft] = rest(text1);
+  // SAE: to the right on the page is +y.
+  assert.ok(Math.abs(+x1ft - +x0ft) < 0.3, `x ${x0ft} -> ${x1ft}`);
+  assert.ok(Math.abs(+y1ft - +y0ft - 2 / 0.3048) < 0.3, `y ${y0ft} -> ${y1ft}`);
+  assert.notDeepEqual(after, before, "the speeds at contact change");
+  const chi = await page.evaluate(() => window.pim.answer.document.best.chi_square);
+  assert.ok(chi > 0.5, `the moved rest costs chi-square ${chi}`);
+  // Every other line of the file is kept.
+  const a = text0.split("\n"), b = text1.split("\n");
+  assert.equal(a.length, b.length);
+  assert.equal(a.filter((l, i) => l !== b[i]).length, 1);
+  await page.screenshot({ path: path.join(shots, "02-dragged.png") });
+  timings = await page.evaluate(() => window.pim.timings);
+});
+
+test("a bad value marks the TOML and is not saved", async () => {
+  const good = await page.inputValue("#toml");
+  const onDisk = fs.readFileSync(path.join(dir, CASE), "utf8");
+  await page.fill("#toml", good.replace("mass = 3400.0", "mass = -3400.0"));
+  await page.waitForSelector("#error:not([hidden])");
+  await idle();
+  const message = await page.textContent("#error");
+  assert.match(message, /mass/);
+  assert.ok(await page.$("textarea.bad"));
+  await page.click("#save");
+  await page.waitForFunction(() => /not saved/.test(document.getElementById("status").textContent));
+  assert.equal(fs.readFileSync(path.join(dir, CASE), "utf8"), onDisk);
+  await page.screenshot({ path: path.join(shots, "03-bad-value.png") });
+  await page.fill("#toml", good);
+  await page.waitForSelector("#error", { state: "hidden" });
+  await idle();
+});
+
+test("save writes the edit and nothing else; pim fit of the file gives the page's document", async () => {
+  const original = fs.readFileSync(path.join(repo, "examples/cases", CASE), "utf8");
+  await page.click("#save");
+  await page.waitForFunction(() => /^saved/.test(document.getElementById("status").textContent));
+  const saved = fs.readFileSync(path.join(dir, CASE), "utf8");
+  assert.equal(saved, await page.inputValue("#toml"));
+  const a = original.split("\n"), b = saved.split("\n");
+  const changed = a.map((l, i) => [l, b[i]]).filter(([x, y]) => x !== y);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  assert.match(changed[0][0], /^rest = \{ x = 50\.1, y = 79\.7, heading = 241\.0 \}/);
+  // The comments are all there.
+  for (const l of a.filter((l) => l.includes("#"))) assert.ok(b.includes(l), l);
+  const page_doc = await page.evaluate(() => window.pim.answer.document);
+  const cli = JSON.parse(execFileSync(pimBin, ["fit", path.join(dir, CASE), "--format", "json"], { encoding: "utf8" }));
+  assert.deepEqual(page_doc, cli);
+  // Reopened, the page shows the saved file.
+  await page.reload();
+  await page.waitForSelector("#speeds td.contact");
+  await idle();
+  assert.equal(await page.inputValue("#toml"), saved);
+});
+
+test("the API answers every example case with the command's document", async () => {
+  const cookie = `pim_token=${token}`;
+  for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {
+    const text = fs.readFileSync(path.join(repo, "examples/cases", name), "utf8");
+    const r = await raw("POST", "/api/answer", { cookie, body: { path: name, text } });
+    assert.equal(r.status, 200, r.body);
+    const cli = JSON.parse(execFileSync(pimBin, ["fit", path.join(repo, "examples/cases", name), "--format", "json"], { encoding: "utf8" }));
+    assert.deepEqual(JSON.parse(r.body).document, cli, name);
+  }
+});
+
+test("foreign hosts, missing tokens and paths outside the folder are refused", async () => {
+  const cookie = `pim_token=${token}`;
+  assert.equal((await raw("GET", "/api/cases", { cookie })).status, 200);
+  assert.equal((await raw("GET", "/api/cases", { cookie, host: "evil.example" })).status, 403);
+  assert.equal((await raw("GET", "/api/cases", { cookie, host: `evil.example:${new URL(base).port}` })).status, 403);
+  assert.equal((await raw("GET", "/api/cases")).status, 403);
+  assert.equal((await raw("GET", "/api/cases", { cookie: "pim_token=0000" })).status, 403);
+  assert.equal((await raw("GET", "/")).status, 403);
+  for (const p of ["../outside.toml", "/etc/outside.toml", "sub/../../outside.toml", "notes.txt"]) {
+    const r = await raw("POST", "/api/save", { cookie, body: { path: p, text: "title = \"x\"" } });
+    assert.equal(r.status, 403, `${p}: ${r.body}`);
+    const g = await raw("GET", `/api/case?path=${encodeURIComponent(p)}`, { cookie });
+    assert.equal(g.status, 403, p);
+  }
+  assert.ok(!fs.existsSync(path.join(path.dirname(dir), "outside.toml")));
+  const big = await raw("POST", "/api/answer", { cookie, body: { path: CASE, text: "#".repeat(2 << 20) } });
+  assert.equal(big.status, 413);
+});
+
+test("the server's answer times while dragging (performance marks)", async () => {
+  const t = timings;
+  const server = t.map((x) => x.server).filter((x) => x != null);
+  fs.writeFileSync(path.join(shots, "timings.json"), JSON.stringify(t, null, 1));
+  console.log(`answers: ${server.length}, server ms median ${server.sort((a, b) => a - b)[server.length >> 1]}`);
+  assert.ok(server.length >= 3);
+});
