@@ -111,4 +111,4 @@ pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
     Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,
 };
-pub use search::{reconstruct, redo};
+pub use search::{follow, reconstruct, redo};

@@ -424,6 +424,34 @@ pub fn redo(
     Ok(found.map(|x| Found::new(r, x.point, x.iterations, x.converged)))
 }
 
+/// The reconstruction of evidence a little changed from that of `previous` (a rest position
+/// dragged on the plan): the combinations `previous` refined to within
+/// [`Settings::refine_margin`] of its best are refined again from where they ended ([`redo`]),
+/// the lowest kept; the scenes are not searched again, and the outcome keeps `previous`'s list
+/// of the combinations compared. A fast answer to follow a change with (a few Gauss-Newton
+/// steps), not a search: where none of them refines, the whole search runs.
+///
+/// # Errors
+/// Input the search cannot use.
+pub fn follow(r: &Reconstruction, settings: &Settings, previous: &Outcome) -> Result<Outcome> {
+    let Some(found) = redo(r, settings, previous, settings.refine_margin)? else {
+        return reconstruct(r, settings);
+    };
+    let contradiction = crate::outcome::contradiction(r, &found);
+    let mut out = previous.clone();
+    out.status = if contradiction.is_some() {
+        Status::Inconsistent
+    } else {
+        Status::Found
+    };
+    out.reason = contradiction
+        .as_ref()
+        .map(|c| c.describe(|t| Contradiction::default_name(r, t)));
+    out.contradiction = contradiction;
+    out.best = Some(found);
+    Ok(out)
+}
+
 /// One entry per combination of counts of turns, in the order they first appear: where several
 /// starts of the same counts were tried, the one refined to the lowest cost (else the one with
 /// the lowest momentum bound), its scene-alone cost the lowest of them.

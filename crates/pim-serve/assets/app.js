@@ -56,22 +56,24 @@ async function openCase(path) {
   await solve();
 }
 
-// Solves the current text; a request made while one runs waits for it (the newest wins).
-async function solve() {
-  if (state.busy) { state.pending = true; return; }
+// Solves the current text; a request made while one runs waits for it (the newest wins, a
+// whole answer over a live one). `live`: while dragging, the server follows its last answer
+// (a few refinement steps) instead of searching; the whole search runs on release.
+async function solve(live = false) {
+  if (state.busy) { state.pending = state.pending === "full" || !live ? "full" : "live"; return; }
   state.busy = true;
-  status("solving…");
+  status(live ? "following…" : "solving…");
   const t0 = performance.now();
   try {
-    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text });
+    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text, live });
     state.answer = data;
     const server = /dur=([0-9.]+)/.exec(res.headers.get("server-timing") || "");
-    state.timings.push({ server: server ? +server[1] : null, page: performance.now() - t0 });
-    performance.measure("answer", { start: t0, end: performance.now() });
+    state.timings.push({ live, server: server ? +server[1] : null, page: performance.now() - t0 });
+    performance.measure(live ? "live answer" : "answer", { start: t0, end: performance.now() });
     $("error").hidden = true;
     $("toml").classList.remove("bad");
     render();
-    status(`solved in ${server ? server[1] : "?"} ms`);
+    status(`${live ? "followed" : "solved"} in ${server ? server[1] : "?"} ms`);
   } catch (e) {
     $("error").hidden = false;
     $("error").textContent = e.message;
@@ -79,7 +81,7 @@ async function solve() {
     status("not solved");
   } finally {
     state.busy = false;
-    if (state.pending) { state.pending = false; solve(); }
+    if (state.pending) { const live = state.pending === "live"; state.pending = false; solve(live); }
   }
 }
 
@@ -112,7 +114,7 @@ function summary(a) {
   const d = a.document, best = d && d.best;
   const s = $("summary");
   if (a.question === "reconstruction" && best) {
-    s.textContent = `chi-square ${best.chi_square.toFixed(3)} with ${best.degrees_of_freedom} dof, ` +
+    s.textContent = (a.live ? "live (refined from the last answer; the whole search when you let go): " : "") + `chi-square ${best.chi_square.toFixed(3)} with ${best.degrees_of_freedom} dof, ` +
       `p = ${best.p_value.toFixed(4)}; e ${best.e.toFixed(3)}, mu ${best.mu.toFixed(3)}` +
       (d.status !== "found" ? ` — ${d.status}: ${d.reason || ""}` : "");
   } else if (a.question === "reconstruction") {
@@ -226,7 +228,10 @@ function startDrag(e, vehicle, at, group, handle) {
     const d = state.dragging;
     d.to = [at[0] + p.x - from.x, at[1] - (p.y - from.y)];
     follow(d);
-    if (!state.busy) moveTo(vehicle, d.to);
+    if (!state.busy && !state.inFlight) {
+      state.inFlight = true;
+      moveTo(vehicle, d.to, true).finally(() => { state.inFlight = false; });
+    }
   };
   const up = () => {
     svg.removeEventListener("pointermove", move);
@@ -244,12 +249,18 @@ function follow(d) {
   d.group.setAttribute("transform", `translate(${d.to[0] - d.base[0]} ${-(d.to[1] - d.base[1])})`);
 }
 
-async function moveTo(vehicle, at) {
+// Moves run one after the other (each edits the text the one before left).
+function moveTo(vehicle, at, live = false) {
+  state.moving = (state.moving || Promise.resolve()).then(() => move(vehicle, at, live));
+  return state.moving;
+}
+
+async function move(vehicle, at, live) {
   try {
     const { data } = await api("POST", "/api/move", { path: state.path, text: state.text, vehicle, at });
     state.text = data.text;
     $("toml").value = data.text;
-    await solve();
+    await solve(live);
   } catch (e) {
     $("error").hidden = false;
     $("error").textContent = e.message;

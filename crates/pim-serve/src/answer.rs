@@ -24,6 +24,10 @@ pub enum AnswerError {
 pub struct Answer {
     /// `reconstruction` (a scene case) or `fit`.
     pub question: &'static str,
+    /// A live answer: the reconstruction refined from the previous answer's ends
+    /// ([`pim_reconstruct::follow`]), not searched, and without its consistency table; the
+    /// page asks for the whole answer when the drag ends.
+    pub live: bool,
     /// The document of `pim fit FILE --format json`.
     pub document: serde_json::Value,
     /// The text `pim fit FILE` prints.
@@ -86,6 +90,19 @@ pub struct GivenRest {
 /// # Errors
 /// [`AnswerError::Input`] for text that is not a valid case, with `pim`'s message.
 pub fn answer(file: &str, text: &str) -> Result<Answer, AnswerError> {
+    answer_following(file, text, None).map(|(a, _)| a)
+}
+
+/// [`answer`]; with `previous` (the outcome of the case's last reconstruction) a live answer
+/// that follows it. Also gives the reconstruction's outcome, to follow next time.
+///
+/// # Errors
+/// As [`answer`].
+pub fn answer_following(
+    file: &str,
+    text: &str,
+    previous: Option<&pim_reconstruct::Outcome>,
+) -> Result<(Answer, Option<pim_reconstruct::Outcome>), AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
     let asked = Question::of(&case, None);
@@ -94,14 +111,18 @@ pub fn answer(file: &str, text: &str) -> Result<Answer, AnswerError> {
     let branches = vec![MomentBranch::Free, MomentBranch::Zero];
     match asked.question {
         Question::Reconstruction => {
-            let done = pim_studies::consistency::answer(
-                &case,
-                FitModel::Pim,
-                MomentForm::Corrected,
-                branches,
-                &pim_studies::watch::Unwatched,
-            )
-            .map_err(|e| input(&e))?;
+            let live = previous.is_some();
+            let done = match previous {
+                Some(p) => follow(&case, branches, p)?,
+                None => pim_studies::consistency::answer(
+                    &case,
+                    FitModel::Pim,
+                    MomentForm::Corrected,
+                    branches,
+                    &pim_studies::watch::Unwatched,
+                )
+                .map_err(|e| input(&e))?,
+            };
             let table = pim_render::reconstruct::reconstruction_table(
                 &title,
                 &done.document,
@@ -112,12 +133,16 @@ pub fn answer(file: &str, text: &str) -> Result<Answer, AnswerError> {
                 Some(best) => plan(&case, Some(best.solution.separation), units)?,
                 None => plan(&case, None, units).unwrap_or_default(),
             };
-            Ok(Answer {
-                question: "reconstruction",
-                document: serde_json::to_value(&done.document).map_err(|e| input(&e))?,
-                table,
-                plan,
-            })
+            Ok((
+                Answer {
+                    question: "reconstruction",
+                    live,
+                    document: serde_json::to_value(&done.document).map_err(|e| input(&e))?,
+                    table,
+                    plan,
+                },
+                Some(done.outcome),
+            ))
         }
         _ => {
             let fitted = pim_studies::documents::fit(
@@ -145,14 +170,47 @@ pub fn answer(file: &str, text: &str) -> Result<Answer, AnswerError> {
             } else {
                 Plan::default()
             };
-            Ok(Answer {
-                question: "fit",
-                document: serde_json::to_value(&fitted.document).map_err(|e| input(&e))?,
-                table,
-                plan,
-            })
+            Ok((
+                Answer {
+                    question: "fit",
+                    live: false,
+                    document: serde_json::to_value(&fitted.document).map_err(|e| input(&e))?,
+                    table,
+                    plan,
+                },
+                None,
+            ))
         }
     }
+}
+
+/// The case reconstructed by following `previous` ([`pim_reconstruct::follow`]).
+fn follow(
+    case: &Case,
+    branches: Vec<MomentBranch>,
+    previous: &pim_reconstruct::Outcome,
+) -> Result<pim_studies::reconstruct::Reconstructed, AnswerError> {
+    let how = pim_studies::reconstruct::How {
+        model: FitModel::Pim,
+        moment_form: MomentForm::Corrected,
+        branches,
+    };
+    let input = pim_studies::reconstruct::case_reconstruction(
+        case,
+        how.model,
+        how.moment_form,
+        how.branches.clone(),
+    )
+    .map_err(|e| AnswerError::Input(e.to_string()))?;
+    let outcome = pim_reconstruct::follow(&input.reconstruction, &input.settings, previous)
+        .map_err(|e| AnswerError::Input(format!("{}: {e}", case.file)))?;
+    let document = pim_studies::reconstruct::document(&input, &outcome);
+    Ok(pim_studies::reconstruct::Reconstructed {
+        how,
+        input,
+        outcome,
+        document,
+    })
 }
 
 /// The scene on the page: each run-out from `separation` (or without one, the vehicles where

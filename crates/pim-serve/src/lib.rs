@@ -32,15 +32,19 @@ mod guard;
 mod routes;
 mod served;
 
-pub use answer::{answer, move_rest, Answer, AnswerError, Plan};
+pub use answer::{answer, answer_following, move_rest, Answer, AnswerError, Plan};
 pub use guard::{inside, Guard};
+use served::Server;
 pub use served::{Served, BODY_LIMIT};
 
 use std::sync::Arc;
 
 /// The web application of `served`.
 pub fn app(served: Served) -> axum::Router {
-    routes::router(Arc::new(served))
+    routes::router(Arc::new(Server {
+        served,
+        last: Default::default(),
+    }))
 }
 
 /// Serves `served` on `listener` until the process ends.

@@ -1,7 +1,7 @@
 //! The routes: the page, its assets and the API.
 
 use crate::guard::{inside, Guard, COOKIE};
-use crate::served::{Served, BODY_LIMIT};
+use crate::served::{Server, BODY_LIMIT};
 use axum::body::Body;
 use axum::extract::{DefaultBodyLimit, Query, Request, State};
 use axum::http::{header, StatusCode};
@@ -18,7 +18,7 @@ use std::sync::Arc;
 #[folder = "assets/"]
 struct Assets;
 
-type App = Arc<Served>;
+type App = Arc<Server>;
 
 pub(crate) fn router(served: App) -> Router {
     Router::new()
@@ -42,8 +42,8 @@ fn refused(status: StatusCode, why: &str) -> Response {
 /// address of the page itself).
 async fn guard(State(s): State<App>, req: Request, next: Next) -> Response {
     let g = Guard {
-        token: s.token.clone(),
-        hosts: s.hosts.clone(),
+        token: s.served.token.clone(),
+        hosts: s.served.hosts.clone(),
     };
     let headers = req.headers();
     let text = |h: header::HeaderName| headers.get(h).and_then(|v| v.to_str().ok());
@@ -55,10 +55,10 @@ async fn guard(State(s): State<App>, req: Request, next: Next) -> Response {
         );
     }
     let with_token = req.uri().path() == "/"
-        && req
-            .uri()
-            .query()
-            .is_some_and(|q| q.split('&').any(|kv| kv == format!("token={}", s.token)));
+        && req.uri().query().is_some_and(|q| {
+            q.split('&')
+                .any(|kv| kv == format!("token={}", s.served.token))
+        });
     if !(with_token || g.cookie_allowed(text(header::COOKIE))) {
         return refused(
             StatusCode::FORBIDDEN,
@@ -79,7 +79,10 @@ async fn index(State(s): State<App>, req: Request) -> Response {
         "text/html; charset=utf-8".parse().expect("header"),
     );
     if req.uri().query().is_some() {
-        let cookie = format!("{COOKIE}={}; HttpOnly; SameSite=Strict; Path=/", s.token);
+        let cookie = format!(
+            "{COOKIE}={}; HttpOnly; SameSite=Strict; Path=/",
+            s.served.token
+        );
         h.insert(header::SET_COOKIE, cookie.parse().expect("header"));
     }
     res
@@ -101,7 +104,8 @@ async fn asset(axum::extract::Path(file): axum::extract::Path<String>) -> Respon
 /// The case files of the folder served (sorted; subfolders included).
 async fn cases(State(s): State<App>) -> Response {
     let mut out = Vec::new();
-    let mut dirs = vec![s.root.clone()];
+    let root = &s.served.root;
+    let mut dirs = vec![root.clone()];
     while let Some(d) = dirs.pop() {
         let Ok(entries) = std::fs::read_dir(&d) else {
             continue;
@@ -111,7 +115,7 @@ async fn cases(State(s): State<App>) -> Response {
             if p.is_dir() {
                 dirs.push(p);
             } else if p.extension().is_some_and(|x| x == "toml") {
-                if let Ok(rel) = p.strip_prefix(&s.root) {
+                if let Ok(rel) = p.strip_prefix(root) {
                     out.push(rel.to_string_lossy().replace('\\', "/"));
                 }
             }
@@ -119,9 +123,9 @@ async fn cases(State(s): State<App>) -> Response {
     }
     out.sort();
     Json(json!({
-        "root": s.root.display().to_string(),
+        "root": root.display().to_string(),
         "cases": out,
-        "initial": s.initial,
+        "initial": s.served.initial,
     }))
     .into_response()
 }
@@ -132,7 +136,7 @@ struct CasePath {
 }
 
 async fn case(State(s): State<App>, Query(q): Query<CasePath>) -> Response {
-    let Some(file) = inside(&s.root, &q.path) else {
+    let Some(file) = inside(&s.served.root, &q.path) else {
         return outside(&q.path);
     };
     match std::fs::read_to_string(&file) {
@@ -155,16 +159,28 @@ fn outside(path: &str) -> Response {
 struct CaseText {
     path: String,
     text: String,
+    /// A live answer (while a handle is dragged): follow the case's last reconstruction.
+    #[serde(default)]
+    live: bool,
 }
 
 fn unanswered(e: crate::AnswerError) -> Response {
     refused(StatusCode::UNPROCESSABLE_ENTITY, &e.to_string())
 }
 
-async fn answer(Json(c): Json<CaseText>) -> Response {
+async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
     let done = tokio::task::spawn_blocking(move || {
         let started = std::time::Instant::now();
-        crate::answer(&c.path, &c.text).map(|a| (a, started.elapsed()))
+        let previous = if c.live {
+            s.last.lock().ok().and_then(|m| m.get(&c.path).cloned())
+        } else {
+            None
+        };
+        let (a, outcome) = crate::answer_following(&c.path, &c.text, previous.as_ref())?;
+        if let (Some(o), Ok(mut m)) = (outcome, s.last.lock()) {
+            m.insert(c.path.clone(), o);
+        }
+        Ok::<_, crate::AnswerError>((a, started.elapsed()))
     })
     .await;
     match done {
@@ -198,7 +214,7 @@ async fn move_rest(Json(m): Json<Move>) -> Response {
 
 /// Saves a case: only a valid case, only inside the folder.
 async fn save(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
-    let Some(file) = inside(&s.root, &c.path) else {
+    let Some(file) = inside(&s.served.root, &c.path) else {
         return outside(&c.path);
     };
     if let Err(e) = pim_case::case::Case::from_text(&c.path, &c.text) {

@@ -24,3 +24,10 @@ impl Served {
         format!("{:032x}", rand::random::<u128>())
     }
 }
+
+/// A server: what it serves, and each case's last reconstruction (what a live answer follows).
+#[derive(Debug)]
+pub(crate) struct Server {
+    pub(crate) served: Served,
+    pub(crate) last: std::sync::Mutex<std::collections::HashMap<String, pim_reconstruct::Outcome>>,
+}

@@ -1,0 +1,81 @@
+//! The server's answers without a browser: the rest moved in each frame and unit, a live answer
+//! against the whole search.
+
+use std::path::Path;
+
+fn example(name: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases");
+    std::fs::read_to_string(root.join(name)).unwrap()
+}
+
+fn rest_line(text: &str, vehicle: u8) -> String {
+    let section = format!("[scene.vehicle{vehicle}]");
+    let at = text.find(&section).unwrap();
+    text[at..]
+        .lines()
+        .find(|l| l.starts_with("rest ="))
+        .unwrap()
+        .to_string()
+}
+
+/// A natural-frame SI case: the page point is (x, y) in metres; the comment after it is kept.
+#[test]
+fn moves_a_natural_si_rest() {
+    let text = example("runout_scene.toml");
+    let moved = pim_serve::move_rest("runout_scene.toml", &text, 2, [10.004, 1.5]).unwrap();
+    assert_eq!(
+        rest_line(&moved, 2),
+        "rest = { x = 10.0, y = 1.5, heading = 2.7 }           # m, m, deg"
+    );
+    let (a, b): (Vec<&str>, Vec<&str>) = (text.lines().collect(), moved.lines().collect());
+    assert_eq!(a.len(), b.len());
+    assert_eq!(a.iter().zip(&b).filter(|(x, y)| x != y).count(), 1);
+}
+
+/// An SAE case in feet: the page's right is +y, up is +x.
+#[test]
+fn moves_an_sae_us_rest() {
+    let text = example("reconstruction_us.toml");
+    let moved = pim_serve::move_rest("reconstruction_us.toml", &text, 2, [81.7, 52.06]).unwrap();
+    assert_eq!(
+        rest_line(&moved, 2),
+        "rest = { x = 52.06, y = 81.7, heading = 241.0 }"
+    );
+    // Bad requests are refused, not written.
+    assert!(pim_serve::move_rest("r.toml", &text, 3, [0.0, 0.0]).is_err());
+    assert!(pim_serve::move_rest("r.toml", &text, 1, [f64::NAN, 0.0]).is_err());
+    assert!(pim_serve::move_rest("r.toml", "not = [toml", 1, [0.0, 0.0]).is_err());
+}
+
+/// A live answer (refined from the last one) after a rest moved 0.3 m lands where the whole
+/// search lands: the same chi-square to 1e-3 and speeds to 1 cm/s.
+#[test]
+fn a_live_answer_follows_the_whole_search() {
+    let file = "reconstruction_us.toml";
+    let text = example(file);
+    let (_, outcome) = pim_serve::answer_following(file, &text, None).unwrap();
+    let moved = pim_serve::move_rest(file, &text, 2, [79.7 + 1.0, 50.1]).unwrap();
+    let (live, _) = pim_serve::answer_following(file, &moved, outcome.as_ref()).unwrap();
+    let whole = pim_serve::answer(file, &moved).unwrap();
+    assert!(live.live && !whole.live);
+    let best = |a: &pim_serve::Answer| a.document["best"].clone();
+    let (l, w) = (best(&live), best(&whole));
+    let chi = |b: &serde_json::Value| b["chi_square"].as_f64().unwrap();
+    assert!(
+        (chi(&l) - chi(&w)).abs() < 1e-3,
+        "{} against {}",
+        chi(&l),
+        chi(&w)
+    );
+    for v in 0..2 {
+        let s = |b: &serde_json::Value| b["vehicles"][v]["speed_at_contact"].as_f64().unwrap();
+        assert!((s(&l) - s(&w)).abs() < 0.01, "{} against {}", s(&l), s(&w));
+    }
+    // The plan draws both vehicles, their paths and the rests given.
+    assert_eq!(whole.plan.vehicles.len(), 2);
+    assert!(whole
+        .plan
+        .vehicles
+        .iter()
+        .all(|v| v.path.len() > 10 && v.given_rest.is_some()));
+}
