@@ -30,6 +30,7 @@ pub mod ranges;
 pub mod reference;
 pub mod ricsac;
 pub mod scene;
+mod scene_inputs;
 pub mod scene_sections;
 pub mod sections;
 pub mod spread;

@@ -18,6 +18,8 @@
 //! steer = 0.0                   # deg, front wheels (counter-clockwise; SAE: clockwise), or
 //! # steer = { front_left = 6.1, front_right = 4.4 }   # each front wheel, or
 //! # steering_wheel = 90.0       # deg, with steer_ratio = 16.0: the Ackermann angles of 90/16
+//! # inputs = [ { at = 0.8, braking = 0.9, build_up = 0.25 } ]   # the driver's inputs in time
+//! #                             # (see the scene_inputs module)
 //!
 //! [scene.vehicle1]
 //! rest = { x = 14.2, y = 3.1, heading = 215.0 }
@@ -214,6 +216,7 @@ impl Case {
                 length: vs.length,
                 width: vs.width,
                 cg_to_front: vs.cg_to_front,
+                inputs: self.inputs_of(&name, w, flip)?,
             };
             chassis.check().map_err(|e| self.runout_error(&name, e))?;
             if let Some(b) = w.braking {
@@ -326,8 +329,14 @@ impl Case {
     /// Ackermann geometry (pim-runout's `ackermann`).
     fn steer_of(&self, name: &str, w: &RunoutVehicleSection, flip: f64) -> Result<[f64; 2]> {
         let at = |k: &str| format!("runout.{name}.{k}");
+        // A ratio for the inputs' steering-wheel angles alone stands without a steering wheel.
+        let for_inputs = w.steering_wheel.is_none()
+            && w.inputs
+                .as_ref()
+                .is_some_and(|v| v.iter().any(|i| i.steering_wheel.is_some()));
+        let ratio = if for_inputs { None } else { w.steer_ratio };
         let degrees =
-            match (w.steer, w.steering_wheel, w.steer_ratio) {
+            match (w.steer, w.steering_wheel, ratio) {
                 (Some(_), Some(_), _) => return Err(self.error_at(
                     &at("steering_wheel"),
                     "give either steer (the wheels' angles) or steering_wheel with steer_ratio, \

@@ -120,6 +120,31 @@ pub struct RunoutVehicleSection {
     /// cornering stiffness per unit load is `1 / max_slip_angle` whatever the friction.
     #[serde(default)]
     pub max_slip_angle: Option<f64>,
+    /// The driver's inputs after separation, in time (PC-Crash's sequences).
+    #[serde(default)]
+    pub inputs: Option<Vec<InputWritten>>,
+}
+
+/// One driver input as written: from `at` seconds after separation, a braking share of the
+/// wheels that are not locked and/or a steer (the wheels' angles, or a steering-wheel angle
+/// with the vehicle's `steer_ratio`), reached over `build_up` seconds.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InputWritten {
+    /// Seconds after separation.
+    pub at: f64,
+    /// Braking share, 0 to 1.
+    #[serde(default)]
+    pub braking: Option<f64>,
+    /// Front wheels' steer, degrees: one for both, or `{ front_left, front_right }`.
+    #[serde(default)]
+    pub steer: Option<SteerWritten>,
+    /// Steering-wheel angle, degrees (with the vehicle's `steer_ratio`).
+    #[serde(default)]
+    pub steering_wheel: Option<f64>,
+    /// Seconds to reach the values (default 0: at once).
+    #[serde(default)]
+    pub build_up: Option<f64>,
 }
 
 /// A point as written: `{ x, y }` with an optional heading.

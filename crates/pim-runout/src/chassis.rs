@@ -81,6 +81,32 @@ pub struct Chassis {
     pub width: Option<f64>,
     /// CG to the front face, m, when known (default half the length).
     pub cg_to_front: Option<f64>,
+    /// The driver's inputs after separation, in the order of their times (none: the wheels and
+    /// steer above throughout).
+    #[serde(default)]
+    pub inputs: Vec<Input>,
+}
+
+/// A driver input from a time after separation on, as a PC-Crash sequence writes it: a braking
+/// share for every wheel that is not locked and steer angles for the front wheels, each
+/// reached linearly over `build_up` seconds from its value when the input starts (a reaction
+/// time before the driver brakes is an input at that time). A value the input does not give
+/// keeps what it was.
+///
+/// Each value is continuous in time and piecewise linear; the run-out is integrated piece by
+/// piece between the times where its slope changes (each input's start and the end of its
+/// build-up), so that the integrator never steps across a kink of the inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+pub struct Input {
+    /// When the input starts, s after separation (at least 0).
+    pub at: f64,
+    /// The braking share (0 to 1) of every wheel that is not locked, as
+    /// [`WheelState::Braked`]; a share 0 is a free-rolling wheel.
+    pub braking: Option<f64>,
+    /// The front left and front right wheels' steer angles, rad (as [`Chassis::steer`]).
+    pub steer: Option<[f64; 2]>,
+    /// Seconds over which the values move from where they were to the input's (0: at once).
+    pub build_up: f64,
 }
 
 impl Chassis {
@@ -109,6 +135,7 @@ impl Chassis {
             length: None,
             width: None,
             cg_to_front: None,
+            inputs: Vec::new(),
         }
     }
 
@@ -220,6 +247,45 @@ impl Chassis {
                     format!("{} deg: must lie between -90 and 90 deg", s.to_degrees()),
                 );
             }
+        }
+        let mut last = 0.0;
+        for (k, input) in self.inputs.iter().enumerate() {
+            let field = "inputs";
+            let why = if !(input.at.is_finite() && input.at >= last) {
+                Some(format!(
+                    "input {}: starts at {} s: the inputs' times must be at least 0 and in                      order",
+                    k + 1,
+                    input.at
+                ))
+            } else if !(input.build_up.is_finite() && input.build_up >= 0.0) {
+                Some(format!(
+                    "input {}: build-up {} s must be 0 or more",
+                    k + 1,
+                    input.build_up
+                ))
+            } else if input
+                .braking
+                .is_some_and(|b| !(b.is_finite() && (0.0..=1.0).contains(&b)))
+            {
+                Some(format!(
+                    "input {}: braking share must lie between 0 and 1",
+                    k + 1
+                ))
+            } else if input
+                .steer
+                .is_some_and(|s| s.iter().any(|a| !(a.is_finite() && a.abs() < half_pi)))
+            {
+                Some(format!(
+                    "input {}: steer must lie between -90 and 90 deg",
+                    k + 1
+                ))
+            } else {
+                None
+            };
+            if let Some(why) = why {
+                return bad(field, why);
+            }
+            last = input.at;
         }
         for (i, w) in self.wheels.iter().enumerate() {
             if let WheelState::Braked(b) = w {

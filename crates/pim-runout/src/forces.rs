@@ -24,11 +24,12 @@ pub struct WheelAt {
     pub force: [f64; 2],
 }
 
-/// Each wheel's normal load, slip angle and tyre force for `chassis` in the motion `m` (front
-/// left, front right, rear left, rear right), as the run-out's equations of motion use them.
-pub fn wheels_at(chassis: &Chassis, m: &crate::Motion) -> [WheelAt; 4] {
+/// Each wheel's normal load, slip angle and tyre force for `chassis` in the motion `m` at time
+/// `t` after separation (front left, front right, rear left, rear right), as the run-out's
+/// equations of motion use them (the driver's inputs at that time).
+pub fn wheels_at(chassis: &Chassis, m: &crate::Motion, t: f64) -> [WheelAt; 4] {
     let y = State::from([m.x, m.y, m.heading, m.vx, m.vy, m.yaw_rate, 0.0, 0.0]);
-    Dynamics::new(chassis).wheels_at(&y)
+    Dynamics::new(chassis).at_time(t).wheels_at(&y)
 }
 
 /// What one wheel does, in numbers per unit of normal load.
@@ -63,6 +64,47 @@ pub(crate) struct Dynamics {
     /// needed.
     tan_saturation: f64,
     load_transfer: bool,
+    /// The driver's inputs, when the chassis has any.
+    schedule: Option<Box<Schedule>>,
+}
+
+/// The driver's inputs of a chassis, with what they change from.
+#[derive(Debug, Clone)]
+struct Schedule {
+    inputs: Vec<crate::chassis::Input>,
+    /// Each wheel's braking share at separation (none for a locked wheel, which stays locked).
+    shares: [Option<f64>; 4],
+    /// The front wheels' steer angles at separation, rad.
+    steer: [f64; 2],
+    friction: f64,
+    rolling_resistance: f64,
+}
+
+impl Schedule {
+    /// A value at time `t`: from `base`, each input that gives it (`pick`) moves it linearly
+    /// from its value when the input starts to the input's over the input's build-up.
+    fn value(
+        &self,
+        base: f64,
+        pick: impl Fn(&crate::chassis::Input) -> Option<f64>,
+        t: f64,
+    ) -> f64 {
+        // (start, from, to, build-up) of the ramp in force.
+        let at = |r: (f64, f64, f64, f64), t: f64| {
+            if r.3 <= 0.0 || t >= r.0 + r.3 {
+                r.2
+            } else {
+                r.1 + (r.2 - r.1) * (t - r.0) / r.3
+            }
+        };
+        let mut ramp = (0.0, base, base, 0.0);
+        for input in self.inputs.iter().take_while(|i| i.at <= t) {
+            if let Some(to) = pick(input) {
+                ramp = (input.at, at(ramp, input.at), to, input.build_up);
+            }
+        }
+        at(ramp, t)
+    }
 }
 
 /// What the forces do at one state.
@@ -112,6 +154,19 @@ impl Dynamics {
                 transfer,
             }
         });
+        let schedule = (!c.inputs.is_empty()).then(|| {
+            Box::new(Schedule {
+                inputs: c.inputs.clone(),
+                shares: c.wheels.map(|w| match w {
+                    WheelState::Locked => None,
+                    WheelState::Rolling => Some(0.0),
+                    WheelState::Braked(b) => Some(b),
+                }),
+                steer: c.steer,
+                friction: mu,
+                rolling_resistance: c.rolling_resistance,
+            })
+        });
         Dynamics {
             mass: c.mass,
             inertia: c.yaw_inertia,
@@ -119,7 +174,46 @@ impl Dynamics {
             saturation: c.saturation_angle,
             tan_saturation: c.saturation_angle.tan(),
             load_transfer: c.cg_height.is_some(),
+            schedule,
         }
+    }
+
+    /// The dynamics at time `t` after separation: the driver's inputs then (itself without
+    /// inputs).
+    pub(crate) fn at_time(&self, t: f64) -> std::borrow::Cow<'_, Dynamics> {
+        let Some(s) = &self.schedule else {
+            return std::borrow::Cow::Borrowed(self);
+        };
+        let mut d = self.clone();
+        for (i, wheel) in d.wheels.iter_mut().enumerate() {
+            if let Some(base) = s.shares[i] {
+                let share = s.value(base, |x| x.braking, t);
+                wheel.tyre = rolling(s.friction, (share * s.friction).max(s.rolling_resistance));
+            }
+            if i < 2 {
+                let steer = s.value(s.steer[i], |x| x.steer.map(|a| a[i]), t);
+                wheel.dir = [steer.cos(), steer.sin()];
+            }
+        }
+        std::borrow::Cow::Owned(d)
+    }
+
+    /// The times before `limit` where an input's value changes its slope (each input's start and
+    /// the end of its build-up), in order: the run-out is integrated piece by piece between
+    /// them.
+    pub(crate) fn kinks(&self, limit: f64) -> Vec<f64> {
+        let Some(s) = &self.schedule else {
+            return Vec::new();
+        };
+        let mut out: Vec<f64> = s
+            .inputs
+            .iter()
+            .flat_map(|i| [i.at, i.at + i.build_up])
+            .filter(|&t| t > 0.0 && t < limit)
+            .collect();
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
     }
 
     /// Velocity of each contact patch in the body frame, m/s.

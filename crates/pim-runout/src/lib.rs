@@ -80,7 +80,7 @@ pub mod inverse;
 pub mod simulate;
 
 pub use chassis::{
-    ackermann, Chassis, Motion, WheelState, DEFAULT_FRICTION, DEFAULT_ROLLING_RESISTANCE,
+    ackermann, Chassis, Input, Motion, WheelState, DEFAULT_FRICTION, DEFAULT_ROLLING_RESISTANCE,
     DEFAULT_SATURATION_ANGLE, GRAVITY, MAX_FRICTION, WHEEL_NAMES,
 };
 pub use error::{Result, RunoutError};

@@ -200,11 +200,15 @@ struct Tracked<'a> {
 }
 
 impl System<f64, State> for Tracked<'_> {
-    fn system(&self, _t: f64, y: &State, dy: &mut State) {
-        *dy = derivative(self.dynamics, y);
+    fn system(&self, t: f64, y: &State, dy: &mut State) {
+        *dy = derivative(&self.dynamics.at_time(t), y);
     }
 
     fn solout(&mut self, t: f64, y: &State, dy: &State) -> bool {
+        // A piece after the first starts where the one before ended, already logged.
+        if self.log.last().is_some_and(|l| l.0 >= t) {
+            return *self.stopped;
+        }
         self.log.push((t, *y, *dy));
         if self.dynamics.fastest_patch(y) < self.rest_speed {
             *self.stopped = true;
@@ -270,10 +274,17 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         0.0,
     ]);
     let initial_energy = dynamics.kinetic_energy(&y0);
-    let mut log = vec![(0.0, y0, derivative(dynamics, &y0))];
+    let mut log = vec![(0.0, y0, derivative(&dynamics.at_time(0.0), &y0))];
     let mut stopped = dynamics.fastest_patch(&y0) < settings.rest_speed;
     let mut evaluations = 1;
-    if !stopped {
+    // Piece by piece between the driver inputs' kinks (one piece without inputs).
+    let mut ends = dynamics.kinks(settings.time_limit);
+    ends.push(settings.time_limit);
+    for end in ends {
+        let Some(&(t0, y, _)) = log.last() else { break };
+        if stopped || t0 >= settings.time_limit {
+            break;
+        }
         let system = Tracked {
             dynamics,
             rest_speed: settings.rest_speed,
@@ -282,10 +293,10 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         };
         let mut solver = Dopri5::from_param(
             system,
-            0.0,
-            settings.time_limit,
-            settings.time_limit,
-            y0,
+            t0,
+            end,
+            end - t0,
+            y,
             settings.rtol,
             settings.atol,
             0.9,
@@ -323,7 +334,7 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         // power P, so a uniform deceleration ends after tau = 2 K / P, with half the current
         // velocities' way covered.
         let k = dynamics.kinetic_energy(&y_last);
-        let p = dynamics.rates(&y_last).power;
+        let p = dynamics.at_time(t_last).rates(&y_last).power;
         let tau = if p > 0.0 { 2.0 * k / p } else { 0.0 };
         let tau = tau.min(settings.time_limit - t_last).max(0.0);
         let rest = Motion {

@@ -407,7 +407,7 @@ fn vehicle_out(
             heading: m.heading.to_degrees(),
             speed: m.vx.hypot(m.vy),
             yaw_rate: m.yaw_rate,
-            wheels: wheels.then(|| pim_runout::wheels_at(&v.chassis, m).map(WheelOut::from)),
+            wheels: wheels.then(|| pim_runout::wheels_at(&v.chassis, m, *t).map(WheelOut::from)),
         })
         .collect();
     VehicleRunoutOut {

@@ -85,12 +85,14 @@ struct Sys<'a, 'b> {
 }
 
 impl ode_solvers::System<f64, State6> for Sys<'_, '_> {
-    fn system(&self, _t: f64, y: &State6, dy: &mut State6) {
+    fn system(&self, t: f64, y: &State6, dy: &mut State6) {
+        self.model.t.set(t);
         let s: [f64; 6] = std::array::from_fn(|i| y[i]);
         *dy = State6::from(self.model.deriv(&s));
     }
 
     fn solout(&mut self, t: f64, y: &State6, _dy: &State6) -> bool {
+        self.model.t.set(t);
         *self.last = (t, *y);
         let s: [f64; 6] = std::array::from_fn(|i| y[i]);
         *self.stopped = self.model.slow(&s);
@@ -101,6 +103,52 @@ impl ode_solvers::System<f64, State6> for Sys<'_, '_> {
 /// The independent model: the state `[x, y, psi, vx, vy, r]`.
 pub struct Reference<'a> {
     pub c: &'a Chassis,
+    /// The time of the state being evaluated (for the driver's inputs).
+    pub t: std::cell::Cell<f64>,
+}
+
+impl<'a> Reference<'a> {
+    pub fn new(c: &'a Chassis) -> Self {
+        Reference {
+            c,
+            t: std::cell::Cell::new(0.0),
+        }
+    }
+
+    /// A value of the driver's inputs at time `t`, written as a list of breakpoints (time,
+    /// value) joined by straight lines: each input cuts the list at its start (the value there
+    /// read off the list) and adds its own ramp.
+    fn input_value(&self, base: f64, pick: impl Fn(&pim_runout::Input) -> Option<f64>) -> f64 {
+        let t = self.t.get();
+        let read = |points: &[(f64, f64)], t: f64| -> f64 {
+            let mut v = points[0].1;
+            for w in points.windows(2) {
+                let ((t0, v0), (t1, v1)) = (w[0], w[1]);
+                if t >= t1 {
+                    v = v1;
+                } else if t > t0 {
+                    v = v0 + (v1 - v0) * (t - t0) / (t1 - t0);
+                }
+            }
+            v
+        };
+        let mut points = vec![(0.0, base)];
+        for i in &self.c.inputs {
+            if let Some(target) = pick(i) {
+                let now = read(&points, i.at);
+                points.retain(|p| p.0 < i.at);
+                points.push((i.at, now));
+                // A step (no build-up) rises over the smallest time after its start.
+                let rise = i.build_up.max(f64::MIN_POSITIVE.max(i.at * f64::EPSILON));
+                points.push((i.at + rise, target));
+            }
+        }
+        if points.iter().any(|p| p.0 <= t) {
+            read(&points, t)
+        } else {
+            base
+        }
+    }
 }
 
 const DEADBAND: f64 = 0.01;
@@ -119,7 +167,11 @@ impl Reference<'_> {
         } else {
             -c.track / 2.0
         };
-        let steer = if i < 2 { c.steer[i] } else { 0.0 };
+        let steer = if i < 2 {
+            self.input_value(c.steer[i], |input| input.steer.map(|a| a[i]))
+        } else {
+            0.0
+        };
         ([x, y], steer)
     }
 
@@ -141,8 +193,12 @@ impl Reference<'_> {
                 let n = (u[0] * u[0] + u[1] * u[1]).sqrt().max(DEADBAND);
                 return [-mu * u[0] / n, -mu * u[1] / n];
             }
-            WheelState::Rolling => c.rolling_resistance,
-            WheelState::Braked(b) => (b * mu).max(c.rolling_resistance),
+            WheelState::Rolling => {
+                (self.input_value(0.0, |input| input.braking) * mu).max(c.rolling_resistance)
+            }
+            WheelState::Braked(b) => {
+                (self.input_value(b, |input| input.braking) * mu).max(c.rolling_resistance)
+            }
         }
         .min(mu);
         let across = (mu * mu - along * along).sqrt();
@@ -236,7 +292,22 @@ impl Reference<'_> {
         ]);
         let mut last = (0.0, y0);
         let mut stopped = false;
-        {
+        // Across a kink of the driver's inputs the 8th-order method loses its order: the
+        // motion is integrated piece by piece between them.
+        let mut kinks: Vec<f64> = self
+            .c
+            .inputs
+            .iter()
+            .flat_map(|i| [i.at, i.at + i.build_up])
+            .filter(|t| *t > 0.0 && *t < 60.0)
+            .chain([60.0])
+            .collect();
+        kinks.sort_by(f64::total_cmp);
+        for end in kinks {
+            if stopped || end <= last.0 {
+                continue;
+            }
+            let (t0, y) = last;
             let sys = Sys {
                 model: self,
                 last: &mut last,
@@ -245,10 +316,10 @@ impl Reference<'_> {
             // Stiffness detection off: a patch inside the 1 cm/s band is stiff, by design.
             let mut solver = ode_solvers::Dop853::from_param(
                 sys,
-                0.0,
-                60.0,
-                60.0,
-                y0,
+                t0,
+                end,
+                end - t0,
+                y,
                 1e-11,
                 1e-11,
                 0.9,
@@ -263,6 +334,7 @@ impl Reference<'_> {
             );
             solver.integrate().expect("the reference integrates");
         }
+        self.t.set(last.0);
         let s: [f64; 6] = std::array::from_fn(|i| last.1[i]);
         if !stopped {
             return ([s[0], s[1], s[2]], false);

@@ -1,0 +1,122 @@
+//! The driver's inputs of a run-out (`[runout.vehicleN] inputs`), read into pim-runout's
+//! [`Input`]s: SI, natural frame, radians.
+//!
+//! ```toml
+//! [runout.vehicle1]
+//! wheels = "rolling"            # the wheels at separation
+//! steer_ratio = 16.0            # for inputs that give a steering-wheel angle
+//! inputs = [
+//!   { at = 0.8, braking = 0.9, build_up = 0.25 },   # the driver brakes 0.8 s after the impact
+//!   { at = 1.5, steering_wheel = -90.0, build_up = 0.4 },
+//!   { at = 3.0, braking = 0.0 },                     # and lets go of the brake
+//! ]
+//! ```
+//!
+//! Each input starts `at` seconds after separation and moves its values linearly, over
+//! `build_up` seconds (default 0), from what they were to what it gives: `braking`, the braking
+//! share (0 to 1) of every wheel that is not locked (0 is a free-rolling wheel; a locked wheel
+//! stays locked); `steer`, the front wheels' angles (one for both, or `{ front_left,
+//! front_right }`, degrees, counter-clockwise in the natural frame and clockwise in SAE's, as
+//! `steer`), or `steering_wheel`, a steering-wheel angle turned into Ackermann angles with the
+//! vehicle's `steer_ratio`. A value an input does not give keeps what it was. Times must be in
+//! order.
+
+use crate::case::Case;
+use crate::error::Result;
+use crate::scene_sections::{RunoutVehicleSection, SteerWritten};
+use pim_runout::Input;
+
+impl Case {
+    /// The inputs of `[runout.{name}]`, in the natural frame (`flip` -1 for an SAE case).
+    pub(crate) fn inputs_of(
+        &self,
+        name: &str,
+        w: &RunoutVehicleSection,
+        flip: f64,
+    ) -> Result<Vec<Input>> {
+        let Some(written) = &w.inputs else {
+            return Ok(Vec::new());
+        };
+        let length = self.written_units.length.to_si();
+        let mut out = Vec::with_capacity(written.len());
+        for (k, i) in written.iter().enumerate() {
+            let at = |key: &str| format!("runout.{name}.inputs.{k}.{key}");
+            let steer = match (i.steer, i.steering_wheel) {
+                (Some(_), Some(_)) => {
+                    return Err(self.error_at(
+                        &at("steering_wheel"),
+                        "give either steer (the wheels' angles) or steering_wheel, not both",
+                    ))
+                }
+                (Some(SteerWritten::Both(a)), None) => Some([a; 2].map(|a| flip * a.to_radians())),
+                (Some(SteerWritten::Each(f)), None) => {
+                    Some([f.front_left, f.front_right].map(|a| flip * a.to_radians()))
+                }
+                (None, Some(sw)) => {
+                    let Some(ratio) = w.steer_ratio.filter(|r| r.is_finite() && *r >= 1.0) else {
+                        return Err(self.error_at(
+                            &at("steering_wheel"),
+                            format!(
+                                "needs the vehicle's steer_ratio (runout.{name}.steer_ratio, at \
+                                 least 1; about 16 for a car)"
+                            ),
+                        ));
+                    };
+                    let delta = flip * (sw / ratio).to_radians();
+                    let angles =
+                        pim_runout::ackermann(delta, w.wheelbase * length, w.track * length)
+                            .ok_or_else(|| {
+                                self.error_at(
+                                    &at("steering_wheel"),
+                                    format!(
+                                        "{sw} deg over a ratio of {ratio} turns the inner wheel \
+                                         90 deg or more for this wheelbase and track"
+                                    ),
+                                )
+                            })?;
+                    Some(angles)
+                }
+                (None, None) => None,
+            };
+            if i.braking.is_none() && steer.is_none() {
+                return Err(self.error_at(
+                    &at("at"),
+                    "gives neither braking nor steer (or steering_wheel): nothing changes",
+                ));
+            }
+            let input = Input {
+                at: i.at,
+                braking: i.braking,
+                steer,
+                build_up: i.build_up.unwrap_or(0.0),
+            };
+            // Each input checked on its own, so that the message names it.
+            let mut one =
+                pim_runout::Chassis::new(1.0, 1.0, 1.0, 0.5, 1.0, pim_runout::WheelState::Rolling);
+            one.inputs = vec![input];
+            if let Err(pim_runout::RunoutError::Input { reason, .. }) = one.check() {
+                let key = if reason.contains("braking") {
+                    "braking"
+                } else if reason.contains("steer") {
+                    "steer"
+                } else if reason.contains("build-up") {
+                    "build_up"
+                } else {
+                    "at"
+                };
+                return Err(self.error_at(&at(key), reason.replace("input 1: ", "")));
+            }
+            if out.last().is_some_and(|p: &Input| i.at < p.at) {
+                return Err(self.error_at(
+                    &at("at"),
+                    format!(
+                        "{} s: the inputs must be written in the order of their times",
+                        i.at
+                    ),
+                ));
+            }
+            out.push(input);
+        }
+        Ok(out)
+    }
+}
