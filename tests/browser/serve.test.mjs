@@ -70,7 +70,9 @@ function raw(method, pathname, { host, cookie, body } = {}) {
   });
 }
 
-const idle = () => page.waitForFunction(() => window.pim && !window.pim.busy && !window.pim.pending && !window.pim.dragging);
+// Nothing in flight: no answer, none waiting, no drag, no move of a rest.
+const idle = () => page.waitForFunction(() => window.pim && !window.pim.busy && !window.pim.pending
+  && !window.pim.dragging && !window.pim.moves);
 const speeds = () => page.$$eval("#speeds tr[data-vehicle] td.contact", (tds) => tds.map((t) => +t.textContent));
 
 test("opens the example and shows its reconstruction", async () => {

@@ -251,7 +251,10 @@ function follow(d) {
 
 // Moves run one after the other (each edits the text the one before left).
 function moveTo(vehicle, at, live = false) {
-  state.moving = (state.moving || Promise.resolve()).then(() => move(vehicle, at, live));
+  state.moves = (state.moves || 0) + 1;
+  state.moving = (state.moving || Promise.resolve())
+    .then(() => move(vehicle, at, live))
+    .finally(() => { state.moves -= 1; });
   return state.moving;
 }
 

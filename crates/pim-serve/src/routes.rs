@@ -101,19 +101,26 @@ async fn asset(axum::extract::Path(file): axum::extract::Path<String>) -> Respon
     ([(header::CONTENT_TYPE, kind)], f.data.into_owned()).into_response()
 }
 
-/// The case files of the folder served (sorted; subfolders included).
+/// The case files of the folder served (sorted; subfolders to a depth of 8 included, links
+/// not followed).
 async fn cases(State(s): State<App>) -> Response {
     let mut out = Vec::new();
     let root = &s.served.root;
-    let mut dirs = vec![root.clone()];
-    while let Some(d) = dirs.pop() {
+    let mut dirs = vec![(root.clone(), 0)];
+    while let Some((d, depth)) = dirs.pop() {
         let Ok(entries) = std::fs::read_dir(&d) else {
             continue;
         };
         for e in entries.flatten() {
             let p = e.path();
-            if p.is_dir() {
-                dirs.push(p);
+            let Ok(kind) = e.file_type() else { continue };
+            if kind.is_symlink() {
+                continue;
+            }
+            if kind.is_dir() {
+                if depth < 8 {
+                    dirs.push((p, depth + 1));
+                }
             } else if p.extension().is_some_and(|x| x == "toml") {
                 if let Ok(rel) = p.strip_prefix(root) {
                     out.push(rel.to_string_lossy().replace('\\', "/"));
