@@ -90,21 +90,8 @@ impl Case {
                 steer,
                 build_up: i.build_up.unwrap_or(0.0),
             };
-            // Each input checked on its own, so that the message names it.
-            let mut one =
-                pim_runout::Chassis::new(1.0, 1.0, 1.0, 0.5, 1.0, pim_runout::WheelState::Rolling);
-            one.inputs = vec![input];
-            if let Err(pim_runout::RunoutError::Input { reason, .. }) = one.check() {
-                let key = if reason.contains("braking") {
-                    "braking"
-                } else if reason.contains("steer") {
-                    "steer"
-                } else if reason.contains("build-up") {
-                    "build_up"
-                } else {
-                    "at"
-                };
-                return Err(self.error_at(&at(key), reason.replace("input 1: ", "")));
+            if let Err((key, why)) = input.check() {
+                return Err(self.error_at(&at(key), why));
             }
             if out.last().is_some_and(|p: &Input| i.at < p.at) {
                 return Err(self.error_at(

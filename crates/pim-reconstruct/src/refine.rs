@@ -485,7 +485,7 @@ pub(crate) fn refine(
             lambda = 0.0;
             // A chi-square change of 1e-6 is far below any statistical meaning and near the
             // precision of the run-outs' forward differences.
-            if gain < 1e-6 * (1.0 + total) || step < 1e-9 {
+            if gain < GAIN * (1.0 + total) || step < 1e-9 {
                 converged = true;
                 break;
             }
@@ -510,7 +510,7 @@ pub(crate) fn refine(
             // A trial no worse than the current point by more than the convergence tolerance:
             // the step is lost in the run-outs' precision, and so is anything left to gain.
             if let (Ok(p), Some(c)) = (&trial, &current) {
-                if p.total - c.total < 1e-6 * (1.0 + c.total) {
+                if p.total - c.total < GAIN * (1.0 + c.total) {
                     converged = true;
                     break;
                 }
@@ -541,6 +541,11 @@ pub(crate) fn refine(
         fits,
     })
 }
+
+/// A refinement has converged when a step gains less than this times (1 + its chi-square):
+/// far below any statistical meaning and near the precision of the run-outs' forward
+/// differences.
+const GAIN: f64 = 1e-6;
 
 /// A refinement's cost, iterations, convergence and abandonment, or why it failed.
 pub(crate) type RefineEnd = std::result::Result<(f64, usize, bool, bool), String>;

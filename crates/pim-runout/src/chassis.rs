@@ -109,6 +109,45 @@ pub struct Input {
     pub build_up: f64,
 }
 
+impl Input {
+    /// Checks one input on its own (its order among the others is the chassis's check): the
+    /// error names the key (`at`, `build_up`, `braking`, `steer`) and says why.
+    pub fn check(&self) -> std::result::Result<(), (&'static str, String)> {
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        if !(self.at.is_finite() && self.at >= 0.0) {
+            return Err(("at", format!("starts at {} s: must be at least 0", self.at)));
+        }
+        if !(self.build_up.is_finite() && self.build_up >= 0.0) {
+            return Err((
+                "build_up",
+                format!("build-up {} s must be 0 or more", self.build_up),
+            ));
+        }
+        if let Some(b) = self
+            .braking
+            .filter(|b| !(b.is_finite() && (0.0..=1.0).contains(b)))
+        {
+            return Err((
+                "braking",
+                format!("braking share {b} must lie between 0 and 1"),
+            ));
+        }
+        if let Some(a) = self.steer.and_then(|s| {
+            s.into_iter()
+                .find(|a| !(a.is_finite() && a.abs() < half_pi))
+        }) {
+            return Err((
+                "steer",
+                format!(
+                    "steer {} deg must lie between -90 and 90 deg",
+                    a.to_degrees()
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Chassis {
     /// A vehicle with every wheel in `state`, the default road friction, rolling resistance and
     /// saturation angle, no CG height, no steer and no outline.
@@ -250,40 +289,16 @@ impl Chassis {
         }
         let mut last = 0.0;
         for (k, input) in self.inputs.iter().enumerate() {
-            let field = "inputs";
-            let why = if !(input.at.is_finite() && input.at >= last) {
-                Some(format!(
-                    "input {}: starts at {} s: the inputs' times must be at least 0 and in                      order",
-                    k + 1,
-                    input.at
-                ))
-            } else if !(input.build_up.is_finite() && input.build_up >= 0.0) {
-                Some(format!(
-                    "input {}: build-up {} s must be 0 or more",
-                    k + 1,
-                    input.build_up
-                ))
-            } else if input
-                .braking
-                .is_some_and(|b| !(b.is_finite() && (0.0..=1.0).contains(&b)))
-            {
-                Some(format!(
-                    "input {}: braking share must lie between 0 and 1",
-                    k + 1
-                ))
-            } else if input
-                .steer
-                .is_some_and(|s| s.iter().any(|a| !(a.is_finite() && a.abs() < half_pi)))
-            {
-                Some(format!(
-                    "input {}: steer must lie between -90 and 90 deg",
-                    k + 1
-                ))
-            } else {
-                None
-            };
-            if let Some(why) = why {
-                return bad(field, why);
+            let order = input.at < last;
+            if let Some((_, why)) = input.check().err().or_else(|| {
+                order.then(|| {
+                    (
+                        "at",
+                        format!("{} s: the inputs' times must be in order", input.at),
+                    )
+                })
+            }) {
+                return bad("inputs", format!("input {}: {why}", k + 1));
             }
             last = input.at;
         }

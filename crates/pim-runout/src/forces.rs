@@ -65,7 +65,7 @@ pub(crate) struct Dynamics {
     tan_saturation: f64,
     load_transfer: bool,
     /// The driver's inputs, when the chassis has any.
-    schedule: Option<Box<Schedule>>,
+    schedule: Option<std::sync::Arc<Schedule>>,
 }
 
 /// The driver's inputs of a chassis, with what they change from.
@@ -155,7 +155,7 @@ impl Dynamics {
             }
         });
         let schedule = (!c.inputs.is_empty()).then(|| {
-            Box::new(Schedule {
+            std::sync::Arc::new(Schedule {
                 inputs: c.inputs.clone(),
                 shares: c.wheels.map(|w| match w {
                     WheelState::Locked => None,
@@ -184,6 +184,7 @@ impl Dynamics {
         let Some(s) = &self.schedule else {
             return std::borrow::Cow::Borrowed(self);
         };
+        // The clone shares the schedule (no copy of the inputs at every evaluation).
         let mut d = self.clone();
         for (i, wheel) in d.wheels.iter_mut().enumerate() {
             if let Some(base) = s.shares[i] {
