@@ -72,6 +72,10 @@ pub struct CaseFile {
     /// Each vehicle's crush profile and stiffness (`[damage]`, see [`crate::damage`]).
     #[serde(default)]
     pub damage: Option<crate::sections::DamageSection>,
+    /// A motion case's stated starts (never read from a case with an impact; see
+    /// [`crate::motion`]).
+    #[serde(skip)]
+    pub start: Option<crate::scene_sections::StartSection>,
 }
 
 impl CaseFile {
@@ -153,7 +157,19 @@ impl Case {
     /// Parses case-file text; `file` names it in messages. The content is returned in SI with
     /// the impact centres in polar form (`d`, `phi`), whatever units and form the file used.
     pub fn from_text(file: &str, text: &str) -> Result<Self> {
-        let content: CaseFile = parse_toml(file, text)?;
+        let content: CaseFile = parse_toml(file, text).map_err(|e| {
+            if crate::scene_sections::is_motion(text) {
+                InputError::new(
+                    file,
+                    format!(
+                        "[start] makes it a motion case (the vehicles from a stated state, no \
+                         impact): `pim runout {file}` follows it"
+                    ),
+                )
+            } else {
+                e
+            }
+        })?;
         let mut case = Case {
             file: file.to_string(),
             written: content.convention,

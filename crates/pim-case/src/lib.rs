@@ -9,6 +9,7 @@
 //!   inputs by [`scene`]) and its `[damage]` ([`damage`]);
 //! - the careless-input checks: [`plausibility`] and [`ranges`] (values outside what road
 //!   vehicles have), the forms a crash may be written in ([`mod@input`]);
+//! - [`motion`]: a motion case, the vehicles from a stated state without an impact;
 //! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
 //! - [`edit`]: a case file edited in place, its comments and formatting kept;
 //! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
@@ -24,6 +25,7 @@ pub mod edit;
 mod error;
 mod forms;
 pub mod input;
+pub mod motion;
 pub mod parse;
 pub mod plausibility;
 pub mod ranges;

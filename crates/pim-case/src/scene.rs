@@ -48,7 +48,8 @@ pub struct VehicleRunout {
     pub id: VehicleId,
     /// Its wheels and the road.
     pub chassis: Chassis,
-    /// Position and heading at separation (those at contact; velocities 0).
+    /// Position and heading at separation (those at contact; velocities 0), or a motion
+    /// case's stated start (with its velocities).
     pub start: Motion,
     /// The scene's evidence, when the case gives any.
     pub evidence: Option<Evidence>,
@@ -114,14 +115,19 @@ impl Case {
                  --help`)",
             ));
         };
-        let impact = self.impact()?;
+        // A motion case states each start; a case with an impact starts at contact.
+        let impact = if self.is_motion() {
+            None
+        } else {
+            Some(self.impact()?)
+        };
         let u = self.written_units;
         let length = u.length.to_si();
         let sae = self.written == Convention::Sae;
         // SAE: y to the right, angles clockwise; the natural frame: y left, counter-clockwise.
         let flip = if sae { -1.0 } else { 1.0 };
         let centre = self.impact_centre();
-        let cgs = impact.cg_positions();
+        let cgs = impact.as_ref().map(pim_core::Impact::cg_positions);
         let mut vehicles = Vec::new();
         for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
             let name = format!("vehicle{}", k + 1);
@@ -226,11 +232,19 @@ impl Case {
                     );
                 }
             }
-            let start = Motion {
-                x: centre[0] + cgs[k][0],
-                y: centre[1] + cgs[k][1],
-                heading: impact.nose_heading(id).to_radians(),
-                ..Motion::default()
+            let start = match (&impact, cgs) {
+                (Some(impact), Some(cgs)) => Motion {
+                    x: centre[0] + cgs[k][0],
+                    y: centre[1] + cgs[k][1],
+                    heading: impact.nose_heading(id).to_radians(),
+                    ..Motion::default()
+                },
+                _ => self.stated_start(k).ok_or_else(|| {
+                    self.error_at(
+                        &format!("start.{name}"),
+                        "missing: where the vehicle starts",
+                    )
+                })??,
             };
             let evidence = match scene {
                 Some(s) => Some(self.evidence_of(&name, s, runout.friction_sigma, length, flip)?),

@@ -15,7 +15,9 @@
 //! Each input starts `at` seconds after separation and moves its values linearly, over
 //! `build_up` seconds (default 0), from what they were to what it gives: `braking`, the braking
 //! share (0 to 1) of every wheel that is not locked (0 is a free-rolling wheel; a locked wheel
-//! stays locked); `steer`, the front wheels' angles (one for both, or `{ front_left,
+//! stays locked), or shares per axle and wheel (`{ front = 0.9, rear = 0.5 }`, `{ front_left =
+//! 0.9 }`; a wheel named itself takes precedence over its axle, a wheel not named keeps its
+//! share); `steer`, the front wheels' angles (one for both, or `{ front_left,
 //! front_right }`, degrees, counter-clockwise in the natural frame and clockwise in SAE's, as
 //! `steer`), or `steering_wheel`, a steering-wheel angle turned into Ackermann angles with the
 //! vehicle's `steer_ratio`. A value an input does not give keeps what it was. Times must be in
@@ -23,7 +25,7 @@
 
 use crate::case::Case;
 use crate::error::Result;
-use crate::scene_sections::{RunoutVehicleSection, SteerWritten};
+use crate::scene_sections::{BrakingWritten, RunoutVehicleSection, SteerWritten};
 use pim_runout::Input;
 
 impl Case {
@@ -78,7 +80,8 @@ impl Case {
                 }
                 (None, None) => None,
             };
-            if i.braking.is_none() && steer.is_none() {
+            let braking = self.braking_of(&at("braking"), i.braking.as_ref())?;
+            if braking.iter().all(Option::is_none) && steer.is_none() {
                 return Err(self.error_at(
                     &at("at"),
                     "gives neither braking nor steer (or steering_wheel): nothing changes",
@@ -86,7 +89,7 @@ impl Case {
             }
             let input = Input {
                 at: i.at,
-                braking: i.braking,
+                braking,
                 steer,
                 build_up: i.build_up.unwrap_or(0.0),
             };
@@ -105,5 +108,50 @@ impl Case {
             out.push(input);
         }
         Ok(out)
+    }
+
+    /// An input's braking shares per wheel (front left, front right, rear left, rear right):
+    /// one share for all, or by axle and wheel, a wheel named itself taking precedence over
+    /// its axle. `path` is the field, for messages.
+    fn braking_of(&self, path: &str, b: Option<&BrakingWritten>) -> Result<[Option<f64>; 4]> {
+        let share = |at: &str, b: f64| {
+            if b.is_finite() && (0.0..=1.0).contains(&b) {
+                Ok(b)
+            } else {
+                Err(self.error_at(at, format!("braking share {b} must lie between 0 and 1")))
+            }
+        };
+        match b {
+            None => Ok([None; 4]),
+            Some(BrakingWritten::All(b)) => Ok([Some(share(path, *b)?); 4]),
+            Some(BrakingWritten::Each(map)) => {
+                let mut out = [None; 4];
+                for (key, wheels) in [("front", [0, 1]), ("rear", [2, 3])] {
+                    if let Some(&b) = map.get(key) {
+                        let b = share(&format!("{path}.{key}"), b)?;
+                        wheels.iter().for_each(|&w| out[w] = Some(b));
+                    }
+                }
+                for (w, name) in pim_runout::WHEEL_NAMES.iter().enumerate() {
+                    if let Some(&b) = map.get(*name) {
+                        out[w] = Some(share(&format!("{path}.{name}"), b)?);
+                    }
+                }
+                if let Some(unknown) = map.keys().find(|k| {
+                    !(k.as_str() == "front"
+                        || k.as_str() == "rear"
+                        || pim_runout::WHEEL_NAMES.contains(&k.as_str()))
+                }) {
+                    return Err(self.error_at(
+                        &format!("{path}.{unknown}"),
+                        format!(
+                            "not an axle or a wheel; give front, rear or a wheel ({})",
+                            pim_runout::WHEEL_NAMES.join(", ")
+                        ),
+                    ));
+                }
+                Ok(out)
+            }
+        }
     }
 }

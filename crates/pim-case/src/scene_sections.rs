@@ -128,14 +128,14 @@ pub struct RunoutVehicleSection {
 /// One driver input as written: from `at` seconds after separation, a braking share of the
 /// wheels that are not locked and/or a steer (the wheels' angles, or a steering-wheel angle
 /// with the vehicle's `steer_ratio`), reached over `build_up` seconds.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputWritten {
     /// Seconds after separation.
     pub at: f64,
-    /// Braking share, 0 to 1.
+    /// Braking share, 0 to 1: one for every wheel, or per axle or wheel.
     #[serde(default)]
-    pub braking: Option<f64>,
+    pub braking: Option<BrakingWritten>,
     /// Front wheels' steer, degrees: one for both, or `{ front_left, front_right }`.
     #[serde(default)]
     pub steer: Option<SteerWritten>,
@@ -145,6 +145,17 @@ pub struct InputWritten {
     /// Seconds to reach the values (default 0: at once).
     #[serde(default)]
     pub build_up: Option<f64>,
+}
+
+/// An input's `braking = ...`: one share for every wheel, or shares by axle (`front`, `rear`)
+/// or wheel (`front_left`, ...); a wheel not named keeps its share.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum BrakingWritten {
+    /// Every wheel that is not locked.
+    All(f64),
+    /// `{ front = .., rear = .. }`, `{ front_left = .., rear_right = .. }`, or both kinds.
+    Each(BTreeMap<String, f64>),
 }
 
 /// A point as written: `{ x, y }` with an optional heading.
@@ -268,4 +279,46 @@ pub struct PreImpactSection {
     /// Vehicle 2.
     #[serde(default)]
     pub vehicle2: Option<PreImpactVehicleSection>,
+}
+
+/// `[start]`: where and how each vehicle starts.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartSection {
+    /// Vehicle 1.
+    #[serde(default)]
+    pub vehicle1: Option<StartWritten>,
+    /// Vehicle 2.
+    #[serde(default)]
+    pub vehicle2: Option<StartWritten>,
+}
+
+/// `[start.vehicleN]` as written, in the case's units and frame.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartWritten {
+    /// CG position (length unit).
+    pub x: f64,
+    /// CG position (length unit).
+    pub y: f64,
+    /// Where the nose points, degrees.
+    pub heading: f64,
+    /// Speed along the heading (speed unit), instead of `vx` and `vy`.
+    #[serde(default)]
+    pub speed: Option<f64>,
+    /// CG velocity along the fixed x axis (speed unit).
+    #[serde(default)]
+    pub vx: Option<f64>,
+    /// CG velocity along the fixed y axis (speed unit).
+    #[serde(default)]
+    pub vy: Option<f64>,
+    /// Yaw rate (yaw-rate unit; default 0).
+    #[serde(default)]
+    pub omega: Option<f64>,
+}
+
+/// True when the TOML text has a top-level `start` table: a motion case.
+pub fn is_motion(text: &str) -> bool {
+    text.parse::<toml::Table>()
+        .is_ok_and(|t| t.get("start").is_some_and(toml::Value::is_table))
 }

@@ -37,6 +37,16 @@ pub fn load_case(path: &Path) -> Result<Case, Failure> {
     Ok(case)
 }
 
+/// A case for `pim runout`: a case with an impact, or a motion case (`[start]`: the vehicles
+/// from a stated state, see `pim_case::motion`).
+pub fn load_runout_case(path: &Path) -> Result<Case, Failure> {
+    let text = read_text_file(path, MAX_CASE_BYTES)?;
+    if pim_case::motion::is_motion(&text) {
+        return Ok(Case::motion_from_text(&path.display().to_string(), &text)?);
+    }
+    load_case(path)
+}
+
 /// The collision of a case, checked; then its plausibility warnings go to stderr (only for a
 /// valid collision, so that an error is never preceded by noise). Also returns how many
 /// warnings there were (for `--strict`).

@@ -9,6 +9,7 @@ velocities [final], or [coefficients] with [initial], or --from fit, or scene ev
   friction = 0.7                   # road friction (default 0.7: dry asphalt, Fricke 1990)
   # friction_sigma = 0.05          # estimate the friction around it (scene estimates only)
   # time_limit = 60                # s
+  # duration = 3.0                 # s: the state after it instead of to rest (exit 0)
   [runout.vehicle1]                # vehicle2 likewise; lengths in the case's length unit
   wheelbase = 2.8
   track = 1.55
@@ -28,6 +29,11 @@ velocities [final], or [coefficients] with [initial], or --from fit, or scene ev
   #                                #   friction there; or cornering_stiffness (per deg), or
   # max_slip_angle = 10.0          #   PC-Crash's \"max. slip angle\": force min(alpha/10, mu),
   #                                #   saturating at mu x 10 deg (7.6 deg on a 0.76 road)
+  # inputs = [                     # the driver after separation (PC-Crash's sequences):
+  #   { at = 0.8, braking = 0.9, build_up = 0.25 },   # from 0.8 s, reached over 0.25 s
+  #   { at = 1.0, braking = { front = 0.9, rear = 0.5 } },   # or per axle / per wheel
+  #   { at = 1.5, steering_wheel = -90.0, build_up = 0.4 },  # or steer = 5.0 (deg)
+  # ]                              # a value an input does not give keeps what it was
   [scene.vehicle1]                 # the evidence (positions in the case's frame: the impact
                                    # centre is the origin, or [impact] centre's frame)
   rest = { x = 14.2, y = 3.1, heading = 215.0 }
@@ -35,6 +41,17 @@ velocities [final], or [coefficients] with [initial], or --from fit, or scene ev
   marks = [ { x = 6.0, y = 1.2, sigma = 0.15 } ]     # points the CG passed (tyre marks,
                                    # gouges), optionally with heading and heading_sigma
   # turns = 1                      # the count of full turns, when known
+
+A MOTION CASE (no impact: a vehicle from a stated state, as PC-Crash runs one) has
+[vehicle1] with mass and yaw_inertia (and length, width, cg_to_front for drawings), [runout]
+and [runout.vehicle1] as above, and where and how it starts:
+  [start.vehicle1]
+  x = 0.0                          # CG, the case's length unit
+  y = 0.0
+  heading = 0.0                    # deg, where the nose points
+  speed = 30.0                     # along the heading (or vx and vy in the fixed frame)
+  omega = 0.0                      # yaw rate (default 0)
+Two vehicles may start so, each on its own; there is no [impact] and no scene evidence.
 
 WITHOUT separation velocities the scene estimates them: weighted least squares over vx, vy and
 the yaw rate (and the friction with friction_sigma) through the run-out model, once per count of
@@ -48,7 +65,8 @@ share of the friction circle along; load transfer with cg_height; Dormand-Prince
 (`cargo doc -p pim-runout` has the equations).
 
 JSON (SI, natural frame, degrees): per vehicle separation, rest {x, y, heading}, distance, time,
-rotation, turns, path [{t, x, y, heading, speed, yaw_rate}], evidence (residuals) and, when
+rotation, turns, path [{t, x, y, heading, speed, yaw_rate}; with --wheels each wheel's load,
+slip angle and tyre force], evidence (residuals) and, when
 estimated, estimate {unknowns, candidates, undetermined}.
 
 EXIT STATUS: 0 success; 2 bad input (file, line and field named); 3 a run-out that reaches its

@@ -15,6 +15,8 @@ pub enum Source {
     Fit,
     /// Estimated from the scene (`[scene.vehicleN]`) through the run-out model.
     Scene,
+    /// The state a motion case states (`[start.vehicleN]`, no impact).
+    Start,
 }
 
 impl Source {
@@ -25,6 +27,7 @@ impl Source {
             Source::Solve => "the solve of [coefficients] and [initial]",
             Source::Fit => "the fit of the case",
             Source::Scene => "estimated from the scene (rest position, heading, marks)",
+            Source::Start => "the state stated in [start] (no impact)",
         }
     }
 }

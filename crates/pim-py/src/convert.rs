@@ -103,7 +103,26 @@ pub(crate) fn read(path: &Path, max_bytes: u64) -> PyResult<String> {
 
 /// A case from TOML text, a path (str or os.PathLike) or a dict of the case file's shape.
 pub(crate) fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Case> {
-    let (name, text) = if case.is_instance_of::<PyDict>() {
+    let (name, text) = case_text(py, case)?;
+    let case = Case::from_text(&name, &text).map_err(|e| input_error(e.message))?;
+    pim_case::damage::Damage::of(&case).map_err(|e| input_error(e.message))?;
+    Ok(case)
+}
+
+/// A case for the run-out: one with an impact, or a motion case (`[start]`, no impact).
+pub(crate) fn load_runout_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Case> {
+    let (name, text) = case_text(py, case)?;
+    if pim_case::motion::is_motion(&text) {
+        return Case::motion_from_text(&name, &text).map_err(|e| input_error(e.message));
+    }
+    let case = Case::from_text(&name, &text).map_err(|e| input_error(e.message))?;
+    pim_case::damage::Damage::of(&case).map_err(|e| input_error(e.message))?;
+    Ok(case)
+}
+
+/// The name and TOML text of a case given as text, a path or a dict.
+fn case_text(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<(String, String)> {
+    Ok(if case.is_instance_of::<PyDict>() {
         let json: String = py
             .import("json")?
             .call_method1("dumps", (case,))?
@@ -137,10 +156,7 @@ pub(crate) fn load_case(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<Cas
         return Err(input_error(
             "case: give TOML text, a path to a case file, or a dict of the same shape",
         ));
-    };
-    let case = Case::from_text(&name, &text).map_err(|e| input_error(e.message))?;
-    pim_case::damage::Damage::of(&case).map_err(|e| input_error(e.message))?;
-    Ok(case)
+    })
 }
 
 /// A named choice of the library (moment form, cost function, branch, model), read by the

@@ -1,13 +1,14 @@
 //! The run-out and the reconstruction of a scene, for Python.
 
 use crate::convert::{
-    detached, input_error, load_case, study_args, to_py, units_of, DocumentErrorPy, NoSolution,
+    detached, input_error, load_case, load_runout_case, study_args, to_py, units_of, DocumentErrorPy, NoSolution,
 };
 use pim_studies::documents::DocumentError;
 use pyo3::prelude::*;
 
 /// The run-out of `pim runout` for a case: each vehicle from its separation velocities to rest,
-/// or its separation velocities estimated from the scene. Returns the document of
+/// or its separation velocities estimated from the scene; a motion case (`[start]`, no impact)
+/// from its stated state. Returns the document of
 /// `pim runout --format json` and, with `draw`, the plan view's SVG. `source` is "final",
 /// "solve", "fit" or "scene" (default: the first the case has); `cost` is the fit's with
 /// `source="fit"`. Raises NoSolution (its `document` the run-out's) when a run-out reaches its
@@ -49,7 +50,7 @@ pub(crate) fn runout(
     };
     let units = units_of(units)?;
     let cost = cost.map(crate::convert::cost).transpose()?;
-    let case = load_case(py, case)?;
+    let case = load_runout_case(py, case)?;
     let result = detached(py, None, || -> Result<_, DocumentError> {
         let given = match source {
             Some(Source::Fit) => Some(pim_studies::runout::fitted_separation(&case, cost)?),

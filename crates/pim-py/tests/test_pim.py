@@ -452,3 +452,16 @@ def test_runout_wheels_in_the_path_and_its_frame():
     frame = r.vehicles[0].path_frame()
     assert {"fl_load_n", "rr_slip_angle_deg", "fr_force_x_n", "rl_force_y_n"} <= set(frame.columns)
     assert "wheels" not in pim.runout(case).to_dict()["vehicles"][0]["path"][0]
+
+
+def test_runout_of_a_motion_case_equals_the_cli_document():
+    case = "examples/motion/malibu_us.toml"
+    r = pim.runout(case, wheels=True)
+    assert r.to_dict() == cli_json("runout", case, "--wheels")
+    assert r.source == "start"
+    frame = r.vehicles[0].path_frame()
+    # Steering left, then braking: the heading grows, the front left wheel (inside) unloads.
+    assert frame["heading"].iloc[-1] > 80.0
+    assert frame["fl_load_n"].iloc[20] < frame["fr_load_n"].iloc[20]
+    with pytest.raises(pim.InputError, match="motion case"):
+        pim.solve(case)

@@ -35,6 +35,7 @@ pub mod predict_figure;
 pub mod reconstruct;
 pub mod report;
 pub mod runout;
+mod runout_table;
 pub mod statistics;
 pub mod tables;
 pub mod text;

@@ -5,189 +5,15 @@ use crate::tables::num;
 use crate::text::wrap;
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_runout::{Motion, WheelState};
+use pim_runout::Motion;
 use pim_studies::runout::{RunoutResult, Source};
 use plotters::prelude::*;
+
+pub use crate::runout_table::runout_table;
 
 const COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
 const LIGHT: [RGBColor; 2] = [RGBColor(160, 195, 225), RGBColor(240, 160, 160)];
 const EVIDENCE: RGBColor = RGBColor(40, 40, 40);
-
-fn wheels_text(w: &[WheelState; 4]) -> String {
-    let one = |s: &WheelState| match s {
-        WheelState::Locked => "locked".to_string(),
-        WheelState::Rolling => "rolling".to_string(),
-        WheelState::Braked(b) => format!("braked {b:.2}"),
-    };
-    if w.iter().all(|s| s == &w[0]) {
-        format!("all {}", one(&w[0]))
-    } else {
-        pim_runout::WHEEL_NAMES
-            .iter()
-            .zip(w)
-            .map(|(n, s)| format!("{n} {}", one(s)))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-}
-
-/// The run-out table in `units` and the case's `frame` (an SAE case: y to the right, angles
-/// and yaw rates clockwise).
-pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Convention) -> String {
-    let d = &r.document;
-    let s = if frame == Convention::Sae { -1.0 } else { 1.0 };
-    let (len, spd, rate) = (
-        units.length_label(),
-        units.speed_label(),
-        units.yaw_rate_label(),
-    );
-    let l = |x: f64| num(units.length(x), 2);
-    let mut t = format!("Run-out: {title}\n");
-    if frame == Convention::Sae {
-        t.push_str("frame: SAE (y to the right, headings and yaw rates clockwise)\n");
-    }
-    t.push_str(&format!("separation velocities: {}\n", d.source.describe()));
-    for v in &d.vehicles {
-        let sep = &v.separation;
-        t.push_str(&format!(
-            "\nvehicle {} (friction {:.3}; wheels: {})\n",
-            v.vehicle,
-            v.friction,
-            wheels_text(&v.wheels)
-        ));
-        t.push_str(&format!(
-            "  separation  x {} {len}, y {} {len}, heading {:.1} deg; vx {} {spd}, vy {} {spd}, \
-             yaw rate {} {rate}\n",
-            l(sep.x),
-            l(s * sep.y),
-            s * sep.heading,
-            num(units.speed(sep.vx), 3),
-            num(units.speed(s * sep.vy), 3),
-            num(units.yaw_rate(s * sep.yaw_rate), 3),
-        ));
-        let ended = match v.end {
-            pim_runout::End::Rest => "rest",
-            pim_runout::End::TimeLimit if r.duration.is_some() => "after (still moving)",
-            pim_runout::End::TimeLimit => "TIME LIMIT (still moving)",
-        };
-        t.push_str(&format!(
-            "  {ended:<10}  x {} {len}, y {} {len}, heading {:.1} deg ({:.1} deg modulo 360)\n",
-            l(v.rest.x),
-            l(s * v.rest.y),
-            s * v.rest.heading,
-            (s * v.rest.heading).rem_euclid(360.0),
-        ));
-        t.push_str(&format!(
-            "  run-out     {:.2} s, {} {len} along the path, rotation {:.1} deg (the shortest \
-             {:.1} deg and {} full turns), energy {:.1} kJ taken by the tyres\n",
-            v.time,
-            l(v.distance),
-            s * v.rotation,
-            pim_core::wrap_degrees(s * v.rotation),
-            s as i64 * v.turns,
-            v.tyre_work / 1000.0,
-        ));
-        if !v.evidence.is_empty() {
-            t.push_str("  evidence    fitted - given (sd, z):\n");
-            for e in &v.evidence {
-                let (value, sigma, unit) = if e.name.contains("heading") {
-                    (num(s * e.value, 2), format!("{:.2}", e.sigma), "deg")
-                } else if e.name == "friction" {
-                    (format!("{:.4}", e.value), format!("{:.4}", e.sigma), "")
-                } else if e.name == "rest.y" {
-                    (
-                        num(units.length(s * e.value), 3),
-                        num(units.length(e.sigma), 3),
-                        len,
-                    )
-                } else {
-                    (
-                        num(units.length(e.value), 3),
-                        num(units.length(e.sigma), 3),
-                        len,
-                    )
-                };
-                t.push_str(&format!(
-                    "    {:<16} {value:>9} {unit} (sd {sigma}, z {})\n",
-                    e.name,
-                    num(e.z, 2)
-                ));
-            }
-        }
-        if let Some(est) = &v.estimate {
-            t.push_str(&format!(
-                "  candidates  ({} run-outs simulated; cost = sum of squared z)\n",
-                est.runouts
-            ));
-            t.push_str(
-                "    turns: full turns added to the shortest rotation to the rest heading\n",
-            );
-            t.push_str(&format!(
-                "    {:>5} {:>11} {:>9} {:>9} {:>9} {:>8}  \n",
-                "turns",
-                "cost",
-                format!("vx {spd}"),
-                format!("vy {spd}"),
-                format!("yaw {rate}"),
-                "friction"
-            ));
-            for c in &est.candidates {
-                let turns = c.turns.map_or("-".into(), |k| (s as i64 * k).to_string());
-                t.push_str(&format!(
-                    "    {turns:>5} {:>11.3e} {:>9} {:>9} {:>9} {:>8.3}  {}{}\n",
-                    c.cost,
-                    num(units.speed(c.separation.vx), 3),
-                    num(units.speed(s * c.separation.vy), 3),
-                    num(units.yaw_rate(s * c.separation.yaw_rate), 3),
-                    c.friction,
-                    if c.consistent {
-                        "consistent"
-                    } else if c.plausible {
-                        "not excluded"
-                    } else {
-                        ""
-                    },
-                    c.reason
-                        .as_ref()
-                        .map_or(String::new(), |r| format!(" ({r})"))
-                ));
-            }
-            if let Some(best) = est.candidates.first() {
-                let sd: Vec<String> = est
-                    .unknowns
-                    .iter()
-                    .zip(&best.sigma)
-                    .map(|(n, x)| {
-                        let shown = match (n.as_str(), x) {
-                            (_, None) => "not determined".to_string(),
-                            ("vx", Some(x)) | ("vy", Some(x)) => {
-                                format!("{} {spd}", num(units.speed(*x), 3))
-                            }
-                            ("yaw_rate", Some(x)) => {
-                                format!("{} {rate}", num(units.yaw_rate(*x), 3))
-                            }
-                            (_, Some(x)) => format!("{x:.4}"),
-                        };
-                        format!("{n} {shown}")
-                    })
-                    .collect();
-                t.push_str(&format!(
-                    "  standard errors of the first candidate (linearised): {}\n",
-                    sd.join(", ")
-                ));
-            }
-            for u in &est.undetermined {
-                t.push_str(&format!("  NOT DETERMINED: {u}\n"));
-            }
-        }
-    }
-    for n in &d.notes {
-        if !n.contains("candidates reach the evidence equally well") {
-            t.push_str(&format!("note: {n}\n"));
-        }
-    }
-    t
-}
 
 /// The outline of a vehicle (length, width, CG to front) for drawing, m.
 fn outline_of(r: &RunoutResult, k: usize) -> (f64, f64, f64) {
@@ -525,6 +351,7 @@ pub fn scene_svg(
         }
         let source = match r.document.source {
             Source::Scene => "separation: estimated from the scene".to_string(),
+            Source::Start => format!("start: {}", Source::Start.describe()),
             s => format!("separation: {}", s.describe()),
         };
         for piece in wrap(&source, 48) {
@@ -575,15 +402,30 @@ pub fn scene_svg(
             }
         }
         line(String::new(), BLACK, 0)?;
+        let motion = r.document.source == Source::Start;
         line(
-            "bold outline: at separation (thick edge: nose)".into(),
+            format!(
+                "bold outline: at {} (thick edge: nose)",
+                if motion { "the start" } else { "separation" }
+            ),
             BLACK,
             12,
         )?;
         line(format!("light outlines: every {every} s"), BLACK, 12)?;
-        line("filled outline: the run-out's rest".into(), BLACK, 12)?;
-        line("dashed outline, cross: rest given".into(), EVIDENCE, 12)?;
-        line("circle: a mark and its sd".into(), EVIDENCE, 12)?;
+        line(
+            if motion && r.duration.is_some() {
+                "filled outline: the end of the stated duration"
+            } else {
+                "filled outline: the run-out's rest"
+            }
+            .into(),
+            BLACK,
+            12,
+        )?;
+        if !motion {
+            line("dashed outline, cross: rest given".into(), EVIDENCE, 12)?;
+            line("circle: a mark and its sd".into(), EVIDENCE, 12)?;
+        }
         if !approach.is_empty() {
             line(
                 "grey tracks: braking before the impact, up to contact".into(),

@@ -87,11 +87,11 @@ pub struct Chassis {
     pub inputs: Vec<Input>,
 }
 
-/// A driver input from a time after separation on, as a PC-Crash sequence writes it: a braking
-/// share for every wheel that is not locked and steer angles for the front wheels, each
-/// reached linearly over `build_up` seconds from its value when the input starts (a reaction
-/// time before the driver brakes is an input at that time). A value the input does not give
-/// keeps what it was.
+/// A driver input from a time after separation on, as a PC-Crash sequence writes it: braking
+/// shares per wheel (every wheel, an axle or one wheel; a locked wheel stays locked) and steer
+/// angles for the front wheels, each reached linearly over `build_up` seconds from its value
+/// when the input starts (a reaction time before the driver brakes is an input at that time).
+/// A value the input does not give keeps what it was.
 ///
 /// Each value is continuous in time and piecewise linear; the run-out is integrated piece by
 /// piece between the times where its slope changes (each input's start and the end of its
@@ -100,9 +100,10 @@ pub struct Chassis {
 pub struct Input {
     /// When the input starts, s after separation (at least 0).
     pub at: f64,
-    /// The braking share (0 to 1) of every wheel that is not locked, as
-    /// [`WheelState::Braked`]; a share 0 is a free-rolling wheel.
-    pub braking: Option<f64>,
+    /// The braking share (0 to 1) of each wheel (front left, front right, rear left, rear
+    /// right; none: that wheel keeps its share), as [`WheelState::Braked`]; a share 0 is a
+    /// free-rolling wheel. A wheel locked at separation stays locked.
+    pub braking: [Option<f64>; 4],
     /// The front left and front right wheels' steer angles, rad (as [`Chassis::steer`]).
     pub steer: Option<[f64; 2]>,
     /// Seconds over which the values move from where they were to the input's (0: at once).
@@ -110,6 +111,11 @@ pub struct Input {
 }
 
 impl Input {
+    /// The same braking share on all four wheels (for [`Input::braking`]).
+    pub const fn every_wheel(share: f64) -> [Option<f64>; 4] {
+        [Some(share); 4]
+    }
+
     /// Checks one input on its own (its order among the others is the chassis's check): the
     /// error names the key (`at`, `build_up`, `braking`, `steer`) and says why.
     pub fn check(&self) -> std::result::Result<(), (&'static str, String)> {
@@ -125,7 +131,9 @@ impl Input {
         }
         if let Some(b) = self
             .braking
-            .filter(|b| !(b.is_finite() && (0.0..=1.0).contains(b)))
+            .into_iter()
+            .flatten()
+            .find(|b| !(b.is_finite() && (0.0..=1.0).contains(b)))
         {
             return Err((
                 "braking",

@@ -188,7 +188,7 @@ impl Dynamics {
         let mut d = self.clone();
         for (i, wheel) in d.wheels.iter_mut().enumerate() {
             if let Some(base) = s.shares[i] {
-                let share = s.value(base, |x| x.braking, t);
+                let share = s.value(base, |x| x.braking[i], t);
                 wheel.tyre = rolling(s.friction, (share * s.friction).max(s.rolling_resistance));
             }
             if i < 2 {

@@ -4,7 +4,7 @@
 mod common;
 
 use common::runout::{random_chassis, random_start, Kind, Reference, KINDS};
-use pim_runout::{simulate, Chassis, End, Motion, Runout, Settings, WheelState, GRAVITY};
+use pim_runout::{simulate, Chassis, End, Input, Motion, Runout, Settings, WheelState, GRAVITY};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
@@ -363,23 +363,30 @@ fn the_wheels_at_an_instant() {
     }
 }
 
-/// Random driver inputs: a reaction time, then braking built up, then a steer built up (and
-/// sometimes released), as a PC-Crash sequence writes them.
+/// Random driver inputs: a reaction time, then braking built up (on all wheels, per axle, or
+/// on some wheels only), then a steer built up (and sometimes released), as a PC-Crash
+/// sequence writes them.
 fn random_inputs(rng: &mut StdRng) -> Vec<pim_runout::Input> {
     let react = rng.random_range(0.0..1.5);
+    let (front, rear) = (rng.random_range(0.2..1.0), rng.random_range(0.0..0.8));
+    let braking = match rng.random_range(0..3) {
+        0 => Input::every_wheel(front),
+        1 => [Some(front), Some(front), Some(rear), Some(rear)],
+        _ => [Some(front), None, Some(rear), None],
+    };
     let brake_up = rng.random_range(0.0..0.5);
     let steer_at = react + rng.random_range(0.0..1.0);
     let steer = rng.random_range(-0.3..0.3);
     let mut out = vec![
         pim_runout::Input {
             at: react,
-            braking: Some(rng.random_range(0.2..1.0)),
+            braking,
             steer: None,
             build_up: brake_up,
         },
         pim_runout::Input {
             at: steer_at,
-            braking: None,
+            braking: [None; 4],
             steer: Some([steer, 0.9 * steer]),
             build_up: rng.random_range(0.0..0.8),
         },
@@ -387,7 +394,7 @@ fn random_inputs(rng: &mut StdRng) -> Vec<pim_runout::Input> {
     if rng.random_bool(0.5) {
         out.push(pim_runout::Input {
             at: steer_at + rng.random_range(0.2..1.5),
-            braking: Some(rng.random_range(0.0..0.5)),
+            braking: Input::every_wheel(rng.random_range(0.0..0.5)),
             steer: Some([0.0, 0.0]),
             build_up: rng.random_range(0.0..0.3),
         });
@@ -445,7 +452,7 @@ fn a_repeated_input_is_the_constant_input() {
         from_start.wheels = [WheelState::Rolling; 4];
         from_start.inputs = vec![pim_runout::Input {
             at: 0.0,
-            braking: Some(b),
+            braking: Input::every_wheel(b),
             steer: Some(steer),
             build_up: 0.0,
         }];
@@ -454,7 +461,7 @@ fn a_repeated_input_is_the_constant_input() {
         let mut later = c.clone();
         later.inputs = vec![pim_runout::Input {
             at: 0.7,
-            braking: Some(b),
+            braking: Input::every_wheel(b),
             steer: Some(steer),
             build_up: 0.4,
         }];
@@ -478,7 +485,7 @@ fn a_build_up_is_half_the_deceleration_on_average() {
         c.rolling_resistance = 0.0;
         c.inputs = vec![pim_runout::Input {
             at: tr,
-            braking: Some(b),
+            braking: Input::every_wheel(b),
             steer: None,
             build_up: tb,
         }];
@@ -496,5 +503,48 @@ fn a_build_up_is_half_the_deceleration_on_average() {
         );
         assert!(r.rest.y.abs() < 1e-9 && r.rest.heading.abs() < 1e-9);
         assert!((r.time - (tr + tb + (v - a * tb / 2.0) / a)).abs() < 1e-6);
+    }
+}
+
+/// Braking on one axle in a sequence, with load transfer: a front axle braked at share `b`
+/// carries `m (g (L - a) + h d) / L` at a deceleration `d` (`a` the CG behind the front axle,
+/// `h` its height), so the deceleration solves `d = b mu (g (L - a) + h d) / L`, that is
+/// `d = b mu g (L - a) / (L - b mu h)`; the rear axle braked alone gives `d = b mu g a / (L + b mu
+/// h)` (it unloads as the car pitches forward). Free rolling without rolling resistance
+/// elsewhere, so the stop is `v^2 / (2 d)` after the input's time.
+#[test]
+fn braking_one_axle_in_a_sequence_follows_the_load_transfer() {
+    let (l, a, h, mu, b, v, at) = (2.7, 1.2, 0.55, 0.8, 0.9, 20.0, 0.4);
+    for (front, braking) in [
+        (true, [Some(b), Some(b), None, None]),
+        (false, [None, None, Some(b), Some(b)]),
+    ] {
+        let mut c = Chassis::new(1500.0, 2500.0, l, a, 1.5, WheelState::Rolling);
+        c.cg_height = Some(h);
+        c.friction = mu;
+        c.rolling_resistance = 0.0;
+        c.inputs = vec![Input {
+            at,
+            braking,
+            steer: None,
+            build_up: 0.0,
+        }];
+        let start = Motion {
+            vx: v,
+            ..Motion::default()
+        };
+        let r = simulate(&c, &start, &Settings::default()).unwrap();
+        let d = if front {
+            b * mu * GRAVITY * (l - a) / (l - b * mu * h)
+        } else {
+            b * mu * GRAVITY * a / (l + b * mu * h)
+        };
+        let expected = v * at + v * v / (2.0 * d);
+        assert!(
+            (r.rest.x - expected).abs() < 1e-6,
+            "front {front}: {} against {expected}",
+            r.rest.x
+        );
+        assert!((r.time - (at + v / d)).abs() < 1e-6);
     }
 }

@@ -72,6 +72,16 @@ fn separation(
     source: Option<Source>,
 ) -> Result<Option<(Velocities, Source)>, DocumentError> {
     let c = &case.content;
+    if case.is_motion() {
+        return match source {
+            None | Some(Source::Start) => Ok(None),
+            Some(_) => Err(DocumentError::Input(format!(
+                "{}: a motion case starts from [start]; --from final, solve, fit and scene \
+                 belong to a case with an impact",
+                case.file
+            ))),
+        };
+    }
     let wanted = source.or(if c.final_.is_some() {
         Some(Source::Final)
     } else if c.coefficients.is_some() && c.initial.is_some() {
@@ -106,6 +116,10 @@ fn separation(
             }
             Ok(Some((solved.report.separation, Source::Solve)))
         }
+        Some(Source::Start) => Err(DocumentError::Input(format!(
+            "{}: [start] belongs to a motion case (no impact)",
+            case.file
+        ))),
         Some(Source::Fit) => Err(DocumentError::Input(format!(
             "{}: the fit's separation velocities are passed in by the caller",
             case.file
@@ -165,7 +179,11 @@ pub fn runout(
         Some(v) => Some((v, Source::Fit)),
         None => separation(case, source)?,
     };
-    let source = from.map_or(Source::Scene, |(_, s)| s);
+    let source = match from {
+        Some((_, s)) => s,
+        None if case.is_motion() => Source::Start,
+        None => Source::Scene,
+    };
     let mut runouts = Vec::new();
     let mut estimates = Vec::new();
     let mut vehicles = Vec::new();
@@ -187,6 +205,11 @@ pub fn runout(
                     ..v.start
                 };
                 let r = pim_runout::simulate(&v.chassis, &start, &settings)
+                    .map_err(|e| runout_failure(case, &name, e))?;
+                (r, None)
+            }
+            None if case.is_motion() => {
+                let r = pim_runout::simulate(&v.chassis, &v.start, &settings)
                     .map_err(|e| runout_failure(case, &name, e))?;
                 (r, None)
             }

@@ -4,7 +4,7 @@
 use super::{json, print_out, write_file};
 use crate::args::{Format, RunoutArgs};
 use crate::error::{Failure, EXIT_NO_ANSWER, EXIT_OK};
-use crate::inputs::load_case;
+use crate::inputs::load_runout_case;
 use crate::runout_help::RunoutSource;
 use anyhow::Result;
 use pim_case::units::UnitSystem;
@@ -13,8 +13,10 @@ use std::process::ExitCode;
 
 /// `pim runout`.
 pub fn run(a: &RunoutArgs) -> Result<ExitCode> {
-    let case = load_case(&a.case)?;
-    let _ = crate::inputs::checked_impact(&case)?;
+    let case = load_runout_case(&a.case)?;
+    if !case.is_motion() {
+        let _ = crate::inputs::checked_impact(&case)?;
+    }
     if !case.has_runout() {
         return Err(Failure::Input(format!(
             "{}: no [runout] section: give the road friction and, per vehicle, [runout.vehicleN] \

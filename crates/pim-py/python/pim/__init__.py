@@ -316,8 +316,10 @@ def runout(
     case has. The path is sampled every ``sample`` seconds (:meth:`VehicleRunout.path_frame`;
     with ``wheels=True`` each sample carries each wheel's load, slip angle and tyre force);
     ``draw=True`` adds the plan view as ``svg`` (outlines every ``every`` seconds, labelled in
-    ``units``). Raises :class:`NoSolution` (its ``document`` the run-out's) when a run-out
-    reaches its time limit or no candidate reaches the scene's evidence.
+    ``units``). A motion case (``[start.vehicleN]``, no impact: a vehicle from a stated state, as
+    PC-Crash runs one) starts from its stated state (``source`` ``"start"``). Raises
+    :class:`NoSolution` (its ``document`` the run-out's) when a run-out reaches its time limit or
+    no candidate reaches the scene's evidence.
 
     >>> r = runout("examples/cases/runout_spin.toml")
     >>> r.source, [v.end for v in r.vehicles]

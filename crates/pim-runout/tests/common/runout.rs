@@ -194,10 +194,10 @@ impl Reference<'_> {
                 return [-mu * u[0] / n, -mu * u[1] / n];
             }
             WheelState::Rolling => {
-                (self.input_value(0.0, |input| input.braking) * mu).max(c.rolling_resistance)
+                (self.input_value(0.0, |input| input.braking[i]) * mu).max(c.rolling_resistance)
             }
             WheelState::Braked(b) => {
-                (self.input_value(b, |input| input.braking) * mu).max(c.rolling_resistance)
+                (self.input_value(b, |input| input.braking[i]) * mu).max(c.rolling_resistance)
             }
         }
         .min(mu);
