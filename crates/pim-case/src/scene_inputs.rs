@@ -21,7 +21,9 @@
 //! front_right }`, degrees, counter-clockwise in the natural frame and clockwise in SAE's, as
 //! `steer`), or `steering_wheel`, a steering-wheel angle turned into Ackermann angles with the
 //! vehicle's `steer_ratio`. A value an input does not give keeps what it was. Times must be in
-//! order.
+//! order. An input with `distance` (the case's length unit) starts once the CG has travelled that
+//! far since separation, and not before its `at` (default 0 then) nor before the input before
+//! it (PC-Crash's sequences by distance).
 
 use crate::case::Case;
 use crate::error::Result;
@@ -87,21 +89,30 @@ impl Case {
                     "gives neither braking nor steer (or steering_wheel): nothing changes",
                 ));
             }
+            if i.at.is_none() && i.distance.is_none() {
+                return Err(self.error_at(
+                    &format!("runout.{name}.inputs.{k}"),
+                    "give when it starts: at (seconds after separation) or distance (travelled \
+                     since separation, the length unit)",
+                ));
+            }
             let input = Input {
-                at: i.at,
+                at: i.at.unwrap_or(0.0),
                 braking,
                 steer,
                 build_up: i.build_up.unwrap_or(0.0),
+                distance: i.distance.map(|d| d * length),
             };
             if let Err((key, why)) = input.check() {
                 return Err(self.error_at(&at(key), why));
             }
-            if out.last().is_some_and(|p: &Input| i.at < p.at) {
+            let by_distance = written.iter().any(|i| i.distance.is_some());
+            if !by_distance && out.last().is_some_and(|p: &Input| input.at < p.at) {
                 return Err(self.error_at(
                     &at("at"),
                     format!(
                         "{} s: the inputs must be written in the order of their times",
-                        i.at
+                        input.at
                     ),
                 ));
             }

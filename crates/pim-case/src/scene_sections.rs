@@ -131,8 +131,9 @@ pub struct RunoutVehicleSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputWritten {
-    /// Seconds after separation.
-    pub at: f64,
+    /// Seconds after separation (with `distance`: the earliest time; default 0 then).
+    #[serde(default)]
+    pub at: Option<f64>,
     /// Braking share, 0 to 1: one for every wheel, or per axle or wheel.
     #[serde(default)]
     pub braking: Option<BrakingWritten>,
@@ -145,6 +146,10 @@ pub struct InputWritten {
     /// Seconds to reach the values (default 0: at once).
     #[serde(default)]
     pub build_up: Option<f64>,
+    /// The input starts once the CG has travelled this far since separation (length unit),
+    /// and not before `at`.
+    #[serde(default)]
+    pub distance: Option<f64>,
 }
 
 /// An input's `braking = ...`: one share for every wheel, or shares by axle (`front`, `rear`)

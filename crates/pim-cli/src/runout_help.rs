@@ -33,6 +33,7 @@ velocities [final], or [coefficients] with [initial], or --from fit, or scene ev
   #   { at = 0.8, braking = 0.9, build_up = 0.25 },   # from 0.8 s, reached over 0.25 s
   #   { at = 1.0, braking = { front = 0.9, rear = 0.5 } },   # or per axle / per wheel
   #   { at = 1.5, steering_wheel = -90.0, build_up = 0.4 },  # or steer = 5.0 (deg)
+  #   { distance = 12.0, braking = 0.0 },  # from 12 length units travelled since separation
   # ]                              # a value an input does not give keeps what it was
   [scene.vehicle1]                 # the evidence (positions in the case's frame: the impact
                                    # centre is the origin, or [impact] centre's frame)

@@ -22,7 +22,8 @@ fn malibu(name: &str, inputs: &str, extra: &str) -> String {
 
 /// From 30 mph (13.4112 m/s) on a 0.76 road: all four wheels braked fully stop in
 /// `v^2 / (2 mu g)` = 12.0662 m = 39.59 ft whatever the load transfer; half the friction
-/// circle (0.38 g) in 24.1324 m = 79.17 ft; a reaction time of 1.0 s before it adds 44.00 ft.
+/// circle (0.38 g) in 24.1324 m = 79.17 ft; a reaction time of 1.0 s before it adds 44.00 ft,
+/// and so does braking from 44 ft travelled (an input by distance).
 /// Rolling resistance 0, so that nothing but the braking decelerates.
 #[test]
 fn straight_braking_from_30_mph_stops_at_its_closed_form() {
@@ -32,6 +33,13 @@ fn straight_braking_from_30_mph_stops_at_its_closed_form() {
         ("full.toml", "{ at = 0.0, braking = 1.0 }", 0.76, 0.0),
         ("partial.toml", "{ at = 0.0, braking = 0.5 }", 0.38, 0.0),
         ("reaction.toml", "{ at = 1.0, braking = 1.0 }", 0.76, 1.0),
+        // By distance: from 44.0 ft travelled, that is after 1.0 s at 30 mph.
+        (
+            "distance.toml",
+            "{ distance = 44.0, braking = 1.0 }",
+            0.76,
+            1.0,
+        ),
     ] {
         let file = malibu(name, &format!("inputs = [ {input} ]"), "");
         let out = json(&pim_ok(&["runout", &file, "--format", "json"]));
@@ -46,6 +54,12 @@ fn straight_braking_from_30_mph_stops_at_its_closed_form() {
         let table = String::from_utf8(pim_ok(&["runout", &file]).stdout).unwrap();
         let printed = format!("rest        x {:.2} ft", expected / ft);
         assert!(table.contains(&printed), "{name}: {printed} not in {table}");
+        if name == "distance.toml" {
+            assert!(
+                table.contains("inputs      from 44.00 ft: braking 1.00"),
+                "{table}"
+            );
+        }
     }
 }
 

@@ -25,9 +25,9 @@ fn wheels_text(w: &[WheelState; 4]) -> String {
     }
 }
 
-/// The driver's inputs in a line: `from 0.80 s: braking 0.90 over 0.25 s; ...` (steer angles
-/// in the frame's sense `s`, degrees).
-fn inputs_text(inputs: &[pim_runout::Input], s: f64) -> String {
+/// The driver's inputs in a line: `from 0.80 s: braking 0.90 over 0.25 s; from 12.00 m: ...`
+/// (steer angles in the frame's sense `s`, degrees; distances in `units`).
+fn inputs_text(inputs: &[pim_runout::Input], s: f64, units: UnitSystem) -> String {
     inputs
         .iter()
         .map(|i| {
@@ -53,7 +53,17 @@ fn inputs_text(inputs: &[pim_runout::Input], s: f64) -> String {
             } else {
                 String::new()
             };
-            format!("from {:.2} s: {}{over}", i.at, parts.join(", "))
+            let from = match i.distance {
+                Some(d) if i.at > 0.0 => format!(
+                    "from {} {} (not before {:.2} s)",
+                    num(units.length(d), 2),
+                    units.length_label(),
+                    i.at
+                ),
+                Some(d) => format!("from {} {}", num(units.length(d), 2), units.length_label()),
+                None => format!("from {:.2} s", i.at),
+            };
+            format!("{from}: {}{over}", parts.join(", "))
         })
         .collect::<Vec<_>>()
         .join("; ")
@@ -108,7 +118,7 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
             if !input.chassis.inputs.is_empty() {
                 t.push_str(&format!(
                     "  inputs      {}\n",
-                    inputs_text(&input.chassis.inputs, s)
+                    inputs_text(&input.chassis.inputs, s, units)
                 ));
             }
         }

@@ -93,9 +93,13 @@ pub struct Chassis {
 /// when the input starts (a reaction time before the driver brakes is an input at that time).
 /// A value the input does not give keeps what it was.
 ///
-/// Each value is continuous in time and piecewise linear; the run-out is integrated piece by
-/// piece between the times where its slope changes (each input's start and the end of its
-/// build-up), so that the integrator never steps across a kink of the inputs.
+/// The inputs act in their order: each starts at its time `at`, or once the CG has travelled
+/// `distance`, and never before the input before it. Each value is continuous in time and
+/// piecewise linear; the run-out is integrated piece by piece between the times where its slope
+/// changes (each input's start and the end of its build-up), so that the integrator never steps
+/// across a kink of the inputs; the time a distance is reached is located within the step that
+/// reaches it (on the cubic through the step's ends and their speeds), and the step integrated
+/// again up to it.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Input {
     /// When the input starts, s after separation (at least 0).
@@ -108,6 +112,12 @@ pub struct Input {
     pub steer: Option<[f64; 2]>,
     /// Seconds over which the values move from where they were to the input's (0: at once).
     pub build_up: f64,
+    /// Metres the CG has travelled along its path since separation when the input starts
+    /// (PC-Crash's sequences by distance): the input then starts at the first time, from `at`
+    /// and from the start of the input before it on, that the path's length reaches this.
+    /// `None`: the input starts at `at` (or with the input before it, when that starts later).
+    #[serde(default)]
+    pub distance: Option<f64>,
 }
 
 impl Input {
@@ -117,11 +127,17 @@ impl Input {
     }
 
     /// Checks one input on its own (its order among the others is the chassis's check): the
-    /// error names the key (`at`, `build_up`, `braking`, `steer`) and says why.
+    /// error names the key (`at`, `distance`, `build_up`, `braking`, `steer`) and says why.
     pub fn check(&self) -> std::result::Result<(), (&'static str, String)> {
         let half_pi = std::f64::consts::FRAC_PI_2;
         if !(self.at.is_finite() && self.at >= 0.0) {
             return Err(("at", format!("starts at {} s: must be at least 0", self.at)));
+        }
+        if let Some(d) = self.distance.filter(|d| !(d.is_finite() && *d >= 0.0)) {
+            return Err((
+                "distance",
+                format!("starts after {d} m: must be at least 0"),
+            ));
         }
         if !(self.build_up.is_finite() && self.build_up >= 0.0) {
             return Err((
@@ -295,9 +311,12 @@ impl Chassis {
                 );
             }
         }
+        // Times in order, unless some input starts by distance: each then starts no earlier
+        // than the one before it, whatever its time.
+        let by_distance = self.inputs.iter().any(|i| i.distance.is_some());
         let mut last = 0.0;
         for (k, input) in self.inputs.iter().enumerate() {
-            let order = input.at < last;
+            let order = input.at < last && !by_distance;
             if let Some((_, why)) = input.check().err().or_else(|| {
                 order.then(|| {
                     (

@@ -199,6 +199,31 @@ impl Dynamics {
         std::borrow::Cow::Owned(d)
     }
 
+    /// Each input's earliest time and distance when some input starts by distance (the run
+    /// then resolves their starts as it goes), else `None`.
+    pub(crate) fn distance_triggers(&self) -> Option<Vec<(f64, Option<f64>)>> {
+        let s = self.schedule.as_ref()?;
+        s.inputs
+            .iter()
+            .any(|i| i.distance.is_some())
+            .then(|| s.inputs.iter().map(|i| (i.at, i.distance)).collect())
+    }
+
+    /// These dynamics with the first `starts.len()` inputs only, starting at `starts` (the
+    /// inputs started so far of a run with inputs by distance).
+    pub(crate) fn with_starts(&self, starts: &[f64]) -> Dynamics {
+        let mut d = self.clone();
+        if let Some(s) = &self.schedule {
+            let mut resolved = Schedule::clone(s);
+            resolved.inputs.truncate(starts.len());
+            for (input, &t) in resolved.inputs.iter_mut().zip(starts) {
+                input.at = t;
+            }
+            d.schedule = Some(std::sync::Arc::new(resolved));
+        }
+        d
+    }
+
     /// The times before `limit` where an input's value changes its slope (each input's start and
     /// the end of its build-up), in order: the run-out is integrated piece by piece between
     /// them.

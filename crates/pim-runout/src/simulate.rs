@@ -197,6 +197,9 @@ struct Tracked<'a> {
     rest_speed: f64,
     log: &'a mut Vec<(f64, State, State)>,
     stopped: &'a mut bool,
+    /// A distance along the path at which the piece ends (an input by distance starts).
+    target: Option<f64>,
+    fired: &'a mut bool,
 }
 
 impl System<f64, State> for Tracked<'_> {
@@ -212,8 +215,10 @@ impl System<f64, State> for Tracked<'_> {
         self.log.push((t, *y, *dy));
         if self.dynamics.fastest_patch(y) < self.rest_speed {
             *self.stopped = true;
+        } else if self.target.is_some_and(|d| y[7] >= d) {
+            *self.fired = true;
         }
-        *self.stopped
+        *self.stopped || *self.fired
     }
 }
 
@@ -236,6 +241,92 @@ fn motion_of(y: &State) -> Motion {
         vy: y[4],
         yaw_rate: y[5],
     }
+}
+
+/// Kinks of the inputs closer than this to the current time (s) are where the run is already:
+/// a piece ends at its end time to within rounding.
+const KINK_GAP: f64 = 1e-9;
+
+/// Integrates one piece of a run-out from `t0` to `end` (or to rest, or to the path's distance
+/// `target`), appending every accepted step to the log; returns the evaluations it took.
+fn piece(
+    dynamics: &Dynamics,
+    settings: &Settings,
+    (t0, end, y): (f64, f64, State),
+    target: Option<f64>,
+    (log, stopped, fired): (&mut Vec<(f64, State, State)>, &mut bool, &mut bool),
+) -> Result<u32> {
+    let system = Tracked {
+        dynamics,
+        rest_speed: settings.rest_speed,
+        log: &mut *log,
+        stopped,
+        target,
+        fired,
+    };
+    let mut solver = Dopri5::from_param(
+        system,
+        t0,
+        end,
+        end - t0,
+        y,
+        settings.rtol,
+        settings.atol,
+        0.9,
+        0.04,
+        0.2,
+        10.0,
+        settings.time_limit,
+        0.0,
+        2_000_000,
+        u32::MAX,
+        OutputType::Sparse,
+    );
+    let outcome = solver.integrate();
+    drop(solver);
+    match outcome {
+        Ok(stats) => Ok(stats.num_eval),
+        Err(e) => {
+            let (time, reason) = match e {
+                IntegrationError::MaxNumStepReached { x, n_step } => {
+                    (x, format!("more than {n_step} steps"))
+                }
+                IntegrationError::StepSizeUnderflow { x } => (x, "step size underflow".into()),
+                IntegrationError::StiffnessDetected { x } => (x, "the motion is stiff".into()),
+            };
+            // Six evaluations per accepted step at least.
+            let evaluations = 6 * log.len() as u64;
+            Err(RunoutError::Integration {
+                time,
+                reason,
+                evaluations,
+            })
+        }
+    }
+}
+
+/// The time within a step from `(ta, sa, va)` to `(tb, sb, vb)` (time, distance along the
+/// path, speed) at which the distance reaches `d`, on the cubic Hermite curve through both
+/// ends (increasing: the speed is never negative), by bisection to the last bit.
+fn crossing((ta, sa, va): (f64, f64, f64), (tb, sb, vb): (f64, f64, f64), d: f64) -> f64 {
+    let h = tb - ta;
+    let at = |u: f64| {
+        let (u2, u3) = (u * u, u * u * u);
+        (2.0 * u3 - 3.0 * u2 + 1.0) * sa
+            + (u3 - 2.0 * u2 + u) * h * va
+            + (-2.0 * u3 + 3.0 * u2) * sb
+            + (u3 - u2) * h * vb
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if at(mid) < d {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    ta + hi * h
 }
 
 /// The run-out of `chassis` from `start` to rest.
@@ -274,57 +365,90 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         0.0,
     ]);
     let initial_energy = dynamics.kinetic_energy(&y0);
-    let mut log = vec![(0.0, y0, derivative(&dynamics.at_time(0.0), &y0))];
+    let mut log = vec![(0.0, y0, State::zeros())];
     let mut stopped = dynamics.fastest_patch(&y0) < settings.rest_speed;
     let mut evaluations = 1;
+    // Inputs by distance start when the path reaches their distance: their starts are found as
+    // the run goes, and the dynamics hold the inputs started so far.
+    let triggers = dynamics.distance_triggers();
+    let mut starts: Vec<f64> = Vec::new();
+    let mut current = match triggers {
+        Some(_) => std::borrow::Cow::Owned(dynamics.with_starts(&starts)),
+        None => std::borrow::Cow::Borrowed(dynamics),
+    };
     // Piece by piece between the driver inputs' kinks (one piece without inputs).
-    let mut ends = dynamics.kinks(settings.time_limit);
-    ends.push(settings.time_limit);
-    for end in ends {
-        let Some(&(t0, y, _)) = log.last() else { break };
-        if stopped || t0 >= settings.time_limit {
+    let limit = settings.time_limit;
+    {
+        // The start's rates under the inputs that start at once.
+        let mut now = starts.clone();
+        if let Some(tr) = &triggers {
+            while let Some(&(at, distance)) = tr.get(now.len()) {
+                if at > 0.0 || distance.is_some_and(|d| d > 0.0) {
+                    break;
+                }
+                now.push(0.0);
+            }
+        }
+        let at_start = match triggers {
+            Some(_) => std::borrow::Cow::Owned(dynamics.with_starts(&now)),
+            None => std::borrow::Cow::Borrowed(dynamics),
+        };
+        log[0].2 = derivative(&at_start.at_time(0.0), &y0);
+    }
+    while let Some(&(t0, y, _)) = log.last() {
+        if stopped || t0 >= limit {
             break;
         }
-        let system = Tracked {
-            dynamics,
-            rest_speed: settings.rest_speed,
-            log: &mut log,
-            stopped: &mut stopped,
-        };
-        let mut solver = Dopri5::from_param(
-            system,
-            t0,
-            end,
-            end - t0,
-            y,
-            settings.rtol,
-            settings.atol,
-            0.9,
-            0.04,
-            0.2,
-            10.0,
-            settings.time_limit,
-            0.0,
-            2_000_000,
-            u32::MAX,
-            OutputType::Sparse,
-        );
-        match solver.integrate() {
-            Ok(stats) => evaluations += stats.num_eval,
-            Err(e) => {
-                let (time, reason) = match e {
-                    IntegrationError::MaxNumStepReached { x, n_step } => {
-                        (x, format!("more than {n_step} steps"))
-                    }
-                    IntegrationError::StepSizeUnderflow { x } => (x, "step size underflow".into()),
-                    IntegrationError::StiffnessDetected { x } => (x, "the motion is stiff".into()),
-                };
-                return Err(RunoutError::Integration {
-                    time,
-                    reason,
-                    evaluations: 6 * log.len() as u64,
-                });
+        // The inputs that start now (their time and distance reached), the next one's time
+        // when it is still ahead, or the distance it waits for.
+        let mut end = limit;
+        let mut target = None;
+        if let Some(tr) = &triggers {
+            while let Some(&(at, distance)) = tr.get(starts.len()) {
+                let earliest = at.max(starts.last().copied().unwrap_or(0.0));
+                if t0 < earliest - KINK_GAP {
+                    end = earliest;
+                    break;
+                }
+                if let Some(d) = distance.filter(|&d| y[7] < d) {
+                    target = Some(d);
+                    break;
+                }
+                starts.push(t0.max(earliest));
+                current = std::borrow::Cow::Owned(dynamics.with_starts(&starts));
             }
+        }
+        if let Some(&k) = current.kinks(limit).iter().find(|&&k| k > t0 + KINK_GAP) {
+            end = end.min(k);
+        }
+        let mut fired = false;
+        evaluations += piece(
+            &current,
+            settings,
+            (t0, end, y),
+            target,
+            (&mut log, &mut stopped, &mut fired),
+        )?;
+        if fired {
+            // The distance was reached within the last step: where, on the cubic through the
+            // step's ends (distance and speed); the step is then integrated again up to there.
+            let d = target.expect("fired only with a target");
+            let (tb, yb, db) = log.pop().expect("the step that reached it");
+            let (ta, ya, da) = *log.last().expect("the step before it");
+            let t = crossing((ta, ya[7], da[7]), (tb, yb[7], db[7]), d);
+            if t > ta {
+                let mut again = false;
+                evaluations += piece(
+                    &current,
+                    settings,
+                    (ta, t, ya),
+                    None,
+                    (&mut log, &mut stopped, &mut again),
+                )?;
+            }
+            let t_start = log.last().map_or(t, |l| l.0);
+            starts.push(t_start);
+            current = std::borrow::Cow::Owned(dynamics.with_starts(&starts));
         }
     }
     let mut steps: Vec<Step> = log.iter().map(|(t, y, dy)| step_of(*t, y, dy)).collect();
@@ -334,7 +458,7 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         // power P, so a uniform deceleration ends after tau = 2 K / P, with half the current
         // velocities' way covered.
         let k = dynamics.kinetic_energy(&y_last);
-        let p = dynamics.at_time(t_last).rates(&y_last).power;
+        let p = current.at_time(t_last).rates(&y_last).power;
         let tau = if p > 0.0 { 2.0 * k / p } else { 0.0 };
         let tau = tau.min(settings.time_limit - t_last).max(0.0);
         let rest = Motion {

@@ -383,12 +383,14 @@ fn random_inputs(rng: &mut StdRng) -> Vec<pim_runout::Input> {
             braking,
             steer: None,
             build_up: brake_up,
+            distance: None,
         },
         pim_runout::Input {
             at: steer_at,
             braking: [None; 4],
             steer: Some([steer, 0.9 * steer]),
             build_up: rng.random_range(0.0..0.8),
+            distance: None,
         },
     ];
     if rng.random_bool(0.5) {
@@ -397,6 +399,7 @@ fn random_inputs(rng: &mut StdRng) -> Vec<pim_runout::Input> {
             braking: Input::every_wheel(rng.random_range(0.0..0.5)),
             steer: Some([0.0, 0.0]),
             build_up: rng.random_range(0.0..0.3),
+            distance: None,
         });
     }
     out
@@ -455,6 +458,7 @@ fn a_repeated_input_is_the_constant_input() {
             braking: Input::every_wheel(b),
             steer: Some(steer),
             build_up: 0.0,
+            distance: None,
         }];
         let a = simulate(&from_start, &start, &Settings::default()).unwrap();
         assert_eq!(a.rest, constant.rest);
@@ -464,6 +468,7 @@ fn a_repeated_input_is_the_constant_input() {
             braking: Input::every_wheel(b),
             steer: Some(steer),
             build_up: 0.4,
+            distance: None,
         }];
         let l = simulate(&later, &start, &Settings::default()).unwrap();
         let d = (l.rest.x - constant.rest.x).hypot(l.rest.y - constant.rest.y);
@@ -488,6 +493,7 @@ fn a_build_up_is_half_the_deceleration_on_average() {
             braking: Input::every_wheel(b),
             steer: None,
             build_up: tb,
+            distance: None,
         }];
         let start = Motion {
             vx: v,
@@ -528,6 +534,7 @@ fn braking_one_axle_in_a_sequence_follows_the_load_transfer() {
             braking,
             steer: None,
             build_up: 0.0,
+            distance: None,
         }];
         let start = Motion {
             vx: v,
@@ -547,4 +554,75 @@ fn braking_one_axle_in_a_sequence_follows_the_load_transfer() {
         );
         assert!((r.time - (at + v / d)).abs() < 1e-6);
     }
+}
+
+/// Inputs by distance, against closed forms: free rolling at `v` (no rolling resistance) and
+/// braking fully from `D` m on stops at `D + v^2 / (2 mu g)` after `D / v + v / (mu g)`; braking
+/// at a share 0.3 from the start and fully from `D` on stops at `D + (v^2 - 2 a1 D) / (2 mu g)`;
+/// an input by distance whose distance comes before its earliest time starts at that time; one
+/// whose input before it starts later starts with it.
+#[test]
+fn inputs_by_distance_start_where_the_path_reaches_them() {
+    let (v, d, mu) = (20.0, 15.0, 0.8);
+    let g = mu * GRAVITY;
+    let mut c = Chassis::new(1500.0, 2500.0, 2.7, 1.2, 1.5, WheelState::Rolling);
+    c.friction = mu;
+    c.cg_height = Some(0.55);
+    c.rolling_resistance = 0.0;
+    let start = Motion {
+        vx: v,
+        ..Motion::default()
+    };
+    let brake = |at: f64, distance: Option<f64>, share: f64| Input {
+        at,
+        braking: Input::every_wheel(share),
+        steer: None,
+        build_up: 0.0,
+        distance,
+    };
+    let run = |inputs: Vec<Input>| {
+        let mut c = c.clone();
+        c.inputs = inputs;
+        simulate(&c, &start, &Settings::default()).unwrap()
+    };
+    // Free rolling to D, then full braking.
+    let r = run(vec![brake(0.0, Some(d), 1.0)]);
+    let expected = d + v * v / (2.0 * g);
+    assert!(
+        (r.rest.x - expected).abs() < 1e-6,
+        "{} {expected}",
+        r.rest.x
+    );
+    assert!((r.time - (d / v + v / g)).abs() < 1e-6, "{}", r.time);
+    // Braking at 0.3 from the start (the distance then grows as a parabola in time).
+    let r = run(vec![brake(0.0, None, 0.3), brake(0.0, Some(d), 1.0)]);
+    let a1 = 0.3 * g;
+    let expected = d + (v * v - 2.0 * a1 * d) / (2.0 * g);
+    assert!(
+        (r.rest.x - expected).abs() < 1e-6,
+        "{} {expected}",
+        r.rest.x
+    );
+    let t_d = (v - (v * v - 2.0 * a1 * d).sqrt()) / a1;
+    assert!((r.time - (t_d + (v * v - 2.0 * a1 * d).sqrt() / g)).abs() < 1e-6);
+    // D is reached at 0.75 s, but the input waits for its time, 2 s.
+    let r = run(vec![brake(2.0, Some(d), 1.0)]);
+    let expected = 2.0 * v + v * v / (2.0 * g);
+    assert!(
+        (r.rest.x - expected).abs() < 1e-6,
+        "{} {expected}",
+        r.rest.x
+    );
+    // The input before it starts at 1.5 s (after D): it starts then too, and overrides it.
+    let r = run(vec![brake(1.5, None, 0.3), brake(0.0, Some(d), 1.0)]);
+    let expected = 1.5 * v + v * v / (2.0 * g);
+    assert!(
+        (r.rest.x - expected).abs() < 1e-6,
+        "{} {expected}",
+        r.rest.x
+    );
+    // A distance never reached (the car stops before it) changes nothing.
+    let stopped = run(vec![brake(0.0, None, 1.0)]);
+    let never = run(vec![brake(0.0, None, 1.0), brake(0.0, Some(100.0), 0.0)]);
+    assert_eq!(stopped.rest, never.rest);
 }
