@@ -435,16 +435,33 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
             let d = target.expect("fired only with a target");
             let (tb, yb, db) = log.pop().expect("the step that reached it");
             let (ta, ya, da) = *log.last().expect("the step before it");
-            let t = crossing((ta, ya[7], da[7]), (tb, yb[7], db[7]), d);
-            if t > ta {
-                let mut again = false;
-                evaluations += piece(
-                    &current,
-                    settings,
-                    (ta, t, ya),
-                    None,
-                    (&mut log, &mut stopped, &mut again),
-                )?;
+            let mut t = crossing((ta, ya[7], da[7]), (tb, yb[7], db[7]), d);
+            let kept = log.len();
+            // The cubic's time, then one Newton step on the distance integrated to it (the
+            // cubic's error is that of one step; after the step it is its square).
+            for newton in [false, true] {
+                if newton {
+                    let Some(&(te, ye, _)) = log.last() else {
+                        break;
+                    };
+                    let speed = ye[3].hypot(ye[4]);
+                    let next = (te + (d - ye[7]) / speed.max(f64::MIN_POSITIVE)).clamp(ta, tb);
+                    if (next - te).abs() < KINK_GAP || stopped {
+                        break;
+                    }
+                    log.truncate(kept);
+                    t = next;
+                }
+                if t > ta {
+                    let mut again = false;
+                    evaluations += piece(
+                        &current,
+                        settings,
+                        (ta, t, ya),
+                        None,
+                        (&mut log, &mut stopped, &mut again),
+                    )?;
+                }
             }
             let t_start = log.last().map_or(t, |l| l.0);
             starts.push(t_start);

@@ -76,31 +76,50 @@ pub fn random_start(rng: &mut StdRng, max_speed: f64) -> Motion {
     }
 }
 
-type State6 = nalgebra::SVector<f64, 6>;
+/// x, y, heading, vx, vy, yaw rate, and the distance along the path.
+type State7 = nalgebra::SVector<f64, 7>;
 
 struct Sys<'a, 'b> {
     model: &'a Reference<'b>,
-    last: &'a mut (f64, State6),
+    last: &'a mut (f64, State7),
+    /// The accepted step before `last`.
+    prev: &'a mut (f64, State7),
     stopped: &'a mut bool,
+    /// Stop where the path reaches this distance (an input by distance starts).
+    target: Option<f64>,
+    reached: &'a mut bool,
 }
 
-impl ode_solvers::System<f64, State6> for Sys<'_, '_> {
-    fn system(&self, t: f64, y: &State6, dy: &mut State6) {
+impl ode_solvers::System<f64, State7> for Sys<'_, '_> {
+    fn system(&self, t: f64, y: &State7, dy: &mut State7) {
         self.model.t.set(t);
         let s: [f64; 6] = std::array::from_fn(|i| y[i]);
-        *dy = State6::from(self.model.deriv(&s));
+        let d = self.model.deriv(&s);
+        *dy = State7::from([d[0], d[1], d[2], d[3], d[4], d[5], y[3].hypot(y[4])]);
     }
 
-    fn solout(&mut self, t: f64, y: &State6, _dy: &State6) -> bool {
+    fn solout(&mut self, t: f64, y: &State7, _dy: &State7) -> bool {
         self.model.t.set(t);
+        if self.last.0 < t {
+            *self.prev = *self.last;
+        }
         *self.last = (t, *y);
         let s: [f64; 6] = std::array::from_fn(|i| y[i]);
         *self.stopped = self.model.slow(&s);
-        *self.stopped
+        *self.reached = !*self.stopped && self.target.is_some_and(|d| y[6] >= d);
+        *self.stopped || *self.reached
     }
 }
 
-/// The independent model: the state `[x, y, psi, vx, vy, r]`.
+/// Where a stretch of the reference's integration ended.
+#[derive(Clone, Copy)]
+struct Stretch {
+    last: (f64, State7),
+    prev: (f64, State7),
+    stopped: bool,
+    reached: bool,
+}
+
 pub struct Reference<'a> {
     pub c: &'a Chassis,
     /// The time of the state being evaluated (for the driver's inputs).
@@ -278,70 +297,147 @@ impl Reference<'_> {
         [s[3], s[4], s[5], r[0], r[1], r[2]]
     }
 
+    /// One Dormand-Prince 8(5,3) integration from `from` to `end`, or to rest, or to the path's
+    /// distance `target`.
+    fn integrate(&self, from: (f64, State7), end: f64, target: Option<f64>) -> Stretch {
+        let (mut last, mut prev) = (from, from);
+        let (mut stopped, mut reached) = (false, false);
+        let sys = Sys {
+            model: self,
+            last: &mut last,
+            prev: &mut prev,
+            stopped: &mut stopped,
+            target,
+            reached: &mut reached,
+        };
+        // Stiffness detection off: a patch inside the 1 cm/s band is stiff, by design.
+        let mut solver = ode_solvers::Dop853::from_param(
+            sys,
+            from.0,
+            end,
+            end - from.0,
+            from.1,
+            1e-11,
+            1e-11,
+            0.9,
+            0.0,
+            0.333,
+            6.0,
+            60.0,
+            0.0,
+            10_000_000,
+            u32::MAX,
+            ode_solvers::OutputType::Sparse,
+        );
+        solver.integrate().expect("the reference integrates");
+        Stretch {
+            last,
+            prev,
+            stopped,
+            reached,
+        }
+    }
+
+    /// From `from` to `until` (or to rest, or to the distance `target`), piece by piece between
+    /// the kinks of this reference's inputs: across a kink the 8th-order method loses its order.
+    fn pieces(&self, from: (f64, State7), until: f64, target: Option<f64>) -> Stretch {
+        let mut kinks: Vec<f64> = self
+            .c
+            .inputs
+            .iter()
+            .flat_map(|i| [i.at, i.at + i.build_up])
+            .filter(|t| *t > from.0 && *t < until)
+            .chain([until])
+            .collect();
+        kinks.sort_by(f64::total_cmp);
+        let mut out = Stretch {
+            last: from,
+            prev: from,
+            stopped: false,
+            reached: false,
+        };
+        for end in kinks {
+            if out.stopped || out.reached || end <= out.last.0 {
+                continue;
+            }
+            out = self.integrate(out.last, end, target);
+        }
+        out
+    }
+
     /// The rest `(x, y, heading)` and whether it came to rest within 60 s: Dormand and
     /// Prince's 8(5,3) method (`ode_solvers::Dop853`, not the 5(4) pair pim-runout uses) at
-    /// tolerances 1e-11, the stop checked after every accepted step.
+    /// tolerances 1e-11, the stop checked after every accepted step. Inputs by distance are
+    /// started one after the other: the reference runs with the inputs started so far to the
+    /// input's earliest time, then to its distance, and finds the time the distance is reached
+    /// by bisection over integrations from the step before it (not from a cubic through the
+    /// step, as pim-runout does).
     pub fn run(&self, start: &Motion) -> ([f64; 3], bool) {
-        let y0 = State6::from([
+        let y0 = State7::from([
             start.x,
             start.y,
             start.heading,
             start.vx,
             start.vy,
             start.yaw_rate,
+            0.0,
         ]);
-        let mut last = (0.0, y0);
+        let by_distance = self.c.inputs.iter().any(|i| i.distance.is_some());
+        let mut chassis = self.c.clone();
+        let mut state = (0.0, y0);
         let mut stopped = false;
-        // Across a kink of the driver's inputs the 8th-order method loses its order: the
-        // motion is integrated piece by piece between them.
-        let mut kinks: Vec<f64> = self
-            .c
-            .inputs
-            .iter()
-            .flat_map(|i| [i.at, i.at + i.build_up])
-            .filter(|t| *t > 0.0 && *t < 60.0)
-            .chain([60.0])
-            .collect();
-        kinks.sort_by(f64::total_cmp);
-        for end in kinks {
-            if stopped || end <= last.0 {
-                continue;
+        if by_distance {
+            chassis.inputs.clear();
+            let mut started = 0.0_f64;
+            for input in &self.c.inputs {
+                let stage = Reference::new(&chassis);
+                let earliest = input.at.max(started);
+                let r = stage.pieces(state, earliest, None);
+                state = r.last;
+                if r.stopped || state.0 < earliest {
+                    stopped = r.stopped;
+                    break;
+                }
+                if let Some(d) = input.distance.filter(|&d| state.1[6] < d) {
+                    let r = stage.pieces(state, 60.0, Some(d));
+                    if !r.reached {
+                        state = r.last;
+                        stopped = r.stopped;
+                        break;
+                    }
+                    let (mut lo, mut hi) = (r.prev.0, r.last.0);
+                    for _ in 0..60 {
+                        let mid = 0.5 * (lo + hi);
+                        if stage.pieces(r.prev, mid, None).last.1[6] < d {
+                            lo = mid;
+                        } else {
+                            hi = mid;
+                        }
+                    }
+                    state = stage.pieces(r.prev, hi, None).last;
+                }
+                started = state.0;
+                chassis.inputs.push(pim_runout::Input {
+                    at: started,
+                    distance: None,
+                    ..*input
+                });
             }
-            let (t0, y) = last;
-            let sys = Sys {
-                model: self,
-                last: &mut last,
-                stopped: &mut stopped,
-            };
-            // Stiffness detection off: a patch inside the 1 cm/s band is stiff, by design.
-            let mut solver = ode_solvers::Dop853::from_param(
-                sys,
-                t0,
-                end,
-                end - t0,
-                y,
-                1e-11,
-                1e-11,
-                0.9,
-                0.0,
-                0.333,
-                6.0,
-                60.0,
-                0.0,
-                10_000_000,
-                u32::MAX,
-                ode_solvers::OutputType::Sparse,
-            );
-            solver.integrate().expect("the reference integrates");
         }
-        self.t.set(last.0);
-        let s: [f64; 6] = std::array::from_fn(|i| last.1[i]);
+        let model = Reference::new(&chassis);
+        if !stopped && state.0 < 60.0 {
+            let r = model.pieces(state, 60.0, None);
+            state = r.last;
+            stopped = r.stopped;
+        }
+        model.t.set(state.0);
+        let s: [f64; 6] = std::array::from_fn(|i| state.1[i]);
         if !stopped {
             return ([s[0], s[1], s[2]], false);
         }
         let k =
-            0.5 * (self.c.mass * (s[3] * s[3] + s[4] * s[4]) + self.c.yaw_inertia * s[5] * s[5]);
-        let p = self.rates(&s)[3];
+            0.5 * (model.c.mass * (s[3] * s[3] + s[4] * s[4]) + model.c.yaw_inertia * s[5] * s[5]);
+        let p = model.rates(&s)[3];
         let tau = if p > 0.0 { 2.0 * k / p } else { 0.0 };
         (
             [
