@@ -163,6 +163,37 @@ test("save writes the edit and nothing else; pim fit of the file gives the page'
   assert.equal(await page.inputValue("#toml"), saved);
 });
 
+test("an uncertainty study runs in the background, shows its intervals and can be cancelled", async () => {
+  // A short study to its end: its document is the command's for the same draws and seed.
+  await page.fill("#draws", "20");
+  await page.click("#study-start");
+  await page.waitForFunction(() => /draws feasible/.test(document.getElementById("study-status").textContent), null, { timeout: 60000 });
+  const doc = await page.evaluate(() => window.pim.study.report.document);
+  const cli = JSON.parse(execFileSync(pimBin, ["uncertainty", path.join(dir, CASE), "--draws", "20", "--format", "json"], { encoding: "utf8" }));
+  assert.deepEqual(doc, cli);
+  const cells = await page.$$eval("#speeds td.interval", (tds) => tds.map((t) => t.textContent));
+  assert.equal(cells.length, 2);
+  for (const c of cells) {
+    const [lo, hi] = c.split(" – ").map(Number);
+    assert.ok(lo < hi, c);
+  }
+  await page.screenshot({ path: path.join(shots, "04-study.png") });
+  // A long one, cancelled while it runs: the draws finished make the answer, and it says so.
+  await page.fill("#draws", "5000");
+  await page.click("#study-start");
+  await page.waitForFunction(() => {
+    const r = window.pim.study && window.pim.study.report;
+    return r && r.total === 5000 && r.done >= 3;
+  }, null, { timeout: 60000 });
+  await page.click("#study-cancel");
+  await page.waitForFunction(() => /cancelled after/.test(document.getElementById("study-status").textContent), null, { timeout: 60000 });
+  const cancelled = await page.evaluate(() => window.pim.study.report.document.cancelled);
+  assert.ok(cancelled.done >= 3 && cancelled.done < 5000, JSON.stringify(cancelled));
+  assert.equal(cancelled.asked, 5000);
+  assert.ok(await page.isHidden("#study-cancel"));
+  await page.screenshot({ path: path.join(shots, "05-study-cancelled.png") });
+});
+
 test("the API answers every example case with the command's document", async () => {
   const cookie = `pim_token=${token}`;
   for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {

@@ -85,7 +85,8 @@ b_sigma, depth_sigma, width_sigma; or [damage] evidence = true), the fit is repe
 crush energy as one more piece of evidence: its residual (expected loss - PIM's loss) / sigma
 squared joins the cost, with the PDOF factors and the sigma evaluated at the answer being
 fitted. It is fitted by Gauss-Newton steps with the exact fit inside (PIM's equations and
-every admissibility condition hold at each step), from each branch's optimum without it. The
+every admissibility condition hold at each step), from each branch's optimum without it, and
+when that end is not proven from the optimum within each of five slices of the e range. The
 output says whether the answer is proven optimal (its cost meets the certified optimum without
 the energy) or the best found, with that lower bound. Without [sigma] the weighted velocity
 residuals count beside the energy's as if their sigma were 1 m/s. [damage] evidence = false

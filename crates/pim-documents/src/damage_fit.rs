@@ -49,7 +49,8 @@ pub struct EnergyFit {
     /// The certified optimum without the energy: no answer can cost less.
     pub lower_bound: f64,
     /// True when the answer meets the lower bound: it is then the global optimum. Otherwise it
-    /// is the best found from the starts (each branch's optimum without the energy).
+    /// is the best found from the starts (each branch's optimum without the energy, then the
+    /// optimum within each slice of the e range).
     pub proven: bool,
     /// Exact fits solved.
     pub fits: usize,

@@ -180,7 +180,9 @@ pub use geometry::{
     fit_geometry, impact_at, CentreEstimate, GeometryBound, GeometryEstimate, GeometryInput,
     GeometryProof, GeometryRange, GeometrySearch, ProofStatus,
 };
-pub use nonlinear::{fit_nonlinear, linear_cost, NonlinearFit, NonlinearTerm, PROVEN_GAP};
+pub use nonlinear::{
+    fit_nonlinear, linear_cost, NonlinearFit, NonlinearTerm, E_SLICES, PROVEN_GAP,
+};
 pub use problem::{
     forward_axis, state_vector, Combination, Component, CostPreset, FitProblem, Knowledge,
     MomentBranch, Observation, ObservationKind, Vector12, COMPONENT_NAMES,

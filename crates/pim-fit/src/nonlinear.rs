@@ -10,7 +10,11 @@
 //! [`Combination`] row and solves that problem exactly with [`crate::fit`] (PIM's equations
 //! and every admissibility condition hold at every step); a step that does not lower the true
 //! cost is retried with Marquardt's damping rows. It starts from the optimum of each moment
-//! branch without the terms and keeps the best end.
+//! branch without the terms and keeps the best end. When no end meets the lower bound below, it
+//! starts again from the problem's optimum within each of [`E_SLICES`] slices of the e range:
+//! the terms (an energy) need not be monotone along the solutions the problem alone leaves
+//! open, and a descent from one of them can stop at a local minimum (at the edge of the e
+//! range) while the evidence is met exactly elsewhere.
 //!
 //! **What is proven.** The terms only add to the cost, so the certified optimum without them
 //! is a lower bound of the optimum with them. When the end's cost meets that bound (within
@@ -190,73 +194,37 @@ pub fn fit_nonlinear(
         return Ok(None);
     };
     let lower_bound = lowest.cost;
+    let meets = |cost: f64| cost - lower_bound <= PROVEN_GAP * (1.0 + lower_bound.abs());
     let mut fits = 0;
     let mut ends: Vec<End> = Vec::new();
-    let starts: Vec<(MomentBranch, Solution)> = base
-        .branches
-        .iter()
-        .filter(|b| b.status == Status::Optimal)
-        .filter_map(|b| b.solution.clone().map(|s| (b.moment, s)))
-        .collect();
-    for (moment, start) in starts {
-        let mut s = start;
-        let u0 = state_vector(&s.initial, &s.separation);
-        let Some((mut cost, mut linear, mut residuals)) = true_cost(problem, unit, terms, &u0)
-        else {
-            continue;
-        };
-        let mut lambda = 0.0;
-        let mut iterations = 0;
-        let mut converged = false;
-        while iterations < 60 {
-            iterations += 1;
-            let u = state_vector(&s.initial, &s.separation);
-            let Some((p, _)) = assemble(problem, unit, terms, &u, lambda) else {
-                break;
-            };
-            let mut one = settings.clone();
-            one.0.branches = vec![moment];
+    for (moment, start) in optima(base) {
+        ends.extend(descend(
+            problem, unit, terms, settings, moment, start, &mut fits,
+        )?);
+    }
+    // An end above the bound may be a local minimum of the terms along the solutions the
+    // problem alone leaves open (an energy that is not monotone along them): start again from
+    // the problem's optimum within each slice of the e range, so that every part of that set
+    // is reached from a start of its own.
+    if !ends.iter().any(|e| meets(e.cost)) {
+        let [lo, hi] = settings.0.e;
+        for k in 0..E_SLICES {
+            let mut slice = settings.clone();
+            let w = (hi - lo) / E_SLICES as f64;
+            slice.0.e = [lo + w * k as f64, lo + w * (k + 1) as f64];
+            slice.0.ranges = false;
             fits += 1;
-            let trial = crate::fit(&p, &one)?;
-            let next = best(&trial, Some(moment)).and_then(|(_, t)| {
-                let v = state_vector(&t.initial, &t.separation);
-                true_cost(problem, unit, terms, &v).map(|c| (t, c))
-            });
-            match next {
-                Some((t, (c, q, r))) if c < cost => {
-                    let gain = cost - c;
-                    let step = (state_vector(&t.initial, &t.separation) - u).amax();
-                    s = t;
-                    (cost, linear, residuals) = (c, q, r);
-                    lambda = 0.0;
-                    if gain <= 1e-10 * (1.0 + cost) || step < 1e-10 {
-                        converged = true;
-                        break;
-                    }
-                }
-                _ => {
-                    lambda = if lambda == 0.0 { 1e-4 } else { lambda * 10.0 };
-                    if lambda > 1e6 {
-                        converged = true;
-                        break;
-                    }
-                }
+            let report = crate::fit(problem, &slice)?;
+            for (moment, start) in optima(&report) {
+                ends.extend(descend(
+                    problem, unit, terms, settings, moment, start, &mut fits,
+                )?);
             }
         }
-        ends.push(End {
-            moment,
-            solution: s,
-            cost,
-            linear,
-            residuals,
-            iterations,
-            converged,
-        });
     }
     let Some(end) = ends.into_iter().min_by(|a, b| a.cost.total_cmp(&b.cost)) else {
         return Ok(None);
     };
-    let proven = end.cost - lower_bound <= PROVEN_GAP * (1.0 + lower_bound.abs());
     Ok(Some(NonlinearFit {
         moment: end.moment,
         solution: end.solution,
@@ -264,9 +232,87 @@ pub fn fit_nonlinear(
         linear_cost: end.linear,
         residuals: end.residuals,
         lower_bound,
-        proven,
+        proven: meets(end.cost),
         fits,
         iterations: end.iterations,
         converged: end.converged,
+    }))
+}
+
+/// Slices of the e range a second round of starts is taken from (see [`fit_nonlinear`]).
+pub const E_SLICES: usize = 5;
+
+/// Each optimal branch's solution of a report, with its moment.
+fn optima(report: &FitReport) -> Vec<(MomentBranch, Solution)> {
+    report
+        .branches
+        .iter()
+        .filter(|b| b.status == Status::Optimal)
+        .filter_map(|b| b.solution.clone().map(|s| (b.moment, s)))
+        .collect()
+}
+
+/// The Gauss-Newton iteration from `start` on the `moment` branch (see the module's text);
+/// `None` when a term is undefined at the start.
+fn descend(
+    problem: &FitProblem,
+    unit: f64,
+    terms: &[&dyn NonlinearTerm],
+    settings: &ValidSettings,
+    moment: MomentBranch,
+    start: Solution,
+    fits: &mut usize,
+) -> Result<Option<End>> {
+    let mut s = start;
+    let u0 = state_vector(&s.initial, &s.separation);
+    let Some((mut cost, mut linear, mut residuals)) = true_cost(problem, unit, terms, &u0) else {
+        return Ok(None);
+    };
+    let mut lambda = 0.0;
+    let mut iterations = 0;
+    let mut converged = false;
+    while iterations < 60 {
+        iterations += 1;
+        let u = state_vector(&s.initial, &s.separation);
+        let Some((p, _)) = assemble(problem, unit, terms, &u, lambda) else {
+            break;
+        };
+        let mut one = settings.clone();
+        one.0.branches = vec![moment];
+        *fits += 1;
+        let trial = crate::fit(&p, &one)?;
+        let next = best(&trial, Some(moment)).and_then(|(_, t)| {
+            let v = state_vector(&t.initial, &t.separation);
+            true_cost(problem, unit, terms, &v).map(|c| (t, c))
+        });
+        match next {
+            Some((t, (c, q, r))) if c < cost => {
+                let gain = cost - c;
+                let step = (state_vector(&t.initial, &t.separation) - u).amax();
+                s = t;
+                (cost, linear, residuals) = (c, q, r);
+                lambda = 0.0;
+                if gain <= 1e-10 * (1.0 + cost) || step < 1e-10 {
+                    converged = true;
+                    break;
+                }
+            }
+            _ => {
+                lambda = if lambda == 0.0 { 1e-4 } else { lambda * 10.0 };
+                if lambda > 1e6 {
+                    converged = true;
+                    break;
+                }
+            }
+        }
+    }
+    Ok(Some(End {
+        moment,
+        solution: s,
+        cost,
+        linear,
+        residuals,
+        iterations,
+        converged,
     }))
 }

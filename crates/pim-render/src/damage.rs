@@ -187,9 +187,12 @@ pub fn fit_damage_lines(d: &FitDamage, u: UnitSystem) -> String {
             } else {
                 format!(
                     "best found (Gauss-Newton with the exact fit inside, from each branch's \
-                     optimum; {} exact fits): not proven global; no answer costs less than the \
-                     certified optimum without the energy, {:.6}",
-                    f.fits, f.lower_bound
+                     optimum and from the optimum in each of {} slices of the e range; {} exact \
+                     fits): not proven global; no answer costs less than the certified optimum \
+                     without the energy, {:.6}",
+                    pim_fit::E_SLICES,
+                    f.fits,
+                    f.lower_bound
                 )
             }
         );

@@ -6,7 +6,7 @@ const NS = "http://www.w3.org/2000/svg";
 const $ = (id) => document.getElementById(id);
 const state = {
   path: null, text: "", saved: "", answer: null, busy: false, pending: false,
-  view: null, dragging: null, timings: [],
+  view: null, dragging: null, timings: [], study: null,
 };
 window.pim = state; // for the tests and the curious
 
@@ -108,6 +108,73 @@ function speedsTable(a) {
     cells.forEach((c, i) => { const td = r.insertCell(); td.textContent = c; if (i === 2) td.className = "contact"; });
   }
   const cap = t.createCaption(); cap.textContent = `speeds, ${a.plan.speed_label}`;
+  intervals(a);
+}
+
+// The study's 90 % intervals (5th to 95th percentile of the draws) beside the speeds, for the
+// text they were drawn from.
+function intervals(a) {
+  const st = state.study;
+  const q = st && st.text === state.text && st.report.document && st.report.document.quantities;
+  if (!q || a.question !== "reconstruction") return;
+  const u = a.plan.speed_metres || 1;
+  const rows = $("speeds").rows;
+  const th = document.createElement("th"); th.textContent = "90 % at contact"; rows[0].appendChild(th);
+  for (let i = 1; i < rows.length; i++) {
+    const s = q[`vehicle${rows[i].dataset.vehicle}.speed_at_contact`];
+    const td = rows[i].insertCell();
+    td.className = "interval";
+    td.textContent = s ? `${(s.p05 / u).toFixed(2)} – ${(s.p95 / u).toFixed(2)}` : "-";
+  }
+}
+
+// The uncertainty study runs on the server; the page polls its progress and can cancel it.
+async function startStudy() {
+  const draws = Math.round(+$("draws").value);
+  const text = state.text;
+  try {
+    const { data } = await api("POST", "/api/study", { path: state.path, text, draws });
+    state.study = { id: data.id, text, report: { state: "running", done: 0, total: draws } };
+    $("study-cancel").hidden = false;
+    $("study-progress").hidden = false;
+    $("study-start").disabled = true;
+    studyShown();
+    pollStudy(data.id);
+  } catch (e) {
+    $("study-status").textContent = e.message;
+  }
+}
+
+async function pollStudy(id) {
+  while (state.study && state.study.id === id) {
+    const { data } = await api("GET", `/api/study?id=${id}`);
+    if (!state.study || state.study.id !== id) return;
+    state.study.report = data;
+    studyShown();
+    if (data.state !== "running") {
+      $("study-cancel").hidden = true;
+      $("study-start").disabled = false;
+      render();
+      return;
+    }
+    await new Promise((r) => setTimeout(r, 200));
+  }
+}
+
+function studyShown() {
+  const r = state.study.report, p = $("study-progress");
+  p.max = Math.max(r.total, 1); p.value = r.done;
+  const d = r.document;
+  $("study-status").textContent =
+    r.state === "running" ? `${r.done} of ${r.total} draws`
+    : r.state === "failed" ? `study failed: ${r.error}`
+    : r.state === "cancelled" ? `cancelled after ${d.cancelled.done} of ${d.cancelled.asked} draws; intervals from them (${d.feasible_draws} feasible)`
+    : `${d.feasible_draws} of ${d.draws} draws feasible (seed ${d.seed})`;
+}
+
+async function cancelStudy() {
+  if (!state.study) return;
+  await api("POST", "/api/study/cancel", { id: state.study.id });
 }
 
 function summary(a) {
@@ -319,6 +386,8 @@ $("toml").addEventListener("input", () => {
 $("cases").addEventListener("change", (e) => openCase(e.target.value));
 $("fit").addEventListener("click", fitView);
 $("save").addEventListener("click", save);
+$("study-start").addEventListener("click", startStudy);
+$("study-cancel").addEventListener("click", cancelStudy);
 window.addEventListener("resize", () => state.view && fitView());
 panAndZoom();
 loadCases().catch((e) => { $("error").hidden = false; $("error").textContent = e.message; });

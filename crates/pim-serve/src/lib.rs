@@ -13,7 +13,11 @@
 //! case gives `{question, document, table, plan}`, whose `document` is the JSON of `pim fit
 //! FILE --format json` (a reconstruction for a case with scene evidence, the impact fit
 //! otherwise), `table` the text `pim fit` prints, and `plan` the drawing of the scene in the
-//! case's frame and length unit (the page's only own geometry).
+//! case's frame and length unit (the page's only own geometry). `POST /api/study` starts the
+//! case's uncertainty study in the background (`{path, text, draws, seed}`, answered with its
+//! `id`); `GET /api/study?id=N` gives its progress and, once ended, the document `pim
+//! uncertainty FILE --format json` writes; `POST /api/study/cancel` (`{id}`) stops it, and the
+//! draws finished make the answer.
 //!
 //! # Safety of a local server
 //! - It binds 127.0.0.1 unless told otherwise.
@@ -31,11 +35,13 @@ mod answer;
 mod guard;
 mod routes;
 mod served;
+mod study;
 
 pub use answer::{answer, answer_following, move_rest, Answer, AnswerError, Plan};
 pub use guard::{inside, Guard};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
+pub use study::{study, MAX_DRAWS};
 
 use std::sync::Arc;
 
@@ -44,6 +50,7 @@ pub fn app(served: Served) -> axum::Router {
     routes::router(Arc::new(Server {
         served,
         last: Default::default(),
+        studies: Default::default(),
     }))
 }
 

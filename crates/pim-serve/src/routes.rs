@@ -29,6 +29,8 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/answer", post(answer))
         .route("/api/move", post(move_rest))
         .route("/api/save", post(save))
+        .route("/api/study", get(study_report).post(study_start))
+        .route("/api/study/cancel", post(study_cancel))
         .layer(middleware::from_fn_with_state(served.clone(), guard))
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .with_state(served)
@@ -233,5 +235,62 @@ async fn save(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
             StatusCode::INTERNAL_SERVER_ERROR,
             &format!("not saved: {}: {e}", c.path),
         ),
+    }
+}
+
+#[derive(Deserialize)]
+struct StudyAsk {
+    path: String,
+    text: String,
+    #[serde(default = "default_draws")]
+    draws: usize,
+    #[serde(default = "default_seed")]
+    seed: u64,
+}
+
+/// `pim uncertainty`'s defaults.
+fn default_draws() -> usize {
+    200
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+#[derive(Deserialize)]
+struct StudyId {
+    id: u64,
+}
+
+/// Starts a study; bad draws are refused at once, a bad case when the study ends.
+async fn study_start(State(s): State<App>, Json(a): Json<StudyAsk>) -> Response {
+    if !(1..=crate::study::MAX_DRAWS).contains(&a.draws) {
+        return refused(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            &format!(
+                "draws {}: must be between 1 and {}",
+                a.draws,
+                crate::study::MAX_DRAWS
+            ),
+        );
+    }
+    let id = s.studies.start(a.path, a.text, a.draws, a.seed);
+    Json(json!({ "id": id })).into_response()
+}
+
+async fn study_report(State(s): State<App>, Query(q): Query<StudyId>) -> Response {
+    match s.studies.get(q.id) {
+        Some(r) => Json(r.report(q.id)).into_response(),
+        None => refused(StatusCode::NOT_FOUND, &format!("no study {}", q.id)),
+    }
+}
+
+async fn study_cancel(State(s): State<App>, Json(q): Json<StudyId>) -> Response {
+    match s.studies.get(q.id) {
+        Some(r) => {
+            r.cancel();
+            Json(r.report(q.id)).into_response()
+        }
+        None => refused(StatusCode::NOT_FOUND, &format!("no study {}", q.id)),
     }
 }

@@ -30,4 +30,6 @@ impl Served {
 pub(crate) struct Server {
     pub(crate) served: Served,
     pub(crate) last: std::sync::Mutex<std::collections::HashMap<String, pim_reconstruct::Outcome>>,
+    /// The uncertainty studies started from the page.
+    pub(crate) studies: crate::study::Studies,
 }

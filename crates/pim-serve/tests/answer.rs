@@ -79,3 +79,26 @@ fn a_live_answer_follows_the_whole_search() {
         .iter()
         .all(|v| v.path.len() > 10 && v.given_rest.is_some()));
 }
+
+/// The page's uncertainty study is `pim uncertainty`'s: the draws asked for, the quantities of
+/// every phase, and a cancel that leaves the draws finished as the answer.
+#[test]
+fn a_study_and_a_cancelled_one() {
+    use pim_studies::watch::{CancelSwitch, Unwatched};
+    let text = example("reconstruction_us.toml");
+    let doc = pim_serve::study("reconstruction_us.toml", &text, 8, 1, &Unwatched).unwrap();
+    assert_eq!(doc["draws"], 8);
+    assert!(doc["cancelled"].is_null());
+    let q = &doc["quantities"]["vehicle2.speed_at_contact"];
+    assert!(q["p05"].as_f64().unwrap() <= q["p95"].as_f64().unwrap());
+    let stop = CancelSwitch::default();
+    stop.cancel();
+    let doc = pim_serve::study("reconstruction_us.toml", &text, 8, 1, &stop);
+    // Stopped before its first draw: cancelled with none done, or no intervals to give.
+    match doc {
+        Ok(d) => assert_eq!(d["cancelled"]["done"], 0, "{d}"),
+        Err(e) => assert!(e.to_string().contains("draw"), "{e}"),
+    }
+    let e = pim_serve::study("reconstruction_us.toml", &text, 0, 1, &Unwatched).unwrap_err();
+    assert!(e.to_string().contains("between 1 and"), "{e}");
+}

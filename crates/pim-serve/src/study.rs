@@ -1,0 +1,154 @@
+//! The uncertainty study of a case, run in the background while the page goes on: its
+//! progress polled, cancellable, its document the one `pim uncertainty FILE --format json`
+//! writes (the same draws for the same `--draws` and `--seed`).
+
+use crate::AnswerError;
+use pim_case::case::Case;
+use pim_studies::question::Question;
+use pim_studies::watch::Observer;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Most draws a study of the page may ask for (the command line takes more).
+pub const MAX_DRAWS: usize = 100_000;
+
+/// The uncertainty study of a case's text: for a case with scene evidence the study of its
+/// whole reconstruction, otherwise that of its impact fit; the document `pim uncertainty FILE
+/// --draws DRAWS --seed SEED --format json` writes. The observer sees each finished draw and
+/// can cancel: the draws finished then make the answer, and the document says so.
+///
+/// # Errors
+/// An invalid case, or a study that has no answer (nothing uncertain, no reconstruction).
+pub fn study(
+    file: &str,
+    text: &str,
+    draws: usize,
+    seed: u64,
+    observer: &dyn Observer,
+) -> Result<serde_json::Value, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(1..=MAX_DRAWS).contains(&draws) {
+        return Err(AnswerError::Input(format!(
+            "draws {draws}: must be between 1 and {MAX_DRAWS}"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let value = match Question::of(&case, None).question {
+        Question::Reconstruction => {
+            let (study, _) = pim_studies::reconstruct_study::run(
+                &case,
+                pim_fit::FitModel::Pim,
+                pim_core::MomentForm::Corrected,
+                pim_fit::MomentBranch::ALL.to_vec(),
+                draws,
+                seed,
+                observer,
+            )
+            .map_err(|e| input(&e))?;
+            serde_json::to_value(&study)
+        }
+        _ => {
+            let unc = case.content.uncertainty.unwrap_or_default();
+            let study = pim_studies::uncertainty::run(
+                &case,
+                &unc,
+                pim_studies::fitcase::CostChoice::Custom,
+                pim_fit::FitSettings::default(),
+                draws,
+                seed,
+                observer,
+            )
+            .map_err(|e| input(&e))?;
+            serde_json::to_value(&study)
+        }
+    };
+    value.map_err(|e| input(&e))
+}
+
+/// One study running or run: its progress, its cancel switch and, once ended, its outcome.
+#[derive(Debug, Default)]
+pub(crate) struct Running {
+    done: AtomicU64,
+    total: AtomicU64,
+    cancel: AtomicBool,
+    outcome: Mutex<Option<Result<serde_json::Value, String>>>,
+}
+
+impl Observer for Running {
+    fn progress(&self, done: u64, total: u64, _phase: &str) {
+        self.done.fetch_max(done, Ordering::Relaxed);
+        self.total.store(total, Ordering::Relaxed);
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}
+
+impl Running {
+    /// What the page polls: `{id, state, done, total}`, with the `document` once done
+    /// (`state` `running`, `done`, `cancelled` or `failed` with its `error`).
+    pub(crate) fn report(&self, id: u64) -> serde_json::Value {
+        let (done, total) = (
+            self.done.load(Ordering::Relaxed),
+            self.total.load(Ordering::Relaxed),
+        );
+        let outcome = self.outcome.lock().map(|o| o.clone()).unwrap_or(None);
+        match outcome {
+            None => serde_json::json!({
+                "id": id, "state": "running", "done": done, "total": total,
+            }),
+            Some(Ok(document)) => {
+                let state = if document.get("cancelled").is_some_and(|c| !c.is_null()) {
+                    "cancelled"
+                } else {
+                    "done"
+                };
+                serde_json::json!({
+                    "id": id, "state": state, "done": done, "total": total, "document": document,
+                })
+            }
+            Some(Err(error)) => serde_json::json!({
+                "id": id, "state": "failed", "done": done, "total": total, "error": error,
+            }),
+        }
+    }
+
+    /// Asks the study to stop: no new draw starts.
+    pub(crate) fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+/// The studies of a server, by number.
+#[derive(Debug, Default)]
+pub(crate) struct Studies {
+    next: AtomicU64,
+    running: Mutex<HashMap<u64, Arc<Running>>>,
+}
+
+impl Studies {
+    /// Starts a study on its own thread (the page's answers go on meanwhile); its number.
+    pub(crate) fn start(&self, path: String, text: String, draws: usize, seed: u64) -> u64 {
+        let id = self.next.fetch_add(1, Ordering::Relaxed) + 1;
+        let run = Arc::new(Running::default());
+        if let Ok(mut m) = self.running.lock() {
+            // A page keeps the last few studies; older ones are forgotten.
+            m.retain(|k, r| *k + 16 > id || r.outcome.lock().is_ok_and(|o| o.is_none()));
+            m.insert(id, run.clone());
+        }
+        std::thread::spawn(move || {
+            let outcome = study(&path, &text, draws, seed, run.as_ref()).map_err(|e| e.to_string());
+            if let Ok(mut o) = run.outcome.lock() {
+                *o = Some(outcome);
+            }
+        });
+        id
+    }
+
+    /// The study numbered `id`.
+    pub(crate) fn get(&self, id: u64) -> Option<Arc<Running>> {
+        self.running.lock().ok()?.get(&id).cloned()
+    }
+}
