@@ -23,6 +23,7 @@ before(async () => {
   fs.mkdirSync(shots, { recursive: true });
   dir = fs.mkdtempSync(path.join(os.tmpdir(), "pim-serve-"));
   fs.cpSync(path.join(repo, "examples/cases"), dir, { recursive: true });
+  fs.cpSync(path.join(repo, "examples/scene"), path.join(dir, "scene"), { recursive: true });
   server = spawn(pimBin, ["serve", dir, "--port", "0"], { stdio: ["ignore", "pipe", "inherit"] });
   url = await new Promise((resolve, reject) => {
     let out = "";
@@ -192,6 +193,107 @@ test("an uncertainty study runs in the background, shows its intervals and can b
   assert.equal(cancelled.asked, 5000);
   assert.ok(await page.isHidden("#study-cancel"));
   await page.screenshot({ path: path.join(shots, "05-study-cancelled.png") });
+});
+
+test("the report opens from the page and the plan exports as SVG", async () => {
+  // The report of the page's text is the one `pim report` writes of the saved file.
+  const cookie = `pim_token=${token}`;
+  const text = await page.inputValue("#toml");
+  const r = await raw("POST", "/api/report", { cookie, body: { path: CASE, text } });
+  assert.equal(r.status, 200);
+  // Run where the page's path means the file (the report names it as given).
+  const cli = execFileSync(pimBin, ["report", CASE], { cwd: dir, encoding: "utf8", maxBuffer: 1 << 26 });
+  assert.equal(r.body, cli);
+  const [popup] = await Promise.all([page.waitForEvent("popup"), page.click("#report")]);
+  await popup.waitForFunction(() => document.title.length > 0, null, { timeout: 60000 });
+  assert.equal(await popup.title(), /<title>([^<]*)<\/title>/.exec(cli)[1].replace(/&amp;/g, "&"));
+  await popup.screenshot({ path: path.join(shots, "06-report.png") });
+  await popup.close();
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#export")]);
+  assert.equal(download.suggestedFilename(), "reconstruction_us.svg");
+  const svg = fs.readFileSync(await download.path(), "utf8");
+  assert.match(svg, /^<svg[^>]*viewBox=/);
+  assert.ok(svg.includes("<style>") && (svg.match(/<polygon/g) || []).length >= 6, svg.slice(0, 300));
+  fs.writeFileSync(path.join(shots, "07-exported.svg"), svg);
+});
+
+test("a switch of the display units redraws the speeds and the plan in them, the case unchanged", async () => {
+  const mph = await speeds();
+  const text = await page.inputValue("#toml");
+  await page.selectOption("#units", "si");
+  await page.waitForFunction(() => /m\/s/.test(document.querySelector("#speeds caption")?.textContent || ""));
+  await idle();
+  const si = await speeds();
+  mph.forEach((v, i) => assert.ok(Math.abs(si[i] - v * 0.44704) < 0.006, `${si[i]} m/s against ${v} mph`));
+  assert.equal(await page.inputValue("#toml"), text);
+  assert.match(await page.textContent("#scale-note"), / m;/);
+  await page.screenshot({ path: path.join(shots, "08-units-si.png") });
+  await page.selectOption("#units", "");
+  await page.waitForFunction(() => /mph/.test(document.querySelector("#speeds caption")?.textContent || ""));
+  await idle();
+  assert.deepEqual(await speeds(), mph);
+});
+
+// Screen coordinates of a pixel of the background image, through the image's own transform.
+const onScreen = (u, v) => page.evaluate(([u, v]) => {
+  const img = document.querySelector("image.background");
+  const p = document.getElementById("plan").createSVGPoint(); p.x = u; p.y = v;
+  const q = p.matrixTransform(img.getScreenCTM());
+  return [q.x, q.y];
+}, [u, v]);
+
+// How many image pixels one screen pixel spans.
+const imagePixelsPerScreenPixel = () => page.evaluate(() => {
+  const m = document.querySelector("image.background").getScreenCTM();
+  return 1 / Math.hypot(m.a, m.b);
+});
+
+async function clickPixels(a, b) {
+  for (const [u, v] of [a, b]) {
+    const [x, y] = await onScreen(u, v);
+    await page.mouse.click(x, y);
+  }
+}
+
+test("a background diagram set to scale by two points, and a distance measured on it", async () => {
+  await page.selectOption("#cases", "scene/intersection_us.toml");
+  await page.waitForSelector("image.background");
+  await idle();
+  // The road is 240 pixels wide, at 0.1 ft a pixel: 24 ft.
+  await page.click("#measure");
+  await clickPixels([480, 300], [720, 300]);
+  const road = await page.evaluate(() => window.pim.measured.distance);
+  // Each click within a screen pixel: the distance within two of them (0.1 ft an image pixel).
+  const k0 = await imagePixelsPerScreenPixel();
+  assert.ok(Math.abs(road - 24.0) <= 2 * k0 * 0.1, `the road measures ${road} ft (${k0} image pixels per screen pixel)`);
+  await page.screenshot({ path: path.join(shots, "09-background.png") });
+  // The scale bar's ends (600 pixels apart) given as 30 ft: the diagram halves.
+  const before = await page.inputValue("#toml");
+  page.once("dialog", (d) => d.accept("30"));
+  await page.click("#set-scale");
+  await clickPixels([1000, 1460], [1600, 1460]);
+  await page.waitForFunction(() => /distance = 30\.0/.test(window.pim.text));
+  await idle();
+  const text = await page.inputValue("#toml");
+  const px = /pixels = \[\[([-0-9.]+), ([-0-9.]+)\], \[([-0-9.]+), ([-0-9.]+)\]\]/.exec(text).slice(1).map(Number);
+  // A click lands on a whole screen pixel: within one screen pixel's width of the image's.
+  const k = await imagePixelsPerScreenPixel();
+  [1000, 1460, 1600, 1460].forEach((want, i) => assert.ok(Math.abs(px[i] - want) <= k, `pixel ${px[i]} against ${want} (${k} per screen pixel)`));
+  // Only the background's lines changed, every comment kept.
+  const a = before.split("\n"), b = text.split("\n");
+  assert.equal(a.length, b.length);
+  assert.ok(a.every((l, i) => l === b[i] || l.startsWith("pixels") || l.startsWith("distance") || l.startsWith("at =")));
+  await page.waitForFunction(() => document.querySelector("image.background"));
+  await page.click("#measure");
+  await clickPixels([480, 300], [720, 300]);
+  const half = await page.evaluate(() => window.pim.measured.distance);
+  const k1 = await imagePixelsPerScreenPixel();
+  assert.ok(Math.abs(half - 12.0) <= 2 * k1 * 0.05 + 12.0 * (2 * k / 600), `the road now measures ${half} ft`);
+  // The image is served only from inside the folder.
+  const cookie = `pim_token=${token}`;
+  assert.equal((await raw("GET", "/api/image?path=scene/intersection.png", { cookie })).status, 200);
+  assert.equal((await raw("GET", "/api/image?path=../intersection.png", { cookie })).status, 403);
+  assert.equal((await raw("GET", "/api/image?path=scene/intersection_us.toml", { cookie })).status, 403);
 });
 
 test("the API answers every example case with the command's document", async () => {

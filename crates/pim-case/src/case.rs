@@ -72,30 +72,13 @@ pub struct CaseFile {
     /// Each vehicle's crush profile and stiffness (`[damage]`, see [`crate::damage`]).
     #[serde(default)]
     pub damage: Option<crate::sections::DamageSection>,
+    /// A scene diagram or photo behind the plan, set to scale (`pim serve`; no answer reads it).
+    #[serde(default)]
+    pub background: Option<crate::scene_sections::BackgroundSection>,
     /// A motion case's stated starts (never read from a case with an impact; see
     /// [`crate::motion`]).
     #[serde(skip)]
     pub start: Option<crate::scene_sections::StartSection>,
-}
-
-impl CaseFile {
-    /// Vehicle `k` (0 or 1).
-    pub fn vehicle(&self, k: usize) -> &VehicleSection {
-        if k == 0 {
-            &self.vehicle1
-        } else {
-            &self.vehicle2
-        }
-    }
-
-    /// Vehicle `k` (0 or 1), to change.
-    pub fn vehicle_mut(&mut self, k: usize) -> &mut VehicleSection {
-        if k == 0 {
-            &mut self.vehicle1
-        } else {
-            &mut self.vehicle2
-        }
-    }
 }
 
 /// A loaded case: the file name (for messages) and its content.
@@ -191,6 +174,10 @@ impl Case {
         case.convert_to_si();
         case.check_ranges()?;
         case.check_outlines()?;
+        if let Some(b) = &case.content.background {
+            b.check()
+                .map_err(|(key, what)| case.error_at(&format!("background.{key}"), what))?;
+        }
         if let Some(b) = &case.content.bounds {
             b.check()
                 .map_err(|(path, what)| case.error_at(&path, what))?;

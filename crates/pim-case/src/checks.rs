@@ -1,10 +1,11 @@
 //! The checks of a loaded case's numbers: every velocity a number, every number with a
-//! physical range within it (in SI, see [`crate::ranges`]), the drawing dimensions.
+//! physical range within it (in SI, see [`crate::ranges`]), the drawing dimensions; a case
+//! file's vehicles by number.
 
-use crate::case::{finite, Case};
+use crate::case::{finite, Case, CaseFile};
 use crate::error::Result;
 use crate::ranges::{Range, ANGLE, DISTANCE, MASS, SPEED, YAW_INERTIA, YAW_RATE};
-use crate::sections::AT_REST;
+use crate::sections::{VehicleSection, AT_REST};
 
 impl Case {
     /// Every velocity component the case gives (its states, estimates and known components)
@@ -100,5 +101,25 @@ impl Case {
                 .map_err(|(field, what)| self.error_at(&format!("{name}.{field}"), what))?;
         }
         Ok(())
+    }
+}
+
+impl CaseFile {
+    /// Vehicle `k` (0 or 1).
+    pub fn vehicle(&self, k: usize) -> &VehicleSection {
+        if k == 0 {
+            &self.vehicle1
+        } else {
+            &self.vehicle2
+        }
+    }
+
+    /// Vehicle `k` (0 or 1), to change.
+    pub fn vehicle_mut(&mut self, k: usize) -> &mut VehicleSection {
+        if k == 0 {
+            &mut self.vehicle1
+        } else {
+            &mut self.vehicle2
+        }
     }
 }

@@ -196,6 +196,7 @@ impl Case {
             scene: None,
             pre_impact: None,
             damage: None,
+            background: None,
             start: Some(m.start),
         };
         let case = Case {

@@ -327,3 +327,99 @@ pub fn is_motion(text: &str) -> bool {
     text.parse::<toml::Table>()
         .is_ok_and(|t| t.get("start").is_some_and(toml::Value::is_table))
 }
+
+/// `[background]`: a scene diagram or an aerial photo behind the plan, set to scale by two
+/// points on it and their distance, placed by where the first point lies and turned on the
+/// plan (`pim serve` draws it and writes it; no answer reads it).
+///
+/// ```toml
+/// [background]
+/// image = "intersection.png"                    # beside the case file
+/// pixels = [[120.0, 400.0], [720.0, 400.0]]     # two points on it, pixels from its top left
+/// distance = 60.0                               # their distance, the case's length unit
+/// at = { x = -30.0, y = 0.0 }                   # where the first lies, the case's frame
+/// rotation = 0.0                                # deg, turned counter-clockwise on the plan
+/// locked = true                                 # not moved by dragging
+/// ```
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BackgroundSection {
+    /// The image (PNG, JPEG or SVG), a path relative to the case file's folder.
+    pub image: String,
+    /// Two points on the image, pixels from its top left corner (right, down).
+    pub pixels: [[f64; 2]; 2],
+    /// Their distance on the scene, the case's length unit.
+    pub distance: f64,
+    /// Where the first point lies in the case's frame (length unit; default the origin).
+    #[serde(default)]
+    pub at: Option<crate::sections::PointSection>,
+    /// Degrees the image is turned, counter-clockwise as seen on the plan (default 0).
+    #[serde(default)]
+    pub rotation: f64,
+    /// Not moved by dragging (default false).
+    #[serde(default)]
+    pub locked: bool,
+}
+
+impl BackgroundSection {
+    /// The image's kinds.
+    pub const KINDS: [&'static str; 4] = ["png", "jpg", "jpeg", "svg"];
+
+    /// Checks the section; the error names the key and says why.
+    pub fn check(&self) -> std::result::Result<(), (&'static str, String)> {
+        let path = std::path::Path::new(&self.image);
+        let kind = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if !kind.is_some_and(|k| Self::KINDS.contains(&k.as_str())) {
+            return Err((
+                "image",
+                format!(
+                    "{:?}: give a PNG, JPEG or SVG image ({})",
+                    self.image,
+                    Self::KINDS.join(", ")
+                ),
+            ));
+        }
+        if !path
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_)))
+        {
+            return Err((
+                "image",
+                format!(
+                    "{:?}: give a path inside the case's folder (no .., not absolute)",
+                    self.image
+                ),
+            ));
+        }
+        let [a, b] = self.pixels;
+        if !a.iter().chain(&b).all(|x| x.is_finite()) || (a[0] - b[0]).hypot(a[1] - b[1]) < 1.0 {
+            return Err((
+                "pixels",
+                "two distinct points on the image (at least a pixel apart), pixels from its top \
+                 left"
+                    .to_string(),
+            ));
+        }
+        if !(self.distance.is_finite() && self.distance > 0.0) {
+            return Err((
+                "distance",
+                format!(
+                    "{}: must be above 0 (the case's length unit)",
+                    self.distance
+                ),
+            ));
+        }
+        if let Some(at) = &self.at {
+            if !(at.x.is_finite() && at.y.is_finite()) {
+                return Err(("at", "must be a finite position".to_string()));
+            }
+        }
+        if !self.rotation.is_finite() {
+            return Err(("rotation", "must be a finite angle, degrees".to_string()));
+        }
+        Ok(())
+    }
+}

@@ -6,7 +6,8 @@ const NS = "http://www.w3.org/2000/svg";
 const $ = (id) => document.getElementById(id);
 const state = {
   path: null, text: "", saved: "", answer: null, busy: false, pending: false,
-  view: null, dragging: null, timings: [], study: null,
+  view: null, dragging: null, timings: [], study: null, units: "",
+  images: [], sizes: {}, tool: null, clicks: [], measured: null,
 };
 window.pim = state; // for the tests and the curious
 
@@ -36,6 +37,7 @@ async function api(method, url, body) {
 
 async function loadCases() {
   const { data } = await api("GET", "/api/cases");
+  state.images = data.images || [];
   const sel = $("cases");
   sel.innerHTML = "";
   for (const c of data.cases) {
@@ -52,6 +54,8 @@ async function loadCases() {
 async function openCase(path) {
   const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
   state.path = path; state.text = state.saved = data.text; state.view = null;
+  state.study = null; state.measured = null;
+  $("study-status").textContent = ""; $("study-progress").hidden = true; $("study-cancel").hidden = true;
   $("toml").value = data.text;
   await solve();
 }
@@ -65,7 +69,7 @@ async function solve(live = false) {
   status(live ? "following…" : "solving…");
   const t0 = performance.now();
   try {
-    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text, live });
+    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text, live, units: state.units });
     state.answer = data;
     const server = /dur=([0-9.]+)/.exec(res.headers.get("server-timing") || "");
     state.timings.push({ live, server: server ? +server[1] : null, page: performance.now() - t0 });
@@ -199,6 +203,15 @@ function bounds(plan) {
     if (v.given_rest) all.push(...v.given_rest.outline);
     for (const m of v.marks) all.push([m[0], m[1]]);
   }
+  const b = plan.background, size = b && state.sizes[b.image];
+  if (size) {
+    // The image's corners on the page.
+    const r = (b.rotation * Math.PI) / 180, [u1, v1] = b.pixels[0];
+    for (const [u, v] of [[0, 0], [size[0], 0], [0, size[1]], [size[0], size[1]]]) {
+      const du = (u - u1) * b.per_pixel, dv = (v - v1) * b.per_pixel;
+      all.push([b.at[0] + Math.cos(r) * du + Math.sin(r) * dv, b.at[1] + Math.sin(r) * du - Math.cos(r) * dv]);
+    }
+  }
   if (!all.length) return { x: -10, y: -10, w: 20, h: 20 };
   const hs = all.map((p) => p[0]), vs = all.map((p) => -p[1]);
   const x0 = Math.min(...hs), x1 = Math.max(...hs), y0 = Math.min(...vs), y1 = Math.max(...vs);
@@ -244,7 +257,9 @@ function render() {
   const v = state.view;
   svg.setAttribute("viewBox", `${v.x} ${v.y} ${v.w} ${v.h}`);
   svg.innerHTML = "";
+  drawBackground(svg);
   grid(el("g", {}, svg));
+  drawClicks(svg);
   const r = 7 / pxPerUnit();
   for (const veh of a.plan.vehicles) {
     const g = el("g", { class: `v${veh.vehicle}`, "data-vehicle": veh.vehicle }, svg);
@@ -273,6 +288,105 @@ function render() {
       h.addEventListener("pointerdown", (e) => startDrag(e, veh.vehicle, gr.at, moved, h));
     }
   }
+}
+
+// The case's background image: pixel (u, v) lands at at + per_pixel R(rotation) ((u, v) -
+// pixels[0]) on the page (the SVG's y is the page's down, as the image's v).
+function backgroundTransform(b) {
+  const [u1, v1] = b.pixels[0];
+  return `translate(${b.at[0]} ${-b.at[1]}) rotate(${-b.rotation}) scale(${b.per_pixel}) translate(${-u1} ${-v1})`;
+}
+
+function drawBackground(svg) {
+  const b = state.answer.plan.background;
+  if (!b) return;
+  const size = state.sizes[b.image];
+  const href = `/api/image?path=${encodeURIComponent(b.image)}`;
+  if (!size) {
+    const img = new Image();
+    // Once its size is known the scene is fitted again, the image in it.
+    img.onload = () => { state.sizes[b.image] = [img.naturalWidth, img.naturalHeight]; state.view = null; render(); };
+    img.src = href;
+    return;
+  }
+  el("image", {
+    href, x: 0, y: 0, width: size[0], height: size[1], class: "background",
+    preserveAspectRatio: "none", transform: backgroundTransform(b),
+  }, svg);
+}
+
+// A point of the page's SVG on the background image, pixels.
+function toPixels(b, p) {
+  const [u1, v1] = b.pixels[0], r = (b.rotation * Math.PI) / 180;
+  const dx = (p.x - b.at[0]) / b.per_pixel, dy = (p.y + b.at[1]) / b.per_pixel;
+  return [u1 + Math.cos(r) * dx - Math.sin(r) * dy, v1 + Math.sin(r) * dx + Math.cos(r) * dy];
+}
+
+// The clicks of a tool and the last measurement, on top of the plan.
+function drawClicks(svg) {
+  const r = 5 / pxPerUnit();
+  const pts = state.clicks.length ? state.clicks : state.measured ? state.measured.points : [];
+  for (const p of pts) el("circle", { cx: p.x, cy: p.y, r, class: "click" }, svg);
+  if (pts.length === 2) el("line", { x1: pts[0].x, y1: pts[0].y, x2: pts[1].x, y2: pts[1].y, class: "click" }, svg);
+}
+
+function useTool(tool) {
+  if (tool === "scale" && !(state.answer && state.answer.plan.background)) {
+    status("no background to scale: choose one first");
+    return;
+  }
+  state.tool = state.tool === tool ? null : tool;
+  state.clicks = [];
+  $("plan").classList.toggle("picking", !!state.tool);
+  status(state.tool ? "click two points on the plan" : "");
+  render();
+}
+
+async function toolClick(e) {
+  if (!state.tool) return;
+  state.clicks.push(svgPoint(e));
+  render();
+  if (state.clicks.length < 2) return;
+  const [a, b] = state.clicks;
+  const tool = state.tool;
+  state.tool = null; state.clicks = [];
+  $("plan").classList.remove("picking");
+  const label = state.answer.plan.length_label;
+  if (tool === "measure") {
+    const d = Math.hypot(b.x - a.x, b.y - a.y);
+    state.measured = { distance: d, points: [a, b] };
+    status(`measured ${d.toFixed(2)} ${label}`);
+    render();
+    return;
+  }
+  const bg = state.answer.plan.background;
+  const answer = window.prompt(`The distance between the two points (${label}):`, bg.distance.toFixed(2));
+  const distance = answer === null ? NaN : +answer;
+  if (!(distance > 0)) { status("scale not set"); render(); return; }
+  await changeBackground({ pixels: [toPixels(bg, a), toPixels(bg, b)], distance, at: [a.x, -a.y] });
+}
+
+async function changeBackground(change) {
+  try {
+    const { data } = await api("POST", "/api/background", { path: state.path, text: state.text, units: state.units, ...change });
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+  }
+}
+
+// Chooses an image of the folder for the background: placed at the origin, 20 pixels to the
+// length unit until its scale is set.
+async function chooseBackground() {
+  const list = state.images.join(", ") || "(none in this folder)";
+  const image = window.prompt(`An image of the folder served for the background: ${list}`, state.images[0] || "");
+  if (!image) return;
+  const folder = state.path.includes("/") ? state.path.replace(/[^/]*$/, "") : "";
+  const relative = image.startsWith(folder) ? image.slice(folder.length) : image;
+  await changeBackground({ image: relative, pixels: [[0, 0], [20, 0]], distance: 1, at: [0, 0] });
 }
 
 function svgPoint(e) {
@@ -327,7 +441,7 @@ function moveTo(vehicle, at, live = false) {
 
 async function move(vehicle, at, live) {
   try {
-    const { data } = await api("POST", "/api/move", { path: state.path, text: state.text, vehicle, at });
+    const { data } = await api("POST", "/api/move", { path: state.path, text: state.text, vehicle, at, units: state.units });
     state.text = data.text;
     $("toml").value = data.text;
     await solve(live);
@@ -346,8 +460,9 @@ function panAndZoom() {
     state.view = { x: p.x - (p.x - v.x) * k, y: p.y - (p.y - v.y) * k, w: v.w * k, h: v.h * k };
     render();
   }, { passive: false });
+  svg.addEventListener("click", toolClick);
   svg.addEventListener("pointerdown", (e) => {
-    if (!state.view || state.dragging) return;
+    if (!state.view || state.dragging || state.tool) return;
     svg.setPointerCapture(e.pointerId);
     svg.classList.add("panning");
     const start = { x: e.clientX, y: e.clientY, view: { ...state.view } };
@@ -378,6 +493,48 @@ async function save() {
   }
 }
 
+// The report of the text as it stands (saved or not), in a new tab.
+async function openReport() {
+  const tab = window.open("", "_blank");
+  status("making the report…");
+  const res = await fetch("/api/report", {
+    method: "POST", headers: { "content-type": "application/json" },
+    body: JSON.stringify({ path: state.path, text: state.text }),
+  });
+  if (!res.ok) {
+    const e = await res.json().catch(() => ({ error: res.statusText }));
+    if (tab) tab.close();
+    $("error").hidden = false; $("error").textContent = e.error;
+    status("no report");
+    return;
+  }
+  const url = URL.createObjectURL(new Blob([await res.text()], { type: "text/html" }));
+  if (tab) tab.location = url; else window.open(url, "_blank");
+  status("report opened");
+}
+
+// The plan as drawn, a standalone SVG (the page's drawing rules inlined).
+function exportSvg() {
+  const svg = $("plan").cloneNode(true);
+  svg.setAttribute("xmlns", NS);
+  svg.setAttribute("width", $("plan").clientWidth);
+  svg.setAttribute("height", $("plan").clientHeight);
+  const rules = [...document.styleSheets].flatMap((sh) => [...sh.cssRules].map((r) => r.cssText))
+    .filter((t) => /^\.(grid|axis|v1|v2|path|outline|sigma|handle|mark|label)/.test(t));
+  const style = document.createElementNS(NS, "style");
+  style.textContent = rules.join("\n");
+  svg.insertBefore(style, svg.firstChild);
+  const bg = document.createElementNS(NS, "rect");
+  const v = state.view;
+  for (const [k, x] of Object.entries({ x: v.x, y: v.y, width: v.w, height: v.h, fill: "#fff" })) bg.setAttribute(k, x);
+  svg.insertBefore(bg, style.nextSibling);
+  const text = new XMLSerializer().serializeToString(svg);
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(new Blob([text], { type: "image/svg+xml" }));
+  a.download = (state.path || "plan").replace(/\.toml$/, "").split("/").pop() + ".svg";
+  document.body.appendChild(a); a.click(); a.remove();
+}
+
 let typing = null;
 $("toml").addEventListener("input", () => {
   clearTimeout(typing);
@@ -385,8 +542,16 @@ $("toml").addEventListener("input", () => {
 });
 $("cases").addEventListener("change", (e) => openCase(e.target.value));
 $("fit").addEventListener("click", fitView);
+// Display units: the plan, the speeds and the table in them (the case and its document keep
+// theirs); the view is fitted again.
+$("units").addEventListener("change", (e) => { state.units = e.target.value; state.view = null; solve(); });
 $("save").addEventListener("click", save);
 $("study-start").addEventListener("click", startStudy);
+$("report").addEventListener("click", openReport);
+$("export").addEventListener("click", exportSvg);
+$("background").addEventListener("click", chooseBackground);
+$("set-scale").addEventListener("click", () => useTool("scale"));
+$("measure").addEventListener("click", () => useTool("measure"));
 $("study-cancel").addEventListener("click", cancelStudy);
 window.addEventListener("resize", () => state.view && fitView());
 panAndZoom();

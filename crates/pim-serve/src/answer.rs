@@ -52,6 +52,29 @@ pub struct Plan {
     pub speed_metres: f64,
     /// Each vehicle.
     pub vehicles: Vec<PlanVehicle>,
+    /// The case's `[background]` image, placed on the page.
+    pub background: Option<PlanBackground>,
+}
+
+/// A background image on the page: pixel `(u, v)` (right, down from its top left) lies at
+/// `at + per_pixel R(rotation) ((u, v) - pixels[0])` with the pixel's down turned to the
+/// page's down.
+#[derive(Debug, Serialize, Default)]
+pub struct PlanBackground {
+    /// The image's path inside the folder served (`GET /api/image?path=`).
+    pub image: String,
+    /// The two points on the image that set its scale, pixels.
+    pub pixels: [[f64; 2]; 2],
+    /// Their distance, the display length unit.
+    pub distance: f64,
+    /// Where the first point lies on the page.
+    pub at: [f64; 2],
+    /// Display length units per pixel.
+    pub per_pixel: f64,
+    /// Degrees turned counter-clockwise on the page.
+    pub rotation: f64,
+    /// Not moved by dragging.
+    pub locked: bool,
 }
 
 /// One vehicle on the page.
@@ -103,10 +126,24 @@ pub fn answer_following(
     text: &str,
     previous: Option<&pim_reconstruct::Outcome>,
 ) -> Result<(Answer, Option<pim_reconstruct::Outcome>), AnswerError> {
+    answer_in(file, text, previous, None)
+}
+
+/// [`answer_following`] with the plan and the table in `units` (`None`: the case's own, as
+/// `pim fit` prints them without `--units`); the document stays SI.
+///
+/// # Errors
+/// As [`answer`].
+pub fn answer_in(
+    file: &str,
+    text: &str,
+    previous: Option<&pim_reconstruct::Outcome>,
+    units: Option<UnitSystem>,
+) -> Result<(Answer, Option<pim_reconstruct::Outcome>), AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
     let asked = Question::of(&case, None);
-    let units = UnitSystem::of(&case.written_units);
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let title = pim_render::text::case_title(&case);
     let branches = vec![MomentBranch::Free, MomentBranch::Zero];
     match asked.question {
@@ -233,7 +270,35 @@ fn plan(
         speed_label: units.speed_label(),
         speed_metres,
         vehicles: Vec::new(),
+        background: None,
     };
+    if let Some(b) = &case.content.background {
+        let length = case.written_units.length.to_si();
+        let flip = if case.written == Convention::Sae {
+            -1.0
+        } else {
+            1.0
+        };
+        let at = b.at.map_or([0.0, 0.0], |p| [p.x, p.y]);
+        let (h, v) = page.xy((
+            units.length(at[0] * length),
+            units.length(flip * at[1] * length),
+        ));
+        let [p, q] = b.pixels;
+        let distance = units.length(b.distance * length);
+        let folder = std::path::Path::new(&case.file)
+            .parent()
+            .unwrap_or(std::path::Path::new(""));
+        out.background = Some(PlanBackground {
+            image: folder.join(&b.image).to_string_lossy().replace('\\', "/"),
+            pixels: b.pixels,
+            distance,
+            at: [h, v],
+            per_pixel: distance / (q[0] - p[0]).hypot(q[1] - p[1]),
+            rotation: b.rotation,
+            locked: b.locked,
+        });
+    }
     let Some(sep) = separation else {
         return Ok(out);
     };
@@ -303,6 +368,20 @@ fn plan(
 /// # Errors
 /// Text that is not TOML, or a case whose units cannot be read.
 pub fn move_rest(file: &str, text: &str, vehicle: u8, at: [f64; 2]) -> Result<String, AnswerError> {
+    move_rest_in(file, text, vehicle, at, None)
+}
+
+/// [`move_rest`] with the page point in the length unit of `units` (`None`: the case's own).
+///
+/// # Errors
+/// As [`move_rest`].
+pub fn move_rest_in(
+    file: &str,
+    text: &str,
+    vehicle: u8,
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
         return Err(AnswerError::Input(format!(
@@ -310,7 +389,7 @@ pub fn move_rest(file: &str, text: &str, vehicle: u8, at: [f64; 2]) -> Result<St
         )));
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let units = UnitSystem::of(&case.written_units);
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let m = units.length(1.0).recip();
     // The page is the written frame turned: natural (h, v) = (x, y); SAE (h, v) = (y, x).
     let (x, y) = match case.written {

@@ -44,9 +44,18 @@ pub(crate) const COOKIE: &str = "pim_token";
 /// absolute path, no `..`, and (for a file that exists) no link that leads outside. `None`
 /// for anything else.
 pub fn inside(root: &Path, relative: &str) -> Option<PathBuf> {
+    inside_of(root, relative, &["toml"])
+}
+
+/// [`inside`] for a file of one of the kinds `kinds` (extensions, lower case).
+pub fn inside_of(root: &Path, relative: &str, kinds: &[&str]) -> Option<PathBuf> {
     let rel = Path::new(relative);
+    let kind = rel
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     if relative.is_empty()
-        || rel.extension().and_then(|e| e.to_str()) != Some("toml")
+        || !kind.is_some_and(|k| kinds.contains(&k.as_str()))
         || !rel.components().all(|c| matches!(c, Component::Normal(_)))
     {
         return None;

@@ -17,7 +17,9 @@
 //! case's uncertainty study in the background (`{path, text, draws, seed}`, answered with its
 //! `id`); `GET /api/study?id=N` gives its progress and, once ended, the document `pim
 //! uncertainty FILE --format json` writes; `POST /api/study/cancel` (`{id}`) stops it, and the
-//! draws finished make the answer.
+//! draws finished make the answer. `POST /api/report` (`{path, text}`) gives the HTML report
+//! `pim report FILE` writes. `GET /api/image?path=` gives an image of the folder (PNG, JPEG,
+//! SVG) and `POST /api/background` writes the case's `[background]` as the page sets it.
 //!
 //! # Safety of a local server
 //! - It binds 127.0.0.1 unless told otherwise.
@@ -32,16 +34,20 @@
 //! - Request bodies are limited to [`BODY_LIMIT`] bytes.
 
 mod answer;
+mod background;
 mod guard;
 mod routes;
 mod served;
 mod study;
 
-pub use answer::{answer, answer_following, move_rest, Answer, AnswerError, Plan};
-pub use guard::{inside, Guard};
+pub use answer::{
+    answer, answer_following, answer_in, move_rest, move_rest_in, Answer, AnswerError, Plan,
+};
+pub use background::{set_background, BackgroundChange};
+pub use guard::{inside, inside_of, Guard};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
-pub use study::{study, MAX_DRAWS};
+pub use study::{report, study, MAX_DRAWS};
 
 use std::sync::Arc;
 

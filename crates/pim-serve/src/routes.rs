@@ -1,6 +1,6 @@
 //! The routes: the page, its assets and the API.
 
-use crate::guard::{inside, Guard, COOKIE};
+use crate::guard::{inside, inside_of, Guard, COOKIE};
 use crate::served::{Server, BODY_LIMIT};
 use axum::body::Body;
 use axum::extract::{DefaultBodyLimit, Query, Request, State};
@@ -9,6 +9,7 @@ use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
+use pim_case::units::UnitSystem;
 use serde::Deserialize;
 use serde_json::json;
 use std::sync::Arc;
@@ -31,6 +32,9 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/save", post(save))
         .route("/api/study", get(study_report).post(study_start))
         .route("/api/study/cancel", post(study_cancel))
+        .route("/api/report", post(report))
+        .route("/api/image", get(image))
+        .route("/api/background", post(background))
         .layer(middleware::from_fn_with_state(served.clone(), guard))
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .with_state(served)
@@ -103,10 +107,10 @@ async fn asset(axum::extract::Path(file): axum::extract::Path<String>) -> Respon
     ([(header::CONTENT_TYPE, kind)], f.data.into_owned()).into_response()
 }
 
-/// The case files of the folder served (sorted; subfolders to a depth of 8 included, links
-/// not followed).
+/// The case files and the images of the folder served (sorted; subfolders to a depth of 8
+/// included, links not followed).
 async fn cases(State(s): State<App>) -> Response {
-    let mut out = Vec::new();
+    let (mut out, mut images) = (Vec::new(), Vec::new());
     let root = &s.served.root;
     let mut dirs = vec![(root.clone(), 0)];
     while let Some((d, depth)) = dirs.pop() {
@@ -123,17 +127,28 @@ async fn cases(State(s): State<App>) -> Response {
                 if depth < 8 {
                     dirs.push((p, depth + 1));
                 }
-            } else if p.extension().is_some_and(|x| x == "toml") {
-                if let Ok(rel) = p.strip_prefix(root) {
-                    out.push(rel.to_string_lossy().replace('\\', "/"));
+            } else if let Ok(rel) = p.strip_prefix(root) {
+                let rel = rel.to_string_lossy().replace('\\', "/");
+                let kind = p
+                    .extension()
+                    .and_then(|x| x.to_str())
+                    .map(str::to_ascii_lowercase);
+                match kind.as_deref() {
+                    Some("toml") => out.push(rel),
+                    Some(k) if pim_case::scene_sections::BackgroundSection::KINDS.contains(&k) => {
+                        images.push(rel)
+                    }
+                    _ => {}
                 }
             }
         }
     }
     out.sort();
+    images.sort();
     Json(json!({
         "root": root.display().to_string(),
         "cases": out,
+        "images": images,
         "initial": s.served.initial,
     }))
     .into_response()
@@ -171,6 +186,20 @@ struct CaseText {
     /// A live answer (while a handle is dragged): follow the case's last reconstruction.
     #[serde(default)]
     live: bool,
+    /// Display units, `si`, `us` or `kmh` (default the case's own).
+    #[serde(default)]
+    units: Option<String>,
+}
+
+/// The display units a request names (`None`: the case's own).
+fn units_of(name: Option<&str>) -> Result<Option<UnitSystem>, String> {
+    match name {
+        None | Some("") => Ok(None),
+        Some("si") => Ok(Some(UnitSystem::Si)),
+        Some("us") => Ok(Some(UnitSystem::Us)),
+        Some("kmh") => Ok(Some(UnitSystem::Kmh)),
+        Some(other) => Err(format!("units {other:?}: accepted: si, us, kmh")),
+    }
 }
 
 fn unanswered(e: crate::AnswerError) -> Response {
@@ -178,6 +207,10 @@ fn unanswered(e: crate::AnswerError) -> Response {
 }
 
 async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
+    let units = match units_of(c.units.as_deref()) {
+        Ok(u) => u,
+        Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
+    };
     let done = tokio::task::spawn_blocking(move || {
         let started = std::time::Instant::now();
         let previous = if c.live {
@@ -185,7 +218,7 @@ async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
         } else {
             None
         };
-        let (a, outcome) = crate::answer_following(&c.path, &c.text, previous.as_ref())?;
+        let (a, outcome) = crate::answer_in(&c.path, &c.text, previous.as_ref(), units)?;
         if let (Some(o), Ok(mut m)) = (outcome, s.last.lock()) {
             m.insert(c.path.clone(), o);
         }
@@ -212,10 +245,17 @@ struct Move {
     text: String,
     vehicle: u8,
     at: [f64; 2],
+    /// The units of `at`'s length (default the case's own).
+    #[serde(default)]
+    units: Option<String>,
 }
 
 async fn move_rest(Json(m): Json<Move>) -> Response {
-    match crate::move_rest(&m.path, &m.text, m.vehicle, m.at) {
+    let units = match units_of(m.units.as_deref()) {
+        Ok(u) => u,
+        Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
+    };
+    match crate::move_rest_in(&m.path, &m.text, m.vehicle, m.at, units) {
         Ok(text) => Json(json!({ "text": text })).into_response(),
         Err(e) => unanswered(e),
     }
@@ -292,5 +332,67 @@ async fn study_cancel(State(s): State<App>, Json(q): Json<StudyId>) -> Response 
             Json(r.report(q.id)).into_response()
         }
         None => refused(StatusCode::NOT_FOUND, &format!("no study {}", q.id)),
+    }
+}
+
+/// The case's HTML report, as `pim report FILE` writes it.
+async fn report(Json(c): Json<CaseText>) -> Response {
+    let made = tokio::task::spawn_blocking(move || crate::study::report(&c.path, &c.text)).await;
+    match made {
+        Ok(Ok(html)) => {
+            ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], html).into_response()
+        }
+        Ok(Err(e)) => unanswered(e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
+    }
+}
+
+/// An image of the folder served, for the background of a plan.
+async fn image(State(s): State<App>, Query(q): Query<CasePath>) -> Response {
+    let kinds = pim_case::scene_sections::BackgroundSection::KINDS;
+    let Some(file) = inside_of(&s.served.root, &q.path, &kinds) else {
+        return refused(
+            StatusCode::FORBIDDEN,
+            &format!(
+                "refused: {}: only the images (PNG, JPEG, SVG) inside the folder served can be \
+                 read",
+                q.path
+            ),
+        );
+    };
+    let kind = match file
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+    {
+        Some(k) if k == "png" => "image/png",
+        Some(k) if k == "svg" => "image/svg+xml",
+        _ => "image/jpeg",
+    };
+    match std::fs::read(&file) {
+        Ok(bytes) => ([(header::CONTENT_TYPE, kind)], bytes).into_response(),
+        Err(e) => refused(StatusCode::NOT_FOUND, &format!("{}: {e}", q.path)),
+    }
+}
+
+#[derive(Deserialize)]
+struct BackgroundAsk {
+    path: String,
+    text: String,
+    #[serde(default)]
+    units: Option<String>,
+    #[serde(flatten)]
+    change: crate::BackgroundChange,
+}
+
+/// The case's text with its `[background]` changed as the page asks.
+async fn background(Json(b): Json<BackgroundAsk>) -> Response {
+    let units = match units_of(b.units.as_deref()) {
+        Ok(u) => u,
+        Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
+    };
+    match crate::set_background(&b.path, &b.text, &b.change, units) {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
     }
 }

@@ -66,6 +66,19 @@ pub fn study(
     value.map_err(|e| input(&e))
 }
 
+/// The HTML report of a case's text: the page `pim report FILE` writes (its uncertainty study
+/// with its default draws and seed when the case says what is uncertain).
+///
+/// # Errors
+/// An invalid case, or one the report cannot be made of.
+pub fn report(file: &str, text: &str) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let made = pim_render::report::make::make(&case, &pim_render::report::make::Options::default())
+        .map_err(|e| input(&e))?;
+    Ok(made.document.html())
+}
+
 /// One study running or run: its progress, its cancel switch and, once ended, its outcome.
 #[derive(Debug, Default)]
 pub(crate) struct Running {

@@ -102,3 +102,38 @@ fn a_study_and_a_cancelled_one() {
     let e = pim_serve::study("reconstruction_us.toml", &text, 0, 1, &Unwatched).unwrap_err();
     assert!(e.to_string().contains("between 1 and"), "{e}");
 }
+
+/// The background set to scale by two points and a distance in the page's unit: the points and
+/// the distance written in the file's (ft), the first point's page position in its frame (SAE:
+/// the page's right is +y), every other line kept.
+#[test]
+fn a_background_set_to_scale() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scene");
+    let text = std::fs::read_to_string(root.join("intersection_us.toml")).unwrap();
+    let change = pim_serve::BackgroundChange {
+        pixels: Some([[1000.04, 1460.0], [1599.96, 1460.0]]),
+        distance: Some(9.144),
+        at: Some([40.0, -66.0]),
+        ..Default::default()
+    };
+    let out = pim_serve::set_background(
+        "scene/intersection_us.toml",
+        &text,
+        &change,
+        Some(pim_case::units::UnitSystem::Si),
+    )
+    .unwrap();
+    let changed: Vec<(&str, &str)> = text
+        .lines()
+        .zip(out.lines())
+        .filter(|(a, b)| a != b)
+        .collect();
+    // The points round to the tenth of a pixel they were: only the distance and `at` change.
+    assert_eq!(changed.len(), 2, "{changed:?}");
+    assert!(out.contains("distance = 30.0"), "{out}");
+    assert!(out.contains("at = { x = -216.535, y = 131.234 }"), "{out}");
+    let a = pim_serve::answer("scene/intersection_us.toml", &out).unwrap();
+    let b = a.plan.background.unwrap();
+    assert_eq!(b.image, "scene/intersection.png");
+    assert!((b.per_pixel - 0.05).abs() < 1e-3, "{}", b.per_pixel);
+}
