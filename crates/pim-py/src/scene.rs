@@ -1,7 +1,8 @@
 //! The run-out and the reconstruction of a scene, for Python.
 
 use crate::convert::{
-    detached, input_error, load_case, load_runout_case, study_args, to_py, units_of, DocumentErrorPy, NoSolution,
+    detached, input_error, load_case, load_runout_case, study_args, to_py, units_of,
+    DocumentErrorPy, NoSolution,
 };
 use pim_studies::documents::DocumentError;
 use pyo3::prelude::*;
