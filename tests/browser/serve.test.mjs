@@ -296,6 +296,65 @@ test("a background diagram set to scale by two points, and a distance measured o
   assert.equal((await raw("GET", "/api/image?path=scene/intersection_us.toml", { cookie })).status, 403);
 });
 
+test("conflicting evidence: the pieces that disagree are marked, and one switched off gives the answer without it", async () => {
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+  const original = await page.inputValue("#toml");
+  const edr = "vehicle2 EDR speed 0.5 s before contact";
+  assert.equal(await page.locator("#evidence tr.piece").count(), 8);
+  assert.equal(await page.locator("#evidence tr.disagrees").count(), 0);
+  // The SUV's EDR read 8 mph high: the scene and the EDR disagree.
+  const conflicting = original.replace("edr = [ { speed = 27.5,", "edr = [ { speed = 35.5,");
+  assert.notEqual(conflicting, original);
+  await page.fill("#toml", conflicting);
+  await page.waitForSelector("#consistency-table", { timeout: 120000 });
+  await idle();
+  const row = `#evidence tr[data-name="${edr}"]`;
+  // The fit leans on the sedan's direction of travel to meet the EDR: the pieces more than two
+  // standard deviations from the answer are marked, that one among them.
+  const pieces = await page.evaluate(() => window.pim.answer.pieces);
+  const far = pieces.filter((p) => Math.abs(p.z) > 2).map((p) => p.name);
+  const marked = await page.$$eval("#evidence tr.disagrees", (rs) => rs.map((r) => r.dataset.name));
+  assert.deepEqual(marked, far);
+  assert.ok(marked.includes("sedan tracking"), JSON.stringify(pieces));
+  const all = await page.evaluate(() => window.pim.answer.document);
+  const withoutRow = all.consistency.rows.find((r) => r.left_out.length === 1 && r.left_out[0] === edr);
+  assert.ok(withoutRow && withoutRow.consistent, JSON.stringify(all.consistency.rows));
+  await page.screenshot({ path: path.join(shots, "10-conflict.png") });
+  // Switched off: the answer is the case without the EDR's line, the file is not touched.
+  const onDisk = fs.readFileSync(path.join(dir, CASE), "utf8");
+  await page.locator(`${row} input`).uncheck();
+  await page.waitForFunction((n) => window.pim.answer.pieces.some((p) => p.name === n && p.off), edr);
+  await idle();
+  const off = await page.evaluate(() => window.pim.answer.document);
+  assert.ok(off.best.chi_square < all.best.chi_square, `${off.best.chi_square} against ${all.best.chi_square}`);
+  assert.equal(await page.$("#consistency-table"), null, "the rest is consistent: no table");
+  const without = path.join(dir, "without_edr.toml");
+  fs.writeFileSync(without, conflicting.split("\n").filter((l) => !l.startsWith("edr = ")).join("\n"));
+  const cli = JSON.parse(execFileSync(pimBin, ["fit", without, "--format", "json"], { encoding: "utf8" }));
+  assert.deepEqual(off, cli);
+  for (const k of [0, 1]) {
+    const page_speed = off.best.vehicles[k].speed_at_contact;
+    assert.ok(Math.abs(page_speed - withoutRow.speed_at_contact[k]) < 0.005, `${page_speed} against the table's row`);
+  }
+  assert.equal(await page.inputValue("#toml"), conflicting);
+  assert.equal(fs.readFileSync(path.join(dir, CASE), "utf8"), onDisk);
+  assert.equal(await page.textContent(`${row} td.z`), "off");
+  // A mark switched off is drawn as off on the plan.
+  await page.locator('#evidence tr[data-name="vehicle2 mark 1"] input').uncheck();
+  await page.waitForSelector('g.evidence.off[data-piece="vehicle2 mark 1"]');
+  await idle();
+  await page.screenshot({ path: path.join(shots, "11-switched-off.png") });
+  // Back to the case as it was, everything on.
+  await page.locator('#evidence tr[data-name="vehicle2 mark 1"] input').check();
+  await page.locator(`${row} input`).check();
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => window.pim.off.length === 0 && !document.getElementById("consistency-table"), null, { timeout: 120000 });
+  await idle();
+  fs.rmSync(without);
+});
+
 test("the API answers every example case with the command's document", async () => {
   const cookie = `pim_token=${token}`;
   for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {

@@ -8,6 +8,7 @@ const state = {
   path: null, text: "", saved: "", answer: null, busy: false, pending: false,
   view: null, dragging: null, timings: [], study: null, units: "",
   images: [], sizes: {}, tool: null, clicks: [], measured: null,
+  off: [], // pieces of evidence switched off (by name): the answer is the case without them
 };
 window.pim = state; // for the tests and the curious
 
@@ -54,7 +55,7 @@ async function loadCases() {
 async function openCase(path) {
   const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
   state.path = path; state.text = state.saved = data.text; state.view = null;
-  state.study = null; state.measured = null;
+  state.study = null; state.measured = null; state.off = [];
   $("study-status").textContent = ""; $("study-progress").hidden = true; $("study-cancel").hidden = true;
   $("toml").value = data.text;
   await solve();
@@ -69,7 +70,7 @@ async function solve(live = false) {
   status(live ? "following…" : "solving…");
   const t0 = performance.now();
   try {
-    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text, live, units: state.units });
+    const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text, live, units: state.units, off: state.off });
     state.answer = data;
     const server = /dur=([0-9.]+)/.exec(res.headers.get("server-timing") || "");
     state.timings.push({ live, server: server ? +server[1] : null, page: performance.now() - t0 });
@@ -119,7 +120,8 @@ function speedsTable(a) {
 // text they were drawn from.
 function intervals(a) {
   const st = state.study;
-  const q = st && st.text === state.text && st.report.document && st.report.document.quantities;
+  const q = st && st.text === state.text && st.off === state.off.join("\n")
+    && st.report.document && st.report.document.quantities;
   if (!q || a.question !== "reconstruction") return;
   const u = a.plan.speed_metres || 1;
   const rows = $("speeds").rows;
@@ -137,8 +139,9 @@ async function startStudy() {
   const draws = Math.round(+$("draws").value);
   const text = state.text;
   try {
-    const { data } = await api("POST", "/api/study", { path: state.path, text, draws });
-    state.study = { id: data.id, text, report: { state: "running", done: 0, total: draws } };
+    const off = state.off.slice();
+    const { data } = await api("POST", "/api/study", { path: state.path, text, draws, off });
+    state.study = { id: data.id, text, off: off.join("\n"), report: { state: "running", done: 0, total: draws } };
     $("study-cancel").hidden = false;
     $("study-progress").hidden = false;
     $("study-start").disabled = true;
@@ -194,6 +197,88 @@ function summary(a) {
     s.textContent = "an impact fit (no scene evidence to reconstruct from)";
   }
   $("table").textContent = a.table;
+}
+
+// A piece of evidence disagrees with the answer when one of its residuals lies more than two
+// standard deviations from it.
+const DISAGREES = 2;
+
+// The pieces of evidence, each with a switch: off, the answer is the case without it (the file
+// keeps it). Beside each its residual farthest from the answer, in standard deviations.
+function evidence(a) {
+  const t = $("evidence");
+  t.innerHTML = "";
+  $("evidence-box").hidden = !a.pieces || a.pieces.length === 0;
+  for (const p of a.pieces || []) {
+    const r = t.insertRow();
+    r.className = "piece";
+    r.dataset.name = p.name;
+    if (p.off) r.classList.add("off");
+    if (p.z != null && Math.abs(p.z) > DISAGREES) r.classList.add("disagrees");
+    const box = document.createElement("input");
+    box.type = "checkbox"; box.checked = !p.off;
+    box.setAttribute("aria-label", `use ${p.name}`);
+    box.addEventListener("change", () => switchPiece(p.name, box.checked));
+    r.insertCell().appendChild(box);
+    r.insertCell().textContent = p.name;
+    const z = r.insertCell();
+    z.className = "z";
+    z.textContent = p.off ? "off" : p.z == null ? "-" : `${p.z.toFixed(2)} σ`;
+  }
+  consistency(a);
+}
+
+function switchPiece(name, on) {
+  state.off = on ? state.off.filter((n) => n !== name) : [...state.off, name];
+  solve();
+}
+
+// The consistency table of a refused or poorly fitting answer: the reconstruction with each
+// piece (or pair) left out; a row's button switches those pieces off.
+function consistency(a) {
+  const box = $("consistency");
+  box.innerHTML = "";
+  const c = a.document && a.document.consistency;
+  if (!c) return;
+  const u = a.plan.speed_metres || 1;
+  const p = document.createElement("p");
+  p.textContent = c.summary;
+  box.appendChild(p);
+  const t = document.createElement("table");
+  t.id = "consistency-table";
+  const head = t.insertRow();
+  for (const h of ["left out", "chi²", "p", `v1 ${a.plan.speed_label}`, `v2 ${a.plan.speed_label}`, ""]) {
+    const th = document.createElement("th"); th.textContent = h; head.appendChild(th);
+  }
+  for (const row of [c.all, ...c.rows]) {
+    const r = t.insertRow();
+    if (row.consistent) r.classList.add("consistent");
+    const speed = (v) => (v == null ? "-" : (v / u).toFixed(2));
+    const cells = [row.left_out.length ? row.left_out.join(" + ") : "nothing",
+      row.chi_square == null ? row.status : row.chi_square.toFixed(2),
+      row.p_value == null ? "-" : row.p_value.toFixed(3),
+      speed(row.speed_at_contact[0]), speed(row.speed_at_contact[1])];
+    for (const c of cells) r.insertCell().textContent = c;
+    const td = r.insertCell();
+    if (row.left_out.length) {
+      const b = document.createElement("button");
+      b.textContent = "off";
+      b.title = `the answer without ${row.left_out.join(" and ")}`;
+      b.addEventListener("click", () => { state.off = row.left_out.slice(); solve(); });
+      td.appendChild(b);
+    }
+  }
+  box.appendChild(t);
+}
+
+// How the plan shows a piece of evidence: switched off, disagreeing (with its residual), or
+// neither.
+function pieceLook(name) {
+  const p = ((state.answer && state.answer.pieces) || []).find((x) => x.name === name);
+  if (!p) return { cls: "" };
+  if (p.off) return { cls: " off" };
+  if (p.z != null && Math.abs(p.z) > DISAGREES) return { cls: " disagrees", z: p.z };
+  return { cls: "" };
 }
 
 function bounds(plan) {
@@ -252,6 +337,7 @@ function render() {
   if (!a) return;
   speedsTable(a);
   summary(a);
+  evidence(a);
   if (!state.view) { fitView(); return; }
   const svg = $("plan");
   const v = state.view;
@@ -267,13 +353,18 @@ function render() {
     el("polyline", { points: pts(veh.path), class: "path" }, g);
     el("polygon", { points: pts(veh.contact), class: "outline contact" }, g);
     el("polygon", { points: pts(veh.rest), class: "outline rest" }, g);
-    for (const m of veh.marks) {
-      el("circle", { cx: m[0], cy: -m[1], r: m[2], class: "sigma" }, g);
-      el("path", { d: `M${m[0] - r} ${-m[1]}h${2 * r}M${m[0]} ${-m[1] - r}v${2 * r}`, class: "mark" }, g);
-    }
+    veh.marks.forEach((m, i) => {
+      const look = pieceLook(`vehicle${veh.vehicle} mark ${i + 1}`);
+      const mg = el("g", { class: `evidence${look.cls}`, "data-piece": `vehicle${veh.vehicle} mark ${i + 1}` }, g);
+      el("circle", { cx: m[0], cy: -m[1], r: m[2], class: "sigma" }, mg);
+      el("path", { d: `M${m[0] - r} ${-m[1]}h${2 * r}M${m[0]} ${-m[1] - r}v${2 * r}`, class: "mark" }, mg);
+      if (look.z != null) zLabel(mg, m[0] + r, m[1] + r, look.z);
+    });
     if (veh.given_rest) {
       const gr = veh.given_rest;
-      const moved = el("g", { class: "given-rest" }, g);
+      const look = pieceLook(`vehicle${veh.vehicle} rest`);
+      const moved = el("g", { class: `given-rest evidence${look.cls}`, "data-piece": `vehicle${veh.vehicle} rest` }, g);
+      if (look.z != null) zLabel(moved, gr.at[0] + r, gr.at[1] + r, look.z);
       el("polygon", { points: pts(gr.outline), class: "outline given" }, moved);
       // The one-sigma ellipse: sigma along the written frame's x and y, turned onto the page.
       const [sx, sy] = a.plan.frame === "sae" ? [gr.sigma[1], gr.sigma[0]] : gr.sigma;
@@ -288,6 +379,12 @@ function render() {
       h.addEventListener("pointerdown", (e) => startDrag(e, veh.vehicle, gr.at, moved, h));
     }
   }
+}
+
+// A residual beside a piece of evidence on the plan, in standard deviations.
+function zLabel(g, h, v, z) {
+  const t = el("text", { x: h, y: -v, class: "z-label", "font-size": 13 / pxPerUnit() }, g);
+  t.textContent = `${z.toFixed(1)} σ`;
 }
 
 // The case's background image: pixel (u, v) lands at at + per_pixel R(rotation) ((u, v) -

@@ -34,6 +34,66 @@ pub struct Answer {
     pub table: String,
     /// The scene to scale.
     pub plan: Plan,
+    /// The pieces of evidence of a scene case, each on or switched off.
+    pub pieces: Vec<EvidencePiece>,
+}
+
+/// A piece of a scene case's evidence as the consistency table groups it (a rest position, a
+/// mark, an EDR speed, an observation, the estimates), which the page can switch off to see
+/// the answer without it.
+#[derive(Debug, Serialize)]
+pub struct EvidencePiece {
+    /// Its name (`vehicle2 mark 1`), as the consistency table's rows name it.
+    pub name: String,
+    /// Switched off: the answer is the reconstruction without it.
+    pub off: bool,
+    /// Its residual farthest from the answer, in standard deviations (`None` when it is off
+    /// or there is no answer).
+    pub z: Option<f64>,
+}
+
+/// Whether the evidence table's row `row` belongs to the piece `piece` (its name, or its
+/// name followed by a component or a description; the estimates are the rows of the contact
+/// state's components).
+fn belongs(row: &str, piece: &str) -> bool {
+    if piece.starts_with("the estimates") {
+        return row.starts_with("initial.") || row.starts_with("final.");
+    }
+    row == piece
+        || row
+            .strip_prefix(piece)
+            .is_some_and(|rest| rest.starts_with('.') || rest.starts_with(' '))
+}
+
+/// Each piece of `case`'s evidence, on or off, with its largest residual in `document`.
+fn pieces_of(case: &Case, off: &[String], document: &serde_json::Value) -> Vec<EvidencePiece> {
+    let rows: Vec<(String, f64)> = document["best"]["evidence"]
+        .as_array()
+        .map(|rows| {
+            rows.iter()
+                .filter_map(|r| Some((r["name"].as_str()?.to_string(), r["z"].as_f64()?)))
+                .collect()
+        })
+        .unwrap_or_default();
+    pim_studies::consistency::piece_names(case)
+        .into_iter()
+        .map(|name| {
+            let is_off = off.contains(&name);
+            let z = (!is_off)
+                .then(|| {
+                    rows.iter()
+                        .filter(|(r, _)| belongs(r, &name))
+                        .map(|(_, z)| *z)
+                        .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+                })
+                .flatten();
+            EvidencePiece {
+                name,
+                off: is_off,
+                z,
+            }
+        })
+        .collect()
 }
 
 /// The scene on the page: positions to the right and up, in the case's display length unit
@@ -140,8 +200,30 @@ pub fn answer_in(
     previous: Option<&pim_reconstruct::Outcome>,
     units: Option<UnitSystem>,
 ) -> Result<(Answer, Option<pim_reconstruct::Outcome>), AnswerError> {
+    answer_without(file, text, previous, units, &[])
+}
+
+/// [`answer_in`] with the pieces of evidence named `off` switched off
+/// ([`pim_studies::consistency::switched_off`]): the answer is the reconstruction without
+/// them (the document `pim fit` writes for the case with them deleted), the plan still shows
+/// them.
+///
+/// # Errors
+/// As [`answer`], and a name that is no piece of the case's evidence.
+pub fn answer_without(
+    file: &str,
+    text: &str,
+    previous: Option<&pim_reconstruct::Outcome>,
+    units: Option<UnitSystem>,
+    off: &[String],
+) -> Result<(Answer, Option<pim_reconstruct::Outcome>), AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
-    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let shown = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let case = if off.is_empty() {
+        shown.clone()
+    } else {
+        pim_studies::consistency::switched_off(&shown, off).map_err(|e| input(&e))?
+    };
     let asked = Question::of(&case, None);
     let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let title = pim_render::text::case_title(&case);
@@ -166,15 +248,18 @@ pub fn answer_in(
                 units,
                 case.written,
             );
+            // The plan shows every piece, those switched off too.
             let plan = match &done.outcome.best {
-                Some(best) => plan(&case, Some(best.solution.separation), units)?,
-                None => plan(&case, None, units).unwrap_or_default(),
+                Some(best) => plan(&shown, Some(best.solution.separation), units)?,
+                None => plan(&shown, None, units).unwrap_or_default(),
             };
+            let document = serde_json::to_value(&done.document).map_err(|e| input(&e))?;
             Ok((
                 Answer {
                     question: "reconstruction",
                     live,
-                    document: serde_json::to_value(&done.document).map_err(|e| input(&e))?,
+                    pieces: pieces_of(&shown, off, &document),
+                    document,
                     table,
                     plan,
                 },
@@ -211,6 +296,7 @@ pub fn answer_in(
                 Answer {
                     question: "fit",
                     live: false,
+                    pieces: Vec::new(),
                     document: serde_json::to_value(&fitted.document).map_err(|e| input(&e))?,
                     table,
                     plan,

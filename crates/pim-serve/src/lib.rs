@@ -41,7 +41,8 @@ mod served;
 mod study;
 
 pub use answer::{
-    answer, answer_following, answer_in, move_rest, move_rest_in, Answer, AnswerError, Plan,
+    answer, answer_following, answer_in, answer_without, move_rest, move_rest_in, Answer,
+    AnswerError, EvidencePiece, Plan,
 };
 pub use background::{set_background, BackgroundChange};
 pub use guard::{inside, inside_of, Guard};

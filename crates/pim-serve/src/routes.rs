@@ -189,6 +189,9 @@ struct CaseText {
     /// Display units, `si`, `us` or `kmh` (default the case's own).
     #[serde(default)]
     units: Option<String>,
+    /// Pieces of evidence switched off (their names, as the answer's `pieces` give them).
+    #[serde(default)]
+    off: Vec<String>,
 }
 
 /// The display units a request names (`None`: the case's own).
@@ -218,7 +221,8 @@ async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
         } else {
             None
         };
-        let (a, outcome) = crate::answer_in(&c.path, &c.text, previous.as_ref(), units)?;
+        let (a, outcome) =
+            crate::answer_without(&c.path, &c.text, previous.as_ref(), units, &c.off)?;
         if let (Some(o), Ok(mut m)) = (outcome, s.last.lock()) {
             m.insert(c.path.clone(), o);
         }
@@ -286,6 +290,9 @@ struct StudyAsk {
     draws: usize,
     #[serde(default = "default_seed")]
     seed: u64,
+    /// Pieces of evidence switched off.
+    #[serde(default)]
+    off: Vec<String>,
 }
 
 /// `pim uncertainty`'s defaults.
@@ -314,7 +321,7 @@ async fn study_start(State(s): State<App>, Json(a): Json<StudyAsk>) -> Response 
             ),
         );
     }
-    let id = s.studies.start(a.path, a.text, a.draws, a.seed);
+    let id = s.studies.start((a.path, a.text), (a.draws, a.seed), a.off);
     Json(json!({ "id": id })).into_response()
 }
 

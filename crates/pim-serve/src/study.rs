@@ -16,15 +16,18 @@ pub const MAX_DRAWS: usize = 100_000;
 /// The uncertainty study of a case's text: for a case with scene evidence the study of its
 /// whole reconstruction, otherwise that of its impact fit; the document `pim uncertainty FILE
 /// --draws DRAWS --seed SEED --format json` writes. The observer sees each finished draw and
-/// can cancel: the draws finished then make the answer, and the document says so.
+/// can cancel: the draws finished then make the answer, and the document says so. The pieces
+/// of evidence named `off` are switched off ([`crate::answer_without`]): the study of the case
+/// without them.
 ///
 /// # Errors
-/// An invalid case, or a study that has no answer (nothing uncertain, no reconstruction).
+/// An invalid case, a name that is no piece of its evidence, or a study that has no answer
+/// (nothing uncertain, no reconstruction).
 pub fn study(
     file: &str,
     text: &str,
-    draws: usize,
-    seed: u64,
+    (draws, seed): (usize, u64),
+    off: &[String],
     observer: &dyn Observer,
 ) -> Result<serde_json::Value, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
@@ -34,6 +37,11 @@ pub fn study(
         )));
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let case = if off.is_empty() {
+        case
+    } else {
+        pim_studies::consistency::switched_off(&case, off).map_err(|e| input(&e))?
+    };
     let value = match Question::of(&case, None).question {
         Question::Reconstruction => {
             let (study, _) = pim_studies::reconstruct_study::run(
@@ -143,7 +151,12 @@ pub(crate) struct Studies {
 
 impl Studies {
     /// Starts a study on its own thread (the page's answers go on meanwhile); its number.
-    pub(crate) fn start(&self, path: String, text: String, draws: usize, seed: u64) -> u64 {
+    pub(crate) fn start(
+        &self,
+        (path, text): (String, String),
+        (draws, seed): (usize, u64),
+        off: Vec<String>,
+    ) -> u64 {
         let id = self.next.fetch_add(1, Ordering::Relaxed) + 1;
         let run = Arc::new(Running::default());
         if let Ok(mut m) = self.running.lock() {
@@ -152,7 +165,8 @@ impl Studies {
             m.insert(id, run.clone());
         }
         std::thread::spawn(move || {
-            let outcome = study(&path, &text, draws, seed, run.as_ref()).map_err(|e| e.to_string());
+            let outcome =
+                study(&path, &text, (draws, seed), &off, run.as_ref()).map_err(|e| e.to_string());
             if let Ok(mut o) = run.outcome.lock() {
                 *o = Some(outcome);
             }

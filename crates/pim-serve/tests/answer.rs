@@ -86,20 +86,20 @@ fn a_live_answer_follows_the_whole_search() {
 fn a_study_and_a_cancelled_one() {
     use pim_studies::watch::{CancelSwitch, Unwatched};
     let text = example("reconstruction_us.toml");
-    let doc = pim_serve::study("reconstruction_us.toml", &text, 8, 1, &Unwatched).unwrap();
+    let doc = pim_serve::study("reconstruction_us.toml", &text, (8, 1), &[], &Unwatched).unwrap();
     assert_eq!(doc["draws"], 8);
     assert!(doc["cancelled"].is_null());
     let q = &doc["quantities"]["vehicle2.speed_at_contact"];
     assert!(q["p05"].as_f64().unwrap() <= q["p95"].as_f64().unwrap());
     let stop = CancelSwitch::default();
     stop.cancel();
-    let doc = pim_serve::study("reconstruction_us.toml", &text, 8, 1, &stop);
+    let doc = pim_serve::study("reconstruction_us.toml", &text, (8, 1), &[], &stop);
     // Stopped before its first draw: cancelled with none done, or no intervals to give.
     match doc {
         Ok(d) => assert_eq!(d["cancelled"]["done"], 0, "{d}"),
         Err(e) => assert!(e.to_string().contains("draw"), "{e}"),
     }
-    let e = pim_serve::study("reconstruction_us.toml", &text, 0, 1, &Unwatched).unwrap_err();
+    let e = pim_serve::study("reconstruction_us.toml", &text, (0, 1), &[], &Unwatched).unwrap_err();
     assert!(e.to_string().contains("between 1 and"), "{e}");
 }
 
@@ -136,4 +136,73 @@ fn a_background_set_to_scale() {
     let b = a.plan.background.unwrap();
     assert_eq!(b.image, "scene/intersection.png");
     assert!((b.per_pixel - 0.05).abs() < 1e-3, "{}", b.per_pixel);
+}
+
+/// A piece of evidence switched off: the answer is the reconstruction of the case with its
+/// lines deleted (the same document), every piece is listed with its largest residual, the
+/// piece off has none, and a name that is no piece is refused with the names there are.
+#[test]
+fn evidence_switched_off_is_the_case_without_it() {
+    let file = "reconstruction_us.toml";
+    let text = example(file);
+    let edr = "vehicle2 EDR speed 0.5 s before contact".to_string();
+    let (all, _) = pim_serve::answer_without(file, &text, None, None, &[]).unwrap();
+    let names: Vec<&str> = all.pieces.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "the estimates ([estimates])",
+            "sedan tracking",
+            "SUV tracking",
+            edr.as_str(),
+            "vehicle1 rest",
+            "vehicle1 mark 1",
+            "vehicle2 rest",
+            "vehicle2 mark 1"
+        ]
+    );
+    // The EDR's residual is -0.20 sigma in the answer with everything (`pim fit` prints it).
+    let z = all.pieces[3].z.unwrap();
+    assert!((z + 0.20).abs() < 0.005, "EDR z {z}");
+    assert!(all.pieces.iter().all(|p| !p.off && p.z.is_some()));
+
+    let (off, _) =
+        pim_serve::answer_without(file, &text, None, None, std::slice::from_ref(&edr)).unwrap();
+    let deleted: String = text
+        .lines()
+        .filter(|l| !l.starts_with("edr = "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let without = pim_serve::answer(file, &deleted).unwrap();
+    assert_eq!(off.document, without.document);
+    assert_ne!(off.document, all.document);
+    let p = off.pieces.iter().find(|p| p.name == edr).unwrap();
+    assert!(p.off && p.z.is_none());
+    // The plan still shows every mark and rest.
+    assert_eq!(off.plan.vehicles.len(), 2);
+    assert!(off
+        .plan
+        .vehicles
+        .iter()
+        .all(|v| v.given_rest.is_some() && v.marks.len() == 1));
+
+    let e = pim_serve::answer_without(file, &text, None, None, &["vehicle3 rest".to_string()])
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("\"vehicle3 rest\" is no piece") && e.contains("vehicle2 mark 1"),
+        "{e}"
+    );
+    // The study of the case without it is the study of the case with its lines deleted.
+    let a = pim_serve::study(
+        file,
+        &text,
+        (6, 1),
+        std::slice::from_ref(&edr),
+        &pim_studies::watch::Unwatched,
+    )
+    .unwrap();
+    let b = pim_serve::study(file, &deleted, (6, 1), &[], &pim_studies::watch::Unwatched).unwrap();
+    assert_eq!(a, b);
 }

@@ -159,6 +159,49 @@ fn pieces(case: &Case) -> Vec<Piece> {
     out
 }
 
+/// `case` without the pieces `without`.
+fn left_out(case: &Case, without: &[Piece]) -> Case {
+    let mut c = case.clone();
+    // Later pieces first, so that the indices of earlier ones stay valid.
+    let mut sorted = without.to_vec();
+    sorted.sort_by_key(|p| std::cmp::Reverse(index_key(*p)));
+    for p in sorted {
+        c = p.leave_out(&c);
+    }
+    c
+}
+
+/// The names of the pieces of evidence of `case` that can be switched off, in the order of
+/// the evidence table (the names of the consistency table's rows: `vehicle1 rest`, `vehicle2
+/// mark 1`, `vehicle2 EDR speed 0.5 s before contact`, an observation's name, `the estimates
+/// ([estimates])`).
+pub fn piece_names(case: &Case) -> Vec<String> {
+    pieces(case).into_iter().map(|p| p.name(case)).collect()
+}
+
+/// `case` with the pieces of evidence named `off` switched off (left out, as the consistency
+/// table's rows leave them out).
+///
+/// # Errors
+/// A name that is no piece of the case's evidence, with the names it has.
+pub fn switched_off(case: &Case, off: &[String]) -> Result<Case, DocumentError> {
+    let all = pieces(case);
+    let mut chosen = Vec::new();
+    for name in off {
+        match all.iter().find(|p| &p.name(case) == name) {
+            Some(p) => chosen.push(*p),
+            None => {
+                return Err(DocumentError::Input(format!(
+                    "{}: {name:?} is no piece of this case's evidence; its pieces are: {}",
+                    case.file,
+                    piece_names(case).join(", ")
+                )))
+            }
+        }
+    }
+    Ok(left_out(case, &chosen))
+}
+
 fn row(left_out: Vec<String>, d: Result<ReconstructionOut, DocumentError>) -> LeftOut {
     let mut r = LeftOut {
         left_out,
@@ -225,13 +268,7 @@ pub fn table(
     observer: &dyn crate::watch::Observer,
 ) -> Consistency {
     let run = |without: &[Piece]| {
-        let mut c = case.clone();
-        // Later pieces first, so that the indices of earlier ones stay valid.
-        let mut sorted = without.to_vec();
-        sorted.sort_by_key(|p| std::cmp::Reverse(index_key(*p)));
-        for p in sorted {
-            c = p.leave_out(&c);
-        }
+        let c = left_out(case, without);
         let names = without.iter().map(|p| p.name(case)).collect();
         // Each row by the first search alone: the rows are compared with each other, and a
         // row that fits poorly without one piece is what the table looks for, not a reason to
