@@ -355,6 +355,50 @@ test("conflicting evidence: the pieces that disagree are marked, and one switche
   fs.rmSync(without);
 });
 
+test("a tyre mark placed by a click is written into the TOML where it was clicked", async () => {
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+  const original = await page.inputValue("#toml");
+  page.once("dialog", (d) => { assert.match(d.defaultValue(), /^2 /); d.accept("2 0.5"); });
+  await page.click("#add-mark");
+  // A point on car 2's path, a third of the way along: its screen position through the plan's
+  // own transform.
+  const [h, v, x, y, unitPx] = await page.evaluate(() => {
+    const veh = window.pim.answer.plan.vehicles.find((w) => w.vehicle === 2);
+    const [h, v] = veh.path[Math.floor(veh.path.length / 3)];
+    const svg = document.getElementById("plan");
+    const p = svg.createSVGPoint(); p.x = h; p.y = -v;
+    const m = svg.getScreenCTM(), q = p.matrixTransform(m);
+    return [h, v, q.x, q.y, Math.hypot(m.a, m.b)];
+  });
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
+  await idle();
+  const text = await page.inputValue("#toml");
+  const a = original.split("\n"), b = text.split("\n");
+  assert.equal(a.length, b.length);
+  const changed = a.map((l, i) => [l, b[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  const m = /^marks = \[ \{ x = 32\.6, y = 48\.2, sigma = 0\.5 \}, \{ x = ([-0-9.]+), y = ([-0-9.]+), sigma = 0\.5 \} \]$/.exec(changed[0][1]);
+  assert.ok(m, changed[0][1]);
+  // SAE: the page's right is +y, up is +x; within a screen pixel (and the hundredth written).
+  const tol = 1 / unitPx + 0.01;
+  assert.ok(Math.abs(+m[1] - v) <= tol && Math.abs(+m[2] - h) <= tol, `mark (${m[1]}, ${m[2]}) against (${v}, ${h})`);
+  const marks = await page.evaluate(() => window.pim.answer.plan.vehicles.find((w) => w.vehicle === 2).marks.length);
+  assert.equal(marks, 2);
+  await page.screenshot({ path: path.join(shots, "12-mark-placed.png") });
+  // A cancelled prompt places nothing.
+  page.once("dialog", (d) => d.dismiss());
+  await page.click("#add-mark");
+  await page.mouse.click(x + 40, y);
+  await page.waitForFunction(() => /no mark placed/.test(document.getElementById("status").textContent));
+  assert.equal(await page.inputValue("#toml"), text);
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => !window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
+  await idle();
+});
+
 test("the API answers every example case with the command's document", async () => {
   const cookie = `pim_token=${token}`;
   for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {

@@ -112,19 +112,7 @@ impl CaseEdit {
     /// Sets the value at `path`, creating the key (and its tables) where the file has none.
     /// The comment and spacing around the old value are kept.
     pub fn set(&mut self, path: &str, value: NewValue) -> Result<()> {
-        let finite = |x: f64| {
-            if x.is_finite() {
-                Ok(x)
-            } else {
-                Err(self.error(path, format!("must be a finite number, got {x}")))
-            }
-        };
-        let new = match value {
-            NewValue::Si(x, q) => number(finite(x)? / q.si_per_unit(&self.units()?)),
-            NewValue::Written(x) => number(finite(x)?),
-            NewValue::Text(s) => Value::from(s),
-            NewValue::Bool(b) => Value::from(b),
-        };
+        let new = self.value(path, value)?;
         let keys = segments(path);
         let Some((last, parents)) = keys.split_last() else {
             return Err(self.error(path, "is not a key"));
@@ -140,6 +128,79 @@ impl CaseEdit {
         }
         slot.put(last, new)
             .map_err(|what| InputError::new(&self.file, format!("{path}: {what}")))
+    }
+
+    /// Appends an inline table of `entries` to the array at `path` (`scene.vehicle2.marks`),
+    /// creating the array and its tables where the file has none; the new entry's index. The
+    /// rest of the file is kept as it was.
+    pub fn push(&mut self, path: &str, entries: &[(&str, NewValue)]) -> Result<usize> {
+        let mut table = toml_edit::InlineTable::new();
+        for (key, value) in entries {
+            table.insert(*key, self.value(&format!("{path}.{key}"), value.clone())?);
+        }
+        let keys = segments(path);
+        let Some((last, parents)) = keys.split_last() else {
+            return Err(self.error(path, "is not a key"));
+        };
+        let file = self.file.clone();
+        let mut slot = Slot::Table(self.doc.as_table_mut());
+        for (i, key) in parents.iter().enumerate() {
+            slot = slot.step(key, true).map_err(|what| {
+                InputError::new(&file, format!("{path}: {}: {what}", keys[..=i].join(".")))
+            })?;
+        }
+        let array = match slot {
+            Slot::Table(t) | Slot::Item(Item::Table(t)) => {
+                if !t.contains_key(last) {
+                    t.insert(last, Item::Value(Value::Array(toml_edit::Array::new())));
+                }
+                t.get_mut(last).and_then(Item::as_array_mut)
+            }
+            Slot::Value(Value::InlineTable(t)) | Slot::Item(Item::Value(Value::InlineTable(t))) => {
+                if !t.contains_key(last) {
+                    t.insert(last, Value::Array(toml_edit::Array::new()));
+                }
+                t.get_mut(last).and_then(Value::as_array_mut)
+            }
+            _ => None,
+        };
+        let Some(array) = array else {
+            return Err(InputError::new(&file, format!("{path}: is not an array")));
+        };
+        // After a comma and a space; the space before the closing bracket moves to the new
+        // last entry (`[ { .. } ]` stays `[ { .. }, { .. } ]`).
+        let n = array.len();
+        let mut v = Value::InlineTable(table);
+        v.decor_mut().set_prefix(" ");
+        match array.get_mut(n.wrapping_sub(1)) {
+            Some(last) => {
+                let suffix = last.decor().suffix().cloned();
+                last.decor_mut().set_suffix("");
+                if let Some(s) = suffix {
+                    v.decor_mut().set_suffix(s);
+                }
+            }
+            None => v.decor_mut().set_suffix(" "),
+        }
+        array.push_formatted(v);
+        Ok(array.len() - 1)
+    }
+
+    /// A value to write at `path`.
+    fn value(&self, path: &str, value: NewValue) -> Result<Value> {
+        let finite = |x: f64| {
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(self.error(path, format!("must be a finite number, got {x}")))
+            }
+        };
+        Ok(match value {
+            NewValue::Si(x, q) => number(finite(x)? / q.si_per_unit(&self.units()?)),
+            NewValue::Written(x) => number(finite(x)?),
+            NewValue::Text(s) => Value::from(s),
+            NewValue::Bool(b) => Value::from(b),
+        })
     }
 
     /// Removes the key at `path`; `false` when the file does not write it.

@@ -205,3 +205,77 @@ fn si_files_take_si_values_as_they_are() {
     assert_eq!(edit.get("vehicle1.mass").as_deref(), Some("1234.5"));
     assert_eq!(changed_lines(&text, &edit.text()).len(), 1);
 }
+
+/// A mark added to a scene vehicle's marks: appended to its array on the same line (the
+/// comment after it kept), written in the file's unit, read back as a mark; a vehicle without
+/// marks gets its array; a path that is no array is refused.
+#[test]
+fn a_mark_is_appended_to_the_scene_and_the_rest_kept() {
+    let text = read("reconstruction_us.toml");
+    let mut e = CaseEdit::new("r.toml", &text).unwrap();
+    let i = e
+        .push(
+            "scene.vehicle2.marks",
+            &[
+                ("x", NewValue::Si(12.0, Quantity::Length)),
+                ("y", NewValue::Written(20.5)),
+                ("sigma", NewValue::Written(0.5)),
+            ],
+        )
+        .unwrap();
+    assert_eq!(i, 1);
+    let changed = changed_lines(&text, &e.text());
+    assert_eq!(changed.len(), 1, "{changed:?}");
+    assert_eq!(
+        changed[0].1,
+        "marks = [ { x = 32.6, y = 48.2, sigma = 0.5 }, { x = 39.3700787, y = 20.5, sigma = 0.5 } ]"
+    );
+    let case = e.check().unwrap();
+    let marks = &case
+        .content
+        .scene
+        .as_ref()
+        .unwrap()
+        .vehicle2
+        .as_ref()
+        .unwrap()
+        .marks;
+    assert_eq!(marks.len(), 2);
+
+    // A vehicle whose scene has no marks yet.
+    let no_marks = text.replace(
+        "marks = [ { x = 10.6, y = 2.7, sigma = 0.5 } ]     # a yaw mark the CG passed\n",
+        "",
+    );
+    assert_ne!(no_marks, text);
+    let mut e = CaseEdit::new("r.toml", &no_marks).unwrap();
+    assert_eq!(
+        e.push(
+            "scene.vehicle1.marks",
+            &[
+                ("x", NewValue::Written(1.0)),
+                ("y", NewValue::Written(2.0)),
+                ("sigma", NewValue::Written(0.5))
+            ]
+        )
+        .unwrap(),
+        0
+    );
+    assert!(
+        e.text()
+            .contains("marks = [ { x = 1.0, y = 2.0, sigma = 0.5 } ]"),
+        "{}",
+        e.text()
+    );
+    e.check().unwrap();
+    // Not an array.
+    let mut e = CaseEdit::new("r.toml", &text).unwrap();
+    let err = e
+        .push("scene.vehicle1.rest", &[("x", NewValue::Written(1.0))])
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("scene.vehicle1.rest: is not an array"),
+        "{err}"
+    );
+}

@@ -435,7 +435,7 @@ function useTool(tool) {
   state.tool = state.tool === tool ? null : tool;
   state.clicks = [];
   $("plan").classList.toggle("picking", !!state.tool);
-  status(state.tool ? "click two points on the plan" : "");
+  status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies" : "click two points on the plan");
   render();
 }
 
@@ -443,6 +443,7 @@ async function toolClick(e) {
   if (!state.tool) return;
   state.clicks.push(svgPoint(e));
   render();
+  if (state.tool === "mark") { await placeMark(state.clicks[0]); return; }
   if (state.clicks.length < 2) return;
   const [a, b] = state.clicks;
   const tool = state.tool;
@@ -461,6 +462,41 @@ async function toolClick(e) {
   const distance = answer === null ? NaN : +answer;
   if (!(distance > 0)) { status("scale not set"); render(); return; }
   await changeBackground({ pixels: [toPixels(bg, a), toPixels(bg, b)], distance, at: [a.x, -a.y] });
+}
+
+// The vehicle whose path passes nearest the page point p (page coordinates).
+function nearestVehicle(p) {
+  let best = { vehicle: 1, d: Infinity };
+  for (const v of state.answer.plan.vehicles) {
+    for (const [h, u] of v.path) {
+      const d = Math.hypot(h - p[0], u - p[1]);
+      if (d < best.d) best = { vehicle: v.vehicle, d };
+    }
+  }
+  return best.vehicle;
+}
+
+// A tyre mark where the plan was clicked: the vehicle (the one whose path passes nearest) and
+// the mark's standard deviation asked, then written into the TOML (not saved) and solved.
+async function placeMark(click) {
+  state.tool = null; state.clicks = [];
+  $("plan").classList.remove("picking");
+  const plan = state.answer.plan, at = [click.x, -click.y];
+  const sigma = Math.round((0.15 / plan.metres) * 100) / 100;
+  const answer = window.prompt(`Tyre mark of vehicle (1 or 2) and its standard deviation (${plan.length_label}):`,
+    `${nearestVehicle(at)} ${sigma}`);
+  const [vehicle, s] = (answer || "").trim().split(/[\s,]+/).map(Number);
+  if (!(vehicle === 1 || vehicle === 2) || !(s > 0)) { status("no mark placed"); render(); return; }
+  try {
+    const { data } = await api("POST", "/api/mark", { path: state.path, text: state.text, units: state.units, vehicle, at, sigma: s });
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+    render();
+  }
 }
 
 async function changeBackground(change) {
@@ -649,6 +685,7 @@ $("export").addEventListener("click", exportSvg);
 $("background").addEventListener("click", chooseBackground);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));
+$("add-mark").addEventListener("click", () => useTool("mark"));
 $("study-cancel").addEventListener("click", cancelStudy);
 window.addEventListener("resize", () => state.view && fitView());
 panAndZoom();

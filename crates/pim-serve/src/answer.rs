@@ -475,13 +475,7 @@ pub fn move_rest_in(
         )));
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
-    let m = units.length(1.0).recip();
-    // The page is the written frame turned: natural (h, v) = (x, y); SAE (h, v) = (y, x).
-    let (x, y) = match case.written {
-        Convention::Sae => (at[1] * m, at[0] * m),
-        _ => (at[0] * m, at[1] * m),
-    };
+    let (x, y) = written_frame(&case, at, units);
     let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
@@ -492,5 +486,61 @@ pub fn move_rest_in(
         edit.set(&path, pim_case::edit::NewValue::Written(written))
             .map_err(|e| input(&e))?;
     }
+    Ok(edit.text())
+}
+
+/// A page point (display length unit of `units`, `None`: the case's own) in the case's
+/// written frame, metres: the page is the written frame turned, natural (h, v) = (x, y), SAE
+/// (h, v) = (y, x).
+fn written_frame(case: &Case, at: [f64; 2], units: Option<UnitSystem>) -> (f64, f64) {
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+    let m = units.length(1.0).recip();
+    match case.written {
+        Convention::Sae => (at[1] * m, at[0] * m),
+        _ => (at[0] * m, at[1] * m),
+    }
+}
+
+/// The case text with a tyre mark of vehicle `vehicle` added at the page point `at` with the
+/// standard deviation `sigma` (both in the display length unit of `units`, `None`: the
+/// case's own): appended to `[scene.vehicleN] marks` in the file's length unit and frame, to a
+/// hundredth, every other byte kept. The text is checked as a case after the edit.
+///
+/// # Errors
+/// Text that is not a valid case, a vehicle other than 1 or 2, a point or sigma that is not a
+/// finite number (the sigma above 0), or a case the mark makes invalid (with pim's message).
+pub fn add_mark(
+    file: &str,
+    text: &str,
+    (vehicle, at, sigma): (u8, [f64; 2], f64),
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(vehicle == 1 || vehicle == 2)
+        || !at.iter().all(|x| x.is_finite())
+        || !(sigma.is_finite() && sigma > 0.0)
+    {
+        return Err(AnswerError::Input(format!(
+            "{file}: a mark of vehicle {vehicle} at {at:?} with sigma {sigma} cannot be written"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let (x, y) = written_frame(&case, at, units);
+    let sigma = written_frame(&case, [sigma, sigma], units).0;
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    let written =
+        |v: f64| pim_case::edit::NewValue::Written((v / per_unit * 100.0).round() / 100.0);
+    edit.push(
+        &format!("scene.vehicle{vehicle}.marks"),
+        &[
+            ("x", written(x)),
+            ("y", written(y)),
+            ("sigma", written(sigma)),
+        ],
+    )
+    .map_err(|e| input(&e))?;
+    edit.check().map_err(|e| input(&e))?;
     Ok(edit.text())
 }

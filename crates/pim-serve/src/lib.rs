@@ -41,7 +41,7 @@ mod served;
 mod study;
 
 pub use answer::{
-    answer, answer_following, answer_in, answer_without, move_rest, move_rest_in, Answer,
+    add_mark, answer, answer_following, answer_in, answer_without, move_rest, move_rest_in, Answer,
     AnswerError, EvidencePiece, Plan,
 };
 pub use background::{set_background, BackgroundChange};

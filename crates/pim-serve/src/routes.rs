@@ -29,6 +29,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/case", get(case))
         .route("/api/answer", post(answer))
         .route("/api/move", post(move_rest))
+        .route("/api/mark", post(add_mark))
         .route("/api/save", post(save))
         .route("/api/study", get(study_report).post(study_start))
         .route("/api/study/cancel", post(study_cancel))
@@ -266,6 +267,28 @@ async fn move_rest(Json(m): Json<Move>) -> Response {
 }
 
 /// Saves a case: only a valid case, only inside the folder.
+#[derive(Deserialize)]
+struct MarkAsk {
+    path: String,
+    text: String,
+    vehicle: u8,
+    at: [f64; 2],
+    sigma: f64,
+    #[serde(default)]
+    units: Option<String>,
+}
+
+/// The text with a tyre mark added where the page was clicked (not saved).
+async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
+    let done = units_of(m.units.as_deref())
+        .map_err(crate::AnswerError::Input)
+        .and_then(|u| crate::add_mark(&m.path, &m.text, (m.vehicle, m.at, m.sigma), u));
+    match done {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
 async fn save(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
     let Some(file) = inside(&s.served.root, &c.path) else {
         return outside(&c.path);
