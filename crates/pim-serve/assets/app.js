@@ -487,8 +487,18 @@ async function placeMark(click) {
     `${nearestVehicle(at)} ${sigma}`);
   const [vehicle, s] = (answer || "").trim().split(/[\s,]+/).map(Number);
   if (!(vehicle === 1 || vehicle === 2) || !(s > 0)) { status("no mark placed"); render(); return; }
+  await edited("/api/mark", { vehicle, at, sigma: s });
+}
+
+async function changeBackground(change) {
+  await edited("/api/background", change);
+}
+
+// Asks the server for the text with an edit (`url`, `change`), shows it and solves it; a
+// refused edit is shown and leaves the text as it was.
+async function edited(url, change) {
   try {
-    const { data } = await api("POST", "/api/mark", { path: state.path, text: state.text, units: state.units, vehicle, at, sigma: s });
+    const { data } = await api("POST", url, { path: state.path, text: state.text, units: state.units, ...change });
     state.text = data.text;
     $("toml").value = data.text;
     await solve();
@@ -496,18 +506,6 @@ async function placeMark(click) {
     $("error").hidden = false;
     $("error").textContent = e.message;
     render();
-  }
-}
-
-async function changeBackground(change) {
-  try {
-    const { data } = await api("POST", "/api/background", { path: state.path, text: state.text, units: state.units, ...change });
-    state.text = data.text;
-    $("toml").value = data.text;
-    await solve();
-  } catch (e) {
-    $("error").hidden = false;
-    $("error").textContent = e.message;
   }
 }
 
