@@ -88,14 +88,19 @@ test("opens the example and shows its reconstruction", async () => {
   // The address drops nothing a reload needs: the token is now a cookie.
   const cookies = await page.context().cookies();
   assert.ok(cookies.some((c) => c.name === "pim_token" && c.httpOnly && c.sameSite === "Strict"));
-  assert.equal(await page.locator("circle.handle").count(), 2);
+  assert.equal(await page.locator(".given-rest circle.handle").count(), 2);
+  // The geometry at contact: each CG and heading, the impact centre and the crush normal.
+  assert.equal(await page.locator("rect.cg-handle").count(), 2);
+  assert.equal(await page.locator("circle.heading-handle").count(), 2);
+  assert.equal(await page.locator("path.centre-handle").count(), 1);
+  assert.equal(await page.locator("circle.normal-handle").count(), 1);
   await page.screenshot({ path: path.join(shots, "01-opened.png") });
 });
 
 test("dragging car 2's rest 2 m changes the speeds, the TOML and the residuals", async () => {
   const before = await speeds();
   const text0 = await page.inputValue("#toml");
-  const handle = page.locator('circle.handle[data-vehicle="2"]');
+  const handle = page.locator('.given-rest circle.handle[data-vehicle="2"]');
   const box = await handle.boundingBox();
   // 2 m in the case's feet, in screen pixels: the view's width over the plan's width.
   const pxPerFt = await page.evaluate(() => document.getElementById("plan").clientWidth / window.pim.view.w);
@@ -396,6 +401,71 @@ test("a tyre mark placed by a click is written into the TOML where it was clicke
   assert.equal(await page.inputValue("#toml"), text);
   await page.fill("#toml", original);
   await page.waitForFunction(() => !window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
+  await idle();
+});
+
+test("a vehicle at contact dragged and turned by its handles: the case's position and heading follow", async () => {
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+  const original = await page.inputValue("#toml");
+  const screen = (h, v) => page.evaluate(([h, v]) => {
+    const svg = document.getElementById("plan");
+    const p = svg.createSVGPoint(); p.x = h; p.y = -v;
+    const m = svg.getScreenCTM(), q = p.matrixTransform(m);
+    return [q.x, q.y, Math.hypot(m.a, m.b)];
+  }, [h, v]);
+  const drag = async (from, to) => {
+    await page.mouse.move(from[0], from[1]);
+    await page.mouse.down();
+    for (let i = 1; i <= 8; i++) await page.mouse.move(from[0] + ((to[0] - from[0]) * i) / 8, from[1] + ((to[1] - from[1]) * i) / 8);
+    await page.mouse.up();
+    await idle();
+  };
+  // The SUV's CG moved 3 ft right on the page (SAE: +y) and 2 ft down (-x).
+  const cg0 = await page.evaluate(() => window.pim.answer.plan.vehicles.find((v) => v.vehicle === 2).cg);
+  const [x0, y0, k] = await screen(cg0[0], cg0[1]);
+  await drag([x0, y0], [x0 + 3 * k, y0 + 2 * k]);
+  const moved = await page.inputValue("#toml");
+  let a = original.split("\n"), b = moved.split("\n");
+  let changed = a.map((l, i) => [l, b[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  const pos = /^position = \{ x = ([-0-9.]+), y = ([-0-9.]+) \}$/.exec(changed[0][1]);
+  assert.ok(pos, changed[0][1]);
+  // Within a screen pixel and the hundredth written: x 1.0 - 2, y 1.5 + 3.
+  const tol = 1 / k + 0.01;
+  assert.ok(Math.abs(+pos[1] - (1.0 - 2)) <= tol && Math.abs(+pos[2] - (1.5 + 3)) <= tol, changed[0][1]);
+  const cg1 = await page.evaluate(() => window.pim.answer.plan.vehicles.find((v) => v.vehicle === 2).cg);
+  assert.ok(Math.abs(cg1[0] - +pos[2]) < 1e-9 && Math.abs(cg1[1] - +pos[1]) < 1e-9, JSON.stringify(cg1));
+  // Its heading knob turned 30 deg counter-clockwise about the CG on the page: 30 deg less,
+  // clockwise from north.
+  const veh = await page.evaluate(() => window.pim.answer.plan.vehicles.find((v) => v.vehicle === 2));
+  const knob = await page.locator('circle.heading-handle[data-vehicle="2"]').boundingBox();
+  const kx = knob.x + knob.width / 2, ky = knob.y + knob.height / 2;
+  const [cx, cy] = await screen(veh.cg[0], veh.cg[1]);
+  const r = Math.hypot(kx - cx, ky - cy), t = Math.atan2(-(ky - cy), kx - cx) + Math.PI / 6;
+  await drag([kx, ky], [cx + r * Math.cos(t), cy - r * Math.sin(t)]);
+  const turned = await page.inputValue("#toml");
+  a = moved.split("\n"); b = turned.split("\n");
+  changed = a.map((l, i) => [l, b[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  const heading = /^heading = ([-0-9.]+)$/.exec(changed[0][1]);
+  assert.ok(heading, changed[0][1]);
+  // The knob is about 60 screen pixels out: a pixel is under a degree.
+  assert.ok(Math.abs(+heading[1] - 60.0) <= 1.0, changed[0][1]);
+  const drawn = await page.evaluate(() => window.pim.answer.plan.vehicles.find((v) => v.vehicle === 2).heading);
+  assert.ok(Math.abs(drawn - (90 - +heading[1])) < 1e-9, `${drawn}`);
+  const chi = await page.evaluate(() => window.pim.answer.document.best && window.pim.answer.document.best.chi_square);
+  assert.ok(chi !== undefined, "answered");
+  await page.screenshot({ path: path.join(shots, "13-contact-moved.png") });
+  // The page's document is the command's for the text as it stands.
+  const file = path.join(dir, "contact_moved.toml");
+  fs.writeFileSync(file, turned);
+  const cli = JSON.parse(execFileSync(pimBin, ["fit", file, "--format", "json"], { encoding: "utf8" }));
+  assert.deepEqual(await page.evaluate(() => window.pim.answer.document), cli);
+  fs.rmSync(file);
+  await page.fill("#toml", original);
+  await page.waitForFunction((t) => window.pim.text === t, original);
   await idle();
 });
 

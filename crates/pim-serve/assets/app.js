@@ -379,12 +379,85 @@ function render() {
       h.addEventListener("pointerdown", (e) => startDrag(e, veh.vehicle, gr.at, moved, h));
     }
   }
+  if (a.question === "reconstruction") drawContactHandles(svg, a);
 }
 
 // A residual beside a piece of evidence on the plan, in standard deviations.
 function zLabel(g, h, v, z) {
   const t = el("text", { x: h, y: -v, class: "z-label", "font-size": 13 / pxPerUnit() }, g);
   t.textContent = `${z.toFixed(1)} σ`;
+}
+
+// The geometry at contact: each vehicle's CG (a square) and heading (a knob ahead of the
+// nose), the impact centre (a diamond) and the crush surface's normal (a knob on a line from
+// the centre). Dragging one edits the case text in its own form (POST /api/contact) and
+// answers live; the whole answer comes on release.
+function drawContactHandles(svg, a) {
+  const px = pxPerUnit(), r = 6 / px;
+  const g = el("g", { class: "contact-handles" }, svg);
+  for (const veh of a.plan.vehicles) {
+    if (!veh.cg) continue;
+    const vg = el("g", { class: `v${veh.vehicle}` }, g);
+    const reach = Math.max(...veh.contact.map(([h, v]) => Math.hypot(h - veh.cg[0], v - veh.cg[1]))) + 16 / px;
+    const t = (veh.heading * Math.PI) / 180;
+    const knob = [veh.cg[0] + reach * Math.cos(t), veh.cg[1] + reach * Math.sin(t)];
+    el("line", { x1: veh.cg[0], y1: -veh.cg[1], x2: knob[0], y2: -knob[1], class: "heading-line" }, vg);
+    const sq = el("rect", { x: veh.cg[0] - r, y: -veh.cg[1] - r, width: 2 * r, height: 2 * r, class: "handle cg-handle", "data-vehicle": veh.vehicle }, vg);
+    sq.addEventListener("pointerdown", (e) => dragGeometry(e, sq, (p) => ({ vehicle: veh.vehicle, at: p })));
+    const kn = el("circle", { cx: knob[0], cy: -knob[1], r: r * 0.8, class: "handle heading-handle", "data-vehicle": veh.vehicle }, vg);
+    kn.addEventListener("pointerdown", (e) => dragGeometry(e, kn, (p) => ({
+      vehicle: veh.vehicle, heading: (Math.atan2(p[1] - veh.cg[1], p[0] - veh.cg[0]) * 180) / Math.PI,
+    })));
+  }
+  const imp = a.plan.impact;
+  if (!imp) return;
+  const c = imp.centre, n = (imp.normal * Math.PI) / 180, len = 42 / px;
+  const end = [c[0] + len * Math.cos(n), c[1] + len * Math.sin(n)];
+  el("line", { x1: c[0], y1: -c[1], x2: end[0], y2: -end[1], class: "normal-line" }, g);
+  const dm = el("path", { d: `M${c[0]} ${-c[1] - r * 1.3}l${r * 1.3} ${r * 1.3}l${-r * 1.3} ${r * 1.3}l${-r * 1.3} ${-r * 1.3}z`, class: "handle centre-handle" }, g);
+  dm.addEventListener("pointerdown", (e) => dragGeometry(e, dm, (p) => ({ centre: p })));
+  const nk = el("circle", { cx: end[0], cy: -end[1], r: r * 0.8, class: "handle normal-handle" }, g);
+  nk.addEventListener("pointerdown", (e) => dragGeometry(e, nk, (p) => ({
+    normal: (Math.atan2(p[1] - c[1], p[0] - c[0]) * 180) / Math.PI,
+  })));
+}
+
+// A drag of a contact handle: the handle follows the pointer; the change the pointer's page
+// point makes (`changeAt`) is sent live while the server keeps up, and once more on release.
+function dragGeometry(e, handle, changeAt) {
+  e.stopPropagation();
+  const svg = $("plan");
+  svg.setPointerCapture(e.pointerId);
+  const from = svgPoint(e);
+  handle.classList.add("dragging");
+  state.dragging = { geometry: true };
+  let last = null;
+  const move = (ev) => {
+    const p = svgPoint(ev);
+    last = changeAt([p.x, -p.y]);
+    for (const h of svg.querySelectorAll(".dragging")) h.setAttribute("transform", `translate(${p.x - from.x} ${p.y - from.y})`);
+    if (!state.busy && !state.inFlight) {
+      state.inFlight = true;
+      editQueued(last, true).finally(() => { state.inFlight = false; });
+    }
+  };
+  const up = () => {
+    svg.removeEventListener("pointermove", move);
+    svg.removeEventListener("pointerup", up);
+    state.dragging = null;
+    if (last) editQueued(last, false); else render();
+  };
+  svg.addEventListener("pointermove", move);
+  svg.addEventListener("pointerup", up);
+}
+
+// Edits of the geometry run one after the other, as moves of a rest do.
+function editQueued(change, live) {
+  state.moves = (state.moves || 0) + 1;
+  state.moving = (state.moving || Promise.resolve())
+    .then(() => edited("/api/contact", change, live))
+    .finally(() => { state.moves -= 1; });
+  return state.moving;
 }
 
 // The case's background image: pixel (u, v) lands at at + per_pixel R(rotation) ((u, v) -
@@ -494,14 +567,15 @@ async function changeBackground(change) {
   await edited("/api/background", change);
 }
 
-// Asks the server for the text with an edit (`url`, `change`), shows it and solves it; a
-// refused edit is shown and leaves the text as it was.
-async function edited(url, change) {
+// Asks the server for the text with an edit (`url`, `change`), shows it and solves it (`live`:
+// following the last answer, while a handle is dragged); a refused edit is shown and leaves
+// the text as it was.
+async function edited(url, change, live = false) {
   try {
     const { data } = await api("POST", url, { path: state.path, text: state.text, units: state.units, ...change });
     state.text = data.text;
     $("toml").value = data.text;
-    await solve();
+    await solve(live);
   } catch (e) {
     $("error").hidden = false;
     $("error").textContent = e.message;

@@ -114,6 +114,18 @@ pub struct Plan {
     pub vehicles: Vec<PlanVehicle>,
     /// The case's `[background]` image, placed on the page.
     pub background: Option<PlanBackground>,
+    /// The impact centre and the crush surface's normal, on the page.
+    pub impact: Option<PlanImpact>,
+}
+
+/// The impact on the page: the centre and the direction of the crush surface's normal as the
+/// case gives it (`crush_angle`), degrees counter-clockwise from the page's right.
+#[derive(Debug, Serialize, Default)]
+pub struct PlanImpact {
+    /// The impact centre.
+    pub centre: [f64; 2],
+    /// The normal's direction.
+    pub normal: f64,
 }
 
 /// A background image on the page: pixel `(u, v)` (right, down from its top left) lies at
@@ -155,6 +167,10 @@ pub struct PlanVehicle {
     pub given_rest: Option<GivenRest>,
     /// The marks the scene gives: CG position and standard deviation.
     pub marks: Vec<[f64; 3]>,
+    /// Its CG at contact.
+    pub cg: [f64; 2],
+    /// Its heading at contact, degrees counter-clockwise from the page's right.
+    pub heading: f64,
 }
 
 /// A rest position given by the scene, on the page.
@@ -357,7 +373,22 @@ fn plan(
         speed_metres,
         vehicles: Vec::new(),
         background: None,
+        impact: None,
     };
+    // A direction (natural frame, radians) on the page, degrees counter-clockwise from the
+    // page's right.
+    let page_angle = |a: f64| {
+        let (o, d) = (page.xy((0.0, 0.0)), page.xy((a.cos(), a.sin())));
+        (d.1 - o.1).atan2(d.0 - o.0).to_degrees()
+    };
+    if let Ok(impact) = case.impact() {
+        let c = case.impact_centre();
+        let (h, v) = page.xy((units.length(c[0]), units.length(c[1])));
+        out.impact = Some(PlanImpact {
+            centre: [h, v],
+            normal: page_angle(impact.collision().crush_angle.to_radians()),
+        });
+    }
     if let Some(b) = &case.content.background {
         let length = case.written_units.length.to_si();
         let flip = if case.written == Convention::Sae {
@@ -442,6 +473,8 @@ fn plan(
                 .collect(),
             given_rest,
             marks,
+            cg: on_page(run.start.x, run.start.y),
+            heading: page_angle(run.start.heading),
         });
     }
     Ok(out)

@@ -35,6 +35,7 @@
 
 mod answer;
 mod background;
+mod contact;
 mod guard;
 mod routes;
 mod served;
@@ -45,6 +46,7 @@ pub use answer::{
     AnswerError, EvidencePiece, Plan,
 };
 pub use background::{set_background, BackgroundChange};
+pub use contact::{edit_contact, ContactChange};
 pub use guard::{inside, inside_of, Guard};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};

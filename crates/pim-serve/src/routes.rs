@@ -30,6 +30,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/answer", post(answer))
         .route("/api/move", post(move_rest))
         .route("/api/mark", post(add_mark))
+        .route("/api/contact", post(contact))
         .route("/api/save", post(save))
         .route("/api/study", get(study_report).post(study_start))
         .route("/api/study/cancel", post(study_cancel))
@@ -283,6 +284,28 @@ async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
     let done = units_of(m.units.as_deref())
         .map_err(crate::AnswerError::Input)
         .and_then(|u| crate::add_mark(&m.path, &m.text, (m.vehicle, m.at, m.sigma), u));
+    match done {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
+#[derive(Deserialize)]
+struct ContactAsk {
+    path: String,
+    text: String,
+    #[serde(default)]
+    units: Option<String>,
+    #[serde(flatten)]
+    change: crate::ContactChange,
+}
+
+/// The text with the geometry at contact moved (a vehicle's CG or heading, the impact centre,
+/// the crush surface's normal), not saved.
+async fn contact(Json(c): Json<ContactAsk>) -> Response {
+    let done = units_of(c.units.as_deref())
+        .map_err(crate::AnswerError::Input)
+        .and_then(|u| crate::edit_contact(&c.path, &c.text, &c.change, u));
     match done {
         Ok(text) => Json(json!({ "text": text })).into_response(),
         Err(e) => unanswered(e),
