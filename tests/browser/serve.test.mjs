@@ -301,6 +301,79 @@ test("a background diagram set to scale by two points, and a distance measured o
   assert.equal((await raw("GET", "/api/image?path=scene/intersection_us.toml", { cookie })).status, 403);
 });
 
+test("the background moved and turned by hand, then locked", async () => {
+  await page.selectOption("#cases", "scene/intersection_us.toml");
+  await page.waitForSelector("image.background");
+  await idle();
+  const original = await page.inputValue("#toml");
+  const bg0 = await page.evaluate(() => ({ ...window.pim.answer.plan.background }));
+  assert.equal(bg0.locked, true);
+  assert.ok(await page.isChecked("#lock-image"));
+  // Locked, it does not move.
+  await page.click("#move-image");
+  assert.match(await page.textContent("#status"), /locked/);
+  await page.uncheck("#lock-image");
+  await page.waitForFunction(() => /locked = false/.test(window.pim.text));
+  await idle();
+  await page.click("#move-image");
+  // Dragged 60 screen pixels right and 30 up: its first scale point moves as far on the page.
+  const box = await page.locator("#plan").boundingBox();
+  const k = await page.evaluate(() => { const m = document.getElementById("plan").getScreenCTM(); return Math.hypot(m.a, m.b); });
+  const [x0, y0] = [box.x + box.width * 0.6, box.y + box.height * 0.3];
+  await page.mouse.move(x0, y0);
+  await page.mouse.down();
+  for (let i = 1; i <= 6; i++) await page.mouse.move(x0 + 10 * i, y0 - 5 * i);
+  await page.mouse.up();
+  await page.waitForFunction((at) => {
+    const b = window.pim.answer.plan.background;
+    return Math.abs(b.at[0] - at[0]) > 1e-6 && !window.pim.busy;
+  }, bg0.at);
+  await idle();
+  const bg1 = await page.evaluate(() => ({ ...window.pim.answer.plan.background }));
+  const tol = 1 / k + 0.001;
+  assert.ok(Math.abs(bg1.at[0] - bg0.at[0] - 60 / k) <= tol && Math.abs(bg1.at[1] - bg0.at[1] - 30 / k) <= tol,
+    `at ${JSON.stringify(bg0.at)} -> ${JSON.stringify(bg1.at)} (${k} px a ft)`);
+  // Its knob turned 90 deg counter-clockwise about the first scale point.
+  const knob = await page.locator("circle.rotate-image").boundingBox();
+  const kx = knob.x + knob.width / 2, ky = knob.y + knob.height / 2;
+  const c = await page.evaluate(([h, v]) => {
+    const svg = document.getElementById("plan"), p = svg.createSVGPoint(); p.x = h; p.y = -v;
+    const q = p.matrixTransform(svg.getScreenCTM()); return [q.x, q.y];
+  }, bg1.at);
+  const r = Math.hypot(kx - c[0], ky - c[1]);
+  await page.mouse.move(kx, ky);
+  await page.mouse.down();
+  for (let i = 1; i <= 9; i++) {
+    const t = (Math.PI / 2) * (i / 9);
+    await page.mouse.move(c[0] + r * Math.cos(t), c[1] - r * Math.sin(t));
+  }
+  await page.mouse.up();
+  await page.waitForFunction(() => Math.abs(window.pim.answer.plan.background.rotation) > 45 && !window.pim.busy);
+  await idle();
+  const bg2 = await page.evaluate(() => ({ ...window.pim.answer.plan.background }));
+  assert.ok(Math.abs(bg2.rotation - 90) <= 1.0, `rotation ${bg2.rotation}`);
+  await page.screenshot({ path: path.join(shots, "14-background-moved.png") });
+  // Locked again: the file says so, and a drag pans the view instead.
+  await page.click("#move-image");
+  await page.check("#lock-image");
+  await page.waitForFunction(() => /locked = true/.test(window.pim.text));
+  await idle();
+  const text = await page.inputValue("#toml");
+  const a = original.split("\n"), b = text.split("\n");
+  assert.equal(a.length, b.length);
+  const changed = a.map((l, i) => [l, b[i]]).filter(([p, q]) => p !== q).map(([, q]) => q.split("=")[0].trim());
+  assert.deepEqual(changed, ["at", "rotation"]);
+  await page.mouse.move(x0, y0);
+  await page.mouse.down();
+  await page.mouse.move(x0 + 40, y0);
+  await page.mouse.up();
+  await idle();
+  assert.equal(await page.inputValue("#toml"), text);
+  await page.fill("#toml", original);
+  await page.waitForFunction((t) => window.pim.text === t, original);
+  await idle();
+});
+
 test("conflicting evidence: the pieces that disagree are marked, and one switched off gives the answer without it", async () => {
   await page.selectOption("#cases", CASE);
   await page.waitForFunction((c) => window.pim.path === c, CASE);

@@ -338,6 +338,9 @@ function render() {
   speedsTable(a);
   summary(a);
   evidence(a);
+  const bg = a.plan.background;
+  $("lock-image").disabled = !bg;
+  $("lock-image").checked = !!(bg && bg.locked);
   if (!state.view) { fitView(); return; }
   const svg = $("plan");
   const v = state.view;
@@ -483,6 +486,35 @@ function drawBackground(svg) {
     href, x: 0, y: 0, width: size[0], height: size[1], class: "background",
     preserveAspectRatio: "none", transform: backgroundTransform(b),
   }, svg);
+  if (state.tool !== "move-image" || b.locked) return;
+  // Turning: a knob on a line from the image's first scale point along its rotation.
+  const px = pxPerUnit(), t = (b.rotation * Math.PI) / 180, len = 70 / px;
+  const end = [b.at[0] + len * Math.cos(t), b.at[1] + len * Math.sin(t)];
+  el("line", { x1: b.at[0], y1: -b.at[1], x2: end[0], y2: -end[1], class: "normal-line" }, svg);
+  const knob = el("circle", { cx: end[0], cy: -end[1], r: 6 / px, class: "handle rotate-image" }, svg);
+  knob.addEventListener("pointerdown", (e) => dragImage(e, (p) => {
+    b.rotation = (Math.atan2(p[1] - b.at[1], p[0] - b.at[0]) * 180) / Math.PI;
+    return { rotation: b.rotation };
+  }));
+}
+
+// A drag of the background (Move image): drawn where the pointer takes it, written into
+// [background] on release.
+function dragImage(e, changeAt) {
+  e.stopPropagation();
+  const svg = $("plan");
+  svg.setPointerCapture(e.pointerId);
+  state.dragging = { image: true };
+  let last = null;
+  const move = (ev) => { const p = svgPoint(ev); last = changeAt([p.x, -p.y]); render(); };
+  const up = () => {
+    svg.removeEventListener("pointermove", move);
+    svg.removeEventListener("pointerup", up);
+    state.dragging = null;
+    if (last) changeBackground(last); else render();
+  };
+  svg.addEventListener("pointermove", move);
+  svg.addEventListener("pointerup", up);
 }
 
 // A point of the page's SVG on the background image, pixels.
@@ -501,19 +533,27 @@ function drawClicks(svg) {
 }
 
 function useTool(tool) {
-  if (tool === "scale" && !(state.answer && state.answer.plan.background)) {
-    status("no background to scale: choose one first");
+  const bg = state.answer && state.answer.plan.background;
+  if ((tool === "scale" || tool === "move-image") && !bg) {
+    status("no background: choose one first");
+    return;
+  }
+  if (tool === "move-image" && bg.locked && state.tool !== tool) {
+    status("the background is locked: untick locked to move or turn it");
     return;
   }
   state.tool = state.tool === tool ? null : tool;
   state.clicks = [];
   $("plan").classList.toggle("picking", !!state.tool);
-  status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies" : "click two points on the plan");
+  status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies"
+    : state.tool === "move-image" ? "drag the image to move it, its knob to turn it; Move image again to end"
+    : "click two points on the plan");
+  $("move-image").classList.toggle("active", state.tool === "move-image");
   render();
 }
 
 async function toolClick(e) {
-  if (!state.tool) return;
+  if (!state.tool || state.tool === "move-image") return;
   state.clicks.push(svgPoint(e));
   render();
   if (state.tool === "mark") { await placeMark(state.clicks[0]); return; }
@@ -667,6 +707,14 @@ function panAndZoom() {
   }, { passive: false });
   svg.addEventListener("click", toolClick);
   svg.addEventListener("pointerdown", (e) => {
+    if (state.tool === "move-image" && state.view && !state.dragging) {
+      const b = state.answer.plan.background, from = svgPoint(e), at0 = b.at.slice();
+      dragImage(e, (p) => {
+        b.at = [at0[0] + p[0] - from.x, at0[1] + p[1] + from.y];
+        return { at: b.at };
+      });
+      return;
+    }
     if (!state.view || state.dragging || state.tool) return;
     svg.setPointerCapture(e.pointerId);
     svg.classList.add("panning");
@@ -758,6 +806,11 @@ $("background").addEventListener("click", chooseBackground);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));
 $("add-mark").addEventListener("click", () => useTool("mark"));
+$("move-image").addEventListener("click", () => useTool("move-image"));
+$("lock-image").addEventListener("change", (e) => {
+  if (state.tool === "move-image") useTool("move-image");
+  changeBackground({ locked: e.target.checked });
+});
 $("study-cancel").addEventListener("click", cancelStudy);
 window.addEventListener("resize", () => state.view && fitView());
 panAndZoom();
