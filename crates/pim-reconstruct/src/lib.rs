@@ -46,7 +46,9 @@
 //!    already cost at least the best found (a bound, the impact only adding cost, where the
 //!    scenes' own search found each count's minimum), its momentum
 //!    bound lies more than [`Settings::refine_margin`] above the best found, or
-//!    [`Settings::max_refined`] were refined already; [`Outcome::tried`] says which. A
+//!    [`Settings::max_refined`] were refined already whose bounds held (a refinement that ends
+//!    more than the margin above its own bound shows the linearisation, hence the order, does
+//!    not hold there, and does not count); [`Outcome::tried`] says which. A
 //!    refinement is abandoned where it cannot matter: its first point lies more than the margin
 //!    above the best found and more than the margin above what its own linearised fit
 //!    predicted (the scenes' candidates are far from the separation states the impact gives, so

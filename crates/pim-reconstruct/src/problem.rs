@@ -409,7 +409,9 @@ pub struct Settings {
     /// Combinations of counts whose first linearised fit lies more than this (chi-square
     /// units) above the best cost found are not refined.
     pub refine_margin: f64,
-    /// At most this many combinations of counts are refined (the lowest first).
+    /// At most this many combinations of counts are refined (the lowest bound first) whose
+    /// refinement ended within [`Settings::refine_margin`] of its bound; one that ended
+    /// farther (its linearisation, hence its bound, did not hold) does not count.
     pub max_refined: usize,
     /// The work after which the refinements stop (the one in progress after its current step,
     /// with at least one point) and the combinations not yet refined are left, each with that

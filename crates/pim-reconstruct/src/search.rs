@@ -263,12 +263,12 @@ fn search(
         }
         if count >= settings.max_refined {
             skipped_reason[i] = Some(format!(
-                "not refined: {} combinations with lower bounds were",
+                "not refined: {} combinations with lower bounds were, each ending within the \
+                 margin of its bound",
                 settings.max_refined
             ));
             continue;
         }
-        count += 1;
         let start: Vec<Lin> = first[i]
             .0
             .iter()
@@ -277,6 +277,13 @@ fn search(
             .collect();
         match refine(r, settings, start, lowest_best, work) {
             Ok(x) => {
+                // Only a refinement whose bound held (it ended within the margin of it) counts
+                // towards the cap: where the linearisation that ordered the combinations does
+                // not hold (short, slow, spinning run-outs), the order says nothing of the
+                // combinations after it, and they are refined too (within the budget of work).
+                if x.point.total <= bound + settings.refine_margin {
+                    count += 1;
+                }
                 fits += x.fits;
                 runouts +=
                     x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
