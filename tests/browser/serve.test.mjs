@@ -453,8 +453,8 @@ test("a tyre mark placed by a click is written into the TOML where it was clicke
   await page.mouse.click(x, y);
   await page.waitForFunction(() => window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
   await idle();
-  const text = await page.inputValue("#toml");
-  const a = original.split("\n"), b = text.split("\n");
+  const placed = await page.inputValue("#toml");
+  const a = original.split("\n"), b = placed.split("\n");
   assert.equal(a.length, b.length);
   const changed = a.map((l, i) => [l, b[i]]).filter(([p, q]) => p !== q);
   assert.equal(changed.length, 1, JSON.stringify(changed));
@@ -466,6 +466,19 @@ test("a tyre mark placed by a click is written into the TOML where it was clicke
   const marks = await page.evaluate(() => window.pim.answer.plan.vehicles.find((w) => w.vehicle === 2).marks.length);
   assert.equal(marks, 2);
   await page.screenshot({ path: path.join(shots, "12-mark-placed.png") });
+  // The new mark dragged 25 screen pixels right: its y (SAE: the page's right) follows.
+  const mh = await page.locator('circle.mark-handle[data-vehicle="2"][data-mark="1"]').boundingBox();
+  const [mx, my] = [mh.x + mh.width / 2, mh.y + mh.height / 2];
+  await page.mouse.move(mx, my);
+  await page.mouse.down();
+  for (let i = 1; i <= 5; i++) await page.mouse.move(mx + 5 * i, my);
+  await page.mouse.up();
+  await idle();
+  const dragged = await page.inputValue("#toml");
+  const m2 = /^marks = \[ \{ x = 32\.6, y = 48\.2, sigma = 0\.5 \}, \{ x = ([-0-9.]+), y = ([-0-9.]+), sigma = 0\.5 \} \]$/m.exec(dragged);
+  assert.ok(m2, dragged);
+  assert.ok(Math.abs(+m2[1] - +m[1]) <= tol && Math.abs(+m2[2] - +m[2] - 25 / unitPx) <= tol, `dragged to (${m2[1]}, ${m2[2]})`);
+  const text = dragged;
   // A cancelled prompt places nothing.
   page.once("dialog", (d) => d.dismiss());
   await page.click("#add-mark");

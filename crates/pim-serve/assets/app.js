@@ -362,6 +362,14 @@ function render() {
       el("circle", { cx: m[0], cy: -m[1], r: m[2], class: "sigma" }, mg);
       el("path", { d: `M${m[0] - r} ${-m[1]}h${2 * r}M${m[0]} ${-m[1] - r}v${2 * r}`, class: "mark" }, mg);
       if (look.z != null) zLabel(mg, m[0] + r, m[1] + r, look.z);
+      const mh = el("circle", { cx: m[0], cy: -m[1], r: r * 0.6, class: "handle mark-handle", "data-vehicle": veh.vehicle, "data-mark": i }, mg);
+      const d = state.dragging;
+      if (d && d.vehicle === veh.vehicle && d.mark === i) {
+        Object.assign(d, { group: mg, base: [m[0], m[1]] });
+        mh.classList.add("dragging");
+        follow(d);
+      }
+      mh.addEventListener("pointerdown", (e) => startDrag(e, { vehicle: veh.vehicle, mark: i }, [m[0], m[1]], mg, mh));
     });
     if (veh.given_rest) {
       const gr = veh.given_rest;
@@ -374,12 +382,12 @@ function render() {
       el("ellipse", { cx: gr.at[0], cy: -gr.at[1], rx: sx, ry: sy, class: "sigma" }, moved);
       const h = el("circle", { cx: gr.at[0], cy: -gr.at[1], r, class: "handle", "data-vehicle": veh.vehicle }, moved);
       const d = state.dragging;
-      if (d && d.vehicle === veh.vehicle) {
+      if (d && d.vehicle === veh.vehicle && d.mark == null) {
         Object.assign(d, { group: moved, base: gr.at });
         h.classList.add("dragging");
         follow(d);
       }
-      h.addEventListener("pointerdown", (e) => startDrag(e, veh.vehicle, gr.at, moved, h));
+      h.addEventListener("pointerdown", (e) => startDrag(e, { vehicle: veh.vehicle }, gr.at, moved, h));
     }
   }
   if (a.question === "reconstruction") drawContactHandles(svg, a);
@@ -642,13 +650,14 @@ function svgPoint(e) {
 
 // Dragging a rest position: the handle follows the pointer; the case is moved and solved
 // again whenever the last answer is in (while dragging), and once more on release.
-function startDrag(e, vehicle, at, group, handle) {
+// A drag of a rest (`target` {vehicle}) or a tyre mark ({vehicle, mark}).
+function startDrag(e, target, at, group, handle) {
   e.stopPropagation();
   const svg = $("plan");
   svg.setPointerCapture(e.pointerId);
   const from = svgPoint(e);
   handle.classList.add("dragging");
-  state.dragging = { vehicle, group, base: at, to: at };
+  state.dragging = { ...target, group, base: at, to: at };
   const move = (ev) => {
     const p = svgPoint(ev);
     const d = state.dragging;
@@ -656,7 +665,7 @@ function startDrag(e, vehicle, at, group, handle) {
     follow(d);
     if (!state.busy && !state.inFlight) {
       state.inFlight = true;
-      moveTo(vehicle, d.to, true).finally(() => { state.inFlight = false; });
+      moveTo(target, d.to, true).finally(() => { state.inFlight = false; });
     }
   };
   const up = () => {
@@ -664,7 +673,7 @@ function startDrag(e, vehicle, at, group, handle) {
     svg.removeEventListener("pointerup", up);
     const to = state.dragging.to;
     state.dragging = null;
-    moveTo(vehicle, to);
+    moveTo(target, to);
   };
   svg.addEventListener("pointermove", move);
   svg.addEventListener("pointerup", up);
@@ -676,17 +685,17 @@ function follow(d) {
 }
 
 // Moves run one after the other (each edits the text the one before left).
-function moveTo(vehicle, at, live = false) {
+function moveTo(target, at, live = false) {
   state.moves = (state.moves || 0) + 1;
   state.moving = (state.moving || Promise.resolve())
-    .then(() => move(vehicle, at, live))
+    .then(() => move(target, at, live))
     .finally(() => { state.moves -= 1; });
   return state.moving;
 }
 
-async function move(vehicle, at, live) {
+async function move(target, at, live) {
   try {
-    const { data } = await api("POST", "/api/move", { path: state.path, text: state.text, vehicle, at, units: state.units });
+    const { data } = await api("POST", "/api/move", { path: state.path, text: state.text, ...target, at, units: state.units });
     state.text = data.text;
     $("toml").value = data.text;
     await solve(live);

@@ -501,20 +501,65 @@ pub fn move_rest_in(
     at: [f64; 2],
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
-    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
         return Err(AnswerError::Input(format!(
             "{file}: a rest position of vehicle {vehicle} at {at:?} cannot be written"
         )));
     }
+    move_point(
+        file,
+        text,
+        &format!("scene.vehicle{vehicle}.rest"),
+        at,
+        units,
+    )
+}
+
+/// The case text with vehicle `vehicle`'s tyre mark `mark` (from 0, as `marks` lists them)
+/// moved to the page point `at` (display length unit of `units`, `None`: the case's own),
+/// written as [`move_rest`] writes a rest.
+///
+/// # Errors
+/// As [`move_rest`], and a mark the case does not have.
+pub fn move_mark(
+    file: &str,
+    text: &str,
+    (vehicle, mark): (u8, usize),
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
+        return Err(AnswerError::Input(format!(
+            "{file}: mark {} of vehicle {vehicle} at {at:?} cannot be written",
+            mark + 1
+        )));
+    }
+    move_point(
+        file,
+        text,
+        &format!("scene.vehicle{vehicle}.marks.{mark}"),
+        at,
+        units,
+    )
+}
+
+/// `{key}.x` and `{key}.y` rewritten to the page point `at`, in the file's length unit and
+/// frame, to a hundredth (as a scene diagram gives them), every other byte kept.
+fn move_point(
+    file: &str,
+    text: &str,
+    key: &str,
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
     let (x, y) = written_frame(&case, at, units);
     let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    for (key, value) in [("x", x), ("y", y)] {
-        let path = format!("scene.vehicle{vehicle}.rest.{key}");
-        // To a hundredth of the file's unit, as a scene diagram gives it.
+    for (axis, value) in [("x", x), ("y", y)] {
+        let path = format!("{key}.{axis}");
         let written = (value / per_unit * 100.0).round() / 100.0;
         edit.set(&path, pim_case::edit::NewValue::Written(written))
             .map_err(|e| input(&e))?;

@@ -42,8 +42,8 @@ mod served;
 mod study;
 
 pub use answer::{
-    add_mark, answer, answer_following, answer_in, answer_without, move_rest, move_rest_in, Answer,
-    AnswerError, EvidencePiece, Plan,
+    add_mark, answer, answer_following, answer_in, answer_without, move_mark, move_rest,
+    move_rest_in, Answer, AnswerError, EvidencePiece, Plan,
 };
 pub use background::{set_background, BackgroundChange};
 pub use contact::{edit_contact, ContactChange};

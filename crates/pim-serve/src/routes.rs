@@ -254,6 +254,9 @@ struct Move {
     /// The units of `at`'s length (default the case's own).
     #[serde(default)]
     units: Option<String>,
+    /// A tyre mark of the vehicle (from 0) instead of its rest.
+    #[serde(default)]
+    mark: Option<usize>,
 }
 
 async fn move_rest(Json(m): Json<Move>) -> Response {
@@ -261,7 +264,11 @@ async fn move_rest(Json(m): Json<Move>) -> Response {
         Ok(u) => u,
         Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
     };
-    match crate::move_rest_in(&m.path, &m.text, m.vehicle, m.at, units) {
+    let moved = match m.mark {
+        Some(i) => crate::move_mark(&m.path, &m.text, (m.vehicle, i), m.at, units),
+        None => crate::move_rest_in(&m.path, &m.text, m.vehicle, m.at, units),
+    };
+    match moved {
         Ok(text) => Json(json!({ "text": text })).into_response(),
         Err(e) => unanswered(e),
     }

@@ -206,3 +206,29 @@ fn evidence_switched_off_is_the_case_without_it() {
     let b = pim_serve::study(file, &deleted, (6, 1), &[], &pim_studies::watch::Unwatched).unwrap();
     assert_eq!(a, b);
 }
+
+/// A tyre mark dragged: its x and y rewritten in the file's unit and frame (SAE: the page's
+/// right is +y), the rest of its entry and the line's comment kept; a mark the case does not
+/// have is refused.
+#[test]
+fn moves_a_tyre_mark() {
+    let text = example("reconstruction_us.toml");
+    let moved =
+        pim_serve::move_mark("reconstruction_us.toml", &text, (1, 0), [2.5, 11.0], None).unwrap();
+    let (a, b): (Vec<&str>, Vec<&str>) = (text.lines().collect(), moved.lines().collect());
+    let changed: Vec<&&str> = b
+        .iter()
+        .zip(&a)
+        .filter(|(x, y)| x != y)
+        .map(|(x, _)| x)
+        .collect();
+    assert_eq!(
+        changed,
+        [&"marks = [ { x = 11.0, y = 2.5, sigma = 0.5 } ]     # a yaw mark the CG passed"]
+    );
+    let e = pim_serve::move_mark("reconstruction_us.toml", &text, (1, 3), [0.0, 0.0], None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the array has 1 entries"), "{e}");
+    assert!(pim_serve::move_mark("r.toml", &text, (3, 0), [0.0, 0.0], None).is_err());
+}
