@@ -555,6 +555,45 @@ test("a vehicle at contact dragged and turned by its handles: the case's positio
   await idle();
 });
 
+test("a skid up to contact drawn behind the car and set by a click", async () => {
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+  const original = await page.inputValue("#toml");
+  await page.click("#fit");
+  // The sedan's 42 ft skid is drawn behind its CG (the whole of it in the view).
+  assert.equal(await page.locator("g.skid").count(), 1);
+  assert.match(await page.textContent("g.skid text"), /skid 42\.0 ft/);
+  const before = await page.evaluate(() => window.pim.answer.document.best.vehicles[0].speed_before_braking);
+  // A click 30 ft behind the sedan's CG along its heading.
+  const [x, y, k] = await page.evaluate(() => {
+    const v = window.pim.answer.plan.vehicles.find((w) => w.vehicle === 1), t = (v.heading * Math.PI) / 180;
+    const svg = document.getElementById("plan"), p = svg.createSVGPoint();
+    p.x = v.cg[0] - 30 * Math.cos(t); p.y = -(v.cg[1] - 30 * Math.sin(t));
+    const m = svg.getScreenCTM(), q = p.matrixTransform(m);
+    return [q.x, q.y, Math.hypot(m.a, m.b)];
+  });
+  let offered = null;
+  page.once("dialog", (d) => { offered = d.defaultValue(); d.accept(offered); });
+  await page.click("#add-skid");
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => /skid = 3\d\.\d+ /.test(window.pim.text) || /skid = 29\.\d+ /.test(window.pim.text));
+  await idle();
+  const [vehicle, length] = offered.split(" ").map(Number);
+  assert.equal(vehicle, 1);
+  assert.ok(Math.abs(length - 30) <= 1 / k + 0.01, `offered ${offered}`);
+  const text = await page.inputValue("#toml");
+  const changed = original.split("\n").map((l, i) => [l, text.split("\n")[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  assert.match(changed[0][1], /^skid = [0-9.]+ +# ft of locked-wheel skid up to the impact$/);
+  // A shorter skid: a lower speed before braking.
+  const after = await page.evaluate(() => window.pim.answer.document.best.vehicles[0].speed_before_braking);
+  assert.ok(after < before, `${after} against ${before}`);
+  await page.fill("#toml", original);
+  await page.waitForFunction((t) => window.pim.text === t, original);
+  await idle();
+});
+
 test("the API answers every example case with the command's document", async () => {
   const cookie = `pim_token=${token}`;
   for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {

@@ -287,6 +287,10 @@ function bounds(plan) {
     all.push(...v.contact, ...v.rest, ...v.path);
     if (v.given_rest) all.push(...v.given_rest.outline);
     for (const m of v.marks) all.push([m[0], m[1]]);
+    if (v.skid && v.cg) {
+      const t = (v.heading * Math.PI) / 180;
+      all.push([v.cg[0] - v.skid * Math.cos(t), v.cg[1] - v.skid * Math.sin(t)]);
+    }
   }
   const b = plan.background, size = b && state.sizes[b.image];
   if (size) {
@@ -405,6 +409,7 @@ function zLabel(g, h, v, z) {
 // answers live; the whole answer comes on release.
 function drawContactHandles(svg, a) {
   const px = pxPerUnit(), r = 6 / px;
+  drawSkids(svg, a);
   const g = el("g", { class: "contact-handles" }, svg);
   for (const veh of a.plan.vehicles) {
     if (!veh.cg) continue;
@@ -431,6 +436,43 @@ function drawContactHandles(svg, a) {
   nk.addEventListener("pointerdown", (e) => dragGeometry(e, nk, (p) => ({
     normal: (Math.atan2(p[1] - c[1], p[0] - c[0]) * 180) / Math.PI,
   })));
+}
+
+// Each vehicle's skid up to contact ([pre_impact.vehicleN] skid): a line that long behind
+// its CG at contact, against its heading, with its length beside it.
+function drawSkids(svg, a) {
+  const px = pxPerUnit();
+  for (const veh of a.plan.vehicles) {
+    if (!veh.skid || !veh.cg) continue;
+    const t = (veh.heading * Math.PI) / 180;
+    const from = [veh.cg[0] - veh.skid * Math.cos(t), veh.cg[1] - veh.skid * Math.sin(t)];
+    const g = el("g", { class: `skid v${veh.vehicle}`, "data-vehicle": veh.vehicle }, svg);
+    el("line", { x1: from[0], y1: -from[1], x2: veh.cg[0], y2: -veh.cg[1], class: "skid-line" }, g);
+    const label = el("text", { x: from[0], y: -from[1], class: "label", "font-size": 12 / px }, g);
+    label.textContent = `skid ${veh.skid.toFixed(1)} ${a.plan.length_label}`;
+  }
+}
+
+// A skid set by a click behind a vehicle (the Skid tool): the vehicle whose line behind its CG
+// passes nearest, the length the click's distance behind the CG along its heading, both
+// asked to confirm.
+async function placeSkid(click) {
+  state.tool = null; state.clicks = [];
+  $("plan").classList.remove("picking");
+  const p = [click.x, -click.y];
+  let best = null;
+  for (const v of state.answer.plan.vehicles) {
+    if (!v.cg) continue;
+    const t = (v.heading * Math.PI) / 180, dx = v.cg[0] - p[0], dy = v.cg[1] - p[1];
+    const along = dx * Math.cos(t) + dy * Math.sin(t), across = Math.abs(-dx * Math.sin(t) + dy * Math.cos(t));
+    if (along > 0 && (!best || across < best.across)) best = { vehicle: v.vehicle, along, across };
+  }
+  if (!best) { status("click behind a vehicle's CG at contact: no skid placed"); render(); return; }
+  const answer = window.prompt(`Skid of vehicle (1 or 2) up to contact, its length (${state.answer.plan.length_label}):`,
+    `${best.vehicle} ${best.along.toFixed(2)}`);
+  const [vehicle, length] = (answer || "").trim().split(/[\s,]+/).map(Number);
+  if (!(vehicle === 1 || vehicle === 2) || !(length > 0)) { status("no skid placed"); render(); return; }
+  await edited("/api/skid", { vehicle, length });
 }
 
 // A drag of a contact handle: the handle follows the pointer; the change the pointer's page
@@ -554,6 +596,7 @@ function useTool(tool) {
   state.clicks = [];
   $("plan").classList.toggle("picking", !!state.tool);
   status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies"
+    : state.tool === "skid" ? "click where the skid begins, behind the vehicle"
     : state.tool === "move-image" ? "drag the image to move it, its knob to turn it; Move image again to end"
     : "click two points on the plan");
   $("move-image").classList.toggle("active", state.tool === "move-image");
@@ -565,6 +608,7 @@ async function toolClick(e) {
   state.clicks.push(svgPoint(e));
   render();
   if (state.tool === "mark") { await placeMark(state.clicks[0]); return; }
+  if (state.tool === "skid") { await placeSkid(state.clicks[0]); return; }
   if (state.clicks.length < 2) return;
   const [a, b] = state.clicks;
   const tool = state.tool;
@@ -815,6 +859,7 @@ $("background").addEventListener("click", chooseBackground);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));
 $("add-mark").addEventListener("click", () => useTool("mark"));
+$("add-skid").addEventListener("click", () => useTool("skid"));
 $("move-image").addEventListener("click", () => useTool("move-image"));
 $("lock-image").addEventListener("change", (e) => {
   if (state.tool === "move-image") useTool("move-image");

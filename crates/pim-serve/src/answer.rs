@@ -171,6 +171,8 @@ pub struct PlanVehicle {
     pub cg: [f64; 2],
     /// Its heading at contact, degrees counter-clockwise from the page's right.
     pub heading: f64,
+    /// The length of its skid up to contact (`[pre_impact.vehicleN] skid`), display unit.
+    pub skid: Option<f64>,
 }
 
 /// A rest position given by the scene, on the page.
@@ -475,6 +477,16 @@ fn plan(
             marks,
             cg: on_page(run.start.x, run.start.y),
             heading: page_angle(run.start.heading),
+            skid: case
+                .content
+                .pre_impact
+                .as_ref()
+                .and_then(|p| match input.id {
+                    pim_core::VehicleId::One => p.vehicle1.as_ref(),
+                    pim_core::VehicleId::Two => p.vehicle2.as_ref(),
+                })
+                .and_then(|p| p.skid)
+                .map(|l| units.length(l * case.written_units.length.to_si())),
         });
     }
     Ok(out)
@@ -617,6 +629,40 @@ pub fn add_mark(
             ("y", written(y)),
             ("sigma", written(sigma)),
         ],
+    )
+    .map_err(|e| input(&e))?;
+    edit.check().map_err(|e| input(&e))?;
+    Ok(edit.text())
+}
+
+/// The case text with vehicle `vehicle`'s skid up to contact set to `length` (display length
+/// unit of `units`, `None`: the case's own): `[pre_impact.vehicleN] skid` in the file's unit,
+/// to a hundredth, every other byte kept; the text is checked as a case after the edit.
+///
+/// # Errors
+/// Text that is not a valid case, a vehicle other than 1 or 2, a length that is not a finite
+/// number above 0, or a case the skid makes invalid (pim's message).
+pub fn set_skid(
+    file: &str,
+    text: &str,
+    (vehicle, length): (u8, f64),
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(vehicle == 1 || vehicle == 2) || !(length.is_finite() && length > 0.0) {
+        return Err(AnswerError::Input(format!(
+            "{file}: a skid of {length} for vehicle {vehicle} cannot be written"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+    let metres = length * units.length(1.0).recip();
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    edit.set(
+        &format!("pre_impact.vehicle{vehicle}.skid"),
+        pim_case::edit::NewValue::Written((metres / per_unit * 100.0).round() / 100.0),
     )
     .map_err(|e| input(&e))?;
     edit.check().map_err(|e| input(&e))?;

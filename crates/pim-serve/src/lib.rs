@@ -43,7 +43,7 @@ mod study;
 
 pub use answer::{
     add_mark, answer, answer_following, answer_in, answer_without, move_mark, move_rest,
-    move_rest_in, Answer, AnswerError, EvidencePiece, Plan,
+    move_rest_in, set_skid, Answer, AnswerError, EvidencePiece, Plan,
 };
 pub use background::{set_background, BackgroundChange};
 pub use contact::{edit_contact, ContactChange};

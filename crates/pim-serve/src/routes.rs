@@ -31,6 +31,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/move", post(move_rest))
         .route("/api/mark", post(add_mark))
         .route("/api/contact", post(contact))
+        .route("/api/skid", post(skid))
         .route("/api/save", post(save))
         .route("/api/study", get(study_report).post(study_start))
         .route("/api/study/cancel", post(study_cancel))
@@ -313,6 +314,27 @@ async fn contact(Json(c): Json<ContactAsk>) -> Response {
     let done = units_of(c.units.as_deref())
         .map_err(crate::AnswerError::Input)
         .and_then(|u| crate::edit_contact(&c.path, &c.text, &c.change, u));
+    match done {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
+#[derive(Deserialize)]
+struct SkidAsk {
+    path: String,
+    text: String,
+    vehicle: u8,
+    length: f64,
+    #[serde(default)]
+    units: Option<String>,
+}
+
+/// The text with a vehicle's skid up to contact set (not saved).
+async fn skid(Json(k): Json<SkidAsk>) -> Response {
+    let done = units_of(k.units.as_deref())
+        .map_err(crate::AnswerError::Input)
+        .and_then(|u| crate::set_skid(&k.path, &k.text, (k.vehicle, k.length), u));
     match done {
         Ok(text) => Json(json!({ "text": text })).into_response(),
         Err(e) => unanswered(e),

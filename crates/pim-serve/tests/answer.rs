@@ -232,3 +232,38 @@ fn moves_a_tyre_mark() {
     assert!(e.contains("the array has 1 entries"), "{e}");
     assert!(pim_serve::move_mark("r.toml", &text, (3, 0), [0.0, 0.0], None).is_err());
 }
+
+/// A skid set from the page: `[pre_impact.vehicleN] skid` rewritten in the file's unit (the
+/// comment kept), drawn at that length behind the CG; a bad length is refused.
+#[test]
+fn sets_a_skid() {
+    let file = "reconstruction_us.toml";
+    let text = example(file);
+    let (a, outcome) = pim_serve::answer_following(file, &text, None).unwrap();
+    assert_eq!(a.plan.vehicles[0].skid, Some(42.0));
+    assert_eq!(a.plan.vehicles[1].skid, None);
+    let set = pim_serve::set_skid(file, &text, (1, 30.004), None).unwrap();
+    let changed: Vec<&str> = set
+        .lines()
+        .zip(text.lines())
+        .filter(|(x, y)| x != y)
+        .map(|(x, _)| x)
+        .collect();
+    assert_eq!(
+        changed,
+        ["skid = 30.0                         # ft of locked-wheel skid up to the impact"]
+    );
+    let (b, _) = pim_serve::answer_following(file, &set, outcome.as_ref()).unwrap();
+    assert_eq!(b.plan.vehicles[0].skid, Some(30.0));
+    // In metres on the page: written in the file's feet.
+    let si = pim_serve::set_skid(
+        file,
+        &text,
+        (1, 9.144),
+        Some(pim_case::units::UnitSystem::Si),
+    )
+    .unwrap();
+    assert!(si.contains("skid = 30.0 "), "{si}");
+    assert!(pim_serve::set_skid(file, &text, (1, -1.0), None).is_err());
+    assert!(pim_serve::set_skid(file, &text, (3, 10.0), None).is_err());
+}
