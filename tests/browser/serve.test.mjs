@@ -594,6 +594,59 @@ test("a skid up to contact drawn behind the car and set by a click", async () =>
   await idle();
 });
 
+test("the forms: a field edited writes the TOML, a bad value marks its field and the plan's handle", async () => {
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+  const original = await page.inputValue("#toml");
+  const onDisk = fs.readFileSync(path.join(dir, CASE), "utf8");
+  const openSection = (name) => page.evaluate((n) => {
+    document.getElementById("forms-box").open = true;
+    document.querySelector(`#forms details[data-section="${n}"]`).open = true;
+  }, name);
+  await openSection("vehicle1");
+  const mass = page.locator('#forms input[data-key="vehicle1.mass"]');
+  assert.equal(await mass.inputValue(), "3400.0");
+  assert.equal(await mass.getAttribute("title"), "lb, with driver");
+  const before = await speeds();
+  await mass.fill("3600");
+  await mass.press("Tab");
+  await page.waitForFunction(() => /mass = 3600\.0 +# lb, with driver/.test(window.pim.text));
+  await idle();
+  const edited = await page.inputValue("#toml");
+  const changed = original.split("\n").map((l, i) => [l, edited.split("\n")[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  assert.notDeepEqual(await speeds(), before);
+  // The TOML edited by hand: the form follows.
+  await page.fill("#toml", edited.replace("mass = 3600.0", "mass = 3650.0"));
+  await page.waitForFunction(() => document.querySelector('#forms input[data-key="vehicle1.mass"]')?.value === "3650.0");
+  await idle();
+  // A bad value: its field marked, its section open, nothing saved.
+  await mass.fill("-5");
+  await mass.press("Tab");
+  await page.waitForSelector('#forms input[data-key="vehicle1.mass"].bad-field');
+  await idle();
+  assert.match(await page.textContent("#error"), /vehicle1\.mass/);
+  await page.click("#save");
+  await page.waitForFunction(() => /not saved/.test(document.getElementById("status").textContent));
+  assert.equal(fs.readFileSync(path.join(dir, CASE), "utf8"), onDisk);
+  // A mark's bad sigma: the plan's handle of that mark is marked too.
+  await page.fill("#toml", original);
+  await page.waitForFunction((t) => window.pim.text === t && !window.pim.busy, original);
+  await idle();
+  await openSection("scene.vehicle2");
+  const sigma = page.locator('#forms input[data-key="scene.vehicle2.marks.0.sigma"]');
+  await sigma.fill("-1");
+  await sigma.press("Tab");
+  await page.waitForSelector('circle.mark-handle[data-vehicle="2"].bad-handle');
+  await idle();
+  await page.screenshot({ path: path.join(shots, "15-form-bad-value.png") });
+  await page.fill("#toml", original);
+  await page.waitForFunction((t) => window.pim.text === t, original);
+  await idle();
+  assert.equal(await page.$(".bad-field, .bad-handle"), null);
+});
+
 test("the API answers every example case with the command's document", async () => {
   const cookie = `pim_token=${token}`;
   for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {

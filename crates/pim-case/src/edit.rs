@@ -68,6 +68,8 @@ pub enum NewValue {
     Text(String),
     /// A yes/no value.
     Bool(bool),
+    /// A whole number (a count, a vehicle's number).
+    Integer(i64),
 }
 
 /// A case file open for editing; see the [module docs](self).
@@ -200,6 +202,7 @@ impl CaseEdit {
             NewValue::Written(x) => number(finite(x)?),
             NewValue::Text(s) => Value::from(s),
             NewValue::Bool(b) => Value::from(b),
+            NewValue::Integer(i) => Value::from(i),
         })
     }
 

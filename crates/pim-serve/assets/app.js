@@ -78,15 +78,98 @@ async function solve(live = false) {
     $("error").hidden = true;
     $("toml").classList.remove("bad");
     render();
+    await refreshForms(null);
     status(`${live ? "followed" : "solved"} in ${server ? server[1] : "?"} ms`);
   } catch (e) {
     $("error").hidden = false;
     $("error").textContent = e.message;
     $("toml").classList.add("bad");
     status("not solved");
+    await refreshForms(e.message);
   } finally {
     state.busy = false;
     if (state.pending) { const live = state.pending === "live"; state.pending = false; solve(live); }
+  }
+}
+
+// The key pim's message names (`file:line:col: vehicle1.mass: ...`), if any.
+function keyOf(message) {
+  const m = /:\d+:\d+: ([A-Za-z0-9_.]+)/.exec(message || "");
+  return m ? m[1] : null;
+}
+
+// The forms: one per section the file writes, a field per value (the comment after it as its
+// help); an edit is written into the text by the server and solved. An error of the answer
+// marks the field it names (its section opened) and the plan's handle of that piece.
+async function refreshForms(error) {
+  const box = $("forms");
+  if (state.formText !== state.text) {
+    state.formText = state.text;
+    let sections = [];
+    try {
+      ({ data: { sections } } = await api("POST", "/api/form", { path: state.path, text: state.text }));
+    } catch (e) { /* not TOML: the TOML's own mark says why */ }
+    const open = new Set([...box.querySelectorAll("details[open]")].map((d) => d.dataset.section));
+    box.innerHTML = "";
+    for (const sec of sections) {
+      const d = document.createElement("details");
+      d.dataset.section = sec.name;
+      d.open = open.has(sec.name);
+      const sum = document.createElement("summary");
+      sum.textContent = sec.name ? `[${sec.name}]` : "(top of the file)";
+      d.appendChild(sum);
+      const t = document.createElement("table");
+      for (const f of sec.fields) {
+        const r = t.insertRow();
+        r.insertCell().textContent = f.label;
+        const input = document.createElement("input");
+        input.dataset.key = f.key;
+        if (f.kind === "bool") { input.type = "checkbox"; input.checked = f.value === "true"; }
+        else { input.type = "text"; input.value = f.value; input.readOnly = f.kind === "list"; }
+        if (f.comment) input.title = f.comment;
+        input.setAttribute("aria-label", f.key);
+        input.addEventListener("change", () => setField(f.key, f.kind === "bool" ? input.checked : input.value));
+        r.insertCell().appendChild(input);
+        const help = r.insertCell();
+        help.className = "help";
+        help.textContent = f.comment || "";
+      }
+      d.appendChild(t);
+      box.appendChild(d);
+    }
+  }
+  for (const b of document.querySelectorAll(".bad-field")) b.classList.remove("bad-field");
+  for (const b of document.querySelectorAll(".bad-handle")) b.classList.remove("bad-handle");
+  const key = keyOf(error);
+  if (!key) return;
+  // The field the message names, or every field under the table or array it names.
+  const inputs = [...box.querySelectorAll("input[data-key]")];
+  const exact = inputs.filter((i) => i.dataset.key === key);
+  for (const input of exact.length ? exact : inputs.filter((i) => i.dataset.key.startsWith(`${key}.`))) {
+    input.classList.add("bad-field");
+    input.closest("details").open = true;
+    $("forms-box").open = true;
+  }
+  // The plan's handle of the piece the message names.
+  const m = /^scene\.vehicle(\d)\.(rest|marks(?:\.(\d+))?)/.exec(key) || /^vehicle(\d)\.(position|heading|impact_point)/.exec(key);
+  if (m) {
+    const sel = m[2].startsWith("rest") ? `.given-rest circle.handle[data-vehicle="${m[1]}"]`
+      : m[2].startsWith("marks") ? `circle.mark-handle[data-vehicle="${m[1]}"]${m[3] != null ? `[data-mark="${m[3]}"]` : ""}`
+      : `rect.cg-handle[data-vehicle="${m[1]}"]`;
+    for (const h of document.querySelectorAll(sel)) h.classList.add("bad-handle");
+  }
+}
+
+async function setField(key, value) {
+  try {
+    const { data } = await api("POST", "/api/set", { path: state.path, text: state.text, key, value });
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+    await refreshForms(e.message);
   }
 }
 
@@ -399,7 +482,7 @@ function render() {
 
 // A residual beside a piece of evidence on the plan, in standard deviations.
 function zLabel(g, h, v, z) {
-  const t = el("text", { x: h, y: -v, class: "z-label", "font-size": 13 / pxPerUnit() }, g);
+  const t = el("text", { x: h, y: -v, class: "z-label", style: `font-size: ${13 / pxPerUnit()}px` }, g);
   t.textContent = `${z.toFixed(1)} σ`;
 }
 
@@ -448,7 +531,7 @@ function drawSkids(svg, a) {
     const from = [veh.cg[0] - veh.skid * Math.cos(t), veh.cg[1] - veh.skid * Math.sin(t)];
     const g = el("g", { class: `skid v${veh.vehicle}`, "data-vehicle": veh.vehicle }, svg);
     el("line", { x1: from[0], y1: -from[1], x2: veh.cg[0], y2: -veh.cg[1], class: "skid-line" }, g);
-    const label = el("text", { x: from[0], y: -from[1], class: "label", "font-size": 12 / px }, g);
+    const label = el("text", { x: from[0], y: -from[1], class: "skid-label", style: `font-size: ${12 / px}px` }, g);
     label.textContent = `skid ${veh.skid.toFixed(1)} ${a.plan.length_label}`;
   }
 }

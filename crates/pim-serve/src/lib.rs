@@ -36,6 +36,7 @@
 mod answer;
 mod background;
 mod contact;
+mod form;
 mod guard;
 mod routes;
 mod served;
@@ -47,6 +48,7 @@ pub use answer::{
 };
 pub use background::{set_background, BackgroundChange};
 pub use contact::{edit_contact, ContactChange};
+pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, Guard};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};

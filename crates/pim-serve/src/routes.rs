@@ -32,6 +32,8 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/mark", post(add_mark))
         .route("/api/contact", post(contact))
         .route("/api/skid", post(skid))
+        .route("/api/form", post(form))
+        .route("/api/set", post(set_field))
         .route("/api/save", post(save))
         .route("/api/study", get(study_report).post(study_start))
         .route("/api/study/cancel", post(study_cancel))
@@ -336,6 +338,36 @@ async fn skid(Json(k): Json<SkidAsk>) -> Response {
         .map_err(crate::AnswerError::Input)
         .and_then(|u| crate::set_skid(&k.path, &k.text, (k.vehicle, k.length), u));
     match done {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
+#[derive(Deserialize)]
+struct TextOnly {
+    path: String,
+    text: String,
+}
+
+/// The case text as forms, one per section.
+async fn form(Json(c): Json<TextOnly>) -> Response {
+    match crate::form(&c.path, &c.text) {
+        Ok(sections) => Json(json!({ "sections": sections })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
+#[derive(Deserialize)]
+struct SetAsk {
+    path: String,
+    text: String,
+    key: String,
+    value: crate::FieldValue,
+}
+
+/// The text with one field of the forms set (not saved).
+async fn set_field(Json(a): Json<SetAsk>) -> Response {
+    match crate::set_field(&a.path, &a.text, &a.key, &a.value) {
         Ok(text) => Json(json!({ "text": text })).into_response(),
         Err(e) => unanswered(e),
     }

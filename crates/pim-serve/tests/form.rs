@@ -1,0 +1,113 @@
+//! The case as forms: a section per table the file writes, a field per value (inline tables
+//! and arrays of them flattened by key and index), the comment after a value as its help; a
+//! field set from the page changes its value and nothing else.
+
+use pim_serve::{form, set_field, FieldValue};
+use std::path::Path;
+
+fn example(name: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases");
+    std::fs::read_to_string(root.join(name)).unwrap()
+}
+
+#[test]
+fn every_section_and_value_of_the_example_is_a_field() {
+    let text = example("reconstruction_us.toml");
+    let sections = form("r.toml", &text).unwrap();
+    let names: Vec<&str> = sections.iter().map(|s| s.name.as_str()).collect();
+    for want in [
+        "",
+        "units",
+        "vehicle1",
+        "vehicle2",
+        "impact",
+        "estimates.initial",
+        "observations.0",
+        "observations.1",
+        "pre_impact.vehicle1",
+        "runout",
+        "runout.vehicle1",
+        "scene.vehicle2",
+    ] {
+        assert!(names.contains(&want), "{want} not in {names:?}");
+    }
+    let field = |key: &str| {
+        sections
+            .iter()
+            .flat_map(|s| &s.fields)
+            .find(|f| f.key == key)
+            .unwrap_or_else(|| panic!("{key}"))
+    };
+    let mass = field("vehicle1.mass");
+    assert_eq!((mass.kind, mass.value.as_str()), ("number", "3400.0"));
+    assert_eq!(mass.comment.as_deref(), Some("lb, with driver"));
+    assert_eq!(field("vehicle1.position.x").value, "-7.5");
+    assert_eq!(field("observations.0.vehicle").kind, "integer");
+    assert_eq!(field("runout.vehicle1.wheels.front_left").value, "locked");
+    assert_eq!(field("scene.vehicle2.marks.0.sigma").value, "0.5");
+    assert_eq!(field("convention").kind, "text");
+    assert_eq!(field("pre_impact.vehicle2.edr.0.speed").value, "27.5");
+    // Every field's key is one the file writes: setting it to its own value keeps the file.
+    let every: usize = sections.iter().map(|s| s.fields.len()).sum();
+    assert!(every > 60, "{every} fields");
+}
+
+#[test]
+fn a_field_set_changes_its_value_only() {
+    let text = example("reconstruction_us.toml");
+    let changed = |new: &str| -> Vec<String> {
+        new.lines()
+            .zip(text.lines())
+            .filter(|(a, b)| a != b)
+            .map(|(a, _)| a.to_string())
+            .collect()
+    };
+    let t = set_field(
+        "r.toml",
+        &text,
+        "vehicle1.mass",
+        &FieldValue::Typed("3500".into()),
+    )
+    .unwrap();
+    assert_eq!(
+        changed(&t),
+        ["mass = 3500.0                       # lb, with driver"]
+    );
+    let t = set_field(
+        "r.toml",
+        &text,
+        "observations.0.vehicle",
+        &FieldValue::Typed("2".into()),
+    )
+    .unwrap();
+    assert_eq!(changed(&t), ["vehicle = 2"]);
+    let t = set_field(
+        "r.toml",
+        &text,
+        "runout.vehicle2.wheels",
+        &FieldValue::Typed("locked".into()),
+    )
+    .unwrap();
+    assert_eq!(changed(&t), ["wheels = \"locked\""]);
+    let t = set_field(
+        "r.toml",
+        &text,
+        "scene.vehicle2.marks.0.x",
+        &FieldValue::Typed("33.0".into()),
+    )
+    .unwrap();
+    assert_eq!(
+        changed(&t),
+        ["marks = [ { x = 33.0, y = 48.2, sigma = 0.5 } ]"]
+    );
+    // Refused: a number that is none, a key the file does not write, a whole number with a
+    // fraction.
+    let e = |key: &str, v: &str| {
+        set_field("r.toml", &text, key, &FieldValue::Typed(v.into()))
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(e("vehicle1.mass", "heavy").contains("vehicle1.mass: \"heavy\" is not a number"));
+    assert!(e("vehicle1.colour", "red").contains("the file writes no such value"));
+    assert!(e("observations.0.vehicle", "1.5").contains("not a whole number"));
+}
