@@ -179,6 +179,10 @@ test("an uncertainty study runs in the background, shows its intervals and can b
   assert.deepEqual(doc, cli);
   const cells = await page.$$eval("#speeds td.interval", (tds) => tds.map((t) => t.textContent));
   assert.equal(cells.length, 2);
+  // The bands: each vehicle's run-out from each of the 20 draws, under the answer's paths.
+  const bands = await page.evaluate(() => window.pim.study.report.bands);
+  assert.equal(bands.length, 2 * doc.feasible_draws);
+  assert.equal(await page.locator("polyline.band").count(), bands.length);
   for (const c of cells) {
     const [lo, hi] = c.split(" – ").map(Number);
     assert.ok(lo < hi, c);

@@ -223,8 +223,8 @@ async function startStudy() {
   const text = state.text;
   try {
     const off = state.off.slice();
-    const { data } = await api("POST", "/api/study", { path: state.path, text, draws, off });
-    state.study = { id: data.id, text, off: off.join("\n"), report: { state: "running", done: 0, total: draws } };
+    const { data } = await api("POST", "/api/study", { path: state.path, text, draws, off, units: state.units });
+    state.study = { id: data.id, text, off: off.join("\n"), units: state.units, report: { state: "running", done: 0, total: draws } };
     $("study-cancel").hidden = false;
     $("study-progress").hidden = false;
     $("study-start").disabled = true;
@@ -436,6 +436,7 @@ function render() {
   drawBackground(svg);
   grid(el("g", {}, svg));
   drawClicks(svg);
+  drawBands(svg);
   const r = 7 / pxPerUnit();
   for (const veh of a.plan.vehicles) {
     const g = el("g", { class: `v${veh.vehicle}`, "data-vehicle": veh.vehicle }, svg);
@@ -478,6 +479,16 @@ function render() {
     }
   }
   if (a.question === "reconstruction") drawContactHandles(svg, a);
+}
+
+// The study's bands: each vehicle's CG path from the velocities at separation of the study's
+// first draws (for the text, evidence and units the study was drawn with), under the answer.
+function drawBands(svg) {
+  const st = state.study;
+  const r = st && st.report;
+  if (!r || !r.bands || st.text !== state.text || st.off !== state.off.join("\n") || st.units !== state.units) return;
+  const g = el("g", { class: "bands" }, svg);
+  for (const b of r.bands) el("polyline", { points: pts(b.path), class: `band v${b.vehicle}` }, g);
 }
 
 // A residual beside a piece of evidence on the plan, in standard deviations.

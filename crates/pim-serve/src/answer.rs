@@ -492,6 +492,37 @@ fn plan(
     Ok(out)
 }
 
+/// A vehicle (1 or 2) and its CG path on the page.
+pub type VehiclePath = (u8, Vec<[f64; 2]>);
+
+/// Each vehicle's CG path (every 0.05 s) from the velocities at separation `sep`, on the page
+/// in `units` (`None`: the case's own).
+pub(crate) fn paths(
+    case: &Case,
+    sep: pim_core::Velocities,
+    units: Option<UnitSystem>,
+) -> Result<Vec<VehiclePath>, AnswerError> {
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+    let page = pim_render::plan::Page::of(case.written);
+    let r = pim_studies::runout::runout(case, None, Some(sep), 0.05, false)
+        .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
+    Ok(r.inputs
+        .iter()
+        .zip(&r.runouts)
+        .map(|(input, run)| {
+            let path = run
+                .sample(0.05)
+                .iter()
+                .map(|(_, m)| {
+                    let (h, v) = page.xy((units.length(m.x), units.length(m.y)));
+                    [h, v]
+                })
+                .collect();
+            (input.id.index() as u8 + 1, path)
+        })
+        .collect())
+}
+
 /// The case text with vehicle `vehicle`'s rest position moved to the page point `at` (in the
 /// plan's display length unit): `scene.vehicleN.rest.x` and `.y` rewritten in the file's
 /// length unit and frame, every other byte kept.

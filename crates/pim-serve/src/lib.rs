@@ -44,7 +44,7 @@ mod study;
 
 pub use answer::{
     add_mark, answer, answer_following, answer_in, answer_without, move_mark, move_rest,
-    move_rest_in, set_skid, Answer, AnswerError, EvidencePiece, Plan,
+    move_rest_in, set_skid, Answer, AnswerError, EvidencePiece, Plan, VehiclePath,
 };
 pub use background::{set_background, BackgroundChange};
 pub use contact::{edit_contact, ContactChange};
@@ -52,7 +52,7 @@ pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, Guard};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
-pub use study::{report, study, MAX_DRAWS};
+pub use study::{report, studied, study, Studied, BAND_DRAWS, MAX_DRAWS};
 
 use std::sync::Arc;
 

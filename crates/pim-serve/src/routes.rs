@@ -400,6 +400,9 @@ struct StudyAsk {
     /// Pieces of evidence switched off.
     #[serde(default)]
     off: Vec<String>,
+    /// Display units of the bands on the plan.
+    #[serde(default)]
+    units: Option<String>,
 }
 
 /// `pim uncertainty`'s defaults.
@@ -428,7 +431,13 @@ async fn study_start(State(s): State<App>, Json(a): Json<StudyAsk>) -> Response 
             ),
         );
     }
-    let id = s.studies.start((a.path, a.text), (a.draws, a.seed), a.off);
+    let units = match units_of(a.units.as_deref()) {
+        Ok(u) => u,
+        Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
+    };
+    let id = s
+        .studies
+        .start((a.path, a.text), (a.draws, a.seed), (a.off, units));
     Json(json!({ "id": id })).into_response()
 }
 

@@ -30,6 +30,35 @@ pub fn study(
     off: &[String],
     observer: &dyn Observer,
 ) -> Result<serde_json::Value, AnswerError> {
+    studied(file, text, (draws, seed), (off, None), observer).map(|s| s.document)
+}
+
+/// Most draws whose run-outs make a study's bands on the plan.
+pub const BAND_DRAWS: usize = 40;
+
+/// A study and the run-outs of its draws on the plan.
+#[derive(Debug, Clone)]
+pub struct Studied {
+    /// The document `pim uncertainty FILE --format json` writes.
+    pub document: serde_json::Value,
+    /// For a scene case, each vehicle's CG path from the velocities at separation of the first
+    /// [`BAND_DRAWS`] feasible draws on the draw's fitted road friction, on the page in `units`
+    /// (`[vehicle, points]`): the study's spread of the run-outs, drawn as a band under the
+    /// answer's paths.
+    pub bands: Vec<crate::answer::VehiclePath>,
+}
+
+/// [`study`] with the bands of its run-outs on the plan in `units` (`None`: the case's own).
+///
+/// # Errors
+/// As [`study`].
+pub fn studied(
+    file: &str,
+    text: &str,
+    (draws, seed): (usize, u64),
+    (off, units): (&[String], Option<pim_case::units::UnitSystem>),
+    observer: &dyn Observer,
+) -> Result<Studied, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     if !(1..=MAX_DRAWS).contains(&draws) {
         return Err(AnswerError::Input(format!(
@@ -42,6 +71,7 @@ pub fn study(
     } else {
         pim_studies::consistency::switched_off(&case, off).map_err(|e| input(&e))?
     };
+    let mut bands = Vec::new();
     let value = match Question::of(&case, None).question {
         Question::Reconstruction => {
             let (study, _) = pim_studies::reconstruct_study::run(
@@ -54,6 +84,28 @@ pub fn study(
                 observer,
             )
             .map_err(|e| input(&e))?;
+            // Each draw's run-outs on its own fitted road friction (the run-outs' one drawn
+            // input; a vehicle on a surface of its own keeps its stated friction).
+            let frictions = study.samples.get("road_friction");
+            for (i, s) in study.separations.iter().take(BAND_DRAWS).enumerate() {
+                let mut drawn = case.clone();
+                if let (Some(mu), Some(r)) = (
+                    frictions.and_then(|f| f.get(i)),
+                    drawn.content.runout.as_mut(),
+                ) {
+                    r.friction = Some(*mu);
+                }
+                let v = |k: usize| pim_core::VehicleVelocity {
+                    vx: s[3 * k],
+                    vy: s[3 * k + 1],
+                    omega: s[3 * k + 2],
+                };
+                let sep = pim_core::Velocities {
+                    vehicle1: v(0),
+                    vehicle2: v(1),
+                };
+                bands.extend(crate::answer::paths(&drawn, sep, units).unwrap_or_default());
+            }
             serde_json::to_value(&study)
         }
         _ => {
@@ -71,7 +123,10 @@ pub fn study(
             serde_json::to_value(&study)
         }
     };
-    value.map_err(|e| input(&e))
+    Ok(Studied {
+        document: value.map_err(|e| input(&e))?,
+        bands,
+    })
 }
 
 /// The HTML report of a case's text: the page `pim report FILE` writes (its uncertainty study
@@ -93,7 +148,7 @@ pub(crate) struct Running {
     done: AtomicU64,
     total: AtomicU64,
     cancel: AtomicBool,
-    outcome: Mutex<Option<Result<serde_json::Value, String>>>,
+    outcome: Mutex<Option<Result<Studied, String>>>,
 }
 
 impl Observer for Running {
@@ -120,14 +175,19 @@ impl Running {
             None => serde_json::json!({
                 "id": id, "state": "running", "done": done, "total": total,
             }),
-            Some(Ok(document)) => {
+            Some(Ok(Studied { document, bands })) => {
                 let state = if document.get("cancelled").is_some_and(|c| !c.is_null()) {
                     "cancelled"
                 } else {
                     "done"
                 };
+                let bands: Vec<serde_json::Value> = bands
+                    .iter()
+                    .map(|(vehicle, path)| serde_json::json!({ "vehicle": vehicle, "path": path }))
+                    .collect();
                 serde_json::json!({
                     "id": id, "state": state, "done": done, "total": total, "document": document,
+                    "bands": bands,
                 })
             }
             Some(Err(error)) => serde_json::json!({
@@ -155,7 +215,7 @@ impl Studies {
         &self,
         (path, text): (String, String),
         (draws, seed): (usize, u64),
-        off: Vec<String>,
+        (off, units): (Vec<String>, Option<pim_case::units::UnitSystem>),
     ) -> u64 {
         let id = self.next.fetch_add(1, Ordering::Relaxed) + 1;
         let run = Arc::new(Running::default());
@@ -165,8 +225,8 @@ impl Studies {
             m.insert(id, run.clone());
         }
         std::thread::spawn(move || {
-            let outcome =
-                study(&path, &text, (draws, seed), &off, run.as_ref()).map_err(|e| e.to_string());
+            let outcome = studied(&path, &text, (draws, seed), (&off, units), run.as_ref())
+                .map_err(|e| e.to_string());
             if let Ok(mut o) = run.outcome.lock() {
                 *o = Some(outcome);
             }

@@ -267,3 +267,38 @@ fn sets_a_skid() {
     assert!(pim_serve::set_skid(file, &text, (1, -1.0), None).is_err());
     assert!(pim_serve::set_skid(file, &text, (3, 10.0), None).is_err());
 }
+
+/// A study's bands: each vehicle's run-out from the velocities at separation of each feasible
+/// draw, on the page; each ends near the rest the scene gives (the draws move the rests by
+/// their sigma of 1 ft); the document is the study's, bands or not.
+#[test]
+fn a_studys_bands_are_the_draws_run_outs() {
+    let file = "reconstruction_us.toml";
+    let text = example(file);
+    let s = pim_serve::studied(
+        file,
+        &text,
+        (8, 1),
+        (&[], None),
+        &pim_studies::watch::Unwatched,
+    )
+    .unwrap();
+    let feasible = s.document["feasible_draws"].as_u64().unwrap() as usize;
+    assert_eq!(s.bands.len(), 2 * feasible.min(pim_serve::BAND_DRAWS));
+    let plan = pim_serve::answer(file, &text).unwrap().plan;
+    for (vehicle, path) in &s.bands {
+        let rest = plan.vehicles[usize::from(*vehicle) - 1]
+            .given_rest
+            .as_ref()
+            .unwrap()
+            .at;
+        let end = path.last().unwrap();
+        let d = (end[0] - rest[0]).hypot(end[1] - rest[1]);
+        assert!(
+            d < 6.0,
+            "vehicle {vehicle}'s band ends {d} ft from the rest"
+        );
+    }
+    let doc = pim_serve::study(file, &text, (8, 1), &[], &pim_studies::watch::Unwatched).unwrap();
+    assert_eq!(doc, s.document);
+}

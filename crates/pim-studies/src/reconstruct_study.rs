@@ -259,15 +259,29 @@ pub fn run_around(
             .flatten()
             .map(|f| {
                 let q = quantities_of(&f);
-                names
+                let values = names
                     .iter()
                     .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
-                    .collect::<Vec<f64>>()
+                    .collect::<Vec<f64>>();
+                let s = f.solution.separation;
+                let separation = [
+                    s.vehicle1.vx,
+                    s.vehicle1.vy,
+                    s.vehicle1.omega,
+                    s.vehicle2.vx,
+                    s.vehicle2.vy,
+                    s.vehicle2.omega,
+                ];
+                (values, separation)
             })
     });
+    let separations: Vec<[f64; 6]> = results
+        .iter()
+        .filter_map(|(_, r)| r.as_ref().map(|r| r.1))
+        .collect();
     let feasible: Vec<(&Vec<f64>, &Vec<f64>)> = results
         .iter()
-        .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
+        .filter_map(|(x, r)| r.as_ref().map(|r| (x, &r.0)))
         .collect();
     let mut quantities = BTreeMap::new();
     let mut samples = BTreeMap::new();
@@ -303,6 +317,7 @@ pub fn run_around(
         quantities,
         nominal_outside,
         samples,
+        separations,
         cancelled,
         sensitivity,
         inputs: all.iter().map(|i| i.name.clone()).collect(),
