@@ -651,6 +651,30 @@ test("the forms: a field edited writes the TOML, a bad value marks its field and
   assert.equal(await page.$(".bad-field, .bad-handle"), null);
 });
 
+test("a batch of the folder in the background: pim batch's records, a row opening its case", async () => {
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+  await page.click("#batch-start");
+  await page.waitForFunction(() => /case files, \d+ records/.test(document.getElementById("batch-status").textContent), null, { timeout: 300000 });
+  const doc = await page.evaluate(() => window.pim.batch.report.document);
+  const files = fs.readdirSync(dir).filter((f) => f.endsWith(".toml")).sort();
+  assert.equal(doc.files, files.length);
+  assert.equal(await page.locator("#batch-table tr[data-file]").count(), files.length);
+  // The command's records of the same folder, each file named as the page names it.
+  const out = execFileSync(pimBin, ["batch", ".", "--format", "json"], { cwd: dir, encoding: "utf8" }).replaceAll("./", "");
+  const cli = out.trim().split("\n").map((l) => JSON.parse(l));
+  assert.deepEqual(doc.records, cli);
+  await page.screenshot({ path: path.join(shots, "16-batch.png") });
+  // A row opens its case.
+  await page.click('#batch-table tr[data-file="runout_scene.toml"]');
+  await page.waitForFunction(() => window.pim.path === "runout_scene.toml");
+  await idle();
+  await page.selectOption("#cases", CASE);
+  await page.waitForFunction((c) => window.pim.path === c, CASE);
+  await idle();
+});
+
 test("the API answers every example case with the command's document", async () => {
   const cookie = `pim_token=${token}`;
   for (const name of ["reconstruction_us.toml", "reconstruction_damage_us.toml", "ricsac7_fit.toml", "oblique_sae_us.toml"]) {

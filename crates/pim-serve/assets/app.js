@@ -39,6 +39,7 @@ async function api(method, url, body) {
 async function loadCases() {
   const { data } = await api("GET", "/api/cases");
   state.images = data.images || [];
+  state.cases = data.cases;
   const sel = $("cases");
   sel.innerHTML = "";
   for (const c of data.cases) {
@@ -260,6 +261,65 @@ function studyShown() {
     : r.state === "failed" ? `study failed: ${r.error}`
     : r.state === "cancelled" ? `cancelled after ${d.cancelled.done} of ${d.cancelled.asked} draws; intervals from them (${d.feasible_draws} feasible)`
     : `${d.feasible_draws} of ${d.draws} draws feasible (seed ${d.seed})`;
+}
+
+// A batch of the case files in the current case's folder (pim batch's records), in the
+// background with its progress and cancel; its best record per file in a table, a row opening
+// its case.
+async function startBatch() {
+  const folder = state.path.includes("/") ? state.path.slice(0, state.path.lastIndexOf("/") + 1) : "";
+  const paths = (state.cases || []).filter((c) => c.startsWith(folder) && !c.slice(folder.length).includes("/"));
+  try {
+    const { data } = await api("POST", "/api/batch", { paths });
+    state.batch = { id: data.id, report: { state: "running", done: 0, total: paths.length } };
+    $("batch-cancel").hidden = false; $("batch-progress").hidden = false; $("batch-start").disabled = true;
+    $("batch-table").innerHTML = "";
+    while (state.batch && state.batch.id === data.id) {
+      const { data: r } = await api("GET", `/api/study?id=${data.id}`);
+      state.batch.report = r;
+      const p = $("batch-progress"); p.max = Math.max(r.total, 1); p.value = r.done;
+      $("batch-status").textContent = r.state === "running" ? `${r.done} of ${r.total} case files` : "";
+      if (r.state !== "running") break;
+      await new Promise((res) => setTimeout(res, 200));
+    }
+  } catch (e) {
+    $("batch-status").textContent = e.message;
+  }
+  $("batch-cancel").hidden = true; $("batch-start").disabled = false;
+  const r = state.batch && state.batch.report;
+  if (r && r.document) batchTable(r.document);
+}
+
+function batchTable(doc) {
+  const t = $("batch-table");
+  t.innerHTML = "";
+  const u = (state.answer && state.answer.plan.speed_metres) || 1, label = (state.answer && state.answer.plan.speed_label) || "m/s";
+  const head = t.insertRow();
+  for (const h of ["case", "answer", "chi² / cost", `contact ${label}`]) {
+    const th = document.createElement("th"); th.textContent = h; head.appendChild(th);
+  }
+  const files = [...new Set(doc.records.map((r) => r.file))];
+  for (const f of files) {
+    const recs = doc.records.filter((r) => r.file === f);
+    const best = recs.find((r) => r.best) || recs[0];
+    const row = t.insertRow();
+    row.dataset.file = f;
+    // A fit's record carries its branch's fields flat; a scene case's, its reconstruction.
+    const rec = best.reconstruction;
+    const speeds = rec ? rec.vehicles.map((v) => (v.speed_at_contact / u).toFixed(2)).join(" / ")
+      : best.vehicles ? best.vehicles.map((v) => (v.speed_initial / u).toFixed(2)).join(" / ") : "-";
+    const cells = [f, rec ? rec.status : best.outcome,
+      rec && rec.chi_square != null ? rec.chi_square.toFixed(3) : best.cost != null ? best.cost.toPrecision(4) : "-", speeds];
+    for (const c of cells) row.insertCell().textContent = c;
+    if (best.error) row.title = best.error;
+    row.addEventListener("click", () => { $("cases").value = f; openCase(f); });
+  }
+  const d = doc.cancelled;
+  $("batch-status").textContent = d ? `cancelled after ${d.done} of ${d.asked} case files` : `${doc.files} case files, ${doc.records.length} records`;
+}
+
+async function cancelBatch() {
+  if (state.batch) await api("POST", "/api/study/cancel", { id: state.batch.id });
 }
 
 async function cancelStudy() {
@@ -953,6 +1013,8 @@ $("background").addEventListener("click", chooseBackground);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));
 $("add-mark").addEventListener("click", () => useTool("mark"));
+$("batch-start").addEventListener("click", startBatch);
+$("batch-cancel").addEventListener("click", cancelBatch);
 $("add-skid").addEventListener("click", () => useTool("skid"));
 $("move-image").addEventListener("click", () => useTool("move-image"));
 $("lock-image").addEventListener("change", (e) => {

@@ -35,6 +35,7 @@
 
 mod answer;
 mod background;
+mod batch;
 mod contact;
 mod form;
 mod guard;
@@ -47,6 +48,7 @@ pub use answer::{
     move_rest_in, set_skid, Answer, AnswerError, EvidencePiece, Plan, VehiclePath,
 };
 pub use background::{set_background, BackgroundChange};
+pub use batch::batch;
 pub use contact::{edit_contact, ContactChange};
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, Guard};

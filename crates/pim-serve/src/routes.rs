@@ -37,6 +37,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/save", post(save))
         .route("/api/study", get(study_report).post(study_start))
         .route("/api/study/cancel", post(study_cancel))
+        .route("/api/batch", post(batch_start))
         .route("/api/report", post(report))
         .route("/api/image", get(image))
         .route("/api/background", post(background))
@@ -438,6 +439,37 @@ async fn study_start(State(s): State<App>, Json(a): Json<StudyAsk>) -> Response 
     let id = s
         .studies
         .start((a.path, a.text), (a.draws, a.seed), (a.off, units));
+    Json(json!({ "id": id })).into_response()
+}
+
+#[derive(Deserialize)]
+struct BatchAsk {
+    /// The case files, relative to the folder served.
+    paths: Vec<String>,
+}
+
+/// Starts a batch of case files (`pim batch`'s records) in the background; polled and
+/// cancelled as a study is. A path outside the folder refuses the whole batch.
+async fn batch_start(State(s): State<App>, Json(a): Json<BatchAsk>) -> Response {
+    let mut files = Vec::new();
+    for p in &a.paths {
+        let Some(file) = inside(&s.served.root, p) else {
+            return outside(p);
+        };
+        files.push(pim_studies::case_batch::CaseText {
+            name: p.clone(),
+            text: std::fs::read_to_string(&file).map_err(|e| format!("{p}: cannot be read: {e}")),
+        });
+    }
+    if files.is_empty() {
+        return refused(StatusCode::UNPROCESSABLE_ENTITY, "no case files to batch");
+    }
+    let id = s.studies.start_job(move |run| {
+        Ok(crate::study::Studied {
+            document: crate::batch::batch(&files, run),
+            bands: Vec::new(),
+        })
+    });
     Json(json!({ "id": id })).into_response()
 }
 

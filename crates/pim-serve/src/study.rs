@@ -217,6 +217,17 @@ impl Studies {
         (draws, seed): (usize, u64),
         (off, units): (Vec<String>, Option<pim_case::units::UnitSystem>),
     ) -> u64 {
+        self.start_job(move |run| {
+            studied(&path, &text, (draws, seed), (&off, units), run).map_err(|e| e.to_string())
+        })
+    }
+
+    /// Starts a job on its own thread (a study or a batch; the page's answers go on meanwhile):
+    /// its number, to poll and cancel it by.
+    pub(crate) fn start_job(
+        &self,
+        job: impl FnOnce(&Running) -> Result<Studied, String> + Send + 'static,
+    ) -> u64 {
         let id = self.next.fetch_add(1, Ordering::Relaxed) + 1;
         let run = Arc::new(Running::default());
         if let Ok(mut m) = self.running.lock() {
@@ -225,8 +236,7 @@ impl Studies {
             m.insert(id, run.clone());
         }
         std::thread::spawn(move || {
-            let outcome = studied(&path, &text, (draws, seed), (&off, units), run.as_ref())
-                .map_err(|e| e.to_string());
+            let outcome = job(run.as_ref());
             if let Ok(mut o) = run.outcome.lock() {
                 *o = Some(outcome);
             }

@@ -302,3 +302,35 @@ fn a_studys_bands_are_the_draws_run_outs() {
     let doc = pim_serve::study(file, &text, (8, 1), &[], &pim_studies::watch::Unwatched).unwrap();
     assert_eq!(doc, s.document);
 }
+
+/// The page's batch: `pim batch`'s records of the files (a file that cannot be read gives
+/// failed records and the batch goes on); cancelled before it starts, it says so.
+#[test]
+fn a_batch_gives_the_records_of_each_file() {
+    use pim_studies::case_batch::CaseText;
+    let files = vec![
+        CaseText {
+            name: "reconstruction_us.toml".into(),
+            text: Ok(example("reconstruction_us.toml")),
+        },
+        CaseText {
+            name: "missing.toml".into(),
+            text: Err("missing.toml: cannot be read".into()),
+        },
+    ];
+    let doc = pim_serve::batch(&files, &pim_studies::watch::Unwatched);
+    assert_eq!(doc["files"], 2);
+    let records = doc["records"].as_array().unwrap();
+    assert!(records.iter().any(|r| r["file"] == "reconstruction_us.toml"
+        && r["best"] == true
+        && r["reconstruction"]["status"] == "found"));
+    assert!(records
+        .iter()
+        .any(|r| r["file"] == "missing.toml" && r["outcome"] == "failed"));
+    assert!(doc["cancelled"].is_null());
+    let stop = pim_studies::watch::CancelSwitch::default();
+    stop.cancel();
+    let doc = pim_serve::batch(&files, &stop);
+    assert_eq!(doc["cancelled"]["done"], 0);
+    assert_eq!(doc["records"].as_array().unwrap().len(), 0);
+}
