@@ -37,6 +37,7 @@ mod answer;
 mod background;
 mod batch;
 mod contact;
+mod edits;
 mod form;
 mod guard;
 mod routes;
@@ -44,12 +45,13 @@ mod served;
 mod study;
 
 pub use answer::{
-    add_mark, answer, answer_following, answer_in, answer_without, move_mark, move_rest,
-    move_rest_in, set_skid, Answer, AnswerError, EvidencePiece, Plan, VehiclePath,
+    answer, answer_following, answer_in, answer_without, Answer, AnswerError, EvidencePiece, Plan,
+    VehiclePath,
 };
 pub use background::{set_background, BackgroundChange};
 pub use batch::batch;
 pub use contact::{edit_contact, ContactChange};
+pub use edits::{add_mark, move_mark, move_rest, move_rest_in, set_skid};
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, Guard};
 use served::Server;

@@ -1,0 +1,185 @@
+//! The case text edited as the page's tools edit it: a rest or a mark dragged, a mark added, a
+//! skid set; each value written in the file's length unit and frame, to a hundredth (as a scene
+//! diagram gives it), every other byte kept.
+
+use crate::AnswerError;
+use pim_case::case::Case;
+use pim_case::units::UnitSystem;
+use pim_core::Convention;
+
+/// The case text with vehicle `vehicle`'s rest position moved to the page point `at` (in the
+/// plan's display length unit): `scene.vehicleN.rest.x` and `.y` rewritten in the file's
+/// length unit and frame, every other byte kept.
+///
+/// # Errors
+/// Text that is not TOML, or a case whose units cannot be read.
+pub fn move_rest(file: &str, text: &str, vehicle: u8, at: [f64; 2]) -> Result<String, AnswerError> {
+    move_rest_in(file, text, vehicle, at, None)
+}
+
+/// [`move_rest`] with the page point in the length unit of `units` (`None`: the case's own).
+///
+/// # Errors
+/// As [`move_rest`].
+pub fn move_rest_in(
+    file: &str,
+    text: &str,
+    vehicle: u8,
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
+        return Err(AnswerError::Input(format!(
+            "{file}: a rest position of vehicle {vehicle} at {at:?} cannot be written"
+        )));
+    }
+    move_point(
+        file,
+        text,
+        &format!("scene.vehicle{vehicle}.rest"),
+        at,
+        units,
+    )
+}
+
+/// The case text with vehicle `vehicle`'s tyre mark `mark` (from 0, as `marks` lists them)
+/// moved to the page point `at` (display length unit of `units`, `None`: the case's own),
+/// written as [`move_rest`] writes a rest.
+///
+/// # Errors
+/// As [`move_rest`], and a mark the case does not have.
+pub fn move_mark(
+    file: &str,
+    text: &str,
+    (vehicle, mark): (u8, usize),
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
+        return Err(AnswerError::Input(format!(
+            "{file}: mark {} of vehicle {vehicle} at {at:?} cannot be written",
+            mark + 1
+        )));
+    }
+    move_point(
+        file,
+        text,
+        &format!("scene.vehicle{vehicle}.marks.{mark}"),
+        at,
+        units,
+    )
+}
+
+/// `{key}.x` and `{key}.y` rewritten to the page point `at`, in the file's length unit and
+/// frame, to a hundredth (as a scene diagram gives them), every other byte kept.
+fn move_point(
+    file: &str,
+    text: &str,
+    key: &str,
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let (x, y) = written_frame(&case, at, units);
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    for (axis, value) in [("x", x), ("y", y)] {
+        let path = format!("{key}.{axis}");
+        let written = (value / per_unit * 100.0).round() / 100.0;
+        edit.set(&path, pim_case::edit::NewValue::Written(written))
+            .map_err(|e| input(&e))?;
+    }
+    Ok(edit.text())
+}
+
+/// A page point (display length unit of `units`, `None`: the case's own) in the case's
+/// written frame, metres: the page is the written frame turned, natural (h, v) = (x, y), SAE
+/// (h, v) = (y, x).
+fn written_frame(case: &Case, at: [f64; 2], units: Option<UnitSystem>) -> (f64, f64) {
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+    let m = units.length(1.0).recip();
+    match case.written {
+        Convention::Sae => (at[1] * m, at[0] * m),
+        _ => (at[0] * m, at[1] * m),
+    }
+}
+
+/// The case text with a tyre mark of vehicle `vehicle` added at the page point `at` with the
+/// standard deviation `sigma` (both in the display length unit of `units`, `None`: the
+/// case's own): appended to `[scene.vehicleN] marks` in the file's length unit and frame, to a
+/// hundredth, every other byte kept. The text is checked as a case after the edit.
+///
+/// # Errors
+/// Text that is not a valid case, a vehicle other than 1 or 2, a point or sigma that is not a
+/// finite number (the sigma above 0), or a case the mark makes invalid (with pim's message).
+pub fn add_mark(
+    file: &str,
+    text: &str,
+    (vehicle, at, sigma): (u8, [f64; 2], f64),
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(vehicle == 1 || vehicle == 2)
+        || !at.iter().all(|x| x.is_finite())
+        || !(sigma.is_finite() && sigma > 0.0)
+    {
+        return Err(AnswerError::Input(format!(
+            "{file}: a mark of vehicle {vehicle} at {at:?} with sigma {sigma} cannot be written"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let (x, y) = written_frame(&case, at, units);
+    let sigma = written_frame(&case, [sigma, sigma], units).0;
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    let written =
+        |v: f64| pim_case::edit::NewValue::Written((v / per_unit * 100.0).round() / 100.0);
+    edit.push(
+        &format!("scene.vehicle{vehicle}.marks"),
+        &[
+            ("x", written(x)),
+            ("y", written(y)),
+            ("sigma", written(sigma)),
+        ],
+    )
+    .map_err(|e| input(&e))?;
+    edit.check().map_err(|e| input(&e))?;
+    Ok(edit.text())
+}
+
+/// The case text with vehicle `vehicle`'s skid up to contact set to `length` (display length
+/// unit of `units`, `None`: the case's own): `[pre_impact.vehicleN] skid` in the file's unit,
+/// to a hundredth, every other byte kept; the text is checked as a case after the edit.
+///
+/// # Errors
+/// Text that is not a valid case, a vehicle other than 1 or 2, a length that is not a finite
+/// number above 0, or a case the skid makes invalid (pim's message).
+pub fn set_skid(
+    file: &str,
+    text: &str,
+    (vehicle, length): (u8, f64),
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(vehicle == 1 || vehicle == 2) || !(length.is_finite() && length > 0.0) {
+        return Err(AnswerError::Input(format!(
+            "{file}: a skid of {length} for vehicle {vehicle} cannot be written"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+    let metres = length * units.length(1.0).recip();
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    edit.set(
+        &format!("pre_impact.vehicle{vehicle}.skid"),
+        pim_case::edit::NewValue::Written((metres / per_unit * 100.0).round() / 100.0),
+    )
+    .map_err(|e| input(&e))?;
+    edit.check().map_err(|e| input(&e))?;
+    Ok(edit.text())
+}
