@@ -68,6 +68,51 @@ pub fn outline_on_page(
         .collect()
 }
 
+/// Vehicle `k`'s crush profile at the pose `m` on the page: the damaged face's ends and the
+/// crushed points between them (each depth measured in from the face, equally spaced over the
+/// damaged width about its offset; the first depth at the left end of the front or rear, the
+/// front end of a side), a closed polygon, in the display length unit of `units`.
+pub fn damage_on_page(
+    r: &RunoutResult,
+    k: usize,
+    m: &Motion,
+    damage: &pim_case::damage::VehicleDamage,
+    units: UnitSystem,
+    frame: Convention,
+) -> Vec<(f64, f64)> {
+    use pim_case::damage::Side;
+    let (length, width, front) = outline_of(r, k);
+    let depths = &damage.profile.depths;
+    let n = depths.len().max(2) - 1;
+    let w = damage.profile.width;
+    // Along the face (its coordinate from the first end) and in from it: body (x, y).
+    let at = |along: f64, depth: f64| -> (f64, f64) {
+        match damage.side {
+            Side::Front => (front - depth, damage.offset + w / 2.0 - along),
+            Side::Rear => (front - length + depth, damage.offset + w / 2.0 - along),
+            Side::Left => (damage.offset + w / 2.0 - along, width / 2.0 - depth),
+            Side::Right => (damage.offset + w / 2.0 - along, -width / 2.0 + depth),
+        }
+    };
+    let mut body = vec![at(0.0, 0.0)];
+    body.extend(
+        depths
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| at(w * i as f64 / n as f64, d)),
+    );
+    body.push(at(w, 0.0));
+    body.push(at(0.0, 0.0));
+    let page = crate::plan::Page::of(frame);
+    let (s, c) = m.heading.sin_cos();
+    body.iter()
+        .map(|(x, y)| {
+            let (gx, gy) = (m.x + c * x - s * y, m.y + s * x + c * y);
+            page.xy((units.length(gx), units.length(gy)))
+        })
+        .collect()
+}
+
 /// The plan view of the run-out as SVG: each vehicle's CG path, its outline at separation
 /// (bold), every `every` seconds (light) and at rest (filled), the rest position given by the
 /// scene (dashed outline, cross at its CG) and the marks (circles of one sd).

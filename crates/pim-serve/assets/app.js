@@ -421,7 +421,7 @@ function pieceLook(name) {
   if (!p) return { cls: "" };
   if (p.off) return { cls: " off" };
   if (p.z != null && Math.abs(p.z) > DISAGREES) return { cls: " disagrees", z: p.z };
-  return { cls: "" };
+  return { cls: "", z: p.z };
 }
 
 function bounds(plan) {
@@ -503,6 +503,7 @@ function render() {
     for (const o of veh.every) el("polygon", { points: pts(o), class: "outline every" }, g);
     el("polyline", { points: pts(veh.path), class: "path" }, g);
     el("polygon", { points: pts(veh.contact), class: "outline contact" }, g);
+    if (veh.damage && veh.damage.length) el("polygon", { points: pts(veh.damage), class: "crush" }, g);
     el("polygon", { points: pts(veh.rest), class: "outline rest" }, g);
     veh.marks.forEach((m, i) => {
       const look = pieceLook(`vehicle${veh.vehicle} mark ${i + 1}`);
@@ -553,7 +554,8 @@ function drawBands(svg) {
 
 // A residual beside a piece of evidence on the plan, in standard deviations.
 function zLabel(g, h, v, z) {
-  const t = el("text", { x: h, y: -v, class: "z-label", style: `font-size: ${13 / pxPerUnit()}px` }, g);
+  const far = Math.abs(z) > DISAGREES;
+  const t = el("text", { x: h, y: -v, class: far ? "z-label" : "z-label near", style: `font-size: ${(far ? 13 : 11) / pxPerUnit()}px` }, g);
   t.textContent = `${z.toFixed(1)} σ`;
 }
 

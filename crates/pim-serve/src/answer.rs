@@ -173,6 +173,8 @@ pub struct PlanVehicle {
     pub heading: f64,
     /// The length of its skid up to contact (`[pre_impact.vehicleN] skid`), display unit.
     pub skid: Option<f64>,
+    /// Its crush profile on its outline at contact (`[damage.vehicleN]`), a closed polygon.
+    pub damage: Vec<[f64; 2]>,
 }
 
 /// A rest position given by the scene, on the page.
@@ -433,7 +435,18 @@ fn plan(
             .map(|(h, v)| [h, v])
             .collect()
     };
+    let damage = pim_case::damage::Damage::of(case).ok().flatten();
     for (k, (input, run)) in r.inputs.iter().zip(&r.runouts).enumerate() {
+        let crush = damage
+            .as_ref()
+            .and_then(|d| d.vehicles[input.id.index()].as_ref())
+            .map(|d| {
+                pim_render::runout::damage_on_page(&r, k, &run.start, d, units, case.written)
+                    .into_iter()
+                    .map(|(h, v)| [h, v])
+                    .collect()
+            })
+            .unwrap_or_default();
         let evidence = input.evidence.as_ref();
         let given_rest = evidence.and_then(|e| e.rest).map(|rest| {
             let pose = pim_runout::Motion {
@@ -487,6 +500,7 @@ fn plan(
                 })
                 .and_then(|p| p.skid)
                 .map(|l| units.length(l * case.written_units.length.to_si())),
+            damage: crush,
         });
     }
     Ok(out)

@@ -334,3 +334,36 @@ fn a_batch_gives_the_records_of_each_file() {
     assert_eq!(doc["cancelled"]["done"], 0);
     assert_eq!(doc["records"].as_array().unwrap().len(), 0);
 }
+
+/// The crush profile drawn on the outline at contact: the damaged face's width between its two
+/// ends, each depth measured in from the face (the sedan's front: 60 in wide, 26 in deepest).
+#[test]
+fn the_crush_profile_is_drawn_on_the_outline() {
+    let file = "reconstruction_damage_us.toml";
+    let (a, _) = pim_serve::answer_following(file, &example(file), None).unwrap();
+    let d = &a.plan.vehicles[0].damage;
+    assert_eq!(d.len(), 9, "{d:?}");
+    let (p, q) = (d[0], d[7]);
+    let width = (q[0] - p[0]).hypot(q[1] - p[1]);
+    assert!((width - 60.0 / 12.0).abs() < 1e-9, "width {width} ft");
+    let depth =
+        |x: [f64; 2]| ((q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0])).abs() / width;
+    let deepest = d[1..7].iter().map(|&x| depth(x)).fold(0.0, f64::max);
+    assert!((deepest - 26.0 / 12.0).abs() < 1e-9, "deepest {deepest} ft");
+    assert_eq!(a.plan.vehicles[1].damage.len(), 9);
+    // The deepest point lies behind the face, inside the outline at contact.
+    let o = &a.plan.vehicles[0].contact;
+    let inside = |x: [f64; 2]| {
+        let mut c = false;
+        for i in 0..o.len() - 1 {
+            let (a, b) = (o[i], o[i + 1]);
+            if (a[1] > x[1]) != (b[1] > x[1])
+                && x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0]
+            {
+                c = !c;
+            }
+        }
+        c
+    };
+    assert!(d[1..7].iter().all(|&x| inside(x)), "{d:?} against {o:?}");
+}
