@@ -684,6 +684,15 @@ test("the API answers every example case with the command's document", async () 
     const cli = JSON.parse(execFileSync(pimBin, ["fit", path.join(repo, "examples/cases", name), "--format", "json"], { encoding: "utf8" }));
     assert.deepEqual(JSON.parse(r.body).document, cli, name);
   }
+  // A case that gives its coefficients is solved as `pim solve` solves it, its run-outs drawn.
+  const text = fs.readFileSync(path.join(repo, "examples/cases/runout_spin.toml"), "utf8");
+  const r = await raw("POST", "/api/answer", { cookie, body: { path: "runout_spin.toml", text } });
+  assert.equal(r.status, 200, r.body);
+  const a = JSON.parse(r.body);
+  assert.equal(a.question, "solve");
+  assert.equal(a.plan.vehicles.length, 2);
+  const cli = JSON.parse(execFileSync(pimBin, ["solve", path.join(repo, "examples/cases/runout_spin.toml"), "--format", "json"], { encoding: "utf8" }));
+  assert.deepEqual(a.document, cli);
 });
 
 test("foreign hosts, missing tokens and paths outside the folder are refused", async () => {

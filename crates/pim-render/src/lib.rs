@@ -36,6 +36,7 @@ pub mod reconstruct;
 pub mod report;
 pub mod runout;
 mod runout_table;
+pub mod solved;
 pub mod statistics;
 pub mod tables;
 pub mod text;

@@ -336,6 +336,8 @@ function summary(a) {
       (d.status !== "found" ? ` — ${d.status}: ${d.reason || ""}` : "");
   } else if (a.question === "reconstruction") {
     s.textContent = `${d.status}: ${d.reason || ""}`;
+  } else if (a.question === "solve") {
+    s.textContent = "solved from its coefficients (pim solve): both run-outs from its separation";
   } else {
     s.textContent = "an impact fit (no scene evidence to reconstruct from)";
   }

@@ -22,7 +22,8 @@ pub enum AnswerError {
 /// The answer of one case.
 #[derive(Debug, Serialize)]
 pub struct Answer {
-    /// `reconstruction` (a scene case) or `fit`.
+    /// `reconstruction` (a scene case), `solve` (a case that gives its coefficients, as `pim
+    /// solve` answers it) or `fit`.
     pub question: &'static str,
     /// A live answer: the reconstruction refined from the previous answer's ends
     /// ([`pim_reconstruct::follow`]), not searched, and without its consistency table; the
@@ -284,6 +285,28 @@ pub fn answer_without(
                     plan,
                 },
                 Some(done.outcome),
+            ))
+        }
+        // A case that gives its coefficients is solved, as `pim solve` solves it.
+        _ if case.content.coefficients.is_some() => {
+            let solved = pim_studies::documents::solve(&case, &pim_core::SolveOptions::default())
+                .map_err(|e| input(&e))?;
+            let table = pim_render::solved::solved_table(&title, &solved, units, case.written);
+            let plan = if case.has_runout() {
+                plan(&case, Some(solved.report.separation), units).unwrap_or_default()
+            } else {
+                Plan::default()
+            };
+            Ok((
+                Answer {
+                    question: "solve",
+                    live: false,
+                    pieces: Vec::new(),
+                    document: serde_json::to_value(&solved.document).map_err(|e| input(&e))?,
+                    table,
+                    plan,
+                },
+                None,
             ))
         }
         _ => {

@@ -367,3 +367,23 @@ fn the_crush_profile_is_drawn_on_the_outline() {
     };
     assert!(d[1..7].iter().all(|&x| inside(x)), "{d:?} against {o:?}");
 }
+
+/// A case that gives its coefficients is solved as `pim solve` solves it (the same text), and
+/// both run-outs are drawn from its separation.
+#[test]
+fn a_case_with_coefficients_is_solved() {
+    let file = "runout_spin.toml";
+    let text = example(file);
+    let a = pim_serve::answer(file, &text).unwrap();
+    assert_eq!(a.question, "solve");
+    let case = pim_case::case::Case::from_text(file, &text).unwrap();
+    let solved = pim_studies::documents::solve(&case, &pim_core::SolveOptions::default()).unwrap();
+    assert_eq!(a.document, serde_json::to_value(&solved.document).unwrap());
+    assert!(a.table.contains("solved forwards"), "{}", a.table);
+    assert_eq!(a.plan.vehicles.len(), 2);
+    assert!(a
+        .plan
+        .vehicles
+        .iter()
+        .all(|v| v.path.len() > 10 && !v.every.is_empty()));
+}

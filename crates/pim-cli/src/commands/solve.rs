@@ -6,7 +6,7 @@ use crate::error::Failure;
 use crate::inputs::load_case;
 use anyhow::Result;
 use pim_case::units::UnitSystem;
-use pim_core::{Convention, SolveOptions};
+use pim_core::SolveOptions;
 use pim_documents::records;
 use pim_render::tables;
 use pim_studies::documents;
@@ -21,41 +21,13 @@ pub fn run(a: &SolveArgs) -> Result<ExitCode> {
     let case = load_case(&a.case)?;
     let (_, warnings) = crate::inputs::checked_impact(&case)?;
     let solved = documents::solve(&case, &options(a)).map_err(Failure::from)?;
-    let documents::Solved {
-        impact,
-        report,
-        forward,
-        document,
-    } = &solved;
-    let forward = *forward;
+    let document = &solved.document;
     let record = json(&document)?;
-    // Shown in the case's own units and frame (an SAE case was solved mirrored into the
-    // natural form; the JSON stays SI and natural, and says so).
+    // Shown in the case's own units and frame (the JSON stays SI and natural, and says so).
     let units = a
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
-    let frame = case.written;
-    let mirrored = (frame == Convention::Sae).then(|| report.mirrored());
-    let shown = mirrored.as_ref().unwrap_or(report);
-    let mut table = tables::solve_table(
-        &title_of(&case),
-        impact,
-        shown,
-        document.model.as_ref(),
-        forward,
-        units,
-        frame,
-    );
-    if let Some(m) = &document.model {
-        let line = tables::model_line(m);
-        if let Some(at) = table.find("solved forwards") {
-            table.insert_str(at, &line);
-        }
-    }
-    if let Some(d) = &document.damage {
-        table.push('\n');
-        table.push_str(&pim_render::damage::damage_lines(d, units));
-    }
+    let table = pim_render::solved::solved_table(&title_of(&case), &solved, units, case.written);
     if let Some(dir) = &a.out {
         let doc = pim_render::report::build::solve(&case, &solved, units)
             .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?;
