@@ -637,6 +637,7 @@ async function placeSkid(click) {
 // point makes (`changeAt`) is sent live while the server keeps up, and once more on release.
 function dragGeometry(e, handle, changeAt) {
   e.stopPropagation();
+  e.preventDefault();
   const svg = $("plan");
   svg.setPointerCapture(e.pointerId);
   const from = svgPoint(e);
@@ -655,11 +656,13 @@ function dragGeometry(e, handle, changeAt) {
   const up = () => {
     svg.removeEventListener("pointermove", move);
     svg.removeEventListener("pointerup", up);
+    svg.removeEventListener("pointercancel", up);
     state.dragging = null;
     if (last) editQueued(last, false); else render();
   };
   svg.addEventListener("pointermove", move);
   svg.addEventListener("pointerup", up);
+  svg.addEventListener("pointercancel", up);
 }
 
 // Edits of the geometry run one after the other, as moves of a rest do.
@@ -710,6 +713,7 @@ function drawBackground(svg) {
 // [background] on release.
 function dragImage(e, changeAt) {
   e.stopPropagation();
+  e.preventDefault();
   const svg = $("plan");
   svg.setPointerCapture(e.pointerId);
   state.dragging = { image: true };
@@ -718,11 +722,13 @@ function dragImage(e, changeAt) {
   const up = () => {
     svg.removeEventListener("pointermove", move);
     svg.removeEventListener("pointerup", up);
+    svg.removeEventListener("pointercancel", up);
     state.dragging = null;
     if (last) changeBackground(last); else render();
   };
   svg.addEventListener("pointermove", move);
   svg.addEventListener("pointerup", up);
+  svg.addEventListener("pointercancel", up);
 }
 
 // A point of the page's SVG on the background image, pixels.
@@ -855,6 +861,7 @@ function svgPoint(e) {
 // A drag of a rest (`target` {vehicle}) or a tyre mark ({vehicle, mark}).
 function startDrag(e, target, at, group, handle) {
   e.stopPropagation();
+  e.preventDefault();
   const svg = $("plan");
   svg.setPointerCapture(e.pointerId);
   const from = svgPoint(e);
@@ -873,12 +880,14 @@ function startDrag(e, target, at, group, handle) {
   const up = () => {
     svg.removeEventListener("pointermove", move);
     svg.removeEventListener("pointerup", up);
+    svg.removeEventListener("pointercancel", up);
     const to = state.dragging.to;
     state.dragging = null;
     moveTo(target, to);
   };
   svg.addEventListener("pointermove", move);
   svg.addEventListener("pointerup", up);
+  svg.addEventListener("pointercancel", up);
 }
 
 // The dragged rest drawn where the pointer is (its group drawn at `base`).
@@ -939,9 +948,11 @@ function panAndZoom() {
       svg.classList.remove("panning");
       svg.removeEventListener("pointermove", move);
       svg.removeEventListener("pointerup", up);
+    svg.removeEventListener("pointercancel", up);
     };
     svg.addEventListener("pointermove", move);
     svg.addEventListener("pointerup", up);
+  svg.addEventListener("pointercancel", up);
   });
 }
 

@@ -22,8 +22,8 @@ pub enum AnswerError {
 /// The answer of one case.
 #[derive(Debug, Serialize)]
 pub struct Answer {
-    /// `reconstruction` (a scene case), `solve` (a case that gives its coefficients, as `pim
-    /// solve` answers it) or `fit`.
+    /// `reconstruction` (a scene case), `solve` (a case that gives its coefficients and
+    /// nothing to fit, as `pim solve` answers it) or `fit`.
     pub question: &'static str,
     /// A live answer: the reconstruction refined from the previous answer's ends
     /// ([`pim_reconstruct::follow`]), not searched, and without its consistency table; the
@@ -287,8 +287,13 @@ pub fn answer_without(
                 Some(done.outcome),
             ))
         }
-        // A case that gives its coefficients is solved, as `pim solve` solves it.
-        _ if case.content.coefficients.is_some() => {
+        // A case that gives its coefficients and nothing to fit is solved, as `pim solve`
+        // solves it (`pim fit` refuses it).
+        _ if case.content.coefficients.is_some()
+            && case.content.estimates.is_none()
+            && case.content.known.is_none()
+            && case.content.observations.is_empty() =>
+        {
             let solved = pim_studies::documents::solve(&case, &pim_core::SolveOptions::default())
                 .map_err(|e| input(&e))?;
             let table = pim_render::solved::solved_table(&title, &solved, units, case.written);
