@@ -131,7 +131,12 @@ pub fn add_mark(
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
     let (x, y) = written_frame(&case, at, units);
-    let sigma = written_frame(&case, [sigma, sigma], units).0;
+    // A length, not a point: metres from the display unit.
+    let sigma = sigma
+        * units
+            .unwrap_or_else(|| UnitSystem::of(&case.written_units))
+            .length(1.0)
+            .recip();
     let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
