@@ -37,9 +37,8 @@ pub struct ReconstructionStudy {
     /// Every feasible draw's value, by quantity (for the histograms; not in the JSON).
     #[serde(skip)]
     pub samples: BTreeMap<String, Vec<f64>>,
-    /// Every feasible draw's velocities at separation (vx, vy, omega of vehicle 1, then of
-    /// vehicle 2; SI, natural frame), in the order of `samples` (for the run-outs' bands on a
-    /// plan; not in the JSON).
+    /// Every feasible draw's velocities at separation (SI, natural frame), in the order of
+    /// `samples` (for the run-outs' bands on a plan; not in the JSON).
     #[serde(skip)]
-    pub separations: Vec<[f64; 6]>,
+    pub separations: Vec<pim_core::Velocities>,
 }

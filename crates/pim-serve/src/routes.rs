@@ -215,6 +215,21 @@ fn unanswered(e: crate::AnswerError) -> Response {
     refused(StatusCode::UNPROCESSABLE_ENTITY, &e.to_string())
 }
 
+/// The answer to an edit of the case text made in the display units `units` (a name, `None`:
+/// the case's own): `{text}`, the edited text (not saved), or the refusal that says why.
+fn edited(
+    units: Option<&str>,
+    edit: impl FnOnce(Option<UnitSystem>) -> Result<String, crate::AnswerError>,
+) -> Response {
+    match units_of(units)
+        .map_err(crate::AnswerError::Input)
+        .and_then(edit)
+    {
+        Ok(text) => Json(json!({ "text": text })).into_response(),
+        Err(e) => unanswered(e),
+    }
+}
+
 async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
     let units = match units_of(c.units.as_deref()) {
         Ok(u) => u,
@@ -264,18 +279,10 @@ struct Move {
 }
 
 async fn move_rest(Json(m): Json<Move>) -> Response {
-    let units = match units_of(m.units.as_deref()) {
-        Ok(u) => u,
-        Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
-    };
-    let moved = match m.mark {
+    edited(m.units.as_deref(), |units| match m.mark {
         Some(i) => crate::move_mark(&m.path, &m.text, (m.vehicle, i), m.at, units),
         None => crate::move_rest_in(&m.path, &m.text, m.vehicle, m.at, units),
-    };
-    match moved {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
+    })
 }
 
 /// Saves a case: only a valid case, only inside the folder.
@@ -292,13 +299,9 @@ struct MarkAsk {
 
 /// The text with a tyre mark added where the page was clicked (not saved).
 async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
-    let done = units_of(m.units.as_deref())
-        .map_err(crate::AnswerError::Input)
-        .and_then(|u| crate::add_mark(&m.path, &m.text, (m.vehicle, m.at, m.sigma), u));
-    match done {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
+    edited(m.units.as_deref(), |u| {
+        crate::add_mark(&m.path, &m.text, (m.vehicle, m.at, m.sigma), u)
+    })
 }
 
 #[derive(Deserialize)]
@@ -314,13 +317,9 @@ struct ContactAsk {
 /// The text with the geometry at contact moved (a vehicle's CG or heading, the impact centre,
 /// the crush surface's normal), not saved.
 async fn contact(Json(c): Json<ContactAsk>) -> Response {
-    let done = units_of(c.units.as_deref())
-        .map_err(crate::AnswerError::Input)
-        .and_then(|u| crate::edit_contact(&c.path, &c.text, &c.change, u));
-    match done {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
+    edited(c.units.as_deref(), |u| {
+        crate::edit_contact(&c.path, &c.text, &c.change, u)
+    })
 }
 
 #[derive(Deserialize)]
@@ -335,13 +334,9 @@ struct SkidAsk {
 
 /// The text with a vehicle's skid up to contact set (not saved).
 async fn skid(Json(k): Json<SkidAsk>) -> Response {
-    let done = units_of(k.units.as_deref())
-        .map_err(crate::AnswerError::Input)
-        .and_then(|u| crate::set_skid(&k.path, &k.text, (k.vehicle, k.length), u));
-    match done {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
+    edited(k.units.as_deref(), |u| {
+        crate::set_skid(&k.path, &k.text, (k.vehicle, k.length), u)
+    })
 }
 
 #[derive(Deserialize)]
@@ -368,10 +363,9 @@ struct SetAsk {
 
 /// The text with one field of the forms set (not saved).
 async fn set_field(Json(a): Json<SetAsk>) -> Response {
-    match crate::set_field(&a.path, &a.text, &a.key, &a.value) {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
+    edited(None, |_| {
+        crate::set_field(&a.path, &a.text, &a.key, &a.value)
+    })
 }
 
 async fn save(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
@@ -542,12 +536,7 @@ struct BackgroundAsk {
 
 /// The case's text with its `[background]` changed as the page asks.
 async fn background(Json(b): Json<BackgroundAsk>) -> Response {
-    let units = match units_of(b.units.as_deref()) {
-        Ok(u) => u,
-        Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
-    };
-    match crate::set_background(&b.path, &b.text, &b.change, units) {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
+    edited(b.units.as_deref(), |units| {
+        crate::set_background(&b.path, &b.text, &b.change, units)
+    })
 }

@@ -87,7 +87,7 @@ pub fn studied(
             // Each draw's run-outs on its own fitted road friction (the run-outs' one drawn
             // input; a vehicle on a surface of its own keeps its stated friction).
             let frictions = study.samples.get("road_friction");
-            for (i, s) in study.separations.iter().take(BAND_DRAWS).enumerate() {
+            for (i, sep) in study.separations.iter().take(BAND_DRAWS).enumerate() {
                 let mut drawn = case.clone();
                 if let (Some(mu), Some(r)) = (
                     frictions.and_then(|f| f.get(i)),
@@ -95,16 +95,7 @@ pub fn studied(
                 ) {
                     r.friction = Some(*mu);
                 }
-                let v = |k: usize| pim_core::VehicleVelocity {
-                    vx: s[3 * k],
-                    vy: s[3 * k + 1],
-                    omega: s[3 * k + 2],
-                };
-                let sep = pim_core::Velocities {
-                    vehicle1: v(0),
-                    vehicle2: v(1),
-                };
-                bands.extend(crate::answer::paths(&drawn, sep, units).unwrap_or_default());
+                bands.extend(crate::answer::paths(&drawn, *sep, units).unwrap_or_default());
             }
             serde_json::to_value(&study)
         }

@@ -263,19 +263,10 @@ pub fn run_around(
                     .iter()
                     .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
                     .collect::<Vec<f64>>();
-                let s = f.solution.separation;
-                let separation = [
-                    s.vehicle1.vx,
-                    s.vehicle1.vy,
-                    s.vehicle1.omega,
-                    s.vehicle2.vx,
-                    s.vehicle2.vy,
-                    s.vehicle2.omega,
-                ];
-                (values, separation)
+                (values, f.solution.separation)
             })
     });
-    let separations: Vec<[f64; 6]> = results
+    let separations: Vec<pim_core::Velocities> = results
         .iter()
         .filter_map(|(_, r)| r.as_ref().map(|r| r.1))
         .collect();
