@@ -615,8 +615,6 @@ function drawSkids(svg, a) {
 // passes nearest, the length the click's distance behind the CG along its heading, both
 // asked to confirm.
 async function placeSkid(click) {
-  state.tool = null; state.clicks = [];
-  $("plan").classList.remove("picking");
   const p = [click.x, -click.y];
   let best = null;
   for (const v of state.answer.plan.vehicles) {
@@ -636,15 +634,12 @@ async function placeSkid(click) {
 // A drag of a contact handle: the handle follows the pointer; the change the pointer's page
 // point makes (`changeAt`) is sent live while the server keeps up, and once more on release.
 function dragGeometry(e, handle, changeAt) {
-  e.stopPropagation();
-  e.preventDefault();
   const svg = $("plan");
-  svg.setPointerCapture(e.pointerId);
   const from = svgPoint(e);
   handle.classList.add("dragging");
   state.dragging = { geometry: true };
   let last = null;
-  const move = (ev) => {
+  grab(e, (ev) => {
     const p = svgPoint(ev);
     last = changeAt([p.x, -p.y]);
     for (const h of svg.querySelectorAll(".dragging")) h.setAttribute("transform", `translate(${p.x - from.x} ${p.y - from.y})`);
@@ -652,17 +647,10 @@ function dragGeometry(e, handle, changeAt) {
       state.inFlight = true;
       editQueued(last, true).finally(() => { state.inFlight = false; });
     }
-  };
-  const up = () => {
-    svg.removeEventListener("pointermove", move);
-    svg.removeEventListener("pointerup", up);
-    svg.removeEventListener("pointercancel", up);
+  }, () => {
     state.dragging = null;
     if (last) editQueued(last, false); else render();
-  };
-  svg.addEventListener("pointermove", move);
-  svg.addEventListener("pointerup", up);
-  svg.addEventListener("pointercancel", up);
+  });
 }
 
 // Edits of the geometry run one after the other, as moves of a rest do.
@@ -712,23 +700,12 @@ function drawBackground(svg) {
 // A drag of the background (Move image): drawn where the pointer takes it, written into
 // [background] on release.
 function dragImage(e, changeAt) {
-  e.stopPropagation();
-  e.preventDefault();
-  const svg = $("plan");
-  svg.setPointerCapture(e.pointerId);
   state.dragging = { image: true };
   let last = null;
-  const move = (ev) => { const p = svgPoint(ev); last = changeAt([p.x, -p.y]); render(); };
-  const up = () => {
-    svg.removeEventListener("pointermove", move);
-    svg.removeEventListener("pointerup", up);
-    svg.removeEventListener("pointercancel", up);
+  grab(e, (ev) => { const p = svgPoint(ev); last = changeAt([p.x, -p.y]); render(); }, () => {
     state.dragging = null;
     if (last) changeBackground(last); else render();
-  };
-  svg.addEventListener("pointermove", move);
-  svg.addEventListener("pointerup", up);
-  svg.addEventListener("pointercancel", up);
+  });
 }
 
 // A point of the page's SVG on the background image, pixels.
@@ -771,13 +748,14 @@ async function toolClick(e) {
   if (!state.tool || state.tool === "move-image") return;
   state.clicks.push(svgPoint(e));
   render();
-  if (state.tool === "mark") { await placeMark(state.clicks[0]); return; }
-  if (state.tool === "skid") { await placeSkid(state.clicks[0]); return; }
-  if (state.clicks.length < 2) return;
-  const [a, b] = state.clicks;
-  const tool = state.tool;
+  // A mark or a skid takes one click, a distance two; then the tool ends.
+  if (state.clicks.length < (state.tool === "mark" || state.tool === "skid" ? 1 : 2)) return;
+  const clicks = state.clicks, tool = state.tool;
   state.tool = null; state.clicks = [];
   $("plan").classList.remove("picking");
+  if (tool === "mark") { await placeMark(clicks[0]); return; }
+  if (tool === "skid") { await placeSkid(clicks[0]); return; }
+  const [a, b] = clicks;
   const label = state.answer.plan.length_label;
   if (tool === "measure") {
     const d = Math.hypot(b.x - a.x, b.y - a.y);
@@ -808,8 +786,6 @@ function nearestVehicle(p) {
 // A tyre mark where the plan was clicked: the vehicle (the one whose path passes nearest) and
 // the mark's standard deviation asked, then written into the TOML (not saved) and solved.
 async function placeMark(click) {
-  state.tool = null; state.clicks = [];
-  $("plan").classList.remove("picking");
   const plan = state.answer.plan, at = [click.x, -click.y];
   const sigma = Math.round((0.15 / plan.metres) * 100) / 100;
   const answer = window.prompt(`Tyre mark of vehicle (1 or 2) and its standard deviation (${plan.length_label}):`,
@@ -856,18 +832,37 @@ function svgPoint(e) {
   return p.matrixTransform(svg.getScreenCTM().inverse());
 }
 
-// Dragging a rest position: the handle follows the pointer; the case is moved and solved
-// again whenever the last answer is in (while dragging), and once more on release.
-// A drag of a rest (`target` {vehicle}) or a tyre mark ({vehicle, mark}).
-function startDrag(e, target, at, group, handle) {
-  e.stopPropagation();
-  e.preventDefault();
+// A drag from the press `e` on the plan: `move(ev)` at each move of the pointer, `end()` once
+// when it is let go or the browser cancels it.
+function capture(e, move, end) {
   const svg = $("plan");
   svg.setPointerCapture(e.pointerId);
+  const up = () => {
+    svg.removeEventListener("pointermove", move);
+    svg.removeEventListener("pointerup", up);
+    svg.removeEventListener("pointercancel", up);
+    end();
+  };
+  svg.addEventListener("pointermove", move);
+  svg.addEventListener("pointerup", up);
+  svg.addEventListener("pointercancel", up);
+}
+
+// [`capture`] of a handle's press: the plan under it neither pans nor has its text selected.
+function grab(e, move, end) {
+  e.stopPropagation();
+  e.preventDefault();
+  capture(e, move, end);
+}
+
+// A drag of a rest (`target` {vehicle}) or a tyre mark ({vehicle, mark}): the handle follows the
+// pointer; the case is moved and solved again whenever the last answer is in (while dragging),
+// and once more on release.
+function startDrag(e, target, at, group, handle) {
   const from = svgPoint(e);
   handle.classList.add("dragging");
   state.dragging = { ...target, group, base: at, to: at };
-  const move = (ev) => {
+  grab(e, (ev) => {
     const p = svgPoint(ev);
     const d = state.dragging;
     d.to = [at[0] + p.x - from.x, at[1] - (p.y - from.y)];
@@ -876,18 +871,11 @@ function startDrag(e, target, at, group, handle) {
       state.inFlight = true;
       moveTo(target, d.to, true).finally(() => { state.inFlight = false; });
     }
-  };
-  const up = () => {
-    svg.removeEventListener("pointermove", move);
-    svg.removeEventListener("pointerup", up);
-    svg.removeEventListener("pointercancel", up);
+  }, () => {
     const to = state.dragging.to;
     state.dragging = null;
     moveTo(target, to);
-  };
-  svg.addEventListener("pointermove", move);
-  svg.addEventListener("pointerup", up);
-  svg.addEventListener("pointercancel", up);
+  });
 }
 
 // The dragged rest drawn where the pointer is (its group drawn at `base`).
@@ -936,23 +924,13 @@ function panAndZoom() {
       return;
     }
     if (!state.view || state.dragging || state.tool) return;
-    svg.setPointerCapture(e.pointerId);
     svg.classList.add("panning");
     const start = { x: e.clientX, y: e.clientY, view: { ...state.view } };
-    const move = (ev) => {
+    capture(e, (ev) => {
       const k = state.view.w / svg.clientWidth;
       state.view = { ...start.view, x: start.view.x - (ev.clientX - start.x) * k, y: start.view.y - (ev.clientY - start.y) * k };
       render();
-    };
-    const up = () => {
-      svg.classList.remove("panning");
-      svg.removeEventListener("pointermove", move);
-      svg.removeEventListener("pointerup", up);
-    svg.removeEventListener("pointercancel", up);
-    };
-    svg.addEventListener("pointermove", move);
-    svg.addEventListener("pointerup", up);
-  svg.addEventListener("pointercancel", up);
+    }, () => svg.classList.remove("panning"));
   });
 }
 
