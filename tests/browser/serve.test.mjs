@@ -97,7 +97,10 @@ test("opens the example and shows its reconstruction", async () => {
   await page.goto(url);
   await page.waitForSelector("#speeds td.contact");
   await idle();
-  assert.deepEqual(await speeds(), [38.10, 27.20]);
+  // `pim fit`'s contact speeds: 38.0950 mph (on the rounding edge of two decimals) and 27.196.
+  const [sedan, suv] = await speeds();
+  assert.ok(Math.abs(sedan - 38.095) < 0.006, `sedan ${sedan}`);
+  assert.equal(suv, 27.2);
   opened = await page.evaluate(() => ({
     first_contentful_paint: performance.getEntriesByType("paint").find((p) => p.name === "first-contentful-paint")?.startTime,
     first_answer_drawn: performance.getEntriesByName("answer")[0]?.duration + performance.getEntriesByName("answer")[0]?.startTime,

@@ -83,7 +83,13 @@ fn separation_from_the_scene() {
     assert!(text.contains("consistent"), "{text}");
 }
 
-/// The two cases' estimates of vehicle 1's separation state agree to 1e-6 (SI JSON).
+/// The two cases' estimates of vehicle 1's separation state agree to the precision the run-outs
+/// give the answer (SI JSON): 5e-5 m/s and rad/s. The cost of run-outs integrated to 1e-10
+/// still moves by about 3e-8 between neighbouring states (measured on this scene: the step
+/// sequences differ), and its curvature along the least determined unknown is about 113
+/// (1 / 0.094^2, the speed's standard error), so its minimum is located to
+/// `sqrt(2 * 3e-8 / 113) = 2.3e-5`: the two unit systems, whose inputs differ by rounding,
+/// land anywhere within it (0.0005 of the standard error).
 fn same_separation(a: &str, b: &str) {
     let run = |case: &str| json(&pim_ok(&["runout", case, "--format", "json"]));
     let (a, b) = (run(a), run(b));
@@ -91,9 +97,15 @@ fn same_separation(a: &str, b: &str) {
         &a["vehicles"][0]["separation"],
         &b["vehicles"][0]["separation"],
     );
-    for k in ["vx", "vy", "yaw_rate", "x", "y"] {
+    for (k, tol) in [
+        ("vx", 5e-5),
+        ("vy", 5e-5),
+        ("yaw_rate", 5e-5),
+        ("x", 1e-9),
+        ("y", 1e-9),
+    ] {
         assert!(
-            (num(&a[k]) - num(&b[k])).abs() < 1e-6,
+            (num(&a[k]) - num(&b[k])).abs() < tol,
             "{k}: {} {}",
             a[k],
             b[k]

@@ -58,8 +58,9 @@
 //! `K = (m v^2 + I r^2) / 2`. The integration carries the work `W = int P dt` as a state:
 //! `K + W` stays the initial kinetic energy (to the integration tolerance).
 //!
-//! **Integration and the stop.** Dormand-Prince 5(4) with adaptive steps (the `ode_solvers`
-//! crate), tolerances 1e-10. The stop is an event checked at every accepted step: once every
+//! **Integration and the stop.** Dormand-Prince 5(4) with adaptive steps (Hairer and Wanner's
+//! DOPRI5 step control, as the `ode_solvers` crate implements it, to the last bit; see
+//! `dopri.rs` for why it is the crate's own), tolerances 1e-10. The stop is an event checked at every accepted step: once every
 //! contact patch is slower than the rest speed (2 cm/s, twice the band above), the last
 //! millimetres are taken at the current deceleration in closed form: the kinetic energy `K`
 //! goes at the power `P`, so a uniform deceleration ends after `tau = 2 K / P` having covered
@@ -74,6 +75,7 @@
 //! A rest heading is known modulo a full turn: each count of turns is a separate candidate.
 
 pub mod chassis;
+mod dopri;
 pub mod error;
 mod forces;
 pub mod inverse;

@@ -1,10 +1,9 @@
 //! The run-out from separation to rest.
 
 use crate::chassis::{Chassis, Motion};
+use crate::dopri::{integrate, Control, Failure};
 use crate::error::{Result, RunoutError};
 use crate::forces::{derivative, Dynamics, State};
-use ode_solvers::dop_shared::{IntegrationError, OutputType};
-use ode_solvers::{Dopri5, System};
 use serde::{Deserialize, Serialize};
 
 /// How a run-out is integrated.
@@ -104,6 +103,12 @@ pub struct Runout {
     pub steps: Vec<Step>,
     /// Right-hand side evaluations of the integration.
     pub evaluations: u32,
+    /// How many of [`Runout::steps`] the integrator took (the start included; the closed-form
+    /// last millimetres follow them), when the run-out can be replayed through them from another
+    /// start ([`replay`]): not with inputs by distance, whose starts depend on the path.
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub(crate) integrated: Option<usize>,
 }
 
 /// Full turns of a rotation `r` (rad) beyond the shortest rotation between its ends, which lies
@@ -190,38 +195,6 @@ pub(crate) fn hermite(a: &Step, b: &Step, t: f64) -> Motion {
     }
 }
 
-/// The ODE system handed to the integrator: it records every accepted step and stops the
-/// integration when every contact patch is slower than the rest speed.
-struct Tracked<'a> {
-    dynamics: &'a Dynamics,
-    rest_speed: f64,
-    log: &'a mut Vec<(f64, State, State)>,
-    stopped: &'a mut bool,
-    /// A distance along the path at which the piece ends (an input by distance starts).
-    target: Option<f64>,
-    fired: &'a mut bool,
-}
-
-impl System<f64, State> for Tracked<'_> {
-    fn system(&self, t: f64, y: &State, dy: &mut State) {
-        *dy = derivative(&self.dynamics.at_time(t), y);
-    }
-
-    fn solout(&mut self, t: f64, y: &State, dy: &State) -> bool {
-        // A piece after the first starts where the one before ended, already logged.
-        if self.log.last().is_some_and(|l| l.0 >= t) {
-            return *self.stopped;
-        }
-        self.log.push((t, *y, *dy));
-        if self.dynamics.fastest_patch(y) < self.rest_speed {
-            *self.stopped = true;
-        } else if self.target.is_some_and(|d| y[7] >= d) {
-            *self.fired = true;
-        }
-        *self.stopped || *self.fired
-    }
-}
-
 fn step_of(t: f64, y: &State, dy: &State) -> Step {
     Step {
         time: t,
@@ -256,43 +229,38 @@ fn piece(
     target: Option<f64>,
     (log, stopped, fired): (&mut Vec<(f64, State, State)>, &mut bool, &mut bool),
 ) -> Result<u32> {
-    let system = Tracked {
-        dynamics,
-        rest_speed: settings.rest_speed,
-        log: &mut *log,
-        stopped,
-        target,
-        fired,
+    let control = Control {
+        rtol: settings.rtol,
+        atol: settings.atol,
+        h_max: settings.time_limit,
+        max_steps: 2_000_000,
     };
-    let mut solver = Dopri5::from_param(
-        system,
-        t0,
-        end,
-        end - t0,
+    let rest_speed = settings.rest_speed;
+    let outcome = integrate(
+        |t, y| derivative(&dynamics.at_time(t), y),
+        (t0, end),
         y,
-        settings.rtol,
-        settings.atol,
-        0.9,
-        0.04,
-        0.2,
-        10.0,
-        settings.time_limit,
-        0.0,
-        2_000_000,
-        u32::MAX,
-        OutputType::Sparse,
+        &control,
+        |t, y, dy| {
+            // A piece after the first starts where the one before ended, already logged.
+            if log.last().is_some_and(|l| l.0 >= t) {
+                return *stopped;
+            }
+            log.push((t, *y, *dy));
+            if dynamics.fastest_patch(y) < rest_speed {
+                *stopped = true;
+            } else if target.is_some_and(|d| y[7] >= d) {
+                *fired = true;
+            }
+            *stopped || *fired
+        },
     );
-    let outcome = solver.integrate();
-    drop(solver);
     match outcome {
-        Ok(stats) => Ok(stats.num_eval),
-        Err(e) => {
-            let (time, reason) = match e {
-                IntegrationError::MaxNumStepReached { x, n_step } => {
-                    (x, format!("more than {n_step} steps"))
-                }
-                IntegrationError::StepSizeUnderflow { x } => (x, "step size underflow".into()),
-                IntegrationError::StiffnessDetected { x } => (x, "the motion is stiff".into()),
+        Ok(evaluations) => Ok(evaluations),
+        Err((failure, _)) => {
+            let (time, reason) = match failure {
+                Failure::MaxSteps { t, steps } => (t, format!("more than {steps} steps")),
+                Failure::Underflow { t } => (t, "step size underflow".into()),
             };
             // Six evaluations per accepted step at least.
             let evaluations = 6 * log.len() as u64;
@@ -354,17 +322,7 @@ pub fn simulate(chassis: &Chassis, start: &Motion, settings: &Settings) -> Resul
 
 /// The run-out with prepared dynamics (the inverse calls it many times for one vehicle).
 pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> Result<Runout> {
-    let y0 = State::from([
-        start.x,
-        start.y,
-        start.heading,
-        start.vx,
-        start.vy,
-        start.yaw_rate,
-        0.0,
-        0.0,
-    ]);
-    let initial_energy = dynamics.kinetic_energy(&y0);
+    let y0 = initial_state(start);
     let mut log = vec![(0.0, y0, State::zeros())];
     let mut stopped = dynamics.fastest_patch(&y0) < settings.rest_speed;
     let mut evaluations = 1;
@@ -468,13 +426,37 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
             current = std::borrow::Cow::Owned(dynamics.with_starts(&starts));
         }
     }
+    let integrated = triggers.is_none().then_some(log.len());
+    Ok(finish(
+        &current,
+        start,
+        settings,
+        &log,
+        stopped,
+        evaluations,
+        integrated,
+    ))
+}
+
+/// The run-out from the logged steps: the last millimetres in closed form when the motion
+/// `stopped` (else it ended at the time limit).
+fn finish(
+    current: &Dynamics,
+    start: &Motion,
+    settings: &Settings,
+    log: &[(f64, State, State)],
+    stopped: bool,
+    evaluations: u32,
+    integrated: Option<usize>,
+) -> Runout {
+    let initial_energy = current.kinetic_energy(&log[0].1);
     let mut steps: Vec<Step> = log.iter().map(|(t, y, dy)| step_of(*t, y, dy)).collect();
     let (t_last, y_last, _) = *log.last().expect("the start is logged");
     let (rest, end, time, distance, work) = if stopped {
         // The last millimetres at the current deceleration: the kinetic energy K goes at the
         // power P, so a uniform deceleration ends after tau = 2 K / P, with half the current
         // velocities' way covered.
-        let k = dynamics.kinetic_energy(&y_last);
+        let k = current.kinetic_energy(&y_last);
         let p = current.at_time(t_last).rates(&y_last).power;
         let tau = if p > 0.0 { 2.0 * k / p } else { 0.0 };
         let tau = tau.min(settings.time_limit - t_last).max(0.0);
@@ -508,7 +490,7 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
             y_last[6],
         )
     };
-    Ok(Runout {
+    Runout {
         start: *start,
         rotation: rest.heading - start.heading,
         rest,
@@ -519,7 +501,57 @@ pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> R
         tyre_work: work,
         steps,
         evaluations,
-    })
+        integrated,
+    }
+}
+
+/// The run-out of `dynamics` from `start` integrated through the accepted steps of `nominal`
+/// (internal numerical differentiation: see [`crate::dopri`]); its last millimetres in closed
+/// form when the nominal came to rest. `None` when `nominal` cannot be replayed (inputs by
+/// distance) or `dynamics` starts inputs by distance.
+pub(crate) fn replay(
+    dynamics: &Dynamics,
+    start: &Motion,
+    settings: &Settings,
+    nominal: &Runout,
+) -> Option<Runout> {
+    let n = nominal.integrated?;
+    if dynamics.distance_triggers().is_some() || n == 0 || n > nominal.steps.len() {
+        return None;
+    }
+    let times: Vec<f64> = nominal.steps[..n].iter().map(|s| s.time).collect();
+    let kinks = dynamics.kinks(settings.time_limit);
+    let mut log = Vec::with_capacity(n);
+    let evaluations = crate::dopri::replay(
+        |t, y| derivative(&dynamics.at_time(t), y),
+        &times,
+        initial_state(start),
+        |t| kinks.iter().any(|&k| (k - t).abs() <= KINK_GAP),
+        |t, y, dy| log.push((t, *y, *dy)),
+    );
+    Some(finish(
+        dynamics,
+        start,
+        settings,
+        &log,
+        nominal.end == End::Rest,
+        evaluations,
+        Some(n),
+    ))
+}
+
+/// The integrated state at separation: position, heading, velocities, no work, no distance.
+fn initial_state(start: &Motion) -> State {
+    State::from([
+        start.x,
+        start.y,
+        start.heading,
+        start.vx,
+        start.vy,
+        start.yaw_rate,
+        0.0,
+        0.0,
+    ])
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 
 use super::evidence::{Evidence, Residual};
 use super::problem::Problem;
-use super::search::jacobian;
+use super::search::{jacobian, INTERNAL_STEP};
 use crate::chassis::{Chassis, Motion};
 use crate::error::Result;
 use crate::simulate::{Runout, Settings};
@@ -19,7 +19,8 @@ pub struct Linearised {
     pub weighted: DVector<f64>,
     /// Derivatives of [`Linearised::weighted`] with respect to the separation velocity
     /// `(vx, vy, yaw_rate)` (rows: residuals; columns: m/s, m/s, rad/s), by forward differences
-    /// with a step of the square root of the run-out's tolerance; `None` when not asked for.
+    /// of run-outs integrated through this run-out's steps (internal numerical
+    /// differentiation, see the [module docs](super)); `None` when not asked for.
     pub jacobian: Option<DMatrix<f64>>,
     /// The sum of the squared weighted residuals.
     pub cost: f64,
@@ -51,19 +52,7 @@ pub fn linearise(
     settings: &Settings,
     jacobian_too: bool,
 ) -> Result<Linearised> {
-    let nearest = evidence
-        .rest
-        .and_then(|r| r.heading)
-        .map(|h| h + TAU * ((separation.heading - h) / TAU).round());
-    let p = Problem {
-        chassis,
-        start: *separation,
-        evidence,
-        heading: nearest.map(|h| h + TAU * turns as f64),
-        settings,
-        estimate_friction: false,
-        work: Default::default(),
-    };
+    let p = problem(chassis, separation, evidence, turns, settings);
     let theta = [separation.vx, separation.vy, separation.yaw_rate];
     let mut runouts = 1;
     let runout = p.runout(&theta)?;
@@ -71,7 +60,7 @@ pub fn linearise(
     let weighted =
         DVector::from_iterator(residuals.len(), residuals.iter().map(|x| x.value / x.sigma));
     let jac = if jacobian_too {
-        Some(jacobian(&p, &theta, &weighted, &mut runouts)?)
+        Some(jacobian(&p, &theta, &weighted, &runout, &mut runouts)?)
     } else {
         None
     };
@@ -87,10 +76,35 @@ pub fn linearise(
     })
 }
 
+/// The problem of candidate `turns` from `separation`, the friction held.
+fn problem<'a>(
+    chassis: &'a Chassis,
+    separation: &Motion,
+    evidence: &'a Evidence,
+    turns: i64,
+    settings: &'a Settings,
+) -> Problem<'a> {
+    let nearest = evidence
+        .rest
+        .and_then(|r| r.heading)
+        .map(|h| h + TAU * ((separation.heading - h) / TAU).round());
+    Problem {
+        chassis,
+        start: *separation,
+        evidence,
+        heading: nearest.map(|h| h + TAU * turns as f64),
+        settings,
+        estimate_friction: false,
+        work: Default::default(),
+    }
+}
+
 /// As [`linearise`] with `jacobian_too`, and the derivatives with respect to the road friction
-/// too ([`Linearised::friction`]): the friction stepped by `sqrt(rtol) (1 + friction)` (back
-/// when the step would pass [`MAX_FRICTION`](crate::MAX_FRICTION)), the rolling resistance
-/// held at most half the friction as the scene's own search holds it.
+/// too ([`Linearised::friction`]): the friction stepped by `1e-6 (1 + friction)` and the
+/// stepped run-out integrated through the nominal's steps (by `sqrt(rtol) (1 + friction)` on a
+/// run-out of its own where that cannot be replayed; back when the step would pass
+/// [`MAX_FRICTION`](crate::MAX_FRICTION)), the rolling resistance held at most half the
+/// friction as the scene's own search holds it.
 ///
 /// # Errors
 /// As [`linearise`].
@@ -102,16 +116,38 @@ pub fn linearise_with_friction(
     settings: &Settings,
 ) -> Result<Linearised> {
     let mut lin = linearise(chassis, separation, evidence, turns, settings, true)?;
-    let mut h = settings.rtol.sqrt() * (1.0 + chassis.friction);
+    let step = |h: f64| -> Chassis {
+        let mut stepped = chassis.clone();
+        stepped.friction += h;
+        stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
+        stepped
+    };
+    // Through the nominal's steps where it can be replayed (internal numerical
+    // differentiation), else on a run-out of its own.
+    let theta = [separation.vx, separation.vy, separation.yaw_rate];
+    let replayable =
+        problem(chassis, separation, evidence, turns, settings).can_replay(&lin.runout);
+    let relative = if replayable {
+        INTERNAL_STEP
+    } else {
+        settings.rtol.sqrt()
+    };
+    let mut h = relative * (1.0 + chassis.friction);
     if chassis.friction + h > crate::chassis::MAX_FRICTION {
         h = -h;
     }
-    let mut stepped = chassis.clone();
-    stepped.friction += h;
-    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
-    let other = linearise(&stepped, separation, evidence, turns, settings, false)?;
-    lin.runouts += other.runouts;
-    lin.evaluations += other.evaluations;
-    lin.friction = Some((&other.weighted - &lin.weighted) / h);
+    let stepped = step(h);
+    let other = if replayable {
+        let p = problem(&stepped, separation, evidence, turns, settings);
+        let weighted = p.replayed(&theta, &lin.runout).expect("replayable")?;
+        lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
+        weighted
+    } else {
+        let other = linearise(&stepped, separation, evidence, turns, settings, false)?;
+        lin.evaluations += other.evaluations;
+        other.weighted
+    };
+    lin.runouts += 1;
+    lin.friction = Some((&other - &lin.weighted) / h);
     Ok(lin)
 }

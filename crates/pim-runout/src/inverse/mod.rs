@@ -20,8 +20,16 @@
 //! those within [`PLAUSIBLE_COST`] as not excluded.
 //!
 //! ## The search of one candidate
-//! Levenberg-Marquardt (Marquardt's scaling) with forward-difference Jacobians, the step the
-//! square root of the run-outs' tolerance. The cost is not convex: the closest point of a path
+//! Levenberg-Marquardt (Marquardt's scaling). Its Jacobians are forward differences by
+//! internal numerical differentiation: each stepped run-out is integrated through the accepted
+//! steps of the run-out it is compared with (no step control of its own), so that the
+//! difference quotient differentiates one smooth map and the step can be 1e-6 of each
+//! unknown's scale, not the square root of the run-outs' tolerance (where the stepped run-outs
+//! would take steps of their own: inputs by distance, the square root as before). An exploring
+//! search does not try a step whose predicted gain lies below what the run-outs' tolerance lets
+//! the cost resolve (`rtol` times each residual's scale: the distance travelled for positions,
+//! the rotation for headings); the polish of the answer goes on to the run-outs' precision.
+//! The cost is not convex: the closest point of a path
 //! to a mark jumps between parts of the path, and whether a vehicle sliding sideways ends nose
 //! or tail first jumps with the yaw rate. So each candidate is explored from several starts on
 //! run-outs of tolerance 1e-6 (12 iterations each), in turn until one ends within the

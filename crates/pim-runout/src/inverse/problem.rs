@@ -4,7 +4,7 @@ use super::evidence::{Evidence, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE}
 use crate::chassis::{Chassis, Motion};
 use crate::error::{Result, RunoutError};
 use crate::forces::Dynamics;
-use crate::simulate::{hermite, run, Runout, Settings};
+use crate::simulate::{hermite, replay, run, Runout, Settings};
 use nalgebra::DVector;
 use std::f64::consts::{PI, TAU};
 
@@ -31,9 +31,20 @@ impl Problem<'_> {
     }
 
     pub(crate) fn runout(&self, theta: &[f64]) -> Result<Runout> {
+        self.runout_through(theta, None)
+            .expect("a run-out without a nominal is always simulated")
+    }
+
+    /// The run-out from `theta`: simulated, or with `nominal` integrated through its accepted
+    /// steps ([`crate::simulate::replay`]; `None` when it cannot be).
+    pub(crate) fn runout_through(
+        &self,
+        theta: &[f64],
+        nominal: Option<&Runout>,
+    ) -> Option<Result<Runout>> {
         if !(theta[0].hypot(theta[1]) <= MAX_SEARCH_SPEED && theta[2].abs() <= MAX_SEARCH_YAW_RATE)
         {
-            return Err(RunoutError::Input {
+            return Some(Err(RunoutError::Input {
                 field: "separation",
                 reason: format!(
                     "the search left the separation states of a road crash (speed {:.1} m/s, \
@@ -41,7 +52,7 @@ impl Problem<'_> {
                     theta[0].hypot(theta[1]),
                     theta[2]
                 ),
-            });
+            }));
         }
         let mut chassis = self.chassis.clone();
         if self.estimate_friction {
@@ -55,7 +66,11 @@ impl Problem<'_> {
             yaw_rate: theta[2],
             ..self.start
         };
-        let r = run(&Dynamics::new(&chassis), &start, self.settings);
+        let dynamics = Dynamics::new(&chassis);
+        let r = match nominal {
+            None => run(&dynamics, &start, self.settings),
+            Some(n) => Ok(replay(&dynamics, &start, self.settings, n)?),
+        };
         let spent = match &r {
             Ok(x) => u64::from(x.evaluations),
             Err(RunoutError::Integration { evaluations, .. }) => *evaluations,
@@ -63,7 +78,7 @@ impl Problem<'_> {
         };
         self.work
             .fetch_add(spent, std::sync::atomic::Ordering::Relaxed);
-        r
+        Some(r)
     }
 
     /// The residuals (fitted minus given, and their sigmas) of a run-out.
@@ -97,11 +112,62 @@ impl Problem<'_> {
 
     pub(crate) fn weighted(&self, theta: &[f64]) -> Result<(DVector<f64>, Runout)> {
         let r = self.runout(theta)?;
-        let res = self.residuals(theta, &r);
-        Ok((
-            DVector::from_iterator(res.len(), res.iter().map(|x| x.value / x.sigma)),
-            r,
-        ))
+        Ok((self.weigh(theta, &r), r))
+    }
+
+    /// The weighted residuals from `theta` on the run-out integrated through the accepted steps
+    /// of `nominal` (a nearby state's run-out: what a derivative by internal numerical
+    /// differentiation differences), or `None` when it cannot be replayed.
+    pub(crate) fn replayed(&self, theta: &[f64], nominal: &Runout) -> Option<Result<DVector<f64>>> {
+        Some(
+            self.runout_through(theta, Some(nominal))?
+                .map(|r| self.weigh(theta, &r)),
+        )
+    }
+
+    /// The change of the cost (the sum of the squared weighted residuals `r`, on the run-out
+    /// `run`) that the run-outs' tolerance can resolve: a run-out integrated to the relative
+    /// tolerance `rtol` carries errors of about `rtol` times the magnitude of each integrated
+    /// quantity (the step control's scale), so each weighted residual carries about
+    /// `d = rtol (1 + S) / sigma`, with `S` the distance travelled plus the start's distance
+    /// from the origin for positions and the rotation plus the start's heading for headings;
+    /// the cost then carries `sum 2 |r| d + d^2`. A gain below it cannot be told from the
+    /// run-outs' noise (an order of magnitude, not a bound: the search stops trying there).
+    pub(crate) fn noise(&self, r: &DVector<f64>, run: &Runout) -> f64 {
+        let rtol = self.settings.rtol;
+        let length = 1.0 + run.distance + self.start.x.hypot(self.start.y);
+        let angle = 1.0 + run.rotation.abs() + self.start.heading.abs();
+        let mut scales: Vec<f64> = Vec::with_capacity(r.len());
+        if let Some(rest) = &self.evidence.rest {
+            scales.push(length / rest.sigma_xy[0]);
+            scales.push(length / rest.sigma_xy[1]);
+            if self.heading.is_some() {
+                scales.push(angle / rest.sigma_heading);
+            }
+        }
+        for m in &self.evidence.marks {
+            scales.push(length / m.sigma);
+            if let Some((_, s)) = m.heading {
+                scales.push(angle / s);
+            }
+        }
+        r.iter()
+            .zip(scales.iter().chain(std::iter::repeat(&0.0)))
+            .map(|(ri, scale)| {
+                let d = rtol * scale;
+                2.0 * ri.abs() * d + d * d
+            })
+            .sum()
+    }
+
+    /// Whether run-outs of this problem can be integrated through `nominal`'s steps.
+    pub(crate) fn can_replay(&self, nominal: &Runout) -> bool {
+        nominal.integrated.is_some() && !self.chassis.inputs.iter().any(|i| i.distance.is_some())
+    }
+
+    fn weigh(&self, theta: &[f64], r: &Runout) -> DVector<f64> {
+        let res = self.residuals(theta, r);
+        DVector::from_iterator(res.len(), res.iter().map(|x| x.value / x.sigma))
     }
 }
 

@@ -17,7 +17,8 @@
 //! distinct points (by the softened cost) the twelve lowest over all counts are explored.
 
 use super::problem::Problem;
-use super::search::{bounded, first_guess, EXPLORE_TOLERANCE};
+use super::search::{bounded, first_guess, EXPLORE_TOLERANCE, INTERNAL_STEP};
+use crate::simulate::Runout;
 use crate::simulate::Settings;
 use rayon::prelude::*;
 
@@ -188,26 +189,38 @@ fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, u
 fn to_rest(p: &Problem, mut t: Vec<f64>, target: [f64; 2], spent: &mut usize) -> (Vec<f64>, bool) {
     let dist = (target[0] - p.start.x).hypot(target[1] - p.start.y);
     let tolerance = (0.01 * dist).max(0.5);
-    let miss = |t: &[f64], spent: &mut usize| -> Option<[f64; 2]> {
+    let miss_of = |r: &Runout| [r.rest.x - target[0], r.rest.y - target[1]];
+    let simulated = |t: &[f64], spent: &mut usize| -> Option<Runout> {
         *spent += 1;
-        let r = p.runout(t).ok()?;
-        Some([r.rest.x - target[0], r.rest.y - target[1]])
+        p.runout(t).ok()
     };
+    let miss = |t: &[f64], spent: &mut usize| simulated(t, spent).map(|r| (miss_of(&r), r));
     bounded(&mut t);
-    let Some(mut r) = miss(&t, spent) else {
+    let Some((mut r, mut now)) = miss(&t, spent) else {
         return (t, false);
     };
     for _ in 0..8 {
         if r[0].hypot(r[1]) < tolerance {
             return (t, true);
         }
-        // The 2 x 2 Jacobian of the rest position in (vx, vy).
+        // The 2 x 2 Jacobian of the rest position in (vx, vy): through the current run-out's
+        // steps where it can be replayed (see `jacobian`), else from run-outs of their own.
         let mut j = [[0.0; 2]; 2];
+        let replayable = p.can_replay(&now);
         for c in 0..2 {
-            let h = 1e-3 * (1.0 + t[c].abs());
+            let relative = if replayable { INTERNAL_STEP } else { 1e-3 };
+            let h = relative * (1.0 + t[c].abs());
             let mut u = t.clone();
             u[c] += h;
-            let Some(rc) = miss(&u, spent) else {
+            let column = if replayable {
+                *spent += 1;
+                p.runout_through(&u, Some(&now))
+                    .and_then(|r| r.ok())
+                    .map(|r| miss_of(&r))
+            } else {
+                simulated(&u, spent).map(|r| miss_of(&r))
+            };
+            let Some(rc) = column else {
                 return (t, false);
             };
             j[0][c] = (rc[0] - r[0]) / h;
@@ -230,7 +243,7 @@ fn to_rest(p: &Problem, mut t: Vec<f64>, target: [f64; 2], spent: &mut usize) ->
         u[0] += dx;
         u[1] += dy;
         bounded(&mut u);
-        let Some(ru) = miss(&u, spent) else {
+        let Some((ru, run_u)) = miss(&u, spent) else {
             return (t, false);
         };
         if ru[0].hypot(ru[1]) >= r[0].hypot(r[1]) {
@@ -239,7 +252,7 @@ fn to_rest(p: &Problem, mut t: Vec<f64>, target: [f64; 2], spent: &mut usize) ->
             u[0] += 0.5 * dx;
             u[1] += 0.5 * dy;
             bounded(&mut u);
-            let Some(rh) = miss(&u, spent) else {
+            let Some((rh, run_h)) = miss(&u, spent) else {
                 return (t, false);
             };
             if rh[0].hypot(rh[1]) >= r[0].hypot(r[1]) {
@@ -247,9 +260,11 @@ fn to_rest(p: &Problem, mut t: Vec<f64>, target: [f64; 2], spent: &mut usize) ->
             }
             t = u;
             r = rh;
+            now = run_h;
         } else {
             t = u;
             r = ru;
+            now = run_u;
         }
     }
     let ok = r[0].hypot(r[1]) < tolerance;

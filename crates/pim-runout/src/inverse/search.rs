@@ -122,25 +122,29 @@ fn levenberg(
     runouts: &mut usize,
     precise: bool,
 ) -> Result<Search> {
-    // The least gain worth a step, and the least predicted gain worth a run-out.
-    let least = |cost: f64| {
+    // The least gain worth a step, and the least predicted gain worth a run-out; an exploring
+    // search never goes below what the run-outs' tolerance lets the cost resolve
+    // (Problem::noise), a precise one goes on to the run-outs' own precision (the answer).
+    let least = |cost: f64, noise: f64| {
         if precise {
             (1e-7 * cost + 1e-14, 1e-9 * cost + 1e-22)
         } else {
-            (GAIN * (1.0 + cost), 0.1 * GAIN * (1.0 + cost))
+            let (step, trial) = (GAIN * (1.0 + cost), 0.1 * GAIN * (1.0 + cost));
+            (step.max(noise), trial.max(noise))
         }
     };
     let n = p.n();
     *runouts += 1;
     let (mut r, mut run_now) = p.weighted(&theta)?;
     let mut cost = r.norm_squared();
+    let mut noise = p.noise(&r, &run_now);
     let mut lambda = 1e-3;
     let mut converged = false;
     let mut iterations = 0;
     let mut jac = DMatrix::zeros(r.len(), n);
     while iterations < max_iterations {
         iterations += 1;
-        jac = jacobian(p, &theta, &r, runouts)?;
+        jac = jacobian(p, &theta, &r, &run_now, runouts)?;
         let a = jac.transpose() * &jac;
         let g = jac.transpose() * &r;
         if cost < 1e-24 || g.norm() < 1e-14 * (1.0 + cost) {
@@ -160,7 +164,7 @@ fn levenberg(
             // The decrease the linear model predicts: below the least worth a run-out there is
             // nothing left to gain.
             let predicted = -(2.0 * g.dot(&step) + (&a * &step).dot(&step));
-            if predicted < least(cost).1 {
+            if predicted < least(cost, noise).1 {
                 break;
             }
             let trial: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t + s).collect();
@@ -169,11 +173,12 @@ fn levenberg(
                 Ok((rt, run_t)) if rt.norm_squared() < cost => {
                     let new_cost = rt.norm_squared();
                     let small_step = step.norm() < 1e-10 * (1.0 + norm(&theta));
-                    let small_gain = cost - new_cost < least(cost).0;
+                    let small_gain = cost - new_cost < least(cost, noise).0;
                     theta = trial;
                     r = rt;
                     run_now = run_t;
                     cost = new_cost;
+                    noise = p.noise(&r, &run_now);
                     lambda = (lambda / 3.0).max(1e-12);
                     improved = true;
                     converged = small_step || small_gain;
@@ -395,9 +400,19 @@ pub(crate) fn solve(
     // 5. Polished at the settings' precision (a polish on coarser run-outs would answer a
     //    slightly different model: a long free-rolling run-out moves by millimetres between
     //    tolerances 1e-9 and 1e-10).
-    let from = explored.map_or(guess, |s| s.theta);
-    let best = levenberg(p, from, max_iterations, &mut runouts, !quick)?;
-    iterations += best.iterations;
+    //    A quick look whose exploring run-outs already have the settings' precision keeps a
+    //    converged exploring search as it is: polishing it again on the same run-outs would
+    //    only confirm it.
+    let same_runouts = coarse_settings == *p.settings;
+    let best = match explored {
+        Some(s) if quick && same_runouts && s.converged => s,
+        explored => {
+            let from = explored.map_or(guess, |s| s.theta);
+            let best = levenberg(p, from, max_iterations, &mut runouts, !quick)?;
+            iterations += best.iterations;
+            best
+        }
+    };
     let Search {
         theta,
         r,
@@ -412,7 +427,7 @@ pub(crate) fn solve(
     let jac = if quick {
         jac
     } else {
-        jacobian(p, &theta, &r, &mut runouts)?
+        jacobian(p, &theta, &r, &run_now, &mut runouts)?
     };
     let alternatives = alternatives_of(&theta, cost, p.chassis.friction, ends.into_inner());
     let residuals = p.residuals(&theta, &run_now);
@@ -491,30 +506,59 @@ fn norm(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-/// Forward-difference Jacobian of the weighted residuals, the step the square root of the
-/// run-outs' relative tolerance.
+/// The relative difference step of a derivative by internal numerical differentiation: the
+/// replayed run-outs differ from the nominal only through the unknown stepped (no step-size
+/// control of their own, whose decisions would add the tolerance's noise), so the step is set by
+/// the truncation error (of order the step) against the rounding of the nominal's step times
+/// (of order 1e-13 of the residuals), not by the tolerance.
+pub(crate) const INTERNAL_STEP: f64 = 1e-6;
+
+/// The Jacobian of the weighted residuals at `theta`, whose run-out is `nominal` and weighted
+/// residuals `r0`: forward differences of run-outs integrated through the nominal's accepted
+/// steps (internal numerical differentiation, the step [`INTERNAL_STEP`] of `1 + |theta_j|`);
+/// where the nominal cannot be replayed (inputs by distance), of run-outs with steps of their
+/// own, the step the square root of the run-outs' relative tolerance (which keeps their noise
+/// and the truncation error alike small). At the edge of the searched states, the backward
+/// difference.
 pub(crate) fn jacobian(
     p: &Problem,
     theta: &[f64],
     r0: &DVector<f64>,
+    nominal: &Runout,
     runouts: &mut usize,
 ) -> Result<DMatrix<f64>> {
     let n = p.n();
     let mut jac = DMatrix::zeros(r0.len(), n);
     for j in 0..n {
-        // The run-outs carry their tolerance's noise: a difference step of its square root
-        // keeps the noise and the truncation error alike small.
-        let h = p.settings.rtol.sqrt() * (1.0 + theta[j].abs());
         let mut t = theta.to_vec();
-        t[j] += h;
-        *runouts += 1;
-        // At the edge of the searched states, the backward difference.
-        let (r1, h) = match p.weighted(&t) {
-            Ok((r1, _)) => (r1, h),
-            Err(_) => {
-                t[j] = theta[j] - h;
-                *runouts += 1;
-                (p.weighted(&t)?.0, -h)
+        let difference = |h: f64, runouts: &mut usize| -> Result<(DVector<f64>, f64)> {
+            let mut t = theta.to_vec();
+            t[j] += h;
+            *runouts += 1;
+            match p.replayed(&t, nominal) {
+                Some(Ok(r1)) => Ok((r1, h)),
+                Some(Err(_)) => {
+                    t[j] = theta[j] - h;
+                    *runouts += 1;
+                    let r1 = p.replayed(&t, nominal).expect("replayable")?;
+                    Ok((r1, -h))
+                }
+                None => unreachable!("checked"),
+            }
+        };
+        let (r1, h) = if p.can_replay(nominal) {
+            difference(INTERNAL_STEP * (1.0 + theta[j].abs()), runouts)?
+        } else {
+            let h = p.settings.rtol.sqrt() * (1.0 + theta[j].abs());
+            t[j] += h;
+            *runouts += 1;
+            match p.weighted(&t) {
+                Ok((r1, _)) => (r1, h),
+                Err(_) => {
+                    t[j] = theta[j] - h;
+                    *runouts += 1;
+                    (p.weighted(&t)?.0, -h)
+                }
             }
         };
         for i in 0..r0.len() {
