@@ -78,9 +78,8 @@ pub(crate) enum Failure {
     Underflow { t: f64 },
 }
 
-/// One step of size `h` from `(t, y)` whose rate there is `k0`: the 5th-order solution, the
-/// stages (the last one is the rate at the solution) and the 5th-order value of stage 6 (kept
-/// for nothing but bit-for-bit agreement of the arithmetic).
+/// One step of size `h` from `(t, y)` whose rate there is `k0`: the 5th-order solution and the
+/// seven stages (the last one is the rate at the solution).
 fn stages(
     f: &impl Fn(f64, &State) -> State,
     t: f64,
@@ -218,7 +217,6 @@ pub(crate) fn integrate(
     };
     let mut steps = 0;
     let mut last = false;
-    let mut accepted = 0u32;
     while !last {
         if steps > c.max_steps {
             return Err((Failure::MaxSteps { t, steps }, evaluations));
@@ -236,7 +234,6 @@ pub(crate) fn integrate(
         let err = error(&y, &next, &k, h, c);
         let (ok, h_new) = control.accept(err, h);
         if ok {
-            accepted += 1;
             k0 = k[6];
             y = next;
             t += h;
@@ -251,7 +248,6 @@ pub(crate) fn integrate(
         }
         h = h_new;
     }
-    let _ = accepted;
     Ok(evaluations)
 }
 
