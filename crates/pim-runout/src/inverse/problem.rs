@@ -191,6 +191,18 @@ pub fn residuals_of(chassis: &Chassis, evidence: &Evidence, runout: &Runout) -> 
     p.residuals(&[], runout)
 }
 
+/// The distance of `q` from the segment from `a` to `b`.
+fn chord_distance(q: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let s = if len2 > 0.0 {
+        (((q.0 - a.0) * dx + (q.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (q.0 - a.0 - s * dx).hypot(q.1 - a.1 - s * dy)
+}
+
 /// Wraps an angle to (-pi, pi].
 fn wrap(a: f64) -> f64 {
     let w = a.rem_euclid(TAU);
@@ -211,9 +223,25 @@ fn closest(r: &Runout, px: f64, py: f64) -> (f64, f64) {
         let m = r.rest;
         return (dist2(&m).sqrt(), m.heading);
     }
-    // Coarse: eight points in every step; then Newton on (p(t) - q) . p'(t) = 0.
+    // Coarse: eight points in every step; then Newton on (p(t) - q) . p'(t) = 0. A step none of
+    // whose points can be nearer than the nearest step end is passed over (the same point is
+    // found): the cubic `p0 + h01 (p1 - p0) + h (h10 m0 + h11 m1)` lies within
+    // `h (4/27) (|m0| + |m1|)` of the chord from p0 to p1 (`h01` in [0, 1], `|h10|, |h11|` at
+    // most 4/27).
+    let nearest_end = steps
+        .iter()
+        .map(|s| dist2(&s.motion))
+        .fold(f64::INFINITY, f64::min);
     let mut best = (f64::INFINITY, 0usize, 0.0);
     for k in 1..steps.len() {
+        let (a, b) = (&steps[k - 1].motion, &steps[k].motion);
+        let bulge = (steps[k].time - steps[k - 1].time)
+            * (4.0 / 27.0)
+            * (a.vx.hypot(a.vy) + b.vx.hypot(b.vy));
+        let below = chord_distance((px, py), (a.x, a.y), (b.x, b.y)) - 1.001 * bulge - 1e-9;
+        if below > 0.0 && below * below > nearest_end {
+            continue;
+        }
         for j in 0..=8 {
             let s = j as f64 / 8.0;
             let t = steps[k - 1].time + s * (steps[k].time - steps[k - 1].time);
