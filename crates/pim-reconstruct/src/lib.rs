@@ -32,8 +32,9 @@
 //!    modulo a full turn; the scene alone rarely decides the count, the impact does. Every
 //!    candidate and alternative is a start of its own.
 //! 2. **A bound per combination of counts**: each scene linearised at its own candidate
-//!    (`r + J (V - V0)`: the Jacobian by forward differences of run-outs), and the cost
-//!    minimised under the momentum balance alone (linear momentum and the angular momentum
+//!    (`r + J (V - V0)`: the Jacobian by forward differences of run-outs integrated through
+//!    the candidate's own steps, see [`pim_runout::inverse`]), and the cost minimised under
+//!    the momentum balance alone (linear momentum and the angular momentum
 //!    about the impact centre, which every impulse at C conserves whatever the coefficients:
 //!    one linear solve, a lower bound of the linearised impact fit).
 //! 3. **Refinement** of the combinations in the order of those bounds (Gauss-Newton over the

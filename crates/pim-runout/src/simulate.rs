@@ -577,3 +577,131 @@ mod turn_tests {
         }
     }
 }
+
+#[cfg(test)]
+mod replay_tests {
+    use super::{replay, run, Settings};
+    use crate::chassis::{Chassis, Motion, WheelState};
+    use crate::forces::{derivative, Dynamics, State};
+
+    fn car() -> Chassis {
+        let mut c = Chassis::new(1500.0, 2500.0, 2.7, 1.2, 1.5, WheelState::Braked(0.3));
+        c.wheels[0] = WheelState::Locked;
+        c
+    }
+
+    fn start(vx: f64) -> Motion {
+        Motion {
+            x: 1.0,
+            y: -2.0,
+            heading: 0.3,
+            vx,
+            vy: 4.0,
+            yaw_rate: 2.5,
+        }
+    }
+
+    /// The integrator is DOPRI5 as `ode_solvers` 0.6 computes it, to the last bit: the same
+    /// accepted steps and states.
+    #[test]
+    fn the_integrator_is_ode_solvers_dopri5_to_the_bit() {
+        let dynamics = Dynamics::new(&car());
+        let settings = Settings::default();
+        let ours = run(&dynamics, &start(14.0), &settings).unwrap();
+        struct Sys<'a>(&'a Dynamics);
+        impl ode_solvers::System<f64, State> for Sys<'_> {
+            fn system(&self, _t: f64, y: &State, dy: &mut State) {
+                *dy = derivative(self.0, y);
+            }
+        }
+        let y0 = super::initial_state(&start(14.0));
+        let n = ours.integrated.unwrap();
+        let end = ours.steps[n - 1].time;
+        let mut solver = ode_solvers::Dopri5::from_param(
+            Sys(&dynamics),
+            0.0,
+            end,
+            end,
+            y0,
+            settings.rtol,
+            settings.atol,
+            0.9,
+            0.04,
+            0.2,
+            10.0,
+            settings.time_limit,
+            0.0,
+            2_000_000,
+            u32::MAX,
+            ode_solvers::dop_shared::OutputType::Sparse,
+        );
+        solver.integrate().unwrap();
+        let (times, states) = (solver.x_out(), solver.y_out());
+        // The crate's last step is shortened to reach `end` exactly; every one before it is
+        // the same step from the same state.
+        for k in 0..n - 1 {
+            let same = |a: f64, b: f64| assert_eq!(a.to_bits(), b.to_bits(), "step {k}: {a} {b}");
+            same(times[k], ours.steps[k].time);
+            same(states[k][0], ours.steps[k].motion.x);
+            same(states[k][5], ours.steps[k].motion.yaw_rate);
+        }
+    }
+
+    /// A run-out replayed from its own start through its own steps is itself (to rounding of
+    /// the step times), at six evaluations a step.
+    #[test]
+    fn a_run_out_replayed_through_its_own_steps_is_itself() {
+        let dynamics = Dynamics::new(&car());
+        let settings = Settings::default();
+        let nominal = run(&dynamics, &start(14.0), &settings).unwrap();
+        let again = replay(&dynamics, &start(14.0), &settings, &nominal).unwrap();
+        let n = nominal.integrated.unwrap();
+        assert_eq!(again.evaluations as usize, 1 + 6 * (n - 1));
+        for (a, b) in [
+            (again.rest.x, nominal.rest.x),
+            (again.rest.y, nominal.rest.y),
+            (again.rest.heading, nominal.rest.heading),
+            (again.distance, nominal.distance),
+        ] {
+            assert!((a - b).abs() < 1e-11 * (1.0 + b.abs()), "{a} against {b}");
+        }
+    }
+
+    /// The derivative of the rest by internal numerical differentiation equals the central
+    /// difference of run-outs with steps of their own at a tight tolerance.
+    #[test]
+    fn replayed_differences_are_the_derivative_of_the_run_out() {
+        let dynamics = Dynamics::new(&car());
+        let settings = Settings::default();
+        let nominal = run(&dynamics, &start(14.0), &settings).unwrap();
+        let h = 1e-6 * 15.0;
+        let stepped = replay(&dynamics, &start(14.0 + h), &settings, &nominal).unwrap();
+        let tight = Settings {
+            rtol: 1e-12,
+            atol: 1e-12,
+            ..settings
+        };
+        let wide = 1e-2;
+        let up = run(&dynamics, &start(14.0 + wide), &tight).unwrap();
+        let down = run(&dynamics, &start(14.0 - wide), &tight).unwrap();
+        for (ind, central) in [
+            (
+                (stepped.rest.x - nominal.rest.x) / h,
+                (up.rest.x - down.rest.x) / (2.0 * wide),
+            ),
+            (
+                (stepped.rest.y - nominal.rest.y) / h,
+                (up.rest.y - down.rest.y) / (2.0 * wide),
+            ),
+            (
+                (stepped.rest.heading - nominal.rest.heading) / h,
+                (up.rest.heading - down.rest.heading) / (2.0 * wide),
+            ),
+        ] {
+            assert!(
+                (ind - central).abs() < 1e-3 * (1.0 + central.abs()),
+                "{ind} against {central}"
+            );
+        }
+    }
+}
