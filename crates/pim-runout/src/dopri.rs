@@ -204,7 +204,7 @@ pub(crate) fn integrate(
     y0: State,
     c: &Control,
     mut solout: impl FnMut(f64, &State, &State) -> bool,
-) -> Result<u32, (Failure, u32)> {
+) -> Result<u32, Failure> {
     let mut evaluations = 2;
     let mut h = first_step(&f, t0, &y0, end, c);
     let mut k0 = f(t0, &y0);
@@ -219,10 +219,10 @@ pub(crate) fn integrate(
     let mut last = false;
     while !last {
         if steps > c.max_steps {
-            return Err((Failure::MaxSteps { t, steps }, evaluations));
+            return Err(Failure::MaxSteps { t, steps });
         }
         if 0.1 * h.abs() <= f64::EPSILON * t.abs() {
-            return Err((Failure::Underflow { t }, evaluations));
+            return Err(Failure::Underflow { t });
         }
         if t + 1.01 * h - end > 0.0 {
             h = end - t;

@@ -257,7 +257,7 @@ fn piece(
     );
     match outcome {
         Ok(evaluations) => Ok(evaluations),
-        Err((failure, _)) => {
+        Err(failure) => {
             let (time, reason) = match failure {
                 Failure::MaxSteps { t, steps } => (t, format!("more than {steps} steps")),
                 Failure::Underflow { t } => (t, "step size underflow".into()),

@@ -116,15 +116,8 @@ pub fn linearise_with_friction(
     settings: &Settings,
 ) -> Result<Linearised> {
     let mut lin = linearise(chassis, separation, evidence, turns, settings, true)?;
-    let step = |h: f64| -> Chassis {
-        let mut stepped = chassis.clone();
-        stepped.friction += h;
-        stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
-        stepped
-    };
     // Through the nominal's steps where it can be replayed (internal numerical
     // differentiation), else on a run-out of its own.
-    let theta = [separation.vx, separation.vy, separation.yaw_rate];
     let replayable =
         problem(chassis, separation, evidence, turns, settings).can_replay(&lin.runout);
     let relative = if replayable {
@@ -136,17 +129,18 @@ pub fn linearise_with_friction(
     if chassis.friction + h > crate::chassis::MAX_FRICTION {
         h = -h;
     }
-    let stepped = step(h);
+    let mut stepped = chassis.clone();
+    stepped.friction += h;
+    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
+    let p = problem(&stepped, separation, evidence, turns, settings);
+    let theta = [separation.vx, separation.vy, separation.yaw_rate];
     let other = if replayable {
-        let p = problem(&stepped, separation, evidence, turns, settings);
-        let weighted = p.replayed(&theta, &lin.runout).expect("replayable")?;
-        lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
-        weighted
+        p.replayed(&theta, &lin.runout)
+            .expect("checked by can_replay")?
     } else {
-        let other = linearise(&stepped, separation, evidence, turns, settings, false)?;
-        lin.evaluations += other.evaluations;
-        other.weighted
+        p.weighted(&theta)?.0
     };
+    lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
     lin.runouts += 1;
     lin.friction = Some((&other - &lin.weighted) / h);
     Ok(lin)

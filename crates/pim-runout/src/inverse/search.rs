@@ -529,36 +529,30 @@ pub(crate) fn jacobian(
 ) -> Result<DMatrix<f64>> {
     let n = p.n();
     let mut jac = DMatrix::zeros(r0.len(), n);
-    for j in 0..n {
-        let mut t = theta.to_vec();
-        let difference = |h: f64, runouts: &mut usize| -> Result<(DVector<f64>, f64)> {
-            let mut t = theta.to_vec();
-            t[j] += h;
-            *runouts += 1;
-            match p.replayed(&t, nominal) {
-                Some(Ok(r1)) => Ok((r1, h)),
-                Some(Err(_)) => {
-                    t[j] = theta[j] - h;
-                    *runouts += 1;
-                    let r1 = p.replayed(&t, nominal).expect("replayable")?;
-                    Ok((r1, -h))
-                }
-                None => unreachable!("checked"),
-            }
-        };
-        let (r1, h) = if p.can_replay(nominal) {
-            difference(INTERNAL_STEP * (1.0 + theta[j].abs()), runouts)?
+    let replayable = p.can_replay(nominal);
+    let weighted = |t: &[f64]| -> Result<DVector<f64>> {
+        if replayable {
+            p.replayed(t, nominal).expect("checked by can_replay")
         } else {
-            let h = p.settings.rtol.sqrt() * (1.0 + theta[j].abs());
-            t[j] += h;
-            *runouts += 1;
-            match p.weighted(&t) {
-                Ok((r1, _)) => (r1, h),
-                Err(_) => {
-                    t[j] = theta[j] - h;
-                    *runouts += 1;
-                    (p.weighted(&t)?.0, -h)
-                }
+            Ok(p.weighted(t)?.0)
+        }
+    };
+    let relative = if replayable {
+        INTERNAL_STEP
+    } else {
+        p.settings.rtol.sqrt()
+    };
+    for j in 0..n {
+        let h = relative * (1.0 + theta[j].abs());
+        let mut t = theta.to_vec();
+        t[j] += h;
+        *runouts += 1;
+        let (r1, h) = match weighted(&t) {
+            Ok(r1) => (r1, h),
+            Err(_) => {
+                t[j] = theta[j] - h;
+                *runouts += 1;
+                (weighted(&t)?, -h)
             }
         };
         for i in 0..r0.len() {
