@@ -71,17 +71,18 @@ function raw(method, pathname, { host, cookie, body } = {}) {
   });
 }
 
-// Nothing in flight: no answer, none waiting, no drag, no move of a rest.
-const idle = () => page.waitForFunction(() => window.pim && !window.pim.busy && !window.pim.pending
-  && !window.pim.dragging && !window.pim.moves);
+// Nothing in flight: no case being opened, no answer, none waiting, no drag, no move of a rest.
+const idle = () => page.waitForFunction(() => window.pim && !window.pim.opening && !window.pim.busy
+  && !window.pim.pending && !window.pim.dragging && !window.pim.moves);
 const speeds = () => page.$$eval("#speeds tr[data-vehicle] td.contact", (tds) => tds.map((t) => +t.textContent));
 
 // The example open with its text as the project has it (an earlier test saved a moved rest):
 // the text, to put back at the end.
 async function exampleAsCommitted() {
+  // Chosen again: read from the folder (the path is already the case's: idle waits for the read).
   await page.selectOption("#cases", CASE);
-  await page.waitForFunction((c) => window.pim.path === c, CASE);
   await idle();
+  assert.equal(await page.evaluate(() => window.pim.path), CASE);
   const original = fs.readFileSync(path.join(repo, "examples/cases", CASE), "utf8");
   if ((await page.inputValue("#toml")) !== original) {
     await page.fill("#toml", original);
@@ -399,9 +400,10 @@ test("the background moved and turned by hand, then locked", async () => {
 });
 
 test("conflicting evidence: the pieces that disagree are marked, and one switched off gives the answer without it", async () => {
+  // Chosen again: read from the folder (the path is already the case's: idle waits for the read).
   await page.selectOption("#cases", CASE);
-  await page.waitForFunction((c) => window.pim.path === c, CASE);
   await idle();
+  assert.equal(await page.evaluate(() => window.pim.path), CASE);
   const original = await page.inputValue("#toml");
   const edr = "vehicle2 EDR speed 0.5 s before contact";
   assert.equal(await page.locator("#evidence tr.piece").count(), 8);
@@ -609,6 +611,41 @@ test("a skid up to contact drawn behind the car and set by a click", async () =>
   await idle();
 });
 
+test("a handle pressed and let go in place moves nothing; a tool's click on a handle is the tool's", async () => {
+  const original = await exampleAsCommitted();
+  const centre = async () => {
+    const b = await page.locator('.given-rest circle.handle[data-vehicle="2"]').boundingBox();
+    return [b.x + b.width / 2, b.y + b.height / 2];
+  };
+  const [x, y] = await centre();
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  // The plan drawn again under the still pointer (the window resized: the view fitted anew),
+  // and the browser's move at the same screen point that follows such a change.
+  await page.setViewportSize({ width: 1300, height: 900 });
+  await page.evaluate(([cx, cy]) => document.getElementById("plan").dispatchEvent(
+    new PointerEvent("pointermove", { pointerId: 1, clientX: cx, clientY: cy, bubbles: true })), [x, y]);
+  await page.mouse.up();
+  await idle();
+  assert.equal(await page.inputValue("#toml"), original);
+  await page.setViewportSize({ width: 1400, height: 900 });
+  await page.click("#fit");
+  // The Mark tool's click lands on the rest's handle: a mark is placed there, the rest stays.
+  const [hx, hy] = await centre();
+  page.once("dialog", (d) => d.accept("2 0.5"));
+  await page.click("#add-mark");
+  await page.mouse.click(hx, hy);
+  await page.waitForFunction(() => window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
+  await idle();
+  const placed = await page.inputValue("#toml");
+  const changed = original.split("\n").map((l, i) => [l, placed.split("\n")[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  assert.match(changed[0][1], /^marks = \[ \{ x = 32\.6, y = 48\.2, sigma = 0\.5 \}, \{ x = [-0-9.]+, y = [-0-9.]+, sigma = 0\.5 \} \]$/);
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => !window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
+  await idle();
+});
+
 test("the forms: a field edited writes the TOML, a bad value marks its field and the plan's handle", async () => {
   const original = await exampleAsCommitted();
   const onDisk = fs.readFileSync(path.join(dir, CASE), "utf8");
@@ -660,9 +697,10 @@ test("the forms: a field edited writes the TOML, a bad value marks its field and
 });
 
 test("a batch of the folder in the background: pim batch's records, a row opening its case", async () => {
+  // Chosen again: read from the folder (the path is already the case's: idle waits for the read).
   await page.selectOption("#cases", CASE);
-  await page.waitForFunction((c) => window.pim.path === c, CASE);
   await idle();
+  assert.equal(await page.evaluate(() => window.pim.path), CASE);
   await page.click("#batch-start");
   await page.waitForFunction(() => /case files, \d+ records/.test(document.getElementById("batch-status").textContent), null, { timeout: 300000 });
   const doc = await page.evaluate(() => window.pim.batch.report.document);
@@ -678,9 +716,10 @@ test("a batch of the folder in the background: pim batch's records, a row openin
   await page.click('#batch-table tr[data-file="runout_scene.toml"]');
   await page.waitForFunction(() => window.pim.path === "runout_scene.toml");
   await idle();
+  // Chosen again: read from the folder (the path is already the case's: idle waits for the read).
   await page.selectOption("#cases", CASE);
-  await page.waitForFunction((c) => window.pim.path === c, CASE);
   await idle();
+  assert.equal(await page.evaluate(() => window.pim.path), CASE);
 });
 
 test("the API answers every example case with the command's document", async () => {

@@ -53,13 +53,19 @@ async function loadCases() {
   if (wanted) { sel.value = wanted; await openCase(wanted); }
 }
 
+// `state.opening` while the case is read and its first answer asked for.
 async function openCase(path) {
-  const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
-  state.path = path; state.text = state.saved = data.text; state.view = null;
-  state.study = null; state.measured = null; state.off = [];
-  $("study-status").textContent = ""; $("study-progress").hidden = true; $("study-cancel").hidden = true;
-  $("toml").value = data.text;
-  await solve();
+  state.opening = (state.opening || 0) + 1;
+  try {
+    const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
+    state.path = path; state.text = state.saved = data.text; state.view = null;
+    state.study = null; state.measured = null; state.off = [];
+    $("study-status").textContent = ""; $("study-progress").hidden = true; $("study-cancel").hidden = true;
+    $("toml").value = data.text;
+    await solve();
+  } finally {
+    state.opening -= 1;
+  }
 }
 
 // Solves the current text; a request made while one runs waits for it (the newest wins, a
@@ -636,10 +642,8 @@ async function placeSkid(click) {
 function dragGeometry(e, handle, changeAt) {
   const svg = $("plan");
   const from = svgPoint(e);
-  handle.classList.add("dragging");
-  state.dragging = { geometry: true };
   let last = null;
-  grab(e, (ev) => {
+  const grabbed = grab(e, (ev) => {
     const p = svgPoint(ev);
     last = changeAt([p.x, -p.y]);
     for (const h of svg.querySelectorAll(".dragging")) h.setAttribute("transform", `translate(${p.x - from.x} ${p.y - from.y})`);
@@ -651,6 +655,9 @@ function dragGeometry(e, handle, changeAt) {
     state.dragging = null;
     if (last) editQueued(last, false); else render();
   });
+  if (!grabbed) return;
+  handle.classList.add("dragging");
+  state.dragging = { geometry: true };
 }
 
 // Edits of the geometry run one after the other, as moves of a rest do.
@@ -832,27 +839,43 @@ function svgPoint(e) {
   return p.matrixTransform(svg.getScreenCTM().inverse());
 }
 
-// A drag from the press `e` on the plan: `move(ev)` at each move of the pointer, `end()` once
-// when it is let go or the browser cancels it.
+// A drag from the press `e` on the plan: `move(ev)` at each move of the pointer once it has left
+// the pixel it was pressed on, `end(moved)` once when it is let go or the browser cancels it.
+// The browser's own moves under a still pointer (after the plan is drawn again beneath it) are
+// not moves: a press and release in place drags nothing.
 function capture(e, move, end) {
   const svg = $("plan");
   svg.setPointerCapture(e.pointerId);
+  let moved = false;
+  const go = (ev) => {
+    moved ||= Math.hypot(ev.clientX - e.clientX, ev.clientY - e.clientY) >= 0.5;
+    if (moved) move(ev);
+  };
   const up = () => {
-    svg.removeEventListener("pointermove", move);
+    svg.removeEventListener("pointermove", go);
     svg.removeEventListener("pointerup", up);
     svg.removeEventListener("pointercancel", up);
-    end();
+    end(moved);
   };
-  svg.addEventListener("pointermove", move);
+  svg.addEventListener("pointermove", go);
   svg.addEventListener("pointerup", up);
   svg.addEventListener("pointercancel", up);
 }
 
+// Whether a click tool (a mark, a skid, the scale, a measure) is waiting for its click: the
+// plan's handles then leave the press to it.
+function picking() {
+  return !!state.tool && state.tool !== "move-image";
+}
+
 // [`capture`] of a handle's press: the plan under it neither pans nor has its text selected.
+// False, and nothing grabbed, while a click tool waits for its click.
 function grab(e, move, end) {
+  if (picking()) return false;
   e.stopPropagation();
   e.preventDefault();
   capture(e, move, end);
+  return true;
 }
 
 // A drag of a rest (`target` {vehicle}) or a tyre mark ({vehicle, mark}): the handle follows the
@@ -860,9 +883,7 @@ function grab(e, move, end) {
 // and once more on release.
 function startDrag(e, target, at, group, handle) {
   const from = svgPoint(e);
-  handle.classList.add("dragging");
-  state.dragging = { ...target, group, base: at, to: at };
-  grab(e, (ev) => {
+  const grabbed = grab(e, (ev) => {
     const p = svgPoint(ev);
     const d = state.dragging;
     d.to = [at[0] + p.x - from.x, at[1] - (p.y - from.y)];
@@ -871,11 +892,14 @@ function startDrag(e, target, at, group, handle) {
       state.inFlight = true;
       moveTo(target, d.to, true).finally(() => { state.inFlight = false; });
     }
-  }, () => {
+  }, (moved) => {
     const to = state.dragging.to;
     state.dragging = null;
-    moveTo(target, to);
+    if (moved) moveTo(target, to); else render();
   });
+  if (!grabbed) return;
+  handle.classList.add("dragging");
+  state.dragging = { ...target, group, base: at, to: at };
 }
 
 // The dragged rest drawn where the pointer is (its group drawn at `base`).
