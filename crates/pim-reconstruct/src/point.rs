@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::problem::{Reconstruction, SceneVehicle, Settings};
 use pim_core::Velocities;
 use pim_fit::{MomentBranch, Solution};
-use pim_runout::{linearise, linearise_with_friction, Linearised, Motion};
+use pim_runout::{differentiate, linearise, Chassis, Linearised, Motion};
 
 /// The scene of one vehicle linearised at one separation state.
 #[derive(Debug, Clone)]
@@ -77,6 +77,60 @@ pub(crate) fn linearised(
     jacobian: bool,
     mus: &[f64],
 ) -> Result<Lin> {
+    let (chassis, start) = runout_of(r, vehicle, at, mus);
+    let s = &r.scene[vehicle];
+    let lin = linearise(
+        &chassis,
+        &start,
+        &s.evidence,
+        turns,
+        &settings.runout,
+        false,
+    )?;
+    let lin = Lin {
+        vehicle,
+        turns,
+        at,
+        mu: chassis.friction,
+        lin,
+    };
+    if jacobian {
+        differentiated(r, settings, lin, mus)
+    } else {
+        Ok(lin)
+    }
+}
+
+/// `lin` (linearised with the frictions `mus`) with its derivatives: those with respect to
+/// the separation velocity, and the road friction's where it is fitted; its run-out is not
+/// simulated again.
+pub(crate) fn differentiated(
+    r: &Reconstruction,
+    settings: &Settings,
+    lin: Lin,
+    mus: &[f64],
+) -> Result<Lin> {
+    let (chassis, start) = runout_of(r, lin.vehicle, lin.at, mus);
+    let s = &r.scene[lin.vehicle];
+    let friction_too = r.friction_of(lin.vehicle).is_some();
+    Ok(Lin {
+        lin: differentiate(
+            lin.lin,
+            &chassis,
+            &start,
+            &s.evidence,
+            lin.turns,
+            &settings.runout,
+            friction_too,
+        )?,
+        ..lin
+    })
+}
+
+/// The chassis scene vehicle `vehicle` runs out with (the fitted friction `mus` where it is
+/// fitted, the rolling resistance at most half of it) and its separation state at velocity
+/// `at`.
+fn runout_of(r: &Reconstruction, vehicle: usize, at: [f64; 3], mus: &[f64]) -> (Chassis, Motion) {
     let s = &r.scene[vehicle];
     let start = Motion {
         vx: at[0],
@@ -84,29 +138,11 @@ pub(crate) fn linearised(
         yaw_rate: at[2],
         ..s.pose
     };
-    let mu = friction_for(r, vehicle, mus);
     let mut chassis = s.chassis.clone();
     if r.friction_of(vehicle).is_some() {
+        let mu = friction_for(r, vehicle, mus);
         chassis.friction = mu;
         chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * mu);
     }
-    let lin = if jacobian && r.friction_of(vehicle).is_some() {
-        linearise_with_friction(&chassis, &start, &s.evidence, turns, &settings.runout)?
-    } else {
-        linearise(
-            &chassis,
-            &start,
-            &s.evidence,
-            turns,
-            &settings.runout,
-            jacobian,
-        )?
-    };
-    Ok(Lin {
-        vehicle,
-        turns,
-        at,
-        mu,
-        lin,
-    })
+    (chassis, start)
 }

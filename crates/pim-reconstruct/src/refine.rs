@@ -1,7 +1,7 @@
 //! Gauss-Newton over the separation state of one combination of counts of turns, with the
 //! exact impact fit inside.
 
-use crate::point::{linearised, velocity_of, Lin, Point};
+use crate::point::{differentiated, linearised, velocity_of, Lin, Point};
 use crate::problem::FRICTION_RANGE;
 use crate::problem::{Reconstruction, Settings};
 use nalgebra::{DMatrix, DVector};
@@ -468,15 +468,17 @@ pub(crate) fn refine(
                     })
                     .fold(0.0, f64::max)
             });
-            // Relinearised, with the Jacobian, at the accepted point.
+            // Relinearised at the accepted point: its run-outs with their derivatives (the
+            // run-outs not simulated again).
             let next: std::result::Result<Vec<Lin>, String> = p
                 .scene
                 .par_iter()
                 .map(|l| {
-                    work.charge(linearised(
-                        r, settings, l.vehicle, l.turns, l.at, true, &p.mus,
-                    ))
-                    .map_err(|e| e.to_string())
+                    let spent = l.lin.evaluations;
+                    let d = differentiated(r, settings, l.clone(), &p.mus)
+                        .map_err(|e| e.to_string())?;
+                    work.add(d.lin.evaluations - spent);
+                    Ok(d)
                 })
                 .collect();
             lins = next?;

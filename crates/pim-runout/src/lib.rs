@@ -88,7 +88,7 @@ pub use chassis::{
 pub use error::{Result, RunoutError};
 pub use forces::{wheels_at, WheelAt, SLIDING_DEADBAND};
 pub use inverse::{
-    estimate, linearise, linearise_with_friction, Alternative, Candidate, Estimate,
+    differentiate, estimate, linearise, linearise_with_friction, Alternative, Candidate, Estimate,
     EstimateSettings, Evidence, Linearised, Mark, Residual, Rest, ALTERNATIVE_COST,
     CONSISTENT_COST, MAX_ALTERNATIVES, PLAUSIBLE_COST,
 };

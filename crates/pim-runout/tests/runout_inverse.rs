@@ -8,8 +8,8 @@ mod common;
 
 use common::runout::{random_chassis, Kind};
 use pim_runout::{
-    estimate, simulate, Chassis, Estimate, EstimateSettings, Evidence, Mark, Motion, Rest, Runout,
-    Settings,
+    differentiate, estimate, linearise, linearise_with_friction, simulate, Chassis, Estimate,
+    EstimateSettings, Evidence, Mark, Motion, Rest, Runout, Settings,
 };
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -150,6 +150,61 @@ fn round_trip_with_marks() {
     );
     assert!(worst < 1e-6, "{worst}");
     assert!(missed.len() <= 1, "true counts missed: {missed:?}");
+}
+
+/// A linearisation made without its derivatives and differentiated afterwards (a trial point
+/// of a fit that turned out to be accepted) is, to the bit, the one linearised with them: the
+/// same Jacobian, the same friction column, the same work; its run-out is not simulated again
+/// (the run-outs of the derivatives alone are added).
+#[test]
+fn differentiated_afterwards_is_linearised_with_derivatives() {
+    for seed in 0..6u64 {
+        let kind = [Kind::Locked, Kind::Braked, Kind::Mixed][(seed % 3) as usize];
+        let (c, start, r) = truth(700 + seed, kind);
+        let m = r.at(0.5 * r.time);
+        let ev = Evidence {
+            rest: Some(rest_of(&r)),
+            marks: vec![Mark {
+                x: m.x + 0.1,
+                y: m.y,
+                sigma: 0.05,
+                heading: None,
+            }],
+            ..Evidence::default()
+        };
+        // Off the truth, so that the residuals and derivatives are not special.
+        let at = Motion {
+            vx: start.vx + 0.3,
+            yaw_rate: start.yaw_rate - 0.05,
+            ..start
+        };
+        let turns = true_turns(&start, &r);
+        let s = Settings::default();
+        let value = linearise(&c, &at, &ev, turns, &s, false).unwrap();
+        assert!(value.jacobian.is_none() && value.friction.is_none());
+        let whole = linearise(&c, &at, &ev, turns, &s, true).unwrap();
+        let later = differentiate(value.clone(), &c, &at, &ev, turns, &s, false).unwrap();
+        assert_eq!(later.jacobian, whole.jacobian, "seed {seed}");
+        assert_eq!(later.weighted, whole.weighted);
+        assert_eq!(
+            (later.runouts, later.evaluations),
+            (whole.runouts, whole.evaluations)
+        );
+        let with_friction = linearise_with_friction(&c, &at, &ev, turns, &s).unwrap();
+        let later = differentiate(value, &c, &at, &ev, turns, &s, true).unwrap();
+        assert_eq!(later.jacobian, with_friction.jacobian, "seed {seed}");
+        assert_eq!(later.friction, with_friction.friction, "seed {seed}");
+        assert_eq!(
+            (later.runouts, later.evaluations),
+            (with_friction.runouts, with_friction.evaluations)
+        );
+        // Differentiated again: nothing more is run.
+        let again = differentiate(later.clone(), &c, &at, &ev, turns, &s, true).unwrap();
+        assert_eq!(
+            (again.runouts, again.evaluations),
+            (later.runouts, later.evaluations)
+        );
+    }
 }
 
 /// The rest alone (three numbers for three unknowns): the true count's candidate recovers the

@@ -54,26 +54,89 @@ pub fn linearise(
 ) -> Result<Linearised> {
     let p = problem(chassis, separation, evidence, turns, settings);
     let theta = [separation.vx, separation.vy, separation.yaw_rate];
-    let mut runouts = 1;
     let runout = p.runout(&theta)?;
     let residuals = p.residuals(&theta, &runout);
     let weighted =
         DVector::from_iterator(residuals.len(), residuals.iter().map(|x| x.value / x.sigma));
-    let jac = if jacobian_too {
-        Some(jacobian(&p, &theta, &weighted, &runout, &mut runouts)?)
-    } else {
-        None
-    };
-    Ok(Linearised {
+    let lin = Linearised {
         cost: weighted.norm_squared(),
         residuals,
         weighted,
-        jacobian: jac,
+        jacobian: None,
         runout,
-        runouts,
+        runouts: 1,
         evaluations: p.work.load(std::sync::atomic::Ordering::Relaxed),
         friction: None,
-    })
+    };
+    if jacobian_too {
+        differentiate(lin, chassis, separation, evidence, turns, settings, false)
+    } else {
+        Ok(lin)
+    }
+}
+
+/// The derivatives of `lin`, a linearisation from the same chassis, state, evidence, turns
+/// and settings (made by [`linearise`] without them, say, when it was only a trial point),
+/// added without simulating its run-out again: [`Linearised::jacobian`] and, with
+/// `friction_too`, [`Linearised::friction`] as [`linearise_with_friction`] computes them.
+/// Derivatives `lin` already has are kept; [`Linearised::runouts`] and
+/// [`Linearised::evaluations`] grow by the run-outs the new ones took.
+///
+/// # Errors
+/// As [`linearise`].
+pub fn differentiate(
+    mut lin: Linearised,
+    chassis: &Chassis,
+    separation: &Motion,
+    evidence: &Evidence,
+    turns: i64,
+    settings: &Settings,
+    friction_too: bool,
+) -> Result<Linearised> {
+    let theta = [separation.vx, separation.vy, separation.yaw_rate];
+    if lin.jacobian.is_none() {
+        let p = problem(chassis, separation, evidence, turns, settings);
+        let mut runouts = 0;
+        lin.jacobian = Some(jacobian(
+            &p,
+            &theta,
+            &lin.weighted,
+            &lin.runout,
+            &mut runouts,
+        )?);
+        lin.runouts += runouts;
+        lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
+    }
+    if !friction_too || lin.friction.is_some() {
+        return Ok(lin);
+    }
+    // Through the nominal's steps where it can be replayed (internal numerical
+    // differentiation), else on a run-out of its own.
+    let replayable =
+        problem(chassis, separation, evidence, turns, settings).can_replay(&lin.runout);
+    let relative = if replayable {
+        INTERNAL_STEP
+    } else {
+        settings.rtol.sqrt()
+    };
+    let mut h = relative * (1.0 + chassis.friction);
+    if chassis.friction + h > crate::chassis::MAX_FRICTION {
+        h = -h;
+    }
+    let mut stepped = chassis.clone();
+    stepped.friction += h;
+    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
+    let p = problem(&stepped, separation, evidence, turns, settings);
+    let other = if replayable {
+        p.replayed(&theta, &lin.runout)
+            .expect("checked by can_replay")?
+    } else {
+        p.weighted(&theta)?.0
+    };
+    lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
+    lin.runouts += 1;
+    lin.friction = Some((&other - &lin.weighted) / h);
+    Ok(lin)
 }
 
 /// The problem of candidate `turns` from `separation`, the friction held.
@@ -115,33 +178,6 @@ pub fn linearise_with_friction(
     turns: i64,
     settings: &Settings,
 ) -> Result<Linearised> {
-    let mut lin = linearise(chassis, separation, evidence, turns, settings, true)?;
-    // Through the nominal's steps where it can be replayed (internal numerical
-    // differentiation), else on a run-out of its own.
-    let replayable =
-        problem(chassis, separation, evidence, turns, settings).can_replay(&lin.runout);
-    let relative = if replayable {
-        INTERNAL_STEP
-    } else {
-        settings.rtol.sqrt()
-    };
-    let mut h = relative * (1.0 + chassis.friction);
-    if chassis.friction + h > crate::chassis::MAX_FRICTION {
-        h = -h;
-    }
-    let mut stepped = chassis.clone();
-    stepped.friction += h;
-    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
-    let p = problem(&stepped, separation, evidence, turns, settings);
-    let theta = [separation.vx, separation.vy, separation.yaw_rate];
-    let other = if replayable {
-        p.replayed(&theta, &lin.runout)
-            .expect("checked by can_replay")?
-    } else {
-        p.weighted(&theta)?.0
-    };
-    lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
-    lin.runouts += 1;
-    lin.friction = Some((&other - &lin.weighted) / h);
-    Ok(lin)
+    let lin = linearise(chassis, separation, evidence, turns, settings, false)?;
+    differentiate(lin, chassis, separation, evidence, turns, settings, true)
 }
