@@ -43,7 +43,12 @@
 //!    fit is solved exactly and globally (its certificate), the scenes are relinearised at its
 //!    separation state, and so on; a step that does not lower the true chi-square (the
 //!    run-outs simulated, not linearised) is damped by Marquardt's rows that hold the
-//!    separation state near the current one. A combination is refined unless its scenes alone
+//!    separation state near the current one (weight `lambda` times the diagonal of `J^T J`:
+//!    1e-3, then ten times more at each failure; after a success `lambda` is kept near what
+//!    the step needed, by Nielsen's rule, `lambda max(1/3, 1 - (2 rho - 1)^3)` with `rho` the
+//!    gain over the linearised fit's, so that a curved valley is not overshot again and again
+//!    by undamped steps). An accepted point's run-outs are differentiated where they stand
+//!    ([`pim_runout::differentiate`]), only when the refinement goes on from it. A combination is refined unless its scenes alone
 //!    already cost at least the best found (a bound, the impact only adding cost, where the
 //!    scenes' own search found each count's minimum), its momentum
 //!    bound lies more than [`Settings::refine_margin`] above the best found, or

@@ -415,6 +415,8 @@ pub(crate) fn refine(
 ) -> std::result::Result<Refined, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
     let mut lins = start;
+    // `lins` are those of the point before the one accepted last (which has none yet).
+    let mut stale = false;
     let mut current: Option<Point> = None;
     let mut lambda = 0.0;
     let mut fits = 0;
@@ -424,6 +426,24 @@ pub(crate) fn refine(
     while iterations < settings.max_iterations {
         if current.is_some() && work.exhausted() {
             break;
+        }
+        // Relinearised at the point accepted last: its run-outs with their derivatives (the
+        // run-outs not simulated again).
+        if stale {
+            let c = current.as_ref().expect("a point was accepted");
+            let next: std::result::Result<Vec<Lin>, String> = c
+                .scene
+                .par_iter()
+                .map(|l| {
+                    let spent = l.lin.evaluations;
+                    let d = differentiated(r, settings, l.clone(), &c.mus)
+                        .map_err(|e| e.to_string())?;
+                    work.add(d.lin.evaluations - spent);
+                    Ok(d)
+                })
+                .collect();
+            lins = next?;
+            stale = false;
         }
         iterations += 1;
         let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
@@ -468,23 +488,24 @@ pub(crate) fn refine(
                     })
                     .fold(0.0, f64::max)
             });
-            // Relinearised at the accepted point: its run-outs with their derivatives (the
-            // run-outs not simulated again).
-            let next: std::result::Result<Vec<Lin>, String> = p
-                .scene
-                .par_iter()
-                .map(|l| {
-                    let spent = l.lin.evaluations;
-                    let d = differentiated(r, settings, l.clone(), &p.mus)
-                        .map_err(|e| e.to_string())?;
-                    work.add(d.lin.evaluations - spent);
-                    Ok(d)
-                })
-                .collect();
-            lins = next?;
+            // Linearised at the accepted point (its derivatives added when the refinement goes
+            // on from it).
+            stale = true;
             let total = p.total;
+            // Marquardt's damping after a success: kept near what the step needed (Nielsen's
+            // rule: down to a third where the linearisation predicted the gain well, up to
+            // twice where it did not), not dropped, so that a valley the linearisation
+            // overshoots is not crossed again and again by undamped steps.
+            if lambda > 0.0 {
+                let before = gain + total;
+                let rho = gain / (before - predicted);
+                lambda *= if rho.is_finite() && rho > 0.0 {
+                    (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0)
+                } else {
+                    1.0 / 3.0
+                };
+            }
             current = Some(p);
-            lambda = 0.0;
             // A chi-square change of 1e-6 is far below any statistical meaning and near the
             // precision of the run-outs' forward differences.
             if gain < GAIN * (1.0 + total) || step < 1e-9 {
