@@ -643,7 +643,7 @@ function dragGeometry(e, handle, changeAt) {
   const svg = $("plan");
   const from = svgPoint(e);
   let last = null;
-  const grabbed = grab(e, (ev) => {
+  grab(e, { geometry: true }, (ev) => {
     const p = svgPoint(ev);
     last = changeAt([p.x, -p.y]);
     for (const h of svg.querySelectorAll(".dragging")) h.setAttribute("transform", `translate(${p.x - from.x} ${p.y - from.y})`);
@@ -652,12 +652,8 @@ function dragGeometry(e, handle, changeAt) {
       editQueued(last, true).finally(() => { state.inFlight = false; });
     }
   }, () => {
-    state.dragging = null;
     if (last) editQueued(last, false); else render();
-  });
-  if (!grabbed) return;
-  handle.classList.add("dragging");
-  state.dragging = { geometry: true };
+  }, handle);
 }
 
 // Edits of the geometry run one after the other, as moves of a rest do.
@@ -707,10 +703,8 @@ function drawBackground(svg) {
 // A drag of the background (Move image): drawn where the pointer takes it, written into
 // [background] on release.
 function dragImage(e, changeAt) {
-  state.dragging = { image: true };
   let last = null;
-  grab(e, (ev) => { const p = svgPoint(ev); last = changeAt([p.x, -p.y]); render(); }, () => {
-    state.dragging = null;
+  grab(e, { image: true }, (ev) => { const p = svgPoint(ev); last = changeAt([p.x, -p.y]); render(); }, () => {
     if (last) changeBackground(last); else render();
   });
 }
@@ -868,14 +862,21 @@ function picking() {
   return !!state.tool && state.tool !== "move-image";
 }
 
-// [`capture`] of a handle's press: the plan under it neither pans nor has its text selected.
-// False, and nothing grabbed, while a click tool waits for its click.
-function grab(e, move, end) {
-  if (picking()) return false;
+// [`capture`] of a handle's press as the drag `dragging` (`state.dragging` until it ends, the
+// `handle`, if given, drawn as dragged): the plan under it neither pans nor has its text
+// selected; `end(moved, dragging)` once the drag is cleared. Nothing is grabbed while a click
+// tool waits for its click.
+function grab(e, dragging, move, end, handle) {
+  if (picking()) return;
   e.stopPropagation();
   e.preventDefault();
-  capture(e, move, end);
-  return true;
+  if (handle) handle.classList.add("dragging");
+  state.dragging = dragging;
+  capture(e, move, (moved) => {
+    const d = state.dragging;
+    state.dragging = null;
+    end(moved, d);
+  });
 }
 
 // A drag of a rest (`target` {vehicle}) or a tyre mark ({vehicle, mark}): the handle follows the
@@ -883,7 +884,7 @@ function grab(e, move, end) {
 // and once more on release.
 function startDrag(e, target, at, group, handle) {
   const from = svgPoint(e);
-  const grabbed = grab(e, (ev) => {
+  grab(e, { ...target, group, base: at, to: at }, (ev) => {
     const p = svgPoint(ev);
     const d = state.dragging;
     d.to = [at[0] + p.x - from.x, at[1] - (p.y - from.y)];
@@ -892,14 +893,9 @@ function startDrag(e, target, at, group, handle) {
       state.inFlight = true;
       moveTo(target, d.to, true).finally(() => { state.inFlight = false; });
     }
-  }, (moved) => {
-    const to = state.dragging.to;
-    state.dragging = null;
-    if (moved) moveTo(target, to); else render();
-  });
-  if (!grabbed) return;
-  handle.classList.add("dragging");
-  state.dragging = { ...target, group, base: at, to: at };
+  }, (moved, d) => {
+    if (moved) moveTo(target, d.to); else render();
+  }, handle);
 }
 
 // The dragged rest drawn where the pointer is (its group drawn at `base`).

@@ -3,7 +3,7 @@
 
 use super::evidence::{Evidence, Residual};
 use super::problem::Problem;
-use super::search::{jacobian, INTERNAL_STEP};
+use super::search::jacobian;
 use crate::chassis::{Chassis, Motion};
 use crate::error::Result;
 use crate::simulate::{Runout, Settings};
@@ -110,15 +110,8 @@ pub fn differentiate(
     if !friction_too || lin.friction.is_some() {
         return Ok(lin);
     }
-    // Through the nominal's steps where it can be replayed (internal numerical
-    // differentiation), else on a run-out of its own.
-    let replayable =
-        problem(chassis, separation, evidence, turns, settings).can_replay(&lin.runout);
-    let relative = if replayable {
-        INTERNAL_STEP
-    } else {
-        settings.rtol.sqrt()
-    };
+    let relative =
+        problem(chassis, separation, evidence, turns, settings).difference_step(&lin.runout);
     let mut h = relative * (1.0 + chassis.friction);
     if chassis.friction + h > crate::chassis::MAX_FRICTION {
         h = -h;
@@ -127,12 +120,7 @@ pub fn differentiate(
     stepped.friction += h;
     stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
     let p = problem(&stepped, separation, evidence, turns, settings);
-    let other = if replayable {
-        p.replayed(&theta, &lin.runout)
-            .expect("checked by can_replay")?
-    } else {
-        p.weighted(&theta)?.0
-    };
+    let other = p.stepped(&theta, &lin.runout)?;
     lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
     lin.runouts += 1;
     lin.friction = Some((&other - &lin.weighted) / h);

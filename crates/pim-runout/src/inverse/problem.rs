@@ -1,6 +1,7 @@
 //! The cost of one candidate: the residuals of a run-out against the evidence.
 
 use super::evidence::{Evidence, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
+use super::search::INTERNAL_STEP;
 use crate::chassis::{Chassis, Motion};
 use crate::error::{Result, RunoutError};
 use crate::forces::Dynamics;
@@ -115,14 +116,27 @@ impl Problem<'_> {
         Ok((self.weigh(theta, &r), r))
     }
 
-    /// The weighted residuals from `theta` on the run-out integrated through the accepted steps
-    /// of `nominal` (a nearby state's run-out: what a derivative by internal numerical
-    /// differentiation differences), or `None` when it cannot be replayed.
-    pub(crate) fn replayed(&self, theta: &[f64], nominal: &Runout) -> Option<Result<DVector<f64>>> {
-        Some(
-            self.runout_through(theta, Some(nominal))?
-                .map(|r| self.weigh(theta, &r)),
-        )
+    /// The weighted residuals from `theta`, a state stepped from that of the run-out `nominal`
+    /// (what a derivative differences): on the run-out integrated through `nominal`'s accepted
+    /// steps where it can be replayed (internal numerical differentiation), else on a run-out
+    /// with steps of its own.
+    pub(crate) fn stepped(&self, theta: &[f64], nominal: &Runout) -> Result<DVector<f64>> {
+        match self.runout_through(theta, Some(nominal)) {
+            Some(r) => Ok(self.weigh(theta, &r?)),
+            None => Ok(self.weighted(theta)?.0),
+        }
+    }
+
+    /// The relative difference step of derivatives around the run-out `nominal`, as
+    /// [`Problem::stepped`] integrates the stepped run-outs: [`INTERNAL_STEP`] through
+    /// `nominal`'s steps, else the square root of the run-outs' tolerance (which keeps their
+    /// noise and the truncation error alike small).
+    pub(crate) fn difference_step(&self, nominal: &Runout) -> f64 {
+        if self.can_replay(nominal) {
+            INTERNAL_STEP
+        } else {
+            self.settings.rtol.sqrt()
+        }
     }
 
     /// The change of the cost (the sum of the squared weighted residuals `r`, on the run-out

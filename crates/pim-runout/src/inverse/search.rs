@@ -529,30 +529,18 @@ pub(crate) fn jacobian(
 ) -> Result<DMatrix<f64>> {
     let n = p.n();
     let mut jac = DMatrix::zeros(r0.len(), n);
-    let replayable = p.can_replay(nominal);
-    let weighted = |t: &[f64]| -> Result<DVector<f64>> {
-        if replayable {
-            p.replayed(t, nominal).expect("checked by can_replay")
-        } else {
-            Ok(p.weighted(t)?.0)
-        }
-    };
-    let relative = if replayable {
-        INTERNAL_STEP
-    } else {
-        p.settings.rtol.sqrt()
-    };
+    let relative = p.difference_step(nominal);
     for j in 0..n {
         let h = relative * (1.0 + theta[j].abs());
         let mut t = theta.to_vec();
         t[j] += h;
         *runouts += 1;
-        let (r1, h) = match weighted(&t) {
+        let (r1, h) = match p.stepped(&t, nominal) {
             Ok(r1) => (r1, h),
             Err(_) => {
                 t[j] = theta[j] - h;
                 *runouts += 1;
-                (weighted(&t)?, -h)
+                (p.stepped(&t, nominal)?, -h)
             }
         };
         for i in 0..r0.len() {
