@@ -1,7 +1,6 @@
 //! The cost of one candidate: the residuals of a run-out against the evidence.
 
 use super::evidence::{Evidence, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
-use super::search::INTERNAL_STEP;
 use crate::chassis::{Chassis, Motion};
 use crate::error::{Result, RunoutError};
 use crate::forces::Dynamics;
@@ -216,6 +215,13 @@ fn chord_distance(q: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     };
     (q.0 - a.0 - s * dx).hypot(q.1 - a.1 - s * dy)
 }
+
+/// The relative difference step of a derivative by internal numerical differentiation: the
+/// replayed run-outs differ from the nominal only through the unknown stepped (no step-size
+/// control of their own, whose decisions would add the tolerance's noise), so the step is set by
+/// the truncation error (of order the step) against the rounding of the nominal's step times
+/// (of order 1e-13 of the residuals), not by the tolerance.
+pub(crate) const INTERNAL_STEP: f64 = 1e-6;
 
 /// Wraps an angle to (-pi, pi].
 fn wrap(a: f64) -> f64 {

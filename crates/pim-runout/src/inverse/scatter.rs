@@ -16,8 +16,8 @@
 //! the exploring tolerance, once per vehicle, not once per count; of each count's six lowest
 //! distinct points (by the softened cost) the twelve lowest over all counts are explored.
 
-use super::problem::Problem;
-use super::search::{bounded, first_guess, EXPLORE_TOLERANCE, INTERNAL_STEP};
+use super::problem::{Problem, INTERNAL_STEP};
+use super::search::{bounded, first_guess, EXPLORE_TOLERANCE};
 use crate::simulate::Runout;
 use crate::simulate::Settings;
 use rayon::prelude::*;

@@ -506,16 +506,9 @@ fn norm(x: &[f64]) -> f64 {
     x.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-/// The relative difference step of a derivative by internal numerical differentiation: the
-/// replayed run-outs differ from the nominal only through the unknown stepped (no step-size
-/// control of their own, whose decisions would add the tolerance's noise), so the step is set by
-/// the truncation error (of order the step) against the rounding of the nominal's step times
-/// (of order 1e-13 of the residuals), not by the tolerance.
-pub(crate) const INTERNAL_STEP: f64 = 1e-6;
-
 /// The Jacobian of the weighted residuals at `theta`, whose run-out is `nominal` and weighted
 /// residuals `r0`: forward differences of run-outs integrated through the nominal's accepted
-/// steps (internal numerical differentiation, the step [`INTERNAL_STEP`] of `1 + |theta_j|`);
+/// steps (internal numerical differentiation, the step [`INTERNAL_STEP`](super::problem::INTERNAL_STEP) of `1 + |theta_j|`);
 /// where the nominal cannot be replayed (inputs by distance), of run-outs with steps of their
 /// own, the step the square root of the run-outs' relative tolerance (which keeps their noise
 /// and the truncation error alike small). At the edge of the searched states, the backward
