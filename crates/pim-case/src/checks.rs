@@ -4,7 +4,7 @@
 
 use crate::case::{finite, Case, CaseFile};
 use crate::error::Result;
-use crate::ranges::{Range, ANGLE, DISTANCE, MASS, SPEED, YAW_INERTIA, YAW_RATE};
+use crate::ranges::{Range, ANGLE, DISTANCE, FRICTION, MASS, SPEED, YAW_INERTIA, YAW_RATE};
 use crate::sections::{VehicleSection, AT_REST};
 
 impl Case {
@@ -72,10 +72,27 @@ impl Case {
             }
         }
         checks.push(("impact.crush_angle".into(), c.impact.crush_angle, ANGLE));
+        // Every friction the case writes, where it writes it (a skid's and a vehicle's default
+        // to the road's, so a bad road friction is named as the road's).
+        if let Some(r) = &c.runout {
+            checks.extend(r.friction.map(|f| ("runout.friction".into(), f, FRICTION)));
+            for (name, v) in [("vehicle1", &r.vehicle1), ("vehicle2", &r.vehicle2)] {
+                if let Some(f) = v.as_ref().and_then(|v| v.friction) {
+                    checks.push((format!("runout.{name}.friction"), f, FRICTION));
+                }
+            }
+        }
+        if let Some(p) = &c.pre_impact {
+            for (name, v) in [("vehicle1", &p.vehicle1), ("vehicle2", &p.vehicle2)] {
+                if let Some(f) = v.as_ref().and_then(|v| v.friction) {
+                    checks.push((format!("pre_impact.{name}.friction"), f, FRICTION));
+                }
+            }
+        }
         checks.extend(self.velocities());
         for (path, x, range) in checks {
             range.check(x).map_err(|why| {
-                let si = if matches!(range.unit, "deg") {
+                let si = if matches!(range.unit, "deg" | "") {
                     ""
                 } else {
                     " (in SI, after [units])"

@@ -72,6 +72,10 @@ pub enum NewValue {
     Integer(i64),
 }
 
+/// The keys a case reads as whole numbers (`scene.vehicleN.turns`, an observation's
+/// `vehicle`): a number typed for them is written without a decimal point.
+pub const WHOLE_NUMBER_KEYS: [&str; 2] = ["turns", "vehicle"];
+
 /// A case file open for editing; see the [module docs](self).
 #[derive(Debug, Clone)]
 pub struct CaseEdit {
@@ -114,6 +118,14 @@ impl CaseEdit {
     /// Sets the value at `path`, creating the key (and its tables) where the file has none.
     /// The comment and spacing around the old value are kept.
     pub fn set(&mut self, path: &str, value: NewValue) -> Result<()> {
+        // A whole number typed for a whole-number field (a count of turns, a vehicle's number)
+        // is written as one: the case reads those fields as integers.
+        let value = match value {
+            NewValue::Written(x) if x.fract() == 0.0 && x.abs() < 1e15 && self.whole(path) => {
+                NewValue::Integer(x as i64)
+            }
+            v => v,
+        };
         let new = self.value(path, value)?;
         let keys = segments(path);
         let Some((last, parents)) = keys.split_last() else {
@@ -186,6 +198,15 @@ impl CaseEdit {
         }
         array.push_formatted(v);
         Ok(array.len() - 1)
+    }
+
+    /// Whether `path` is a whole-number field: one the case reads as an integer
+    /// ([`WHOLE_NUMBER_KEYS`]), or one the file already writes as an integer.
+    fn whole(&self, path: &str) -> bool {
+        let keys = segments(path);
+        keys.last()
+            .is_some_and(|k| WHOLE_NUMBER_KEYS.contains(&k.as_str()))
+            || self.get(path).is_some_and(|v| v.parse::<i64>().is_ok())
     }
 
     /// A value to write at `path`.

@@ -45,6 +45,14 @@ pub const ANGLE: Range = Range {
     unit: "deg",
 };
 
+/// A tyre-road friction coefficient: from 0.01 (a tenth of wet ice's) to 1.5 (above a racing
+/// tyre's on dry asphalt). Written once for the road, a surface, a vehicle and a skid.
+pub const FRICTION: Range = Range {
+    lo: 0.01,
+    hi: 1.5,
+    unit: "",
+};
+
 /// A velocity component, m/s (360 km/h).
 pub const SPEED: Range = Range {
     lo: -100.0,
@@ -81,11 +89,15 @@ impl Range {
         if x.is_finite() && x >= self.lo && x <= self.hi {
             Ok(())
         } else {
+            let unit = if self.unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {}", self.unit)
+            };
             Err(format!(
-                "must be a number between {} and {} {}, got {}",
+                "must be a number between {} and {}{unit}, got {}",
                 self.lo,
                 self.hi,
-                self.unit,
                 short(x)
             ))
         }

@@ -69,7 +69,22 @@ fn flag_message(e: &clap::Error) -> Option<String> {
     }
 }
 
+/// Exit status of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
+const EXIT_INTERRUPTED: i32 = 130;
+
 fn main() -> ExitCode {
+    // Ctrl-C: said, and the shell's status for it. Every file is written whole or not at all
+    // (beside its target, then renamed), so stopping here leaves no half-written file.
+    let _ = ctrlc::set_handler(|| {
+        eprintln!("pim: interrupted");
+        std::process::exit(EXIT_INTERRUPTED);
+    });
+    // A closed standard output (`pim ... >&-`) would swallow every answer in silence: refused
+    // before anything is computed.
+    if rustix::io::fcntl_getfd(std::io::stdout()).is_err() {
+        eprintln!("pim: standard output is closed: nothing could be written (give it a file)");
+        return ExitCode::from(error::EXIT_IO);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -1,25 +1,13 @@
 //! `pim.edit_case`: values of a case file changed in place, the rest of the file kept.
 
-use crate::convert::{input_error, read};
+use crate::convert::input_error;
 use pim_case::edit::{CaseEdit, NewValue};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
-/// Changes values of a case file (`pim set`): `values` maps dotted paths as the file writes
-/// them (`scene.vehicle1.rest.x`, `observations.0.sigma`) to numbers (in the file's units),
-/// booleans or text. The edited case is checked as every command reads it; with `write` the
-/// file is written back (comments, order and number formatting kept everywhere else). The
-/// edited text is returned.
-#[pyfunction]
-#[pyo3(signature = (path, values, write = true))]
-pub(crate) fn edit_case(
-    path: std::path::PathBuf,
-    values: &Bound<'_, PyDict>,
-    write: bool,
-) -> PyResult<String> {
-    let name = path.display().to_string();
-    let text = read(&path, pim_case::case::MAX_CASE_BYTES)?;
-    let mut edit = CaseEdit::new(&name, &text).map_err(|e| input_error(e.message))?;
+/// The edited text of `text`: every value of `values` set.
+fn edited(name: &str, text: &str, values: &Bound<'_, PyDict>) -> PyResult<String> {
+    let mut edit = CaseEdit::new(name, text).map_err(|e| input_error(e.message))?;
     for (k, v) in values.iter() {
         let key: String = k
             .extract()
@@ -39,16 +27,74 @@ pub(crate) fn edit_case(
         };
         edit.set(&key, value).map_err(|e| input_error(e.message))?;
     }
-    edit.check().map_err(|e| input_error(e.message))?;
-    let edited = edit.text();
-    if write {
-        let tmp = path.with_extension("toml.pim-set");
-        std::fs::write(&tmp, &edited)
-            .and_then(|_| std::fs::rename(&tmp, &path))
-            .map_err(|e| {
-                let _ = std::fs::remove_file(&tmp);
-                pyo3::exceptions::PyOSError::new_err(format!("{name}: cannot write: {e}"))
-            })?;
+    Ok(edit.text())
+}
+
+/// A store's refusal as Python raises it: a changed file or a failed write `OSError`, the
+/// rest `ValueError` (pim's input error).
+fn store_error(e: pim_store::StoreError) -> PyErr {
+    use pim_store::StoreError as E;
+    match e {
+        E::Conflict { .. } | E::Io { .. } => pyo3::exceptions::PyOSError::new_err(e.to_string()),
+        _ => input_error(e.to_string()),
     }
-    Ok(edited)
+}
+
+/// Changes values of a case file (`pim set`): `values` maps dotted paths as the file writes
+/// them (`scene.vehicle1.rest.x`, `observations.0.sigma`) to numbers (in the file's units),
+/// booleans or text. The edited case is checked with every check `pim fit` makes; with
+/// `write` the file is written back (comments, order and number formatting kept everywhere
+/// else) as `pim set` writes it: beside the file, then renamed over it, its mode kept, under
+/// the file's lock. With `if_version` (as `case_version` gave it) nothing is written, and
+/// `OSError` raised, when the file changed since. The edited text is returned.
+#[pyfunction]
+#[pyo3(signature = (path, values, write = true, if_version = None))]
+pub(crate) fn edit_case(
+    path: std::path::PathBuf,
+    values: &Bound<'_, PyDict>,
+    write: bool,
+    if_version: Option<String>,
+) -> PyResult<String> {
+    let name = path.display().to_string();
+    if !write {
+        let stored = pim_store::read(&path, pim_store::MAX_CASE_BYTES).map_err(store_error)?;
+        if let Some(v) = &if_version {
+            if !stored.version.matches(v) {
+                return Err(store_error(pim_store::StoreError::Conflict {
+                    file: name,
+                    expected: v.clone(),
+                    current: stored,
+                }));
+            }
+        }
+        let text = edited(&name, &stored.text, values)?;
+        pim_store::check(&name, &text).map_err(store_error)?;
+        return Ok(text);
+    }
+    let mut failed = None;
+    let options = pim_store::WriteOptions {
+        expected: if_version.as_deref(),
+        ..Default::default()
+    };
+    let written = pim_store::update(&path, &options, |current| {
+        edited(&name, &current.text, values).map_err(|e| {
+            let message = e.to_string();
+            failed = Some(e);
+            message
+        })
+    });
+    match (written, failed) {
+        (Ok(stored), _) => Ok(stored.text),
+        (Err(_), Some(e)) => Err(e),
+        (Err(e), None) => Err(store_error(e)),
+    }
+}
+
+/// The version of a case file: the SHA-256 of its text (64 hex digits), as `pim set
+/// --print-version` prints it; `edit_case(..., if_version=...)` takes it.
+#[pyfunction]
+pub(crate) fn case_version(path: std::path::PathBuf) -> PyResult<String> {
+    pim_store::read(&path, pim_store::MAX_CASE_BYTES)
+        .map(|s| s.version.0)
+        .map_err(store_error)
 }

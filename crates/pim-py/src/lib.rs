@@ -342,6 +342,7 @@ fn _pim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(predict_dv, m)?)?;
     m.add_function(wrap_pyfunction!(draw, m)?)?;
     m.add_function(wrap_pyfunction!(edit::edit_case, m)?)?;
+    m.add_function(wrap_pyfunction!(edit::case_version, m)?)?;
     m.add_function(wrap_pyfunction!(scene::runout, m)?)?;
     m.add_function(wrap_pyfunction!(scene::reconstruct, m)?)?;
     m.add_function(wrap_pyfunction!(scene::reconstruct_many, m)?)?;

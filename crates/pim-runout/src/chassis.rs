@@ -216,7 +216,7 @@ impl Chassis {
         } else {
             self.cg_to_front_axle - self.wheelbase
         };
-        let y = if wheel % 2 == 0 {
+        let y = if wheel.is_multiple_of(2) {
             self.track / 2.0
         } else {
             -self.track / 2.0

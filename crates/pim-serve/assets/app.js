@@ -32,7 +32,7 @@ async function api(method, url, body) {
     body: body ? JSON.stringify(body) : undefined,
   });
   const data = await res.json().catch(() => ({ error: `${res.status} ${res.statusText}` }));
-  if (!res.ok) throw Object.assign(new Error(data.error || res.statusText), { status: res.status });
+  if (!res.ok) throw Object.assign(new Error(data.error || res.statusText), { status: res.status, data });
   return { data, res };
 }
 
@@ -58,7 +58,8 @@ async function openCase(path) {
   state.opening = (state.opening || 0) + 1;
   try {
     const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
-    state.path = path; state.text = state.saved = data.text; state.view = null;
+    state.path = path; state.text = state.saved = data.text; state.version = data.version; state.view = null;
+    state.conflict = null; $("conflict").hidden = true;
     state.study = null; state.measured = null; state.off = [];
     $("study-status").textContent = ""; $("study-progress").hidden = true; $("study-cancel").hidden = true;
     $("toml").value = data.text;
@@ -954,15 +955,73 @@ function panAndZoom() {
   });
 }
 
-async function save() {
+// Saves the text over the version of the file it was made from. The server refuses (409)
+// when the file changed on disk meanwhile (another editor, another page, pim set): nothing is
+// lost, and the page offers to reload the file, to compare the two, or to save its own text
+// over the file as it is now.
+async function save(over) {
   try {
-    const { data } = await api("POST", "/api/save", { path: state.path, text: state.text });
-    state.saved = state.text;
+    const version = over || state.version;
+    const { data } = await api("POST", "/api/save", { path: state.path, text: state.text, version });
+    state.saved = state.text; state.version = data.version;
+    state.conflict = null; $("conflict").hidden = true;
     status(`saved ${data.saved} (${data.bytes} bytes)`);
   } catch (e) {
+    if (e.status === 409 && e.data && e.data.conflict) { showConflict(e.data.conflict, e.message); status("not saved: changed on disk"); return; }
     $("error").hidden = false;
     $("error").textContent = e.message;
     status("not saved");
+  }
+}
+
+// The file changed on disk (`disk`: its text and version now): said, with the three ways on.
+function showConflict(disk, message) {
+  state.conflict = disk;
+  $("conflict-message").textContent = message ||
+    `${state.path} changed on disk since it was opened (by another editor, another page or pim set).`;
+  $("conflict-compare").hidden = true;
+  $("conflict").hidden = false;
+}
+
+// The two texts side by side, each line that differs marked.
+function compareConflict() {
+  const mine = state.text.split("\n"), disk = state.conflict.text.split("\n");
+  for (const [id, lines, other] of [["conflict-disk", disk, mine], ["conflict-mine", mine, disk]]) {
+    const pre = $(id);
+    pre.innerHTML = "";
+    const others = new Set(other);
+    for (const line of lines) {
+      const span = document.createElement("span");
+      span.textContent = line + "\n";
+      if (!others.has(line)) span.className = "changed";
+      pre.appendChild(span);
+    }
+  }
+  $("conflict-compare").hidden = false;
+}
+
+async function reloadFromDisk() {
+  const disk = state.conflict;
+  state.text = state.saved = disk.text; state.version = disk.version;
+  state.conflict = null; $("conflict").hidden = true;
+  $("toml").value = disk.text;
+  await solve();
+  status("reloaded from disk");
+}
+
+// On coming back to the page: a file changed on disk meanwhile is reloaded when the page
+// holds no unsaved change, and said (as a conflict) when it does.
+async function checkDisk() {
+  if (!state.path || state.conflict || state.opening) return;
+  let data;
+  try { ({ data } = await api("GET", `/api/case?path=${encodeURIComponent(state.path)}`)); } catch (e) { return; }
+  if (data.version === state.version) return;
+  if (state.text === state.saved) {
+    state.conflict = { text: data.text, version: data.version };
+    await reloadFromDisk();
+    status("reloaded: the file changed on disk");
+  } else {
+    showConflict({ text: data.text, version: data.version });
   }
 }
 
@@ -1018,7 +1077,12 @@ $("fit").addEventListener("click", fitView);
 // Display units: the plan, the speeds and the table in them (the case and its document keep
 // theirs); the view is fitted again.
 $("units").addEventListener("change", (e) => { state.units = e.target.value; state.view = null; solve(); });
-$("save").addEventListener("click", save);
+$("save").addEventListener("click", () => save());
+$("conflict-reload").addEventListener("click", reloadFromDisk);
+$("conflict-compare-button").addEventListener("click", compareConflict);
+$("conflict-overwrite").addEventListener("click", () => save(state.conflict.version));
+window.addEventListener("focus", checkDisk);
+document.addEventListener("visibilitychange", () => { if (!document.hidden) checkDisk(); });
 $("study-start").addEventListener("click", startStudy);
 $("report").addEventListener("click", openReport);
 $("export").addEventListener("click", exportSvg);

@@ -32,9 +32,16 @@ impl Guard {
         cookie.is_some_and(|c| {
             c.split(';')
                 .filter_map(|kv| kv.trim().split_once('='))
-                .any(|(k, v)| k == COOKIE && v == self.token)
+                .any(|(k, v)| k == COOKIE && same_secret(v, &self.token))
         })
     }
+}
+
+/// Whether `given` is the secret `secret`, compared in time that does not depend on where they
+/// first differ (so the token cannot be guessed a character at a time by timing).
+pub fn same_secret(given: &str, secret: &str) -> bool {
+    use subtle::ConstantTimeEq;
+    given.len() == secret.len() && bool::from(given.as_bytes().ct_eq(secret.as_bytes()))
 }
 
 /// The cookie that holds the token.

@@ -59,6 +59,12 @@ async fn guard(State(s): State<App>, req: Request, next: Next) -> Response {
     };
     let headers = req.headers();
     let text = |h: header::HeaderName| headers.get(h).and_then(|v| v.to_str().ok());
+    if headers.get_all(header::HOST).iter().count() > 1 {
+        return secured(refused(
+            StatusCode::BAD_REQUEST,
+            "refused: more than one Host header (a request names one server)",
+        ));
+    }
     if !g.host_allowed(text(header::HOST)) {
         return refused(
             StatusCode::FORBIDDEN,
@@ -68,16 +74,39 @@ async fn guard(State(s): State<App>, req: Request, next: Next) -> Response {
     }
     let with_token = req.uri().path() == "/"
         && req.uri().query().is_some_and(|q| {
-            q.split('&')
-                .any(|kv| kv == format!("token={}", s.served.token))
+            q.split('&').any(|kv| {
+                kv.strip_prefix("token=")
+                    .is_some_and(|t| crate::guard::same_secret(t, &s.served.token))
+            })
         });
     if !(with_token || g.cookie_allowed(text(header::COOKIE))) {
-        return refused(
+        return secured(refused(
             StatusCode::FORBIDDEN,
             "refused: no token; open the address pim serve printed (it carries the token)",
+        ));
+    }
+    secured(next.run(req).await)
+}
+
+/// Every response: its type is the one it says (`nosniff`), and a policy (the page's, unless
+/// the route set its own, as images do).
+fn secured(mut res: Response) -> Response {
+    let h = res.headers_mut();
+    h.insert(
+        header::X_CONTENT_TYPE_OPTIONS,
+        header::HeaderValue::from_static("nosniff"),
+    );
+    if !h.contains_key(header::CONTENT_SECURITY_POLICY) {
+        h.insert(
+            header::CONTENT_SECURITY_POLICY,
+            header::HeaderValue::from_static(PAGE_POLICY),
         );
     }
-    next.run(req).await
+    h.insert(
+        header::REFERRER_POLICY,
+        header::HeaderValue::from_static("no-referrer"),
+    );
+    res
 }
 
 /// The page; with the token in its address, the token becomes a cookie and the address drops
@@ -133,6 +162,9 @@ async fn cases(State(s): State<App>) -> Response {
                 if depth < 8 {
                     dirs.push((p, depth + 1));
                 }
+            } else if !kind.is_file() {
+                // A FIFO, device or socket named like a case is not listed (nor ever opened).
+                continue;
             } else if let Ok(rel) = p.strip_prefix(root) {
                 let rel = rel.to_string_lossy().replace('\\', "/");
                 let kind = p
@@ -169,9 +201,45 @@ async fn case(State(s): State<App>, Query(q): Query<CasePath>) -> Response {
     let Some(file) = inside(&s.served.root, &q.path) else {
         return outside(&q.path);
     };
-    match std::fs::read_to_string(&file) {
-        Ok(text) => Json(json!({ "path": q.path, "text": text })).into_response(),
-        Err(e) => refused(StatusCode::NOT_FOUND, &format!("{}: {e}", q.path)),
+    let read =
+        tokio::task::spawn_blocking(move || pim_store::read(&file, pim_store::MAX_CASE_BYTES))
+            .await;
+    match read {
+        Ok(Ok(stored)) => Json(json!({
+            "path": q.path, "text": stored.text, "version": stored.version.0,
+        }))
+        .into_response(),
+        Ok(Err(e)) => stored_error(&q.path, &e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
+    }
+}
+
+/// A store's refusal as the page is told it, the file named by its path in the folder: a
+/// missing file 404, a file that is not a regular file (or leads outside, or is read-only,
+/// or too large) 403, a text `pim fit` refuses 422, a file changed on disk 409 (with the
+/// file's text and version now), the system's failure 500.
+fn stored_error(path: &str, e: &pim_store::StoreError) -> Response {
+    use pim_store::StoreError as E;
+    let named = |m: String| match m.split_once(": ") {
+        Some((_, rest)) => format!("{path}: {rest}"),
+        None => m,
+    };
+    match e {
+        E::Missing { .. } => refused(StatusCode::NOT_FOUND, &format!("{path}: no such file")),
+        E::Unusable { .. } => refused(StatusCode::FORBIDDEN, &named(e.to_string())),
+        E::Refused(m) => refused(StatusCode::UNPROCESSABLE_ENTITY, &format!("not saved: {m}")),
+        E::Conflict { current, .. } => (
+            StatusCode::CONFLICT,
+            Json(json!({
+                "error": format!(
+                    "not saved: {path} changed on disk since it was opened (by another editor, \
+                     another page or pim set): reload it, or compare the two and save again"
+                ),
+                "conflict": { "text": current.text, "version": current.version.0 },
+            })),
+        )
+            .into_response(),
+        E::Io { .. } => refused(StatusCode::INTERNAL_SERVER_ERROR, &named(e.to_string())),
     }
 }
 
@@ -368,19 +436,50 @@ async fn set_field(Json(a): Json<SetAsk>) -> Response {
     })
 }
 
-async fn save(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
+#[derive(Deserialize)]
+struct SaveAsk {
+    path: String,
+    text: String,
+    /// The version of the file the text was made from (as `/api/case` or the last save gave
+    /// it): the save is refused (409) if the file is no longer that version.
+    version: Option<String>,
+}
+
+/// Saves a case: only a case `pim fit` reads, only inside the folder, only over the version
+/// it was made from (see pim-store: checked, written beside the file and renamed over it,
+/// serialised with every other writer of the file).
+async fn save(State(s): State<App>, Json(c): Json<SaveAsk>) -> Response {
     let Some(file) = inside(&s.served.root, &c.path) else {
         return outside(&c.path);
     };
-    if let Err(e) = pim_case::case::Case::from_text(&c.path, &c.text) {
-        return refused(StatusCode::UNPROCESSABLE_ENTITY, &format!("not saved: {e}"));
-    }
-    match std::fs::write(&file, &c.text) {
-        Ok(()) => Json(json!({ "saved": c.path, "bytes": c.text.len() })).into_response(),
-        Err(e) => refused(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            &format!("not saved: {}: {e}", c.path),
-        ),
+    let Some(version) = c.version else {
+        return refused(
+            StatusCode::PRECONDITION_REQUIRED,
+            &format!(
+                "not saved: {}: give the version the text was made from (as /api/case gave \
+                 it), so that a change made meanwhile on disk is not overwritten",
+                c.path
+            ),
+        );
+    };
+    let root = s.served.root.clone();
+    let path = c.path.clone();
+    let written = tokio::task::spawn_blocking(move || {
+        let options = pim_store::WriteOptions {
+            expected: Some(&version),
+            inside: Some(&root),
+            name: Some(&path),
+        };
+        pim_store::write(&file, &c.text, &options)
+    })
+    .await;
+    match written {
+        Ok(Ok(stored)) => Json(json!({
+            "saved": c.path, "bytes": stored.text.len(), "version": stored.version.0,
+        }))
+        .into_response(),
+        Ok(Err(e)) => stored_error(&c.path, &e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }
 }
 
@@ -430,10 +529,10 @@ async fn study_start(State(s): State<App>, Json(a): Json<StudyAsk>) -> Response 
         Ok(u) => u,
         Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
     };
-    let id = s
+    let started = s
         .studies
         .start((a.path, a.text), (a.draws, a.seed), (a.off, units));
-    Json(json!({ "id": id })).into_response()
+    study_started(started)
 }
 
 #[derive(Deserialize)]
@@ -452,19 +551,37 @@ async fn batch_start(State(s): State<App>, Json(a): Json<BatchAsk>) -> Response 
         };
         files.push(pim_studies::case_batch::CaseText {
             name: p.clone(),
-            text: std::fs::read_to_string(&file).map_err(|e| format!("{p}: cannot be read: {e}")),
+            text: pim_store::read(&file, pim_store::MAX_CASE_BYTES)
+                .map(|s| s.text)
+                .map_err(|e| format!("{p}: cannot be read: {e}")),
         });
     }
     if files.is_empty() {
         return refused(StatusCode::UNPROCESSABLE_ENTITY, "no case files to batch");
     }
-    let id = s.studies.start_job(move |run| {
+    let started = s.studies.start_job(move |run| {
         Ok(crate::study::Studied {
             document: crate::batch::batch(&files, run),
             bands: Vec::new(),
         })
     });
-    Json(json!({ "id": id })).into_response()
+    study_started(started)
+}
+
+/// A study's number, or the refusal of one too many (429).
+fn study_started(started: Result<u64, crate::study::Busy>) -> Response {
+    match started {
+        Ok(id) => Json(json!({ "id": id })).into_response(),
+        Err(crate::study::Busy) => refused(
+            StatusCode::TOO_MANY_REQUESTS,
+            &format!(
+                "refused: {} studies or batches are running and {} waiting; cancel one or let \
+                 one end, then ask again",
+                crate::study::RUNNING_AT_ONCE,
+                crate::study::WAITING_AT_MOST
+            ),
+        ),
+    }
 }
 
 async fn study_report(State(s): State<App>, Query(q): Query<StudyId>) -> Response {
@@ -509,19 +626,68 @@ async fn image(State(s): State<App>, Query(q): Query<CasePath>) -> Response {
             ),
         );
     };
-    let kind = match file
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-    {
-        Some(k) if k == "png" => "image/png",
-        Some(k) if k == "svg" => "image/svg+xml",
-        _ => "image/jpeg",
+    let read =
+        tokio::task::spawn_blocking(move || pim_store::read_bytes(&file, MAX_IMAGE_BYTES)).await;
+    let bytes = match read {
+        Ok(Ok(b)) => b,
+        Ok(Err(e)) => return stored_error(&q.path, &e),
+        Err(e) => return refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     };
-    match std::fs::read(&file) {
-        Ok(bytes) => ([(header::CONTENT_TYPE, kind)], bytes).into_response(),
-        Err(e) => refused(StatusCode::NOT_FOUND, &format!("{}: {e}", q.path)),
+    // The type by what the bytes are, not by the name; anything else is not served.
+    let Some(kind) = image_kind(&bytes) else {
+        return refused(
+            StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            &format!("{}: not a PNG, JPEG or SVG image", q.path),
+        );
+    };
+    let mut res = ([(header::CONTENT_TYPE, kind)], bytes).into_response();
+    // An image opened on its own (an SVG can hold scripts) runs nothing, loads nothing and
+    // is an origin of its own.
+    res.headers_mut().insert(
+        header::CONTENT_SECURITY_POLICY,
+        header::HeaderValue::from_static(IMAGE_POLICY),
+    );
+    res
+}
+
+/// The largest image served, bytes (a scanned scene diagram or an aerial photo).
+pub const MAX_IMAGE_BYTES: u64 = 64 << 20;
+
+/// The policy of every image served: sandboxed (no script, its own origin), nothing loaded.
+const IMAGE_POLICY: &str = "sandbox; default-src 'none'; style-src 'unsafe-inline'; img-src data:";
+
+/// The policy of the page and every other answer: scripts and everything else only from the
+/// server itself (inline styles allowed: the plan sizes its labels with them); no frames, no
+/// plugins, no forms sent elsewhere.
+const PAGE_POLICY: &str = "default-src 'self'; script-src 'self'; style-src 'self' \
+     'unsafe-inline'; img-src 'self' data: blob:; connect-src 'self'; object-src 'none'; \
+     base-uri 'none'; frame-ancestors 'none'; form-action 'self'";
+
+/// The type of an image by its first bytes: PNG and JPEG by their signatures, SVG by its root
+/// element (after an XML declaration, comments, a doctype and white space).
+pub fn image_kind(bytes: &[u8]) -> Option<&'static str> {
+    if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+        return Some("image/png");
     }
+    if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+        return Some("image/jpeg");
+    }
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
+    let mut rest = head.trim_start_matches('\u{feff}').trim_start();
+    loop {
+        if let Some(r) = rest.strip_prefix("<?") {
+            rest = r.split_once("?>")?.1.trim_start();
+        } else if let Some(r) = rest.strip_prefix("<!--") {
+            rest = r.split_once("-->")?.1.trim_start();
+        } else if let Some(r) = rest.strip_prefix("<!") {
+            rest = r.split_once('>')?.1.trim_start();
+        } else {
+            break;
+        }
+    }
+    let svg = rest.strip_prefix("<svg")?;
+    svg.starts_with(|c: char| c.is_whitespace() || c == '>' || c == '/')
+        .then_some("image/svg+xml")
 }
 
 #[derive(Deserialize)]

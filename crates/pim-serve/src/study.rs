@@ -133,12 +133,54 @@ pub fn report(file: &str, text: &str) -> Result<String, AnswerError> {
     Ok(made.document.html())
 }
 
+/// Most studies (or batches) computed at once; the others wait their turn.
+pub const RUNNING_AT_ONCE: usize = 2;
+
+/// Most studies waiting for their turn; a study asked for beyond them is refused (the page
+/// is told to wait or cancel one).
+pub const WAITING_AT_MOST: usize = 6;
+
+/// Most ended studies kept for the page to read (older ones are forgotten, their memory
+/// released).
+const ENDED_KEPT: usize = 8;
+
+/// The niceness of the studies' threads: a study takes the processor only when the live
+/// answers of the page leave it (Linux's scheduler weighs nice 10 about a tenth of nice 0).
+const STUDY_NICENESS: i32 = 10;
+
+/// The threads every study and batch of the server computes on: as many as the machine has
+/// cores, each at [`STUDY_NICENESS`], apart from the threads that answer the page's edits
+/// (tokio's blocking workers and rayon's global pool), so that a study never queues ahead of
+/// a live answer.
+fn study_pool() -> &'static rayon::ThreadPool {
+    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
+    POOL.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .thread_name(|i| format!("pim-study-{i}"))
+            .start_handler(|_| {
+                // Best effort: where the system refuses, the study runs at normal priority.
+                let _ = rustix::process::setpriority_process(
+                    Some(rustix::thread::gettid()),
+                    STUDY_NICENESS,
+                );
+            })
+            .build()
+            .unwrap_or_else(|_| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(1)
+                    .build()
+                    .expect("a one-thread pool")
+            })
+    })
+}
+
 /// One study running or run: its progress, its cancel switch and, once ended, its outcome.
 #[derive(Debug, Default)]
 pub(crate) struct Running {
     done: AtomicU64,
     total: AtomicU64,
     cancel: AtomicBool,
+    started: AtomicBool,
     outcome: Mutex<Option<Result<Studied, String>>>,
 }
 
@@ -155,7 +197,8 @@ impl Observer for Running {
 
 impl Running {
     /// What the page polls: `{id, state, done, total}`, with the `document` once done
-    /// (`state` `running`, `done`, `cancelled` or `failed` with its `error`).
+    /// (`state` `waiting` for its turn, `running`, `done`, `cancelled` or `failed` with its
+    /// `error`).
     pub(crate) fn report(&self, id: u64) -> serde_json::Value {
         let (done, total) = (
             self.done.load(Ordering::Relaxed),
@@ -163,9 +206,14 @@ impl Running {
         );
         let outcome = self.outcome.lock().map(|o| o.clone()).unwrap_or(None);
         match outcome {
-            None => serde_json::json!({
-                "id": id, "state": "running", "done": done, "total": total,
-            }),
+            None => {
+                let state = if self.started.load(Ordering::Relaxed) {
+                    "running"
+                } else {
+                    "waiting"
+                };
+                serde_json::json!({ "id": id, "state": state, "done": done, "total": total })
+            }
             Some(Ok(Studied { document, bands })) => {
                 let state = if document.get("cancelled").is_some_and(|c| !c.is_null()) {
                     "cancelled"
@@ -181,58 +229,113 @@ impl Running {
                     "bands": bands,
                 })
             }
-            Some(Err(error)) => serde_json::json!({
-                "id": id, "state": "failed", "done": done, "total": total, "error": error,
-            }),
+            Some(Err(error)) => {
+                let state = if self.cancelled() {
+                    "cancelled"
+                } else {
+                    "failed"
+                };
+                serde_json::json!({
+                    "id": id, "state": state, "done": done, "total": total, "error": error,
+                })
+            }
         }
     }
 
-    /// Asks the study to stop: no new draw starts.
+    /// Asks the study to stop: no new draw starts (a study still waiting never starts).
     pub(crate) fn cancel(&self) {
         self.cancel.store(true, Ordering::Relaxed);
     }
+
+    fn ended(&self) -> bool {
+        self.outcome.lock().is_ok_and(|o| o.is_some())
+    }
 }
+
+/// A study refused because [`RUNNING_AT_ONCE`] are running and [`WAITING_AT_MOST`] waiting.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Busy;
 
 /// The studies of a server, by number.
 #[derive(Debug, Default)]
 pub(crate) struct Studies {
     next: AtomicU64,
     running: Mutex<HashMap<u64, Arc<Running>>>,
+    /// How many are computing now, and the signal of a turn freed.
+    turns: Arc<(Mutex<usize>, std::sync::Condvar)>,
 }
 
 impl Studies {
-    /// Starts a study on its own thread (the page's answers go on meanwhile); its number.
+    /// Starts a study in the background (the page's answers go on meanwhile); its number.
     pub(crate) fn start(
         &self,
         (path, text): (String, String),
         (draws, seed): (usize, u64),
         (off, units): (Vec<String>, Option<pim_case::units::UnitSystem>),
-    ) -> u64 {
+    ) -> Result<u64, Busy> {
         self.start_job(move |run| {
             studied(&path, &text, (draws, seed), (&off, units), run).map_err(|e| e.to_string())
         })
     }
 
-    /// Starts a job on its own thread (a study or a batch; the page's answers go on meanwhile):
-    /// its number, to poll and cancel it by.
+    /// Starts a job in the background (a study or a batch): its number, to poll and cancel it
+    /// by. It waits its turn behind [`RUNNING_AT_ONCE`] others and computes on the studies'
+    /// own threads; refused when [`WAITING_AT_MOST`] already wait.
     pub(crate) fn start_job(
         &self,
         job: impl FnOnce(&Running) -> Result<Studied, String> + Send + 'static,
-    ) -> u64 {
-        let id = self.next.fetch_add(1, Ordering::Relaxed) + 1;
+    ) -> Result<u64, Busy> {
         let run = Arc::new(Running::default());
-        if let Ok(mut m) = self.running.lock() {
-            // A page keeps the last few studies; older ones are forgotten.
-            m.retain(|k, r| *k + 16 > id || r.outcome.lock().is_ok_and(|o| o.is_none()));
+        let id = {
+            let Ok(mut m) = self.running.lock() else {
+                return Err(Busy);
+            };
+            if m.values().filter(|r| !r.ended()).count() >= RUNNING_AT_ONCE + WAITING_AT_MOST {
+                return Err(Busy);
+            }
+            // The last few ended studies are kept; older ones are forgotten.
+            let mut ended: Vec<u64> = m
+                .iter()
+                .filter(|(_, r)| r.ended())
+                .map(|(k, _)| *k)
+                .collect();
+            ended.sort_unstable();
+            for k in ended.iter().rev().skip(ENDED_KEPT - 1) {
+                m.remove(k);
+            }
+            let id = self.next.fetch_add(1, Ordering::Relaxed) + 1;
             m.insert(id, run.clone());
-        }
+            id
+        };
+        let turns = self.turns.clone();
         std::thread::spawn(move || {
-            let outcome = job(run.as_ref());
+            let (count, freed) = &*turns;
+            {
+                let mut n = count.lock().unwrap_or_else(|e| e.into_inner());
+                while *n >= RUNNING_AT_ONCE && !run.cancelled() {
+                    n = freed
+                        .wait_timeout(n, std::time::Duration::from_millis(100))
+                        .unwrap_or_else(|e| e.into_inner())
+                        .0;
+                }
+                if run.cancelled() {
+                    drop(n);
+                    if let Ok(mut o) = run.outcome.lock() {
+                        *o = Some(Err("cancelled before it started".to_string()));
+                    }
+                    return;
+                }
+                *n += 1;
+            }
+            run.started.store(true, Ordering::Relaxed);
+            let outcome = study_pool().install(|| job(run.as_ref()));
             if let Ok(mut o) = run.outcome.lock() {
                 *o = Some(outcome);
             }
+            *count.lock().unwrap_or_else(|e| e.into_inner()) -= 1;
+            freed.notify_all();
         });
-        id
+        Ok(id)
     }
 
     /// The study numbered `id`.

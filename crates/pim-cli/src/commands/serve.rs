@@ -53,8 +53,11 @@ pub fn run(a: &ServeArgs) -> Result<ExitCode> {
             a.host.clone()
         };
         let url = format!("http://{shown}:{port}/?token={token}");
-        println!("pim serve: {} on {url}", root.display());
-        println!("pim serve: open that address in a browser; Ctrl-C stops the server");
+        super::print_out(&format!(
+            "pim serve: {} on {url}\npim serve: open that address in a browser; Ctrl-C stops \
+             the server\n",
+            root.display()
+        ))?;
         if a.open {
             open_browser(&url);
         }

@@ -1,11 +1,10 @@
 //! `pim set`: change values of a case file in place, keeping the rest of the file as written.
 
 use crate::error::{Failure, EXIT_OK};
-use crate::inputs::{io_reason, read_text_file};
 use crate::set_args::SetArgs;
 use anyhow::Result;
-use pim_case::case::MAX_CASE_BYTES;
 use pim_case::edit::{CaseEdit, NewValue};
+use pim_store::{StoreError, WriteOptions};
 use std::process::ExitCode;
 
 /// A value as typed: a number, `true`/`false`, or text (quotes optional).
@@ -26,45 +25,82 @@ fn value_of(text: &str) -> NewValue {
     }
 }
 
-/// `pim set CASE KEY=VALUE...`.
-pub fn run(a: &SetArgs) -> Result<ExitCode> {
-    let name = a.case.display().to_string();
-    let text = read_text_file(&a.case, MAX_CASE_BYTES)?;
-    let mut edit = CaseEdit::new(&name, &text)?;
+/// The failure of a read or write of the store: a changed file or the system's refusal is
+/// exit status 4, anything about the text or the file given is bad input (2).
+pub fn store_failure(e: StoreError) -> Failure {
+    match e {
+        StoreError::Conflict { .. } | StoreError::Io { .. } => Failure::Output(e.to_string()),
+        StoreError::Missing { file } => {
+            Failure::Input(format!("{file}: cannot read: no such file"))
+        }
+        _ => Failure::Input(e.to_string()),
+    }
+}
+
+/// The text with every KEY=VALUE of `values` set, and what was said of each.
+fn edited(name: &str, text: &str, values: &[String]) -> Result<(String, Vec<String>), String> {
+    let mut edit = CaseEdit::new(name, text).map_err(|e| e.message)?;
     let mut said = Vec::new();
-    for pair in &a.values {
+    for pair in values {
         let Some((key, value)) = pair.split_once('=') else {
-            return Err(Failure::Input(format!(
+            return Err(format!(
                 "{pair}: expected KEY=VALUE, e.g. scene.vehicle1.rest.x=12.0"
-            ))
-            .into());
+            ));
         };
         let key = key.trim();
         let was = edit.get(key);
-        edit.set(key, value_of(value))?;
+        edit.set(key, value_of(value)).map_err(|e| e.message)?;
         let now = edit.get(key).unwrap_or_default();
         said.push(match was {
             Some(w) => format!("{name}: {key} = {now} (was {w})"),
             None => format!("{name}: {key} = {now} (added)"),
         });
     }
-    // The edited case must read as `pim` reads a case: the same checks and messages.
-    edit.check()?;
-    let edited = edit.text();
-    if a.dry_run {
-        super::print_out(&edited)?;
-    } else {
-        // Written beside the file and renamed over it: the file is never left half written.
-        let tmp = a.case.with_extension("toml.pim-set");
-        std::fs::write(&tmp, &edited)
-            .and_then(|_| std::fs::rename(&tmp, &a.case))
-            .map_err(|e| {
-                let _ = std::fs::remove_file(&tmp);
-                Failure::Output(format!("{name}: cannot write: {}", io_reason(&e)))
-            })?;
+    Ok((edit.text(), said))
+}
+
+/// `pim set CASE KEY=VALUE...`.
+pub fn run(a: &SetArgs) -> Result<ExitCode> {
+    let name = a.case.display().to_string();
+    if a.print_version {
+        let stored = pim_store::read(&a.case, pim_store::MAX_CASE_BYTES).map_err(store_failure)?;
+        super::print_out(&format!("{}\n", stored.version))?;
+        return Ok(ExitCode::from(EXIT_OK));
     }
+    if a.dry_run {
+        let stored = pim_store::read(&a.case, pim_store::MAX_CASE_BYTES).map_err(store_failure)?;
+        if let Some(v) = &a.if_version {
+            if !stored.version.matches(v) {
+                return Err(store_failure(StoreError::Conflict {
+                    file: name,
+                    expected: v.clone(),
+                    current: stored,
+                })
+                .into());
+            }
+        }
+        let (text, said) = edited(&name, &stored.text, &a.values).map_err(Failure::Input)?;
+        pim_store::check(&name, &text).map_err(store_failure)?;
+        super::print_out(&text)?;
+        for s in said {
+            eprintln!("pim: {s}");
+        }
+        return Ok(ExitCode::from(EXIT_OK));
+    }
+    let mut said = Vec::new();
+    let options = WriteOptions {
+        expected: a.if_version.as_deref(),
+        ..Default::default()
+    };
+    let written = pim_store::update(&a.case, &options, |current| {
+        let (text, s) = edited(&name, &current.text, &a.values)?;
+        said = s;
+        Ok(text)
+    })
+    .map_err(store_failure)?;
     for s in said {
         eprintln!("pim: {s}");
     }
+    eprintln!("pim: {name}: written (version {})", written.version);
     Ok(ExitCode::from(EXIT_OK))
 }

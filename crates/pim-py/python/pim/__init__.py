@@ -123,6 +123,7 @@ __all__ = [
     "batch",
     "draw",
     "edit_case",
+    "case_version",
     "fit",
     "fit_frame",
     "scene_frame",
@@ -265,20 +266,29 @@ class SVG(str):
 
 
 def edit_case(path: PathArg, values: Mapping[str, Union[float, bool, str]],
-              write: bool = True) -> str:
+              write: bool = True, if_version: Optional[str] = None) -> str:
     """Changes values of a case file in place (``pim set``): ``values`` maps dotted paths as the
     file writes them (``"scene.vehicle1.rest.x"``, ``"observations.0.sigma"``) to numbers in
-    the file's own units, booleans or text. The edited case is checked as every command reads
-    it (:class:`InputError` otherwise, the file untouched); with ``write`` the file is written
-    back with its comments, key order and number formatting kept everywhere else. Returns the
-    edited text.
+    the file's own units, booleans or text. The edited case is checked with every check
+    ``pim fit`` makes (:class:`InputError` otherwise, the file untouched); with ``write`` the
+    file is written back with its comments, key order and number formatting kept everywhere
+    else, as ``pim set`` writes it (beside the file, then renamed over it; its mode kept; under
+    the file's lock, so that two writers never lose a change). With ``if_version`` (from
+    :func:`case_version`) nothing is written, and :class:`OSError` raised, if the file changed
+    since that version. Returns the edited text.
 
     >>> text = edit_case("examples/cases/reconstruction_us.toml",
     ...                  {"scene.vehicle1.rest.x": 12.0}, write=False)
     >>> "rest = { x = 12.0, y = 2.9, heading = 144.0 }" in text
     True
     """
-    return _pim.edit_case(path, dict(values), write=write)
+    return _pim.edit_case(path, dict(values), write=write, if_version=if_version)
+
+
+def case_version(path: PathArg) -> str:
+    """The version of a case file: the SHA-256 of its text (64 hex digits), as ``pim set
+    --print-version`` prints it; :func:`edit_case` takes it as ``if_version``."""
+    return _pim.case_version(path)
 
 
 def draw(

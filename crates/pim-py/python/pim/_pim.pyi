@@ -17,6 +17,7 @@ __all__ = [
     "predict_dv",
     "draw",
     "edit_case",
+    "case_version",
     "runout",
     "reconstruct",
     "reconstruct_uncertainty",
@@ -118,4 +119,7 @@ def reconstruct_uncertainty(
     model: str = ...,
     progress: Optional[Callable[[int, int, str], Any]] = ...,
 ) -> Dict[str, Any]: ...
-def edit_case(path: _PathArg, values: Dict[str, Any], write: bool = ...) -> str: ...
+def edit_case(
+    path: _PathArg, values: Dict[str, Any], write: bool = ..., if_version: Optional[str] = ...
+) -> str: ...
+def case_version(path: _PathArg) -> str: ...

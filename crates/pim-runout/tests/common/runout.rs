@@ -181,7 +181,7 @@ impl Reference<'_> {
         } else {
             c.cg_to_front_axle - c.wheelbase
         };
-        let y = if i % 2 == 0 {
+        let y = if i.is_multiple_of(2) {
             c.track / 2.0
         } else {
             -c.track / 2.0
