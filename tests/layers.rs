@@ -4,14 +4,17 @@
 //! From the bottom: the libraries of the physics (pim-core, pim-crush, pim-runout, pim-fit,
 //! pim-reconstruct); the case (pim-case: case files to typed cases); the documents
 //! (pim-documents: the typed answers); the studies (pim-studies: one entry per question, a
-//! case in, a document out); the rendering (pim-render: tables, reports, figures); and on top
+//! case in, a document out); the rendering (pim-render: tables, reports, figures) and, beside
+//! it, the case file on disk (pim-store: read with its version, checked by the studies'
+//! check, written atomically under the file's lock; the one crate below the faces that does
+//! file I/O, for them); and on top
 //! the faces: the scene editor's server (pim-serve), and pim-cli (which serves it with `pim
 //! serve`) and pim-py, which import from every layer below and never from each other.
 
 use std::path::Path;
 
 /// Each crate with its layer (0 the bottom).
-const LAYERS: [(&str, u8); 12] = [
+const LAYERS: [(&str, u8); 13] = [
     ("pim-core", 0),
     ("pim-crush", 1),
     ("pim-runout", 1),
@@ -21,6 +24,7 @@ const LAYERS: [(&str, u8); 12] = [
     ("pim-documents", 4),
     ("pim-studies", 5),
     ("pim-render", 6),
+    ("pim-store", 6),
     ("pim-serve", 7),
     ("pim-cli", 8),
     ("pim-py", 8),

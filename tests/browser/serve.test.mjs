@@ -192,6 +192,64 @@ test("save writes the edit and nothing else; pim fit of the file gives the page'
   assert.equal(await page.inputValue("#toml"), saved);
 });
 
+test("a file changed on disk while the page edits it: the page is told and loses nothing", async () => {
+  const file = path.join(dir, CASE);
+  await page.selectOption("#cases", CASE);
+  await idle();
+  // An edit in the page, not saved.
+  const mine = (await page.inputValue("#toml")).replace("mass = 3400.0 ", "mass = 3450.0 ");
+  await page.fill("#toml", mine);
+  await page.waitForFunction((t) => window.pim.text === t, mine);
+  await idle();
+  // Another editor changes the friction and appends a line.
+  const outside = fs.readFileSync(file, "utf8").replace("friction = 0.72", "friction = 0.65") + "# checked on site\n";
+  fs.writeFileSync(file, outside);
+  await page.click("#save");
+  await page.waitForSelector("#conflict:not([hidden])");
+  assert.match(await page.textContent("#conflict-message"), /changed on disk since it was opened/);
+  assert.equal(fs.readFileSync(file, "utf8"), outside, "the outside edit was overwritten");
+  assert.equal(await page.inputValue("#toml"), mine, "the page's edit was lost");
+  await page.click("#conflict-compare-button");
+  const marked = await page.$$eval("#conflict-disk .changed", (s) => s.map((x) => x.textContent.trim()));
+  assert.ok(marked.includes("friction = 0.72                     # dry asphalt".replace("0.72", "0.65")), JSON.stringify(marked));
+  assert.ok(marked.includes("# checked on site"), JSON.stringify(marked));
+  await page.screenshot({ path: path.join(shots, "21-conflict.png") });
+  // Saved over the file as it is now, knowingly.
+  await page.click("#conflict-overwrite");
+  await page.waitForFunction(() => /^saved/.test(document.getElementById("status").textContent));
+  assert.equal(fs.readFileSync(file, "utf8"), mine);
+  assert.ok(await page.isHidden("#conflict"));
+  // Changed on disk again while the page holds no unsaved change: reloaded when the page is
+  // looked at again.
+  fs.writeFileSync(file, outside);
+  await page.evaluate(() => window.dispatchEvent(new Event("focus")));
+  await page.waitForFunction((t) => window.pim.text === t, outside);
+  await idle();
+  assert.equal(await page.inputValue("#toml"), outside);
+  assert.match(await page.textContent("#status"), /changed on disk|solved/);
+  // The example as the later tests expect it.
+  fs.writeFileSync(file, fs.readFileSync(path.join(repo, "examples/cases", CASE), "utf8"));
+  await page.evaluate(() => window.dispatchEvent(new Event("focus")));
+  await page.waitForFunction(() => !/checked on site/.test(window.pim.text));
+  await idle();
+});
+
+test("the page works under its own content policy, and an image's script never runs", async () => {
+  fs.writeFileSync(path.join(dir, "evil.svg"), '<svg xmlns="http://www.w3.org/2000/svg"><script>window.parent.pwned = 1; document.title = "pwned";</script></svg>');
+  const strict = await browser.newPage({ viewport: { width: 1200, height: 800 } });
+  const violations = [];
+  strict.on("console", (m) => { if (/Content Security Policy/.test(m.text())) violations.push(m.text()); });
+  await strict.goto(url);
+  await strict.waitForSelector("#speeds td.contact", { timeout: 120000 });
+  assert.deepEqual(violations, []);
+  const res = await strict.goto(`${base}/api/image?path=evil.svg`);
+  assert.match(res.headers()["content-security-policy"], /^sandbox;/);
+  assert.equal(res.headers()["x-content-type-options"], "nosniff");
+  assert.notEqual(await strict.title(), "pwned");
+  await strict.close();
+  fs.rmSync(path.join(dir, "evil.svg"));
+});
+
 test("an uncertainty study runs in the background, shows its intervals and can be cancelled", async () => {
   // A short study to its end: its document is the command's for the same draws and seed.
   await page.fill("#draws", "20");

@@ -257,7 +257,12 @@ impl CaseEdit {
             slot = slot.step(&key, false).ok()?;
         }
         match slot {
-            Slot::Value(v) | Slot::Item(Item::Value(v)) => Some(v.to_string().trim().to_string()),
+            // The value alone: the spaces and the comment around it are the file's layout.
+            Slot::Value(v) | Slot::Item(Item::Value(v)) => {
+                let mut v = v.clone();
+                v.decor_mut().clear();
+                Some(v.to_string())
+            }
             _ => None,
         }
     }

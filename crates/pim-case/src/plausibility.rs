@@ -76,19 +76,37 @@ impl Case {
             }
         }
         angles.push(("impact.crush_angle".into(), c.impact.crush_angle));
-        // A heading is warned on its own (a heading in radians is the common slip); an impact
-        // centre angle or a crush angle only when every non-zero angle of the case looks like
-        // radians (a small crush angle in degrees, such as 3.4, is common).
+        // Warned only when every non-zero angle of its kind looks like radians: a single small
+        // angle in degrees is common (a heading of -4.1, a vehicle a few degrees off an axis,
+        // beside one at 90; a crush angle of 3.4), while a case written in radians has no
+        // heading above 2 pi. The value is shown as the file writes it (an SAE case's angles
+        // are stored mirrored).
+        // Headings are judged among the headings (an impact centre angle or a crush angle of a
+        // few degrees is common beside headings in radians), every other angle among all.
         let nonzero: Vec<&(String, f64)> = angles.iter().filter(|(_, a)| *a != 0.0).collect();
-        let all = !nonzero.is_empty() && nonzero.iter().all(|(_, a)| looks_like_radians(*a));
-        for (path, a) in nonzero {
-            if looks_like_radians(*a) && (all || path.ends_with(".heading")) {
-                out.push(format!(
-                    "{}: {a} is read as degrees; it looks like radians ({:.1} deg)",
-                    self.at(path),
-                    a.to_degrees()
-                ));
-            }
+        let radians = |heading_only: bool| {
+            let judged: Vec<_> = nonzero
+                .iter()
+                .filter(|(p, _)| !heading_only || p.ends_with(".heading"))
+                .collect();
+            !judged.is_empty() && judged.iter().all(|(_, a)| looks_like_radians(*a))
+        };
+        let (headings, all) = (radians(true), radians(false));
+        let written = if self.written == pim_core::Convention::Sae {
+            -1.0
+        } else {
+            1.0
+        };
+        for (path, a) in nonzero
+            .into_iter()
+            .filter(|(p, _)| all || (headings && p.ends_with(".heading")))
+        {
+            let a = written * a;
+            out.push(format!(
+                "{}: {a} is read as degrees; it looks like radians ({:.1} deg)",
+                self.at(path),
+                a.to_degrees()
+            ));
         }
         for (name, v) in vehicles {
             if v.barrier {

@@ -145,8 +145,12 @@ fn a_new_key_is_added_where_it_belongs_and_can_be_removed_again() {
     edit.set("scene.vehicle1.turns", NewValue::Written(0.0))
         .unwrap();
     assert!(edit.text().contains("[scene.vehicle1]\nrest = "));
-    assert_eq!(edit.get("scene.vehicle1.turns").as_deref(), Some("0.0"));
-    // A float where the case wants a count of turns: the same message as `pim`.
+    // A whole number typed for a count of turns is written as one, and read.
+    assert_eq!(edit.get("scene.vehicle1.turns").as_deref(), Some("0"));
+    edit.check().unwrap();
+    // A fraction where the case wants a count of turns: the same message as `pim`.
+    edit.set("scene.vehicle1.turns", NewValue::Written(0.5))
+        .unwrap();
     let e = edit.check().unwrap_err().to_string();
     assert!(e.contains("scene.vehicle1.turns"), "{e}");
     assert!(edit.remove("scene.vehicle1.turns"));

@@ -69,6 +69,22 @@ fn flag_message(e: &clap::Error) -> Option<String> {
     }
 }
 
+/// Whether standard output was closed when the program started. The Rust runtime opens a
+/// closed standard descriptor on `/dev/null` for reading and writing before `main`, which a
+/// shell's redirection to `/dev/null` never does (it opens it for writing only): that is how a
+/// closed descriptor is told from an output thrown away on purpose.
+fn stdout_closed() -> bool {
+    use rustix::fs::{FileType, OFlags};
+    let out = std::io::stdout();
+    let (Ok(flags), Ok(stat)) = (rustix::fs::fcntl_getfl(&out), rustix::fs::fstat(&out)) else {
+        return true;
+    };
+    let null = FileType::from_raw_mode(stat.st_mode) == FileType::CharacterDevice
+        && rustix::fs::major(stat.st_rdev) == 1
+        && rustix::fs::minor(stat.st_rdev) == 3;
+    null && (flags & OFlags::RWMODE) == OFlags::RDWR
+}
+
 /// Exit status of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
 const EXIT_INTERRUPTED: i32 = 130;
 
@@ -81,7 +97,7 @@ fn main() -> ExitCode {
     });
     // A closed standard output (`pim ... >&-`) would swallow every answer in silence: refused
     // before anything is computed.
-    if rustix::io::fcntl_getfd(std::io::stdout()).is_err() {
+    if stdout_closed() {
         eprintln!("pim: standard output is closed: nothing could be written (give it a file)");
         return ExitCode::from(error::EXIT_IO);
     }

@@ -158,3 +158,23 @@ fn a_heading_nearly_along_an_axis_is_not_taken_for_radians() {
         "{msg}"
     );
 }
+
+/// A heading a few degrees off an axis in a case whose other heading is plainly in degrees is a
+/// heading, not radians (the newcomer's sedan at -4.1, 4.1 deg west of north, beside an SUV at
+/// 90): no warning, and so nothing for `--strict` to fail on. The warning, when a case is in
+/// radians throughout, gives the value as written, its sign kept.
+#[test]
+fn a_small_heading_beside_one_in_degrees_is_not_taken_for_radians() {
+    let text = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml"))
+        .unwrap()
+        .replace("heading = 0.0 ", "heading = -4.1");
+    assert!(text.contains("heading = -4.1"));
+    let msg = warnings(&text, "small_heading.toml");
+    assert!(!msg.contains("radians"), "{msg}");
+    let radians = text.replace("heading = 90.0", "heading = 1.5708");
+    let msg = warnings(&radians, "all_radians.toml");
+    assert!(
+        msg.contains("vehicle1.heading: -4.1 is read as degrees; it looks like radians"),
+        "{msg}"
+    );
+}

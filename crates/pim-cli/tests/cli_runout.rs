@@ -222,7 +222,7 @@ fn bad_inputs_are_located() {
         refused(
             &format!("{BASE}[runout]\nfriction = {f}\n{WHEELS}"),
             name,
-            &["runout.friction", "at most 1.5"],
+            &["runout.friction", "between 0.01 and 1.5"],
         );
     }
     // A sigma <= 0.

@@ -452,6 +452,29 @@ def test_edit_case_changes_one_value_and_keeps_the_file(tmp_path):
     assert case.read_text() == text
 
 
+def test_edit_case_refuses_what_pim_fit_refuses_and_a_changed_file(tmp_path):
+    original = (REPO / "examples/cases/reconstruction_us.toml").read_text()
+    case = tmp_path / "case.toml"
+    case.write_text(original)
+    # A value `pim fit` refuses (the road friction out of its range): its message, nothing written.
+    with pytest.raises(pim.InputError, match="runout.friction: must be a number between 0.01"):
+        pim.edit_case(case, {"runout.friction": 5.0})
+    assert case.read_text() == original
+    version = pim.case_version(case)
+    assert len(version) == 64
+    # Another editor changes the file: a write over the version read is refused.
+    changed = original.replace("friction = 0.72", "friction = 0.65")
+    case.write_text(changed)
+    with pytest.raises(OSError, match="changed on disk"):
+        pim.edit_case(case, {"vehicle1.mass": 3500.0}, if_version=version)
+    assert case.read_text() == changed
+    # Over the version now, it goes through; the file keeps its mode.
+    case.chmod(0o600)
+    pim.edit_case(case, {"vehicle1.mass": 3500.0}, if_version=pim.case_version(case)[:12])
+    assert "mass = 3500.0" in case.read_text() and "friction = 0.65" in case.read_text()
+    assert case.stat().st_mode & 0o777 == 0o600
+
+
 def test_runout_wheels_in_the_path_and_its_frame():
     case = "examples/cases/runout_spin.toml"
     r = pim.runout(case, wheels=True)

@@ -6,7 +6,7 @@
 //! overwritten:
 //!
 //! - **Checked first.** The text is read with every check `pim fit` makes
-//!   ([`pim_studies::question::check_text`]); a refused text is never written, and the error is
+//!   ([`pim_studies::check::check_text`]); a refused text is never written, and the error is
 //!   the one `pim fit` would give (file, line, field).
 //! - **Atomic.** The text goes to a uniquely named temporary file in the same folder
 //!   (`.NAME.XXXXXX.pim-tmp`), is flushed and synced, takes the target's mode (and owner, where
@@ -145,6 +145,16 @@ fn io<'a>(file: &'a str, action: &'static str) -> impl FnOnce(std::io::Error) ->
     }
 }
 
+/// A file the case layer refuses to read (not a regular file, too large, not UTF-8), its
+/// message without the file's name (the error adds it).
+fn unusable_input(file: &str, e: &pim_case::InputError) -> StoreError {
+    let why = e
+        .message
+        .strip_prefix(&format!("{file}: "))
+        .unwrap_or(&e.message);
+    unusable(file, why)
+}
+
 fn unusable(file: &str, why: impl Into<String>) -> StoreError {
     StoreError::Unusable {
         file: file.to_string(),
@@ -161,28 +171,14 @@ fn open_regular(file: &str, path: &Path, max_bytes: u64) -> Result<File, StoreEr
         .open(path)
         .map_err(io(file, "read"))?;
     let meta = f.metadata().map_err(io(file, "read"))?;
-    pim_case::input::check_file(file, &meta, max_bytes).map_err(|e| StoreError::Unusable {
-        file: file.to_string(),
-        why: e
-            .message
-            .strip_prefix(&format!("{file}: "))
-            .unwrap_or(&e.message)
-            .to_string(),
-    })?;
+    pim_case::input::check_file(file, &meta, max_bytes).map_err(|e| unusable_input(file, &e))?;
     Ok(f)
 }
 
 fn read_open(file: &str, f: &mut File, max_bytes: u64) -> Result<Stored, StoreError> {
     f.rewind().map_err(io(file, "read"))?;
-    let text =
-        pim_case::input::read_text(file, &mut *f, max_bytes).map_err(|e| StoreError::Unusable {
-            file: file.to_string(),
-            why: e
-                .message
-                .strip_prefix(&format!("{file}: "))
-                .unwrap_or(&e.message)
-                .to_string(),
-        })?;
+    let text = pim_case::input::read_text(file, &mut *f, max_bytes)
+        .map_err(|e| unusable_input(file, &e))?;
     let version = Version::of(&text);
     Ok(Stored { text, version })
 }
@@ -388,7 +384,7 @@ pub fn write(path: &Path, text: &str, options: &WriteOptions<'_>) -> Result<Stor
     update(path, options, |_| Ok(text.to_string()))
 }
 
-/// Checks a case's text as `pim fit` does ([`pim_studies::question::check_text`]).
+/// Checks a case's text as `pim fit` does ([`pim_studies::check::check_text`]).
 ///
 /// # Errors
 /// [`StoreError::Refused`] with `pim fit`'s message.
@@ -399,7 +395,7 @@ pub fn check(file: &str, text: &str) -> Result<(), StoreError> {
             format!("the text is larger than the {MAX_CASE_BYTES} bytes a case file may be"),
         ));
     }
-    pim_studies::question::check_text(file, text)
+    pim_studies::check::check_text(file, text)
         .map(|_| ())
         .map_err(|e| StoreError::Refused(e.to_string()))
 }

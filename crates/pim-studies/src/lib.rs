@@ -5,6 +5,8 @@
 //! the Python package, the scene editor) read the files, call a study, and write or show its
 //! document.
 //!
+//! - [`check`]: what `pim fit` refuses before it computes, the one check of every write of a
+//!   case file;
 //! - [`question`]: which question a case asks (the fit of its impact, or its whole
 //!   reconstruction), decided once for every face;
 //! - [`documents`]: the solve ([`documents::solve`]) and the fit ([`documents::fit`]) of a case;
@@ -27,6 +29,7 @@ pub mod batch;
 pub mod batch_scene;
 pub mod case_batch;
 pub mod case_records;
+pub mod check;
 pub mod consistency;
 pub mod damage_assess;
 mod damage_draws;
