@@ -201,6 +201,16 @@ fn a_conflicting_scene_yields_the_consistency_table() {
     assert!(c["summary"].as_str().unwrap().contains("vehicle2 EDR"));
     // Every piece is a row: the estimates, two observations, the EDR, two rests, two marks.
     assert_eq!(rows.len(), 8, "{rows:?}");
+    // Leaving a piece out can only lower the minimum: no row lies above the whole fit (each row
+    // is refined from the whole answer too), and every row answers, the rests' rows included.
+    let all = num(&v["best"]["chi_square"]);
+    for r in rows {
+        assert_ne!(r["status"], "failed", "{r}");
+        assert!(
+            num(&r["chi_square"]) <= all * (1.0 + 1e-9) + 1e-9,
+            "{all}: {r}"
+        );
+    }
     // The table, and the report's section.
     let t = pim(&["fit", &case]);
     let text = String::from_utf8(t.stdout).unwrap();

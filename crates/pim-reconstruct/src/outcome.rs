@@ -95,6 +95,13 @@ pub struct Found {
 }
 
 impl Found {
+    /// Whether the evidence contradicts this answer: its chi-square's probability lies below
+    /// [`INCONSISTENT_P`] (as a refusal judges it).
+    pub fn refused(&self) -> bool {
+        pim_fit::ChiSquare::p_value_of(self.degrees_of_freedom, self.chi_square)
+            .is_some_and(|p| p < INCONSISTENT_P)
+    }
+
     pub(crate) fn new(r: &Reconstruction, p: Point, iterations: usize, converged: bool) -> Found {
         let scene = scene_fits(r, &p);
         let s = &p.solution;

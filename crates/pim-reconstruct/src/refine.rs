@@ -94,7 +94,7 @@ fn fit_work(report: &pim_fit::FitReport) -> u64 {
 /// An impact fit on the convex route, in run-out evaluations.
 pub(crate) const CONVEX_FIT_EVALUATIONS: u64 = 150;
 
-fn scene_data(p: Option<&Point>) -> usize {
+pub(crate) fn scene_data(p: Option<&Point>) -> usize {
     p.map_or(0, |c| c.scene.iter().map(|l| l.lin.weighted.len()).sum())
 }
 
@@ -405,12 +405,16 @@ fn evaluate(
 }
 
 /// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,
-/// from the scene linearised at `start`.
+/// from the scene linearised at `start`. With `restart`, a first point far from what its
+/// linearisation predicted is refined on from where the impact put it (the linearisation that
+/// chose it says nothing of the combination); without, such a point far above `best_so_far`
+/// abandons the combination (the best found already fits, so only a combination whose
+/// linearisation holds could matter).
 pub(crate) fn refine(
     r: &Reconstruction,
     settings: &Settings,
     start: Vec<Lin>,
-    best_so_far: f64,
+    (best_so_far, restart): (f64, bool),
     work: &Work,
 ) -> std::result::Result<Refined, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
@@ -465,11 +469,19 @@ pub(crate) fn refine(
         };
         if accepted {
             let p = trial.expect("accepted");
-            // The first point far above the best found and far from what its linearisation
-            // predicted (the candidates' run-outs are not near the impact's separation state):
-            // the linearised bound that chose this combination does not hold, abandoned.
+            // The first point far from what its linearisation predicted says only that the
+            // scenes' candidates are far from the separation state the impact gives: the
+            // linearisation that chose the point does not hold there, so it neither sets the
+            // combination aside nor bounds it. Where the best found does not fit (or none is
+            // found yet), the refinement goes on from the point, which the impact reaches,
+            // relinearised there (a restart from the impact's side); where it fits, the
+            // combination is left (its run-outs far from the scene are costly to follow).
             let margin = settings.refine_margin;
-            if iterations == 1 && p.total > best_so_far + margin && p.total > predicted + margin {
+            if !restart
+                && iterations == 1
+                && p.total > best_so_far + margin
+                && p.total > predicted + margin
+            {
                 current = Some(p);
                 abandoned = true;
                 break;

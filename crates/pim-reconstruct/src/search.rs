@@ -136,7 +136,83 @@ pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     out.work = work;
     out.first_work = spent;
     out.scattered = true;
+    if out.status == Status::Inconsistent {
+        continue_best(r, settings, &mut out);
+    }
     Ok(searched(r, out))
+}
+
+/// The scene's standard deviations widened `k` times (rest positions, headings and marks).
+fn widened(r: &Reconstruction, k: f64) -> Reconstruction {
+    let mut w = r.clone();
+    for s in &mut w.scene {
+        if let Some(rest) = s.evidence.rest.as_mut() {
+            rest.sigma_xy = rest.sigma_xy.map(|x| x * k);
+            rest.sigma_heading *= k;
+        }
+        for m in &mut s.evidence.marks {
+            m.sigma *= k;
+        }
+    }
+    w
+}
+
+/// The widenings of the scene's standard deviations a continuation passes through, the last
+/// the evidence as given.
+const CONTINUATION: [f64; 5] = [16.0, 8.0, 4.0, 2.0, 1.0];
+
+/// A refused answer searched once more before it is refused: the best combination of counts
+/// refined by continuation, from its end, first with the scene's standard deviations widened
+/// sixteen times (the impact and the contact evidence lead, the scene only pulls), then
+/// narrowed step by step to the evidence as given, each stage refined from the one before. A
+/// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
+/// contact evidence does not want, is led around it. The lower of the two answers is kept.
+fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
+    let Some(best) = out.best.as_ref() else {
+        return;
+    };
+    let Some(i) = out.tried.iter().position(|t| {
+        matches!(t.state, Tried::Refined { cost, .. } if (cost - best.chi_square).abs() <= 1e-9 * (1.0 + cost))
+    }) else {
+        return;
+    };
+    let (Some(end), counts) = (out.tried[i].end.clone(), out.tried[i].counts.clone()) else {
+        return;
+    };
+    let work = crate::refine::Work::new(settings.refine_work);
+    let mut at = end;
+    let mut last = None;
+    for k in CONTINUATION {
+        let rk = if k > 1.0 { widened(r, k) } else { r.clone() };
+        let mus = crate::point::stated_frictions(&rk);
+        let start: Result<Vec<Lin>> = at
+            .iter()
+            .enumerate()
+            .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
+            .collect();
+        let Ok(start) = start else { return };
+        let Ok(x) = refine(&rk, settings, start, (f64::INFINITY, true), &work) else {
+            return;
+        };
+        at = x.point.scene.iter().map(|l| l.at).collect();
+        out.fits += x.fits;
+        if k <= 1.0 {
+            last = Some(x);
+        }
+    }
+    out.work += work.spent();
+    let Some(x) = last else { return };
+    if x.point.total >= best.chi_square {
+        return;
+    }
+    out.tried[i].state = Tried::Refined {
+        cost: x.point.total,
+        iterations: x.iterations,
+        converged: x.converged,
+        abandoned: false,
+    };
+    out.tried[i].end = Some(x.point.scene.iter().map(|l| l.at).collect());
+    answered(r, out, Found::new(r, x.point, x.iterations, x.converged));
 }
 
 /// A refusal says what was searched: it rests on a search, not a proof.
@@ -275,7 +351,12 @@ fn search(
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match refine(r, settings, start, lowest_best, work) {
+        // A first point far from its linearisation is refined on (restarted from the impact's
+        // side) while the best found does not fit: a chi-square above its count of data.
+        let restart = best.as_ref().is_none_or(|b| {
+            b.1.total > (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
+        });
+        match refine(r, settings, start, (lowest_best, restart), work) {
             Ok(x) => {
                 // Only a refinement whose bound held (it ended within the margin of it) counts
                 // towards the cap: where the linearisation that ordered the combinations does
@@ -422,7 +503,7 @@ pub fn redo(
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        if let Ok(x) = refine(r, settings, start, lowest, &work) {
+        if let Ok(x) = refine(r, settings, start, (lowest, false), &work) {
             if x.point.total < lowest {
                 found = Some(x);
             }
@@ -444,8 +525,15 @@ pub fn follow(r: &Reconstruction, settings: &Settings, previous: &Outcome) -> Re
     let Some(found) = redo(r, settings, previous, settings.refine_margin)? else {
         return reconstruct(r, settings);
     };
-    let contradiction = crate::outcome::contradiction(r, &found);
     let mut out = previous.clone();
+    answered(r, &mut out, found);
+    Ok(out)
+}
+
+/// `out` with `found` as its answer: its status, and the contradiction where the evidence
+/// refuses it.
+fn answered(r: &Reconstruction, out: &mut Outcome, found: Found) {
+    let contradiction = crate::outcome::contradiction(r, &found);
     out.status = if contradiction.is_some() {
         Status::Inconsistent
     } else {
@@ -456,7 +544,6 @@ pub fn follow(r: &Reconstruction, settings: &Settings, previous: &Outcome) -> Re
         .map(|c| c.describe(|t| Contradiction::default_name(r, t)));
     out.contradiction = contradiction;
     out.best = Some(found);
-    Ok(out)
 }
 
 /// One entry per combination of counts of turns, in the order they first appear: where several

@@ -13,8 +13,12 @@
 //! turns the contact speed into the speed before braking and adds no residual, so it cannot
 //! conflict with anything.
 //!
-//! Each row is a whole reconstruction (every count of turns searched), so the table costs about
-//! as many reconstructions as there are groups; the rows run in parallel on the current rayon
+//! Each row is a whole reconstruction (every count of turns searched) and, where the same
+//! vehicles keep a scene, also the whole answer's combinations refined from where they ended
+//! without the piece; the lower of the two is the row. Removing evidence can only lower the
+//! minimum, so no row lies above the whole fit. A rest left out takes its count of turns with
+//! it, and a vehicle left with no scene evidence leaves the reconstruction's run-outs. The
+//! table costs about as many reconstructions as there are groups; the rows run in parallel on the current rayon
 //! pool. When no single group explains the conflict, pairs are left out too (up to
 //! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_WORK`].
 
@@ -83,23 +87,31 @@ impl Piece {
         let c = &mut out.content;
         match self {
             Piece::Rest(k) | Piece::Mark(k, _) => {
-                if let Some(v) = c.scene.as_mut().and_then(|s| {
+                if let Some(slot) = c.scene.as_mut().map(|s| {
                     if k == 0 {
                         &mut s.vehicle1
                     } else {
                         &mut s.vehicle2
                     }
-                    .as_mut()
                 }) {
-                    match self {
-                        Piece::Rest(_) => {
-                            v.rest = None;
-                            v.rest_sigma = None;
+                    if let Some(v) = slot.as_mut() {
+                        match self {
+                            Piece::Rest(_) => {
+                                v.rest = None;
+                                v.rest_sigma = None;
+                                // A count of turns counts to the rest heading: it goes with it.
+                                v.turns = None;
+                            }
+                            Piece::Mark(_, i) => {
+                                v.marks.remove(i);
+                            }
+                            _ => {}
                         }
-                        Piece::Mark(_, i) => {
-                            v.marks.remove(i);
+                        // A vehicle left with no scene evidence has no scene to fit: its
+                        // run-out is no longer part of the reconstruction.
+                        if v.rest.is_none() && v.marks.is_empty() {
+                            *slot = None;
                         }
-                        _ => {}
                     }
                 }
             }
@@ -202,6 +214,40 @@ pub fn switched_off(case: &Case, off: &[String]) -> Result<Case, DocumentError> 
     Ok(left_out(case, &chosen))
 }
 
+/// The reconstruction of `case` (the whole case less some pieces): its own first search, and
+/// the refinement of the whole answer's combinations of counts from where they ended there
+/// ([`pim_reconstruct::follow`]), where the same vehicles have scenes; the lower chi-square.
+fn left_out_row(
+    case: &Case,
+    how: crate::reconstruct::How,
+    whole: &crate::reconstruct::Reconstructed,
+) -> Result<ReconstructionOut, DocumentError> {
+    let fresh = crate::reconstruct::reconstruct_searching(case, how, false)?;
+    let ids =
+        |r: &pim_reconstruct::Reconstruction| r.scene.iter().map(|s| s.id).collect::<Vec<_>>();
+    let same_scenes = ids(&fresh.input.reconstruction) == ids(&whole.input.reconstruction);
+    if !same_scenes || whole.outcome.best.is_none() {
+        return Ok(fresh.document);
+    }
+    let input = &fresh.input;
+    let Ok(followed) =
+        pim_reconstruct::follow(&input.reconstruction, &input.settings, &whole.outcome)
+    else {
+        return Ok(fresh.document);
+    };
+    let cost =
+        |o: &pim_reconstruct::Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
+    if cost(&followed) < cost(&fresh.outcome) {
+        let mut out = followed;
+        // The row's own search says what it compared; the whole answer's start found the best.
+        out.tried = fresh.outcome.tried.clone();
+        out.estimates = fresh.outcome.estimates.clone();
+        Ok(crate::reconstruct::document(input, &out))
+    } else {
+        Ok(fresh.document)
+    }
+}
+
 fn row(left_out: Vec<String>, d: Result<ReconstructionOut, DocumentError>) -> LeftOut {
     let mut r = LeftOut {
         left_out,
@@ -261,27 +307,27 @@ pub fn wanted(d: &ReconstructionOut) -> bool {
 /// None of its own: a row whose reconstruction fails on its input says so in the row.
 pub fn table(
     case: &Case,
-    all: &ReconstructionOut,
+    whole: &crate::reconstruct::Reconstructed,
     model: pim_fit::FitModel,
     moment_form: pim_core::MomentForm,
     branches: &[MomentBranch],
     observer: &dyn crate::watch::Observer,
 ) -> Consistency {
+    let all = &whole.document;
     let run = |without: &[Piece]| {
         let c = left_out(case, without);
         let names = without.iter().map(|p| p.name(case)).collect();
-        // Each row by the first search alone: the rows are compared with each other, and a
+        // Each row by the first search alone (the rows are compared with each other, and a
         // row that fits poorly without one piece is what the table looks for, not a reason to
-        // search it again.
+        // search it again), and from the whole answer too: removing evidence can only lower
+        // the minimum, so the whole answer's separation states, refined without the piece,
+        // bound the row from above; the lower of the two is the row.
         let how = crate::reconstruct::How {
             model,
             moment_form,
             branches: branches.to_vec(),
         };
-        row(
-            names,
-            crate::reconstruct::reconstruct_searching(&c, how, false).map(|r| r.document),
-        )
+        row(names, left_out_row(&c, how, whole))
     };
     let all_row = row(Vec::new(), Ok(all.clone()));
     let groups = pieces(case);
@@ -500,14 +546,7 @@ pub fn answer(
 ) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
     let mut done = reconstruct(case, model, moment_form, branches.clone())?;
     if wanted(&done.document) {
-        let t = table(
-            case,
-            &done.document,
-            model,
-            moment_form,
-            &branches,
-            observer,
-        );
+        let t = table(case, &done, model, moment_form, &branches, observer);
         done.document.consistency = Some(t);
     }
     Ok(done)

@@ -253,18 +253,35 @@ pub fn run_around(
     };
     let names: Vec<String> = quantities_of(best).into_iter().map(|(n, _)| n).collect();
     let (results, cancelled) = draw_each(case, &all, (draws, seed), observer, |c| {
-        case_reconstruction(c, model, moment_form, branches.clone())
+        let r = case_reconstruction(c, model, moment_form, branches.clone()).ok()?;
+        let followed = redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN)
             .ok()
-            .and_then(|r| redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN).ok())
-            .flatten()
-            .map(|f| {
-                let q = quantities_of(&f);
-                let values = names
-                    .iter()
-                    .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
-                    .collect::<Vec<f64>>();
-                (values, f.solution.separation)
-            })
+            .flatten();
+        // A draw whose refit from the nominal answer is refused where the nominal answer is
+        // not ended in a local minimum of its own: searched again from its scenes; if the
+        // evidence as drawn is still refused, the draw has no answer (it is counted as not
+        // feasible, and left out of the intervals and the paths), never counted as one.
+        let found = match followed {
+            Some(f) if !f.refused() => Some(f),
+            other => {
+                let searched = pim_reconstruct::reconstruct(&r.reconstruction, &r.settings)
+                    .ok()
+                    .and_then(|o| o.best);
+                [other, searched]
+                    .into_iter()
+                    .flatten()
+                    .filter(|f| !f.refused())
+                    .min_by(|a, b| a.chi_square.total_cmp(&b.chi_square))
+            }
+        };
+        found.map(|f| {
+            let q = quantities_of(&f);
+            let values = names
+                .iter()
+                .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
+                .collect::<Vec<f64>>();
+            (values, f.solution.separation)
+        })
     });
     let separations: Vec<pim_core::Velocities> = results
         .iter()
