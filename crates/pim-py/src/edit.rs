@@ -56,34 +56,24 @@ pub(crate) fn edit_case(
     if_version: Option<String>,
 ) -> PyResult<String> {
     let name = path.display().to_string();
-    if !write {
-        let stored = pim_store::read(&path, pim_store::MAX_CASE_BYTES).map_err(store_error)?;
-        if let Some(v) = &if_version {
-            if !stored.version.matches(v) {
-                return Err(store_error(pim_store::StoreError::Conflict {
-                    file: name,
-                    expected: v.clone(),
-                    current: stored,
-                }));
-            }
-        }
-        let text = edited(&name, &stored.text, values)?;
-        pim_store::check(&name, &text).map_err(store_error)?;
-        return Ok(text);
-    }
     let mut failed = None;
     let options = pim_store::WriteOptions {
         expected: if_version.as_deref(),
         ..Default::default()
     };
-    let written = pim_store::update(&path, &options, |current| {
+    let edit = |current: &pim_store::Stored| {
         edited(&name, &current.text, values).map_err(|e| {
             let message = e.to_string();
             failed = Some(e);
             message
         })
-    });
-    match (written, failed) {
+    };
+    let done = if write {
+        pim_store::update(&path, &options, edit)
+    } else {
+        pim_store::preview(&path, &options, edit)
+    };
+    match (done, failed) {
         (Ok(stored), _) => Ok(stored.text),
         (Err(_), Some(e)) => Err(e),
         (Err(e), None) => Err(store_error(e)),

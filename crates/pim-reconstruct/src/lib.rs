@@ -63,9 +63,9 @@
 //!    impact reaches (a restart from the impact's side); once the best found fits, such a
 //!    combination more than the margin above it is abandoned (its run-outs far from the scene
 //!    are costly to follow, and it cannot beat an answer that fits by much). A refinement is
-//!    also abandoned where a step fails while it lies more than the margin above the best. It stops converged when a step gains less than 1e-6 (1 + chi-square)
-//!    or a trial lies within that of the current point (the step is lost in the run-outs'
-//!    precision).
+//!    also abandoned where a step fails while it lies more than the margin above the best. It
+//!    stops converged when a step gains less than 1e-6 (1 + chi-square) or a trial lies within
+//!    that of the current point (the step is lost in the run-outs' precision).
 //!
 //! 4. **A second search from a scatter** when the first answer's chi-square lies above its
 //!    median (p below [`SCATTER_BELOW_P`]) or the first search found none. The first search
@@ -132,4 +132,4 @@ pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
     Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,
 };
-pub use search::{follow, reconstruct, redo};
+pub use search::{follow, reconstruct, redo, refined_from};

@@ -183,7 +183,7 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
     let mut at = end;
     let mut last = None;
     for k in CONTINUATION {
-        let rk = if k > 1.0 { widened(r, k) } else { r.clone() };
+        let rk = widened(r, k);
         let mus = crate::point::stated_frictions(&rk);
         let start: Result<Vec<Lin>> = at
             .iter()
@@ -196,9 +196,8 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
         };
         at = x.point.scene.iter().map(|l| l.at).collect();
         out.fits += x.fits;
-        if k <= 1.0 {
-            last = Some(x);
-        }
+        // The last stage is the evidence as given.
+        last = Some(x);
     }
     out.work += work.spent();
     let Some(x) = last else { return };
@@ -522,12 +521,29 @@ pub fn redo(
 /// # Errors
 /// Input the search cannot use.
 pub fn follow(r: &Reconstruction, settings: &Settings, previous: &Outcome) -> Result<Outcome> {
+    match refined_from(r, settings, previous)? {
+        Some(out) => Ok(out),
+        None => reconstruct(r, settings),
+    }
+}
+
+/// [`follow`] without its fallback: `previous`'s outcome with the answer its combinations give
+/// refined again from where they ended ([`redo`]), or `None` where none of them refines (no
+/// search is run then).
+///
+/// # Errors
+/// Input the search cannot use.
+pub fn refined_from(
+    r: &Reconstruction,
+    settings: &Settings,
+    previous: &Outcome,
+) -> Result<Option<Outcome>> {
     let Some(found) = redo(r, settings, previous, settings.refine_margin)? else {
-        return reconstruct(r, settings);
+        return Ok(None);
     };
     let mut out = previous.clone();
     answered(r, &mut out, found);
-    Ok(out)
+    Ok(Some(out))
 }
 
 /// `out` with `found` as its answer: its status, and the contradiction where the evidence

@@ -1000,8 +1000,7 @@ function compareConflict() {
   $("conflict-compare").hidden = false;
 }
 
-async function reloadFromDisk() {
-  const disk = state.conflict;
+async function reloadFromDisk(disk = state.conflict) {
   state.text = state.saved = disk.text; state.version = disk.version;
   state.conflict = null; $("conflict").hidden = true;
   $("toml").value = disk.text;
@@ -1017,8 +1016,7 @@ async function checkDisk() {
   try { ({ data } = await api("GET", `/api/case?path=${encodeURIComponent(state.path)}`)); } catch (e) { return; }
   if (data.version === state.version) return;
   if (state.text === state.saved) {
-    state.conflict = { text: data.text, version: data.version };
-    await reloadFromDisk();
+    await reloadFromDisk({ text: data.text, version: data.version });
     status("reloaded: the file changed on disk");
   } else {
     showConflict({ text: data.text, version: data.version });
@@ -1078,7 +1076,7 @@ $("fit").addEventListener("click", fitView);
 // theirs); the view is fitted again.
 $("units").addEventListener("change", (e) => { state.units = e.target.value; state.view = null; solve(); });
 $("save").addEventListener("click", () => save());
-$("conflict-reload").addEventListener("click", reloadFromDisk);
+$("conflict-reload").addEventListener("click", () => reloadFromDisk());
 $("conflict-compare-button").addEventListener("click", compareConflict);
 $("conflict-overwrite").addEventListener("click", () => save(state.conflict.version));
 window.addEventListener("focus", checkDisk);

@@ -124,14 +124,6 @@ pub enum StoreError {
     },
 }
 
-impl StoreError {
-    /// Whether the error is about the file or the system (a failed read or write, exit status
-    /// 4 of `pim set`) rather than about the text or the version.
-    pub fn is_io(&self) -> bool {
-        matches!(self, StoreError::Io { .. })
-    }
-}
-
 fn io<'a>(file: &'a str, action: &'static str) -> impl FnOnce(std::io::Error) -> StoreError + 'a {
     move |source| match source.kind() {
         std::io::ErrorKind::NotFound => StoreError::Missing {
@@ -356,23 +348,55 @@ pub fn update(
     }
     let mut locked = lock(file, &real, MAX_CASE_BYTES)?;
     let current = read_open(file, &mut locked, MAX_CASE_BYTES)?;
-    if let Some(expected) = options.expected {
-        if !current.version.matches(expected) {
-            return Err(StoreError::Conflict {
-                file: file.to_string(),
-                expected: expected.to_string(),
-                current,
-            });
-        }
-    }
-    let text = edit(&current).map_err(StoreError::Refused)?;
-    check(file, &text)?;
+    let text = edited(file, &current, options.expected, edit)?;
     if text != current.text {
         replace(file, &real, &locked, &text)?;
     }
     drop(locked);
     let version = Version::of(&text);
     Ok(Stored { text, version })
+}
+
+/// What [`update`] would write, without writing it (`pim set --dry-run`): the file read, its
+/// version checked against `options.expected`, `edit` applied and the result checked as `pim
+/// fit` checks a case; no lock is taken.
+///
+/// # Errors
+/// As [`update`], but for those of the write itself.
+pub fn preview(
+    path: &Path,
+    options: &WriteOptions<'_>,
+    edit: impl FnOnce(&Stored) -> Result<String, String>,
+) -> Result<Stored, StoreError> {
+    let shown = path.display().to_string();
+    let file = options.name.unwrap_or(&shown);
+    let mut f = open_regular(file, path, MAX_CASE_BYTES)?;
+    let current = read_open(file, &mut f, MAX_CASE_BYTES)?;
+    let text = edited(file, &current, options.expected, edit)?;
+    let version = Version::of(&text);
+    Ok(Stored { text, version })
+}
+
+/// The text `edit` makes of `current`: refused when `current` is not the version `expected`,
+/// when `edit` refuses, or when `pim fit` would refuse the result.
+fn edited(
+    file: &str,
+    current: &Stored,
+    expected: Option<&str>,
+    edit: impl FnOnce(&Stored) -> Result<String, String>,
+) -> Result<String, StoreError> {
+    if let Some(expected) = expected {
+        if !current.version.matches(expected) {
+            return Err(StoreError::Conflict {
+                file: file.to_string(),
+                expected: expected.to_string(),
+                current: current.clone(),
+            });
+        }
+    }
+    let text = edit(current).map_err(StoreError::Refused)?;
+    check(file, &text)?;
+    Ok(text)
 }
 
 /// Writes `text` over the case file at `path` (which must exist): [`update`] with the new

@@ -216,7 +216,8 @@ pub fn switched_off(case: &Case, off: &[String]) -> Result<Case, DocumentError> 
 
 /// The reconstruction of `case` (the whole case less some pieces): its own first search, and
 /// the refinement of the whole answer's combinations of counts from where they ended there
-/// ([`pim_reconstruct::follow`]), where the same vehicles have scenes; the lower chi-square.
+/// ([`pim_reconstruct::refined_from`]), where the same vehicles have scenes; the lower
+/// chi-square.
 fn left_out_row(
     case: &Case,
     how: crate::reconstruct::How,
@@ -230,18 +231,21 @@ fn left_out_row(
         return Ok(fresh.document);
     }
     let input = &fresh.input;
-    let Ok(followed) =
-        pim_reconstruct::follow(&input.reconstruction, &input.settings, &whole.outcome)
+    let Ok(Some(followed)) =
+        pim_reconstruct::refined_from(&input.reconstruction, &input.settings, &whole.outcome)
     else {
         return Ok(fresh.document);
     };
     let cost =
         |o: &pim_reconstruct::Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
     if cost(&followed) < cost(&fresh.outcome) {
-        let mut out = followed;
-        // The row's own search says what it compared; the whole answer's start found the best.
-        out.tried = fresh.outcome.tried.clone();
-        out.estimates = fresh.outcome.estimates.clone();
+        // The row's own search (what it compared, what it spent), with the answer the whole
+        // answer's start found.
+        let mut out = fresh.outcome;
+        out.status = followed.status;
+        out.reason = followed.reason;
+        out.contradiction = followed.contradiction;
+        out.best = followed.best;
         Ok(crate::reconstruct::document(input, &out))
     } else {
         Ok(fresh.document)

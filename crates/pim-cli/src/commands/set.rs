@@ -27,7 +27,7 @@ fn value_of(text: &str) -> NewValue {
 
 /// The failure of a read or write of the store: a changed file or the system's refusal is
 /// exit status 4, anything about the text or the file given is bad input (2).
-pub fn store_failure(e: StoreError) -> Failure {
+fn store_failure(e: StoreError) -> Failure {
     match e {
         StoreError::Conflict { .. } | StoreError::Io { .. } => Failure::Output(e.to_string()),
         StoreError::Missing { file } => {
@@ -67,40 +67,30 @@ pub fn run(a: &SetArgs) -> Result<ExitCode> {
         super::print_out(&format!("{}\n", stored.version))?;
         return Ok(ExitCode::from(EXIT_OK));
     }
-    if a.dry_run {
-        let stored = pim_store::read(&a.case, pim_store::MAX_CASE_BYTES).map_err(store_failure)?;
-        if let Some(v) = &a.if_version {
-            if !stored.version.matches(v) {
-                return Err(store_failure(StoreError::Conflict {
-                    file: name,
-                    expected: v.clone(),
-                    current: stored,
-                })
-                .into());
-            }
-        }
-        let (text, said) = edited(&name, &stored.text, &a.values).map_err(Failure::Input)?;
-        pim_store::check(&name, &text).map_err(store_failure)?;
-        super::print_out(&text)?;
-        for s in said {
-            eprintln!("pim: {s}");
-        }
-        return Ok(ExitCode::from(EXIT_OK));
-    }
     let mut said = Vec::new();
     let options = WriteOptions {
         expected: a.if_version.as_deref(),
         ..Default::default()
     };
-    let written = pim_store::update(&a.case, &options, |current| {
+    let edit = |current: &pim_store::Stored| {
         let (text, s) = edited(&name, &current.text, &a.values)?;
         said = s;
         Ok(text)
-    })
+    };
+    let done = if a.dry_run {
+        pim_store::preview(&a.case, &options, edit)
+    } else {
+        pim_store::update(&a.case, &options, edit)
+    }
     .map_err(store_failure)?;
+    if a.dry_run {
+        super::print_out(&done.text)?;
+    }
     for s in said {
         eprintln!("pim: {s}");
     }
-    eprintln!("pim: {name}: written (version {})", written.version);
+    if !a.dry_run {
+        eprintln!("pim: {name}: written (version {})", done.version);
+    }
     Ok(ExitCode::from(EXIT_OK))
 }
