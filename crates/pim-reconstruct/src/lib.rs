@@ -58,8 +58,8 @@
 //!    first point that lies more than the margin above what its own linearised fit predicted
 //!    says only that the scenes' candidates are far from the separation states the impact
 //!    gives (the linearisation that chose it does not hold there, so it neither bounds the
-//!    combination nor sets it aside): while the best found does not fit (none yet, or a
-//!    chi-square above its count of data) the refinement goes on from that point, which the
+//!    combination nor sets it aside): in the second search (step 4), while the best found does
+//!    not fit (none yet, or a chi-square above its count of data), the refinement goes on from that point, which the
 //!    impact reaches (a restart from the impact's side); once the best found fits, such a
 //!    combination more than the margin above it is abandoned (its run-outs far from the scene
 //!    are costly to follow, and it cannot beat an answer that fits by much). A refinement is
@@ -73,10 +73,16 @@
 //!    first guess and its neighbours' answers, polished to a chi-square gain of 1e-6); the second
 //!    searches each scene again from every start, with every count also explored from a scatter of separation states over the yaw
 //!    rates of road crashes (with a rest position, those whose run-outs end there, one per yaw
-//!    rate from -10 to 10 rad/s; [`pim_runout::EstimateSettings::scatter`]), and steps
-//!    1 to 3 repeated; the lower of the two answers is kept ([`Outcome::scattered`]). The two
-//!    searches share one budget of work ([`Settings::refine_work`]); the second may spend as
-//!    much as the first did (at least a quarter of the budget), no more.
+//!    rate from -10 to 10 rad/s on several branches, every state of a branch whose rest
+//!    heading passes a count's heading a start of that count;
+//!    [`pim_runout::EstimateSettings::scatter`]), and steps 1 to 3 repeated; the lower of the
+//!    two answers is kept ([`Outcome::scattered`]). The two searches share one budget of work
+//!    ([`Settings::refine_work`]): the first may spend half of it (one that refines many
+//!    combinations far from their scenes, each with long and slow run-outs, must leave the
+//!    second its turn), the second as much as the first did (at least a quarter of the
+//!    budget), no more. Only the second refines on from a first point far from its
+//!    linearisation while the best found does not fit (step 3); the first, a quick look, sets
+//!    such a combination aside once something is found.
 //!
 //! 5. **Continuation before a refusal**: an answer the evidence would refuse is searched once
 //!    more from the best combination's end: refined with the scene's standard deviations

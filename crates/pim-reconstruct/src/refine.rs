@@ -27,14 +27,6 @@ impl Work {
         }
     }
 
-    /// The same count with its limit lowered to `limit` (never raised).
-    pub(crate) fn limited(&self, limit: u64) -> Self {
-        Work {
-            spent: std::sync::atomic::AtomicU64::new(self.spent()),
-            limit: limit.min(self.limit),
-        }
-    }
-
     pub(crate) fn add(&self, n: u64) {
         self.spent
             .fetch_add(n, std::sync::atomic::Ordering::Relaxed);

@@ -104,21 +104,26 @@ fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
 /// reaches is an [`Outcome`] with [`Status::NoSolution`].
 pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
     r.check()?;
-    // One budget of work for both searches: the second refines only what the first left.
-    let work = crate::refine::Work::new(settings.refine_work);
+    // One budget of work for both searches. The first may spend half of it: a first search
+    // that refines many combinations far from their scenes (each one's run-outs long and
+    // slow) must not leave the second, from the scatter, nothing; where the first answer
+    // fits, the second is not needed.
+    let work = crate::refine::Work::new(settings.refine_work / 2);
     let first = search(r, settings, false, &work)?;
     let fits_well = first.best.as_ref().is_some_and(|b| {
         pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
             .is_some_and(|p| p >= settings.scatter_below_p)
     });
-    if fits_well || work.exhausted() {
+    if fits_well {
         return Ok(searched(r, first));
     }
     // The second search refines with at most as much work again as the first spent (and at
-    // least a quarter of the budget): a bound of its time on evidence whose impact fits or
-    // run-outs are slow.
+    // least a quarter of the budget), within what is left: a bound of its time on evidence
+    // whose impact fits or run-outs are slow.
     let spent = work.spent();
-    let work = work.limited(spent + spent.max(settings.refine_work / 4));
+    let limit = (spent + spent.max(settings.refine_work / 4)).min(settings.refine_work);
+    let work = crate::refine::Work::new(limit);
+    work.add(spent);
     let second = search(r, settings, true, &work)?;
     let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
     let (runouts, fits, work) = (
@@ -351,10 +356,13 @@ fn search(
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
         // A first point far from its linearisation is refined on (restarted from the impact's
-        // side) while the best found does not fit: a chi-square above its count of data.
-        let restart = best.as_ref().is_none_or(|b| {
-            b.1.total > (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
-        });
+        // side) while the best found does not fit: a chi-square above its count of data. Only
+        // in the second search: the first is a quick look, and one whose answer does not fit
+        // is followed by the second, from every start.
+        let restart = scatter
+            && best.as_ref().is_none_or(|b| {
+                b.1.total > (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
+            });
         match refine(r, settings, start, (lowest_best, restart), work) {
             Ok(x) => {
                 // Only a refinement whose bound held (it ended within the margin of it) counts

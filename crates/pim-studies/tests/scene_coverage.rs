@@ -11,23 +11,22 @@
 //! searched over), no consistent case is refused, and the 90 % intervals of the contact speeds
 //! hold the truth in 85-95 % of the cases (the full run of 200 crashes, `--ignored`; the suite
 //! runs 12).
-#[path = "../../pim-reconstruct/tests/common/impact.rs"]
-mod impact;
+mod common;
+
+use common::{
+    collision_sections, contact_evidence, described, impact, normal, on_friction, truth_cost,
+};
 
 use pim_case::case::Case;
 use pim_core::{solve_forward, VehicleId, Velocities};
 use pim_studies::damage_fit::CrushEnergy;
-use pim_studies::reconstruct::case_reconstruction;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use std::f64::consts::TAU;
 use std::fmt::Write;
 
 const SIGMA_REST: f64 = 0.05;
 const SIGMA_HEADING_DEG: f64 = 1.0;
 const SIGMA_MARK: f64 = 0.05;
-const SIGMA_LATERAL: f64 = 0.3;
-const SIGMA_YAW: f64 = 0.1;
 const FRICTION_SIGMA: f64 = 0.05;
 /// Crush depth's standard deviation, in; the stiffness's, a fraction of it.
 const SIGMA_DEPTH_IN: f64 = 1.0;
@@ -48,13 +47,6 @@ struct Simulated {
     separation: Velocities,
     /// The road's true friction.
     friction: f64,
-}
-
-fn normal(rng: &mut StdRng) -> f64 {
-    // Box-Muller.
-    let u1: f64 = rng.random_range(f64::EPSILON..1.0);
-    let u2: f64 = rng.random_range(0.0..1.0);
-    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
 }
 
 /// One vehicle's `[runout.vehicleN]` section (SI) with random wheels.
@@ -154,69 +146,18 @@ fn simulated(seed: u64, variant: Variant) -> Option<Simulated> {
         return None;
     }
     let sep = report.separation;
-    let cgs = ri.impact.cg_positions();
-    let col = ri.impact.collision();
     let friction = rng.random_range(0.45..0.9);
     let stated = match variant {
         Variant::Friction => (friction + FRICTION_SIGMA * normal(&mut rng)).max(0.2),
         _ => friction,
     };
-    let mut head = format!("title = \"simulated crash {seed}\"\n[units]\nyaw_rate = \"rad/s\"\n");
-    if variant == Variant::Crush {
-        head.push_str("stiffness = \"lbf/in\"\ncrush = \"in\"\n");
-    }
-    for id in [VehicleId::One, VehicleId::Two] {
-        let k = id.index();
-        let v = if k == 0 { &col.vehicle1 } else { &col.vehicle2 };
-        write!(
-            head,
-            "\n[vehicle{}]\nmass = {:.6}\nyaw_inertia = {:.6}\nheading = {:.9}\n\
-             position = {{ x = {:.9}, y = {:.9} }}\nlength = 4.6\nwidth = 1.8\ncg_to_front = 2.3\n",
-            k + 1,
-            v.mass,
-            v.yaw_inertia,
-            ri.impact.nose_heading(id),
-            cgs[k][0],
-            cgs[k][1],
-        )
-        .unwrap();
-    }
-    writeln!(
-        head,
-        "\n[impact]\ncentre = {{ x = 0.0, y = 0.0 }}\ncrush_angle = {:.9}\nvehicle1_side = \"{}\"",
-        col.crush_angle,
-        if ri.impact.side() > 0.0 { "+n" } else { "-n" }
-    )
-    .unwrap();
-    // The evidence at contact: each direction of travel (lateral velocity) and yaw rate.
-    let mut contact = String::from("\n[estimates.initial]\n");
-    let mut sigmas = String::from("\n[sigma.initial]\n");
-    let mut observations = String::new();
-    for id in [VehicleId::One, VehicleId::Two] {
-        let k = id.index();
-        let v = if k == 0 { ri.x.vehicle1 } else { ri.x.vehicle2 };
-        let f = ri.impact.forward_axis(id);
-        let lateral = -v.vx * f[1] + v.vy * f[0];
-        writeln!(
-            contact,
-            "vehicle{} = {{ omega = {:.9} }}",
-            k + 1,
-            v.omega + SIGMA_YAW * normal(&mut rng)
-        )
-        .unwrap();
-        writeln!(sigmas, "vehicle{} = {{ omega = {SIGMA_YAW} }}", k + 1).unwrap();
-        write!(
-            observations,
-            "\n[[observations]]\nkind = \"lateral_velocity\"\nvehicle = {}\nvalue = {:.9}\n\
-             sigma = {SIGMA_LATERAL}\n",
-            k + 1,
-            lateral + SIGMA_LATERAL * normal(&mut rng)
-        )
-        .unwrap();
-    }
-    head.push_str(&contact);
-    head.push_str(&sigmas);
-    head.push_str(&observations);
+    let units = if variant == Variant::Crush {
+        "stiffness = \"lbf/in\"\ncrush = \"in\"\n"
+    } else {
+        ""
+    };
+    let mut head = collision_sections(seed, &ri, units);
+    head.push_str(&contact_evidence(&ri, &mut rng));
     write!(head, "\n[runout]\nfriction = {stated:.6}\n").unwrap();
     if variant == Variant::Friction {
         writeln!(head, "friction_sigma = {FRICTION_SIGMA}").unwrap();
@@ -226,24 +167,10 @@ fn simulated(seed: u64, variant: Variant) -> Option<Simulated> {
         head.push_str(&runout_section(&mut rng, k));
     }
     // Each vehicle run out on the true friction, with the chassis the case describes.
-    let placeholder = format!(
-        "{head}\n[scene.vehicle1]\nrest = {{ x = 0.0, y = 0.0, heading = 0.0 }}\n\
-         rest_sigma = {{ x = 1.0, y = 1.0, heading = 1.0 }}\n[scene.vehicle2]\n\
-         rest = {{ x = 0.0, y = 0.0, heading = 0.0 }}\nrest_sigma = {{ x = 1.0, y = 1.0, heading = 1.0 }}\n"
-    );
-    let case = Case::from_text("simulated.toml", &placeholder).expect("a valid case");
-    let cr = case_reconstruction(
-        &case,
-        pim_fit::FitModel::Pim,
-        pim_core::MomentForm::Corrected,
-        pim_fit::MomentBranch::ALL.to_vec(),
-    )
-    .expect("a reconstruction");
+    let cr = described(&head);
     let mut scene = String::new();
     for (k, v) in cr.reconstruction.scene.iter().enumerate() {
-        let mut chassis = v.chassis.clone();
-        chassis.friction = friction;
-        chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * friction);
+        let chassis = on_friction(v, friction);
         let s = if k == 0 { sep.vehicle1 } else { sep.vehicle2 };
         let start = pim_runout::Motion {
             vx: s.vx,
@@ -334,54 +261,6 @@ fn simulated(seed: u64, variant: Variant) -> Option<Simulated> {
     })
 }
 
-/// The chi-square of the truth against the case's evidence: the contact evidence at the true
-/// contact state, each scene against the true run-out with its true count of turns, the stated
-/// friction against the true one.
-fn truth_cost(s: &Simulated, case: &Case) -> f64 {
-    let cr = case_reconstruction(
-        case,
-        pim_fit::FitModel::Pim,
-        pim_core::MomentForm::Corrected,
-        pim_fit::MomentBranch::ALL.to_vec(),
-    )
-    .expect("a reconstruction");
-    let r = &cr.reconstruction;
-    let u = pim_fit::state_vector(&s.contact, &s.separation);
-    let mut total = r.contact_chi_square(&u);
-    for (k, v) in r.scene.iter().enumerate() {
-        let mut chassis = v.chassis.clone();
-        chassis.friction = s.friction;
-        chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * s.friction);
-        let sv = if k == 0 {
-            s.separation.vehicle1
-        } else {
-            s.separation.vehicle2
-        };
-        let start = pim_runout::Motion {
-            vx: sv.vx,
-            vy: sv.vy,
-            yaw_rate: sv.omega,
-            ..v.pose
-        };
-        let settings = pim_runout::Settings::default();
-        let run = pim_runout::simulate(&chassis, &start, &settings).expect("the true run-out");
-        let h = v
-            .evidence
-            .rest
-            .and_then(|r| r.heading)
-            .expect("a rest heading");
-        let nearest = h + TAU * ((v.pose.heading - h) / TAU).round();
-        let turns = ((run.rest.heading - nearest) / TAU).round() as i64;
-        let lin = pim_runout::linearise(&chassis, &start, &v.evidence, turns, &settings, false)
-            .expect("the true run-out linearised");
-        total += lin.cost;
-    }
-    for f in &r.frictions {
-        total += ((s.friction - f.value) / f.sigma).powi(2);
-    }
-    total
-}
-
 /// What one case gave: the truth's and the answer's chi-square, whether each contact speed's
 /// 90 % interval holds the truth.
 struct Result {
@@ -395,7 +274,7 @@ struct Result {
 fn run_case(seed: u64, variant: Variant, draws: usize) -> Option<Result> {
     let s = simulated(seed, variant)?;
     let case = Case::from_text(&format!("simulated_{seed}.toml"), &s.text).expect("a valid case");
-    let truth = truth_cost(&s, &case);
+    let truth = truth_cost(&case, &s.contact, &s.separation, s.friction);
     let study = pim_studies::reconstruct_study::run(
         &case,
         pim_fit::FitModel::Pim,
@@ -559,24 +438,16 @@ fn cases_whose_linearisation_does_not_hold_are_answered() {
 #[test]
 #[ignore]
 fn write_a_simulated_case() {
-    let seed: u64 = std::env::var("SEED")
-        .expect("SEED")
-        .parse()
-        .expect("a number");
+    let seed = common::seed_from_env();
     let variant = match std::env::var("VARIANT").as_deref() {
         Ok("Friction") => Variant::Friction,
         Ok("Crush") => Variant::Crush,
         _ => Variant::Plain,
     };
     let s = simulated(seed, variant).expect("an admissible crash");
-    let file = std::env::temp_dir().join(format!("simulated_{seed}.toml"));
-    std::fs::write(&file, &s.text).expect("written");
-    let case = Case::from_text("simulated.toml", &s.text).expect("a valid case");
-    eprintln!(
-        "{}: truth's chi-square {:.3}\ncontact {:?}\nseparation {:?}",
-        file.display(),
-        truth_cost(&s, &case),
-        s.contact,
-        s.separation
+    common::write_with_truth(
+        &format!("simulated_{seed}"),
+        &s.text,
+        (&s.contact, &s.separation, s.friction),
     );
 }

@@ -41,9 +41,11 @@
 //! directions, two speeds, three yaw rates) searched from its two best. With
 //! [`EstimateSettings::scatter`], the counts are also explored from one scatter of single
 //! run-outs shared by every count (with a rest position, the separation states whose run-outs
-//! end there, one per yaw rate from -10 to 10 rad/s; without, a grid of yaw rates, directions
-//! and speeds; each run-out counts for the count of turns it ends nearest): the twelve lowest
-//! points over all counts, ranked and first searched on the evidence with its standard
+//! end there, one per yaw rate from -10 to 10 rad/s on the branches through the first guess
+//! and through faster states, every state where a branch's rest heading passes a count's
+//! heading explored for that count; without, a grid of yaw rates, directions and speeds; each
+//! run-out counts for the count of turns it ends nearest): those and the lowest other points
+//! over all counts (up to twelve in all), ranked and first searched on the evidence with its standard
 //! deviations raised to 1 m and 10 deg and then to 0.2 m and 2 deg (smoother costs with the same
 //! minimum for exact evidence), then on the evidence as given. The best explored point is
 //! polished at full precision; the other distinct minima explored within a chi-square of 25 of

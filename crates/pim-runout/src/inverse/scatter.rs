@@ -7,10 +7,18 @@
 //! separation, little net rotation) or that spins through most of its run-out lies far from
 //! it, in a basin of its own, often narrow in speed (a rolling car's rest moves metres with a
 //! few per cent of speed). With a rest position the scatter follows the *rest curve*: the rest
-//! position is two equations in the three unknowns, so the states that reach it form a curve,
-//! followed here by the yaw rate (-10 to 10 rad/s in steps of 0.25, the CG velocity by Newton's
-//! method at each, continued from the last): about 800 run-outs per vehicle, each ending at the
-//! rest position, whose heading and marks then rank it. Without a rest position, a grid: yaw
+//! position is two equations in the three unknowns, so the states that reach it form curves,
+//! followed here by the yaw rate (-10 to 10 rad/s, the CG velocity by Newton's method at each,
+//! continued from the last): the branch through the first guess in steps of 0.25, and in steps
+//! of 0.5 the branches through faster states along the guess's line (2.5 and 4 times its
+//! speed) and across it (turned 1.2 rad either way, 2.5 times): a car whose path is many times
+//! the distance to its rest (rolling, turned back by its steered wheels or its spin) lies on a
+//! branch of its own. About 2,000 to 4,000 run-outs per vehicle, each ending at the rest
+//! position, whose heading and marks then rank it; where the rest heading passes a count's
+//! heading between two points of a branch, the state between them is a solution of that
+//! count's scene and is explored whatever the other counts' points cost (several per count:
+//! the rest alone is three equations in three unknowns, met by every count, often by several
+//! states of one count, which only the impact tells apart). Without a rest position, a grid: yaw
 //! rates -8 to 8 rad/s in steps of 0.5, nine directions about the line to the first mark (±0.8
 //! rad) and five speeds (0.7 to 1.5 times the first guess's), 1,485 run-outs. Either is run at
 //! the exploring tolerance, once per vehicle, not once per count; of each count's six lowest
@@ -62,22 +70,27 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
     };
     let mut guess_runouts = 0;
     let guess = first_guess(base, &mut guess_runouts);
-    let points = match base.evidence.rest {
+    let branches = match base.evidence.rest {
         Some(rest) => {
             let path = Problem {
                 evidence: base.evidence,
                 ..problem(None)
             };
-            let (points, spent) = rest_curve(&path, &guess, [rest.x, rest.y]);
+            let (branches, spent) = rest_curve(&path, &guess, [rest.x, rest.y]);
             guess_runouts += spent;
-            points
+            branches
         }
-        None => grid(&guess),
+        None => vec![grid(&guess)],
     };
+    let points: Vec<Vec<f64>> = branches.concat();
     let problems: Vec<Problem> = headings.iter().map(|&h| problem(h)).collect();
     let heading = |k: usize| problems[k].heading;
     // Each point's run-out, the count it ends nearest, and its cost there.
-    let ends: Vec<Option<(usize, f64)>> = points
+    let rests: Vec<Option<f64>> = points
+        .par_iter()
+        .map(|t| problems[0].runout(t).ok().map(|r| r.rest.heading))
+        .collect();
+    let ends: Vec<Option<(usize, f64, usize)>> = points
         .par_iter()
         .map(|t| {
             let run = problems[0].runout(t).ok()?;
@@ -85,18 +98,15 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
                 let off = |i: usize| heading(i).map_or(0.0, |h| (run.rest.heading - h).abs());
                 off(a).total_cmp(&off(b))
             })?;
-            let cost: f64 = problems[k]
-                .residuals(t, &run)
-                .iter()
-                .map(|r| (r.value / r.sigma).powi(2))
-                .sum();
-            cost.is_finite().then_some((k, cost))
+            let residuals = problems[k].residuals(t, &run);
+            let cost: f64 = residuals.iter().map(|r| (r.value / r.sigma).powi(2)).sum();
+            cost.is_finite().then_some((k, cost, residuals.len()))
         })
         .collect();
-    let mut by_count: Vec<Vec<(f64, &Vec<f64>)>> = vec![Vec::new(); headings.len()];
+    let mut by_count: Vec<Vec<(f64, &Vec<f64>, bool)>> = vec![Vec::new(); headings.len()];
     for (t, e) in points.iter().zip(&ends) {
-        if let Some((k, cost)) = e {
-            by_count[*k].push((*cost, t));
+        if let Some((k, cost, n)) = e {
+            by_count[*k].push((*cost, t, *cost <= *n as f64));
         }
     }
     // The run-outs spent, each on the count it ended nearest (the failed ones on the first).
@@ -107,7 +117,7 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
         out[k].1 += list.len();
         list.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut chosen: Vec<&Vec<f64>> = Vec::new();
-        for (cost, t) in list {
+        for (cost, t, within) in list {
             if chosen.len() >= PER_COUNT {
                 break;
             }
@@ -116,13 +126,54 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
             });
             if distinct {
                 chosen.push(t);
-                candidates.push((cost, k, t));
+                // A point within its expectation (a softened chi-square no larger than its
+                // count of residuals) lies next to a state that meets the evidence: explored
+                // whatever the other counts' points cost. A scene with a rest alone is three
+                // equations in three unknowns, met exactly by every count, often by several
+                // states of one count (a rolling car that spins one way at separation and
+                // turns back under its steered wheels); the impact decides between them, so
+                // each must be a start.
+                if within {
+                    out[k].0.push(t.clone());
+                } else {
+                    candidates.push((cost, k, t));
+                }
             }
         }
     }
-    // ... and of those the IN_ALL lowest over every count are explored.
+    // Along the rest curve, where the rest heading passes a count's heading between two
+    // points of a branch, the state between them (interpolated) nearly meets the rest: each
+    // such crossing is a solution of that count's scene, explored (the first PER_COUNT).
+    if base.evidence.rest.is_some() {
+        let mut crossings = vec![0; headings.len()];
+        let mut first = 0;
+        for b in &branches {
+            for i in first..(first + b.len()).saturating_sub(1) {
+                let (Some(ha), Some(hb)) = (rests[i], rests[i + 1]) else {
+                    continue;
+                };
+                for (k, h) in headings.iter().enumerate() {
+                    let Some(h) = h else { continue };
+                    if (ha - h) * (hb - h) >= 0.0 || crossings[k] >= PER_COUNT {
+                        continue;
+                    }
+                    let f = (h - ha) / (hb - ha);
+                    let t: Vec<f64> = points[i]
+                        .iter()
+                        .zip(&points[i + 1])
+                        .map(|(a, b)| a + f * (b - a))
+                        .collect();
+                    crossings[k] += 1;
+                    out[k].0.push(t);
+                }
+            }
+            first += b.len();
+        }
+    }
+    // ... and of the others the lowest over every count, up to IN_ALL explored in all.
+    let explored: usize = out.iter().map(|o| o.0.len()).sum();
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    for (_, k, t) in candidates.into_iter().take(IN_ALL) {
+    for (_, k, t) in candidates.into_iter().take(IN_ALL.saturating_sub(explored)) {
         out[k].0.push(t.clone());
     }
     out
@@ -154,35 +205,56 @@ const CURVE_STEP: f64 = 0.25;
 const CURVE_LIMIT: f64 = 10.0;
 
 /// The separation states whose run-out ends at the rest position `target`, one per yaw rate of
-/// the scan: the rest position is two equations in the three unknowns, so (the friction held)
-/// the states that reach it form a curve, here followed by the yaw rate. At each yaw rate the
-/// CG velocity is solved by Newton's method (forward differences) from the last one's
-/// (continuation from 0 upwards and downwards, the first guess's velocity at 0). A yaw rate
-/// where it does not converge gives its best point and the next starts again from the first
-/// guess. With the points, the run-outs spent.
-fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, usize) {
-    let steps = (CURVE_LIMIT / CURVE_STEP).round() as i32;
-    let follow = |sign: f64| {
+/// the scan, branch by branch: the rest position is two equations in the three unknowns, so
+/// (the friction held) the states that reach it form curves, here followed by the yaw rate. At
+/// each yaw rate the CG velocity is solved by Newton's method (forward differences) from the
+/// last one's (continuation from 0 upwards and downwards, the seed's velocity at 0). A yaw
+/// rate where it does not converge gives its best point and the next starts again from the
+/// seed. The seeds: the first guess, and [`SEEDS`]. With the points of each branch (in the
+/// order of the scan), the run-outs spent.
+fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>>>, usize) {
+    let follow = |seed: &[f64], sign: f64, step: f64| {
+        let steps = (CURVE_LIMIT / step).round() as i32;
         let mut spent = 0;
         let mut points = Vec::new();
-        let mut from = guess.to_vec();
+        let mut from = seed.to_vec();
         for i in 0..=steps {
             if sign < 0.0 && i == 0 {
                 continue;
             }
-            let yaw = sign * CURVE_STEP * f64::from(i);
+            let yaw = sign * step * f64::from(i);
             let mut t = from.clone();
             t[2] = yaw;
             let (end, ok) = to_rest(p, t, target, &mut spent);
-            from = if ok { end.clone() } else { guess.to_vec() };
+            from = if ok { end.clone() } else { seed.to_vec() };
             points.push(end);
         }
         (points, spent)
     };
-    let ((mut up, a), (down, b)) = rayon::join(|| follow(1.0), || follow(-1.0));
-    up.extend(down);
-    (up, a + b)
+    // The first guess's branch, and the branches through faster states along its line and
+    // across it (a path many times the distance to the rest: a rolling car turned back by
+    // its steered wheels or its spin), followed at twice the step.
+    let mut seeds: Vec<(Vec<f64>, f64)> = vec![(guess.to_vec(), CURVE_STEP)];
+    for (turn, speed) in SEEDS {
+        let (s, c) = f64::sin_cos(turn);
+        let mut t = guess.to_vec();
+        t[0] = speed * (c * guess[0] - s * guess[1]);
+        t[1] = speed * (s * guess[0] + c * guess[1]);
+        bounded(&mut t);
+        seeds.push((t, 2.0 * CURVE_STEP));
+    }
+    let runs: Vec<(Vec<Vec<f64>>, usize)> = seeds
+        .par_iter()
+        .flat_map(|(seed, step)| [(seed, 1.0, *step), (seed, -1.0, *step)])
+        .map(|(seed, sign, step)| follow(seed, sign, step))
+        .collect();
+    let spent = runs.iter().map(|r| r.1).sum();
+    (runs.into_iter().map(|r| r.0).collect(), spent)
 }
+
+/// The other seeds of the rest curve: (turn off the first guess's direction, rad; its speed
+/// times).
+const SEEDS: [(f64, f64); 4] = [(0.0, 2.5), (0.0, 4.0), (1.2, 2.5), (-1.2, 2.5)];
 
 /// Newton's method on the CG velocity (the yaw rate held) to bring the run-out's rest to
 /// `target`: the state reached and whether it is within 1 % of the distance (and 0.5 m).

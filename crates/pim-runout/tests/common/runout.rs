@@ -120,6 +120,28 @@ struct Stretch {
     reached: bool,
 }
 
+/// A start as the reference's state: pose, velocities, and no distance yet.
+fn initial(start: &Motion) -> State7 {
+    State7::from([
+        start.x,
+        start.y,
+        start.heading,
+        start.vx,
+        start.vy,
+        start.yaw_rate,
+        0.0,
+    ])
+}
+
+/// The reference's run-out: where it ended, whether at rest (within 60 s), when, and the
+/// path's length (m).
+pub struct RefRun {
+    pub rest: [f64; 3],
+    pub stopped: bool,
+    pub time: f64,
+    pub distance: f64,
+}
+
 pub struct Reference<'a> {
     pub c: &'a Chassis,
     /// The time of the state being evaluated (for the driver's inputs).
@@ -373,15 +395,22 @@ impl Reference<'_> {
     /// by bisection over integrations from the step before it (not from a cubic through the
     /// step, as pim-runout does).
     pub fn run(&self, start: &Motion) -> ([f64; 3], bool) {
-        let y0 = State7::from([
-            start.x,
-            start.y,
-            start.heading,
-            start.vx,
-            start.vy,
-            start.yaw_rate,
-            0.0,
-        ]);
+        let r = self.run_out(start);
+        (r.rest, r.stopped)
+    }
+
+    /// The pose `(x, y, heading)` at time `t` after `start` (the rest's, once stopped): for a
+    /// chassis without inputs by distance.
+    pub fn pose_at(&self, start: &Motion, t: f64) -> [f64; 3] {
+        assert!(self.c.inputs.iter().all(|i| i.distance.is_none()));
+        let y0 = initial(start);
+        let s = self.pieces((0.0, y0), t, None).last.1;
+        [s[0], s[1], s[2]]
+    }
+
+    /// As [`Reference::run`], with the time and the path's length to rest.
+    pub fn run_out(&self, start: &Motion) -> RefRun {
+        let y0 = initial(start);
         let by_distance = self.c.inputs.iter().any(|i| i.distance.is_some());
         let mut chassis = self.c.clone();
         let mut state = (0.0, y0);
@@ -432,21 +461,29 @@ impl Reference<'_> {
         }
         model.t.set(state.0);
         let s: [f64; 6] = std::array::from_fn(|i| state.1[i]);
+        let (time, distance) = (state.0, state.1[6]);
         if !stopped {
-            return ([s[0], s[1], s[2]], false);
+            return RefRun {
+                rest: [s[0], s[1], s[2]],
+                stopped: false,
+                time,
+                distance,
+            };
         }
         let k =
             0.5 * (model.c.mass * (s[3] * s[3] + s[4] * s[4]) + model.c.yaw_inertia * s[5] * s[5]);
         let p = model.rates(&s)[3];
         let tau = if p > 0.0 { 2.0 * k / p } else { 0.0 };
-        (
-            [
+        RefRun {
+            rest: [
                 s[0] + s[3] * tau / 2.0,
                 s[1] + s[4] * tau / 2.0,
                 s[2] + s[5] * tau / 2.0,
             ],
-            true,
-        )
+            stopped: true,
+            time,
+            distance,
+        }
     }
 
     fn slow(&self, s: &[f64; 6]) -> bool {
