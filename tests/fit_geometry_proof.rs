@@ -161,13 +161,14 @@ fn draw(seed: u64) -> Option<(FitProblem, Vec<GeometryBound>)> {
     Some((p, bounds))
 }
 
-#[test]
-fn random_crashes_proofs_hold_against_sampled_geometries() {
+/// Proves the geometry fits of the first `crashes` random crashes and checks each proof against
+/// sampled geometries: (branches proven, bounded).
+fn random_proofs(crashes: usize) -> (usize, usize) {
     let make = |b: MomentBranch| settings(&[b], [0.0, 1.0], 20.0, 10.0);
     let all = settings(&MomentBranch::ALL, [0.0, 1.0], 20.0, 10.0);
     let mut rng = StdRng::seed_from_u64(30);
     let (mut proven, mut bounded, mut n) = (0, 0, 0);
-    for (p, g) in (1_000..).filter_map(draw).take(12) {
+    for (p, g) in (1_000..).filter_map(draw).take(crashes) {
         let t0 = std::time::Instant::now();
         let report = fit_geometry(&p, &g, &all).unwrap();
         print_proofs(&format!("crash {n} ({:.2?})", t0.elapsed()), &report);
@@ -177,6 +178,23 @@ fn random_crashes_proofs_hold_against_sampled_geometries() {
         n += 1;
     }
     println!("{n} crashes: {proven} branches proven, {bounded} bounded");
+    (proven, bounded)
+}
+
+/// The first four random crashes (the full run of twelve, 80 s, is
+/// `random_crashes_proofs_12`): every proof holds against the sampled geometries.
+#[test]
+fn random_crashes_proofs_hold_against_sampled_geometries() {
+    let (proven, bounded) = random_proofs(4);
+    // Measured: 7 of 8 proven; crash 1's zero branch stops at the box budget with its gap.
+    assert!(proven >= 7, "{proven} proven, {bounded} bounded");
+}
+
+/// Twelve random crashes.
+#[test]
+#[ignore]
+fn random_crashes_proofs_12() {
+    let (proven, bounded) = random_proofs(12);
     // Measured: 21 of 24 proven; the other three stop at the box budget with their gap.
     assert!(proven >= 20, "{proven} proven, {bounded} bounded");
 }

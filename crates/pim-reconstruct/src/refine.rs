@@ -396,17 +396,28 @@ fn evaluate(
     })
 }
 
+/// What a refinement does with a first point far (more than the margin) above what its
+/// linearisation predicted: the scenes' candidates are then far from the separation state the
+/// impact gives, and the linearisation that chose the point says nothing of the combination.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FarFirst {
+    /// Refined on from where the impact put it (a restart from the impact's side).
+    RefineOn,
+    /// Abandoned where it also lies more than the margin above the best found.
+    AboveBest,
+    /// Abandoned (a quick look, followed by a thorough search where it finds nothing that
+    /// fits: its run-outs far from the scene are costly to follow).
+    SetAside,
+}
+
 /// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,
-/// from the scene linearised at `start`. With `restart`, a first point far from what its
-/// linearisation predicted is refined on from where the impact put it (the linearisation that
-/// chose it says nothing of the combination); without, such a point far above `best_so_far`
-/// abandons the combination (the best found already fits, so only a combination whose
-/// linearisation holds could matter).
+/// from the scene linearised at `start`; a first point far from its linearisation is treated
+/// as `far` says, against `best_so_far`.
 pub(crate) fn refine(
     r: &Reconstruction,
     settings: &Settings,
     start: Vec<Lin>,
-    (best_so_far, restart): (f64, bool),
+    (best_so_far, far): (f64, FarFirst),
     work: &Work,
 ) -> std::result::Result<Refined, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
@@ -461,19 +472,14 @@ pub(crate) fn refine(
         };
         if accepted {
             let p = trial.expect("accepted");
-            // The first point far from what its linearisation predicted says only that the
-            // scenes' candidates are far from the separation state the impact gives: the
-            // linearisation that chose the point does not hold there, so it neither sets the
-            // combination aside nor bounds it. Where the best found does not fit (or none is
-            // found yet), the refinement goes on from the point, which the impact reaches,
-            // relinearised there (a restart from the impact's side); where it fits, the
-            // combination is left (its run-outs far from the scene are costly to follow).
+            // The first point far from what its linearisation predicted (see FarFirst).
             let margin = settings.refine_margin;
-            if !restart
-                && iterations == 1
-                && p.total > best_so_far + margin
-                && p.total > predicted + margin
-            {
+            let set_aside = match far {
+                FarFirst::RefineOn => false,
+                FarFirst::AboveBest => p.total > best_so_far + margin,
+                FarFirst::SetAside => true,
+            };
+            if set_aside && iterations == 1 && p.total > predicted + margin {
                 current = Some(p);
                 abandoned = true;
                 break;

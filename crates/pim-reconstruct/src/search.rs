@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::outcome::{Contradiction, Found, Outcome, Status, Tried, TriedCounts};
 use crate::point::{linearised, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::{assemble, refine, RefineEnd, Refined};
+use crate::refine::{assemble, refine, FarFirst, RefineEnd, Refined};
 use pim_runout::{Estimate, EstimateSettings};
 use rayon::prelude::*;
 
@@ -196,7 +196,13 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
             .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
             .collect();
         let Ok(start) = start else { return };
-        let Ok(x) = refine(&rk, settings, start, (f64::INFINITY, true), &work) else {
+        let Ok(x) = refine(
+            &rk,
+            settings,
+            start,
+            (f64::INFINITY, FarFirst::RefineOn),
+            &work,
+        ) else {
             return;
         };
         at = x.point.scene.iter().map(|l| l.at).collect();
@@ -355,15 +361,21 @@ fn search(
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        // A first point far from its linearisation is refined on (restarted from the impact's
-        // side) while the best found does not fit: a chi-square above its count of data. Only
-        // in the second search: the first is a quick look, and one whose answer does not fit
-        // is followed by the second, from every start.
-        let restart = scatter
-            && best.as_ref().is_none_or(|b| {
-                b.1.total > (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
-            });
-        match refine(r, settings, start, (lowest_best, restart), work) {
+        // A first point far from its linearisation: in the first search (a quick look,
+        // followed by the second where its answer does not fit) set aside; in the second,
+        // refined on (restarted from the impact's side) while the best found does not fit (a
+        // chi-square above its count of data), else set aside where far above the best.
+        let fitting = |b: &(usize, Point, usize, bool)| {
+            b.1.total <= (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
+        };
+        let far = if !scatter {
+            FarFirst::SetAside
+        } else if best.as_ref().is_some_and(fitting) {
+            FarFirst::AboveBest
+        } else {
+            FarFirst::RefineOn
+        };
+        match refine(r, settings, start, (lowest_best, far), work) {
             Ok(x) => {
                 // Only a refinement whose bound held (it ended within the margin of it) counts
                 // towards the cap: where the linearisation that ordered the combinations does
@@ -510,7 +522,7 @@ pub fn redo(
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        if let Ok(x) = refine(r, settings, start, (lowest, false), &work) {
+        if let Ok(x) = refine(r, settings, start, (lowest, FarFirst::AboveBest), &work) {
             if x.point.total < lowest {
                 found = Some(x);
             }

@@ -357,13 +357,18 @@ fn realistic_cases_are_answered_and_their_intervals_cover() {
     assert!(rate >= 17.0 / 24.0, "coverage {rate}");
 }
 
-/// The full figure: 200 cases, 100 draws each: none refused, none above the truth's
-/// chi-square, the 90 % intervals of the contact speeds hold the truth in 85-95 %.
+/// The full figure: 200 cases, 100 draws each (`CASES` and `DRAWS` change them, for a shorter
+/// look): none refused, none above the truth's chi-square, the 90 % intervals of the contact
+/// speeds hold the truth in 85-95 %.
 #[test]
 #[ignore]
 fn realistic_cases_200() {
-    let results = sweep(200, 100_000, 100);
-    assert_eq!(results.len(), 200);
+    let number = |name: &str, default: usize| {
+        std::env::var(name).map_or(default, |v| v.parse().expect("a whole number"))
+    };
+    let (cases, draws) = (number("CASES", 200), number("DRAWS", 100));
+    let results = sweep(cases, 100_000, draws);
+    assert_eq!(results.len(), cases);
     let rate = check(&results);
     assert!((0.85..=0.95).contains(&rate), "coverage {rate}");
 }

@@ -213,11 +213,15 @@ const CURVE_LIMIT: f64 = 10.0;
 /// seed. The seeds: the first guess, and [`SEEDS`]. With the points of each branch (in the
 /// order of the scan), the run-outs spent.
 fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>>>, usize) {
-    let follow = |seed: &[f64], sign: f64, step: f64| {
+    // A branch of the guess's is followed over every yaw rate; another is given up after
+    // GIVE_UP yaw rates in a row where Newton's method does not reach the rest (each such
+    // costs up to 24 run-outs: the seed is on no branch there).
+    let follow = |seed: &[f64], sign: f64, step: f64, persistent: bool| {
         let steps = (CURVE_LIMIT / step).round() as i32;
         let mut spent = 0;
         let mut points = Vec::new();
         let mut from = seed.to_vec();
+        let mut failed = 0;
         for i in 0..=steps {
             if sign < 0.0 && i == 0 {
                 continue;
@@ -227,30 +231,37 @@ fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>
             t[2] = yaw;
             let (end, ok) = to_rest(p, t, target, &mut spent);
             from = if ok { end.clone() } else { seed.to_vec() };
+            failed = if ok { 0 } else { failed + 1 };
             points.push(end);
+            if !persistent && failed >= GIVE_UP {
+                break;
+            }
         }
         (points, spent)
     };
     // The first guess's branch, and the branches through faster states along its line and
     // across it (a path many times the distance to the rest: a rolling car turned back by
     // its steered wheels or its spin), followed at twice the step.
-    let mut seeds: Vec<(Vec<f64>, f64)> = vec![(guess.to_vec(), CURVE_STEP)];
+    let mut seeds: Vec<(Vec<f64>, f64, bool)> = vec![(guess.to_vec(), CURVE_STEP, true)];
     for (turn, speed) in SEEDS {
         let (s, c) = f64::sin_cos(turn);
         let mut t = guess.to_vec();
         t[0] = speed * (c * guess[0] - s * guess[1]);
         t[1] = speed * (s * guess[0] + c * guess[1]);
         bounded(&mut t);
-        seeds.push((t, 2.0 * CURVE_STEP));
+        seeds.push((t, 2.0 * CURVE_STEP, false));
     }
     let runs: Vec<(Vec<Vec<f64>>, usize)> = seeds
         .par_iter()
-        .flat_map(|(seed, step)| [(seed, 1.0, *step), (seed, -1.0, *step)])
-        .map(|(seed, sign, step)| follow(seed, sign, step))
+        .flat_map(|(seed, step, all)| [(seed, 1.0, *step, *all), (seed, -1.0, *step, *all)])
+        .map(|(seed, sign, step, all)| follow(seed, sign, step, all))
         .collect();
     let spent = runs.iter().map(|r| r.1).sum();
     (runs.into_iter().map(|r| r.0).collect(), spent)
 }
+
+/// Yaw rates in a row without the rest after which a seed's branch is given up.
+const GIVE_UP: i32 = 3;
 
 /// The other seeds of the rest curve: (turn off the first guess's direction, rad; its speed
 /// times).
