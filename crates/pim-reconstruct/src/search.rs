@@ -184,7 +184,11 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
     let (Some(end), counts) = (out.tried[i].end.clone(), out.tried[i].counts.clone()) else {
         return;
     };
-    let work = crate::refine::Work::new(settings.refine_work);
+    // What the two searches left of the one budget of work.
+    let work = crate::refine::Work::new(settings.refine_work.saturating_sub(out.work));
+    if work.exhausted() {
+        return;
+    }
     let mut at = end;
     let mut last = None;
     for k in CONTINUATION {
@@ -207,6 +211,12 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
         };
         at = x.point.scene.iter().map(|l| l.at).collect();
         out.fits += x.fits;
+        // Narrowing the scene's deviations only raises the minimum (each scene term's weight
+        // grows, the others stay): a stage already refused cannot lead to an answer.
+        if Found::new(&rk, x.point.clone(), x.iterations, x.converged).refused() {
+            out.work += work.spent();
+            return;
+        }
         // The last stage is the evidence as given.
         last = Some(x);
     }
@@ -361,14 +371,17 @@ fn search(
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        // A first point far from its linearisation: in the first search (a quick look,
-        // followed by the second where its answer does not fit) set aside; in the second,
-        // refined on (restarted from the impact's side) while the best found does not fit (a
-        // chi-square above its count of data), else set aside where far above the best.
+        // A first point far from its linearisation: refined on (restarted from the impact's
+        // side) while nothing is found, so that every search has an answer; then, in the first
+        // search (a quick look, followed by the second where its answer does not fit) set
+        // aside; in the second, refined on while the best found does not fit (a chi-square
+        // above its count of data), else set aside where far above the best.
         let fitting = |b: &(usize, Point, usize, bool)| {
             b.1.total <= (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
         };
-        let far = if !scatter {
+        let far = if best.is_none() {
+            FarFirst::RefineOn
+        } else if !scatter {
             FarFirst::SetAside
         } else if best.as_ref().is_some_and(fitting) {
             FarFirst::AboveBest
