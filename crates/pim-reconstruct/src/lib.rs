@@ -91,7 +91,10 @@
 //!    that crawled along a curved valley of the full evidence, or stopped in a basin the
 //!    contact evidence does not want, is led around it; the lower answer is kept. (Two cases
 //!    whose vehicle 2 at contact differs by 0.1 ft once answered at 31.2 and 5,977; with the
-//!    continuation at 31.2 and 31.7.)
+//!    continuation at 31.2 and 31.7.) It spends what the two searches left of the one budget
+//!    of work, and stops at a stage whose answer the evidence already refuses: narrowing the
+//!    scene's deviations raises each scene term's weight and leaves the others, so the minimum
+//!    can only rise, and the refusal stands.
 //!
 //! ## What is proven and what is the best found
 //! At the answer, the coefficients and both velocity states are the certified global optimum
