@@ -40,6 +40,10 @@ fn directions() -> impl Iterator<Item = f64> {
 }
 /// Its speeds as multiples of the first guess's.
 const SPEEDS: [f64; 5] = [0.7, 0.9, 1.1, 1.3, 1.5];
+/// Where a scatter point's run-out ends: the count it ends nearest, its cost there and its
+/// count of residuals.
+type End = (usize, f64, usize);
+
 /// Distinct scatter points kept per count...
 const PER_COUNT: usize = 6;
 /// ... and explored in all, the lowest over every count.
@@ -86,23 +90,25 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
     let problems: Vec<Problem> = headings.iter().map(|&h| problem(h)).collect();
     let heading = |k: usize| problems[k].heading;
     // Each point's run-out, the count it ends nearest, and its cost there.
-    let rests: Vec<Option<f64>> = points
-        .par_iter()
-        .map(|t| problems[0].runout(t).ok().map(|r| r.rest.heading))
-        .collect();
-    let ends: Vec<Option<(usize, f64, usize)>> = points
+    // Each point's run-out once: its rest heading, the count it ends nearest, its cost there.
+    let runs: Vec<Option<(f64, Option<End>)>> = points
         .par_iter()
         .map(|t| {
             let run = problems[0].runout(t).ok()?;
             let k = (0..headings.len()).min_by(|&a, &b| {
                 let off = |i: usize| heading(i).map_or(0.0, |h| (run.rest.heading - h).abs());
                 off(a).total_cmp(&off(b))
-            })?;
-            let residuals = problems[k].residuals(t, &run);
-            let cost: f64 = residuals.iter().map(|r| (r.value / r.sigma).powi(2)).sum();
-            cost.is_finite().then_some((k, cost, residuals.len()))
+            });
+            let end = k.and_then(|k| {
+                let residuals = problems[k].residuals(t, &run);
+                let cost: f64 = residuals.iter().map(|r| (r.value / r.sigma).powi(2)).sum();
+                cost.is_finite().then_some((k, cost, residuals.len()))
+            });
+            Some((run.rest.heading, end))
         })
         .collect();
+    let rests: Vec<Option<f64>> = runs.iter().map(|r| r.map(|r| r.0)).collect();
+    let ends: Vec<Option<End>> = runs.iter().map(|r| r.and_then(|r| r.1)).collect();
     let mut by_count: Vec<Vec<(f64, &Vec<f64>, bool)>> = vec![Vec::new(); headings.len()];
     for (t, e) in points.iter().zip(&ends) {
         if let Some((k, cost, n)) = e {
