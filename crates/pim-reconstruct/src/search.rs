@@ -18,8 +18,11 @@ fn candidates(
     settings: &Settings,
     vehicle: usize,
     scatter: bool,
+    mus: &[f64],
 ) -> Result<Estimate> {
     let s = &r.scene[vehicle];
+    // On the road friction the search starts from (see `search`).
+    let (chassis, _) = crate::point::runout_of(r, vehicle, [0.0; 3], mus);
     // The road friction is held at its value in the reconstruction (its spread is drawn by an
     // uncertainty study), so the scene alone is searched with it held too.
     let evidence = pim_runout::Evidence {
@@ -41,7 +44,7 @@ fn candidates(
         quick: !scatter,
         ..EstimateSettings::default()
     };
-    Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
+    Ok(pim_runout::estimate(&chassis, &s.pose, &evidence, &es)?)
 }
 
 /// A separation state the refinement may start from: a scene's candidate for a count of
@@ -97,146 +100,8 @@ fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
     out
 }
 
-/// Reconstructs the collision: see the crate docs.
-///
-/// # Errors
-/// Input the search cannot use ([`crate::ReconstructError`]). A scene no admissible impact
-/// reaches is an [`Outcome`] with [`Status::NoSolution`].
-pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
-    r.check()?;
-    // One budget of work for both searches. The first may spend half of it: a first search
-    // that refines many combinations far from their scenes (each one's run-outs long and
-    // slow) must not leave the second, from the scatter, nothing; where the first answer
-    // fits, the second is not needed.
-    let work = crate::refine::Work::new(settings.refine_work / 2);
-    let first = search(r, settings, false, &work)?;
-    let fits_well = first.best.as_ref().is_some_and(|b| {
-        pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
-            .is_some_and(|p| p >= settings.scatter_below_p)
-    });
-    if fits_well {
-        return Ok(searched(r, first));
-    }
-    // The second search refines with at most as much work again as the first spent (and at
-    // least a quarter of the budget), within what is left: a bound of its time on evidence
-    // whose impact fits or run-outs are slow.
-    let spent = work.spent();
-    let limit = (spent + spent.max(settings.refine_work / 4)).min(settings.refine_work);
-    let work = crate::refine::Work::new(limit);
-    work.add(spent);
-    let second = search(r, settings, true, &work)?;
-    let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
-    let (runouts, fits, work) = (
-        first.runouts + second.runouts,
-        first.fits + second.fits,
-        work.spent(),
-    );
-    let mut out = if cost(&second) <= cost(&first) {
-        second
-    } else {
-        first
-    };
-    out.runouts = runouts;
-    out.fits = fits;
-    out.work = work;
-    out.first_work = spent;
-    out.scattered = true;
-    if out.status == Status::Inconsistent {
-        continue_best(r, settings, &mut out);
-    }
-    Ok(searched(r, out))
-}
-
-/// The scene's standard deviations widened `k` times (rest positions, headings and marks).
-fn widened(r: &Reconstruction, k: f64) -> Reconstruction {
-    let mut w = r.clone();
-    for s in &mut w.scene {
-        if let Some(rest) = s.evidence.rest.as_mut() {
-            rest.sigma_xy = rest.sigma_xy.map(|x| x * k);
-            rest.sigma_heading *= k;
-        }
-        for m in &mut s.evidence.marks {
-            m.sigma *= k;
-        }
-    }
-    w
-}
-
-/// The widenings of the scene's standard deviations a continuation passes through, the last
-/// the evidence as given.
-const CONTINUATION: [f64; 5] = [16.0, 8.0, 4.0, 2.0, 1.0];
-
-/// A refused answer searched once more before it is refused: the best combination of counts
-/// refined by continuation, from its end, first with the scene's standard deviations widened
-/// sixteen times (the impact and the contact evidence lead, the scene only pulls), then
-/// narrowed step by step to the evidence as given, each stage refined from the one before. A
-/// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
-/// contact evidence does not want, is led around it. The lower of the two answers is kept.
-fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
-    let Some(best) = out.best.as_ref() else {
-        return;
-    };
-    let Some(i) = out.tried.iter().position(|t| {
-        matches!(t.state, Tried::Refined { cost, .. } if (cost - best.chi_square).abs() <= 1e-9 * (1.0 + cost))
-    }) else {
-        return;
-    };
-    let (Some(end), counts) = (out.tried[i].end.clone(), out.tried[i].counts.clone()) else {
-        return;
-    };
-    // What the two searches left of the one budget of work.
-    let work = crate::refine::Work::new(settings.refine_work.saturating_sub(out.work));
-    if work.exhausted() {
-        return;
-    }
-    let mut at = end;
-    let mut last = None;
-    for k in CONTINUATION {
-        let rk = widened(r, k);
-        let mus = crate::point::stated_frictions(&rk);
-        let start: Result<Vec<Lin>> = at
-            .iter()
-            .enumerate()
-            .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
-            .collect();
-        let Ok(start) = start else { return };
-        let Ok(x) = refine(
-            &rk,
-            settings,
-            start,
-            (f64::INFINITY, FarFirst::RefineOn),
-            &work,
-        ) else {
-            return;
-        };
-        at = x.point.scene.iter().map(|l| l.at).collect();
-        out.fits += x.fits;
-        // Narrowing the scene's deviations only raises the minimum (each scene term's weight
-        // grows, the others stay): a stage already refused cannot lead to an answer.
-        if Found::new(&rk, x.point.clone(), x.iterations, x.converged).refused() {
-            out.work += work.spent();
-            return;
-        }
-        // The last stage is the evidence as given.
-        last = Some(x);
-    }
-    out.work += work.spent();
-    let Some(x) = last else { return };
-    if x.point.total >= best.chi_square {
-        return;
-    }
-    out.tried[i].state = Tried::Refined {
-        cost: x.point.total,
-        iterations: x.iterations,
-        converged: x.converged,
-        abandoned: false,
-    };
-    out.tried[i].end = Some(x.point.scene.iter().map(|l| l.at).collect());
-    answered(r, out, Found::new(r, x.point, x.iterations, x.converged));
-}
-
 /// A refusal says what was searched: it rests on a search, not a proof.
-fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
+pub(crate) fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
     let refined = out
         .tried
         .iter()
@@ -261,22 +126,28 @@ fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
 
 /// One search: the scenes' candidates (from a scatter too, with `scatter`), the bounds, the
 /// refinements.
-fn search(
+pub(crate) fn search(
     r: &Reconstruction,
     settings: &Settings,
-    scatter: bool,
+    (scatter, shift): (bool, f64),
     work: &crate::refine::Work,
 ) -> Result<Outcome> {
+    // The fitted road frictions the scenes are searched on and the refinements start from:
+    // the stated ones moved `shift` standard deviations.
+    let mus: Vec<f64> = r
+        .frictions
+        .iter()
+        .map(|f| f.value + shift * f.sigma)
+        .collect();
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
-        .map(|i| candidates(r, settings, i, scatter))
+        .map(|i| candidates(r, settings, i, scatter, &mus))
         .collect::<Result<_>>()?;
     let mut runouts: usize = estimates
         .iter()
         .flat_map(|e| e.candidates.iter().map(|c| c.runouts))
         .sum();
     let starts = starts_of(&estimates);
-    let mus = crate::point::stated_frictions(r);
     // Each start linearised once (shared by every combination it is part of).
     let lins: Vec<Vec<Option<Lin>>> = starts
         .iter()
@@ -544,22 +415,6 @@ pub fn redo(
     Ok(found.map(|x| Found::new(r, x.point, x.iterations, x.converged)))
 }
 
-/// The reconstruction of evidence a little changed from that of `previous` (a rest position
-/// dragged on the plan): the combinations `previous` refined to within
-/// [`Settings::refine_margin`] of its best are refined again from where they ended ([`redo`]),
-/// the lowest kept; the scenes are not searched again, and the outcome keeps `previous`'s list
-/// of the combinations compared. A fast answer to follow a change with (a few Gauss-Newton
-/// steps), not a search: where none of them refines, the whole search runs.
-///
-/// # Errors
-/// Input the search cannot use.
-pub fn follow(r: &Reconstruction, settings: &Settings, previous: &Outcome) -> Result<Outcome> {
-    match refined_from(r, settings, previous)? {
-        Some(out) => Ok(out),
-        None => reconstruct(r, settings),
-    }
-}
-
 /// [`follow`] without its fallback: `previous`'s outcome with the answer its combinations give
 /// refined again from where they ended ([`redo`]), or `None` where none of them refines (no
 /// search is run then).
@@ -581,7 +436,7 @@ pub fn refined_from(
 
 /// `out` with `found` as its answer: its status, and the contradiction where the evidence
 /// refuses it.
-fn answered(r: &Reconstruction, out: &mut Outcome, found: Found) {
+pub(crate) fn answered(r: &Reconstruction, out: &mut Outcome, found: Found) {
     let contradiction = crate::outcome::contradiction(r, &found);
     out.status = if contradiction.is_some() {
         Status::Inconsistent
@@ -598,7 +453,7 @@ fn answered(r: &Reconstruction, out: &mut Outcome, found: Found) {
 /// One entry per combination of counts of turns, in the order they first appear: where several
 /// starts of the same counts were tried, the one refined to the lowest cost (else the one with
 /// the lowest momentum bound), its scene-alone cost the lowest of them.
-fn one_per_counts(all: Vec<TriedCounts>) -> Vec<TriedCounts> {
+pub(crate) fn one_per_counts(all: Vec<TriedCounts>) -> Vec<TriedCounts> {
     let rank = |t: &TriedCounts| match t.state {
         Tried::Refined { cost, .. } => (0, cost),
         Tried::NotRefined { .. } => (1, t.momentum_bound.unwrap_or(f64::INFINITY)),

@@ -23,7 +23,6 @@
 //! [`MAX_PAIR_GROUPS`] groups). The whole table stays within [`TABLE_WORK`].
 
 use crate::documents::DocumentError;
-use crate::reconstruct::reconstruct;
 use pim_case::case::Case;
 use pim_documents::reconstruct_doc::ReconstructionOut;
 pub use pim_documents::reconstruct_doc::{Consistency, LeftOut};
@@ -223,7 +222,7 @@ fn left_out_row(
     how: crate::reconstruct::How,
     whole: &crate::reconstruct::Reconstructed,
 ) -> Result<ReconstructionOut, DocumentError> {
-    let fresh = crate::reconstruct::reconstruct_searching(case, how, false)?;
+    let fresh = crate::reconstruct::reconstruct_searching(case, how, false, &[])?;
     let ids =
         |r: &pim_reconstruct::Reconstruction| r.scene.iter().map(|s| s.id).collect::<Vec<_>>();
     let same_scenes = ids(&fresh.input.reconstruction) == ids(&whole.input.reconstruction);
@@ -548,7 +547,26 @@ pub fn answer(
     branches: Vec<MomentBranch>,
     observer: &dyn crate::watch::Observer,
 ) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
-    let mut done = reconstruct(case, model, moment_form, branches.clone())?;
+    answer_from(case, (model, moment_form, branches), &[], observer)
+}
+
+/// [`answer`], the reconstruction also refined from an earlier answer's states
+/// ([`crate::reconstruct::reconstruct_searching`]).
+///
+/// # Errors
+/// Bad input ([`DocumentError::Input`], located).
+pub fn answer_from(
+    case: &Case,
+    (model, moment_form, branches): (pim_fit::FitModel, pim_core::MomentForm, Vec<MomentBranch>),
+    earlier: &[crate::earlier::EarlierState],
+    observer: &dyn crate::watch::Observer,
+) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
+    let how = crate::reconstruct::How {
+        model,
+        moment_form,
+        branches: branches.clone(),
+    };
+    let mut done = crate::reconstruct::reconstruct_searching(case, how, true, earlier)?;
     if wanted(&done.document) {
         let t = table(case, &done, model, moment_form, &branches, observer);
         done.document.consistency = Some(t);

@@ -35,6 +35,7 @@ pub mod damage_assess;
 mod damage_draws;
 pub mod damage_fit;
 pub mod documents;
+pub mod earlier;
 pub mod fitcase;
 pub mod intervals;
 mod measured_inputs;

@@ -1,8 +1,7 @@
 //! A case's reconstruction (`pim fit` of a case with scene evidence): the case's contact
 //! evidence, its EDR speeds and pre-impact marks, and each vehicle's scene, through
-//! [`pim_reconstruct`], and the document of the answer.
-//!
-//! The JSON is SI in the natural frame, angles in degrees, like every other document.
+//! [`pim_reconstruct`], and the document of the answer (SI in the natural frame, angles in
+//! degrees, like every other document).
 
 use crate::documents::DocumentError;
 use crate::fitcase::{self, CostChoice};
@@ -313,13 +312,14 @@ pub fn reconstruct(
     let how = How {
         model,
         moment_form,
-        branches: branches.clone(),
+        branches,
     };
-    reconstruct_searching(case, how, true)
+    reconstruct_searching(case, how, true, &[])
 }
 
 /// As [`reconstruct`]; without `second_search` an answer that fits worse than its median is
-/// not searched again (a row of the consistency table, compared with the others).
+/// not searched again (a row of the consistency table); with `earlier` (an earlier answer's
+/// states, [`crate::earlier::earlier_states`]) also refined from them, the lower answer kept.
 ///
 /// # Errors
 /// Bad input ([`DocumentError::Input`], located).
@@ -327,12 +327,14 @@ pub fn reconstruct_searching(
     case: &Case,
     how: How,
     second_search: bool,
+    earlier: &[pim_reconstruct::EarlierState],
 ) -> Result<Reconstructed, DocumentError> {
     let mut input = case_reconstruction(case, how.model, how.moment_form, how.branches.clone())?;
     if !second_search {
         input.settings.scatter_below_p = 0.0;
     }
-    let outcome = pim_reconstruct::reconstruct(&input.reconstruction, &input.settings)
+    let r = (&input.reconstruction, &input.settings);
+    let outcome = pim_reconstruct::reconstruct_from(r.0, r.1, earlier)
         .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
     let document = document(&input, &outcome);
     Ok(Reconstructed {

@@ -21,6 +21,15 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
     if asked.question == Question::Reconstruction {
         return reconstruction(a, &case, warnings);
     }
+    if let Some(from) = &a.from {
+        return Err(Failure::Input(format!(
+            "--from {}: {} has no scene evidence (no [scene] rest or mark): its fit is a global \
+             optimum with nothing to start from",
+            from.display(),
+            case.file
+        ))
+        .into());
+    }
     if let Some(why) =
         pim_render::diagram::estimated_contact(&case).and_then(|v| case.explain_not_approaching(&v))
     {
@@ -105,9 +114,18 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
 fn reconstruction(a: &FitArgs, case: &pim_case::case::Case, warnings: usize) -> Result<ExitCode> {
     // The consistency table of a conflicting scene takes seconds: its rows on a bar.
     let bar = super::study::Bar::on_terminal(a.format == crate::args::Format::Table);
+    let earlier = match &a.from {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| Failure::Input(format!("{}: cannot read: {e}", path.display())))?;
+            pim_studies::earlier::earlier_states(&path.display().to_string(), &text)
+                .map_err(Failure::from)?
+        }
+        None => Vec::new(),
+    };
+    let how = (a.model, a.moment_form, unique(&a.branch));
     let done =
-        pim_studies::consistency::answer(case, a.model, a.moment_form, unique(&a.branch), &bar)
-            .map_err(Failure::from)?;
+        pim_studies::consistency::answer_from(case, how, &earlier, &bar).map_err(Failure::from)?;
     bar.0.finish_and_clear();
     let d = &done.document;
     let units = a.units.map_or_else(

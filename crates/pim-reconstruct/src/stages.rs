@@ -1,0 +1,171 @@
+//! The stages of a reconstruction: the first search, the second from the scatter, the
+//! continuation and the shifted frictions before a refusal (see the crate docs, steps 1 to 6).
+
+use crate::error::Result;
+use crate::outcome::{Found, Outcome, Status, Tried};
+use crate::point::{linearised, Lin};
+use crate::problem::{Reconstruction, Settings};
+use crate::refine::{refine, FarFirst};
+use crate::search::{answered, refined_from, search, searched};
+
+/// Reconstructs the collision: see the crate docs.
+///
+/// # Errors
+/// Input the search cannot use ([`crate::ReconstructError`]). A scene no admissible impact
+/// reaches is an [`Outcome`] with [`Status::NoSolution`].
+pub fn reconstruct(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
+    Ok(searched(r, unsaid(r, settings)?))
+}
+
+/// [`reconstruct`] before its refusal says what was searched.
+pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome> {
+    r.check()?;
+    // One budget of work for both searches. The first may spend half of it: a first search
+    // that refines many combinations far from their scenes (each one's run-outs long and
+    // slow) must not leave the second, from the scatter, nothing; where the first answer
+    // fits, the second is not needed.
+    let work = crate::refine::Work::new(settings.refine_work / 2);
+    let first = search(r, settings, (false, 0.0), &work)?;
+    let fits_well = first.best.as_ref().is_some_and(|b| {
+        pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
+            .is_some_and(|p| p >= settings.scatter_below_p)
+    });
+    if fits_well {
+        return Ok(first);
+    }
+    // The second search refines with at most as much work again as the first spent (and at
+    // least a quarter of the budget), within what is left: a bound of its time on evidence
+    // whose impact fits or run-outs are slow.
+    let spent = work.spent();
+    let limit = (spent + spent.max(settings.refine_work / 4)).min(settings.refine_work);
+    let work = crate::refine::Work::new(limit);
+    work.add(spent);
+    let second = search(r, settings, (true, 0.0), &work)?;
+    let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
+    let (runouts, fits, work) = (
+        first.runouts + second.runouts,
+        first.fits + second.fits,
+        work.spent(),
+    );
+    let mut out = if cost(&second) <= cost(&first) {
+        second
+    } else {
+        first
+    };
+    out.runouts = runouts;
+    out.fits = fits;
+    out.work = work;
+    out.first_work = spent;
+    out.scattered = true;
+    if out.status == Status::Inconsistent {
+        continue_best(r, settings, &mut out);
+    }
+    if out.status == Status::Inconsistent {
+        crate::shifted::search_shifted(r, settings, &mut out)?;
+    }
+    Ok(out)
+}
+
+/// The scene's standard deviations widened `k` times (rest positions, headings and marks).
+fn widened(r: &Reconstruction, k: f64) -> Reconstruction {
+    let mut w = r.clone();
+    for s in &mut w.scene {
+        if let Some(rest) = s.evidence.rest.as_mut() {
+            rest.sigma_xy = rest.sigma_xy.map(|x| x * k);
+            rest.sigma_heading *= k;
+        }
+        for m in &mut s.evidence.marks {
+            m.sigma *= k;
+        }
+    }
+    w
+}
+
+/// The widenings of the scene's standard deviations a continuation passes through, the last
+/// the evidence as given.
+const CONTINUATION: [f64; 5] = [16.0, 8.0, 4.0, 2.0, 1.0];
+
+/// A refused answer searched once more before it is refused: the best combination of counts
+/// refined by continuation, from its end, first with the scene's standard deviations widened
+/// sixteen times (the impact and the contact evidence lead, the scene only pulls), then
+/// narrowed step by step to the evidence as given, each stage refined from the one before. A
+/// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
+/// contact evidence does not want, is led around it. The lower of the two answers is kept.
+fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
+    let Some(best) = out.best.as_ref() else {
+        return;
+    };
+    let Some(i) = out.tried.iter().position(|t| {
+        matches!(t.state, Tried::Refined { cost, .. } if (cost - best.chi_square).abs() <= 1e-9 * (1.0 + cost))
+    }) else {
+        return;
+    };
+    let (Some(end), counts) = (out.tried[i].end.clone(), out.tried[i].counts.clone()) else {
+        return;
+    };
+    // What the two searches left of the one budget of work.
+    let work = crate::refine::Work::new(settings.refine_work.saturating_sub(out.work));
+    if work.exhausted() {
+        return;
+    }
+    let mut at = end;
+    let mut last = None;
+    for k in CONTINUATION {
+        let rk = widened(r, k);
+        let mus = crate::point::stated_frictions(&rk);
+        let start: Result<Vec<Lin>> = at
+            .iter()
+            .enumerate()
+            .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
+            .collect();
+        let Ok(start) = start else { return };
+        let Ok(x) = refine(
+            &rk,
+            settings,
+            start,
+            (f64::INFINITY, FarFirst::RefineOn),
+            &work,
+        ) else {
+            return;
+        };
+        at = x.point.scene.iter().map(|l| l.at).collect();
+        out.fits += x.fits;
+        // Narrowing the scene's deviations only raises the minimum (each scene term's weight
+        // grows, the others stay): a stage already refused cannot lead to an answer.
+        if Found::new(&rk, x.point.clone(), x.iterations, x.converged).refused() {
+            out.work += work.spent();
+            return;
+        }
+        // The last stage is the evidence as given.
+        last = Some(x);
+    }
+    out.work += work.spent();
+    let Some(x) = last else { return };
+    if x.point.total >= best.chi_square {
+        return;
+    }
+    out.tried[i].state = Tried::Refined {
+        cost: x.point.total,
+        iterations: x.iterations,
+        converged: x.converged,
+        abandoned: false,
+    };
+    out.tried[i].end = Some(x.point.scene.iter().map(|l| l.at).collect());
+    answered(r, out, Found::new(r, x.point, x.iterations, x.converged));
+}
+
+/// The reconstruction of evidence a little changed from that of `previous` (a rest position
+/// dragged on the plan): the combinations `previous` refined to within
+/// [`Settings::refine_margin`] of its best are refined again from where they ended ([`crate::redo`]),
+/// the lowest kept; the scenes are not searched again, and the outcome keeps `previous`'s list
+/// of the combinations compared. A fast answer to follow a change with (a few Gauss-Newton
+/// steps), not a search: where none of them refines, the whole search runs.
+///
+/// # Errors
+/// Input the search cannot use.
+pub fn follow(r: &Reconstruction, settings: &Settings, previous: &Outcome) -> Result<Outcome> {
+    match refined_from(r, settings, previous)? {
+        Some(out) => Ok(out),
+        None => reconstruct(r, settings),
+    }
+}
