@@ -29,7 +29,7 @@ pub(crate) fn search_shifted(
     settings: &Settings,
     out: &mut Outcome,
 ) -> Result<()> {
-    if r.frictions.is_empty() {
+    if r.frictions.is_empty() || !settings.shift_frictions {
         return Ok(());
     }
     for shift in FRICTION_SHIFTS {
