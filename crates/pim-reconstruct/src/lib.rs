@@ -79,9 +79,15 @@
 //!    two answers is kept ([`Outcome::scattered`]). The two searches share one budget of work
 //!    ([`Settings::refine_work`]): the first may spend half of it (one that refines many
 //!    combinations far from their scenes, each with long and slow run-outs, must leave the
-//!    second its turn), the second as much as the first did (at least a quarter of the
-//!    budget), no more. Only the second refines on from a first point far from its
-//!    linearisation while the best found does not fit (step 3); the first, a quick look, sets
+//!    second its turn), the second as much as the first did (at least half the budget), no
+//!    more; one refinement may spend at most a
+//!    third of a search's budget (one combination crawling along a curved valley must leave
+//!    the others theirs: a crash whose first refinement spent the whole of it was refused at
+//!    383 with the true combination, whose bound was the second lowest, never refined; it
+//!    answers at 5.1). Only the second refines on from a first point far from its
+//!    linearisation while the best found does not fit (step 3), and only there is a
+//!    combination refined whatever its momentum bound while the best found does not fit (the
+//!    bound is one of the linearised problem, not a proof); the first, a quick look, sets
 //!    such a combination aside once something is found.
 //!
 //! 5. **Continuation before a refusal**: an answer the evidence would refuse is searched once
@@ -96,18 +102,7 @@
 //!    scene's deviations raises each scene term's weight and leaves the others, so the minimum
 //!    can only rise, and the refusal stands.
 //!
-//! 6. **The friction moved before a refusal**: where the answer is still refused and a road
-//!    friction is fitted (stated with its standard deviation), steps 1 to 3 of the second
-//!    search are repeated with the scenes searched on that friction 1.5 standard deviations
-//!    lower, then higher, each refinement starting there (the friction's prior stays at its
-//!    stated value), each with a quarter of the budget of work; the lowest answer is kept. A
-//!    count's scene solutions move fast with the friction (a free-rolling car's rest moves
-//!    tens of metres for 0.05: its sliding phase sets the speed it rolls on with), so the one
-//!    the impact wants on the true friction may lie on no branch of those on the stated one,
-//!    and the thin valley between them is not followed by the refinement (a crash refused at
-//!    8,585 on the stated friction, 0.78 against the true 0.70, answers at 29.3).
-//!
-//! 7. **An earlier answer** ([`reconstruct_from`]): the answer of the case before an edit or
+//! 6. **An earlier answer** ([`reconstruct_from`]): the answer of the case before an edit or
 //!    of a neighbouring case, refined on this one; the lower answer is kept.
 //!
 //! ## What is proven and what is the best found
@@ -146,7 +141,6 @@ mod problem;
 mod refine;
 mod relax;
 mod search;
-mod shifted;
 mod stages;
 
 pub use error::{ReconstructError, Result};

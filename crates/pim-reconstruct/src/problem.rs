@@ -422,10 +422,6 @@ pub struct Settings {
     /// An answer whose chi-square's probability lies below this is searched again from a
     /// scatter of separation states ([`SCATTER_BELOW_P`], its median; 0: never).
     pub scatter_below_p: f64,
-    /// A refused answer is searched again on the fitted road frictions moved by their
-    /// standard deviations (the crate docs, step 6; two more searches from the scatter). Off
-    /// in the draws of an uncertainty study, which draw the friction themselves.
-    pub shift_frictions: bool,
 }
 
 impl Settings {
@@ -443,7 +439,6 @@ impl Settings {
             max_refined: 6,
             refine_work: REFINE_WORK,
             scatter_below_p: SCATTER_BELOW_P,
-            shift_frictions: true,
         }
     }
 }

@@ -52,6 +52,14 @@ impl Work {
     pub(crate) fn exhausted(&self) -> bool {
         self.spent() > self.limit
     }
+
+    /// A share of what is left for one refinement: at most a third of the whole budget, so
+    /// that one combination crawling along a curved valley (or refined far from its scenes)
+    /// leaves the others their turn; the refinement's spending is added back with
+    /// [`Work::add`].
+    pub(crate) fn share(&self) -> Work {
+        Work::new((self.limit / 3).min(self.limit.saturating_sub(self.spent())))
+    }
 }
 
 /// An impact fit's work in run-out evaluations (a run-out's right-hand side: 0.7 us): each

@@ -129,16 +129,11 @@ pub(crate) fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
 pub(crate) fn search(
     r: &Reconstruction,
     settings: &Settings,
-    (scatter, shift): (bool, f64),
+    scatter: bool,
     work: &crate::refine::Work,
 ) -> Result<Outcome> {
-    // The fitted road frictions the scenes are searched on and the refinements start from:
-    // the stated ones moved `shift` standard deviations.
-    let mus: Vec<f64> = r
-        .frictions
-        .iter()
-        .map(|f| f.value + shift * f.sigma)
-        .collect();
+    // The road frictions the scenes are searched on and the refinements start from.
+    let mus = crate::point::stated_frictions(r);
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
         .map(|i| candidates(r, settings, i, scatter, &mus))
@@ -212,7 +207,15 @@ pub(crate) fn search(
             ));
             continue;
         }
-        if bound > lowest_best + settings.refine_margin {
+        // The momentum bound is one of the linearised problem: where the best found does not
+        // fit (a chi-square above its count of data), it is not trusted in the second search
+        // (a scene whose states meeting the rest form a long curved valley is far from linear
+        // over it) and the combination is refined, within the budget of work.
+        let fitting = |b: &(usize, Point, usize, bool)| {
+            b.1.total <= (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
+        };
+        let trusted = !scatter || best.as_ref().is_some_and(fitting);
+        if trusted && bound > lowest_best + settings.refine_margin {
             skipped_reason[i] = Some(format!(
                 "not refined: its momentum bound {bound:.3} lies more than {} above the best \
                  found",
@@ -247,9 +250,6 @@ pub(crate) fn search(
         // search (a quick look, followed by the second where its answer does not fit) set
         // aside; in the second, refined on while the best found does not fit (a chi-square
         // above its count of data), else set aside where far above the best.
-        let fitting = |b: &(usize, Point, usize, bool)| {
-            b.1.total <= (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
-        };
         let far = if best.is_none() {
             FarFirst::RefineOn
         } else if !scatter {
@@ -259,7 +259,10 @@ pub(crate) fn search(
         } else {
             FarFirst::RefineOn
         };
-        match refine(r, settings, start, (lowest_best, far), work) {
+        let share = work.share();
+        let refined_here = refine(r, settings, start, (lowest_best, far), &share);
+        work.add(share.spent());
+        match refined_here {
             Ok(x) => {
                 // Only a refinement whose bound held (it ended within the margin of it) counts
                 // towards the cap: where the linearisation that ordered the combinations does
@@ -453,7 +456,7 @@ pub(crate) fn answered(r: &Reconstruction, out: &mut Outcome, found: Found) {
 /// One entry per combination of counts of turns, in the order they first appear: where several
 /// starts of the same counts were tried, the one refined to the lowest cost (else the one with
 /// the lowest momentum bound), its scene-alone cost the lowest of them.
-pub(crate) fn one_per_counts(all: Vec<TriedCounts>) -> Vec<TriedCounts> {
+fn one_per_counts(all: Vec<TriedCounts>) -> Vec<TriedCounts> {
     let rank = |t: &TriedCounts| match t.state {
         Tried::Refined { cost, .. } => (0, cost),
         Tried::NotRefined { .. } => (1, t.momentum_bound.unwrap_or(f64::INFINITY)),

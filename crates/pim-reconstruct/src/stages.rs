@@ -1,5 +1,5 @@
 //! The stages of a reconstruction: the first search, the second from the scatter, the
-//! continuation and the shifted frictions before a refusal (see the crate docs, steps 1 to 6).
+//! continuation before a refusal (see the crate docs, steps 1 to 5).
 
 use crate::error::Result;
 use crate::outcome::{Found, Outcome, Status, Tried};
@@ -25,7 +25,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     // slow) must not leave the second, from the scatter, nothing; where the first answer
     // fits, the second is not needed.
     let work = crate::refine::Work::new(settings.refine_work / 2);
-    let first = search(r, settings, (false, 0.0), &work)?;
+    let first = search(r, settings, false, &work)?;
     let fits_well = first.best.as_ref().is_some_and(|b| {
         pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
             .is_some_and(|p| p >= settings.scatter_below_p)
@@ -33,14 +33,15 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     if fits_well {
         return Ok(first);
     }
-    // The second search refines with at most as much work again as the first spent (and at
-    // least a quarter of the budget), within what is left: a bound of its time on evidence
-    // whose impact fits or run-outs are slow.
+    // The second search refines with at most as much work again as the first spent, and at
+    // least half the budget, within what is left (each refinement with at most a third of
+    // its budget: `Work::share`): a bound of its time on evidence whose impact fits or
+    // run-outs are slow.
     let spent = work.spent();
-    let limit = (spent + spent.max(settings.refine_work / 4)).min(settings.refine_work);
+    let limit = (spent + spent.max(settings.refine_work / 2)).min(settings.refine_work);
     let work = crate::refine::Work::new(limit);
     work.add(spent);
-    let second = search(r, settings, (true, 0.0), &work)?;
+    let second = search(r, settings, true, &work)?;
     let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
     let (runouts, fits, work) = (
         first.runouts + second.runouts,
@@ -59,9 +60,6 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     out.scattered = true;
     if out.status == Status::Inconsistent {
         continue_best(r, settings, &mut out);
-    }
-    if out.status == Status::Inconsistent {
-        crate::shifted::search_shifted(r, settings, &mut out)?;
     }
     Ok(out)
 }

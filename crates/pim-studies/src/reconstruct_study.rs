@@ -264,12 +264,7 @@ pub fn run_around(
         let found = match followed {
             Some(f) if !f.refused() => Some(f),
             other => {
-                // (The friction drawn, not searched about.)
-                let settings = pim_reconstruct::Settings {
-                    shift_frictions: false,
-                    ..r.settings.clone()
-                };
-                let searched = pim_reconstruct::reconstruct(&r.reconstruction, &settings)
+                let searched = pim_reconstruct::reconstruct(&r.reconstruction, &r.settings)
                     .ok()
                     .and_then(|o| o.best);
                 [other, searched]
