@@ -425,8 +425,10 @@ pub struct Settings {
 }
 
 impl Settings {
-    /// Default search settings around the given fit settings: turns -3 to 3, 40 iterations, a
-    /// margin of 25 (a 5-sigma misfit), at most 6 refined combinations, [`REFINE_WORK`]. The impact fits inside
+    /// Default search settings around the given fit settings: turns -3 to 3, 160 iterations (a
+    /// refinement crawling along a curved valley of a scene still gains; the budget of work
+    /// bounds it), a margin of 25 (a 5-sigma misfit), at most 6 refined combinations,
+    /// [`REFINE_WORK`]. The impact fits inside
     /// the search skip the identifiability scans ([`pim_fit::FitSettings::ranges`]): the
     /// search needs each fit's optimum, not its ranges.
     pub fn new(fit: ValidSettings) -> Self {
@@ -434,7 +436,7 @@ impl Settings {
             fit: fit.without_ranges(),
             runout: RunoutSettings::default(),
             turns: (-3, 3),
-            max_iterations: 40,
+            max_iterations: 160,
             refine_margin: 25.0,
             max_refined: 6,
             refine_work: REFINE_WORK,
