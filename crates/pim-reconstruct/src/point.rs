@@ -130,12 +130,7 @@ pub(crate) fn differentiated(
 /// The chassis scene vehicle `vehicle` runs out with (the fitted friction `mus` where it is
 /// fitted, the rolling resistance at most half of it) and its separation state at velocity
 /// `at`.
-pub(crate) fn runout_of(
-    r: &Reconstruction,
-    vehicle: usize,
-    at: [f64; 3],
-    mus: &[f64],
-) -> (Chassis, Motion) {
+fn runout_of(r: &Reconstruction, vehicle: usize, at: [f64; 3], mus: &[f64]) -> (Chassis, Motion) {
     let s = &r.scene[vehicle];
     let start = Motion {
         vx: at[0],

@@ -18,11 +18,8 @@ fn candidates(
     settings: &Settings,
     vehicle: usize,
     scatter: bool,
-    mus: &[f64],
 ) -> Result<Estimate> {
     let s = &r.scene[vehicle];
-    // On the road friction the search starts from (see `search`).
-    let (chassis, _) = crate::point::runout_of(r, vehicle, [0.0; 3], mus);
     // The road friction is held at its value in the reconstruction (its spread is drawn by an
     // uncertainty study), so the scene alone is searched with it held too.
     let evidence = pim_runout::Evidence {
@@ -44,7 +41,7 @@ fn candidates(
         quick: !scatter,
         ..EstimateSettings::default()
     };
-    Ok(pim_runout::estimate(&chassis, &s.pose, &evidence, &es)?)
+    Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
 }
 
 /// A separation state the refinement may start from: a scene's candidate for a count of
@@ -132,17 +129,16 @@ pub(crate) fn search(
     scatter: bool,
     work: &crate::refine::Work,
 ) -> Result<Outcome> {
-    // The road frictions the scenes are searched on and the refinements start from.
-    let mus = crate::point::stated_frictions(r);
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
-        .map(|i| candidates(r, settings, i, scatter, &mus))
+        .map(|i| candidates(r, settings, i, scatter))
         .collect::<Result<_>>()?;
     let mut runouts: usize = estimates
         .iter()
         .flat_map(|e| e.candidates.iter().map(|c| c.runouts))
         .sum();
     let starts = starts_of(&estimates);
+    let mus = crate::point::stated_frictions(r);
     // Each start linearised once (shared by every combination it is part of).
     let lins: Vec<Vec<Option<Lin>>> = starts
         .iter()
