@@ -59,6 +59,7 @@ fn inverse(c: &mut Criterion) {
             y: m.y,
             sigma: 0.1,
             heading: None,
+            point: [0.0, 0.0],
         }
     };
     let pose = Motion::default();

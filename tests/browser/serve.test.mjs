@@ -568,6 +568,17 @@ test("a tyre mark placed by a click is written into the TOML where it was clicke
   await page.mouse.click(x + 40, y);
   await page.waitForFunction(() => /no mark placed/.test(document.getElementById("status").textContent));
   assert.equal(await page.inputValue("#toml"), text);
+  // A mark left by the SUV's front right tyre: written with its wheel, and that tyre's path
+  // drawn (the mark's residual is its distance from it).
+  page.once("dialog", (d) => d.accept("2 0.5 fr"));
+  await page.click("#add-mark");
+  await page.mouse.click(x, y);
+  await page.waitForFunction(() => window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 3"));
+  await idle();
+  assert.match(await page.inputValue("#toml"), /, \{ x = [-0-9.]+, y = [-0-9.]+, sigma = 0\.5, wheel = "front_right" \} \]$/m);
+  assert.equal(await page.locator("g.v2 polyline.trace").count(), 1);
+  assert.equal(await page.locator("g.v1 polyline.trace").count(), 0);
+  await page.screenshot({ path: path.join(shots, "12b-tyre-mark.png") });
   await page.fill("#toml", original);
   await page.waitForFunction(() => !window.pim.answer.pieces.some((p) => p.name === "vehicle2 mark 2"));
   await idle();

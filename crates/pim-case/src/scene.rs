@@ -36,7 +36,7 @@
 use crate::case::{error_at, Case};
 use crate::error::{InputError, Result};
 use crate::scene_sections::{
-    RunoutVehicleSection, SceneVehicleSection, SteerWritten, WheelWritten, WheelsWritten,
+    MarkPoint, RunoutVehicleSection, SceneVehicleSection, SteerWritten, WheelWritten, WheelsWritten,
 };
 use pim_core::{Convention, VehicleId};
 use pim_runout::{Chassis, Evidence, Mark, Motion, Rest, RunoutError, WheelState};
@@ -247,7 +247,13 @@ impl Case {
                 })??,
             };
             let evidence = match scene {
-                Some(s) => Some(self.evidence_of(&name, s, runout.friction_sigma, length, flip)?),
+                Some(s) => Some(self.evidence_of(
+                    &name,
+                    s,
+                    &chassis,
+                    runout.friction_sigma,
+                    (length, flip),
+                )?),
                 None => None,
             };
             vehicles.push(VehicleRunout {
@@ -489,9 +495,9 @@ impl Case {
         &self,
         name: &str,
         s: &SceneVehicleSection,
+        chassis: &Chassis,
         friction_sigma: Option<f64>,
-        length: f64,
-        flip: f64,
+        (length, flip): (f64, f64),
     ) -> Result<Evidence> {
         let at = |field: &str| format!("scene.{name}.{field}");
         // Ranges in the file's own words (degrees, its length unit), before conversion.
@@ -571,11 +577,18 @@ impl Case {
                     ))
                 }
             };
+            // A wheel's contact point in the vehicle's frame (ahead of the CG, to its left):
+            // the wheels are physical, the frame's y axis only a direction of writing.
+            let point = m
+                .wheel
+                .and_then(MarkPoint::wheel)
+                .map_or([0.0, 0.0], |w| chassis.wheel_position(w));
             marks.push(Mark {
                 x: m.x * length,
                 y: flip * m.y * length,
                 sigma: m.sigma * length,
                 heading,
+                point,
             });
         }
         let evidence = Evidence {

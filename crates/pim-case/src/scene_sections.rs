@@ -189,7 +189,36 @@ pub struct PoseSigmaWritten {
     pub heading: Option<f64>,
 }
 
-/// One mark: a point the CG passed.
+/// The point of a vehicle that left a mark: one of its wheels, or its CG.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MarkPoint {
+    /// The CG's path (a mark carried to the CG by hand, as before wheels could be named).
+    Cg,
+    /// The front left tyre.
+    FrontLeft,
+    /// The front right tyre.
+    FrontRight,
+    /// The rear left tyre.
+    RearLeft,
+    /// The rear right tyre.
+    RearRight,
+}
+
+impl MarkPoint {
+    /// The wheel's index in [`pim_runout::WHEEL_NAMES`] (none for the CG).
+    pub fn wheel(self) -> Option<usize> {
+        match self {
+            MarkPoint::Cg => None,
+            MarkPoint::FrontLeft => Some(0),
+            MarkPoint::FrontRight => Some(1),
+            MarkPoint::RearLeft => Some(2),
+            MarkPoint::RearRight => Some(3),
+        }
+    }
+}
+
+/// One mark: a point a tyre (`wheel`) or the CG passed.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MarkWritten {
@@ -205,6 +234,10 @@ pub struct MarkWritten {
     /// sd of that heading, degrees.
     #[serde(default)]
     pub heading_sigma: Option<f64>,
+    /// The tyre that left the mark (`front_left`, `front_right`, `rear_left`, `rear_right`),
+    /// or `cg` (the default): the mark is measured against that point's path.
+    #[serde(default)]
+    pub wheel: Option<MarkPoint>,
 }
 
 /// `[scene.vehicleN]`.

@@ -17,6 +17,9 @@ pub enum Source {
     Scene,
     /// The state a motion case states (`[start.vehicleN]`, no impact).
     Start,
+    /// The reconstruction's answer: each scene vehicle's run-out as it was fitted, on the road
+    /// friction it was fitted on.
+    Reconstruction,
 }
 
 impl Source {
@@ -28,6 +31,9 @@ impl Source {
             Source::Fit => "the fit of the case",
             Source::Scene => "estimated from the scene (rest position, heading, marks)",
             Source::Start => "the state stated in [start] (no impact)",
+            Source::Reconstruction => {
+                "the reconstruction (each run-out as fitted, on its fitted road)"
+            }
         }
     }
 }

@@ -43,8 +43,15 @@ pub struct SceneFit {
     pub chi_square: f64,
     /// Every piece of its evidence: fitted minus given, with its sigma.
     pub residuals: Vec<Residual>,
-    /// The run-out from the reconstructed separation state.
+    /// The run-out from the reconstructed separation state, on [`SceneFit::friction`]: the
+    /// one the residuals measure (what every figure draws).
     pub runout: Runout,
+    /// The road friction the run-out ran on: the fitted one where the case fits its road's
+    /// friction ([`Found::frictions`]), the stated one otherwise.
+    pub friction: f64,
+    /// The rolling resistance it ran with (at most half the friction, as the chassis's
+    /// checks require of a fitted friction).
+    pub rolling_resistance: f64,
 }
 
 /// A vehicle's speed in each phase.
@@ -388,6 +395,8 @@ fn scene_fits(r: &Reconstruction, p: &Point) -> Vec<SceneFit> {
             chi_square: l.lin.cost,
             residuals: l.lin.residuals.clone(),
             runout: l.lin.runout.clone(),
+            friction: l.mu,
+            rolling_resistance: crate::point::rolling_resistance_for(r, l.vehicle, l.mu),
         })
         .collect()
 }

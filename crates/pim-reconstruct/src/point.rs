@@ -142,7 +142,18 @@ fn runout_of(r: &Reconstruction, vehicle: usize, at: [f64; 3], mus: &[f64]) -> (
     if r.friction_of(vehicle).is_some() {
         let mu = friction_for(r, vehicle, mus);
         chassis.friction = mu;
-        chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * mu);
+        chassis.rolling_resistance = rolling_resistance_for(r, vehicle, mu);
     }
     (chassis, start)
+}
+
+/// The rolling resistance scene vehicle `vehicle` runs out with on the road friction `mu`:
+/// its chassis's own, at most half of a fitted friction.
+pub(crate) fn rolling_resistance_for(r: &Reconstruction, vehicle: usize, mu: f64) -> f64 {
+    let own = r.scene[vehicle].chassis.rolling_resistance;
+    if r.friction_of(vehicle).is_some() {
+        own.min(0.5 * mu)
+    } else {
+        own
+    }
 }

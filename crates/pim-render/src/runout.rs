@@ -349,6 +349,22 @@ pub fn scene_svg(
                             .map_err(|x| e(&x))?;
                     }
                 }
+                // The path of each tyre that left a mark: the residual's distance is from it.
+                let mut points: Vec<[f64; 2]> = Vec::new();
+                for m in ev.marks.iter().filter(|m| m.point != [0.0, 0.0]) {
+                    if !points.contains(&m.point) {
+                        points.push(m.point);
+                    }
+                }
+                for p in points {
+                    let trace: Vec<_> = traced(run, p).into_iter().map(to).collect();
+                    chart
+                        .draw_series(std::iter::once(PathElement::new(
+                            trace,
+                            color.mix(0.6).stroke_width(1),
+                        )))
+                        .map_err(|x| e(&x))?;
+                }
                 for (i, m) in ev.marks.iter().enumerate() {
                     let c = to((m.x, m.y));
                     let rad = u(m.sigma).max(u(0.05));
@@ -425,6 +441,7 @@ pub fn scene_svg(
                 color,
                 12,
             )?;
+            line(format!("  road friction {:.3}", v.friction), color, 12)?;
             for ev in v
                 .evidence
                 .iter()
@@ -470,6 +487,17 @@ pub fn scene_svg(
         if !motion {
             line("dashed outline, cross: rest given".into(), EVIDENCE, 12)?;
             line("circle: a mark and its sd".into(), EVIDENCE, 12)?;
+            if r.inputs
+                .iter()
+                .filter_map(|v| v.evidence.as_ref())
+                .any(|ev| ev.marks.iter().any(|m| m.point != [0.0, 0.0]))
+            {
+                line(
+                    "thin line: the path of a tyre that left a mark".into(),
+                    BLACK,
+                    12,
+                )?;
+            }
         }
         if !approach.is_empty() {
             line(
@@ -481,6 +509,19 @@ pub fn scene_svg(
         root.present().map_err(|x| e(&x))?;
     }
     Ok(buf)
+}
+
+/// The path of the vehicle's point `at` (metres ahead of the CG and to its left: a tyre)
+/// over the run-out, finely interpolated, in metres.
+pub fn traced(run: &pim_runout::Runout, at: [f64; 2]) -> Vec<(f64, f64)> {
+    let n = 400;
+    (0..=n)
+        .map(|i| {
+            let m = run.at(run.time * i as f64 / n as f64);
+            let (s, c) = m.heading.sin_cos();
+            (m.x + c * at[0] - s * at[1], m.y + s * at[0] + c * at[1])
+        })
+        .collect()
 }
 
 type Chart<'a, 'b> = ChartContext<
@@ -504,8 +545,8 @@ fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> R
     Ok(())
 }
 
-/// The scene to scale of a case's reconstruction: each run-out from the reconstructed
-/// separation state, the braking before the impact, the scene's evidence, in `units` and the
+/// The scene to scale of a case's reconstruction: each run-out as the reconstruction fitted it
+/// (on its fitted road friction; the residuals printed are the evidence table's), the braking before the impact, the scene's evidence, in `units` and the
 /// case's frame (what `pim fit --out`, the report and Python draw alike). `None` without an
 /// answer.
 pub fn reconstruction_scene(
@@ -517,8 +558,7 @@ pub fn reconstruction_scene(
         return Ok(None);
     };
     let runouts =
-        pim_studies::runout::runout(case, None, Some(best.solution.separation), 0.02, false)
-            .map_err(|e| e.to_string())?;
+        pim_studies::runout::fitted(case, best, 0.02, false).map_err(|e| e.to_string())?;
     let approach: Vec<Approach> = pim_studies::reconstruct::skid_lengths(&done.input)
         .into_iter()
         .map(|(vehicle, length)| Approach { vehicle, length })

@@ -511,6 +511,7 @@ function render() {
     const g = el("g", { class: `v${veh.vehicle}`, "data-vehicle": veh.vehicle }, svg);
     for (const o of veh.every) el("polygon", { points: pts(o), class: "outline every" }, g);
     el("polyline", { points: pts(veh.path), class: "path" }, g);
+    for (const t of veh.traces || []) el("polyline", { points: pts(t), class: "trace" }, g);
     el("polygon", { points: pts(veh.contact), class: "outline contact" }, g);
     if (veh.damage && veh.damage.length) el("polygon", { points: pts(veh.damage), class: "crush" }, g);
     el("polygon", { points: pts(veh.rest), class: "outline rest" }, g);
@@ -790,11 +791,15 @@ function nearestVehicle(p) {
 async function placeMark(click) {
   const plan = state.answer.plan, at = [click.x, -click.y];
   const sigma = Math.round((0.15 / plan.metres) * 100) / 100;
-  const answer = window.prompt(`Tyre mark of vehicle (1 or 2) and its standard deviation (${plan.length_label}):`,
-    `${nearestVehicle(at)} ${sigma}`);
-  const [vehicle, s] = (answer || "").trim().split(/[\s,]+/).map(Number);
+  const answer = window.prompt(`Tyre mark: the vehicle (1 or 2), its standard deviation (${plan.length_label}) `
+    + `and the tyre that left it (fl, fr, rl, rr for front left ... rear right; cg: a point of the CG's path):`,
+    `${nearestVehicle(at)} ${sigma} cg`);
+  const words = (answer || "").trim().toLowerCase().split(/[\s,]+/);
+  const [vehicle, s] = words.slice(0, 2).map(Number);
+  const tyres = { fl: "front_left", fr: "front_right", rl: "rear_left", rr: "rear_right" };
+  const wheel = tyres[words[2]] || words[2] || "cg";
   if (!(vehicle === 1 || vehicle === 2) || !(s > 0)) { status("no mark placed"); render(); return; }
-  await edited("/api/mark", { vehicle, at, sigma: s });
+  await edited("/api/mark", { vehicle, at, sigma: s, wheel });
 }
 
 async function changeBackground(change) {

@@ -166,8 +166,10 @@ pub struct PlanVehicle {
     /// The rest position the scene gives (CG), its heading on the page (deg counter-clockwise
     /// from the page's right) and its standard deviations.
     pub given_rest: Option<GivenRest>,
-    /// The marks the scene gives: CG position and standard deviation.
+    /// The marks the scene gives: position and standard deviation.
     pub marks: Vec<[f64; 3]>,
+    /// The path of each tyre that left a mark (a mark's residual is its distance from it).
+    pub traces: Vec<Vec<[f64; 2]>>,
     /// Its CG at contact.
     pub cg: [f64; 2],
     /// Its heading at contact, degrees counter-clockwise from the page's right.
@@ -271,7 +273,11 @@ pub fn answer_without(
             );
             // The plan shows every piece, those switched off too.
             let plan = match &done.outcome.best {
-                Some(best) => plan(&shown, Some(best.solution.separation), units)?,
+                Some(best) => {
+                    let fitted = pim_studies::runout::fitted(&shown, best, 0.02, false)
+                        .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
+                    plan(&shown, Some(&fitted), units)?
+                }
                 None => plan(&shown, None, units).unwrap_or_default(),
             };
             let document = serde_json::to_value(&done.document).map_err(|e| input(&e))?;
@@ -298,7 +304,9 @@ pub fn answer_without(
                 .map_err(|e| input(&e))?;
             let table = pim_render::solved::solved_table(&title, &solved, units, case.written);
             let plan = if case.has_runout() {
-                plan(&case, Some(solved.report.separation), units).unwrap_or_default()
+                run_out(&case, solved.report.separation)
+                    .and_then(|r| plan(&case, Some(&r), units))
+                    .unwrap_or_default()
             } else {
                 Plan::default()
             };
@@ -336,7 +344,11 @@ pub fn answer_without(
                 .and_then(|b| b.solution.as_ref())
                 .map(|s| s.separation);
             let plan = if case.has_runout() {
-                plan(&case, separation, units).unwrap_or_default()
+                separation
+                    .map(|sep| run_out(&case, sep))
+                    .transpose()
+                    .and_then(|r| plan(&case, r.as_ref(), units))
+                    .unwrap_or_default()
             } else {
                 Plan::default()
             };
@@ -384,11 +396,21 @@ fn follow(
     })
 }
 
-/// The scene on the page: each run-out from `separation` (or without one, the vehicles where
-/// they stand and the evidence only).
+/// Each run-out of `case` from the separation velocities `sep` (of a solved or fitted impact:
+/// no scene was fitted, the stated road is the one).
+fn run_out(
+    case: &Case,
+    sep: pim_core::Velocities,
+) -> Result<pim_studies::runout::RunoutResult, AnswerError> {
+    pim_studies::runout::runout(case, None, Some(sep), 0.02, false)
+        .map_err(|e| AnswerError::Unsupported(e.to_string()))
+}
+
+/// The scene on the page: the run-outs `runouts` (or without them, the vehicles where they
+/// stand and the evidence only).
 fn plan(
     case: &Case,
-    separation: Option<pim_core::Velocities>,
+    runouts: Option<&pim_studies::runout::RunoutResult>,
     units: UnitSystem,
 ) -> Result<Plan, AnswerError> {
     let page = pim_render::plan::Page::of(case.written);
@@ -448,17 +470,15 @@ fn plan(
             locked: b.locked,
         });
     }
-    let Some(sep) = separation else {
+    let Some(r) = runouts else {
         return Ok(out);
     };
-    let r = pim_studies::runout::runout(case, None, Some(sep), 0.02, false)
-        .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
     let on_page = |x: f64, y: f64| {
         let (h, v) = page.xy((units.length(x), units.length(y)));
         [h, v]
     };
     let outline = |k: usize, m: &pim_runout::Motion| -> Vec<[f64; 2]> {
-        pim_render::runout::outline_on_page(&r, k, m, units, case.written)
+        pim_render::runout::outline_on_page(r, k, m, units, case.written)
             .into_iter()
             .map(|(h, v)| [h, v])
             .collect()
@@ -469,7 +489,7 @@ fn plan(
             .as_ref()
             .and_then(|d| d.vehicles[input.id.index()].as_ref())
             .map(|d| {
-                pim_render::runout::damage_on_page(&r, k, &run.start, d, units, case.written)
+                pim_render::runout::damage_on_page(r, k, &run.start, d, units, case.written)
                     .into_iter()
                     .map(|(h, v)| [h, v])
                     .collect()
@@ -503,6 +523,21 @@ fn plan(
                     .collect()
             })
             .unwrap_or_default();
+        let mut points: Vec<[f64; 2]> = Vec::new();
+        for m in evidence.iter().flat_map(|e| &e.marks) {
+            if m.point != [0.0, 0.0] && !points.contains(&m.point) {
+                points.push(m.point);
+            }
+        }
+        let traces = points
+            .into_iter()
+            .map(|p| {
+                pim_render::runout::traced(run, p)
+                    .into_iter()
+                    .map(|(x, y)| on_page(x, y))
+                    .collect()
+            })
+            .collect();
         let every = run.sample(0.5).iter().map(|(_, m)| outline(k, m)).collect();
         out.vehicles.push(PlanVehicle {
             vehicle: input.id.index() as u8 + 1,
@@ -516,6 +551,7 @@ fn plan(
                 .collect(),
             given_rest,
             marks,
+            traces,
             cg: on_page(run.start.x, run.start.y),
             heading: page_angle(run.start.heading),
             skid: case

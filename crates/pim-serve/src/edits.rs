@@ -117,7 +117,7 @@ fn written_frame(case: &Case, at: [f64; 2], units: Option<UnitSystem>) -> (f64, 
 pub fn add_mark(
     file: &str,
     text: &str,
-    (vehicle, at, sigma): (u8, [f64; 2], f64),
+    (vehicle, at, sigma, wheel): (u8, [f64; 2], f64, Option<&str>),
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
@@ -142,15 +142,18 @@ pub fn add_mark(
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
     let written =
         |v: f64| pim_case::edit::NewValue::Written((v / per_unit * 100.0).round() / 100.0);
-    edit.push(
-        &format!("scene.vehicle{vehicle}.marks"),
-        &[
-            ("x", written(x)),
-            ("y", written(y)),
-            ("sigma", written(sigma)),
-        ],
-    )
-    .map_err(|e| input(&e))?;
+    let mut entries = vec![
+        ("x", written(x)),
+        ("y", written(y)),
+        ("sigma", written(sigma)),
+    ];
+    // The tyre that left it (the CG's path without one); the case's check below refuses a
+    // name that is no wheel.
+    if let Some(w) = wheel.filter(|w| *w != "cg") {
+        entries.push(("wheel", pim_case::edit::NewValue::Text(w.to_string())));
+    }
+    edit.push(&format!("scene.vehicle{vehicle}.marks"), &entries)
+        .map_err(|e| input(&e))?;
     edit.check().map_err(|e| input(&e))?;
     Ok(edit.text())
 }

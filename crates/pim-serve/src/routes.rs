@@ -341,6 +341,9 @@ struct MarkAsk {
     vehicle: u8,
     at: [f64; 2],
     sigma: f64,
+    /// The tyre that left it (`front_left` ... `rear_right`), or `cg` (the default).
+    #[serde(default)]
+    wheel: Option<String>,
     #[serde(default)]
     units: Option<String>,
 }
@@ -348,7 +351,12 @@ struct MarkAsk {
 /// The text with a tyre mark added where the page was clicked (not saved).
 async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
     edited(m.units.as_deref(), |u| {
-        crate::add_mark(&m.path, &m.text, (m.vehicle, m.at, m.sigma), u)
+        crate::add_mark(
+            &m.path,
+            &m.text,
+            (m.vehicle, m.at, m.sigma, m.wheel.as_deref()),
+            u,
+        )
     })
 }
 

@@ -17,6 +17,10 @@ use pim_runout::{Candidate, End, Estimate, EstimateSettings, Motion, Runout, Set
 /// Most samples of a path in the document (a longer motion is sampled more coarsely).
 pub const MAX_PATH_SAMPLES: usize = 100_000;
 
+/// The units of a run-out document.
+const UNITS: &str =
+    "SI (m, s, m/s, rad/s, J); angles in degrees counter-clockwise from +x (natural frame)";
+
 /// A computed run-out: the document and the typed results (for drawings).
 #[derive(Debug, Clone)]
 pub struct RunoutResult {
@@ -120,8 +124,8 @@ fn separation(
             "{}: [start] belongs to a motion case (no impact)",
             case.file
         ))),
-        Some(Source::Fit) => Err(DocumentError::Input(format!(
-            "{}: the fit's separation velocities are passed in by the caller",
+        Some(Source::Fit | Source::Reconstruction) => Err(DocumentError::Input(format!(
+            "{}: a fit's separation velocities are passed in by the caller",
             case.file
         ))),
     }
@@ -192,22 +196,7 @@ pub fn runout(
         let k = v.id.index();
         let name = format!("vehicle{}", k + 1);
         let (runout, estimate) = match &from {
-            Some((state, _)) => {
-                let vel = if v.id == VehicleId::One {
-                    state.vehicle1
-                } else {
-                    state.vehicle2
-                };
-                let start = Motion {
-                    vx: vel.vx,
-                    vy: vel.vy,
-                    yaw_rate: vel.omega,
-                    ..v.start
-                };
-                let r = pim_runout::simulate(&v.chassis, &start, &settings)
-                    .map_err(|e| runout_failure(case, &name, e))?;
-                (r, None)
-            }
+            Some((state, _)) => (separated(case, v, state, &settings)?, None),
             None if case.is_motion() => {
                 let r = pim_runout::simulate(&v.chassis, &v.start, &settings)
                     .map_err(|e| runout_failure(case, &name, e))?;
@@ -291,13 +280,104 @@ pub fn runout(
         runouts,
         estimates,
         document: RunoutOut {
-            units: "SI (m, s, m/s, rad/s, J); angles in degrees counter-clockwise from +x (natural frame)",
+            units: UNITS,
             source,
             vehicles,
             notes,
             duration: inputs.duration,
         },
     })
+}
+
+/// The run-outs of a reconstruction's answer, as it found them: each scene vehicle's fitted
+/// run-out (on the friction it was fitted on, with the residuals its evidence table prints),
+/// and a vehicle without scene evidence run out from the answer's separation velocities on
+/// its stated road. What every figure of a reconstruction draws: none simulates again.
+///
+/// # Errors
+/// Bad run-out input in the case ([`DocumentError::Input`]), or a run-out that cannot be
+/// simulated for a vehicle without scene evidence.
+pub fn fitted(
+    case: &Case,
+    found: &pim_reconstruct::Found,
+    sample: f64,
+    wheels: bool,
+) -> Result<RunoutResult, DocumentError> {
+    let inputs = case.scene_inputs()?;
+    let settings = Settings {
+        time_limit: inputs.time_limit,
+        ..Settings::default()
+    };
+    let sep = &found.solution.separation;
+    let mut vehicles = Vec::new();
+    let mut runouts = Vec::new();
+    let mut used = Vec::new();
+    for v in &inputs.vehicles {
+        let k = v.id.index();
+        let mut v = v.clone();
+        let (runout, evidence) = match found.scene.iter().find(|f| f.vehicle == v.id) {
+            Some(f) => {
+                v.chassis.friction = f.friction;
+                v.chassis.rolling_resistance = f.rolling_resistance;
+                let evidence = f.residuals.iter().map(residual_out).collect();
+                (f.runout.clone(), evidence)
+            }
+            None => {
+                let r = separated(case, &v, sep, &settings)?;
+                let evidence = v
+                    .evidence
+                    .as_ref()
+                    .map(|ev| evidence_against(&v, ev, &r))
+                    .unwrap_or_default();
+                (r, evidence)
+            }
+        };
+        vehicles.push(vehicle_out(
+            k,
+            &v,
+            &runout,
+            evidence,
+            None,
+            (sample, wheels),
+        ));
+        runouts.push(runout);
+        used.push(v);
+    }
+    Ok(RunoutResult {
+        duration: inputs.duration,
+        estimates: vec![None; used.len()],
+        inputs: used,
+        runouts,
+        document: RunoutOut {
+            units: UNITS,
+            source: Source::Reconstruction,
+            vehicles,
+            notes: Vec::new(),
+            duration: inputs.duration,
+        },
+    })
+}
+
+/// Vehicle `v`'s run-out from its velocities in the separation state `state`.
+fn separated(
+    case: &Case,
+    v: &VehicleRunout,
+    state: &Velocities,
+    settings: &Settings,
+) -> Result<Runout, DocumentError> {
+    let vel = if v.id == VehicleId::One {
+        state.vehicle1
+    } else {
+        state.vehicle2
+    };
+    let start = Motion {
+        vx: vel.vx,
+        vy: vel.vy,
+        yaw_rate: vel.omega,
+        ..v.start
+    };
+    pim_runout::simulate(&v.chassis, &start, settings)
+        .map_err(|e| runout_failure(case, &format!("vehicle{}", v.id.index() + 1), e))
 }
 
 fn runout_failure(case: &Case, name: &str, e: pim_runout::RunoutError) -> DocumentError {

@@ -100,6 +100,7 @@ pub fn crash_with(seed: u64, noise: f64, speeds: std::ops::Range<f64>) -> Option
                     y: m.y + n(SIGMA_MARK),
                     sigma: SIGMA_MARK,
                     heading: None,
+                    point: [0.0, 0.0],
                 }
             })
             .collect();

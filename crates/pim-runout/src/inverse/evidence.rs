@@ -9,6 +9,10 @@ use serde::{Deserialize, Serialize};
 /// deviation of a position, m (a scene diagram's origin is at the impact).
 pub const MAX_SCENE_DISTANCE: f64 = 10_000.0;
 
+/// Farthest a mark's point of the vehicle may lie from its CG, m (the longest road vehicle's
+/// half length, with room).
+pub const MAX_POINT: f64 = 15.0;
+
 /// Largest heading (and heading standard deviation) accepted, rad: one turn either way.
 pub const MAX_HEADING: f64 = std::f64::consts::TAU;
 
@@ -46,8 +50,10 @@ pub struct Rest {
     pub sigma_heading: f64,
 }
 
-/// A point the CG passed (a tyre mark or gouge placed at the CG's path), with a standard
-/// deviation, optionally with the heading there.
+/// A point a point of the vehicle passed: a tyre mark left by one wheel (its contact point,
+/// [`Mark::point`] the wheel's place on the vehicle), or a point of the CG's path (`point`
+/// `[0, 0]`), with a standard deviation, optionally with the vehicle's heading there. Its
+/// residual is the distance of the mark from the path that point of the vehicle traced.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Mark {
     /// Position, m.
@@ -58,6 +64,10 @@ pub struct Mark {
     pub sigma: f64,
     /// Heading of the vehicle there (rad, modulo a full turn) and its standard deviation (rad).
     pub heading: Option<(f64, f64)>,
+    /// The point of the vehicle that left the mark, in the vehicle's frame: metres ahead of the
+    /// CG and to its left (a wheel's [`crate::Chassis::wheel_position`]; `[0, 0]` the CG).
+    #[serde(default)]
+    pub point: [f64; 2],
 }
 
 /// The evidence of one vehicle's run-out.
@@ -280,6 +290,8 @@ impl Evidence {
         for m in &self.marks {
             within("marks.x", m.x, -p, p, "m")?;
             within("marks.y", m.y, -p, p, "m")?;
+            within("marks.point", m.point[0], -MAX_POINT, MAX_POINT, "m")?;
+            within("marks.point", m.point[1], -MAX_POINT, MAX_POINT, "m")?;
             positive("marks.sigma", m.sigma, p, "m")?;
             if let Some((a, s)) = m.heading {
                 within("marks.heading", a, -h, h, "rad")?;

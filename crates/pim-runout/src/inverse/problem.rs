@@ -97,7 +97,7 @@ impl Problem<'_> {
             }
         }
         for (i, m) in self.evidence.marks.iter().enumerate() {
-            let (d, heading) = closest(r, m.x, m.y);
+            let (d, heading) = closest(r, m.x, m.y, m.point);
             out.push(res(&format!("mark {}", i + 1), d, m.sigma));
             if let Some((h, s)) = m.heading {
                 let diff = wrap(heading - h);
@@ -159,7 +159,7 @@ impl Problem<'_> {
             }
         }
         for m in &self.evidence.marks {
-            scales.push(length / m.sigma);
+            scales.push((length + m.point[0].hypot(m.point[1]) * angle) / m.sigma);
             if let Some((_, s)) = m.heading {
                 scales.push(angle / s);
             }
@@ -233,21 +233,36 @@ fn wrap(a: f64) -> f64 {
     }
 }
 
-/// The signed distance of the point `(px, py)` from the CG's path (positive to the left of
-/// the direction of travel; the full distance when the closest point is an end of the path)
-/// and the heading at the closest point.
-fn closest(r: &Runout, px: f64, py: f64) -> (f64, f64) {
+/// The signed distance of the point `(px, py)` from the path of the vehicle's point `at`
+/// (metres ahead of the CG and to its left; `[0, 0]` the CG): positive to the left of that
+/// point's direction of travel, the full distance when the closest point is an end of the
+/// path; and the heading at the closest point.
+fn closest(r: &Runout, px: f64, py: f64, at: [f64; 2]) -> (f64, f64) {
     let steps = &r.steps;
-    let dist2 = |m: &Motion| (m.x - px).powi(2) + (m.y - py).powi(2);
+    // The point's position and velocity at a motion.
+    let traced = |m: &Motion| {
+        let (s, c) = m.heading.sin_cos();
+        let (ox, oy) = (c * at[0] - s * at[1], s * at[0] + c * at[1]);
+        (
+            (m.x + ox, m.y + oy),
+            (m.vx - m.yaw_rate * oy, m.vy + m.yaw_rate * ox),
+        )
+    };
+    let dist2 = |m: &Motion| {
+        let (p, _) = traced(m);
+        (p.0 - px).powi(2) + (p.1 - py).powi(2)
+    };
     if steps.len() < 2 {
         let m = r.rest;
         return (dist2(&m).sqrt(), m.heading);
     }
     // Coarse: eight points in every step; then Newton on (p(t) - q) . p'(t) = 0. A step none of
     // whose points can be nearer than the nearest step end is passed over (the same point is
-    // found): the cubic `p0 + h01 (p1 - p0) + h (h10 m0 + h11 m1)` lies within
+    // found): the CG's cubic `p0 + h01 (p1 - p0) + h (h10 m0 + h11 m1)` lies within
     // `h (4/27) (|m0| + |m1|)` of the chord from p0 to p1 (`h01` in [0, 1], `|h10|, |h11|` at
-    // most 4/27).
+    // most 4/27); a point at `|at|` from the CG moves at most `|at| |yaw rate|` faster, so
+    // within twice the step's rotation times `|at|` more of its chord.
+    let arm = at[0].hypot(at[1]);
     let nearest_end = steps
         .iter()
         .map(|s| dist2(&s.motion))
@@ -255,10 +270,11 @@ fn closest(r: &Runout, px: f64, py: f64) -> (f64, f64) {
     let mut best = (f64::INFINITY, 0usize, 0.0);
     for k in 1..steps.len() {
         let (a, b) = (&steps[k - 1].motion, &steps[k].motion);
-        let bulge = (steps[k].time - steps[k - 1].time)
-            * (4.0 / 27.0)
-            * (a.vx.hypot(a.vy) + b.vx.hypot(b.vy));
-        let below = chord_distance((px, py), (a.x, a.y), (b.x, b.y)) - 1.001 * bulge - 1e-9;
+        let h = steps[k].time - steps[k - 1].time;
+        let turn = (a.yaw_rate.abs() + b.yaw_rate.abs()) * h;
+        let bulge = h * (4.0 / 27.0) * (a.vx.hypot(a.vy) + b.vx.hypot(b.vy)) + 2.0 * arm * turn;
+        let (pa, pb) = (traced(a).0, traced(b).0);
+        let below = chord_distance((px, py), pa, pb) - 1.001 * bulge - 1e-9;
         if below > 0.0 && below * below > nearest_end {
             continue;
         }
@@ -276,8 +292,8 @@ fn closest(r: &Runout, px: f64, py: f64) -> (f64, f64) {
     let h = 1e-7 * (b.time - a.time).max(1e-9);
     for _ in 0..20 {
         let f = |t: f64| {
-            let m = hermite(a, b, t);
-            (m.x - px) * m.vx + (m.y - py) * m.vy
+            let (p, v) = traced(&hermite(a, b, t));
+            (p.0 - px) * v.0 + (p.1 - py) * v.1
         };
         let (f0, f1) = (f(t), f(t + h));
         let df = (f1 - f0) / h;
@@ -292,11 +308,12 @@ fn closest(r: &Runout, px: f64, py: f64) -> (f64, f64) {
         }
     }
     let m = hermite(a, b, t);
-    let (dx, dy) = (px - m.x, py - m.y);
-    let speed = m.vx.hypot(m.vy);
+    let (p, v) = traced(&m);
+    let (dx, dy) = (px - p.0, py - p.1);
+    let speed = v.0.hypot(v.1);
     let interior = t > steps[0].time && t < r.time;
     if interior && speed > 1e-9 {
-        ((m.vx * dy - m.vy * dx) / speed, m.heading)
+        ((v.0 * dy - v.1 * dx) / speed, m.heading)
     } else {
         (dx.hypot(dy), m.heading)
     }
