@@ -1,7 +1,6 @@
 //! The `[uncertainty]` section of a case file: the spread of each input the fit takes as exact.
 
 use crate::ranges::short;
-use crate::sections::PointSection;
 use rand::Rng;
 use serde::Deserialize;
 
@@ -109,12 +108,13 @@ pub struct VehicleSpread {
     pub d: Option<Spread>,
     /// Angle phi, degrees.
     pub phi: Option<Spread>,
-    /// The impact point's x and y (length unit), instead of `d` / `phi`: normal standard
-    /// deviations. The point is in the vehicle's body axes (x forward, y to the left; SAE: to
-    /// the right), also when the case places the vehicle by `position` and `[impact] centre`:
-    /// a draw moves the impact centre on the vehicle, so the CG moves against the impact centre,
-    /// which stays where the case puts it.
-    pub impact_point: Option<PointSection>,
+    /// The impact point's x and y (length unit), instead of `d` / `phi`: each a spread (a
+    /// standard deviation, or a uniform range of the coordinate). The point is in the
+    /// vehicle's body axes (x forward, y to the left; SAE: to the right), also when the case
+    /// places the vehicle by `position` and `[impact] centre`: a draw moves the impact centre
+    /// on the vehicle, so the CG moves against the impact centre, which stays where the case
+    /// puts it.
+    pub impact_point: Option<PointSpread>,
     /// The pre-impact skid length (length unit, of `[pre_impact.vehicleN] skid`).
     pub skid: Option<Spread>,
     /// The pre-impact braking share (`[pre_impact.vehicleN] braking`).
@@ -133,6 +133,19 @@ pub struct VehicleSpread {
     pub cg_to_front_axle: Option<Spread>,
     /// CG height (length unit).
     pub cg_height: Option<Spread>,
+    /// The run-out's rolling resistance (`[runout.vehicleN] rolling_resistance`, a fraction of
+    /// the load).
+    pub rolling_resistance: Option<Spread>,
+}
+
+/// The spreads of a point's two coordinates (either may be left out: not drawn).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSpread {
+    /// Forward of the CG (length unit).
+    pub x: Option<Spread>,
+    /// Left of the CG (length unit; SAE: to the right).
+    pub y: Option<Spread>,
 }
 
 impl VehicleSpread {
@@ -149,6 +162,7 @@ impl VehicleSpread {
             ("track", self.track.is_some()),
             ("cg_to_front_axle", self.cg_to_front_axle.is_some()),
             ("cg_height", self.cg_height.is_some()),
+            ("rolling_resistance", self.rolling_resistance.is_some()),
         ]
         .into_iter()
         .filter_map(|(n, given)| given.then_some(n))
@@ -198,9 +212,9 @@ impl UncertaintySection {
             mass: s.mass.map(|x| x.scaled(mass)),
             yaw_inertia: s.yaw_inertia.map(|x| x.scaled(inertia)),
             d: s.d.map(|x| x.scaled(length)),
-            impact_point: s.impact_point.map(|p| PointSection {
-                x: p.x * length,
-                y: p.y * length,
+            impact_point: s.impact_point.map(|p| PointSpread {
+                x: p.x.map(|x| x.scaled(length)),
+                y: p.y.map(|y| y.scaled(length)),
             }),
             ..s
         };

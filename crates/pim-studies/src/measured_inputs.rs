@@ -1,6 +1,7 @@
 //! The measured inputs of a reconstruction that `[uncertainty.vehicleN]` can give a spread:
 //! the pre-impact skid length, braking share and grade, the EDR's clock, the run-out's braking
-//! share, and the chassis (wheelbase, track, CG to the front axle, CG height). Each is drawn in
+//! share and rolling resistance, and the chassis (wheelbase, track, CG to the front axle, CG
+//! height). Each is drawn in
 //! the file's own units (lengths in its length unit, the grade in percent, times in seconds)
 //! and applied to the field it names; a spread whose field the case does not give is refused
 //! with its place, never dropped.
@@ -149,6 +150,25 @@ pub(crate) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
                     }
                 },
             },
+            Field {
+                key: "rolling_resistance",
+                spread: v.rolling_resistance,
+                get: |c, k| {
+                    runout(c, k).map(|r| {
+                        r.rolling_resistance
+                            .unwrap_or(pim_runout::DEFAULT_ROLLING_RESISTANCE)
+                    })
+                },
+                // At least a trace (a rolling wheel must stop), at most half the road's
+                // friction (the chassis refuses one at or above the friction).
+                set: |c, k, x| {
+                    let road = c.content.runout.as_ref().and_then(|r| r.friction);
+                    if let Some(r) = runout(c, k) {
+                        let mu = r.friction.or(road).unwrap_or(pim_runout::DEFAULT_FRICTION);
+                        r.rolling_resistance = Some(x.clamp(1e-4, 0.5 * mu));
+                    }
+                },
+            },
         ];
         for f in fields {
             let Some(spread) = f.spread else { continue };
@@ -178,4 +198,109 @@ pub(crate) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use pim_case::case::Case;
+    use pim_case::spread::Spread;
+
+    const FOOT: f64 = 0.3048;
+
+    /// The newcomer's case (SAE, feet) with its spreads replaced by `spreads`.
+    fn case(spreads: &str) -> Case {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../pim-cli/tests/cases/main_oak.toml"
+        );
+        let text = std::fs::read_to_string(path).unwrap();
+        let at = text.find("[uncertainty.vehicle1]").unwrap();
+        Case::from_text(path, &format!("{}{spreads}", &text[..at])).unwrap()
+    }
+
+    fn inputs(c: &Case) -> Vec<crate::uncertainty::Input> {
+        let unc = c.content.uncertainty.unwrap_or_default();
+        let mut all = crate::uncertainty::inputs(c, &unc).unwrap();
+        all.extend(super::measured_inputs(c).unwrap());
+        all
+    }
+
+    /// The impact point drawn over the range the damage allows (uniform, each coordinate on
+    /// its own): the range of y, written to the right in an SAE case, is held to the left; a
+    /// drawn value puts the point there.
+    #[test]
+    fn an_impact_point_is_drawn_over_a_uniform_range() {
+        let c = case(
+            "[uncertainty.vehicle2]\nimpact_point = { x = { uniform = [1.6, 4.7] }, y = { uniform = [2.0, 2.6] } }\n",
+        );
+        let all = inputs(&c);
+        let x = all
+            .iter()
+            .find(|i| i.name == "vehicle2.impact_point.x")
+            .unwrap();
+        let y = all
+            .iter()
+            .find(|i| i.name == "vehicle2.impact_point.y")
+            .unwrap();
+        let near =
+            |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12;
+        assert!(
+            matches!(x.spread, Spread::Uniform { uniform } if near(uniform, [1.6 * FOOT, 4.7 * FOOT]))
+        );
+        assert!(
+            matches!(y.spread, Spread::Uniform { uniform } if near(uniform, [-2.6 * FOOT, -2.0 * FOOT]))
+        );
+        // The nominal point lies in the range as written: 3.0 ft ahead, 2.3 ft right.
+        assert!(
+            (x.nominal - 3.0 * FOOT).abs() < 1e-9 && (y.nominal + 2.3 * FOOT).abs() < 1e-9,
+            "{} {}",
+            x.nominal / FOOT,
+            y.nominal / FOOT
+        );
+        let mut drawn = c.clone();
+        (x.apply)(&mut drawn, 4.0 * FOOT);
+        let v = drawn.content.vehicle(1);
+        let (px, py) = pim_core::impact_point_cartesian(v.d(), v.phi());
+        assert!(
+            (px - 4.0 * FOOT).abs() < 1e-12 && (py - y.nominal).abs() < 1e-12,
+            "{px} {py}"
+        );
+        // Only the coordinate given is drawn; a range upside down is refused at its line.
+        let one = inputs(&case(
+            "[uncertainty.vehicle2]\nimpact_point = { x = 0.8 }\n",
+        ));
+        assert!(one.iter().any(|i| i.name == "vehicle2.impact_point.x"));
+        assert!(!one.iter().any(|i| i.name == "vehicle2.impact_point.y"));
+        let bad = case("[uncertainty.vehicle2]\nimpact_point = { x = { uniform = [4.7, 1.6] } }\n");
+        let unc = bad.content.uncertainty.unwrap_or_default();
+        let err = crate::uncertainty::inputs(&bad, &unc)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(err.contains("uncertainty.vehicle2.impact_point.x"), "{err}");
+    }
+
+    /// The run-out's rolling resistance carries a spread: drawn about the section's value (the
+    /// default without one), and a draw stays a rolling resistance of that road (above 0, at
+    /// most half its friction).
+    #[test]
+    fn the_rolling_resistance_is_drawn() {
+        let c = case("[uncertainty.vehicle2]\nrolling_resistance = 0.005\n");
+        let all = inputs(&c);
+        let rr = all
+            .iter()
+            .find(|i| i.name == "vehicle2 rolling resistance")
+            .unwrap();
+        assert!(matches!(rr.spread, Spread::Normal(s) if (s - 0.005).abs() < 1e-15));
+        let mut drawn = c.clone();
+        (rr.apply)(&mut drawn, 0.02);
+        let section = |c: &Case| c.content.runout.as_ref().unwrap().vehicle2.clone().unwrap();
+        assert_eq!(section(&drawn).rolling_resistance, Some(0.02));
+        (rr.apply)(&mut drawn, -0.01);
+        assert_eq!(section(&drawn).rolling_resistance, Some(1e-4));
+        drawn.scene_inputs().unwrap();
+        (rr.apply)(&mut drawn, 3.0);
+        let mu = drawn.scene_inputs().unwrap().vehicles[1].chassis.friction;
+        assert_eq!(section(&drawn).rolling_resistance, Some(0.5 * mu));
+    }
 }

@@ -159,10 +159,21 @@ pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>
                 ));
             }
             let (x0, y0) = pim_core::impact_point_cartesian(v.d(), v.phi());
-            for (axis, sd, nominal) in [("x", p.x, x0), ("y", p.y, y0)] {
+            // A range of y is written in the file's frame (SAE: to the right); the point is
+            // held in the natural frame (to the left).
+            let sae = case.written == pim_core::Convention::Sae;
+            let y = p.y.map(|sp| match sp {
+                Spread::Uniform { uniform: [a, b] } if sae => Spread::Uniform { uniform: [-b, -a] },
+                other => other,
+            });
+            for (axis, spread, nominal) in [("x", p.x, x0), ("y", y, y0)] {
+                let Some(spread) = spread else { continue };
+                spread.check_own().map_err(|why| {
+                    case.error_at(&format!("uncertainty.{name}.impact_point.{axis}"), why)
+                })?;
                 out.push(Input {
                     name: format!("{name}.impact_point.{axis}"),
-                    spread: Spread::Normal(sd),
+                    spread,
                     nominal,
                     apply: Box::new(move |case: &mut Case, value| {
                         let v = case.content.vehicle_mut(id);
