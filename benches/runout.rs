@@ -51,6 +51,7 @@ fn inverse(c: &mut Criterion) {
         heading: Some(truth.rest.heading),
         sigma_xy: [0.1, 0.1],
         sigma_heading: 0.05,
+        point: [0.0, 0.0],
     };
     let mark = |t: f64| {
         let m = truth.at(t);

@@ -36,6 +36,7 @@ mod scene_inputs;
 pub mod scene_sections;
 pub mod sections;
 pub mod spread;
+pub mod tyres;
 pub mod units;
 
 pub use error::{InputError, Result};

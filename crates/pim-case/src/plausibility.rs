@@ -58,7 +58,7 @@ impl Case {
     /// meant?), and a contact velocity more than [`PLAUSIBLE_SIDESLIP`] from the vehicle's
     /// heading with no yaw rate.
     pub fn warnings(&self) -> Vec<String> {
-        let mut out = Vec::new();
+        let mut out = self.tyre_warnings();
         let c = &self.content;
         let vehicles = [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)];
         // Radians: when every non-zero angle of the case looks like radians (a single small

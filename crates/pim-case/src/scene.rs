@@ -534,7 +534,9 @@ impl Case {
                 ));
             }
         }
+        let tyres = self.rest_of_tyres(name, s, chassis, (length, flip))?;
         let rest = match (s.rest, s.rest_sigma) {
+            _ if tyres.is_some() => tyres.map(|t| t.rest),
             (None, None) => None,
             (None, Some(_)) => {
                 return Err(self.error_at(&at("rest_sigma"), "rest_sigma without rest"));
@@ -562,6 +564,7 @@ impl Case {
                     heading: r.heading.map(|h| flip * h.to_radians()),
                     sigma_xy: [sd.x * length, sd.y * length],
                     sigma_heading,
+                    point: [0.0, 0.0],
                 })
             }
         };

@@ -240,6 +240,20 @@ pub struct MarkWritten {
     pub wheel: Option<MarkPoint>,
 }
 
+/// A tyre's contact point measured at rest.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TyreWritten {
+    /// Which tyre (`front_left`, `front_right`, `rear_left`, `rear_right`).
+    pub wheel: MarkPoint,
+    /// x (length unit).
+    pub x: f64,
+    /// y (length unit).
+    pub y: f64,
+    /// sd of each coordinate (length unit).
+    pub sigma: f64,
+}
+
 /// `[scene.vehicleN]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -253,6 +267,10 @@ pub struct SceneVehicleSection {
     /// Points the CG passed.
     #[serde(default)]
     pub marks: Vec<MarkWritten>,
+    /// The rest as measured: tyre contact points (two or more wheels), instead of `rest` and
+    /// `rest_sigma`.
+    #[serde(default)]
+    pub rest_tyres: Vec<TyreWritten>,
     /// The count of full turns to rest, when known.
     #[serde(default)]
     pub turns: Option<i64>,

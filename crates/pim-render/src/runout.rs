@@ -168,7 +168,7 @@ pub fn scene_svg(
         }
         if let Some(ev) = &r.inputs[k].evidence {
             if let Some(rest) = &ev.rest {
-                grow(to((rest.x, rest.y)));
+                grow(to(rest.cg()));
             }
             for m in &ev.marks {
                 grow(to((m.x, m.y)));
@@ -324,10 +324,12 @@ pub fn scene_svg(
             // The evidence.
             if let Some(ev) = &r.inputs[k].evidence {
                 if let Some(g) = &ev.rest {
+                    // The CG's rest as measured (a tyres' rest is of their centroid).
                     let heading = g.heading.unwrap_or(run.rest.heading);
+                    let (gx, gy) = g.cg();
                     let given = Motion {
-                        x: g.x,
-                        y: g.y,
+                        x: gx,
+                        y: gy,
                         heading,
                         ..Motion::default()
                     };
@@ -335,7 +337,7 @@ pub fn scene_svg(
                     for w in pts.windows(2) {
                         dashed(&mut chart, w[0], w[1], EVIDENCE).map_err(|x| e(&x))?;
                     }
-                    let c = to((g.x, g.y));
+                    let c = to((gx, gy));
                     let a = u(0.25);
                     for (p, q) in [
                         ((c.0 - a, c.1 - a), (c.0 + a, c.1 + a)),

@@ -51,6 +51,7 @@ fn rest_of(r: &Runout) -> Rest {
         heading: Some(r.rest.heading.rem_euclid(TAU)),
         sigma_xy: [0.05, 0.05],
         sigma_heading: 1f64.to_radians(),
+        point: [0.0, 0.0],
     }
 }
 

@@ -497,14 +497,16 @@ fn plan(
             .unwrap_or_default();
         let evidence = input.evidence.as_ref();
         let given_rest = evidence.and_then(|e| e.rest).map(|rest| {
+            // Where the CG rests as measured (the tyres' rest is of their centroid).
+            let (x, y) = rest.cg();
             let pose = pim_runout::Motion {
-                x: rest.x,
-                y: rest.y,
+                x,
+                y,
                 heading: rest.heading.unwrap_or(run.rest.heading),
                 ..pim_runout::Motion::default()
             };
             GivenRest {
-                at: on_page(rest.x, rest.y),
+                at: on_page(x, y),
                 sigma: [
                     units.length(rest.sigma_xy[0]),
                     units.length(rest.sigma_xy[1]),

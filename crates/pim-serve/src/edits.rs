@@ -33,13 +33,85 @@ pub fn move_rest_in(
             "{file}: a rest position of vehicle {vehicle} at {at:?} cannot be written"
         )));
     }
-    move_point(
-        file,
-        text,
-        &format!("scene.vehicle{vehicle}.rest"),
-        at,
-        units,
-    )
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let scene = case.content.scene.as_ref().and_then(|s| {
+        if vehicle == 1 {
+            &s.vehicle1
+        } else {
+            &s.vehicle2
+        }
+        .as_ref()
+    });
+    match scene {
+        Some(s) if !s.rest_tyres.is_empty() => move_tyres(&case, text, vehicle, at, units),
+        _ => move_point(
+            file,
+            text,
+            &format!("scene.vehicle{vehicle}.rest"),
+            at,
+            units,
+        ),
+    }
+}
+
+/// A rest given by tyre points, its CG moved to the page point `at`: every point moved by the
+/// same offset (the vehicle's measured rest moved whole), in the file's unit and frame.
+fn move_tyres(
+    case: &Case,
+    text: &str,
+    vehicle: u8,
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let inputs = case.scene_inputs().map_err(|e| input(&e))?;
+    let Some(rest) = inputs
+        .vehicles
+        .iter()
+        .find(|v| v.id.index() + 1 == vehicle as usize)
+        .and_then(|v| v.evidence.as_ref())
+        .and_then(|e| e.rest)
+    else {
+        return Err(AnswerError::Input(format!(
+            "{}: vehicle {vehicle} has no rest to move",
+            case.file
+        )));
+    };
+    let flip = if case.written == Convention::Sae {
+        -1.0
+    } else {
+        1.0
+    };
+    let (cx, cy) = rest.cg();
+    let (x, y) = written_frame(case, at, units);
+    let mut edit = pim_case::edit::CaseEdit::new(&case.file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    let delta = [(x - cx) / per_unit, (y - flip * cy) / per_unit];
+    let tyres = case
+        .content
+        .scene
+        .as_ref()
+        .and_then(|s| {
+            if vehicle == 1 {
+                &s.vehicle1
+            } else {
+                &s.vehicle2
+            }
+            .as_ref()
+        })
+        .map(|s| s.rest_tyres.clone())
+        .unwrap_or_default();
+    for (i, t) in tyres.iter().enumerate() {
+        for (axis, value, d) in [("x", t.x, delta[0]), ("y", t.y, delta[1])] {
+            let path = format!("scene.vehicle{vehicle}.rest_tyres.{i}.{axis}");
+            let written = ((value + d) * 100.0).round() / 100.0;
+            edit.set(&path, pim_case::edit::NewValue::Written(written))
+                .map_err(|e| input(&e))?;
+        }
+    }
+    Ok(edit.text())
 }
 
 /// The case text with vehicle `vehicle`'s tyre mark `mark` (from 0, as `marks` lists them)
@@ -106,6 +178,21 @@ fn written_frame(case: &Case, at: [f64; 2], units: Option<UnitSystem>) -> (f64, 
     }
 }
 
+/// A tyre mark placed on the page.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+pub struct NewMark {
+    /// Whose mark: 1 or 2.
+    pub vehicle: u8,
+    /// Where, on the page (display length unit).
+    pub at: [f64; 2],
+    /// Its standard deviation (display length unit).
+    pub sigma: f64,
+    /// The tyre that left it (`front_left` ... `rear_right`), or `cg` (the default: a point
+    /// of the CG's path).
+    #[serde(default)]
+    pub wheel: Option<String>,
+}
+
 /// The case text with a tyre mark of vehicle `vehicle` added at the page point `at` with the
 /// standard deviation `sigma` (both in the display length unit of `units`, `None`: the
 /// case's own): appended to `[scene.vehicleN] marks` in the file's length unit and frame, to a
@@ -117,9 +204,15 @@ fn written_frame(case: &Case, at: [f64; 2], units: Option<UnitSystem>) -> (f64, 
 pub fn add_mark(
     file: &str,
     text: &str,
-    (vehicle, at, sigma, wheel): (u8, [f64; 2], f64, Option<&str>),
+    mark: &NewMark,
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
+    let NewMark {
+        vehicle,
+        at,
+        sigma,
+        ref wheel,
+    } = *mark;
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     if !(vehicle == 1 || vehicle == 2)
         || !at.iter().all(|x| x.is_finite())
@@ -149,7 +242,7 @@ pub fn add_mark(
     ];
     // The tyre that left it (the CG's path without one); the case's check below refuses a
     // name that is no wheel.
-    if let Some(w) = wheel.filter(|w| *w != "cg") {
+    if let Some(w) = wheel.as_deref().filter(|w| *w != "cg") {
         entries.push(("wheel", pim_case::edit::NewValue::Text(w.to_string())));
     }
     edit.push(&format!("scene.vehicle{vehicle}.marks"), &entries)

@@ -333,17 +333,13 @@ async fn move_rest(Json(m): Json<Move>) -> Response {
     })
 }
 
-/// Saves a case: only a valid case, only inside the folder.
+/// A mark to add, to the text given.
 #[derive(Deserialize)]
 struct MarkAsk {
     path: String,
     text: String,
-    vehicle: u8,
-    at: [f64; 2],
-    sigma: f64,
-    /// The tyre that left it (`front_left` ... `rear_right`), or `cg` (the default).
-    #[serde(default)]
-    wheel: Option<String>,
+    #[serde(flatten)]
+    mark: crate::NewMark,
     #[serde(default)]
     units: Option<String>,
 }
@@ -351,12 +347,7 @@ struct MarkAsk {
 /// The text with a tyre mark added where the page was clicked (not saved).
 async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
     edited(m.units.as_deref(), |u| {
-        crate::add_mark(
-            &m.path,
-            &m.text,
-            (m.vehicle, m.at, m.sigma, m.wheel.as_deref()),
-            u,
-        )
+        crate::add_mark(&m.path, &m.text, &m.mark, u)
     })
 }
 

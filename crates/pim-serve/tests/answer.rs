@@ -47,6 +47,44 @@ fn moves_an_sae_us_rest() {
     assert!(pim_serve::move_rest("r.toml", "not = [toml", 1, [0.0, 0.0]).is_err());
 }
 
+/// A rest given by tyre points is dragged whole: both points move by the CG's offset, and the
+/// plan's measured rest (its handle at the CG the tyres imply) lands on the page point, to the
+/// hundredth the file writes.
+#[test]
+fn moves_a_rest_given_by_tyre_points() {
+    let text = example("reconstruction_us.toml").replace(
+        "rest = { x = 50.1, y = 79.7, heading = 241.0 }\nrest_sigma = { x = 1.0, y = 1.0, heading = 3.0 }",
+        "rest_tyres = [ { wheel = \"front_left\", x = 48.6, y = 77.3, sigma = 0.3 },\n  \
+         { wheel = \"rear_left\", x = 53.0, y = 85.3, sigma = 0.3 } ]",
+    );
+    assert!(text.contains("rest_tyres"));
+    let before = pim_serve::answer("t.toml", &text).unwrap();
+    let at = |a: &pim_serve::Answer| {
+        a.plan
+            .vehicles
+            .iter()
+            .find(|v| v.vehicle == 2)
+            .and_then(|v| v.given_rest.as_ref())
+            .unwrap()
+            .at
+    };
+    let [h, v] = at(&before);
+    let moved = pim_serve::move_rest("t.toml", &text, 2, [h + 2.0, v - 1.0]).unwrap();
+    let line = moved.lines().find(|l| l.starts_with("rest_tyres")).unwrap();
+    // SAE: the page's right is +y, up is +x.
+    assert_eq!(
+        line,
+        "rest_tyres = [ { wheel = \"front_left\", x = 47.6, y = 79.3, sigma = 0.3 },"
+    );
+    assert!(moved.contains("{ wheel = \"rear_left\", x = 52.0, y = 87.3, sigma = 0.3 } ]"));
+    let after = pim_serve::answer("t.toml", &moved).unwrap();
+    let [h2, v2] = at(&after);
+    assert!(
+        (h2 - h - 2.0).abs() < 1e-9 && (v2 - v + 1.0).abs() < 1e-9,
+        "{h2} {v2}"
+    );
+}
+
 /// A live answer (refined from the last one) after a rest moved 0.3 m lands where the whole
 /// search lands: the same chi-square to 1e-3 and speeds to 1 cm/s.
 #[test]

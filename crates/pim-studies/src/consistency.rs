@@ -98,6 +98,7 @@ impl Piece {
                             Piece::Rest(_) => {
                                 v.rest = None;
                                 v.rest_sigma = None;
+                                v.rest_tyres.clear();
                                 // A count of turns counts to the rest heading: it goes with it.
                                 v.turns = None;
                             }
@@ -108,7 +109,7 @@ impl Piece {
                         }
                         // A vehicle left with no scene evidence has no scene to fit: its
                         // run-out is no longer part of the reconstruction.
-                        if v.rest.is_none() && v.marks.is_empty() {
+                        if v.rest.is_none() && v.rest_tyres.is_empty() && v.marks.is_empty() {
                             *slot = None;
                         }
                     }
@@ -162,7 +163,7 @@ fn pieces(case: &Case) -> Vec<Piece> {
         else {
             continue;
         };
-        if v.rest.is_some() {
+        if v.rest.is_some() || !v.rest_tyres.is_empty() {
             out.push(Piece::Rest(k));
         }
         out.extend((0..v.marks.len()).map(|i| Piece::Mark(k, i)));

@@ -62,6 +62,6 @@ pub fn has_scene_evidence(case: &Case) -> bool {
         [&s.vehicle1, &s.vehicle2]
             .into_iter()
             .flatten()
-            .any(|v| v.rest.is_some() || !v.marks.is_empty())
+            .any(|v| v.rest.is_some() || !v.rest_tyres.is_empty() || !v.marks.is_empty())
     })
 }

@@ -1,7 +1,7 @@
 //! Intervals through all three phases (`pim uncertainty` of a case with scene evidence): a
 //! seeded parametric bootstrap. Each draw perturbs the case's estimates and observations by
 //! their standard deviations, the inputs `[uncertainty]` names, the road friction by
-//! `[runout] friction_sigma`, every rest position and heading and every mark by its sigma and
+//! `[runout] friction_sigma`, every rest position and heading (or tyre point at rest) and every mark by its sigma and
 //! every EDR speed by its sigma, the measured inputs `[uncertainty.vehicleN]` gives a spread
 //! (skid, braking shares, grade, the EDR's clock, the chassis: `measured_inputs`); then the whole reconstruction is refitted (from where the
 //! nominal reconstruction ended, for each count of turns it found within a chi-square of 4 of
@@ -143,6 +143,24 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
                     apply: Box::new(move |c: &mut Case, x| {
                         if let Some(r) = pick(c).and_then(|v| v.rest.as_mut()) {
                             r.heading = Some(x);
+                        }
+                    }),
+                });
+            }
+        }
+        for (i, t) in v.rest_tyres.iter().enumerate() {
+            for (axis, nominal) in [("x", t.x), ("y", t.y)] {
+                out.push(Input {
+                    name: format!("vehicle{n} rest tyre {} {axis}", i + 1),
+                    spread: Spread::Normal(t.sigma),
+                    nominal,
+                    apply: Box::new(move |c: &mut Case, x| {
+                        if let Some(t) = pick(c).and_then(|v| v.rest_tyres.get_mut(i)) {
+                            if axis == "x" {
+                                t.x = x;
+                            } else {
+                                t.y = x;
+                            }
                         }
                     }),
                 });

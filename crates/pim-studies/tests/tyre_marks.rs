@@ -46,21 +46,32 @@ fn summary(done: &pim_studies::reconstruct::Reconstructed) -> (f64, f64, [f64; 2
     )
 }
 
-#[test]
-fn a_tyre_mark_is_measured_from_its_tyres_path() {
+/// The example, its answer's summary, its fitted run-outs and the SUV's index among them.
+fn the_suv() -> (
+    String,
+    String,
+    (f64, f64, [f64; 2]),
+    pim_studies::runout::RunoutResult,
+    usize,
+) {
     let (file, text) = example();
     let case = Case::from_text(&file, &text).unwrap();
     let done = reconstructed(&file, &text);
     let best = done.outcome.best.as_ref().unwrap();
-    let (_, chi0, speeds0) = summary(&done);
-    // The SUV's front right tyre 40 % of the way through its fitted run-out, in the file's
-    // frame (SAE: y to the right) and feet.
     let fitted = pim_studies::runout::fitted(&case, best, 0.02, false).unwrap();
     let k = fitted
         .inputs
         .iter()
         .position(|v| v.id == VehicleId::Two)
         .unwrap();
+    (file, text, summary(&done), fitted, k)
+}
+
+#[test]
+fn a_tyre_mark_is_measured_from_its_tyres_path() {
+    let (file, text, (_, chi0, speeds0), fitted, k) = the_suv();
+    // The SUV's front right tyre 40 % of the way through its fitted run-out, in the file's
+    // frame (SAE: y to the right) and feet.
     let run = &fitted.runouts[k];
     let m = run.at(0.4 * run.time);
     let [ax, ay] = fitted.inputs[k].chassis.wheel_position(1);
@@ -99,6 +110,95 @@ fn a_tyre_mark_is_measured_from_its_tyres_path() {
     println!("{err}");
     assert!(
         err.contains(":102:") && err.contains("front_right"),
+        "{err}"
+    );
+}
+
+/// A rest given as it is measured, the left tyres' contact points: on the SAE example the
+/// SUV's rest replaced by its front and rear left tyres where the answer's run-out leaves
+/// them (sigma 0.3 ft each) gives the same answer; the rest's residuals are of the tyres'
+/// centroid and the heading they give; a rear tyre measured a foot off the wheelbase is said
+/// (a warning naming both spacings), and a rest given twice or by one tyre is refused at its
+/// line.
+#[test]
+fn a_rest_given_by_tyre_points_is_met_as_measured() {
+    let (file, text, (_, chi0, speeds0), fitted, k) = the_suv();
+    let rest = fitted.runouts[k].rest;
+    let chassis = &fitted.inputs[k].chassis;
+    let (s, c) = rest.heading.sin_cos();
+    // A tyre's point in the file's frame (SAE: y to the right) and feet.
+    // `back` feet farther back along the vehicle than its geometry puts it.
+    let tyre = |w: usize, back: f64| {
+        let [a, b] = chassis.wheel_position(w);
+        let a = a - back * FOOT;
+        let (x, y) = (rest.x + c * a - s * b, rest.y + s * a + c * b);
+        (x / FOOT, -y / FOOT)
+    };
+    let given = "rest = { x = 50.1, y = 79.7, heading = 241.0 }\nrest_sigma = { x = 1.0, y = 1.0, heading = 3.0 }";
+    assert!(text.contains(given));
+    let tyres = |rear_back: f64| {
+        let (fl, rl) = (tyre(0, 0.0), tyre(2, rear_back));
+        text.replace(
+            given,
+            &format!(
+                "rest_tyres = [ {{ wheel = \"front_left\", x = {:.3}, y = {:.3}, sigma = 0.3 }},\n  \
+                 {{ wheel = \"rear_left\", x = {:.3}, y = {:.3}, sigma = 0.3 }} ]",
+                fl.0,
+                fl.1,
+                rl.0,
+                rl.1
+            ),
+        )
+    };
+    let measured = reconstructed(&file, &tyres(0.0));
+    let b = measured.outcome.best.as_ref().unwrap();
+    let (_, chi, speeds) = summary(&measured);
+    let scene = b
+        .scene
+        .iter()
+        .find(|s| s.vehicle == VehicleId::Two)
+        .unwrap();
+    let names: Vec<&str> = scene.residuals.iter().map(|r| r.name.as_str()).collect();
+    println!(
+        "tyres: chi-square {chi:.3} (was {chi0:.3}), speeds {speeds:?} (were {speeds0:?}); {:?}",
+        scene.residuals
+    );
+    assert_eq!(names, ["rest.x", "rest.y", "rest.heading", "mark 1"]);
+    for r in &scene.residuals[..3] {
+        assert!((r.value / r.sigma).abs() < 0.1, "{r:?}");
+    }
+    // The same rest, measured more tightly than the CG's 1 ft: the answer moves by little.
+    for (a, b) in speeds.iter().zip(&speeds0) {
+        assert!((a - b).abs() < 0.1, "{speeds:?} against {speeds0:?}");
+    }
+    assert!(chi <= chi0 + 0.1, "{chi} against {chi0}");
+    // The rear tyre measured 1.5 ft farther back than the wheelbase puts it: a misfit of
+    // (1.5 / (0.3 sqrt 2))^2 = 12.5 with one degree of freedom, p 4e-4, said.
+    let off = Case::from_text(&file, &tyres(1.5)).unwrap();
+    let warnings = off.warnings().join("\n");
+    println!("{warnings}");
+    assert!(
+        warnings.contains("scene.vehicle2.rest_tyres")
+            && warnings.contains("front_left to rear_left measured"),
+        "{warnings}"
+    );
+    assert!(Case::from_text(&file, &tyres(0.0))
+        .unwrap()
+        .warnings()
+        .iter()
+        .all(|w| !w.contains("rest_tyres")));
+    // Given twice, or by one tyre: refused at the line.
+    let twice = tyres(0.0).replace(
+        "rest_tyres = [",
+        "rest = { x = 50.1, y = 79.7 }\nrest_tyres = [",
+    );
+    let err = Case::from_text(&file, &twice)
+        .and_then(|c| c.scene_inputs().map(|_| c))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("rest_tyres") && err.contains("given twice"),
         "{err}"
     );
 }

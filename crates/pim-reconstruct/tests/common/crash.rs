@@ -113,6 +113,7 @@ pub fn crash_with(seed: u64, noise: f64, speeds: std::ops::Range<f64>) -> Option
                 ),
                 sigma_xy: [SIGMA_REST, SIGMA_REST],
                 sigma_heading: SIGMA_HEADING_DEG.to_radians(),
+                point: [0.0, 0.0],
             }),
             marks,
             turns: None,

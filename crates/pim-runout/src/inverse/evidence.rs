@@ -48,6 +48,21 @@ pub struct Rest {
     pub sigma_xy: [f64; 2],
     /// Standard deviation of the heading, rad.
     pub sigma_heading: f64,
+    /// The point of the vehicle whose rest position `x`, `y` is, in the vehicle's frame:
+    /// metres ahead of the CG and to its left (`[0, 0]`: the CG; the centroid of tyre contact
+    /// points measured at rest, with the heading they give).
+    #[serde(default)]
+    pub point: [f64; 2],
+}
+
+impl Rest {
+    /// Where the CG rests if the vehicle rests as given: `(x, y)` less the point's offset
+    /// turned by the rest heading (by none without one).
+    pub fn cg(&self) -> (f64, f64) {
+        let (s, c) = self.heading.unwrap_or(0.0).sin_cos();
+        let [a, b] = self.point;
+        (self.x - (c * a - s * b), self.y - (s * a + c * b))
+    }
 }
 
 /// A point a point of the vehicle passed: a tyre mark left by one wheel (its contact point,
@@ -280,6 +295,8 @@ impl Evidence {
         if let Some(r) = &self.rest {
             within("rest.x", r.x, -p, p, "m")?;
             within("rest.y", r.y, -p, p, "m")?;
+            within("rest.point", r.point[0], -MAX_POINT, MAX_POINT, "m")?;
+            within("rest.point", r.point[1], -MAX_POINT, MAX_POINT, "m")?;
             positive("rest_sigma.x", r.sigma_xy[0], p, "m")?;
             positive("rest_sigma.y", r.sigma_xy[1], p, "m")?;
             if let Some(a) = r.heading {

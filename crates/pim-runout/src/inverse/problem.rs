@@ -90,8 +90,12 @@ impl Problem<'_> {
             sigma,
         };
         if let Some(rest) = &self.evidence.rest {
-            out.push(res("rest.x", r.rest.x - rest.x, rest.sigma_xy[0]));
-            out.push(res("rest.y", r.rest.y - rest.y, rest.sigma_xy[1]));
+            // The rest position of the point the scene gives (the CG, or tyres' centroid).
+            let (s, c) = r.rest.heading.sin_cos();
+            let [a, b] = rest.point;
+            let (x, y) = (r.rest.x + c * a - s * b, r.rest.y + s * a + c * b);
+            out.push(res("rest.x", x - rest.x, rest.sigma_xy[0]));
+            out.push(res("rest.y", y - rest.y, rest.sigma_xy[1]));
             if let Some(h) = self.heading {
                 out.push(res("rest.heading", r.rest.heading - h, rest.sigma_heading));
             }
@@ -152,8 +156,9 @@ impl Problem<'_> {
         let angle = 1.0 + run.rotation.abs() + self.start.heading.abs();
         let mut scales: Vec<f64> = Vec::with_capacity(r.len());
         if let Some(rest) = &self.evidence.rest {
-            scales.push(length / rest.sigma_xy[0]);
-            scales.push(length / rest.sigma_xy[1]);
+            let arm = rest.point[0].hypot(rest.point[1]) * angle;
+            scales.push((length + arm) / rest.sigma_xy[0]);
+            scales.push((length + arm) / rest.sigma_xy[1]);
             if self.heading.is_some() {
                 scales.push(angle / rest.sigma_heading);
             }

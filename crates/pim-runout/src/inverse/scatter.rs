@@ -80,7 +80,10 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
                 evidence: base.evidence,
                 ..problem(None)
             };
-            let (branches, spent) = rest_curve(&path, &guess, [rest.x, rest.y]);
+            let (branches, spent) = rest_curve(&path, &guess, {
+                let (x, y) = rest.cg();
+                [x, y]
+            });
             guess_runouts += spent;
             branches
         }

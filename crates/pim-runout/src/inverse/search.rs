@@ -19,7 +19,7 @@ pub(crate) fn first_guess(p: &Problem, runouts: &mut usize) -> Vec<f64> {
     let target = p
         .evidence
         .rest
-        .map(|r| (r.x, r.y))
+        .map(|r| r.cg())
         .or_else(|| p.evidence.marks.last().map(|m| (m.x, m.y)))
         .unwrap_or((p.start.x, p.start.y));
     let (dx, dy) = (target.0 - p.start.x, target.1 - p.start.y);
