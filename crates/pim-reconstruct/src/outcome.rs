@@ -102,6 +102,12 @@ pub struct Found {
 }
 
 impl Found {
+    /// Its counts of turns, one per scene vehicle (none without a rest heading), as
+    /// [`TriedCounts::counts`] lists them.
+    pub fn counts(&self) -> Vec<Option<i64>> {
+        self.scene.iter().map(|s| s.turns).collect()
+    }
+
     /// Whether the evidence contradicts this answer: its chi-square's probability lies below
     /// [`INCONSISTENT_P`] (as a refusal judges it).
     pub fn refused(&self) -> bool {
@@ -256,6 +262,13 @@ pub struct Outcome {
 }
 
 impl Outcome {
+    /// The index in [`Outcome::tried`] of the best combination: the one entry of its counts
+    /// of turns (never told apart by comparing costs).
+    pub fn best_index(&self) -> Option<usize> {
+        let counts = self.best.as_ref()?.counts();
+        self.tried.iter().position(|t| t.counts == counts)
+    }
+
     /// The combinations refined to a cost within `margin` of the best (the best among them):
     /// with more than one, the evidence does not decide between their counts of turns.
     pub fn within(&self, margin: f64) -> Vec<&TriedCounts> {

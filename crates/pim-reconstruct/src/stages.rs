@@ -90,12 +90,7 @@ const CONTINUATION: [f64; 5] = [16.0, 8.0, 4.0, 2.0, 1.0];
 /// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
 /// contact evidence does not want, is led around it. The lower of the two answers is kept.
 fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
-    let Some(best) = out.best.as_ref() else {
-        return;
-    };
-    let Some(i) = out.tried.iter().position(|t| {
-        matches!(t.state, Tried::Refined { cost, .. } if (cost - best.chi_square).abs() <= 1e-9 * (1.0 + cost))
-    }) else {
+    let (Some(best), Some(i)) = (out.best.as_ref(), out.best_index()) else {
         return;
     };
     let (Some(end), counts) = (out.tried[i].end.clone(), out.tried[i].counts.clone()) else {

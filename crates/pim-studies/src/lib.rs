@@ -43,6 +43,7 @@ pub mod predict;
 pub mod question;
 pub mod reconstruct;
 mod reconstruct_friction;
+mod reconstruct_open;
 pub mod reconstruct_study;
 pub mod residuals;
 pub mod ricsac_damage;

@@ -523,18 +523,19 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             },
         }
     });
-    let best_cost = outcome.best.as_ref().map(|b| b.chi_square);
+    let best_index = outcome.best_index();
     let counts = outcome
         .tried
         .iter()
-        .map(|t| {
+        .enumerate()
+        .map(|(i, t)| {
             let (chi_square, state, reason) = match &t.state {
                 Tried::Refined {
                     cost, abandoned, ..
                 } => {
                     let state = if *abandoned {
                         "abandoned"
-                    } else if best_cost.is_some_and(|b| (cost - b).abs() <= 0.0) {
+                    } else if best_index == Some(i) {
                         "best"
                     } else {
                         "refined"
@@ -584,44 +585,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         ),
         None => "nothing: no admissible impact was found".into(),
     };
-    let mut undetermined = Vec::new();
-    if let Some(b) = &outcome.best {
-        let close: Vec<String> = outcome
-            .within(1.0)
-            .iter()
-            .filter(|t| !matches!(t.state, Tried::Refined { cost, .. } if (cost - b.chi_square).abs() <= 0.0))
-            .map(|t| format!("{:?} (chi-square {:.3})", t.counts, match t.state { Tried::Refined { cost, .. } => cost, _ => f64::NAN }))
-            .collect();
-        if !close.is_empty() {
-            undetermined.push(format!(
-                "the counts of turns: other combinations fit within a chi-square of 1 of the \
-                 best: {}",
-                close.join(", ")
-            ));
-        }
-        if !b.solution.undetermined.is_empty() {
-            undetermined.push(format!(
-                "the velocity components {} (the cost is flat along a combination of them)",
-                b.solution
-                    .undetermined
-                    .iter()
-                    .map(|c| c.name())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-        if b.degrees_of_freedom < 0 {
-            undetermined.push(format!(
-                "more unknowns than evidence ({} degrees of freedom): the answer is one of many",
-                b.degrees_of_freedom
-            ));
-        }
-    }
-    undetermined.extend(crate::reconstruct_friction::notes(
-        r,
-        &input.settings.runout,
-        outcome.best.as_ref(),
-    ));
+    let undetermined = crate::reconstruct_open::undetermined(r, &input.settings.runout, outcome);
     ReconstructionOut {
         units: pim_documents::records::SiUnits,
         kind: "reconstruction",
