@@ -53,6 +53,9 @@ pub struct VehicleRunout {
     pub start: Motion,
     /// The scene's evidence, when the case gives any.
     pub evidence: Option<Evidence>,
+    /// The tyre contact points measured at rest (`rest_tyres`), m: what the evidence's rest
+    /// stands for, for drawing.
+    pub rest_tyres: Vec<[f64; 2]>,
 }
 
 /// The run-out inputs of a case.
@@ -256,11 +259,16 @@ impl Case {
                 )?),
                 None => None,
             };
+            let rest_tyres = match scene {
+                Some(s) => self.tyre_points(&name, s, (length, flip))?,
+                None => Vec::new(),
+            };
             vehicles.push(VehicleRunout {
                 id,
                 chassis,
                 start,
                 evidence,
+                rest_tyres: rest_tyres.into_iter().map(|t| t.1).collect(),
             });
         }
         if vehicles.is_empty() {

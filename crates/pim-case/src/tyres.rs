@@ -103,7 +103,7 @@ pub fn fit(
 impl Case {
     /// The tyre points of `[scene.name] rest_tyres`, in SI and the natural frame:
     /// `(wheel, [x, y], sigma)`, each checked.
-    fn tyre_points(
+    pub(crate) fn tyre_points(
         &self,
         name: &str,
         s: &SceneVehicleSection,

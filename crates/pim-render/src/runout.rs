@@ -367,6 +367,17 @@ pub fn scene_svg(
                         )))
                         .map_err(|x| e(&x))?;
                 }
+                // The tyres measured at rest: small squares.
+                for t in &r.inputs[k].rest_tyres {
+                    let c = to((t[0], t[1]));
+                    let a = u(0.12);
+                    chart
+                        .draw_series(std::iter::once(Rectangle::new(
+                            [(c.0 - a, c.1 - a), (c.0 + a, c.1 + a)],
+                            EVIDENCE.filled(),
+                        )))
+                        .map_err(|x| e(&x))?;
+                }
                 for (i, m) in ev.marks.iter().enumerate() {
                     let c = to((m.x, m.y));
                     let rad = u(m.sigma).max(u(0.05));
@@ -489,6 +500,9 @@ pub fn scene_svg(
         if !motion {
             line("dashed outline, cross: rest given".into(), EVIDENCE, 12)?;
             line("circle: a mark and its sd".into(), EVIDENCE, 12)?;
+            if r.inputs.iter().any(|v| !v.rest_tyres.is_empty()) {
+                line("square: a tyre measured at rest".into(), EVIDENCE, 12)?;
+            }
             if r.inputs
                 .iter()
                 .filter_map(|v| v.evidence.as_ref())

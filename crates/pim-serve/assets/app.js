@@ -536,6 +536,7 @@ function render() {
       const moved = el("g", { class: `given-rest evidence${look.cls}`, "data-piece": `vehicle${veh.vehicle} rest` }, g);
       if (look.z != null) zLabel(moved, gr.at[0] + r, gr.at[1] + r, look.z);
       el("polygon", { points: pts(gr.outline), class: "outline given" }, moved);
+      for (const t of gr.tyres || []) el("rect", { x: t[0] - r / 2, y: -t[1] - r / 2, width: r, height: r, class: "tyre" }, moved);
       // The one-sigma ellipse: sigma along the written frame's x and y, turned onto the page.
       const [sx, sy] = a.plan.frame === "sae" ? [gr.sigma[1], gr.sigma[0]] : gr.sigma;
       el("ellipse", { cx: gr.at[0], cy: -gr.at[1], rx: sx, ry: sy, class: "sigma" }, moved);

@@ -189,6 +189,8 @@ pub struct GivenRest {
     pub sigma: [f64; 2],
     /// The vehicle's outline there.
     pub outline: Vec<[f64; 2]>,
+    /// The tyres measured at rest, when the rest is given by them.
+    pub tyres: Vec<[f64; 2]>,
 }
 
 /// The answer of the case text `text` (named `file` in messages).
@@ -512,6 +514,11 @@ fn plan(
                     units.length(rest.sigma_xy[1]),
                 ],
                 outline: outline(k, &pose),
+                tyres: input
+                    .rest_tyres
+                    .iter()
+                    .map(|t| on_page(t[0], t[1]))
+                    .collect(),
             }
         });
         let marks = evidence
