@@ -207,7 +207,8 @@ impl Case {
                 pim_runout::DEFAULT_SATURATION_ANGLE
             };
             let braking = w.braking.unwrap_or(0.0);
-            let wheels = self.wheels_of(&name, w.wheels.as_ref(), braking)?;
+            let wheels =
+                self.wheels_of(&format!("runout.{name}.wheels"), w.wheels.as_ref(), braking)?;
             let chassis = Chassis {
                 mass: vs.mass,
                 yaw_inertia: vs.yaw_inertia,
@@ -417,9 +418,15 @@ impl Case {
         Ok(degrees.map(|a| flip * a.to_radians()))
     }
 
-    fn wheels_of(
+    /// The wheel states `written` (at `base` in the file) with the rolling wheels' braking
+    /// share `braking`: checked, each wheel's path named in a refusal.
+    ///
+    /// # Errors
+    /// A located error: a word that is no wheel state, a share outside 0-1, a wheel missing or
+    /// unknown.
+    pub fn wheels_of(
         &self,
-        name: &str,
+        base: &str,
         written: Option<&WheelsWritten>,
         braking: f64,
     ) -> Result<[WheelState; 4]> {
@@ -461,10 +468,9 @@ impl Case {
                 }
             }
         };
-        let base = format!("runout.{name}.wheels");
         match written {
             None => Ok([WheelState::Locked; 4]),
-            Some(WheelsWritten::All(w)) => Ok([one(w, &base)?; 4]),
+            Some(WheelsWritten::All(w)) => Ok([one(w, base)?; 4]),
             Some(WheelsWritten::Each(map)) => {
                 if let Some(unknown) = map
                     .keys()
@@ -484,7 +490,7 @@ impl Case {
                         Some(w) => out[i] = one(w, &format!("{base}.{wheel}"))?,
                         None => {
                             return Err(self.error_at(
-                                &base,
+                                base,
                                 format!(
                                     "{wheel} missing: give all four wheels ({}), or one state \
                                      for all",

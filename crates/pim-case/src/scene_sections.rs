@@ -49,6 +49,16 @@ pub enum WheelsWritten {
     Each(BTreeMap<String, WheelWritten>),
 }
 
+/// Other wheel states with their probability (`[runout.vehicleN] wheels_alternatives`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsAlternative {
+    /// The wheels' states, written as `wheels` is.
+    pub wheels: WheelsWritten,
+    /// Its probability (above 0; with the others' below 1).
+    pub weight: f64,
+}
+
 /// `steer = ...`: one angle for both front wheels, or each front wheel's angle, degrees.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(untagged)]
@@ -86,6 +96,11 @@ pub struct RunoutVehicleSection {
     /// The wheels' states (default `"locked"`).
     #[serde(default)]
     pub wheels: Option<WheelsWritten>,
+    /// Other wheel states the vehicle may have run out with, each with its probability: what
+    /// `pim uncertainty` draws instead of `wheels` (which keeps the probability left). The
+    /// reconstruction itself runs out with `wheels`.
+    #[serde(default)]
+    pub wheels_alternatives: Vec<WheelsAlternative>,
     /// Braking share of the wheels given as `"rolling"` (0 to 1, default 0).
     #[serde(default)]
     pub braking: Option<f64>,

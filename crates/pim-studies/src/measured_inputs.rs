@@ -200,6 +200,79 @@ pub(crate) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
     Ok(out)
 }
 
+/// The wheel states a run-out may have had instead of its stated ones
+/// (`[runout.vehicleN] wheels_alternatives`), drawn by their probabilities: one uniform number
+/// per draw in [0, 1), the stated wheels below the probability they keep (one less the
+/// alternatives'), each alternative above by its own.
+///
+/// # Errors
+/// A located error: a probability not above 0, probabilities that do not leave the stated
+/// wheels some, or an alternative that is no wheel state.
+pub(crate) fn wheel_alternatives(case: &Case) -> Result<Vec<Input>> {
+    let mut out = Vec::new();
+    for k in 0..2 {
+        let mut probe = case.clone();
+        let Some(section) = runout(&mut probe, k) else {
+            continue;
+        };
+        let (alternatives, braking) = (
+            section.wheels_alternatives.clone(),
+            section.braking.unwrap_or(0.0),
+        );
+        if alternatives.is_empty() {
+            continue;
+        }
+        let at = format!("runout.vehicle{}.wheels_alternatives", k + 1);
+        let total: f64 = alternatives.iter().map(|a| a.weight).sum();
+        if alternatives
+            .iter()
+            .any(|a| !(a.weight.is_finite() && a.weight > 0.0))
+            || total >= 1.0
+        {
+            return Err(case.error_at(
+                &at,
+                format!(
+                    "probabilities {}: each above 0, together below 1 (the stated wheels keep                      the rest)",
+                    alternatives
+                        .iter()
+                        .map(|a| a.weight.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
+        for (i, a) in alternatives.iter().enumerate() {
+            case.wheels_of(&format!("{at}[{i}].wheels"), Some(&a.wheels), braking)?;
+        }
+        let stated = 1.0 - total;
+        out.push(Input {
+            name: format!("vehicle{} wheels", k + 1),
+            spread: Spread::Uniform {
+                uniform: [0.0, 1.0],
+            },
+            // Within the stated wheels' share: the nominal case.
+            nominal: 0.5 * stated,
+            apply: Box::new(move |c: &mut Case, x| {
+                let mut edge = stated;
+                if x < edge {
+                    return;
+                }
+                let chosen = alternatives
+                    .iter()
+                    .find(|a| {
+                        edge += a.weight;
+                        x < edge
+                    })
+                    .or(alternatives.last());
+                if let (Some(a), Some(r)) = (chosen, runout(c, k)) {
+                    r.wheels = Some(a.wheels.clone());
+                }
+            }),
+        });
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use pim_case::case::Case;
@@ -278,6 +351,53 @@ mod tests {
             .unwrap()
             .to_string();
         assert!(err.contains("uncertainty.vehicle2.impact_point.x"), "{err}");
+    }
+
+    /// The SUV's jammed wheel may have been free: its alternative drawn three times in ten,
+    /// the stated wheels otherwise; probabilities that leave the stated wheels none, or an
+    /// alternative that is no wheel state, are refused at their place.
+    #[test]
+    fn wheel_states_are_drawn_among_their_alternatives() {
+        let with = |alt: &str| {
+            let path = concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../pim-cli/tests/cases/main_oak.toml"
+            );
+            let text = std::fs::read_to_string(path).unwrap();
+            let stated = "wheels = { front_left = \"rolling\", front_right = \"locked\", rear_left = \"rolling\", rear_right = \"rolling\" }";
+            assert!(text.contains(stated));
+            Case::from_text(
+                path,
+                &text.replace(stated, &format!("{stated}\nwheels_alternatives = {alt}")),
+            )
+            .unwrap()
+        };
+        let c = with("[ { wheels = \"rolling\", weight = 0.3 } ]");
+        let all = super::wheel_alternatives(&c).unwrap();
+        let w = all.iter().find(|i| i.name == "vehicle2 wheels").unwrap();
+        let states = |c: &Case| c.scene_inputs().unwrap().vehicles[1].chassis.wheels;
+        let (mut a, mut b) = (c.clone(), c.clone());
+        (w.apply)(&mut a, 0.69);
+        (w.apply)(&mut b, 0.71);
+        assert_eq!(states(&a), states(&c));
+        assert_eq!(states(&b), [pim_runout::WheelState::Rolling; 4]);
+        assert_ne!(states(&c)[1], pim_runout::WheelState::Rolling);
+        for (alt, at) in [
+            (
+                "[ { wheels = \"rolling\", weight = 1.0 } ]",
+                "wheels_alternatives",
+            ),
+            (
+                "[ { wheels = \"jammed\", weight = 0.2 } ]",
+                "wheels_alternatives[0].wheels",
+            ),
+        ] {
+            let err = super::wheel_alternatives(&with(alt))
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(err.contains(&format!("runout.vehicle2.{at}")), "{err}");
+        }
     }
 
     /// The run-out's rolling resistance carries a spread: drawn about the section's value (the

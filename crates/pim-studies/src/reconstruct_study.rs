@@ -254,6 +254,7 @@ pub fn run_around(
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
     all.extend(crate::measured_inputs::measured_inputs(case)?);
+    all.extend(crate::measured_inputs::wheel_alternatives(case)?);
     let nominal = &done.outcome;
     if nominal.status == pim_reconstruct::Status::Inconsistent {
         return Err(DocumentError::NoAnswer(format!(
