@@ -1,5 +1,6 @@
-//! The structure of the workspace's source: no import cycle between the files of a crate, and
-//! no source file longer than [`MAX_LINES`] outside its tests.
+//! The structure of the workspace's source: no import cycle between the files of a crate, no
+//! source file longer than [`MAX_LINES`] outside its tests, and no function longer than
+//! [`MAX_FN_LINES`] (those longer when the limit was set may only shrink: [`LONG_FUNCTIONS`]).
 //!
 //! A file imports another when it names an item that the other defines: through `use` (the
 //! `crate::`, `self::`, `super::` and child-module paths of Rust 2018) or an inline
@@ -87,6 +88,7 @@ fn code_of(text: &str) -> String {
         } else if b[i] == b'/' && b.get(i + 1) == Some(&b'*') {
             i += 2;
             while i + 1 < b.len() && !(b[i] == b'*' && b[i + 1] == b'/') {
+                newline(b[i], &mut out);
                 i += 1;
             }
             i += 2;
@@ -95,6 +97,9 @@ fn code_of(text: &str) -> String {
             while i < b.len() && b[i] != b'"' {
                 if b[i] == b'\\' {
                     i += 1;
+                }
+                if i < b.len() {
+                    newline(b[i], &mut out);
                 }
                 i += 1;
             }
@@ -115,6 +120,14 @@ fn code_of(text: &str) -> String {
         }
     }
     out
+}
+
+/// Keeps a skipped comment's or string's line breaks, so that the code's lines are the
+/// source's.
+fn newline(c: u8, out: &mut String) {
+    if c == b'\n' {
+        out.push('\n');
+    }
 }
 
 fn ident(c: char) -> bool {
@@ -500,6 +513,174 @@ fn no_source_file_is_longer_than_the_limit() {
         }
     }
     assert!(long.is_empty(), "{}", long.join("\n"));
+}
+
+/// The longest function allowed, in lines from its `fn` to its closing brace.
+const MAX_FN_LINES: usize = 120;
+
+/// The functions already over [`MAX_FN_LINES`] when the limit was set, each with its length
+/// then: a ratchet. Each may only shrink; a function over the limit that is not listed, or
+/// longer than listed, fails, and so does a listed one brought within the limit (it leaves the
+/// list). `PIM_LONG_FUNCTIONS=1 cargo test --release --test structure -- --nocapture` prints
+/// the list as it stands.
+const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
+    ("crates/pim-runout/src/chassis.rs", "check", 135),
+    ("crates/pim-runout/src/inverse/mod.rs", "estimate", 150),
+    ("crates/pim-runout/src/inverse/scatter.rs", "scatter", 135),
+    ("crates/pim-runout/src/inverse/search.rs", "solve", 246),
+    ("crates/pim-reconstruct/src/refine.rs", "refine", 161),
+    ("crates/pim-reconstruct/src/search.rs", "search", 238),
+    ("crates/pim-fit/src/convex/mod.rs", "new", 168),
+    ("crates/pim-fit/src/convex/dual.rs", "run", 133),
+    ("crates/pim-fit/src/geometry/mod.rs", "branch_search", 187),
+    ("crates/pim-fit/src/geometry/certify/mod.rs", "prove", 138),
+    ("crates/pim-fit/src/inner/general.rs", "solve_rows", 125),
+    ("crates/pim-case/src/damage.rs", "of", 173),
+    ("crates/pim-case/src/plausibility.rs", "warnings", 236),
+    ("crates/pim-case/src/ricsac.rs", "parse", 125),
+    ("crates/pim-case/src/scene.rs", "scene_inputs", 200),
+    ("crates/pim-studies/src/damage_assess.rs", "assess", 142),
+    ("crates/pim-studies/src/fitcase.rs", "problem", 201),
+    (
+        "crates/pim-studies/src/measured_inputs.rs",
+        "measured_inputs",
+        157,
+    ),
+    (
+        "crates/pim-studies/src/reconstruct.rs",
+        "case_reconstruction",
+        214,
+    ),
+    ("crates/pim-studies/src/reconstruct.rs", "document", 221),
+    (
+        "crates/pim-studies/src/reconstruct_study.rs",
+        "scene_inputs",
+        156,
+    ),
+    ("crates/pim-studies/src/uncertainty.rs", "inputs", 121),
+    ("crates/pim-studies/src/uncertainty.rs", "run", 168),
+    ("crates/pim-serve/src/answer.rs", "answer_without", 133),
+    ("crates/pim-serve/src/answer.rs", "plan", 168),
+    ("crates/pim-serve/src/contact.rs", "edit_contact", 138),
+    ("crates/pim-render/src/diagram/paint.rs", "draw_into", 298),
+    ("crates/pim-render/src/diagram/paint.rs", "key", 162),
+    ("crates/pim-render/src/figures.rs", "grouped_bars", 148),
+    ("crates/pim-render/src/figures.rs", "all", 194),
+    ("crates/pim-render/src/momentum.rs", "figure", 183),
+    (
+        "crates/pim-render/src/reconstruct.rs",
+        "reconstruction_table",
+        150,
+    ),
+    ("crates/pim-render/src/report/scene.rs", "answer", 144),
+    ("crates/pim-render/src/runout.rs", "scene_svg", 388),
+    ("crates/pim-render/src/runout_table.rs", "runout_table", 174),
+    ("crates/pim-render/src/tables.rs", "solve_table", 122),
+    (
+        "crates/pim-render/src/uncertainty_figures.rs",
+        "figures",
+        149,
+    ),
+    ("crates/pim-cli/src/commands/batch.rs", "run", 280),
+    ("crates/pim-cli/src/commands/batch_cases.rs", "run", 165),
+];
+
+/// Each function of `code` (comments and strings blanked, its lines the source's): its name
+/// and its length in lines, from the line of its `fn` to that of its closing brace. A
+/// declaration without a body (a trait's) is not a function here.
+fn functions(code: &str) -> Vec<(String, usize)> {
+    let b = code.as_bytes();
+    let mut out = Vec::new();
+    let mut from = 0;
+    while let Some(j) = code[from..].find("fn ") {
+        let at = from + j;
+        from = at + 3;
+        if at > 0 && ident(b[at - 1] as char) {
+            continue;
+        }
+        let name: String = code[at + 3..].chars().take_while(|c| ident(*c)).collect();
+        let Some(k) = code[at..].find(['{', ';']) else {
+            break;
+        };
+        if name.is_empty() || b[at + k] == b';' {
+            continue;
+        }
+        let open = at + k;
+        let mut depth = 0usize;
+        let mut end = code.len() - 1;
+        for (m, c) in code[open..].bytes().enumerate() {
+            match c {
+                b'{' => depth += 1,
+                b'}' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        end = open + m;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        out.push((name, code[at..=end].matches('\n').count() + 1));
+    }
+    out
+}
+
+#[test]
+fn no_function_is_longer_than_the_limit() {
+    let mut found: Vec<(String, String, usize)> = Vec::new();
+    for krate in CRATES {
+        let dir = root().join(krate);
+        for (_, (path, _)) in crate_files(&dir) {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let file = path.strip_prefix(root()).unwrap().display().to_string();
+            for (name, n) in functions(&code_of(&text)) {
+                if n > MAX_FN_LINES {
+                    found.push((file.clone(), name, n));
+                }
+            }
+        }
+    }
+    if std::env::var_os("PIM_LONG_FUNCTIONS").is_some() {
+        for (f, name, n) in &found {
+            println!("    (\"{f}\", \"{name}\", {n}),");
+        }
+    }
+    let mut problems = Vec::new();
+    for (f, name, n) in &found {
+        match LONG_FUNCTIONS
+            .iter()
+            .find(|(lf, ln, _)| lf == f && ln == name)
+        {
+            None => problems.push(format!("{f}: fn {name}: {n} lines (limit {MAX_FN_LINES})")),
+            Some((_, _, was)) if n > was => problems.push(format!(
+                "{f}: fn {name}: {n} lines, longer than the {was} it was allowed (it may only \
+                 shrink, to {MAX_FN_LINES})"
+            )),
+            Some(_) => {}
+        }
+    }
+    for (f, name, _) in LONG_FUNCTIONS {
+        if !found.iter().any(|(ff, nn, _)| ff == f && nn == name) {
+            problems.push(format!(
+                "{f}: fn {name} is within {MAX_FN_LINES} lines now (or gone): take it off \
+                 LONG_FUNCTIONS"
+            ));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn the_function_lengths_are_measured_from_fn_to_its_brace() {
+    let code = code_of(
+        "/// A doc.\nfn a() {\n    let s = \"}\\n{\";\n    if x { y }\n}\ntrait T { fn b(&self); }\n\
+         impl U { pub(crate) fn c(\n    x: u8,\n) -> u8 {\n    x\n} }\nlet f: fn(u8) = g;\n",
+    );
+    assert_eq!(
+        functions(&code),
+        [("a".to_string(), 4), ("c".to_string(), 5)]
+    );
 }
 
 #[test]

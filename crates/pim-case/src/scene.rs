@@ -505,16 +505,10 @@ impl Case {
         }
     }
 
-    fn evidence_of(
-        &self,
-        name: &str,
-        s: &SceneVehicleSection,
-        chassis: &Chassis,
-        friction_sigma: Option<f64>,
-        (length, flip): (f64, f64),
-    ) -> Result<Evidence> {
+    /// The scene's positions and headings of `[scene.name]` within their ranges, in the
+    /// file's own words (degrees, its length unit), before conversion.
+    fn check_places(&self, name: &str, s: &SceneVehicleSection, length: f64) -> Result<()> {
         let at = |field: &str| format!("scene.{name}.{field}");
-        // Ranges in the file's own words (degrees, its length unit), before conversion.
         let unit = self.written_units.length;
         let reach = pim_runout::inverse::MAX_SCENE_DISTANCE / length;
         let mut places: Vec<(String, f64, bool)> = Vec::new();
@@ -548,6 +542,19 @@ impl Case {
                 ));
             }
         }
+        Ok(())
+    }
+
+    fn evidence_of(
+        &self,
+        name: &str,
+        s: &SceneVehicleSection,
+        chassis: &Chassis,
+        friction_sigma: Option<f64>,
+        (length, flip): (f64, f64),
+    ) -> Result<Evidence> {
+        let at = |field: &str| format!("scene.{name}.{field}");
+        self.check_places(name, s, length)?;
         let tyres = self.rest_of_tyres(name, s, chassis, (length, flip))?;
         let rest = match (s.rest, s.rest_sigma) {
             _ if tyres.is_some() => tyres.map(|t| t.rest),

@@ -249,30 +249,7 @@ pub fn runout(
         estimates.push(estimate);
     }
     for ((r, v), input) in runouts.iter().zip(&vehicles).zip(&inputs.vehicles) {
-        if r.end == End::TimeLimit {
-            notes.push(if let Some(d) = inputs.duration {
-                format!(
-                    "vehicle {}: followed for the stated duration ({d} s): its end is the state \
-                     then, still moving at {:.3} m/s",
-                    v.vehicle,
-                    r.rest.vx.hypot(r.rest.vy)
-                )
-            } else if input.chassis.rolls_on() {
-                format!(
-                    "vehicle {}: free-rolling wheels without rolling resistance do not stop: the \
-                     run-out is followed to its time limit ({:.1} s), and its end is the state \
-                     there, still moving at {:.3} m/s",
-                    v.vehicle,
-                    r.time,
-                    r.rest.vx.hypot(r.rest.vy)
-                )
-            } else {
-                format!(
-                    "vehicle {}: the run-out reached its time limit ({:.1} s) still moving",
-                    v.vehicle, r.time
-                )
-            });
-        }
+        notes.extend(unfinished(r, v.vehicle, input, inputs.duration));
     }
     Ok(RunoutResult {
         duration: inputs.duration,
@@ -355,6 +332,40 @@ pub fn fitted(
             notes: Vec::new(),
             duration: inputs.duration,
         },
+    })
+}
+
+/// What a run-out that ended at its time limit is (the state at the stated duration, a
+/// free-rolling vehicle that does not stop, or one still moving), in words; nothing for one
+/// at rest.
+fn unfinished(
+    r: &Runout,
+    vehicle: u8,
+    input: &VehicleRunout,
+    duration: Option<f64>,
+) -> Option<String> {
+    if r.end != End::TimeLimit {
+        return None;
+    }
+    Some(if let Some(d) = duration {
+        format!(
+            "vehicle {vehicle}: followed for the stated duration ({d} s): its end is the state \
+             then, still moving at {:.3} m/s",
+            r.rest.vx.hypot(r.rest.vy)
+        )
+    } else if input.chassis.rolls_on() {
+        format!(
+            "vehicle {vehicle}: free-rolling wheels without rolling resistance do not stop: the \
+             run-out is followed to its time limit ({:.1} s), and its end is the state there, \
+             still moving at {:.3} m/s",
+            r.time,
+            r.rest.vx.hypot(r.rest.vy)
+        )
+    } else {
+        format!(
+            "vehicle {vehicle}: the run-out reached its time limit ({:.1} s) still moving",
+            r.time
+        )
     })
 }
 
