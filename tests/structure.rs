@@ -538,7 +538,7 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-case/src/damage.rs", "of", 173),
     ("crates/pim-case/src/plausibility.rs", "warnings", 236),
     ("crates/pim-case/src/ricsac.rs", "parse", 125),
-    ("crates/pim-case/src/scene.rs", "scene_inputs", 200),
+    ("crates/pim-case/src/scene.rs", "scene_inputs", 126),
     ("crates/pim-studies/src/damage_assess.rs", "assess", 142),
     ("crates/pim-studies/src/fitcase.rs", "problem", 201),
     (
@@ -557,7 +557,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
         "scene_inputs",
         156,
     ),
-    ("crates/pim-studies/src/uncertainty.rs", "inputs", 121),
     ("crates/pim-studies/src/uncertainty.rs", "run", 168),
     ("crates/pim-serve/src/answer.rs", "answer_without", 133),
     ("crates/pim-serve/src/answer.rs", "plan", 168),

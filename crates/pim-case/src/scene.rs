@@ -155,87 +155,13 @@ impl Case {
                 }
                 continue;
             };
-            let at = |field: &str| format!("runout.{name}.{field}");
             if c.vehicle(k).barrier {
                 return Err(self.error_at(
                     &format!("runout.{name}"),
                     "a barrier does not move after the impact: leave out its run-out",
                 ));
             }
-            let vs = c.vehicle(k);
-            let friction = w
-                .friction
-                .or(runout.friction)
-                .unwrap_or(pim_runout::DEFAULT_FRICTION);
-            // One of three ways to give the linear tyre's slope (see RunoutVehicleSection).
-            let given: Vec<&str> = [
-                ("saturation_angle", w.saturation_angle.is_some()),
-                ("cornering_stiffness", w.cornering_stiffness.is_some()),
-                ("max_slip_angle", w.max_slip_angle.is_some()),
-            ]
-            .iter()
-            .filter(|(_, g)| *g)
-            .map(|(n, _)| *n)
-            .collect();
-            if given.len() > 1 {
-                return Err(self.error_at(
-                    &at(given[1]),
-                    format!(
-                        "give one of saturation_angle, cornering_stiffness and max_slip_angle \
-                         (PC-Crash's), not {}",
-                        given.join(" and ")
-                    ),
-                ));
-            }
-            let positive = |key: &str, v: f64, unit: &str| {
-                if v.is_finite() && v > 0.0 {
-                    Ok(v)
-                } else {
-                    Err(self.error_at(&at(key), format!("{v}: must be above 0 ({unit})")))
-                }
-            };
-            let saturation = if let Some(a) = w.saturation_angle {
-                a.to_radians()
-            } else if let Some(cs) = w.cornering_stiffness {
-                let cs = positive("cornering_stiffness", cs, "per unit load, per degree")?;
-                (friction / cs).to_radians()
-            } else if let Some(m) = w.max_slip_angle {
-                // PC-Crash: F/Fz = min(alpha / m, friction), so the force saturates at
-                // friction x m.
-                (friction * positive("max_slip_angle", m, "degrees")?).to_radians()
-            } else {
-                pim_runout::DEFAULT_SATURATION_ANGLE
-            };
-            let braking = w.braking.unwrap_or(0.0);
-            let wheels =
-                self.wheels_of(&format!("runout.{name}.wheels"), w.wheels.as_ref(), braking)?;
-            let chassis = Chassis {
-                mass: vs.mass,
-                yaw_inertia: vs.yaw_inertia,
-                wheelbase: w.wheelbase * length,
-                cg_to_front_axle: w.cg_to_front_axle.unwrap_or(w.wheelbase / 2.0) * length,
-                track: w.track * length,
-                cg_height: w.cg_height.map(|h| h * length),
-                wheels,
-                steer: self.steer_of(&name, w, flip)?,
-                friction,
-                rolling_resistance: w
-                    .rolling_resistance
-                    .unwrap_or(pim_runout::DEFAULT_ROLLING_RESISTANCE),
-                saturation_angle: saturation,
-                length: vs.length,
-                width: vs.width,
-                cg_to_front: vs.cg_to_front,
-                inputs: self.inputs_of(&name, w, flip)?,
-            };
-            chassis.check().map_err(|e| self.runout_error(&name, e))?;
-            if let Some(b) = w.braking {
-                if !(b.is_finite() && (0.0..=1.0).contains(&b)) {
-                    return Err(
-                        self.error_at(&at("braking"), format!("{b}: must lie between 0 and 1"))
-                    );
-                }
-            }
+            let chassis = self.chassis_of(k, w, runout.friction, (length, flip))?;
             let start = match (&impact, cgs) {
                 (Some(impact), Some(cgs)) => Motion {
                     x: centre[0] + cgs[k][0],
@@ -307,6 +233,92 @@ impl Case {
             time_limit: duration.unwrap_or(time_limit),
             duration,
         })
+    }
+
+    /// The chassis of vehicle `k` (0 or 1) from its `[runout.vehicleN]` section `w` and the
+    /// road's friction `road` (lengths by `length`, angles mirrored by `flip`), checked.
+    ///
+    /// # Errors
+    /// A located error for a field the run-out model cannot use.
+    fn chassis_of(
+        &self,
+        k: usize,
+        w: &RunoutVehicleSection,
+        road: Option<f64>,
+        (length, flip): (f64, f64),
+    ) -> Result<Chassis> {
+        let name = format!("vehicle{}", k + 1);
+        let at = |field: &str| format!("runout.{name}.{field}");
+        let vs = self.content.vehicle(k);
+        let friction = w.friction.or(road).unwrap_or(pim_runout::DEFAULT_FRICTION);
+        // One of three ways to give the linear tyre's slope (see RunoutVehicleSection).
+        let given: Vec<&str> = [
+            ("saturation_angle", w.saturation_angle.is_some()),
+            ("cornering_stiffness", w.cornering_stiffness.is_some()),
+            ("max_slip_angle", w.max_slip_angle.is_some()),
+        ]
+        .iter()
+        .filter(|(_, g)| *g)
+        .map(|(n, _)| *n)
+        .collect();
+        if given.len() > 1 {
+            return Err(self.error_at(
+                &at(given[1]),
+                format!(
+                    "give one of saturation_angle, cornering_stiffness and max_slip_angle \
+                     (PC-Crash's), not {}",
+                    given.join(" and ")
+                ),
+            ));
+        }
+        let positive = |key: &str, v: f64, unit: &str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(self.error_at(&at(key), format!("{v}: must be above 0 ({unit})")))
+            }
+        };
+        let saturation = if let Some(a) = w.saturation_angle {
+            a.to_radians()
+        } else if let Some(cs) = w.cornering_stiffness {
+            let cs = positive("cornering_stiffness", cs, "per unit load, per degree")?;
+            (friction / cs).to_radians()
+        } else if let Some(m) = w.max_slip_angle {
+            // PC-Crash: F/Fz = min(alpha / m, friction), so the force saturates at
+            // friction x m.
+            (friction * positive("max_slip_angle", m, "degrees")?).to_radians()
+        } else {
+            pim_runout::DEFAULT_SATURATION_ANGLE
+        };
+        let braking = w.braking.unwrap_or(0.0);
+        let wheels =
+            self.wheels_of(&format!("runout.{name}.wheels"), w.wheels.as_ref(), braking)?;
+        let chassis = Chassis {
+            mass: vs.mass,
+            yaw_inertia: vs.yaw_inertia,
+            wheelbase: w.wheelbase * length,
+            cg_to_front_axle: w.cg_to_front_axle.unwrap_or(w.wheelbase / 2.0) * length,
+            track: w.track * length,
+            cg_height: w.cg_height.map(|h| h * length),
+            wheels,
+            steer: self.steer_of(&name, w, flip)?,
+            friction,
+            rolling_resistance: w
+                .rolling_resistance
+                .unwrap_or(pim_runout::DEFAULT_ROLLING_RESISTANCE),
+            saturation_angle: saturation,
+            length: vs.length,
+            width: vs.width,
+            cg_to_front: vs.cg_to_front,
+            inputs: self.inputs_of(&name, w, flip)?,
+        };
+        chassis.check().map_err(|e| self.runout_error(&name, e))?;
+        if let Some(b) = w.braking {
+            if !(b.is_finite() && (0.0..=1.0).contains(&b)) {
+                return Err(self.error_at(&at("braking"), format!("{b}: must lie between 0 and 1")));
+            }
+        }
+        Ok(chassis)
     }
 
     /// An error of pim-runout about vehicle `name`, placed at its field in the case.

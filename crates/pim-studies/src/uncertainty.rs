@@ -55,6 +55,57 @@ pub(crate) struct Input {
     pub(crate) nominal: f64,
 }
 
+/// The draws of vehicle `id`'s impact point, each coordinate by its own spread (`p`), in the
+/// vehicle's body axes; a draw moves the impact centre on the vehicle.
+///
+/// # Errors
+/// A located error for a spread that is no spread (a range upside down, a sigma not above 0).
+fn impact_point_inputs(
+    case: &Case,
+    id: usize,
+    p: pim_case::spread::PointSpread,
+) -> Result<Vec<Input>> {
+    let name = ["vehicle1", "vehicle2"][id];
+    let v = if id == 0 {
+        &case.content.vehicle1
+    } else {
+        &case.content.vehicle2
+    };
+    let (x0, y0) = pim_core::impact_point_cartesian(v.d(), v.phi());
+    // A range of y is written in the file's frame (SAE: to the right); the point is held in
+    // the natural frame (to the left).
+    let sae = case.written == pim_core::Convention::Sae;
+    let y = p.y.map(|sp| match sp {
+        Spread::Uniform { uniform: [a, b] } if sae => Spread::Uniform { uniform: [-b, -a] },
+        other => other,
+    });
+    let mut out = Vec::new();
+    for (axis, spread, nominal) in [("x", p.x, x0), ("y", y, y0)] {
+        let Some(spread) = spread else { continue };
+        spread.check_own().map_err(|why| {
+            case.error_at(&format!("uncertainty.{name}.impact_point.{axis}"), why)
+        })?;
+        out.push(Input {
+            name: format!("{name}.impact_point.{axis}"),
+            spread,
+            nominal,
+            apply: Box::new(move |case: &mut Case, value| {
+                let v = case.content.vehicle_mut(id);
+                let (mut x, mut y) = pim_core::impact_point_cartesian(v.d(), v.phi());
+                if axis == "x" {
+                    x = value
+                } else {
+                    y = value
+                }
+                let (d, phi) = pim_core::impact_point_polar(x, y);
+                v.d = Some(d);
+                v.phi = Some(phi);
+            }),
+        });
+    }
+    Ok(out)
+}
+
 /// The draws of a study, in parallel and watched: draw `i` perturbs a copy of `case` by every
 /// input from its own random stream (`seed`, `i`), so the result is the same for any thread
 /// count, and `answer` answers the copy. Each finished draw is a step of the phase `draws`;
@@ -158,37 +209,7 @@ pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>
                     format!("[uncertainty] {name}: give impact_point or d / phi, not both"),
                 ));
             }
-            let (x0, y0) = pim_core::impact_point_cartesian(v.d(), v.phi());
-            // A range of y is written in the file's frame (SAE: to the right); the point is
-            // held in the natural frame (to the left).
-            let sae = case.written == pim_core::Convention::Sae;
-            let y = p.y.map(|sp| match sp {
-                Spread::Uniform { uniform: [a, b] } if sae => Spread::Uniform { uniform: [-b, -a] },
-                other => other,
-            });
-            for (axis, spread, nominal) in [("x", p.x, x0), ("y", y, y0)] {
-                let Some(spread) = spread else { continue };
-                spread.check_own().map_err(|why| {
-                    case.error_at(&format!("uncertainty.{name}.impact_point.{axis}"), why)
-                })?;
-                out.push(Input {
-                    name: format!("{name}.impact_point.{axis}"),
-                    spread,
-                    nominal,
-                    apply: Box::new(move |case: &mut Case, value| {
-                        let v = case.content.vehicle_mut(id);
-                        let (mut x, mut y) = pim_core::impact_point_cartesian(v.d(), v.phi());
-                        if axis == "x" {
-                            x = value
-                        } else {
-                            y = value
-                        }
-                        let (d, phi) = pim_core::impact_point_polar(x, y);
-                        v.d = Some(d);
-                        v.phi = Some(phi);
-                    }),
-                });
-            }
+            out.extend(impact_point_inputs(case, id, p)?);
         }
     }
     out.extend(
