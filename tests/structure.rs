@@ -574,7 +574,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-render/src/report/scene.rs", "answer", 144),
     ("crates/pim-render/src/runout.rs", "scene_svg", 388),
     ("crates/pim-render/src/runout_table.rs", "runout_table", 174),
-    ("crates/pim-render/src/tables.rs", "solve_table", 122),
     (
         "crates/pim-render/src/uncertainty_figures.rs",
         "figures",

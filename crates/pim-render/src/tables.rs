@@ -200,30 +200,8 @@ pub fn solve_table(
     }
     let _ = writeln!(s, "{}", frame_line(frame));
     let _ = writeln!(s);
-    let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
-    let _ = writeln!(
-        s,
-        "{:<21}{:>10}  {:>9}  {:>13}",
-        "",
-        format!("vx [{sp}]"),
-        format!("vy [{sp}]"),
-        format!("omega [{yr}]")
-    );
-    for (k, name) in ["vehicle1", "vehicle2"].iter().enumerate() {
-        let id = pim_core::VehicleId::from_index(k);
-        for (when, v) in [
-            ("contact   ", r.initial.vehicle(id)),
-            ("separation", r.separation.vehicle(id)),
-        ] {
-            let _ = writeln!(
-                s,
-                "{name}  {when} {:>9}  {:>9}  {:>13}",
-                num(u.speed(v.vx), 3),
-                num(u.speed(v.vy), 3),
-                num(u.yaw_rate(v.omega), 3)
-            );
-        }
-    }
+    velocity_rows(&mut s, r, u);
+    let sp = u.speed_label();
     let _ = writeln!(s);
     vehicle_block(&mut s, &r.vehicles, u, frame);
     let _ = writeln!(s);
@@ -284,6 +262,34 @@ pub fn solve_table(
         }
     }
     s
+}
+
+/// The velocities at contact and at separation, a row per vehicle and phase.
+fn velocity_rows(s: &mut String, r: &ImpactReport, u: UnitSystem) {
+    let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
+    let _ = writeln!(
+        s,
+        "{:<21}{:>10}  {:>9}  {:>13}",
+        "",
+        format!("vx [{sp}]"),
+        format!("vy [{sp}]"),
+        format!("omega [{yr}]")
+    );
+    for (k, name) in ["vehicle1", "vehicle2"].iter().enumerate() {
+        let id = pim_core::VehicleId::from_index(k);
+        for (when, v) in [
+            ("contact   ", r.initial.vehicle(id)),
+            ("separation", r.separation.vehicle(id)),
+        ] {
+            let _ = writeln!(
+                s,
+                "{name}  {when} {:>9}  {:>9}  {:>13}",
+                num(u.speed(v.vx), 3),
+                num(u.speed(v.vy), 3),
+                num(u.yaw_rate(v.omega), 3)
+            );
+        }
+    }
 }
 
 /// The human-readable table of a sensitivity study (as Brach 1983 Tables 4-6).
