@@ -352,14 +352,8 @@ pub fn scene_svg(
                     }
                 }
                 // The path of each tyre that left a mark: the residual's distance is from it.
-                let mut points: Vec<[f64; 2]> = Vec::new();
-                for m in ev.marks.iter().filter(|m| m.point != [0.0, 0.0]) {
-                    if !points.contains(&m.point) {
-                        points.push(m.point);
-                    }
-                }
-                for p in points {
-                    let trace: Vec<_> = traced(run, p).into_iter().map(to).collect();
+                for trace in tyre_traces(run, Some(ev)) {
+                    let trace: Vec<_> = trace.into_iter().map(to).collect();
                     chart
                         .draw_series(std::iter::once(PathElement::new(
                             trace,
@@ -527,15 +521,25 @@ pub fn scene_svg(
     Ok(buf)
 }
 
-/// The path of the vehicle's point `at` (metres ahead of the CG and to its left: a tyre)
-/// over the run-out, finely interpolated, in metres.
-pub fn traced(run: &pim_runout::Runout, at: [f64; 2]) -> Vec<(f64, f64)> {
+/// The path of each tyre that left one of `evidence`'s marks over the run-out `run` (one per
+/// tyre, finely interpolated, m): a mark's residual is its distance from it.
+pub fn tyre_traces(
+    run: &pim_runout::Runout,
+    evidence: Option<&pim_runout::Evidence>,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut points: Vec<[f64; 2]> = Vec::new();
+    for m in evidence.iter().flat_map(|e| &e.marks) {
+        if m.point != [0.0, 0.0] && !points.contains(&m.point) {
+            points.push(m.point);
+        }
+    }
     let n = 400;
-    (0..=n)
-        .map(|i| {
-            let m = run.at(run.time * i as f64 / n as f64);
-            let (s, c) = m.heading.sin_cos();
-            (m.x + c * at[0] - s * at[1], m.y + s * at[0] + c * at[1])
+    points
+        .into_iter()
+        .map(|p| {
+            (0..=n)
+                .map(|i| run.at(run.time * i as f64 / n as f64).point(p))
+                .collect()
         })
         .collect()
 }
@@ -562,9 +566,9 @@ fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> R
 }
 
 /// The scene to scale of a case's reconstruction: each run-out as the reconstruction fitted it
-/// (on its fitted road friction; the residuals printed are the evidence table's), the braking before the impact, the scene's evidence, in `units` and the
-/// case's frame (what `pim fit --out`, the report and Python draw alike). `None` without an
-/// answer.
+/// (on its fitted road friction; the residuals printed are the evidence table's), the braking
+/// before the impact, the scene's evidence, in `units` and the case's frame (what `pim fit
+/// --out`, the report and Python draw alike). `None` without an answer.
 pub fn reconstruction_scene(
     case: &pim_case::case::Case,
     done: &pim_studies::reconstruct::Reconstructed,

@@ -392,6 +392,16 @@ pub struct Motion {
 }
 
 impl Motion {
+    /// Where the vehicle's point `at` (metres ahead of the CG and to its left: a tyre's contact
+    /// point, say) lies in the fixed frame, m.
+    pub fn point(&self, at: [f64; 2]) -> (f64, f64) {
+        let (s, c) = self.heading.sin_cos();
+        (
+            self.x + c * at[0] - s * at[1],
+            self.y + s * at[0] + c * at[1],
+        )
+    }
+
     /// Checks that every number is finite; the error names the field.
     pub fn check(&self) -> Result<()> {
         for (field, x) in [

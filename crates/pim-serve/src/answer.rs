@@ -532,20 +532,9 @@ fn plan(
                     .collect()
             })
             .unwrap_or_default();
-        let mut points: Vec<[f64; 2]> = Vec::new();
-        for m in evidence.iter().flat_map(|e| &e.marks) {
-            if m.point != [0.0, 0.0] && !points.contains(&m.point) {
-                points.push(m.point);
-            }
-        }
-        let traces = points
+        let traces = pim_render::runout::tyre_traces(run, evidence)
             .into_iter()
-            .map(|p| {
-                pim_render::runout::traced(run, p)
-                    .into_iter()
-                    .map(|(x, y)| on_page(x, y))
-                    .collect()
-            })
+            .map(|t| t.into_iter().map(|(x, y)| on_page(x, y)).collect())
             .collect();
         let every = run.sample(0.5).iter().map(|(_, m)| outline(k, m)).collect();
         out.vehicles.push(PlanVehicle {

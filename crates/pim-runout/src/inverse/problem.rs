@@ -91,9 +91,7 @@ impl Problem<'_> {
         };
         if let Some(rest) = &self.evidence.rest {
             // The rest position of the point the scene gives (the CG, or tyres' centroid).
-            let (s, c) = r.rest.heading.sin_cos();
-            let [a, b] = rest.point;
-            let (x, y) = (r.rest.x + c * a - s * b, r.rest.y + s * a + c * b);
+            let (x, y) = r.rest.point(rest.point);
             out.push(res("rest.x", x - rest.x, rest.sigma_xy[0]));
             out.push(res("rest.y", y - rest.y, rest.sigma_xy[1]));
             if let Some(h) = self.heading {
