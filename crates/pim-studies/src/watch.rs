@@ -9,12 +9,14 @@
 
 pub use pim_documents::watch::Cancelled;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// What watches a study: progress reports and a way to stop it. Both have defaults, so an
 /// observer implements what it needs.
 pub trait Observer: Sync {
     /// `done` of `total` steps of `phase` (`"draws"`, `"fits"`, `"cases"`, `"leave-one-out"`)
-    /// are finished. Called from the study's worker threads, in any order of `done`.
+    /// are finished. Called from the study's worker threads, one call at a time within a phase
+    /// and with `done` increasing: the last call of a finished phase says `total` of `total`.
     fn progress(&self, done: u64, total: u64, phase: &str) {
         let _ = (done, total, phase);
     }
@@ -55,6 +57,9 @@ pub struct Phase<'a> {
     name: &'static str,
     total: u64,
     done: AtomicU64,
+    /// The highest `done` reported: reports go out one at a time and never backwards, though
+    /// the workers finish their steps in any order.
+    reported: Mutex<u64>,
 }
 
 impl<'a> Phase<'a> {
@@ -66,6 +71,7 @@ impl<'a> Phase<'a> {
             name,
             total: total as u64,
             done: AtomicU64::new(0),
+            reported: Mutex::new(0),
         }
     }
 
@@ -77,7 +83,11 @@ impl<'a> Phase<'a> {
     /// One step finished.
     pub fn step(&self) {
         let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        self.observer.progress(done, self.total, self.name);
+        let mut reported = self.reported.lock().unwrap_or_else(|e| e.into_inner());
+        if done > *reported {
+            *reported = done;
+            self.observer.progress(done, self.total, self.name);
+        }
     }
 
     /// Steps finished so far.
@@ -93,5 +103,37 @@ impl<'a> Phase<'a> {
             done: done as usize,
             asked: self.total as usize,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records every report.
+    #[derive(Default)]
+    struct Recorder(Mutex<Vec<u64>>);
+
+    impl Observer for Recorder {
+        fn progress(&self, done: u64, _total: u64, _phase: &str) {
+            // A report that takes a moment, so that the workers overtake each other.
+            std::thread::yield_now();
+            self.0.lock().unwrap().push(done);
+        }
+    }
+
+    #[test]
+    fn steps_finished_in_any_order_are_reported_in_order() {
+        let recorder = Recorder::default();
+        let phase = Phase::start(&recorder, "draws", 4000);
+        std::thread::scope(|s| {
+            for _ in 0..8 {
+                s.spawn(|| (0..500).for_each(|_| phase.step()));
+            }
+        });
+        let reports = recorder.0.into_inner().unwrap();
+        assert_eq!(reports.first(), Some(&0));
+        assert_eq!(reports.last(), Some(&4000));
+        assert!(reports.windows(2).all(|w| w[0] < w[1]));
     }
 }
