@@ -83,24 +83,90 @@ fn widened(r: &Reconstruction, k: f64) -> Reconstruction {
 /// the evidence as given.
 const CONTINUATION: [f64; 5] = [16.0, 8.0, 4.0, 2.0, 1.0];
 
+/// At most this many combinations are continued before a refusal: the best, and those whose
+/// momentum bound lies more than the margin below it while their refinement ended more than
+/// the margin above that bound.
+const CONTINUED: usize = 3;
+
 /// A refused answer searched once more before it is refused: the best combination of counts
 /// refined by continuation, from its end, first with the scene's standard deviations widened
 /// sixteen times (the impact and the contact evidence lead, the scene only pulls), then
 /// narrowed step by step to the evidence as given, each stage refined from the one before. A
 /// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
-/// contact evidence does not want, is led around it. The lower of the two answers is kept.
+/// contact evidence does not want, is led around it. So is each combination whose momentum
+/// bound lies more than [`Settings::refine_margin`] below the best while its refinement
+/// ended more than the margin above that bound (the
+/// linearisation that bounded it did not hold on the way: a first step that overshot into a
+/// basin of its own); the lowest bounds first, [`CONTINUED`] in all. The lowest answer is kept.
 fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
     let (Some(best), Some(i)) = (out.best.as_ref(), out.best_index()) else {
         return;
     };
-    let (Some(end), counts) = (out.tried[i].end.clone(), out.tried[i].counts.clone()) else {
-        return;
-    };
+    let best_cost = best.chi_square;
+    let mut chosen = vec![i];
+    let mut others: Vec<(f64, usize)> = out
+        .tried
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != i)
+        .filter_map(|(k, t)| match (&t.state, t.momentum_bound, &t.end) {
+            (Tried::Refined { cost, .. }, Some(bound), Some(_))
+                if *cost > bound + settings.refine_margin
+                    && bound + settings.refine_margin < best_cost =>
+            {
+                Some((bound, k))
+            }
+            _ => None,
+        })
+        .collect();
+    others.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chosen.extend(others.iter().map(|o| o.1).take(CONTINUED - 1));
     // What the two searches left of the one budget of work.
     let work = crate::refine::Work::new(settings.refine_work.saturating_sub(out.work));
-    if work.exhausted() {
+    let mut lowest: Option<(usize, crate::refine::Refined)> = None;
+    for k in chosen {
+        if work.exhausted() {
+            break;
+        }
+        let (Some(end), counts) = (out.tried[k].end.clone(), out.tried[k].counts.clone()) else {
+            continue;
+        };
+        if let Some(x) = continued(r, settings, &counts, end, &work, &mut out.fits) {
+            if lowest
+                .as_ref()
+                .is_none_or(|l| x.point.total < l.1.point.total)
+            {
+                lowest = Some((k, x));
+            }
+        }
+    }
+    out.work += work.spent();
+    let Some((k, x)) = lowest else { return };
+    if x.point.total >= best_cost {
         return;
     }
+    out.tried[k].state = Tried::Refined {
+        cost: x.point.total,
+        iterations: x.iterations,
+        converged: x.converged,
+        abandoned: false,
+    };
+    out.tried[k].end = Some(x.point.scene.iter().map(|l| l.at).collect());
+    answered(r, out, Found::new(r, x.point, x.iterations, x.converged));
+}
+
+/// One combination's continuation from `end` (see [`continue_best`]): its answer on the
+/// evidence as given, or `None` where a stage fails or is already refused (narrowing the
+/// scene's deviations only raises the minimum: each scene term's weight grows, the others
+/// stay).
+fn continued(
+    r: &Reconstruction,
+    settings: &Settings,
+    counts: &[Option<i64>],
+    end: Vec<[f64; 3]>,
+    work: &crate::refine::Work,
+    fits: &mut usize,
+) -> Option<crate::refine::Refined> {
     let mut at = end;
     let mut last = None;
     for k in CONTINUATION {
@@ -111,40 +177,23 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
             .enumerate()
             .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
             .collect();
-        let Ok(start) = start else { return };
-        let Ok(x) = refine(
+        let x = refine(
             &rk,
             settings,
-            start,
+            start.ok()?,
             (f64::INFINITY, FarFirst::RefineOn),
-            &work,
-        ) else {
-            return;
-        };
+            work,
+        )
+        .ok()?;
         at = x.point.scene.iter().map(|l| l.at).collect();
-        out.fits += x.fits;
-        // Narrowing the scene's deviations only raises the minimum (each scene term's weight
-        // grows, the others stay): a stage already refused cannot lead to an answer.
+        *fits += x.fits;
         if Found::new(&rk, x.point.clone(), x.iterations, x.converged).refused() {
-            out.work += work.spent();
-            return;
+            return None;
         }
         // The last stage is the evidence as given.
         last = Some(x);
     }
-    out.work += work.spent();
-    let Some(x) = last else { return };
-    if x.point.total >= best.chi_square {
-        return;
-    }
-    out.tried[i].state = Tried::Refined {
-        cost: x.point.total,
-        iterations: x.iterations,
-        converged: x.converged,
-        abandoned: false,
-    };
-    out.tried[i].end = Some(x.point.scene.iter().map(|l| l.at).collect());
-    answered(r, out, Found::new(r, x.point, x.iterations, x.converged));
+    last
 }
 
 /// The reconstruction of evidence a little changed from that of `previous` (a rest position
