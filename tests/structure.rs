@@ -529,7 +529,7 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-runout/src/inverse/scatter.rs", "scatter", 135),
     ("crates/pim-runout/src/inverse/search.rs", "solve", 246),
     ("crates/pim-reconstruct/src/refine.rs", "refine", 161),
-    ("crates/pim-reconstruct/src/search.rs", "search", 238),
+    ("crates/pim-reconstruct/src/search.rs", "search", 226),
     ("crates/pim-fit/src/convex/mod.rs", "new", 168),
     ("crates/pim-fit/src/convex/dual.rs", "run", 133),
     ("crates/pim-fit/src/geometry/mod.rs", "branch_search", 187),

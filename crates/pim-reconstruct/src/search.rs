@@ -121,6 +121,76 @@ pub(crate) fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
     out
 }
 
+/// Where a search stands when it comes to a combination: what decides whether it is refined.
+struct Gate {
+    /// The second search (from the scatter).
+    scatter: bool,
+    /// The best chi-square found so far (infinite before the first).
+    lowest_best: f64,
+    /// Whether the best found fits (a chi-square no larger than its count of data).
+    best_fits: bool,
+    /// Combinations refined so far whose refinement ended within the margin of its bound.
+    refined: usize,
+}
+
+impl Gate {
+    /// Why a combination with momentum bound `bound`, scenes alone costing `scene_bound` and
+    /// `scene_rows` scene residuals is not refined, or `None`: it is.
+    fn not_refined(
+        &self,
+        r: &Reconstruction,
+        settings: &Settings,
+        work: &crate::refine::Work,
+        (bound, scene_bound): (f64, f64),
+        scene_rows: usize,
+    ) -> Option<String> {
+        if scene_bound >= self.lowest_best {
+            return Some(format!(
+                "excluded: its scenes alone cost {scene_bound:.3}, not below the best found"
+            ));
+        }
+        // The momentum bound is one of the linearised problem: where the best found does not
+        // fit (a chi-square above its count of data), it is not trusted in the second search
+        // (a scene whose states meeting the rest form a long curved valley is far from linear
+        // over it) and the combination is refined, within the budget of work.
+        let trusted = !self.scatter || self.best_fits;
+        if trusted && bound > self.lowest_best + settings.refine_margin {
+            return Some(format!(
+                "not refined: its momentum bound {bound:.3} lies more than {} above the best \
+                 found",
+                settings.refine_margin
+            ));
+        }
+        // The first search is a quick look from the scenes' quick candidates: a combination
+        // whose linearised bound would be refused even as the answer (beyond the margin) is
+        // left to the second search, whose starts include the quick ones and a scatter, and
+        // which refines such a combination on (a restart from the impact's side) while
+        // nothing fits. Refining it here would spend the quick look's budget on starts far
+        // from their scenes (each first step a full evaluation of long run-outs).
+        if !self.scatter && refused_even_so(r, scene_rows, bound - settings.refine_margin) {
+            return Some(format!(
+                "left to the second search: its momentum bound {bound:.3} would be refused as \
+                 an answer (p below {})",
+                crate::outcome::INCONSISTENT_P
+            ));
+        }
+        if work.exhausted() {
+            return Some(format!(
+                "not refined: the refinements before it spent their budget of work ({} \
+                 run-out evaluations or their equivalent; Settings::refine_work)",
+                settings.refine_work
+            ));
+        }
+        (self.refined >= settings.max_refined).then(|| {
+            format!(
+                "not refined: {} combinations with lower bounds were, each ending within the \
+                 margin of its bound",
+                settings.max_refined
+            )
+        })
+    }
+}
+
 /// One search: the scenes' candidates (from a scatter too, with `scatter`), the bounds, the
 /// refinements.
 pub(crate) fn search(
@@ -204,56 +274,23 @@ pub(crate) fn search(
             .enumerate()
             .map(|(v, &k)| starts[v][k].cost)
             .sum();
-        if scene_bound >= lowest_best {
-            skipped_reason[i] = Some(format!(
-                "excluded: its scenes alone cost {scene_bound:.3}, not below the best found"
-            ));
-            continue;
-        }
-        // The momentum bound is one of the linearised problem: where the best found does not
-        // fit (a chi-square above its count of data), it is not trusted in the second search
-        // (a scene whose states meeting the rest form a long curved valley is far from linear
-        // over it) and the combination is refined, within the budget of work.
         let fitting = |b: &(usize, Point, usize, bool)| {
             b.1.total <= (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
         };
-        let trusted = !scatter || best.as_ref().is_some_and(fitting);
-        if trusted && bound > lowest_best + settings.refine_margin {
-            skipped_reason[i] = Some(format!(
-                "not refined: its momentum bound {bound:.3} lies more than {} above the best \
-                 found",
-                settings.refine_margin
-            ));
-            continue;
-        }
-        // The first search is a quick look from the scenes' quick candidates: a combination
-        // whose linearised bound would be refused even as the answer (beyond the margin) is
-        // left to the second search, whose starts include the quick ones and a scatter, and
-        // which refines such a combination on (a restart from the impact's side) while
-        // nothing fits. Refining it here would spend the quick look's budget on starts far
-        // from their scenes (each first step a full evaluation of long run-outs).
-        if !scatter && refused_even_so(r, scene_rows(&first[i].0), bound - settings.refine_margin) {
-            skipped_reason[i] = Some(format!(
-                "left to the second search: its momentum bound {bound:.3} would be refused \
-                 as an answer (p below {})",
-                crate::outcome::INCONSISTENT_P
-            ));
-            continue;
-        }
-        if work.exhausted() {
-            skipped_reason[i] = Some(format!(
-                "not refined: the refinements before it spent their budget of work ({} \
-                 run-out evaluations or their equivalent; Settings::refine_work)",
-                settings.refine_work
-            ));
-            continue;
-        }
-        if count >= settings.max_refined {
-            skipped_reason[i] = Some(format!(
-                "not refined: {} combinations with lower bounds were, each ending within the \
-                 margin of its bound",
-                settings.max_refined
-            ));
+        let gate = Gate {
+            scatter,
+            lowest_best,
+            best_fits: best.as_ref().is_some_and(fitting),
+            refined: count,
+        };
+        if let Some(why) = gate.not_refined(
+            r,
+            settings,
+            work,
+            (bound, scene_bound),
+            scene_rows(&first[i].0),
+        ) {
+            skipped_reason[i] = Some(why);
             continue;
         }
         let start: Vec<Lin> = first[i]
