@@ -88,12 +88,7 @@
 //!    linearisation while the best found does not fit (step 3), and only there is a
 //!    combination refined whatever its momentum bound while the best found does not fit (the
 //!    bound is one of the linearised problem, not a proof); the first, a quick look, sets
-//!    such a combination aside once something is found, and leaves to the second every
-//!    combination whose bound, more than the margin lowered, would still be refused as an
-//!    answer (counted with a degree of freedom per datum): the quick candidates are then far
-//!    from the states the impact gives, and refining them one first step each spent the
-//!    quick look's budget on long run-outs (a crash with an 83 m steered run-out took 12.2 s
-//!    and now 5.4 s, with the same answer).
+//!    such a combination aside once something is found.
 //!
 //! 5. **Continuation before a refusal**: an answer the evidence would refuse is searched once
 //!    more from the best combination's end: refined with the scene's standard deviations

@@ -134,15 +134,13 @@ struct Gate {
 }
 
 impl Gate {
-    /// Why a combination with momentum bound `bound`, scenes alone costing `scene_bound` and
-    /// `scene_rows` scene residuals is not refined, or `None`: it is.
+    /// Why a combination with momentum bound `bound` and scenes alone costing `scene_bound`
+    /// is not refined, or `None`: it is.
     fn not_refined(
         &self,
-        r: &Reconstruction,
         settings: &Settings,
         work: &crate::refine::Work,
         (bound, scene_bound): (f64, f64),
-        scene_rows: usize,
     ) -> Option<String> {
         if scene_bound >= self.lowest_best {
             return Some(format!(
@@ -159,19 +157,6 @@ impl Gate {
                 "not refined: its momentum bound {bound:.3} lies more than {} above the best \
                  found",
                 settings.refine_margin
-            ));
-        }
-        // The first search is a quick look from the scenes' quick candidates: a combination
-        // whose linearised bound would be refused even as the answer (beyond the margin) is
-        // left to the second search, whose starts include the quick ones and a scatter, and
-        // which refines such a combination on (a restart from the impact's side) while
-        // nothing fits. Refining it here would spend the quick look's budget on starts far
-        // from their scenes (each first step a full evaluation of long run-outs).
-        if !self.scatter && refused_even_so(r, scene_rows, bound - settings.refine_margin) {
-            return Some(format!(
-                "left to the second search: its momentum bound {bound:.3} would be refused as \
-                 an answer (p below {})",
-                crate::outcome::INCONSISTENT_P
             ));
         }
         if work.exhausted() {
@@ -225,13 +210,6 @@ pub(crate) fn search(
         .flatten()
         .map(|l| l.lin.runouts)
         .sum::<usize>();
-    let scene_rows = |c: &[usize]| -> usize {
-        c.iter()
-            .enumerate()
-            .filter_map(|(v, &k)| lins[v][k].as_ref())
-            .map(|l| l.lin.weighted.len())
-            .sum()
-    };
     // 1. Each combination's bound: the linearised problem under the momentum balance alone.
     let combos = combinations(&starts);
     let first: Vec<(Vec<usize>, std::result::Result<f64, String>)> = combos
@@ -283,13 +261,7 @@ pub(crate) fn search(
             best_fits: best.as_ref().is_some_and(fitting),
             refined: count,
         };
-        if let Some(why) = gate.not_refined(
-            r,
-            settings,
-            work,
-            (bound, scene_bound),
-            scene_rows(&first[i].0),
-        ) {
+        if let Some(why) = gate.not_refined(settings, work, (bound, scene_bound)) {
             skipped_reason[i] = Some(why);
             continue;
         }
@@ -418,14 +390,6 @@ pub(crate) fn search(
         first_work: work.spent(),
         scattered: scatter,
     })
-}
-
-/// Whether a chi-square of `cost` would be refused as an answer whatever was fitted: its
-/// probability lies below [`crate::outcome::INCONSISTENT_P`] even counted with a degree of
-/// freedom per datum (the contact data and `scene_rows`), more than any answer has.
-fn refused_even_so(r: &Reconstruction, scene_rows: usize, cost: f64) -> bool {
-    let data = (r.contact_data() + scene_rows) as i64;
-    pim_fit::ChiSquare::p_value_of(data, cost).is_some_and(|p| p < crate::outcome::INCONSISTENT_P)
 }
 
 /// The reconstruction again with changed evidence or inputs (one draw of an uncertainty
