@@ -27,17 +27,14 @@ fn outline_of(r: &RunoutResult, k: usize) -> (f64, f64, f64) {
 }
 
 fn corners(m: &Motion, (length, width, front): (f64, f64, f64)) -> Vec<(f64, f64)> {
-    let (s, c) = m.heading.sin_cos();
     let body = [
-        (front, width / 2.0),
-        (front, -width / 2.0),
-        (front - length, -width / 2.0),
-        (front - length, width / 2.0),
-        (front, width / 2.0),
+        [front, width / 2.0],
+        [front, -width / 2.0],
+        [front - length, -width / 2.0],
+        [front - length, width / 2.0],
+        [front, width / 2.0],
     ];
-    body.iter()
-        .map(|(x, y)| (m.x + c * x - s * y, m.y + s * x + c * y))
-        .collect()
+    body.iter().map(|&p| m.point(p)).collect()
 }
 
 /// Vehicle `k`'s outline at separation (where the run-out starts: its pose at contact) as the
@@ -104,10 +101,9 @@ pub fn damage_on_page(
     body.push(at(w, 0.0));
     body.push(at(0.0, 0.0));
     let page = crate::plan::Page::of(frame);
-    let (s, c) = m.heading.sin_cos();
     body.iter()
-        .map(|(x, y)| {
-            let (gx, gy) = (m.x + c * x - s * y, m.y + s * x + c * y);
+        .map(|&(x, y)| {
+            let (gx, gy) = m.point([x, y]);
             page.xy((units.length(gx), units.length(gy)))
         })
         .collect()
