@@ -94,10 +94,10 @@ const CONTINUED: usize = 3;
 /// narrowed step by step to the evidence as given, each stage refined from the one before. A
 /// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
 /// contact evidence does not want, is led around it. So is each combination whose momentum
-/// bound lies more than [`Settings::refine_margin`] below the best while its refinement
-/// ended more than the margin above that bound (the
-/// linearisation that bounded it did not hold on the way: a first step that overshot into a
-/// basin of its own); the lowest bounds first, [`CONTINUED`] in all. The lowest answer is kept.
+/// bound lies more than [`Settings::refine_margin`] below the best while its refinement ended
+/// more than the margin above that bound (the linearisation that bounded it did not hold on
+/// the way: a first step that overshot into a basin of its own); the lowest bounds first,
+/// [`CONTINUED`] in all. The lowest answer is kept.
 fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
     let (Some(best), Some(i)) = (out.best.as_ref(), out.best_index()) else {
         return;

@@ -8,7 +8,7 @@
 //! returns promptly with what it has and says so ([`Cancelled`] in its document).
 
 pub use pim_documents::watch::Cancelled;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 /// What watches a study: progress reports and a way to stop it. Both have defaults, so an
@@ -56,10 +56,9 @@ pub struct Phase<'a> {
     observer: &'a dyn Observer,
     name: &'static str,
     total: u64,
-    done: AtomicU64,
-    /// The highest `done` reported: reports go out one at a time and never backwards, though
-    /// the workers finish their steps in any order.
-    reported: Mutex<u64>,
+    /// Steps finished: counted and reported under one lock, so that reports go out one at a
+    /// time and never backwards, though the workers finish their steps in any order.
+    done: Mutex<u64>,
 }
 
 impl<'a> Phase<'a> {
@@ -70,8 +69,7 @@ impl<'a> Phase<'a> {
             observer,
             name,
             total: total as u64,
-            done: AtomicU64::new(0),
-            reported: Mutex::new(0),
+            done: Mutex::new(0),
         }
     }
 
@@ -82,17 +80,14 @@ impl<'a> Phase<'a> {
 
     /// One step finished.
     pub fn step(&self) {
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        let mut reported = self.reported.lock().unwrap_or_else(|e| e.into_inner());
-        if done > *reported {
-            *reported = done;
-            self.observer.progress(done, self.total, self.name);
-        }
+        let mut done = self.done.lock().unwrap_or_else(|e| e.into_inner());
+        *done += 1;
+        self.observer.progress(*done, self.total, self.name);
     }
 
     /// Steps finished so far.
     pub fn done(&self) -> u64 {
-        self.done.load(Ordering::Relaxed)
+        *self.done.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// [`Cancelled`] when the observer stopped the phase before its end, else `None`.
