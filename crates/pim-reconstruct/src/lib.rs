@@ -125,7 +125,7 @@
 //! truth's only when the truth's falls below that median of `n - k` degrees of freedom, which
 //! for the `k` of six velocities or more happens with a probability of a few per cent, and
 //! only then matters if the first search also stopped in a wrong basin. On 200 simulated
-//! crashes with run-outs of up to 80 m and two turns (`tests/long_spins.rs`) the first search
+//! crashes with run-outs of up to 80 m and two turns (`tests/reconstruct/long_spins.rs`) the first search
 //! alone reported more than the truth's chi-square on 5 (4 of them refused as inconsistent);
 //! with the second, on none. A refusal therefore says that none of the impacts and run-outs
 //! *searched* reaches the evidence, never that none exists.

@@ -496,7 +496,10 @@ function render() {
   evidence(a);
   const bg = a.plan.background;
   $("lock-image").disabled = !bg;
-  $("lock-image").checked = !!(bg && bg.locked);
+  // The checkbox follows the answer only when the answer's lock changes: a render of an answer
+  // that has not yet seen a click must not undo it.
+  const locked = !!(bg && bg.locked);
+  if (locked !== state.lockedDrawn) { $("lock-image").checked = locked; state.lockedDrawn = locked; }
   if (!state.view) { fitView(); return; }
   const svg = $("plan");
   const v = state.view;

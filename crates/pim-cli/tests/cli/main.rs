@@ -1,0 +1,31 @@
+//! End-to-end tests of the `pim` command: the real binary run on real files, one module per command
+//! or concern, in one test binary.
+mod barrier;
+mod batch;
+mod careless;
+mod common;
+mod continuity;
+mod damage;
+mod determinism;
+mod fit;
+mod guide;
+mod highway;
+mod hostile;
+mod motion;
+mod plausibility;
+mod predict;
+mod realistic;
+mod reconstruct;
+mod reconstruct_evidence;
+mod report;
+mod robustness;
+mod runout;
+mod runout_duration;
+mod runout_inputs;
+mod scene_answers;
+mod schema;
+mod set;
+mod signals;
+mod solve;
+mod tangential_fit;
+mod uncertainty;

@@ -1,0 +1,13 @@
+//! The studies: damage, hostile inputs, input forms, realistic scenes and their coverage, tyre marks and the observer. One test binary.
+#[path = "../common/mod.rs"]
+mod common;
+#[path = "../mutate/mod.rs"]
+mod mutate;
+
+mod damage;
+mod fuzz_inputs;
+mod input_forms;
+mod realistic_scenes;
+mod scene_coverage;
+mod tyre_marks;
+mod watch;

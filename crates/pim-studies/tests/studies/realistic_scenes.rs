@@ -1,0 +1,409 @@
+//! The whole reconstruction and its uncertainty study on realistic simulated crashes, written
+//! as case files as a reconstructionist writes them: contact speeds of 18 to 49 mph, each
+//! vehicle's wheels one of the states a crash leaves them in (locked; ABS-braked, rolling with a
+//! braking share of 0.7-0.95; free rolling, rolling resistance 0.015; steered, rolling with a
+//! steer angle of 4-15 degrees either way; one wheel jammed by the crush, the others free),
+//! both vehicles run out to rest (up to 100 m) by the tests' independent reference model of the
+//! run-out (Dormand-Prince 8(5,3) at 1e-11, not pim-runout's integrator) on the road's true
+//! friction, the scene measured with a total station's noise (rests to 0.15 m and 2 degrees),
+//! marks (two points the CG passed) for half the vehicles, an EDR speed for half the crashes,
+//! the road friction stated exactly or, for half, with its spread (`friction_sigma`, the value
+//! stated drawn about the truth). The geometry at contact is the truth's.
+//!
+//! Asserted: no case is refused; the reported chi-square is never above the truth's (the
+//! truth is one of the states searched over; its run-outs are pim-runout's from the true
+//! separation state, which follow the reference's to millimetres); the 90 % intervals of the
+//! contact speeds hold the truth in 85-95 % of the cases (the full run of 200, `--ignored`; the
+//! suite runs 12, every wheel state on both vehicles).
+use crate::common;
+
+use common::runout::Reference;
+use common::{collision_sections, contact_evidence, described, impact, normal, on_friction};
+use pim_case::case::Case;
+use pim_core::{solve_forward, VehicleId, Velocities};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use std::f64::consts::TAU;
+use std::fmt::Write;
+
+/// A total station's rest position (m) and heading (deg), a mark's position (m).
+const SIGMA_REST: f64 = 0.15;
+const SIGMA_HEADING_DEG: f64 = 2.0;
+const SIGMA_MARK: f64 = 0.2;
+/// An EDR's speed, m/s (about 1 mph).
+const SIGMA_EDR: f64 = 0.45;
+const FRICTION_SIGMA: f64 = 0.05;
+
+/// The state a crash leaves a vehicle's wheels in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Wheels {
+    Locked,
+    Abs,
+    Rolling,
+    Steered,
+    Jammed,
+}
+
+const WHEELS: [Wheels; 5] = [
+    Wheels::Locked,
+    Wheels::Abs,
+    Wheels::Rolling,
+    Wheels::Steered,
+    Wheels::Jammed,
+];
+
+/// A simulated crash as a case file, and its truth.
+struct Simulated {
+    text: String,
+    contact: Velocities,
+    separation: Velocities,
+    /// The road's true friction.
+    friction: f64,
+    /// Each run-out's length (m) and turns (the reference's).
+    distance: [f64; 2],
+    turns: [f64; 2],
+}
+
+/// One vehicle's `[runout.vehicleN]` section (SI) with the wheels `wheels`.
+fn runout_section(rng: &mut StdRng, k: usize, wheels: Wheels) -> String {
+    let wheelbase = rng.random_range(2.5..3.0);
+    let mut s = format!(
+        "[runout.vehicle{}]\nwheelbase = {wheelbase:.3}\ntrack = {:.3}\ncg_to_front_axle = {:.3}\n\
+         cg_height = {:.3}\nrolling_resistance = 0.015\n",
+        k + 1,
+        rng.random_range(1.5..1.65),
+        wheelbase * rng.random_range(0.38..0.5),
+        rng.random_range(0.5..0.65),
+    );
+    match wheels {
+        Wheels::Locked => s.push_str("wheels = \"locked\"\n"),
+        Wheels::Abs => writeln!(
+            s,
+            "wheels = \"rolling\"\nbraking = {:.2}",
+            rng.random_range(0.7..0.95)
+        )
+        .unwrap(),
+        Wheels::Rolling => s.push_str("wheels = \"rolling\"\nbraking = 0.0\n"),
+        Wheels::Steered => {
+            let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            writeln!(
+                s,
+                "wheels = \"rolling\"\nbraking = {:.2}\nsteer = {:.1}",
+                rng.random_range(0.0..0.3),
+                sign * rng.random_range(4.0..15.0)
+            )
+            .unwrap()
+        }
+        Wheels::Jammed => {
+            let names = ["front_left", "front_right", "rear_left", "rear_right"];
+            let jammed = rng.random_range(0..4);
+            let each: Vec<String> = names
+                .iter()
+                .enumerate()
+                .map(|(i, n)| {
+                    let state = if i == jammed { "locked" } else { "rolling" };
+                    format!("{n} = \"{state}\"")
+                })
+                .collect();
+            writeln!(s, "wheels = {{ {} }}\nbraking = 0.0", each.join(", ")).unwrap();
+        }
+    }
+    s
+}
+
+/// The crash of `seed` with the wheels `wheels` (`None`: no admissible crash, or a run-out
+/// shorter than a metre, longer than 100 m or not at rest within a minute).
+fn simulated(seed: u64, wheels: [Wheels; 2]) -> Option<Simulated> {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let ri = impact::random_impact_with(&mut rng, 8.0..22.0)?;
+    let report = solve_forward(&ri.impact, &ri.truth, &ri.x, &ri.opts).ok()?;
+    if !report.admissibility.admissible {
+        return None;
+    }
+    let sep = report.separation;
+    let friction = rng.random_range(0.5..0.9);
+    let spread = rng.random_bool(0.5);
+    let stated = if spread {
+        (friction + FRICTION_SIGMA * normal(&mut rng)).max(0.2)
+    } else {
+        friction
+    };
+    let mut head = collision_sections(seed, &ri, "");
+    head.push_str(&contact_evidence(&ri, &mut rng));
+    // An EDR for half the crashes: the speed along the heading, constant before contact.
+    if rng.random_bool(0.5) {
+        let id = if rng.random_bool(0.5) {
+            VehicleId::One
+        } else {
+            VehicleId::Two
+        };
+        let v = if id == VehicleId::One {
+            ri.x.vehicle1
+        } else {
+            ri.x.vehicle2
+        };
+        let f = ri.impact.forward_axis(id);
+        let along = v.vx * f[0] + v.vy * f[1];
+        write!(
+            head,
+            "\n[pre_impact.vehicle{}]\nedr = [ {{ speed = {:.4}, time = 0.5, deceleration = 0.0, \
+             sigma = {SIGMA_EDR} }} ]\n",
+            id.index() + 1,
+            along + SIGMA_EDR * normal(&mut rng)
+        )
+        .unwrap();
+    }
+    write!(head, "\n[runout]\nfriction = {stated:.6}\n").unwrap();
+    if spread {
+        writeln!(head, "friction_sigma = {FRICTION_SIGMA}").unwrap();
+    }
+    for (k, w) in wheels.iter().enumerate() {
+        head.push('\n');
+        head.push_str(&runout_section(&mut rng, k, *w));
+    }
+    // Each vehicle run out by the reference model on the true friction, with the chassis the
+    // case describes.
+    let cr = described(&head);
+    let mut scene = String::new();
+    let (mut distance, mut turns) = ([0.0; 2], [0.0; 2]);
+    for (k, v) in cr.reconstruction.scene.iter().enumerate() {
+        let chassis = on_friction(v, friction);
+        let s = if k == 0 { sep.vehicle1 } else { sep.vehicle2 };
+        let start = pim_runout::Motion {
+            vx: s.vx,
+            vy: s.vy,
+            yaw_rate: s.omega,
+            ..v.pose
+        };
+        let reference = Reference::new(&chassis);
+        let run = reference.run_out(&start);
+        if !run.stopped || !(1.0..=100.0).contains(&run.distance) {
+            return None;
+        }
+        distance[k] = run.distance;
+        turns[k] = (run.rest[2] - start.heading) / TAU;
+        let mut marks = Vec::new();
+        if rng.random_bool(0.5) {
+            for f in [0.3, 0.6] {
+                let m = reference.pose_at(&start, f * run.time);
+                marks.push(format!(
+                    "{{ x = {:.4}, y = {:.4}, sigma = {SIGMA_MARK} }}",
+                    m[0] + SIGMA_MARK * normal(&mut rng),
+                    m[1] + SIGMA_MARK * normal(&mut rng)
+                ));
+            }
+        }
+        write!(
+            scene,
+            "\n[scene.vehicle{}]\nrest = {{ x = {:.4}, y = {:.4}, heading = {:.3} }}\n\
+             rest_sigma = {{ x = {SIGMA_REST}, y = {SIGMA_REST}, heading = {SIGMA_HEADING_DEG} }}\n",
+            k + 1,
+            run.rest[0] + SIGMA_REST * normal(&mut rng),
+            run.rest[1] + SIGMA_REST * normal(&mut rng),
+            (run.rest[2].to_degrees() + SIGMA_HEADING_DEG * normal(&mut rng)).rem_euclid(360.0),
+        )
+        .unwrap();
+        if !marks.is_empty() {
+            writeln!(scene, "marks = [{}]", marks.join(", ")).unwrap();
+        }
+    }
+    Some(Simulated {
+        text: format!("{head}{scene}"),
+        contact: ri.x,
+        separation: sep,
+        friction,
+        distance,
+        turns,
+    })
+}
+
+/// What one case gave.
+struct Outcome {
+    seed: u64,
+    wheels: [Wheels; 2],
+    truth: f64,
+    found: Option<f64>,
+    refused: Option<String>,
+    covered: [bool; 2],
+    seconds: f64,
+}
+
+fn run_case(seed: u64, wheels: [Wheels; 2], draws: usize) -> Option<Outcome> {
+    let s = simulated(seed, wheels)?;
+    let case = Case::from_text(&format!("realistic_{seed}.toml"), &s.text).expect("a valid case");
+    let truth = common::truth_cost(&case, &s.contact, &s.separation, s.friction);
+    let started = std::time::Instant::now();
+    let done = pim_studies::reconstruct::reconstruct(
+        &case,
+        pim_fit::FitModel::Pim,
+        pim_core::MomentForm::Corrected,
+        pim_fit::MomentBranch::ALL.to_vec(),
+    )
+    .expect("reconstructed");
+    let seconds = started.elapsed().as_secs_f64();
+    let found = done.outcome.best.as_ref().map(|b| b.chi_square);
+    let refused = (done.outcome.status != pim_reconstruct::Status::Found).then(|| {
+        format!(
+            "{:?}: {}",
+            done.outcome.status,
+            done.outcome.reason.clone().unwrap_or_default()
+        )
+    });
+    let covered = match pim_studies::reconstruct_study::run_around(
+        &case,
+        &done,
+        draws,
+        seed,
+        &pim_studies::watch::Unwatched,
+    ) {
+        Ok(study) => {
+            let truth_speeds = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
+            std::array::from_fn(|k| {
+                study
+                    .quantities
+                    .get(&format!("vehicle{}.speed_at_contact", k + 1))
+                    .is_some_and(|q| q.p05 <= truth_speeds[k] && truth_speeds[k] <= q.p95)
+            })
+        }
+        Err(_) => [false, false],
+    };
+    eprintln!(
+        "seed {seed} {wheels:?}: truth {truth:.3}, found {found:?}, {:.2} s, run-outs {:.1?} m, \
+         turns {:.2?}, covered {covered:?}{}",
+        seconds,
+        s.distance,
+        s.turns,
+        refused
+            .as_deref()
+            .map(|r| format!(", REFUSED {r}"))
+            .unwrap_or_default()
+    );
+    Some(Outcome {
+        seed,
+        wheels,
+        truth,
+        found,
+        refused,
+        covered,
+        seconds,
+    })
+}
+
+/// The wheels of the `i`-th case: every pair of states in turn over 25 cases.
+fn wheels_of(i: usize) -> [Wheels; 2] {
+    [WHEELS[i % 5], WHEELS[(i / 5 + i) % 5]]
+}
+
+/// `crashes` cases from `first_seed`, `draws` draws each.
+fn sweep(crashes: usize, first_seed: u64, draws: usize) -> Vec<Outcome> {
+    use rayon::prelude::*;
+    let mut chosen = Vec::new();
+    let mut seed = first_seed;
+    while chosen.len() < crashes {
+        let wheels = wheels_of(chosen.len());
+        if simulated(seed, wheels).is_some() {
+            chosen.push((seed, wheels));
+        }
+        seed += 1;
+    }
+    chosen
+        .par_iter()
+        .filter_map(|&(seed, wheels)| run_case(seed, wheels, draws))
+        .collect()
+}
+
+/// None refused, none above the truth's chi-square; the coverage rate.
+fn check(results: &[Outcome]) -> f64 {
+    let mut failures = Vec::new();
+    for r in results {
+        let above = r.found.is_none_or(|f| f > r.truth + 1e-6 * (1.0 + r.truth));
+        if above || r.refused.is_some() {
+            failures.push(format!(
+                "seed {} {:?}: chi-square {:?} against the truth's {:.4}{}",
+                r.seed,
+                r.wheels,
+                r.found,
+                r.truth,
+                r.refused.as_deref().unwrap_or("")
+            ));
+        }
+    }
+    let mut seconds: Vec<f64> = results.iter().map(|r| r.seconds).collect();
+    seconds.sort_by(f64::total_cmp);
+    eprintln!(
+        "reconstruction: median {:.3} s, longest {:.3} s",
+        seconds[seconds.len() / 2],
+        seconds[seconds.len() - 1]
+    );
+    let covered = results
+        .iter()
+        .flat_map(|r| r.covered)
+        .filter(|c| *c)
+        .count();
+    let n = 2 * results.len();
+    eprintln!("coverage {covered}/{n} = {:.3}", covered as f64 / n as f64);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    covered as f64 / n as f64
+}
+
+/// 12 cases (each wheel state on each vehicle at least twice), 20 draws: none refused, none
+/// above the truth's chi-square; the intervals hold the truth in most (a binomial 90 % gives
+/// fewer than 17 of 24 with probability 0.2 %).
+#[test]
+fn realistic_cases_are_answered_and_their_intervals_cover() {
+    let results = sweep(12, 90_000, 20);
+    assert_eq!(results.len(), 12);
+    let rate = check(&results);
+    assert!(rate >= 17.0 / 24.0, "coverage {rate}");
+}
+
+/// A crash of the full sweep (seed 100150: the sedan ABS-braked 38 m, the SUV locked) once
+/// refused at 203.7 where the truth's chi-square is 21.9: its true combination of counts had
+/// the second-lowest momentum bound (7.0), but the first step of its refinement overshot into
+/// a basin at 8,500 and it was set aside. Before a refusal such a combination is continued
+/// from the impact's side (the scenes' deviations widened, then narrowed): it answers.
+#[test]
+fn a_combination_whose_first_step_overshot_is_continued() {
+    let r = run_case(100_150, [Wheels::Abs, Wheels::Locked], 0).expect("an admissible crash");
+    check(&[r]);
+}
+
+/// The full figure: 200 cases, 100 draws each (`CASES` and `DRAWS` change them, for a shorter
+/// look): none refused, none above the truth's chi-square, the 90 % intervals of the contact
+/// speeds hold the truth in 85-95 %.
+#[test]
+#[ignore]
+fn realistic_cases_200() {
+    let number = |name: &str, default: usize| {
+        std::env::var(name).map_or(default, |v| v.parse().expect("a whole number"))
+    };
+    let (cases, draws) = (number("CASES", 200), number("DRAWS", 100));
+    let results = sweep(cases, 100_000, draws);
+    assert_eq!(results.len(), cases);
+    let rate = check(&results);
+    assert!((0.85..=0.95).contains(&rate), "coverage {rate}");
+}
+
+/// Writes the realistic case of `SEED` (wheels `WHEELS`, e.g. `Rolling,Jammed`) into the
+/// temporary folder as `realistic_SEED.toml` and prints its truth, to look at one case.
+#[test]
+#[ignore]
+fn write_a_realistic_case() {
+    let seed = common::seed_from_env();
+    let names = std::env::var("WHEELS").unwrap_or_else(|_| "Locked,Locked".into());
+    let pick = |n: &str| {
+        *WHEELS
+            .iter()
+            .find(|w| format!("{w:?}") == n.trim())
+            .expect("Locked, Abs, Rolling, Steered or Jammed")
+    };
+    let mut it = names.split(',');
+    let wheels = [pick(it.next().unwrap()), pick(it.next().unwrap())];
+    let s = simulated(seed, wheels).expect("an admissible crash");
+    eprintln!("run-outs {:.1?} m, turns {:.2?}", s.distance, s.turns);
+    common::write_with_truth(
+        &format!("realistic_{seed}"),
+        &s.text,
+        (&s.contact, &s.separation, s.friction),
+    );
+}
