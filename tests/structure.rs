@@ -538,7 +538,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-case/src/damage.rs", "of", 173),
     ("crates/pim-case/src/plausibility.rs", "warnings", 236),
     ("crates/pim-case/src/ricsac.rs", "parse", 125),
-    ("crates/pim-case/src/scene.rs", "scene_inputs", 126),
     ("crates/pim-studies/src/damage_assess.rs", "assess", 142),
     ("crates/pim-studies/src/fitcase.rs", "problem", 201),
     (

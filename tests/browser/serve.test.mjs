@@ -586,6 +586,24 @@ test("a tyre mark placed by a click is written into the TOML where it was clicke
   await idle();
 });
 
+test("a friction zone is drawn on the plan under the run-outs, with its friction", async () => {
+  await page.selectOption("#cases", "reconstruction_verge_us.toml");
+  await idle();
+  await page.click("#fit");
+  // One zone, the grass verge east of the road's edge: `pim fit`'s speeds beside it.
+  assert.equal(await page.locator("polygon.zone-area").count(), 1);
+  assert.equal(await page.locator("text.zone-label").textContent(), "friction 0.45");
+  const [sedan, suv] = await speeds();
+  assert.ok(Math.abs(sedan - 38.10) < 0.006 && Math.abs(suv - 27.15) < 0.006, `${sedan} ${suv}`);
+  // Its corners on the page: SAE y = 60 ft (east) is the page's x = 60.
+  const xs = await page.$eval("polygon.zone-area", (p) => p.getAttribute("points").split(" ").map((c) => +c.split(",")[0]));
+  assert.equal(Math.min(...xs), 60);
+  // Drawn first: every vehicle's outline lies over it.
+  const first = await page.$eval("#plan", (svg) => [...svg.querySelectorAll("polygon")][0].getAttribute("class"));
+  assert.equal(first, "zone-area");
+  await page.screenshot({ path: path.join(shots, "17-zone.png") });
+});
+
 test("a vehicle at contact dragged and turned by its handles: the case's position and heading follow", async () => {
   const original = await exampleAsCommitted();
   const screen = (h, v) => page.evaluate(([h, v]) => {

@@ -34,6 +34,7 @@ pub mod ricsac;
 pub mod scene;
 mod scene_inputs;
 pub mod scene_sections;
+mod scene_zones;
 pub mod sections;
 pub mod spread;
 pub mod tyres;

@@ -300,12 +300,8 @@ impl Case {
         let s = self.content.start?;
         let st = if k == 0 { s.vehicle1 } else { s.vehicle2 }?;
         let u = self.written_units;
-        let (length, speed, rate) = (u.length.to_si(), u.speed.to_si(), u.yaw_rate.to_si());
-        let flip = if self.written == Convention::Sae {
-            -1.0
-        } else {
-            1.0
-        };
+        let (speed, rate) = (u.speed.to_si(), u.yaw_rate.to_si());
+        let (length, flip) = self.length_and_flip();
         let heading = (flip * st.heading).to_radians();
         let (vx, vy) = match st.speed {
             Some(v) => (v * heading.cos(), v * heading.sin()),

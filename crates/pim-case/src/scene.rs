@@ -1,5 +1,6 @@
-//! The run-out and the scene of a case: `[runout]` (road friction and, per vehicle, its wheels)
-//! and `[scene.vehicleN]` (rest position and heading, marks), read into pim-runout's inputs.
+//! The run-out and the scene of a case: `[runout]` (road friction, its zones and, per vehicle,
+//! its wheels) and `[scene.vehicleN]` (rest position and heading, marks), read into
+//! pim-runout's inputs.
 //!
 //! ```toml
 //! [runout]
@@ -90,16 +91,20 @@ impl Case {
     /// Where the impact centre lies in the case's fixed frame: natural axes, m (the case's
     /// `[impact] centre`, or the origin).
     pub fn impact_centre(&self) -> [f64; 2] {
-        let length = self.written_units.length.to_si();
-        let flip = if self.written == Convention::Sae {
-            -1.0
-        } else {
-            1.0
-        };
+        let (length, flip) = self.length_and_flip();
         self.content
             .impact
             .centre
             .map_or([0.0, 0.0], |p| [p.x * length, flip * p.y * length])
+    }
+
+    /// The written length unit, m, and the sign of the written y (SAE: y to the right, -1).
+    pub fn length_and_flip(&self) -> (f64, f64) {
+        let sae = self.written == Convention::Sae;
+        (
+            self.written_units.length.to_si(),
+            if sae { -1.0 } else { 1.0 },
+        )
     }
 
     /// The run-out inputs: the chassis of each vehicle with a `[runout.vehicleN]`, its pose at
@@ -124,13 +129,11 @@ impl Case {
         } else {
             Some(self.impact()?)
         };
-        let u = self.written_units;
-        let length = u.length.to_si();
-        let sae = self.written == Convention::Sae;
         // SAE: y to the right, angles clockwise; the natural frame: y left, counter-clockwise.
-        let flip = if sae { -1.0 } else { 1.0 };
+        let (length, flip) = self.length_and_flip();
         let centre = self.impact_centre();
         let cgs = impact.as_ref().map(pim_core::Impact::cg_positions);
+        let zones = self.zones_of(&runout.zones, (length, flip))?;
         let mut vehicles = Vec::new();
         for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
             let name = format!("vehicle{}", k + 1);
@@ -161,7 +164,7 @@ impl Case {
                     "a barrier does not move after the impact: leave out its run-out",
                 ));
             }
-            let chassis = self.chassis_of(k, w, runout.friction, (length, flip))?;
+            let chassis = self.chassis_of(k, w, (runout.friction, &zones), (length, flip))?;
             let start = match (&impact, cgs) {
                 (Some(impact), Some(cgs)) => Motion {
                     x: centre[0] + cgs[k][0],
@@ -177,13 +180,7 @@ impl Case {
                 })??,
             };
             let evidence = match scene {
-                Some(s) => Some(self.evidence_of(
-                    &name,
-                    s,
-                    &chassis,
-                    runout.friction_sigma,
-                    (length, flip),
-                )?),
+                Some(s) => Some(self.evidence_of(&name, s, &chassis, runout.friction_sigma)?),
                 None => None,
             };
             let rest_tyres = match scene {
@@ -235,8 +232,8 @@ impl Case {
         })
     }
 
-    /// The chassis of vehicle `k` (0 or 1) from its `[runout.vehicleN]` section `w` and the
-    /// road's friction `road` (lengths by `length`, angles mirrored by `flip`), checked.
+    /// The chassis of vehicle `k` (0 or 1) from its `[runout.vehicleN]` section `w`, the road's
+    /// friction `road` and its `zones` (lengths by `length`, angles mirrored by `flip`), checked.
     ///
     /// # Errors
     /// A located error for a field the run-out model cannot use.
@@ -244,7 +241,7 @@ impl Case {
         &self,
         k: usize,
         w: &RunoutVehicleSection,
-        road: Option<f64>,
+        (road, zones): (Option<f64>, &[pim_runout::Zone]),
         (length, flip): (f64, f64),
     ) -> Result<Chassis> {
         let name = format!("vehicle{}", k + 1);
@@ -311,6 +308,7 @@ impl Case {
             width: vs.width,
             cg_to_front: vs.cg_to_front,
             inputs: self.inputs_of(&name, w, flip)?,
+            zones: zones.to_vec(),
         };
         chassis.check().map_err(|e| self.runout_error(&name, e))?;
         if let Some(b) = w.braking {
@@ -331,6 +329,7 @@ impl Case {
                         return self.error_at(&format!("{name}.{field}"), reason)
                     }
                     "friction_sigma" => return self.error_at("runout.friction_sigma", reason),
+                    "zones" => return self.error_at("runout.zones", reason),
                     "friction" => {
                         let at = self
                             .written_friction_at(name)
@@ -563,8 +562,8 @@ impl Case {
         s: &SceneVehicleSection,
         chassis: &Chassis,
         friction_sigma: Option<f64>,
-        (length, flip): (f64, f64),
     ) -> Result<Evidence> {
+        let (length, flip) = self.length_and_flip();
         let at = |field: &str| format!("scene.{name}.{field}");
         self.check_places(name, s, length)?;
         let tyres = self.rest_of_tyres(name, s, chassis, (length, flip))?;

@@ -27,6 +27,22 @@ pub struct RunoutSection {
     /// Vehicle 2's wheels.
     #[serde(default)]
     pub vehicle2: Option<RunoutVehicleSection>,
+    /// Areas of the ground with a friction of their own (`[[runout.zones]]`).
+    #[serde(default)]
+    pub zones: Vec<ZoneSection>,
+}
+
+/// `[[runout.zones]]`: an area of the ground with a friction of its own.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ZoneSection {
+    /// What it is, for the figures ("parking lot", "verge").
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Its friction coefficient.
+    pub friction: f64,
+    /// The polygon's corners in order, `[x, y]` in the case's frame and length unit.
+    pub corners: Vec<[f64; 2]>,
 }
 
 /// What a wheel does, as written: `"locked"`, `"rolling"`, or a braking share.

@@ -175,12 +175,7 @@ impl Case {
             return Vec::new();
         };
         let mut out = Vec::new();
-        let length = self.written_units.length.to_si();
-        let flip = if self.written == pim_core::Convention::Sae {
-            -1.0
-        } else {
-            1.0
-        };
+        let (length, flip) = self.length_and_flip();
         for v in &inputs.vehicles {
             let name = format!("vehicle{}", v.id.index() + 1);
             let Some(s) = self.content.scene.as_ref().and_then(|sc| {

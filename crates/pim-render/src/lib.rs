@@ -29,6 +29,7 @@ pub mod damage_batch;
 pub mod diagram;
 pub mod figures;
 mod geometry_lines;
+mod ground;
 pub mod momentum;
 pub mod plan;
 pub mod predict_figure;

@@ -232,6 +232,8 @@ pub fn scene_svg(
             .bold_line_style(RGBColor(225, 225, 225))
             .draw()
             .map_err(|x| e(&x))?;
+        let zones = r.inputs.first().map_or(&[][..], |v| &v.chassis.zones[..]);
+        crate::ground::draw_zones(&mut chart, zones, to, [x0, x1, y0, y1]).map_err(|x| e(&x))?;
         for (k, run) in r.runouts.iter().enumerate() {
             let color = COLORS[(r.inputs[k].id.index()).min(1)];
             let light = LIGHT[(r.inputs[k].id.index()).min(1)];

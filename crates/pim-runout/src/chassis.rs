@@ -23,8 +23,7 @@ pub const DEFAULT_ROLLING_RESISTANCE: f64 = 0.015;
 /// a case gives that one as `max_slip_angle`.
 pub const DEFAULT_SATURATION_ANGLE: f64 = 10.0 * std::f64::consts::PI / 180.0;
 
-/// Highest road friction accepted (a coefficient beyond it is a typing error, not a road).
-pub const MAX_FRICTION: f64 = 1.5;
+pub use crate::zones::MAX_FRICTION;
 
 /// What one wheel does during the run-out.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
@@ -85,6 +84,10 @@ pub struct Chassis {
     /// steer above throughout).
     #[serde(default)]
     pub inputs: Vec<Input>,
+    /// Areas of the ground with a friction of their own (none: the road's `friction`
+    /// everywhere); each wheel runs on the friction under it ([`crate::zones`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub zones: Vec<crate::zones::Zone>,
 }
 
 /// A driver input from a time after separation on, as a PC-Crash sequence writes it: braking
@@ -199,6 +202,7 @@ impl Chassis {
             width: None,
             cg_to_front: None,
             inputs: Vec::new(),
+            zones: Vec::new(),
         }
     }
 
@@ -329,16 +333,7 @@ impl Chassis {
             }
             last = input.at;
         }
-        for (i, w) in self.wheels.iter().enumerate() {
-            if let WheelState::Braked(b) = w {
-                if !(b.is_finite() && (0.0..=1.0).contains(b)) {
-                    return bad(
-                        WHEEL_NAMES[i],
-                        format!("braking share {b}: must lie between 0 and 1"),
-                    );
-                }
-            }
-        }
+        self.check_wheels_and_zones()?;
         if let Some(l) = self.length {
             let front = self.cg_to_front.unwrap_or(l / 2.0);
             if self.cg_to_front_axle > front || self.wheelbase - self.cg_to_front_axle > l - front {
@@ -366,6 +361,37 @@ impl Chassis {
                         self.track
                     ),
                 );
+            }
+        }
+        Ok(())
+    }
+
+    /// The wheels' braking shares (0 to 1) and the friction zones (each valid, its friction
+    /// above the rolling resistance): the part of [`Chassis::check`] about the wheels' grip.
+    fn check_wheels_and_zones(&self) -> Result<()> {
+        let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
+        for (k, z) in self.zones.iter().enumerate() {
+            let why = z.check().err().or_else(|| {
+                (z.friction <= self.rolling_resistance).then(|| {
+                    let r = self.rolling_resistance;
+                    (
+                        "friction",
+                        format!("{}: must be above the rolling resistance {r}", z.friction),
+                    )
+                })
+            });
+            if let Some((field, why)) = why {
+                return bad("zones", format!("zone {}, {field}: {why}", k + 1));
+            }
+        }
+        for (i, w) in self.wheels.iter().enumerate() {
+            if let WheelState::Braked(b) = w {
+                if !(b.is_finite() && (0.0..=1.0).contains(b)) {
+                    return bad(
+                        WHEEL_NAMES[i],
+                        format!("braking share {b}: must lie between 0 and 1"),
+                    );
+                }
             }
         }
         Ok(())

@@ -47,6 +47,9 @@ struct Wheel {
     r: [f64; 2],
     dir: [f64; 2],
     tyre: Tyre,
+    /// Its braking share (0: free rolling), none when locked: the tyre again on another
+    /// friction.
+    share: Option<f64>,
     /// Static load, N.
     load: f64,
     /// Load change per unit of body-frame CG acceleration (ax, ay), N per m/s^2.
@@ -66,6 +69,17 @@ pub(crate) struct Dynamics {
     load_transfer: bool,
     /// The driver's inputs, when the chassis has any.
     schedule: Option<std::sync::Arc<Schedule>>,
+    /// The ground, when it has friction zones: each wheel's tyre then follows the friction
+    /// under it.
+    ground: Option<std::sync::Arc<Ground>>,
+}
+
+/// The road friction with its zones, and the rolling resistance a tyre keeps on any of them.
+#[derive(Debug)]
+struct Ground {
+    road: f64,
+    zones: Vec<crate::zones::Zone>,
+    rolling_resistance: f64,
 }
 
 /// The driver's inputs of a chassis, with what they change from.
@@ -127,11 +141,12 @@ impl Dynamics {
         let wheels = std::array::from_fn(|i| {
             let r = c.wheel_position(i);
             let steer = if i < 2 { c.steer[i] } else { 0.0 };
-            let tyre = match c.wheels[i] {
-                WheelState::Locked => Tyre::Sliding { mu },
-                WheelState::Rolling => rolling(mu, c.rolling_resistance),
-                WheelState::Braked(share) => rolling(mu, (share * mu).max(c.rolling_resistance)),
+            let share = match c.wheels[i] {
+                WheelState::Locked => None,
+                WheelState::Rolling => Some(0.0),
+                WheelState::Braked(b) => Some(b),
             };
+            let tyre = tyre_of(share, mu, c.rolling_resistance);
             // Load transfer of a CG acceleration (ax, ay) in the body frame at CG height h:
             // m ax h / L moves from the rear axle to the front one when ax < 0 (braking), and
             // m ay h / track from the left wheels to the right ones when ay > 0, shared by the
@@ -150,6 +165,7 @@ impl Dynamics {
                 r,
                 dir: [steer.cos(), steer.sin()],
                 tyre,
+                share,
                 load: loads[i],
                 transfer,
             }
@@ -175,6 +191,13 @@ impl Dynamics {
             tan_saturation: c.saturation_angle.tan(),
             load_transfer: c.cg_height.is_some(),
             schedule,
+            ground: (!c.zones.is_empty()).then(|| {
+                std::sync::Arc::new(Ground {
+                    road: mu,
+                    zones: c.zones.clone(),
+                    rolling_resistance: c.rolling_resistance,
+                })
+            }),
         }
     }
 
@@ -190,6 +213,7 @@ impl Dynamics {
             if let Some(base) = s.shares[i] {
                 let share = s.value(base, |x| x.braking[i], t);
                 wheel.tyre = rolling(s.friction, (share * s.friction).max(s.rolling_resistance));
+                wheel.share = Some(share);
             }
             if i < 2 {
                 let steer = s.value(s.steer[i], |x| x.steer.map(|a| a[i]), t);
@@ -270,8 +294,9 @@ impl Dynamics {
     pub(crate) fn rates(&self, y: &State) -> Rates {
         let (s, c) = y[2].sin_cos();
         let u = self.patch_velocities_turned(y, (s, c));
+        let tyres = self.tyres(y, (s, c));
         // Force per unit normal load of each wheel, body frame.
-        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i]));
+        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i], tyres[i]));
         let loads = self.loads(&g);
         let (mut fx, mut fy, mut mz, mut power) = (0.0, 0.0, 0.0, 0.0);
         for i in 0..4 {
@@ -294,7 +319,8 @@ impl Dynamics {
     /// sums, wheel by wheel.
     pub(crate) fn wheels_at(&self, y: &State) -> [WheelAt; 4] {
         let u = self.patch_velocities(y);
-        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i]));
+        let tyres = self.tyres(y, y[2].sin_cos());
+        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.unit_force(i, u[i], tyres[i]));
         let loads = self.loads(&g);
         std::array::from_fn(|i| {
             let [c, s] = self.wheels[i].dir;
@@ -352,10 +378,27 @@ impl Dynamics {
         loads
     }
 
-    /// The force of wheel `i` per unit normal load for the patch velocity `u` (body frame).
-    fn unit_force(&self, i: usize, u: [f64; 2]) -> [f64; 2] {
+    /// Each wheel's tyre at `y` (the heading's sine and cosine given): its own, or on ground
+    /// with zones the same tyre on the friction under the wheel.
+    fn tyres(&self, y: &State, (s, c): (f64, f64)) -> [Tyre; 4] {
+        let Some(g) = &self.ground else {
+            return self.wheels.map(|w| w.tyre);
+        };
+        self.wheels.map(|w| {
+            let p = [
+                y[0] + c * w.r[0] - s * w.r[1],
+                y[1] + s * w.r[0] + c * w.r[1],
+            ];
+            let mu = crate::zones::friction_at(g.road, &g.zones, p);
+            tyre_of(w.share, mu, g.rolling_resistance)
+        })
+    }
+
+    /// The force of wheel `i` with `tyre` per unit normal load for the patch velocity `u`
+    /// (body frame).
+    fn unit_force(&self, i: usize, u: [f64; 2], tyre: Tyre) -> [f64; 2] {
         let w = &self.wheels[i];
-        match w.tyre {
+        match tyre {
             Tyre::Sliding { mu } => {
                 let k = mu / speed(u[0], u[1]).max(SLIDING_DEADBAND);
                 [-k * u[0], -k * u[1]]
@@ -378,6 +421,14 @@ impl Dynamics {
                 [c * fl - s * fs, s * fl + c * fs]
             }
         }
+    }
+}
+
+/// The tyre of a wheel with braking share `share` (none: locked) on the friction `mu`.
+fn tyre_of(share: Option<f64>, mu: f64, rolling_resistance: f64) -> Tyre {
+    match share {
+        None => Tyre::Sliding { mu },
+        Some(b) => rolling(mu, (b * mu).max(rolling_resistance)),
     }
 }
 

@@ -33,7 +33,8 @@
 //! times a function of the kinematics, so the acceleration and the loads solve a 2 x 2 linear
 //! system; a wheel whose load would be negative lifts (load 0).
 //!
-//! **Tyre forces**, per unit load, with `mu` the road friction:
+//! **Tyre forces**, per unit load, with `mu` the friction under the wheel (the road's, or a
+//! friction zone's where the wheel runs on one: [`zones`]):
 //! - *locked or sliding* (and a wheel the impact damaged): `F = -mu Fz u / |u|`, Coulomb
 //!   friction against the sliding of the patch;
 //! - *free-rolling*: along the wheel the rolling resistance `-f_r Fz sgn(u_l)`; across it the
@@ -80,6 +81,7 @@ pub mod error;
 mod forces;
 pub mod inverse;
 pub mod simulate;
+pub mod zones;
 
 pub use chassis::{
     ackermann, Chassis, Input, Motion, WheelState, DEFAULT_FRICTION, DEFAULT_ROLLING_RESISTANCE,
@@ -93,3 +95,4 @@ pub use inverse::{
     CONSISTENT_COST, MAX_ALTERNATIVES, PLAUSIBLE_COST,
 };
 pub use simulate::{full_turns, simulate, End, Runout, Settings, Step};
+pub use zones::{friction_at, Zone};

@@ -506,6 +506,7 @@ function render() {
   svg.setAttribute("viewBox", `${v.x} ${v.y} ${v.w} ${v.h}`);
   svg.innerHTML = "";
   drawBackground(svg);
+  drawZones(svg, a.plan.zones || []);
   grid(el("g", {}, svg));
   drawClicks(svg);
   drawBands(svg);
@@ -554,6 +555,19 @@ function render() {
     }
   }
   if (a.question === "reconstruction") drawContactHandles(svg, a);
+}
+
+// The ground's friction zones under everything else: each polygon shaded, its friction in the
+// middle of its corners.
+function drawZones(svg, zones) {
+  const g = el("g", { class: "zones" }, svg);
+  for (const z of zones) {
+    const zg = el("g", { class: "zone" }, g);
+    el("polygon", { points: pts(z.corners), class: "zone-area" }, zg);
+    const mid = z.corners.reduce((m, c) => [m[0] + c[0] / z.corners.length, m[1] + c[1] / z.corners.length], [0, 0]);
+    const t = el("text", { x: mid[0], y: -mid[1], class: "zone-label", style: `font-size: ${12 / pxPerUnit()}px` }, zg);
+    t.textContent = `friction ${+z.friction.toFixed(2)}`;
+  }
 }
 
 // The study's bands: each vehicle's CG path from the velocities at separation of the study's

@@ -117,6 +117,17 @@ pub struct Plan {
     pub background: Option<PlanBackground>,
     /// The impact centre and the crush surface's normal, on the page.
     pub impact: Option<PlanImpact>,
+    /// The ground's friction zones (`[[runout.zones]]`), on the page.
+    pub zones: Vec<PlanZone>,
+}
+
+/// A friction zone on the page: its corners and its friction.
+#[derive(Debug, Serialize, Default)]
+pub struct PlanZone {
+    /// The polygon's corners, the display length unit on the page.
+    pub corners: Vec<[f64; 2]>,
+    /// Its friction coefficient.
+    pub friction: f64,
 }
 
 /// The impact on the page: the centre and the direction of the crush surface's normal as the
@@ -410,6 +421,20 @@ fn run_out(
 
 /// The scene on the page: the run-outs `runouts` (or without them, the vehicles where they
 /// stand and the evidence only).
+/// The friction `zones` (SI, natural frame) on the page (`on_page`).
+fn zones_on_page(
+    zones: &[pim_runout::Zone],
+    on_page: impl Fn(f64, f64) -> [f64; 2],
+) -> Vec<PlanZone> {
+    zones
+        .iter()
+        .map(|z| PlanZone {
+            corners: z.corners.iter().map(|c| on_page(c[0], c[1])).collect(),
+            friction: z.friction,
+        })
+        .collect()
+}
+
 fn plan(
     case: &Case,
     runouts: Option<&pim_studies::runout::RunoutResult>,
@@ -430,6 +455,7 @@ fn plan(
         vehicles: Vec::new(),
         background: None,
         impact: None,
+        zones: Vec::new(),
     };
     // A direction (natural frame, radians) on the page, degrees counter-clockwise from the
     // page's right.
@@ -446,12 +472,7 @@ fn plan(
         });
     }
     if let Some(b) = &case.content.background {
-        let length = case.written_units.length.to_si();
-        let flip = if case.written == Convention::Sae {
-            -1.0
-        } else {
-            1.0
-        };
+        let (length, flip) = case.length_and_flip();
         let at = b.at.map_or([0.0, 0.0], |p| [p.x, p.y]);
         let (h, v) = page.xy((
             units.length(at[0] * length),
@@ -479,6 +500,10 @@ fn plan(
         let (h, v) = page.xy((units.length(x), units.length(y)));
         [h, v]
     };
+    out.zones = r
+        .inputs
+        .first()
+        .map_or(Vec::new(), |v| zones_on_page(&v.chassis.zones, on_page));
     let outline = |k: usize, m: &pim_runout::Motion| -> Vec<[f64; 2]> {
         pim_render::runout::outline_on_page(r, k, m, units, case.written)
             .into_iter()

@@ -225,10 +225,40 @@ impl Reference<'_> {
         })
     }
 
-    /// Force per unit load of wheel `i` at patch velocity `u` (body frame).
-    fn per_load(&self, i: usize, u: [f64; 2]) -> [f64; 2] {
+    /// The friction under wheel `i` at the state `s`: the road's, moved toward each zone's in
+    /// turn by the share of a 0.2 m contact patch on the zone (inside by the winding number,
+    /// the distance to the nearest edge).
+    fn friction_under(&self, i: usize, s: &[f64; 6]) -> f64 {
+        let (r, _) = self.wheel(i);
+        let (sn, cs) = s[2].sin_cos();
+        let p = [s[0] + cs * r[0] - sn * r[1], s[1] + sn * r[0] + cs * r[1]];
+        let mut mu = self.c.friction;
+        for z in &self.c.zones {
+            let n = z.corners.len();
+            let (mut winding, mut nearest) = (0.0, f64::INFINITY);
+            for k in 0..n {
+                let a = [z.corners[k][0] - p[0], z.corners[k][1] - p[1]];
+                let b = [
+                    z.corners[(k + 1) % n][0] - p[0],
+                    z.corners[(k + 1) % n][1] - p[1],
+                ];
+                winding += (a[0] * b[1] - a[1] * b[0]).atan2(a[0] * b[0] + a[1] * b[1]);
+                let e = [b[0] - a[0], b[1] - a[1]];
+                let t =
+                    (-(a[0] * e[0] + a[1] * e[1]) / (e[0] * e[0] + e[1] * e[1])).clamp(0.0, 1.0);
+                nearest = nearest.min((a[0] + t * e[0]).hypot(a[1] + t * e[1]));
+            }
+            let inside = winding.abs() > std::f64::consts::PI;
+            let d = if inside { nearest } else { -nearest };
+            mu += (0.5 + d / 0.2).clamp(0.0, 1.0) * (z.friction - mu);
+        }
+        mu
+    }
+
+    /// Force per unit load of wheel `i` at patch velocity `u` (body frame) on the friction
+    /// `mu`.
+    fn per_load(&self, i: usize, u: [f64; 2], mu: f64) -> [f64; 2] {
         let c = self.c;
-        let mu = c.friction;
         let along = match c.wheels[i] {
             WheelState::Locked => {
                 let n = (u[0] * u[0] + u[1] * u[1]).sqrt().max(DEADBAND);
@@ -267,7 +297,8 @@ impl Reference<'_> {
     pub fn rates(&self, s: &[f64; 6]) -> [f64; 4] {
         let c = self.c;
         let u = self.patches(s);
-        let g: [[f64; 2]; 4] = std::array::from_fn(|i| self.per_load(i, u[i]));
+        let g: [[f64; 2]; 4] =
+            std::array::from_fn(|i| self.per_load(i, u[i], self.friction_under(i, s)));
         let mut load: [f64; 4] = std::array::from_fn(|i| self.static_load(i));
         if let Some(h) = c.cg_height {
             // Fixed point: acceleration from the loads, loads from the acceleration.

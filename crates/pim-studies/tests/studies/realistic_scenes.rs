@@ -112,8 +112,11 @@ fn runout_section(rng: &mut StdRng, k: usize, wheels: Wheels) -> String {
 }
 
 /// The crash of `seed` with the wheels `wheels` (`None`: no admissible crash, or a run-out
-/// shorter than a metre, longer than 100 m or not at rest within a minute).
-fn simulated(seed: u64, wheels: [Wheels; 2]) -> Option<Simulated> {
+/// shorter than a metre, longer than 100 m or not at rest within a minute). With `verge`, a
+/// friction zone of 55-75 % of the road's friction lies square across vehicle 2's path from
+/// half way along it (as the road's run-out would go), both vehicles run out on it, and the
+/// case states it.
+fn simulated(seed: u64, wheels: [Wheels; 2], verge: bool) -> Option<Simulated> {
     let mut rng = StdRng::seed_from_u64(seed);
     let ri = impact::random_impact_with(&mut rng, 8.0..22.0)?;
     let report = solve_forward(&ri.impact, &ri.truth, &ri.x, &ri.opts).ok()?;
@@ -164,17 +167,40 @@ fn simulated(seed: u64, wheels: [Wheels; 2]) -> Option<Simulated> {
     // Each vehicle run out by the reference model on the true friction, with the chassis the
     // case describes.
     let cr = described(&head);
-    let mut scene = String::new();
-    let (mut distance, mut turns) = ([0.0; 2], [0.0; 2]);
-    for (k, v) in cr.reconstruction.scene.iter().enumerate() {
-        let chassis = on_friction(v, friction);
+    let start_of = |k: usize, v: &pim_reconstruct::SceneVehicle| {
         let s = if k == 0 { sep.vehicle1 } else { sep.vehicle2 };
-        let start = pim_runout::Motion {
+        pim_runout::Motion {
             vx: s.vx,
             vy: s.vy,
             yaw_rate: s.omega,
             ..v.pose
-        };
+        }
+    };
+    let zone = if verge {
+        let v = &cr.reconstruction.scene[1];
+        let zone = verge_across(v, start_of(1, v), friction, &mut rng);
+        let corners: Vec<String> = zone
+            .corners
+            .iter()
+            .map(|c| format!("[{:.4}, {:.4}]", c[0], c[1]))
+            .collect();
+        write!(
+            head,
+            "\n[[runout.zones]]\nname = \"verge\"\nfriction = {:.4}\ncorners = [ {} ]\n",
+            zone.friction,
+            corners.join(", ")
+        )
+        .unwrap();
+        Some(zone)
+    } else {
+        None
+    };
+    let mut scene = String::new();
+    let (mut distance, mut turns) = ([0.0; 2], [0.0; 2]);
+    for (k, v) in cr.reconstruction.scene.iter().enumerate() {
+        let mut chassis = on_friction(v, friction);
+        chassis.zones.extend(zone.clone());
+        let start = start_of(k, v);
         let reference = Reference::new(&chassis);
         let run = reference.run_out(&start);
         if !run.stopped || !(1.0..=100.0).contains(&run.distance) {
@@ -217,6 +243,36 @@ fn simulated(seed: u64, wheels: [Wheels; 2]) -> Option<Simulated> {
     })
 }
 
+/// A zone of 55-75 % of the road's `friction` (to 4 decimals, as the case states it), 60 m
+/// deep and 120 m wide, whose near edge lies square across the path of vehicle `v` (from
+/// `start`, as the reference runs it out on the road alone) half way along it in time.
+fn verge_across(
+    v: &pim_reconstruct::SceneVehicle,
+    start: pim_runout::Motion,
+    friction: f64,
+    rng: &mut StdRng,
+) -> pim_runout::Zone {
+    let chassis = on_friction(v, friction);
+    let reference = Reference::new(&chassis);
+    let run = reference.run_out(&start);
+    let half = reference.pose_at(&start, 0.5 * run.time);
+    let (dx, dy) = (run.rest[0] - start.x, run.rest[1] - start.y);
+    let n = dx.hypot(dy).max(1e-9);
+    let (d, m) = ([dx / n, dy / n], [-dy / n, dx / n]);
+    let corner = |along: f64, side: f64| {
+        [0, 1].map(|i| ((half[i] + along * d[i] + side * m[i]) * 1e4).round() / 1e4)
+    };
+    pim_runout::Zone {
+        corners: vec![
+            corner(0.0, -60.0),
+            corner(60.0, -60.0),
+            corner(60.0, 60.0),
+            corner(0.0, 60.0),
+        ],
+        friction: (friction * rng.random_range(0.55..0.75) * 1e4).round() / 1e4,
+    }
+}
+
 /// What one case gave.
 struct Outcome {
     seed: u64,
@@ -229,17 +285,15 @@ struct Outcome {
 }
 
 fn run_case(seed: u64, wheels: [Wheels; 2], draws: usize) -> Option<Outcome> {
-    let s = simulated(seed, wheels)?;
+    run_simulated(seed, wheels, simulated(seed, wheels, false)?, draws)
+}
+
+/// [`run_case`] of the crash `s`.
+fn run_simulated(seed: u64, wheels: [Wheels; 2], s: Simulated, draws: usize) -> Option<Outcome> {
     let case = Case::from_text(&format!("realistic_{seed}.toml"), &s.text).expect("a valid case");
     let truth = common::truth_cost(&case, &s.contact, &s.separation, s.friction);
     let started = std::time::Instant::now();
-    let done = pim_studies::reconstruct::reconstruct(
-        &case,
-        pim_fit::FitModel::Pim,
-        pim_core::MomentForm::Corrected,
-        pim_fit::MomentBranch::ALL.to_vec(),
-    )
-    .expect("reconstructed");
+    let done = reconstructed(&case);
     let seconds = started.elapsed().as_secs_f64();
     let found = done.outcome.best.as_ref().map(|b| b.chi_square);
     let refused = (done.outcome.status != pim_reconstruct::Status::Found).then(|| {
@@ -289,6 +343,17 @@ fn run_case(seed: u64, wheels: [Wheels; 2], draws: usize) -> Option<Outcome> {
     })
 }
 
+/// The whole reconstruction of `case` (both moment branches).
+fn reconstructed(case: &Case) -> pim_studies::reconstruct::Reconstructed {
+    pim_studies::reconstruct::reconstruct(
+        case,
+        pim_fit::FitModel::Pim,
+        pim_core::MomentForm::Corrected,
+        pim_fit::MomentBranch::ALL.to_vec(),
+    )
+    .expect("reconstructed")
+}
+
 /// The wheels of the `i`-th case: every pair of states in turn over 25 cases.
 fn wheels_of(i: usize) -> [Wheels; 2] {
     [WHEELS[i % 5], WHEELS[(i / 5 + i) % 5]]
@@ -301,7 +366,7 @@ fn sweep(crashes: usize, first_seed: u64, draws: usize) -> Vec<Outcome> {
     let mut seed = first_seed;
     while chosen.len() < crashes {
         let wheels = wheels_of(chosen.len());
-        if simulated(seed, wheels).is_some() {
+        if simulated(seed, wheels, false).is_some() {
             chosen.push((seed, wheels));
         }
         seed += 1;
@@ -399,7 +464,7 @@ fn write_a_realistic_case() {
     };
     let mut it = names.split(',');
     let wheels = [pick(it.next().unwrap()), pick(it.next().unwrap())];
-    let s = simulated(seed, wheels).expect("an admissible crash");
+    let s = simulated(seed, wheels, std::env::var("VERGE").is_ok()).expect("an admissible crash");
     eprintln!("run-outs {:.1?} m, turns {:.2?}", s.distance, s.turns);
     common::write_with_truth(
         &format!("realistic_{seed}"),
@@ -407,3 +472,46 @@ fn write_a_realistic_case() {
         (&s.contact, &s.separation, s.friction),
     );
 }
+
+/// Crashes whose vehicle 2 slides from the road onto a verge of 55-75 % of the road's friction
+/// half way along its run-out, the verge stated as a friction zone (`[[runout.zones]]`): each
+/// is answered at or below the truth's chi-square, the 90 % intervals of both contact speeds
+/// hold the truth, and the same case without its zone does not answer as well (its wheels on
+/// the road's friction throughout cannot reach the rest the verge let them reach).
+#[test]
+fn a_run_out_onto_a_verge_is_answered_on_the_verges_friction() {
+    for wheels in VERGE_WHEELS {
+        let (seed, s) = (95_000..)
+            .find_map(|seed| simulated(seed, wheels, true).map(|s| (seed, s)))
+            .unwrap();
+        let text = s.text.clone();
+        let truth = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
+        let r = run_simulated(seed, wheels, s, 20).expect("answered");
+        check(std::slice::from_ref(&r));
+        assert_eq!(r.covered, [true, true], "seed {seed}: truth {truth:?}");
+        let start = text.find("[[runout.zones]]").unwrap();
+        let end = start + text[start..].find("\n\n").unwrap();
+        let without = format!("{}{}", &text[..start], &text[end + 1..]);
+        let done = reconstructed(&Case::from_text("without_zone.toml", &without).unwrap());
+        let cost = done
+            .outcome
+            .best
+            .as_ref()
+            .map_or(f64::INFINITY, |b| b.chi_square);
+        println!(
+            "seed {seed}: with the verge {:?}, without it {cost:.2} ({:?})",
+            r.found, done.outcome.status
+        );
+        assert!(
+            cost > r.found.unwrap(),
+            "seed {seed}: {cost} without the zone"
+        );
+    }
+}
+
+/// The wheels of the crashes of [`a_run_out_onto_a_verge_is_answered_on_the_verges_friction`]
+/// (each the first admissible crash from seed 95,000).
+const VERGE_WHEELS: [[Wheels; 2]; 2] = [
+    [Wheels::Locked, Wheels::Locked],
+    [Wheels::Abs, Wheels::Locked],
+];

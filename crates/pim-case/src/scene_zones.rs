@@ -1,0 +1,48 @@
+//! `[[runout.zones]]`: areas of the ground with a friction of their own, read into
+//! pim-runout's [`Zone`]s (SI, the natural frame), each wheel of either run-out on the
+//! friction under it.
+//!
+//! ```toml
+//! [[runout.zones]]
+//! name = "parking lot"          # optional, for the figures
+//! friction = 0.45
+//! corners = [ [20.0, -5.0], [40.0, -5.0], [40.0, 12.0], [20.0, 12.0] ]   # length unit
+//! ```
+//!
+//! The corners are in the case's fixed frame and length unit, in order (either sense); a later
+//! zone lies over an earlier one where they overlap. Outside every zone the wheels run on the
+//! road's friction (`[runout] friction`, or the vehicle's own).
+
+use crate::case::Case;
+use crate::error::Result;
+use crate::scene_sections::ZoneSection;
+use pim_runout::Zone;
+
+impl Case {
+    /// The zones `written`, lengths by `length` and y mirrored by `flip`, each checked; the
+    /// error names the zone's field.
+    pub(crate) fn zones_of(
+        &self,
+        written: &[ZoneSection],
+        (length, flip): (f64, f64),
+    ) -> Result<Vec<Zone>> {
+        written
+            .iter()
+            .enumerate()
+            .map(|(k, z)| {
+                let zone = Zone {
+                    corners: z
+                        .corners
+                        .iter()
+                        .map(|c| [c[0] * length, flip * c[1] * length])
+                        .collect(),
+                    friction: z.friction,
+                };
+                zone.check().map_err(|(field, why)| {
+                    self.error_at(&format!("runout.zones.{k}.{field}"), why)
+                })?;
+                Ok(zone)
+            })
+            .collect()
+    }
+}
