@@ -604,6 +604,51 @@ test("a friction zone is drawn on the plan under the run-outs, with its friction
   await page.screenshot({ path: path.join(shots, "17-zone.png") });
 });
 
+test("a friction zone drawn by its corners is written into the TOML and the run-out runs on it", async () => {
+  const original = await exampleAsCommitted();
+  const before = await speeds();
+  // A square 30 ft on a side about car 2's rest (SAE page: h is y, v is x), corner by corner
+  // through the plan's own transform, then the first corner again to close it.
+  const corners = await page.evaluate(() => {
+    const veh = window.pim.answer.plan.vehicles.find((w) => w.vehicle === 2);
+    const [h, v] = veh.given_rest.at;
+    const svg = document.getElementById("plan"), m = svg.getScreenCTM();
+    return [[-15, -15], [15, -15], [15, 15], [-15, 15]].map(([a, b]) => {
+      const p = svg.createSVGPoint(); p.x = h + a; p.y = -(v + b);
+      const q = p.matrixTransform(m);
+      return [q.x, q.y, h + a, v + b];
+    });
+  });
+  page.once("dialog", (d) => { assert.equal(d.defaultValue(), "0.45"); d.accept("0.3 wet grass"); });
+  await page.click("#add-zone");
+  for (const [x, y] of corners) await page.mouse.click(x, y);
+  assert.equal(await page.locator("polyline.click").count(), 1);
+  await page.mouse.click(corners[0][0] + 2, corners[0][1] + 1);
+  await page.waitForFunction(() => window.pim.answer.plan.zones.length === 1);
+  await idle();
+  const text = await page.inputValue("#toml");
+  assert.ok(text.startsWith(original), "the file as it was, the zone after it");
+  const added = text.slice(original.length);
+  const m = /^\n\[\[runout\.zones\]\]\nname = "wet grass"\nfriction = 0\.3\ncorners = \[(.*)\]\n$/.exec(added);
+  assert.ok(m, added);
+  // Written in the file's frame (SAE: x is the page's up, y its right), within a pixel.
+  const written = [...m[1].matchAll(/\[([-0-9.]+), ([-0-9.]+)\]/g)].map((c) => [+c[1], +c[2]]);
+  const unitPx = await page.evaluate(() => { const t = document.getElementById("plan").getScreenCTM(); return Math.hypot(t.a, t.b); });
+  assert.equal(written.length, 4);
+  written.forEach(([x, y], i) => {
+    const [, , h, v] = corners[i];
+    assert.ok(Math.abs(x - v) <= 1 / unitPx + 0.01 && Math.abs(y - h) <= 1 / unitPx + 0.01, `corner ${i}: (${x}, ${y}) against (${v}, ${h})`);
+  });
+  // The SUV's last 15 ft on 0.3 instead of the road's 0.72: a different answer.
+  const after = await speeds();
+  assert.notDeepEqual(after, before);
+  assert.equal(await page.locator("text.zone-label").textContent(), "friction 0.3");
+  await page.screenshot({ path: path.join(shots, "18-zone-placed.png") });
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => window.pim.answer.plan.zones.length === 0);
+  await idle();
+});
+
 test("a vehicle at contact dragged and turned by its handles: the case's position and heading follow", async () => {
   const original = await exampleAsCommitted();
   const screen = (h, v) => page.evaluate(([h, v]) => {

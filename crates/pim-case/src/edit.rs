@@ -70,6 +70,8 @@ pub enum NewValue {
     Bool(bool),
     /// A whole number (a count, a vehicle's number).
     Integer(i64),
+    /// Points `[x, y]` as they are to be written (a zone's corners, in the file's units).
+    Points(Vec<[f64; 2]>),
 }
 
 /// The keys a case reads as whole numbers (`scene.vehicleN.turns`, an observation's
@@ -224,7 +226,34 @@ impl CaseEdit {
             NewValue::Text(s) => Value::from(s),
             NewValue::Bool(b) => Value::from(b),
             NewValue::Integer(i) => Value::from(i),
+            NewValue::Points(points) => {
+                let mut array = toml_edit::Array::new();
+                for p in points {
+                    let mut pair = toml_edit::Array::new();
+                    pair.push(number(finite(p[0])?));
+                    pair.push(number(finite(p[1])?));
+                    array.push(pair);
+                }
+                Value::Array(array)
+            }
         })
+    }
+
+    /// Appends a table of `entries` to the array of tables at `path` (`runout.zones`: a new
+    /// `[[runout.zones]]` at the end of the file, after a blank line); the rest of the file is
+    /// kept byte for byte.
+    pub fn push_table(&mut self, path: &str, entries: &[(&str, NewValue)]) -> Result<()> {
+        let mut text = self.text();
+        if !text.ends_with('\n') {
+            text.push('\n');
+        }
+        text.push_str(&format!("\n[[{path}]]\n"));
+        for (key, value) in entries {
+            let v = self.value(&format!("{path}.{key}"), value.clone())?;
+            text.push_str(&format!("{key} = {}\n", v.to_string().trim()));
+        }
+        *self = CaseEdit::new(&self.file, &text)?;
+        Ok(())
     }
 
     /// Removes the key at `path`; `false` when the file does not write it.

@@ -39,7 +39,7 @@ impl Case {
                     friction: z.friction,
                 };
                 zone.check().map_err(|(field, why)| {
-                    self.error_at(&format!("runout.zones.{k}.{field}"), why)
+                    self.error_at(&format!("runout.zones[{k}].{field}"), why)
                 })?;
                 Ok(zone)
             })

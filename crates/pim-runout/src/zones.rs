@@ -73,7 +73,10 @@ impl Zone {
         if self.corners.len() < 3 {
             return Err((
                 "corners",
-                format!("a zone needs at least three, not {}", self.corners.len()),
+                format!(
+                    "a zone needs at least three corners, not {}",
+                    self.corners.len()
+                ),
             ));
         }
         if let Some(c) = self

@@ -741,7 +741,8 @@ function drawClicks(svg) {
   const r = 5 / pxPerUnit();
   const pts = state.clicks.length ? state.clicks : state.measured ? state.measured.points : [];
   for (const p of pts) el("circle", { cx: p.x, cy: p.y, r, class: "click" }, svg);
-  if (pts.length === 2) el("line", { x1: pts[0].x, y1: pts[0].y, x2: pts[1].x, y2: pts[1].y, class: "click" }, svg);
+  if (state.tool === "zone" && pts.length > 1) el("polyline", { points: pts.map((p) => `${p.x},${p.y}`).join(" "), class: "click" }, svg);
+  else if (pts.length === 2) el("line", { x1: pts[0].x, y1: pts[0].y, x2: pts[1].x, y2: pts[1].y, class: "click" }, svg);
 }
 
 function useTool(tool) {
@@ -759,6 +760,7 @@ function useTool(tool) {
   $("plan").classList.toggle("picking", !!state.tool);
   status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies"
     : state.tool === "skid" ? "click where the skid begins, behind the vehicle"
+    : state.tool === "zone" ? "click the zone's corners in order, the first again to close it"
     : state.tool === "move-image" ? "drag the image to move it, its knob to turn it; Move image again to end"
     : "click two points on the plan");
   $("move-image").classList.toggle("active", state.tool === "move-image");
@@ -767,6 +769,7 @@ function useTool(tool) {
 
 async function toolClick(e) {
   if (!state.tool || state.tool === "move-image") return;
+  if (state.tool === "zone") { await zoneClick(svgPoint(e)); return; }
   state.clicks.push(svgPoint(e));
   render();
   // A mark or a skid takes one click, a distance two; then the tool ends.
@@ -818,6 +821,25 @@ async function placeMark(click) {
   const wheel = tyres[words[2]] || words[2] || "cg";
   if (!(vehicle === 1 || vehicle === 2) || !(s > 0)) { status("no mark placed"); render(); return; }
   await edited("/api/mark", { vehicle, at, sigma: s, wheel });
+}
+
+// A corner of a friction zone: added, or with three or more a click within 8 screen pixels of
+// the first closes it; its friction (and a name) asked, then written into the TOML (not saved).
+async function zoneClick(p) {
+  const c = state.clicks, near = 8 / pxPerUnit();
+  if (!(c.length >= 3 && Math.hypot(p.x - c[0].x, p.y - c[0].y) <= near)) {
+    c.push(p);
+    render();
+    return;
+  }
+  state.tool = null; state.clicks = [];
+  $("plan").classList.remove("picking");
+  const answer = window.prompt("Friction zone: its friction, and a name if you like (e.g. 0.45 grass verge):", "0.45");
+  const [first, ...rest] = (answer || "").trim().split(/\s+/);
+  const friction = +first;
+  if (!(friction > 0)) { status("no zone placed"); render(); return; }
+  const corners = c.map((q) => [q.x, -q.y]);
+  await edited("/api/zone", { corners, friction, name: rest.join(" ") || undefined });
 }
 
 async function changeBackground(change) {
@@ -1114,6 +1136,7 @@ $("add-mark").addEventListener("click", () => useTool("mark"));
 $("batch-start").addEventListener("click", startBatch);
 $("batch-cancel").addEventListener("click", cancelBatch);
 $("add-skid").addEventListener("click", () => useTool("skid"));
+$("add-zone").addEventListener("click", () => useTool("zone"));
 $("move-image").addEventListener("click", () => useTool("move-image"));
 $("lock-image").addEventListener("change", (e) => {
   if (state.tool === "move-image") useTool("move-image");

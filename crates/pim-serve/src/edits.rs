@@ -284,3 +284,64 @@ pub fn set_skid(
     edit.check().map_err(|e| input(&e))?;
     Ok(edit.text())
 }
+
+/// A friction zone drawn on the page.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+pub struct NewZone {
+    /// Its corners in order, on the page (display length unit).
+    pub corners: Vec<[f64; 2]>,
+    /// Its friction coefficient.
+    pub friction: f64,
+    /// What it is ("grass verge"), for the figures.
+    #[serde(default)]
+    pub name: Option<String>,
+}
+
+/// The case text with a friction zone appended (`[[runout.zones]]` at the end of the file):
+/// its corners from the page (display length unit of `units`, `None`: the case's own) in the
+/// file's length unit and frame, to a hundredth, every other byte kept; the text is checked as
+/// a case after the edit.
+///
+/// # Errors
+/// Text that is not a valid case, fewer than three corners or one that is not a finite number,
+/// or a zone the case refuses (no area, a friction out of range: pim's message).
+pub fn add_zone(
+    file: &str,
+    text: &str,
+    zone: &NewZone,
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if zone.corners.len() < 3 || !zone.corners.iter().flatten().all(|x| x.is_finite()) {
+        return Err(AnswerError::Input(format!(
+            "{file}: a zone needs three corners or more, each a finite point: got {:?}",
+            zone.corners
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let per_unit =
+        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+    let written = |v: f64| (v / per_unit * 100.0).round() / 100.0;
+    let corners = zone
+        .corners
+        .iter()
+        .map(|&at| {
+            let (x, y) = written_frame(&case, at, units);
+            [written(x), written(y)]
+        })
+        .collect();
+    let mut entries = Vec::new();
+    if let Some(name) = zone.name.as_deref().filter(|n| !n.trim().is_empty()) {
+        entries.push((
+            "name",
+            pim_case::edit::NewValue::Text(name.trim().to_string()),
+        ));
+    }
+    entries.push(("friction", pim_case::edit::NewValue::Written(zone.friction)));
+    entries.push(("corners", pim_case::edit::NewValue::Points(corners)));
+    edit.push_table("runout.zones", &entries)
+        .map_err(|e| input(&e))?;
+    edit.check().map_err(|e| input(&e))?;
+    Ok(edit.text())
+}

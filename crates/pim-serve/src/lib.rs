@@ -37,6 +37,7 @@ mod answer;
 mod background;
 mod batch;
 mod contact;
+mod edit_routes;
 mod edits;
 mod form;
 mod guard;
@@ -52,7 +53,9 @@ pub use answer::{
 pub use background::{set_background, BackgroundChange};
 pub use batch::batch;
 pub use contact::{edit_contact, ContactChange};
-pub use edits::{add_mark, move_mark, move_rest, move_rest_in, set_skid, NewMark};
+pub use edits::{
+    add_mark, add_zone, move_mark, move_rest, move_rest_in, set_skid, NewMark, NewZone,
+};
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, same_secret, Guard};
 pub use headers::{image_kind, MAX_IMAGE_BYTES};

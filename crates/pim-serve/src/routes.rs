@@ -1,5 +1,6 @@
 //! The routes: the page, its assets and the API.
 
+use crate::edit_routes::{edited, refused, unanswered, units_of};
 use crate::guard::{inside, inside_of, Guard, COOKIE};
 use crate::headers::{image_kind, secured, IMAGE_POLICY, MAX_IMAGE_BYTES};
 use crate::served::{Server, BODY_LIMIT};
@@ -10,7 +11,6 @@ use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
-use pim_case::units::UnitSystem;
 use serde::Deserialize;
 use serde_json::json;
 use std::sync::Arc;
@@ -29,10 +29,11 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/cases", get(cases))
         .route("/api/case", get(case))
         .route("/api/answer", post(answer))
-        .route("/api/move", post(move_rest))
-        .route("/api/mark", post(add_mark))
-        .route("/api/contact", post(contact))
-        .route("/api/skid", post(skid))
+        .route("/api/move", post(crate::edit_routes::move_rest))
+        .route("/api/mark", post(crate::edit_routes::add_mark))
+        .route("/api/zone", post(crate::edit_routes::add_zone))
+        .route("/api/contact", post(crate::edit_routes::contact))
+        .route("/api/skid", post(crate::edit_routes::skid))
         .route("/api/form", post(form))
         .route("/api/set", post(set_field))
         .route("/api/save", post(save))
@@ -45,10 +46,6 @@ pub(crate) fn router(served: App) -> Router {
         .layer(middleware::from_fn_with_state(served.clone(), guard))
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .with_state(served)
-}
-
-fn refused(status: StatusCode, why: &str) -> Response {
-    (status, Json(json!({ "error": why }))).into_response()
 }
 
 /// Every request: a Host that names this server, and the token (as the cookie, or in the
@@ -248,36 +245,6 @@ struct CaseText {
     off: Vec<String>,
 }
 
-/// The display units a request names (`None`: the case's own).
-fn units_of(name: Option<&str>) -> Result<Option<UnitSystem>, String> {
-    match name {
-        None | Some("") => Ok(None),
-        Some("si") => Ok(Some(UnitSystem::Si)),
-        Some("us") => Ok(Some(UnitSystem::Us)),
-        Some("kmh") => Ok(Some(UnitSystem::Kmh)),
-        Some(other) => Err(format!("units {other:?}: accepted: si, us, kmh")),
-    }
-}
-
-fn unanswered(e: crate::AnswerError) -> Response {
-    refused(StatusCode::UNPROCESSABLE_ENTITY, &e.to_string())
-}
-
-/// The answer to an edit of the case text made in the display units `units` (a name, `None`:
-/// the case's own): `{text}`, the edited text (not saved), or the refusal that says why.
-fn edited(
-    units: Option<&str>,
-    edit: impl FnOnce(Option<UnitSystem>) -> Result<String, crate::AnswerError>,
-) -> Response {
-    match units_of(units)
-        .map_err(crate::AnswerError::Input)
-        .and_then(edit)
-    {
-        Ok(text) => Json(json!({ "text": text })).into_response(),
-        Err(e) => unanswered(e),
-    }
-}
-
 async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
     let units = match units_of(c.units.as_deref()) {
         Ok(u) => u,
@@ -310,80 +277,6 @@ async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
         Ok(Err(e)) => unanswered(e),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }
-}
-
-#[derive(Deserialize)]
-struct Move {
-    path: String,
-    text: String,
-    vehicle: u8,
-    at: [f64; 2],
-    /// The units of `at`'s length (default the case's own).
-    #[serde(default)]
-    units: Option<String>,
-    /// A tyre mark of the vehicle (from 0) instead of its rest.
-    #[serde(default)]
-    mark: Option<usize>,
-}
-
-async fn move_rest(Json(m): Json<Move>) -> Response {
-    edited(m.units.as_deref(), |units| match m.mark {
-        Some(i) => crate::move_mark(&m.path, &m.text, (m.vehicle, i), m.at, units),
-        None => crate::move_rest_in(&m.path, &m.text, m.vehicle, m.at, units),
-    })
-}
-
-/// A mark to add, to the text given.
-#[derive(Deserialize)]
-struct MarkAsk {
-    path: String,
-    text: String,
-    #[serde(flatten)]
-    mark: crate::NewMark,
-    #[serde(default)]
-    units: Option<String>,
-}
-
-/// The text with a tyre mark added where the page was clicked (not saved).
-async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
-    edited(m.units.as_deref(), |u| {
-        crate::add_mark(&m.path, &m.text, &m.mark, u)
-    })
-}
-
-#[derive(Deserialize)]
-struct ContactAsk {
-    path: String,
-    text: String,
-    #[serde(default)]
-    units: Option<String>,
-    #[serde(flatten)]
-    change: crate::ContactChange,
-}
-
-/// The text with the geometry at contact moved (a vehicle's CG or heading, the impact centre,
-/// the crush surface's normal), not saved.
-async fn contact(Json(c): Json<ContactAsk>) -> Response {
-    edited(c.units.as_deref(), |u| {
-        crate::edit_contact(&c.path, &c.text, &c.change, u)
-    })
-}
-
-#[derive(Deserialize)]
-struct SkidAsk {
-    path: String,
-    text: String,
-    vehicle: u8,
-    length: f64,
-    #[serde(default)]
-    units: Option<String>,
-}
-
-/// The text with a vehicle's skid up to contact set (not saved).
-async fn skid(Json(k): Json<SkidAsk>) -> Response {
-    edited(k.units.as_deref(), |u| {
-        crate::set_skid(&k.path, &k.text, (k.vehicle, k.length), u)
-    })
 }
 
 #[derive(Deserialize)]

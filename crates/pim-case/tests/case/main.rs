@@ -1,6 +1,8 @@
-//! The case file: edits in place, motion, the RICSAC loader and the tyre. One test binary.
+//! The case file: edits in place, motion, the RICSAC loader, the tyre and friction zones. One test
+//! binary.
 
 mod edit;
 mod motion;
 mod ricsac_loader;
 mod tyre;
+mod zones;
