@@ -26,7 +26,7 @@ fn a_zone_is_read_in_si_and_the_natural_frame() {
     for v in &inputs.vehicles {
         let z = &v.chassis.zones;
         assert_eq!(z.len(), 1);
-        assert_eq!(z[0].friction, 0.45);
+        assert!((z[0].friction - 0.45).abs() < 1e-15);
         let expected = [[-50.0, 60.0], [150.0, 60.0], [150.0, 150.0], [-50.0, 150.0]];
         for (c, e) in z[0].corners.iter().zip(expected) {
             assert!((c[0] - e[0] * 0.3048).abs() < 1e-12 && (c[1] + e[1] * 0.3048).abs() < 1e-12);
