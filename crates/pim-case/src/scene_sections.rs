@@ -41,6 +41,10 @@ pub struct ZoneSection {
     pub name: Option<String>,
     /// Its friction coefficient.
     pub friction: f64,
+    /// Its standard deviation: `pim uncertainty` draws the zone's friction by it (the fit
+    /// holds it as stated).
+    #[serde(default)]
+    pub friction_sigma: Option<f64>,
     /// The polygon's corners in order, `[x, y]` in the case's frame and length unit.
     pub corners: Vec<[f64; 2]>,
 }

@@ -6,12 +6,14 @@
 //! [[runout.zones]]
 //! name = "parking lot"          # optional, for the figures
 //! friction = 0.45
+//! friction_sigma = 0.05         # optional: `pim uncertainty` draws the friction by it
 //! corners = [ [20.0, -5.0], [40.0, -5.0], [40.0, 12.0], [20.0, 12.0] ]   # length unit
 //! ```
 //!
 //! The corners are in the case's fixed frame and length unit, in order (either sense); a later
 //! zone lies over an earlier one where they overlap. Outside every zone the wheels run on the
-//! road's friction (`[runout] friction`, or the vehicle's own).
+//! road's friction (`[runout] friction`, or the vehicle's own). The fit holds a zone's friction
+//! as stated; with `friction_sigma` the uncertainty study draws it.
 
 use crate::case::Case;
 use crate::error::Result;
@@ -41,6 +43,12 @@ impl Case {
                 zone.check().map_err(|(field, why)| {
                     self.error_at(&format!("runout.zones[{k}].{field}"), why)
                 })?;
+                if let Some(sd) = z.friction_sigma.filter(|sd| !(sd.is_finite() && *sd > 0.0)) {
+                    return Err(self.error_at(
+                        &format!("runout.zones[{k}].friction_sigma"),
+                        format!("{sd}: must be a number above 0"),
+                    ));
+                }
                 Ok(zone)
             })
             .collect()

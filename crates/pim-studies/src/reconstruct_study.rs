@@ -1,7 +1,7 @@
 //! Intervals through all three phases (`pim uncertainty` of a case with scene evidence): a
 //! seeded parametric bootstrap. Each draw perturbs the case's estimates and observations by
 //! their standard deviations, the inputs `[uncertainty]` names, the road friction by
-//! `[runout] friction_sigma`, every rest position and heading (or tyre point at rest) and every mark by its sigma and
+//! `[runout] friction_sigma` (and each friction zone's by its own), every rest position and heading (or tyre point at rest) and every mark by its sigma and
 //! every EDR speed by its sigma, the measured inputs `[uncertainty.vehicleN]` gives a spread
 //! (skid, braking shares, grade, the EDR's clock, the chassis: `measured_inputs`); then the whole reconstruction is refitted (from where the
 //! nominal reconstruction ended, for each count of turns it found within a chi-square of 4 of
@@ -54,6 +54,34 @@ pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
     out
 }
 
+/// The friction of each zone that gives its spread (`[[runout.zones]] friction_sigma`), drawn
+/// about its value (the fit holds it as stated).
+fn zone_inputs(r: &pim_case::scene_sections::RunoutSection) -> Vec<Input> {
+    r.zones
+        .iter()
+        .enumerate()
+        .filter_map(|(k, z)| {
+            let s = z.friction_sigma?;
+            let name = z.name.clone().unwrap_or_else(|| format!("zone {}", k + 1));
+            Some(Input {
+                name: format!("{name} friction"),
+                spread: Spread::Normal(s),
+                nominal: z.friction,
+                apply: Box::new(move |case: &mut Case, x| {
+                    if let Some(z) = case
+                        .content
+                        .runout
+                        .as_mut()
+                        .and_then(|r| r.zones.get_mut(k))
+                    {
+                        z.friction = x.clamp(0.05, 1.5);
+                    }
+                }),
+            })
+        })
+        .collect()
+}
+
 /// The scene's, the friction's and the EDR's drawn inputs (in the file's units).
 fn scene_inputs(case: &Case) -> Vec<Input> {
     let mut out: Vec<Input> = Vec::new();
@@ -71,6 +99,7 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
                 }),
             });
         }
+        out.extend(zone_inputs(r));
         // A vehicle on a surface of its own: its friction drawn by the same spread.
         if let Some(s) = r.friction_sigma {
             type Own = fn(&mut Case) -> Option<&mut pim_case::scene_sections::RunoutVehicleSection>;

@@ -11,3 +11,4 @@ mod realistic_scenes;
 mod scene_coverage;
 mod tyre_marks;
 mod watch;
+mod zones;
