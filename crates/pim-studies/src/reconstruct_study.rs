@@ -56,7 +56,10 @@ pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
 
 /// The friction of each zone that gives its spread (`[[runout.zones]] friction_sigma`), drawn
 /// about its value (the fit holds it as stated).
-fn zone_inputs(r: &pim_case::scene_sections::RunoutSection) -> Vec<Input> {
+fn zone_inputs(case: &Case) -> Vec<Input> {
+    let Some(r) = &case.content.runout else {
+        return Vec::new();
+    };
     r.zones
         .iter()
         .enumerate()
@@ -99,7 +102,6 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
                 }),
             });
         }
-        out.extend(zone_inputs(r));
         // A vehicle on a surface of its own: its friction drawn by the same spread.
         if let Some(s) = r.friction_sigma {
             type Own = fn(&mut Case) -> Option<&mut pim_case::scene_sections::RunoutVehicleSection>;
@@ -282,6 +284,7 @@ pub fn run_around(
     let unc = case.content.uncertainty.unwrap_or_default();
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
+    all.extend(zone_inputs(case));
     all.extend(crate::measured_inputs::measured_inputs(case)?);
     all.extend(crate::measured_inputs::wheel_alternatives(case)?);
     let nominal = &done.outcome;
