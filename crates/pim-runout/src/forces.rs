@@ -212,8 +212,8 @@ impl Dynamics {
         for (i, wheel) in d.wheels.iter_mut().enumerate() {
             if let Some(base) = s.shares[i] {
                 let share = s.value(base, |x| x.braking[i], t);
-                wheel.tyre = rolling(s.friction, (share * s.friction).max(s.rolling_resistance));
                 wheel.share = Some(share);
+                wheel.tyre = tyre_of(wheel.share, s.friction, s.rolling_resistance);
             }
             if i < 2 {
                 let steer = s.value(s.steer[i], |x| x.steer.map(|a| a[i]), t);

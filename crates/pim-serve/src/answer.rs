@@ -419,8 +419,6 @@ fn run_out(
         .map_err(|e| AnswerError::Unsupported(e.to_string()))
 }
 
-/// The scene on the page: the run-outs `runouts` (or without them, the vehicles where they
-/// stand and the evidence only).
 /// The friction `zones` (SI, natural frame) on the page (`on_page`).
 fn zones_on_page(
     zones: &[pim_runout::Zone],
@@ -435,6 +433,8 @@ fn zones_on_page(
         .collect()
 }
 
+/// The scene on the page: the run-outs `runouts` (or without them, the vehicles where they
+/// stand and the evidence only).
 fn plan(
     case: &Case,
     runouts: Option<&pim_studies::runout::RunoutResult>,
