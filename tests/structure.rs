@@ -546,7 +546,7 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
         157,
     ),
     (
-        "crates/pim-studies/src/reconstruct.rs",
+        "crates/pim-studies/src/reconstruct_input.rs",
         "case_reconstruction",
         214,
     ),

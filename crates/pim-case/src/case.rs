@@ -69,6 +69,10 @@ pub struct CaseFile {
     /// Before the impact: skid marks up to contact and EDR speeds (`pim fit` of a scene).
     #[serde(default)]
     pub pre_impact: Option<crate::scene_sections::PreImpactSection>,
+    /// The pose at contact fitted by the whole reconstruction: each value's standard
+    /// deviation (see [`crate::contact_pose`]).
+    #[serde(default)]
+    pub contact_sigma: Option<crate::contact_sigma::ContactSigmaSection>,
     /// Each vehicle's crush profile and stiffness (`[damage]`, see [`crate::damage`]).
     #[serde(default)]
     pub damage: Option<crate::sections::DamageSection>,

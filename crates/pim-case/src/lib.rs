@@ -20,6 +20,8 @@
 
 pub mod case;
 mod checks;
+pub mod contact_pose;
+mod contact_sigma;
 pub mod damage;
 pub mod edit;
 mod error;

@@ -84,7 +84,7 @@ struct MotionVehicle {
 }
 
 /// The sections a motion case does not have (they belong to an impact).
-const IMPACT_ONLY: [&str; 14] = [
+const IMPACT_ONLY: [&str; 15] = [
     "impact",
     "coefficients",
     "initial",
@@ -98,6 +98,7 @@ const IMPACT_ONLY: [&str; 14] = [
     "uncertainty",
     "scene",
     "pre_impact",
+    "contact_sigma",
     "damage",
 ];
 
@@ -195,6 +196,7 @@ impl Case {
             runout: Some(m.runout),
             scene: None,
             pre_impact: None,
+            contact_sigma: None,
             damage: None,
             background: None,
             start: Some(m.start),

@@ -28,6 +28,29 @@ pub struct EvidenceOut {
     pub share_percent: f64,
 }
 
+/// One unknown of the pose at contact (`[contact_sigma]`): as the case states it and as the
+/// reconstruction fits it. Lengths in m, angles in degrees, the natural frame.
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
+pub struct ContactPoseOut {
+    /// Which (`vehicle1.heading`, `vehicle2.impact_point.x`, `centre.y`, `crush_angle`).
+    pub name: String,
+    /// `length` (m) or `angle` (deg).
+    pub quantity: &'static str,
+    /// A y coordinate or an angle: its sign changes in a frame with y to the right (SAE).
+    pub mirrored: bool,
+    /// The value the case states (a vehicle's heading, its CG's coordinate, the impact centre's
+    /// on the vehicle or in the scene, the crush angle).
+    pub stated: f64,
+    /// The fitted value.
+    pub fitted: f64,
+    /// Its standard deviation after the fit (linearised).
+    pub sigma: f64,
+    /// The prior's standard deviation (`[contact_sigma]`).
+    pub prior_sigma: f64,
+    /// Fitted minus stated over the prior's deviation.
+    pub z: f64,
+}
+
 /// One vehicle through the three phases.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct VehiclePhasesOut {
@@ -105,6 +128,10 @@ pub struct BestOut {
     /// The search bounds the impact ends on (the bound, not the evidence, ends it there),
     /// each with who set it.
     pub bounds_reached: Vec<crate::records::BoundReached>,
+    /// The pose at contact, where the case fits it (`[contact_sigma]`): each unknown stated and
+    /// fitted. Its priors are rows of `evidence` and terms of `chi_square`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub contact_pose: Vec<ContactPoseOut>,
 }
 
 /// The document of a reconstruction (`pim fit --format json` of a scene case).

@@ -130,6 +130,12 @@
 //! with the second, on none. A refusal therefore says that none of the impacts and run-outs
 //! *searched* reaches the evidence, never that none exists.
 //!
+//! ## The pose at contact
+//! Where the vehicles met (impact points, headings, the crush surface, each run-out's start)
+//! is an input of a reconstruction; where it is uncertain, [`fit_pose`] fits it as unknowns
+//! with priors: the whole reconstruction refitted at each pose (variable projection) and the
+//! pose moved by Levenberg-Marquardt, the counts of turns held (see [`fit_pose`]).
+//!
 //! ## Pre-impact
 //! A mark of braking before contact over a distance `d` with a share `b` of the road friction
 //! `mu` on a grade `beta` gives the speed where the braking began, `v0^2 = vc^2 + 2 a d` with
@@ -142,6 +148,7 @@ mod error;
 mod from;
 mod outcome;
 mod point;
+mod pose;
 mod problem;
 mod refine;
 mod relax;
@@ -154,6 +161,7 @@ pub use outcome::{
     Contradiction, EvidenceTerm, Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts,
     INCONSISTENT_P, POOR_FIT_P,
 };
+pub use pose::{fit_pose, refit, residual_z, PoseFit, PoseStart, PoseUnknown};
 pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
     Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,

@@ -87,26 +87,11 @@ pub fn reconstruction_table(
             rest
         ));
     }
-    t.push_str(&format!("(speeds in {spd})\n"));
     t.push_str(&format!(
-        "\n{:<56} {:>10} {:>10} {:>8} {:>8}\n",
-        "evidence", "residual", "sigma", "z", "share %"
+        "(speeds in {spd})\n{}",
+        contact_pose_lines(b, units, s)
     ));
-    for e in &b.evidence {
-        let (scale, unit) = evidence_unit(e, units);
-        t.push_str(&format!(
-            "{:<56} {:>10} {:>10} {:>8.2} {:>8.1}\n",
-            if unit.is_empty() {
-                e.name.clone()
-            } else {
-                format!("{} ({unit})", e.name)
-            },
-            num(e.residual * scale, 3),
-            num(e.sigma * scale, 3),
-            e.z,
-            e.share_percent
-        ));
-    }
+    t.push_str(&evidence_lines(b, units));
     t.push_str("\ncounts of turns compared (vehicle order: ");
     t.push_str(
         &d.scene_vehicles
@@ -156,6 +141,62 @@ pub fn reconstruction_table(
     }
     if let Some(c) = &d.consistency {
         t.push_str(&consistency_lines(c, units));
+    }
+    t
+}
+
+/// The evidence table: each piece's residual and sigma in `units`, its z and share.
+fn evidence_lines(b: &pim_studies::reconstruct::BestOut, units: UnitSystem) -> String {
+    let mut t = String::new();
+    t.push_str(&format!(
+        "\n{:<56} {:>10} {:>10} {:>8} {:>8}\n",
+        "evidence", "residual", "sigma", "z", "share %"
+    ));
+    for e in &b.evidence {
+        let (scale, unit) = evidence_unit(e, units);
+        t.push_str(&format!(
+            "{:<56} {:>10} {:>10} {:>8.2} {:>8.1}\n",
+            if unit.is_empty() {
+                e.name.clone()
+            } else {
+                format!("{} ({unit})", e.name)
+            },
+            num(e.residual * scale, 3),
+            num(e.sigma * scale, 3),
+            e.z,
+            e.share_percent
+        ));
+    }
+    t
+}
+
+/// The pose at contact where the case fits it: each unknown stated and fitted, with its
+/// standard deviation after the fit and its prior's (`s`: -1 mirrors y and angles for SAE).
+fn contact_pose_lines(b: &pim_studies::reconstruct::BestOut, units: UnitSystem, s: f64) -> String {
+    if b.contact_pose.is_empty() {
+        return String::new();
+    }
+    let mut t = format!(
+        "\n{:<28} {:>12} {:>12} {:>12} {:>12} {:>8}\n",
+        "pose at contact", "stated", "fitted", "+- (fit)", "+- (prior)", "z"
+    );
+    for p in &b.contact_pose {
+        let sign = if p.mirrored { s } else { 1.0 };
+        let (scale, unit) = if p.quantity == "angle" {
+            (1.0, "deg")
+        } else {
+            (units.length(1.0), units.length_label())
+        };
+        let x = |v: f64| num(v * scale, 2);
+        t.push_str(&format!(
+            "{:<28} {:>12} {:>12} {:>12} {:>12} {:>8.2}\n",
+            format!("{} ({unit})", p.name),
+            x(sign * p.stated),
+            x(sign * p.fitted),
+            x(p.sigma),
+            x(p.prior_sigma),
+            sign * p.z
+        ));
     }
     t
 }

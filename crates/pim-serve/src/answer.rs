@@ -400,13 +400,8 @@ fn follow(
     .map_err(|e| AnswerError::Input(e.to_string()))?;
     let outcome = pim_reconstruct::follow(&input.reconstruction, &input.settings, previous)
         .map_err(|e| AnswerError::Input(format!("{}: {e}", case.file)))?;
-    let document = pim_studies::reconstruct::document(&input, &outcome);
-    Ok(pim_studies::reconstruct::Reconstructed {
-        how,
-        input,
-        outcome,
-        document,
-    })
+    pim_studies::reconstruct::finish(case, how, true, input, outcome)
+        .map_err(|e| AnswerError::Input(e.to_string()))
 }
 
 /// Each run-out of `case` from the separation velocities `sep` (of a solved or fitted impact:

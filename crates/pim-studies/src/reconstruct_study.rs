@@ -276,11 +276,6 @@ pub fn run_around(
     seed: u64,
     observer: &dyn crate::watch::Observer,
 ) -> Result<ReconstructionStudy, DocumentError> {
-    let crate::reconstruct::How {
-        model,
-        moment_form,
-        branches,
-    } = done.how.clone();
     let unc = case.content.uncertainty.unwrap_or_default();
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
@@ -302,37 +297,33 @@ pub fn run_around(
             nominal.reason.as_deref().unwrap_or("no admissible impact")
         )));
     };
-    let names: Vec<String> = quantities_of(best).into_iter().map(|(n, _)| n).collect();
+    let pose = crate::reconstruct_pose::StudyPose::of(case, done)?;
+    if let Some(p) = &pose {
+        all.extend(p.inputs());
+    }
+    let with_pose = |f: &Found| {
+        let mut q = quantities_of(f);
+        q.extend(pose.as_ref().map(|p| p.nominal()).unwrap_or_default());
+        q
+    };
+    let names: Vec<String> = with_pose(best).into_iter().map(|(n, _)| n).collect();
+    let values_of = |q: Vec<(String, f64)>| -> Vec<f64> {
+        names
+            .iter()
+            .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
+            .collect()
+    };
     let (results, cancelled) = draw_each(case, &all, (draws, seed), observer, |c| {
-        let r = case_reconstruction(c, model, moment_form, branches.clone()).ok()?;
-        let followed = redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN)
-            .ok()
-            .flatten();
-        // A draw whose refit from the nominal answer is refused where the nominal answer is
-        // not ended in a local minimum of its own: searched again from its scenes; if the
-        // evidence as drawn is still refused, the draw has no answer (it is counted as not
-        // feasible, and left out of the intervals and the paths), never counted as one.
-        let found = match followed {
-            Some(f) if !f.refused() => Some(f),
-            other => {
-                let searched = pim_reconstruct::reconstruct(&r.reconstruction, &r.settings)
-                    .ok()
-                    .and_then(|o| o.best);
-                [other, searched]
-                    .into_iter()
-                    .flatten()
-                    .filter(|f| !f.refused())
-                    .min_by(|a, b| a.chi_square.total_cmp(&b.chi_square))
-            }
-        };
-        found.map(|f| {
-            let q = quantities_of(&f);
-            let values = names
-                .iter()
-                .map(|n| q.iter().find(|(m, _)| m == n).map_or(f64::NAN, |x| x.1))
-                .collect::<Vec<f64>>();
-            (values, f.solution.separation)
-        })
+        if let Some(p) = &pose {
+            // The pose fitted again from the nominal answer: no other search.
+            return p.draw((case, c), &done.how, best).map(|(f, mut pq)| {
+                let mut q = quantities_of(&f);
+                q.append(&mut pq);
+                (values_of(q), f.solution.separation)
+            });
+        }
+        let found = drawn(c, &done.how, nominal);
+        found.map(|f| (values_of(quantities_of(&f)), f.solution.separation))
     });
     let separations: Vec<pim_core::Velocities> = results
         .iter()
@@ -355,7 +346,7 @@ pub fn run_around(
             inputs: dominant_inputs(all.iter().map(|i| i.name.as_str()), &xs, &y),
         });
     }
-    let nominal_values: BTreeMap<String, f64> = quantities_of(best).into_iter().collect();
+    let nominal_values: BTreeMap<String, f64> = with_pose(best).into_iter().collect();
     // A constant quantity (em on the zero branch) is inside its interval however it rounds.
     let nominal_outside = quantities
         .iter()
@@ -382,4 +373,33 @@ pub fn run_around(
         inputs: all.iter().map(|i| i.name.clone()).collect(),
     };
     Ok(study)
+}
+
+/// The answer of one draw `c` (its pose held as stated): refitted from the nominal answer's
+/// combinations; where that is refused while the nominal answer is not (ended in a local
+/// minimum of its own), searched again from its scenes; if the evidence as drawn is still
+/// refused, the draw has no answer (it is counted as not feasible, and left out of the
+/// intervals and the paths), never counted as one.
+fn drawn(
+    c: &Case,
+    how: &crate::reconstruct::How,
+    nominal: &pim_reconstruct::Outcome,
+) -> Option<Found> {
+    let r = case_reconstruction(c, how.model, how.moment_form, how.branches.clone()).ok()?;
+    let followed = redo(&r.reconstruction, &r.settings, nominal, COUNTS_MARGIN)
+        .ok()
+        .flatten();
+    match followed {
+        Some(f) if !f.refused() => Some(f),
+        other => {
+            let searched = pim_reconstruct::reconstruct(&r.reconstruction, &r.settings)
+                .ok()
+                .and_then(|o| o.best);
+            [other, searched]
+                .into_iter()
+                .flatten()
+                .filter(|f| !f.refused())
+                .min_by(|a, b| a.chi_square.total_cmp(&b.chi_square))
+        }
+    }
 }

@@ -1,6 +1,7 @@
 //! The case file: edits in place, motion, the RICSAC loader, the tyre and friction zones. One test
 //! binary.
 
+mod contact_pose;
 mod edit;
 mod motion;
 mod ricsac_loader;

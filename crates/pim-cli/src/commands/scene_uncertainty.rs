@@ -10,8 +10,33 @@ use pim_studies::reconstruct_study::{self, ReconstructionStudy};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
-/// The study's table, speeds in `u`.
-pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
+/// The scale and sign of a quantity of the study as the table shows it in `u` and `frame`:
+/// speeds in the speed unit; the pose at contact (`contact ...`) in the length unit and
+/// degrees, y coordinates and angles mirrored in an SAE frame.
+fn shown(name: &str, u: UnitSystem, frame: pim_core::Convention) -> (f64, f64) {
+    if let Some(pose) = name.strip_prefix("contact ") {
+        let angle = pose.ends_with("heading") || pose == "crush_angle";
+        let mirrored = angle || pose.ends_with(".y");
+        let sign = if mirrored && frame == pim_core::Convention::Sae {
+            -1.0
+        } else {
+            1.0
+        };
+        (if angle { 1.0 } else { u.length(1.0) }, sign)
+    } else if name.contains("speed") {
+        (u.speed(1.0), 1.0)
+    } else {
+        (1.0, 1.0)
+    }
+}
+
+/// The study's table, speeds in `u`, the pose at contact in `u` and `frame`.
+pub fn table(
+    title: &str,
+    s: &ReconstructionStudy,
+    u: UnitSystem,
+    frame: pim_core::Convention,
+) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -29,25 +54,40 @@ pub fn table(title: &str, s: &ReconstructionStudy, u: UnitSystem) -> String {
     names.sort_by_key(|n| order(n));
     for name in names {
         let q = &s.quantities[name];
-        let k = if name.contains("speed") {
-            u.speed(1.0)
+        let (k, sign) = shown(name, u, frame);
+        let nominal = s.nominal.get(name).map_or(f64::NAN, |v| v * k * sign);
+        // Mirrored, the 5th percentile is the 95th's image.
+        let (lo, hi) = if sign < 0.0 {
+            (-q.p95, -q.p05)
         } else {
-            1.0
+            (q.p05, q.p95)
         };
-        let nominal = s.nominal.get(name).map_or(f64::NAN, |v| v * k);
         let _ = writeln!(
             t,
             "{name:<34} {nominal:>10.3} {:>10.3} {:>10.3} {:>10.3} {:>10.3}",
-            q.p05 * k,
-            q.p50 * k,
-            q.p95 * k,
+            lo * k,
+            sign * q.p50 * k,
+            hi * k,
             q.sd * k
         );
     }
     let _ = writeln!(
         t,
-        "(speeds in {}, energy loss in %; the 90 % interval is p05 to p95)\n",
-        u.speed_label()
+        "(speeds in {}, energy loss in %{}; the 90 % interval is p05 to p95)\n",
+        u.speed_label(),
+        if s.quantities.keys().any(|n| n.starts_with("contact ")) {
+            format!(
+                ", the pose at contact in {} and degrees{}",
+                u.length_label(),
+                if frame == pim_core::Convention::Sae {
+                    ", SAE frame"
+                } else {
+                    ""
+                }
+            )
+        } else {
+            String::new()
+        }
     );
     for q in &s.nominal_outside {
         let _ = writeln!(
@@ -143,7 +183,7 @@ pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode
         .units
         .map_or_else(|| UnitSystem::of(&case.written_units), Into::into);
     let record = json(&study)?;
-    let text = table(&title_of(case), &study, units);
+    let text = table(&title_of(case), &study, units, case.written);
     if let Some(dir) = &a.out {
         // The report: the nominal reconstruction (the study's centre) with the intervals of
         // every phase.

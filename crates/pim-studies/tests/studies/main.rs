@@ -4,6 +4,7 @@ mod common;
 #[path = "../mutate/mod.rs"]
 mod mutate;
 
+mod contact_pose;
 mod damage;
 mod fuzz_inputs;
 mod input_forms;

@@ -36,7 +36,7 @@ const FRICTION_SIGMA: f64 = 0.05;
 
 /// The state a crash leaves a vehicle's wheels in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Wheels {
+pub(crate) enum Wheels {
     Locked,
     Abs,
     Rolling,
@@ -53,9 +53,9 @@ const WHEELS: [Wheels; 5] = [
 ];
 
 /// A simulated crash as a case file, and its truth.
-struct Simulated {
-    text: String,
-    contact: Velocities,
+pub(crate) struct Simulated {
+    pub(crate) text: String,
+    pub(crate) contact: Velocities,
     separation: Velocities,
     /// The road's true friction.
     friction: f64,
@@ -116,7 +116,7 @@ fn runout_section(rng: &mut StdRng, k: usize, wheels: Wheels) -> String {
 /// friction zone of 55-75 % of the road's friction lies square across vehicle 2's path from
 /// half way along it (as the road's run-out would go), both vehicles run out on it, and the
 /// case states it.
-fn simulated(seed: u64, wheels: [Wheels; 2], verge: bool) -> Option<Simulated> {
+pub(crate) fn simulated(seed: u64, wheels: [Wheels; 2], verge: bool) -> Option<Simulated> {
     let mut rng = StdRng::seed_from_u64(seed);
     let ri = impact::random_impact_with(&mut rng, 8.0..22.0)?;
     let report = solve_forward(&ri.impact, &ri.truth, &ri.x, &ri.opts).ok()?;

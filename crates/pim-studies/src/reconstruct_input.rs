@@ -1,0 +1,294 @@
+//! A case's reconstruction as [`pim_reconstruct`] takes it: the case's contact evidence, its
+//! EDR speeds and pre-impact marks, and each vehicle's scene, in SI and the natural frame.
+
+use crate::documents::DocumentError;
+use crate::fitcase::{self, CostChoice};
+use pim_case::case::Case;
+use pim_case::scene_sections::PreImpactVehicleSection;
+use pim_core::VehicleId;
+use pim_documents::reconstruct_doc::ReconstructionOut;
+use pim_fit::{FitProblem, Knowledge, MomentBranch, Observation, ObservationKind};
+use pim_reconstruct::{Outcome, Reconstruction, SceneVehicle, Settings, Skid};
+use pim_runout::GRAVITY;
+
+/// A case's reconstruction and how to search it.
+#[derive(Debug, Clone)]
+pub struct CaseReconstruction {
+    /// The reconstruction.
+    pub reconstruction: Reconstruction,
+    /// The search settings (the case's `[bounds]`).
+    pub settings: Settings,
+    /// Labels of the contact problem's observations, in order.
+    pub(crate) labels: Vec<String>,
+    /// How many of them are the case's `[[observations]]` (the EDR speeds follow).
+    pub(crate) case_observations: usize,
+    /// The case's `[bounds]` (who set a bound the answer reaches).
+    pub(crate) bounds: Option<pim_case::sections::BoundsSection>,
+}
+
+fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {
+    let p = case.content.pre_impact.as_ref()?;
+    if k == 0 {
+        p.vehicle1.as_ref()
+    } else {
+        p.vehicle2.as_ref()
+    }
+}
+
+/// The reconstruction of a case: its own estimates and observations (`[sigma]` required when it
+/// has any: the scene's evidence has standard deviations, so the whole cost is a chi-square),
+/// EDR speeds as observations, pre-impact skids, and every vehicle's scene.
+///
+/// # Errors
+/// Located [`DocumentError::Input`] for anything the reconstruction cannot use.
+pub fn case_reconstruction(
+    case: &Case,
+    model: pim_fit::FitModel,
+    moment_form: pim_core::MomentForm,
+    branches: Vec<MomentBranch>,
+) -> Result<CaseReconstruction, DocumentError> {
+    let c = &case.content;
+    let impact = case.impact()?;
+    // The geometry bounds estimate the impact geometry in a fit of the impact alone; the whole
+    // reconstruction holds the geometry as given, so they are refused rather than ignored.
+    if let Some(g) = fitcase::geometry(case)?.first() {
+        let field = match g.input {
+            pim_fit::GeometryInput::CrushAngle => "bounds.crush_angle".to_string(),
+            other => format!("bounds.{}", other.name()),
+        };
+        return Err(case
+            .error_at(
+                &field,
+                format!(
+                    "the whole reconstruction holds the impact geometry as given, so it cannot \
+                     estimate {}: give it a spread in [uncertainty] (drawn by `pim \
+                     uncertainty`), or fit the impact alone with `pim fit --cost ...`",
+                    g.input.name()
+                ),
+            )
+            .into());
+    }
+    let unit = fitcase::sigma_unit(case)?;
+    let mut contact = if fitcase::is_fit_case(case) {
+        if unit.is_none() && (c.estimates.is_some() || !c.observations.is_empty()) {
+            return Err(DocumentError::Input(format!(
+                "{}: a fit of the scene needs standard deviations: give [sigma] for the \
+                 estimates and `sigma` on each observation (the scene's evidence has them, so \
+                 the whole cost is one chi-square), not [weights]",
+                case.file
+            )));
+        }
+        fitcase::problem(case, CostChoice::Custom)?
+    } else {
+        FitProblem {
+            impact,
+            components: [Knowledge::Unknown; 12],
+            observations: Vec::new(),
+            combinations: Vec::new(),
+        }
+    };
+    let mut labels: Vec<String> = c
+        .observations
+        .iter()
+        .enumerate()
+        .map(|(i, o)| match &o.name {
+            Some(n) => format!(
+                "{n} ({} of vehicle{})",
+                crate::residuals::kind_name(o.kind),
+                o.vehicle
+            ),
+            None => format!(
+                "observation {} ({} of vehicle{})",
+                i + 1,
+                crate::residuals::kind_name(o.kind),
+                o.vehicle
+            ),
+        })
+        .collect();
+    let speed = case.written_units.speed.to_si();
+    let length = case.written_units.length.to_si();
+    let road = c
+        .runout
+        .as_ref()
+        .and_then(|r| r.friction)
+        .unwrap_or(pim_runout::DEFAULT_FRICTION);
+    // EDR speeds: each the speed along the heading at contact, v - a t.
+    let mut edr = Vec::new();
+    let mut skids = [None, None];
+    for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
+        let Some(p) = pre_impact_of(case, k) else {
+            continue;
+        };
+        let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
+        if id == VehicleId::Two && case.is_barrier() {
+            return Err(case
+                .error_at(
+                    &format!("pre_impact.vehicle{}", k + 1),
+                    "a barrier does not move",
+                )
+                .into());
+        }
+        for (i, e) in p.edr.iter().enumerate() {
+            let place = at(&format!("edr[{i}]"));
+            let ok = |x: f64, lo: f64, hi: f64| x.is_finite() && x >= lo && x <= hi;
+            if !ok(e.speed * speed, 0.0, pim_core::MAX_SPEED.min(150.0)) {
+                return Err(case
+                    .error_at(&place, format!("speed {}: from 0 to 150 m/s", e.speed))
+                    .into());
+            }
+            if !ok(e.time, 0.0, 30.0) {
+                return Err(case
+                    .error_at(
+                        &place,
+                        format!("time {}: seconds before contact, 0 to 30", e.time),
+                    )
+                    .into());
+            }
+            if !ok(e.deceleration, -1.5, 1.5) {
+                return Err(case
+                    .error_at(
+                        &place,
+                        format!("deceleration {}: in g, from -1.5 to 1.5", e.deceleration),
+                    )
+                    .into());
+            }
+            if !(e.sigma.is_finite() && e.sigma * speed >= fitcase::SIGMA_MIN) {
+                return Err(case
+                    .error_at(
+                        &place,
+                        format!("sigma {}: a standard deviation above 0", e.sigma),
+                    )
+                    .into());
+            }
+            let value = e.speed * speed - e.deceleration * GRAVITY * e.time;
+            edr.push((id, value, e.sigma * speed));
+            labels.push(format!(
+                "vehicle{} EDR speed {:.1} s before contact",
+                k + 1,
+                e.time
+            ));
+        }
+        if let Some(d) = p.skid {
+            let skid = Skid {
+                distance: d * length,
+                braking: p.braking.unwrap_or(1.0),
+                grade: (p.grade.unwrap_or(0.0) / 100.0).atan(),
+                friction: p.friction.unwrap_or(road),
+            };
+            skid.check().map_err(|e| {
+                let field = match &e {
+                    pim_reconstruct::ReconstructError::Input { field, .. } => *field,
+                    _ => "skid",
+                };
+                let field = if field == "distance" { "skid" } else { field };
+                DocumentError::from(case.error_at(&at(field), e.to_string()))
+            })?;
+            skids[k] = Some(skid);
+        } else if p.braking.is_some() || p.grade.is_some() || p.friction.is_some() {
+            return Err(case
+                .error_at(
+                    &format!("pre_impact.vehicle{}", k + 1),
+                    "braking, grade and friction describe a skid: give its length, `skid`",
+                )
+                .into());
+        }
+    }
+    // The unit of the weights: the case's, or the smallest EDR variance.
+    let unit = unit.or_else(|| edr.iter().map(|(_, _, s)| s * s).min_by(f64::total_cmp));
+    for (id, value, s) in edr {
+        contact.observations.push(Observation {
+            kind: ObservationKind::SpeedAlongHeading,
+            vehicle: id,
+            value,
+            weight: unit.unwrap_or(1.0) / (s * s),
+        });
+    }
+    let inputs = case.scene_inputs()?;
+    let scene: Vec<SceneVehicle> = inputs
+        .vehicles
+        .iter()
+        .filter_map(|v| {
+            v.evidence.as_ref().map(|e| SceneVehicle {
+                id: v.id,
+                chassis: v.chassis.clone(),
+                pose: v.start,
+                evidence: e.clone(),
+            })
+        })
+        .collect();
+    let fit_settings = fitcase::settings(case, model, moment_form, branches)?;
+    let mut settings = Settings::new(fit_settings);
+    if inputs.duration.is_some() {
+        return Err(DocumentError::Input(format!(
+            "{}: [runout] duration follows a run-out for a stated time; a scene's rest is where \
+             the vehicle stopped: leave duration out to reconstruct from the scene",
+            case.file
+        )));
+    }
+    settings.runout.time_limit = inputs.time_limit;
+    let (crush, _) = crate::damage_fit::CrushEnergy::of_case(case, &impact)?;
+    let mut nonlinear = pim_reconstruct::NonlinearEvidence::default();
+    if let Some(c) = crush {
+        nonlinear.0.push(std::sync::Arc::new(c));
+    }
+    // A skid whose friction is not stated apart brakes on the road of the run-outs.
+    let skids_on_road = [0, 1].map(|k| {
+        skids[k].is_some() && pre_impact_of(case, k).is_some_and(|p| p.friction.is_none())
+    });
+    let frictions = crate::reconstruct_friction::frictions_of(case, &scene, skids_on_road);
+    let reconstruction = Reconstruction {
+        contact,
+        unit,
+        scene,
+        skids,
+        nonlinear,
+        frictions,
+    };
+    reconstruction
+        .check()
+        .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
+    Ok(CaseReconstruction {
+        reconstruction,
+        settings,
+        labels,
+        case_observations: c.observations.len(),
+        bounds: c.bounds,
+    })
+}
+
+/// Each vehicle's braking before the impact: its length, m (for the plan view).
+pub fn skid_lengths(input: &CaseReconstruction) -> Vec<(VehicleId, f64)> {
+    [VehicleId::One, VehicleId::Two]
+        .into_iter()
+        .filter_map(|id| input.reconstruction.skids[id.index()].map(|s| (id, s.distance)))
+        .collect()
+}
+
+/// A case's reconstruction, searched, with its document.
+#[derive(Debug, Clone)]
+pub struct Reconstructed {
+    /// How it was reconstructed (what a study around it redoes in every draw).
+    pub how: How,
+    /// The inputs.
+    pub input: CaseReconstruction,
+    /// The search's answer.
+    pub outcome: Outcome,
+    /// The document.
+    pub document: ReconstructionOut,
+    /// The pose at contact fitted (`[contact_sigma]`): the offsets from the stated pose (in
+    /// the order of [`Case::contact_unknowns`]), the answer there, and the Jacobian a study's
+    /// draws start from.
+    pub pose: Option<pim_reconstruct::PoseFit>,
+}
+
+/// How a case is reconstructed: the impact model fitted, its moment equation and the moment
+/// branches searched.
+#[derive(Debug, Clone, PartialEq)]
+pub struct How {
+    /// The impact model.
+    pub model: pim_fit::FitModel,
+    /// The moment equation.
+    pub moment_form: pim_core::MomentForm,
+    /// The moment branches searched.
+    pub branches: Vec<MomentBranch>,
+}
