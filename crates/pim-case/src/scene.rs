@@ -626,6 +626,7 @@ impl Case {
                 point,
             });
         }
+        marks.extend(self.trace_marks(name, s, chassis, (length, flip))?);
         let evidence = Evidence {
             rest,
             marks,

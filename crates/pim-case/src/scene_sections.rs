@@ -275,6 +275,20 @@ pub struct MarkWritten {
     pub wheel: Option<MarkPoint>,
 }
 
+/// A mark surveyed along its length (a yaw mark, a scuff): its points, in order, each a point
+/// the wheel's contact point passed.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TraceWritten {
+    /// The tyre that left it (`front_left`, ...), or `cg` (the default).
+    #[serde(default)]
+    pub wheel: Option<MarkPoint>,
+    /// Its points `[x, y]` (length unit), two or more.
+    pub points: Vec<[f64; 2]>,
+    /// sd of the path's distance from each point (length unit).
+    pub sigma: f64,
+}
+
 /// A tyre's contact point measured at rest.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -306,6 +320,10 @@ pub struct SceneVehicleSection {
     /// `rest_sigma`.
     #[serde(default)]
     pub rest_tyres: Vec<TyreWritten>,
+    /// Marks traced as polylines (a yaw mark surveyed at several points): each point a mark
+    /// of the trace's wheel.
+    #[serde(default)]
+    pub traces: Vec<TraceWritten>,
     /// The count of full turns to rest, when known.
     #[serde(default)]
     pub turns: Option<i64>,

@@ -140,6 +140,59 @@ impl Case {
             .collect()
     }
 
+    /// The marks `[scene.name] traces` gives: each point of a trace a mark of its wheel (or
+    /// the CG), in SI and the natural frame.
+    ///
+    /// # Errors
+    /// A located error: fewer than two points, a point out of range, a sigma not above 0.
+    pub(crate) fn trace_marks(
+        &self,
+        name: &str,
+        s: &SceneVehicleSection,
+        chassis: &Chassis,
+        (length, flip): (f64, f64),
+    ) -> Result<Vec<pim_runout::Mark>> {
+        let reach = pim_runout::inverse::MAX_SCENE_DISTANCE / length;
+        let mut out = Vec::new();
+        for (i, t) in s.traces.iter().enumerate() {
+            let at = |f: &str| format!("scene.{name}.traces[{i}].{f}");
+            if t.points.len() < 2 {
+                return Err(self.error_at(
+                    &at("points"),
+                    "a trace is two or more points [x, y] along the mark (one point is a mark:                      marks = [ { x, y, sigma } ])",
+                ));
+            }
+            if !(t.sigma.is_finite() && t.sigma > 0.0 && t.sigma <= reach) {
+                return Err(self.error_at(
+                    &at("sigma"),
+                    format!("{}: a standard deviation must be above 0", t.sigma),
+                ));
+            }
+            if let Some(p) = t
+                .points
+                .iter()
+                .find(|p| !p.iter().all(|v| v.is_finite() && v.abs() <= reach))
+            {
+                return Err(self.error_at(
+                    &at("points"),
+                    format!("{p:?}: each coordinate a number from -{reach} to {reach}"),
+                ));
+            }
+            let point = t
+                .wheel
+                .and_then(crate::scene_sections::MarkPoint::wheel)
+                .map_or([0.0, 0.0], |w| chassis.wheel_position(w));
+            out.extend(t.points.iter().map(|p| pim_runout::Mark {
+                x: p[0] * length,
+                y: flip * p[1] * length,
+                sigma: t.sigma * length,
+                heading: None,
+                point,
+            }));
+        }
+        Ok(out)
+    }
+
     /// The rest `[scene.name] rest_tyres` gives for a vehicle with `chassis` (none without
     /// tyre points).
     ///

@@ -85,6 +85,50 @@ fn zone_inputs(case: &Case) -> Vec<Input> {
         .collect()
 }
 
+/// Each point of each traced mark (`[scene.vehicleN] traces`), drawn by its trace's sigma (in
+/// the file's units).
+fn trace_inputs(case: &Case) -> Vec<Input> {
+    let Some(scene) = &case.content.scene else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for (n, v) in [(1usize, &scene.vehicle1), (2, &scene.vehicle2)] {
+        let Some(v) = v else { continue };
+        for (i, t) in v.traces.iter().enumerate() {
+            for (j, p) in t.points.iter().enumerate() {
+                for (axis, nominal) in [(0usize, p[0]), (1, p[1])] {
+                    out.push(Input {
+                        name: format!(
+                            "vehicle{n} trace {} point {} {}",
+                            i + 1,
+                            j + 1,
+                            ["x", "y"][axis]
+                        ),
+                        spread: Spread::Normal(t.sigma),
+                        nominal,
+                        apply: Box::new(move |c: &mut Case, x| {
+                            let s = c.content.scene.as_mut().and_then(|s| {
+                                if n == 1 {
+                                    s.vehicle1.as_mut()
+                                } else {
+                                    s.vehicle2.as_mut()
+                                }
+                            });
+                            if let Some(q) = s
+                                .and_then(|s| s.traces.get_mut(i))
+                                .and_then(|t| t.points.get_mut(j))
+                            {
+                                q[axis] = x;
+                            }
+                        }),
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The scene's, the friction's and the EDR's drawn inputs (in the file's units).
 fn scene_inputs(case: &Case) -> Vec<Input> {
     let mut out: Vec<Input> = Vec::new();
@@ -280,6 +324,7 @@ pub fn run_around(
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
     all.extend(zone_inputs(case));
+    all.extend(trace_inputs(case));
     all.extend(crate::measured_inputs::measured_inputs(case)?);
     all.extend(crate::measured_inputs::wheel_alternatives(case)?);
     let nominal = &done.outcome;

@@ -2,7 +2,9 @@
 //! CG's. On the SAE example (`reconstruction_us.toml`) a point of the SUV's front right tyre
 //! trace, taken from the answer's own run-out, is met as a front-right mark (its residual a
 //! tenth of its sigma, the speeds unchanged) while the same point read as a point of the
-//! CG's path is not; a wheel the vehicle does not have is refused at its line.
+//! CG's path is not; a wheel the vehicle does not have is refused at its line. A yaw mark
+//! traced along that tyre's path (`traces`) is met point by point; a rest given by tyre points
+//! is met as measured.
 
 use pim_case::case::Case;
 use pim_core::VehicleId;
@@ -201,4 +203,77 @@ fn a_rest_given_by_tyre_points_is_met_as_measured() {
         err.contains("rest_tyres") && err.contains("given twice"),
         "{err}"
     );
+}
+
+/// A yaw mark surveyed along its length: on the SAE example the SUV's front right tyre's path
+/// between 20 % and 60 % of its fitted run-out, five points as a trace of that tyre, is met
+/// point by point (each residual within a tenth of its sigma, the speeds as before); the same
+/// points traced by the CG are not; a trace of one point, or a bad sigma, is refused at its
+/// line.
+#[test]
+fn a_traced_mark_is_met_along_its_tyres_path() {
+    let (file, text, (_, chi0, speeds0), fitted, k) = the_suv();
+    let run = &fitted.runouts[k];
+    let [ax, ay] = fitted.inputs[k].chassis.wheel_position(1);
+    let points: Vec<String> = [0.2, 0.3, 0.4, 0.5, 0.6]
+        .iter()
+        .map(|f| {
+            let m = run.at(f * run.time);
+            let (s, c) = m.heading.sin_cos();
+            let (x, y) = (m.x + c * ax - s * ay, m.y + s * ax + c * ay);
+            format!("[{:.3}, {:.3}]", x / FOOT, -y / FOOT)
+        })
+        .collect();
+    let given = "marks = [ { x = 32.6, y = 48.2, sigma = 0.5 } ]";
+    let with = |wheel: &str, pts: &str, sigma: f64| {
+        text.replace(
+            given,
+            &format!("{given}\ntraces = [ {{ {wheel}points = [ {pts} ], sigma = {sigma} }} ]"),
+        )
+    };
+    let all = points.join(", ");
+    let traced = reconstructed(&file, &with("wheel = \"front_right\", ", &all, 0.5));
+    let best = traced.outcome.best.as_ref().unwrap();
+    let scene = best
+        .scene
+        .iter()
+        .find(|s| s.vehicle == VehicleId::Two)
+        .unwrap();
+    // The mark of the case, then the trace's five points.
+    let names: Vec<&str> = scene.residuals.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(
+        &names[3..],
+        ["mark 1", "mark 2", "mark 3", "mark 4", "mark 5", "mark 6"]
+    );
+    for r in &scene.residuals[4..] {
+        assert!((r.value / r.sigma).abs() < 0.1, "{r:?}");
+    }
+    let speeds = [best.phases[0].contact, best.phases[1].contact];
+    println!(
+        "traced: chi-square {:.3} (was {chi0:.3}), speeds {speeds:?} (were {speeds0:?})",
+        best.chi_square
+    );
+    for (a, b) in speeds.iter().zip(&speeds0) {
+        assert!((a - b).abs() < 0.05, "{speeds:?} against {speeds0:?}");
+    }
+    // Traced by the CG: the tyre's path lies about 3 ft off the CG's.
+    let by_cg = reconstructed(&file, &with("", &all, 0.5));
+    let chi_cg = by_cg.outcome.best.as_ref().unwrap().chi_square;
+    println!("as the CG's trace: chi-square {chi_cg:.3}");
+    assert!(chi_cg > best.chi_square + 10.0, "{chi_cg}");
+    // One point, a sigma of 0: refused at the trace's line.
+    for (bad, why) in [
+        (with("", &points[0], 0.5), "two or more points"),
+        (with("", &all, 0.0), "above 0"),
+    ] {
+        let err = Case::from_text(&file, &bad)
+            .and_then(|c| c.scene_inputs().map(|_| c))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            err.contains("scene.vehicle2.traces[0]") && err.contains(why),
+            "{err}"
+        );
+    }
 }
