@@ -289,12 +289,18 @@ pub struct TraceWritten {
     pub sigma: f64,
 }
 
-/// A tyre's contact point measured at rest.
+/// A point of the vehicle measured at rest: a tyre's contact point, or a corner of its
+/// outline.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TyreWritten {
     /// Which tyre (`front_left`, `front_right`, `rear_left`, `rear_right`).
-    pub wheel: MarkPoint,
+    #[serde(default)]
+    pub wheel: Option<MarkPoint>,
+    /// Or which corner of the outline (the same names; the outline from `[vehicleN]` length,
+    /// width and cg_to_front).
+    #[serde(default)]
+    pub corner: Option<MarkPoint>,
     /// x (length unit).
     pub x: f64,
     /// y (length unit).

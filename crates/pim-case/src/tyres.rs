@@ -100,6 +100,24 @@ pub fn fit(
     })
 }
 
+/// Point `i` of a vehicle measured at rest, in its frame: tyre `i` (0 to 3), or corner `i - 4`
+/// of its outline `corners`.
+fn point_on(chassis: &Chassis, corners: Option<[[f64; 2]; 4]>, i: usize) -> [f64; 2] {
+    match (i, corners) {
+        (0..=3, _) => chassis.wheel_position(i),
+        (_, Some(c)) => c[(i - 4).min(3)],
+        _ => [0.0, 0.0],
+    }
+}
+
+/// The name of point `i` (a tyre, or a corner of the outline).
+fn point_name(i: usize) -> String {
+    match i {
+        0..=3 => pim_runout::WHEEL_NAMES[i].to_string(),
+        _ => format!("{} corner", pim_runout::WHEEL_NAMES[(i - 4).min(3)]),
+    }
+}
+
 impl Case {
     /// The tyre points of `[scene.name] rest_tyres`, in SI and the natural frame:
     /// `(wheel, [x, y], sigma)`, each checked.
@@ -115,10 +133,22 @@ impl Case {
             .enumerate()
             .map(|(i, t)| {
                 let at = |f: &str| format!("scene.{name}.rest_tyres[{i}].{f}");
-                let Some(wheel) = t.wheel.wheel() else {
+                let wheel = match (t.wheel, t.corner) {
+                    (Some(w), None) => w.wheel(),
+                    (None, Some(c)) => c.wheel().map(|c| 4 + c),
+                    _ => {
+                        return Err(self.error_at(
+                            &at("wheel"),
+                            "name the tyre (wheel = \"front_left\", ...) or the outline's \
+                             corner (corner = \"front_left\", ...) measured, one of the two",
+                        ))
+                    }
+                };
+                let Some(wheel) = wheel else {
+                    let field = if t.wheel.is_some() { "wheel" } else { "corner" };
                     return Err(self.error_at(
-                        &at("wheel"),
-                        "a tyre: front_left, front_right, rear_left or rear_right",
+                        &at(field),
+                        format!("a {field}: front_left, front_right, rear_left or rear_right"),
                     ));
                 };
                 for (f, v) in [("x", t.x), ("y", t.y)] {
@@ -216,9 +246,37 @@ impl Case {
             ));
         }
         let points = self.tyre_points(name, s, scale)?;
-        fit(&points, |w| chassis.wheel_position(w))
+        let corners = self.corners_of(name)?;
+        if points.iter().any(|p| p.0 >= 4) && corners.is_none() {
+            return Err(self.error_at(
+                &format!("scene.{name}.rest_tyres"),
+                format!(
+                    "a corner of the outline needs the vehicle's outline: [{name}] length, \
+                     width and cg_to_front"
+                ),
+            ));
+        }
+        fit(&points, |w| point_on(chassis, corners, w))
             .map(Some)
             .map_err(|why| self.error_at(&format!("scene.{name}.rest_tyres"), why))
+    }
+
+    /// The corners of vehicle `name`'s outline in its frame (front left, front right, rear
+    /// left, rear right; m ahead of the CG and to its left), where `[name]` gives length, width
+    /// and cg_to_front.
+    ///
+    /// # Errors
+    /// None yet: an outline the case does not give is `None`.
+    fn corners_of(&self, name: &str) -> Result<Option<[[f64; 2]; 4]>> {
+        let k = usize::from(name.ends_with('2'));
+        let v = self.content.vehicle(k);
+        Ok(match (v.length, v.width, v.cg_to_front) {
+            (Some(l), Some(w), Some(f)) => {
+                let (r, h) = (f - l, 0.5 * w);
+                Some([[f, h], [f, -h], [r, h], [r, -h]])
+            }
+            _ => None,
+        })
     }
 
     /// A warning for each vehicle whose tyres measured at rest disagree with its geometry
@@ -258,16 +316,17 @@ impl Case {
             let pairs: Vec<String> = points
                 .windows(2)
                 .map(|w| {
+                    let corners = self.corners_of(&name).ok().flatten();
                     let (a, b) = (
-                        v.chassis.wheel_position(w[0].0),
-                        v.chassis.wheel_position(w[1].0),
+                        point_on(&v.chassis, corners, w[0].0),
+                        point_on(&v.chassis, corners, w[1].0),
                     );
                     let measured = (w[0].1[0] - w[1].1[0]).hypot(w[0].1[1] - w[1].1[1]);
                     let geometric = (a[0] - b[0]).hypot(a[1] - b[1]);
                     format!(
-                        "{} to {} measured {:.2} {unit}, {:.2} {unit} by the wheelbase and track",
-                        pim_runout::WHEEL_NAMES[w[0].0],
-                        pim_runout::WHEEL_NAMES[w[1].0],
+                        "{} to {} measured {:.2} {unit}, {:.2} {unit} by the vehicle's geometry",
+                        point_name(w[0].0),
+                        point_name(w[1].0),
                         measured / length,
                         geometric / length
                     )

@@ -277,3 +277,80 @@ fn a_traced_mark_is_met_along_its_tyres_path() {
         );
     }
 }
+
+/// A rest given by two corners of the outline (the SUV's front left and rear right, where the
+/// answer's run-out leaves them, sigma 0.3 ft): the same answer as the tyres give; a corner of
+/// a vehicle without its outline, or a point naming both a tyre and a corner, is refused at
+/// its line.
+#[test]
+fn a_rest_given_by_outline_corners_is_met_as_measured() {
+    let (file, text, (_, chi0, speeds0), fitted, k) = the_suv();
+    let rest = fitted.runouts[k].rest;
+    let (s, c) = rest.heading.sin_cos();
+    // The SUV's outline: 15.0 ft long, 6.2 ft wide, its CG 6.8 ft behind the front.
+    let corner = |a: f64, b: f64| {
+        let (a, b) = (a * FOOT, b * FOOT);
+        let (x, y) = (rest.x + c * a - s * b, rest.y + s * a + c * b);
+        (x / FOOT, -y / FOOT)
+    };
+    let (fl, rr) = (corner(6.8, 3.1), corner(6.8 - 15.0, -3.1));
+    let given = "rest = { x = 50.1, y = 79.7, heading = 241.0 }\nrest_sigma = { x = 1.0, y = 1.0, heading = 3.0 }";
+    let corners = text.replace(
+        given,
+        &format!(
+            "rest_tyres = [ {{ corner = \"front_left\", x = {:.3}, y = {:.3}, sigma = 0.3 }},\n  \
+             {{ corner = \"rear_right\", x = {:.3}, y = {:.3}, sigma = 0.3 }} ]",
+            fl.0, fl.1, rr.0, rr.1
+        ),
+    );
+    let measured = reconstructed(&file, &corners);
+    let b = measured.outcome.best.as_ref().unwrap();
+    let (_, chi, speeds) = summary(&measured);
+    let scene = b
+        .scene
+        .iter()
+        .find(|s| s.vehicle == VehicleId::Two)
+        .unwrap();
+    println!("corners: chi-square {chi:.3} (was {chi0:.3}), speeds {speeds:?} (were {speeds0:?})");
+    for r in &scene.residuals[..3] {
+        assert!((r.value / r.sigma).abs() < 0.1, "{r:?}");
+    }
+    for (a, b) in speeds.iter().zip(&speeds0) {
+        assert!((a - b).abs() < 0.1, "{speeds:?} against {speeds0:?}");
+    }
+    assert!(chi <= chi0 + 0.1, "{chi} against {chi0}");
+    assert!(Case::from_text(&file, &corners)
+        .unwrap()
+        .warnings()
+        .iter()
+        .all(|w| !w.contains("rest_tyres")));
+    // Without the SUV's outline: no corner to measure.
+    let at_suv = corners.find("[vehicle2]").unwrap();
+    let no_outline = format!(
+        "{}{}",
+        &corners[..at_suv],
+        corners[at_suv..].replacen("length = 15.0\n", "", 1)
+    );
+    let refused = |t: &str| {
+        Case::from_text(&file, t)
+            .and_then(|c| c.scene_inputs().map(|_| c))
+            .err()
+            .unwrap()
+            .to_string()
+    };
+    let err = refused(&no_outline);
+    assert!(
+        err.contains("rest_tyres") && err.contains("outline"),
+        "{err}"
+    );
+    let both = corners.replacen(
+        "corner = \"front_left\"",
+        "wheel = \"front_left\", corner = \"front_left\"",
+        1,
+    );
+    let err = refused(&both);
+    assert!(
+        err.contains("rest_tyres[0]") && err.contains("one of the two"),
+        "{err}"
+    );
+}
