@@ -405,6 +405,27 @@ def test_reconstruct_matches_the_command():
         pim.fit(case)
 
 
+def test_the_pose_at_contact_fitted():
+    """A case with [contact_sigma]: each value of the pose stated and fitted, as `pim fit`
+    gives it; the sedan's y at contact known to better than its prior's foot."""
+    case = str(REPO / "examples" / "cases" / "reconstruction_pose_us.toml")
+    r = pim.reconstruct(case)
+    cli = cli_json("fit", case)
+    assert r.document == cli
+    names = [p.name for p in r.contact_pose]
+    assert names == [
+        "vehicle1.heading",
+        "vehicle1.position.x",
+        "vehicle1.position.y",
+        "vehicle2.heading",
+        "vehicle2.impact_point.x",
+    ]
+    y = r.contact_pose[2]
+    assert y.quantity == "length" and y.sigma < 0.6 * y.prior_sigma
+    assert abs(y.prior_sigma - 0.3048) < 1e-12
+    assert pim.reconstruct(str(REPO / "examples" / "cases" / "reconstruction_us.toml")).contact_pose == ()
+
+
 def test_reconstruct_uncertainty():
     case = str(REPO / "examples" / "cases" / "reconstruction_us.toml")
     u = pim.reconstruct_uncertainty(case, draws=12, seed=3)

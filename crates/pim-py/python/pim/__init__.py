@@ -70,6 +70,7 @@ from ._results import (
 )
 from ._damage import CrushVehicle, Damage, DamageFit, EnergyFit
 from ._reconstruct import (
+    ContactPose,
     CountsTried,
     Evidence,
     PhaseInterval,
@@ -106,6 +107,7 @@ __all__ = [
     "RunoutEstimate",
     "RunoutResidual",
     "RunoutResult",
+    "ContactPose",
     "CountsTried",
     "Evidence",
     "PhaseInterval",

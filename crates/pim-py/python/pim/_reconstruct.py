@@ -99,13 +99,43 @@ class CountsTried:
 
 
 @dataclass(frozen=True)
+class ContactPose:
+    """One value of the pose at contact the reconstruction fitted (``[contact_sigma]``): its
+    ``name`` (``vehicle1.heading``, ``vehicle2.impact_point.x``, ...), ``quantity``
+    (``"length"``, m, or ``"angle"``, deg; the natural frame), the value ``stated`` in the case,
+    the ``fitted`` one with its standard deviation ``sigma`` after the fit, the prior's
+    ``prior_sigma`` and ``z``, fitted minus stated over the prior's deviation."""
+
+    name: str
+    quantity: str
+    stated: float
+    fitted: float
+    sigma: float
+    prior_sigma: float
+    z: float
+
+    @classmethod
+    def _read(cls, d: Mapping[str, Any]) -> ContactPose:
+        return cls(
+            str(d["name"]),
+            str(d["quantity"]),
+            float(d["stated"]),
+            float(d["fitted"]),
+            float(d["sigma"]),
+            float(d["prior_sigma"]),
+            float(d["z"]),
+        )
+
+
+@dataclass(frozen=True)
 class Reconstruction:
     """A reconstruction: the impact's ``e``, ``mu``, ``em`` and ``branch``, the whole
     ``chi_square`` with its degrees of freedom and ``p_value``, each vehicle's speeds through the
     phases (``vehicles``), every piece of ``evidence``, every combination of counts of turns
     compared (``counts``), how it was found (``method``), what is ``proven`` and what the
-    evidence leaves ``undetermined``; ``svg`` the scene to scale when drawn; ``document`` the
-    JSON of ``pim fit``."""
+    evidence leaves ``undetermined``; ``contact_pose`` the pose at contact where the case fits
+    it (``[contact_sigma]``, else empty); ``svg`` the scene to scale when drawn; ``document``
+    the JSON of ``pim fit``."""
 
     e: float
     mu: float
@@ -121,6 +151,7 @@ class Reconstruction:
     method: str
     proven: str
     undetermined: Tuple[str, ...]
+    contact_pose: Tuple[ContactPose, ...] = ()
     svg: Optional[str] = field(default=None, repr=False)
     document: Document = field(default_factory=dict, repr=False)
 
@@ -149,6 +180,7 @@ class Reconstruction:
             method=str(d["method"]),
             proven=str(d["proven"]),
             undetermined=tuple(str(u) for u in d["undetermined"]),
+            contact_pose=tuple(ContactPose._read(p) for p in b.get("contact_pose", [])),
             svg=svg,
             document=d,
         )
