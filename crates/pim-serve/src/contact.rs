@@ -80,7 +80,7 @@ fn impact_point(
 
 /// To a hundredth, as a scene diagram gives positions and angles.
 fn hundredth(x: f64) -> NewValue {
-    NewValue::Written((x * 100.0).round() / 100.0 + 0.0)
+    NewValue::Written(crate::edits::hundredth(x))
 }
 
 /// The case text with the geometry at contact changed as the page moved it; see the [module

@@ -3,6 +3,11 @@
 //! diagram gives it), every other byte kept.
 
 use crate::AnswerError;
+
+/// `x` to a hundredth, as a scene diagram gives positions and angles (never `-0`).
+pub(crate) fn hundredth(x: f64) -> f64 {
+    (x * 100.0).round() / 100.0 + 0.0
+}
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
@@ -106,7 +111,7 @@ fn move_tyres(
     for (i, t) in tyres.iter().enumerate() {
         for (axis, value, d) in [("x", t.x, delta[0]), ("y", t.y, delta[1])] {
             let path = format!("scene.vehicle{vehicle}.rest_tyres.{i}.{axis}");
-            let written = ((value + d) * 100.0).round() / 100.0;
+            let written = hundredth(value + d);
             edit.set(&path, pim_case::edit::NewValue::Written(written))
                 .map_err(|e| input(&e))?;
         }
@@ -159,7 +164,7 @@ fn move_point(
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
     for (axis, value) in [("x", x), ("y", y)] {
         let path = format!("{key}.{axis}");
-        let written = (value / per_unit * 100.0).round() / 100.0;
+        let written = hundredth(value / per_unit);
         edit.set(&path, pim_case::edit::NewValue::Written(written))
             .map_err(|e| input(&e))?;
     }
@@ -233,8 +238,7 @@ pub fn add_mark(
     let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    let written =
-        |v: f64| pim_case::edit::NewValue::Written((v / per_unit * 100.0).round() / 100.0);
+    let written = |v: f64| pim_case::edit::NewValue::Written(hundredth(v / per_unit));
     let mut entries = vec![
         ("x", written(x)),
         ("y", written(y)),
@@ -278,7 +282,7 @@ pub fn set_skid(
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
     edit.set(
         &format!("pre_impact.vehicle{vehicle}.skid"),
-        pim_case::edit::NewValue::Written((metres / per_unit * 100.0).round() / 100.0),
+        pim_case::edit::NewValue::Written(hundredth(metres / per_unit)),
     )
     .map_err(|e| input(&e))?;
     edit.check().map_err(|e| input(&e))?;
@@ -322,7 +326,7 @@ pub fn add_zone(
     let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    let written = |v: f64| (v / per_unit * 100.0).round() / 100.0;
+    let written = |v: f64| hundredth(v / per_unit);
     let corners = zone
         .corners
         .iter()
