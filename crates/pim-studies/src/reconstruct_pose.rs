@@ -221,6 +221,16 @@ pub(crate) fn with_pose(document: &mut ReconstructionOut, pose: FittedPose) -> O
             share_percent: 0.0,
         });
     }
+    // Every combination compared was searched at the fitted pose: its priors add alike.
+    let priors: f64 = pose.rows.iter().map(|r| r.z * r.z).sum();
+    for c in &mut document.counts {
+        if let Some(x) = c.chi_square.as_mut() {
+            *x += priors;
+        }
+    }
+    let Some(b) = document.best.as_mut() else {
+        return pose.fit;
+    };
     let total = b.chi_square.max(1e-300);
     for e in &mut b.evidence {
         e.share_percent = 100.0 * e.z * e.z / total;
