@@ -67,6 +67,15 @@ full turns to rest is compared. Before the impact, per vehicle:
                                    # a recorded speed (speed unit) `time` s before contact with
                                    # a mean deceleration (g) between: evidence on the speed along
                                    # the heading at contact, speed - deceleration g time
+Where the pose at contact is uncertain, [contact_sigma] fits it: each value given a standard
+deviation (the case's length unit, degrees) is an unknown held near the case's by that prior:
+  [contact_sigma]
+  vehicle1 = { heading = 3.0, position = { x = 1.0, y = 1.0 } }   # CG moved, turned about it
+  vehicle2 = { heading = 3.0, impact_point = { x = 0.8 } }        # struck where, on the vehicle
+  centre = { x = 1.0, y = 1.0 }    # the impact centre in the scene
+  crush_angle = 5.0
+The table then gives each value stated and fitted with its deviation (example:
+examples/cases/reconstruction_pose_us.toml).
 The output: per vehicle the speed before braking (v0^2 = vc^2 + 2 a d), at contact, at
 separation and at rest; e, mu, em; every piece of evidence (residual, sigma, share of the
 chi-square); every combination of counts of turns with its cost or why it was not refined;
