@@ -22,6 +22,24 @@ pub struct EarlierState {
     pub velocity: [f64; 3],
 }
 
+impl Found {
+    /// Each scene vehicle's count of turns and separation velocity: where a search or a
+    /// refinement starts from this answer ([`reconstruct_from`]).
+    pub fn states(&self) -> Vec<EarlierState> {
+        self.scene
+            .iter()
+            .map(|s| {
+                let v = self.solution.separation.vehicle(s.vehicle);
+                EarlierState {
+                    vehicle: s.vehicle,
+                    turns: s.turns,
+                    velocity: [v.vx, v.vy, v.omega],
+                }
+            })
+            .collect()
+    }
+}
+
 /// [`crate::reconstruct`], and the combination of counts of `earlier` refined from its states
 /// (every scene vehicle's must be given, else it is not used); the lower answer is kept.
 ///

@@ -342,9 +342,10 @@ impl Contradiction {
     }
 }
 
-/// Why the found reconstruction contradicts the evidence, if it does: the chi-square's
-/// probability, or the largest residual with no degrees of freedom left, and the largest terms.
-pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradiction> {
+/// Every piece of evidence against a found reconstruction and its residual in standard
+/// deviations, in a fixed order: the contact evidence, the fitted frictions, each scene's
+/// residuals. Their squares sum to its chi-square.
+pub(crate) fn evidence_z(r: &Reconstruction, f: &Found) -> Vec<(EvidenceTerm, f64)> {
     let u = pim_fit::state_vector(&f.solution.initial, &f.solution.separation);
     let mut terms: Vec<(EvidenceTerm, f64)> = r
         .contact_residuals(&u)
@@ -365,6 +366,13 @@ pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradicti
             ));
         }
     }
+    terms
+}
+
+/// Why the found reconstruction contradicts the evidence, if it does: the chi-square's
+/// probability, or the largest residual with no degrees of freedom left, and the largest terms.
+pub(crate) fn contradiction(r: &Reconstruction, f: &Found) -> Option<Contradiction> {
+    let mut terms = evidence_z(r, f);
     terms.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
     let p = pim_fit::ChiSquare::p_value_of(f.degrees_of_freedom, f.chi_square)?;
     if p >= INCONSISTENT_P {

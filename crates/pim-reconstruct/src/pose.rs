@@ -67,17 +67,10 @@ pub struct PoseFit {
 /// contact evidence, the fitted frictions, each scene's residuals. Their squares sum to its
 /// chi-square.
 pub fn residual_z(r: &Reconstruction, f: &Found) -> Vec<f64> {
-    let u = pim_fit::state_vector(&f.solution.initial, &f.solution.separation);
-    let mut z: Vec<f64> = r
-        .contact_residuals(&u)
-        .iter()
-        .map(|c| c.residual / r.sigma_of(c))
-        .collect();
-    z.extend(r.friction_z(&f.frictions));
-    for s in &f.scene {
-        z.extend(s.residuals.iter().map(|x| x.value / x.sigma));
-    }
-    z
+    crate::outcome::evidence_z(r, f)
+        .into_iter()
+        .map(|(_, z)| z)
+        .collect()
 }
 
 /// The reconstruction `r` refitted from the answer `from` of a neighbouring one: each scene's
@@ -87,39 +80,25 @@ pub fn residual_z(r: &Reconstruction, f: &Found) -> Vec<f64> {
 /// A run-out or fit that cannot start; [`ReconstructError::Input`] where no admissible impact
 /// is found from there.
 pub fn refit(r: &Reconstruction, settings: &Settings, from: &Found) -> Result<Found> {
-    let states: Vec<(i64, [f64; 3])> = r
+    let mus = if from.frictions.len() == r.frictions.len() {
+        from.frictions.clone()
+    } else {
+        crate::point::stated_frictions(r)
+    };
+    let start: Vec<Lin> = r
         .scene
         .iter()
-        .map(|s| {
+        .enumerate()
+        .map(|(v, s)| {
             let turns = from
                 .scene
                 .iter()
                 .find(|f| f.vehicle == s.id)
                 .and_then(|f| f.turns)
                 .unwrap_or(0);
-            (turns, velocity_of(&from.solution.separation, s))
+            let at = velocity_of(&from.solution.separation, s);
+            linearised(r, settings, v, turns, at, true, &mus)
         })
-        .collect();
-    refit_states(r, settings, &states, Some(&from.frictions))
-}
-
-/// The reconstruction `r` refitted from each scene vehicle's count of turns and separation
-/// velocity (in the order of [`Reconstruction::scene`]) and the frictions `mus` (the stated
-/// ones where not given or not of `r`'s count).
-pub(crate) fn refit_states(
-    r: &Reconstruction,
-    settings: &Settings,
-    states: &[(i64, [f64; 3])],
-    mus: Option<&[f64]>,
-) -> Result<Found> {
-    let mus = match mus {
-        Some(m) if m.len() == r.frictions.len() => m.to_vec(),
-        _ => crate::point::stated_frictions(r),
-    };
-    let start: Vec<Lin> = states
-        .iter()
-        .enumerate()
-        .map(|(v, (turns, at))| linearised(r, settings, v, *turns, *at, true, &mus))
         .collect::<Result<_>>()?;
     let work = Work::new(settings.refine_work);
     let x = refine(
@@ -137,15 +116,15 @@ pub(crate) fn refit_states(
 }
 
 /// A point of the pose fit: the offsets, the answer there and its residuals.
-pub(crate) struct At {
-    pub(crate) p: Vec<f64>,
-    pub(crate) found: Found,
-    pub(crate) z: Vec<f64>,
-    pub(crate) cost: f64,
+struct At {
+    p: Vec<f64>,
+    found: Found,
+    z: Vec<f64>,
+    cost: f64,
 }
 
 /// The reconstruction at a pose, refitted: `build` gives it at offsets, each refit counted.
-pub(crate) struct Evaluator<'a, F> {
+struct Evaluator<'a, F> {
     build: &'a F,
     unknowns: &'a [PoseUnknown],
     settings: &'a Settings,
@@ -156,7 +135,7 @@ impl<'a, F> Evaluator<'a, F>
 where
     F: Fn(&[f64]) -> Result<Reconstruction> + Sync,
 {
-    pub(crate) fn new(build: &'a F, unknowns: &'a [PoseUnknown], settings: &'a Settings) -> Self {
+    fn new(build: &'a F, unknowns: &'a [PoseUnknown], settings: &'a Settings) -> Self {
         Evaluator {
             build,
             unknowns,
@@ -166,7 +145,7 @@ where
     }
 
     /// The point at offsets `p`, refitted from `from`.
-    pub(crate) fn eval(&self, p: &[f64], from: &Found) -> Result<At> {
+    fn eval(&self, p: &[f64], from: &Found) -> Result<At> {
         self.refits
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let r = (self.build)(p)?;
@@ -181,17 +160,21 @@ where
     }
 
     /// Refits so far.
-    pub(crate) fn refits(&self) -> usize {
+    fn refits(&self) -> usize {
         self.refits.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
 
+/// The priors' share of the cost at offsets `p`: `sum (p_j / s_j)^2`.
+fn prior_cost(p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
+    p.iter()
+        .zip(unknowns)
+        .map(|(x, u)| (x / u.sigma).powi(2))
+        .sum()
+}
+
 fn cost_of(z: &[f64], p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
-    z.iter().map(|x| x * x).sum::<f64>()
-        + p.iter()
-            .zip(unknowns)
-            .map(|(x, u)| (x / u.sigma).powi(2))
-            .sum::<f64>()
+    z.iter().map(|x| x * x).sum::<f64>() + prior_cost(p, unknowns)
 }
 
 /// Fits the pose at contact: `build` gives the reconstruction at offsets `p` (one per unknown,
@@ -308,11 +291,7 @@ where
         Some(inv) => (0..n).map(|j| inv[(j, j)].max(0.0).sqrt()).collect(),
         None => unknowns.iter().map(|u| u.sigma).collect(),
     };
-    let prior_chi_square =
-        at.p.iter()
-            .zip(unknowns)
-            .map(|(x, u)| (x / u.sigma).powi(2))
-            .sum();
+    let prior_chi_square = prior_cost(&at.p, unknowns);
     let jacobian = last.unwrap_or_else(|| DMatrix::zeros(at.z.len(), n));
     Ok(PoseFit {
         jacobian,
@@ -339,7 +318,7 @@ enum Step {
 
 /// The normal equations of the data and the priors at `at` with the Jacobian `j`: `A = J^T J +
 /// diag(1/s^2)`, `g = J^T z + p / s^2`.
-pub(crate) fn normal_equations(
+fn normal_equations(
     j: &DMatrix<f64>,
     at: &At,
     unknowns: &[PoseUnknown],
@@ -416,7 +395,7 @@ fn broyden(j: &mut DMatrix<f64>, from: &At, to: &At, unknowns: &[PoseUnknown]) {
 
 /// The Jacobian of the residuals at `at` by central differences (one-sided where a side has no
 /// answer), each refit from `at`'s answer; `None` where a column has neither side.
-pub(crate) fn jacobian<E>(eval: &E, at: &At, unknowns: &[PoseUnknown]) -> Option<DMatrix<f64>>
+fn jacobian<E>(eval: &E, at: &At, unknowns: &[PoseUnknown]) -> Option<DMatrix<f64>>
 where
     E: Fn(&[f64], &Found) -> Result<At> + Sync,
 {

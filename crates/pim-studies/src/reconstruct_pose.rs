@@ -8,9 +8,7 @@ use crate::reconstruct_input::{case_reconstruction, CaseReconstruction, How};
 use pim_case::case::Case;
 use pim_case::contact_pose::ContactUnknown;
 use pim_documents::reconstruct_doc::{ContactPoseOut, EvidenceOut, ReconstructionOut};
-use pim_reconstruct::{
-    EarlierState, Outcome, PoseFit, PoseStart, PoseUnknown, ReconstructError, Reconstruction,
-};
+use pim_reconstruct::{Outcome, PoseFit, PoseStart, PoseUnknown, ReconstructError, Reconstruction};
 
 /// The pose fitted, as the document gives it.
 #[derive(Debug, Clone, Default)]
@@ -27,6 +25,17 @@ fn posed(
 ) -> Result<CaseReconstruction, DocumentError> {
     let c = case.with_contact(unknowns, p)?;
     case_reconstruction(&c, how.model, how.moment_form, how.branches.clone())
+}
+
+/// The pose fit's unknowns: each with its prior's deviation.
+fn priors_of(unknowns: &[ContactUnknown]) -> Vec<PoseUnknown> {
+    unknowns
+        .iter()
+        .map(|u| PoseUnknown {
+            name: u.name.clone(),
+            sigma: u.sigma,
+        })
+        .collect()
 }
 
 /// The reconstruction of a case's inputs, for the pose fit (its errors as the fit's).
@@ -66,13 +75,7 @@ pub(crate) fn fit_contact_pose(
         Ok(i)
     };
     let build = |p: &[f64]| built(posed((case, &unknowns), how, p));
-    let priors: Vec<PoseUnknown> = unknowns
-        .iter()
-        .map(|u| PoseUnknown {
-            name: u.name.clone(),
-            sigma: u.sigma,
-        })
-        .collect();
+    let priors = priors_of(&unknowns);
     let fail = |e: pim_reconstruct::ReconstructError| {
         DocumentError::Input(format!("{}: the pose at contact: {e}", case.file))
     };
@@ -94,7 +97,7 @@ pub(crate) fn fit_contact_pose(
         let out = pim_reconstruct::reconstruct_from(
             &posed.reconstruction,
             &posed.settings,
-            &earlier_of(&fit.found),
+            &fit.found.states(),
         )
         .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
         let other = out
@@ -142,27 +145,6 @@ pub(crate) fn fit_contact_pose(
             fit: Some(fit),
         },
     ))
-}
-
-/// Each scene vehicle's count of turns and separation velocity in `found`: where a search
-/// starts from it.
-fn earlier_of(found: &pim_reconstruct::Found) -> Vec<EarlierState> {
-    found
-        .scene
-        .iter()
-        .map(|s| {
-            let v = if s.vehicle.index() == 0 {
-                found.solution.separation.vehicle1
-            } else {
-                found.solution.separation.vehicle2
-            };
-            EarlierState {
-                vehicle: s.vehicle,
-                turns: s.turns,
-                velocity: [v.vx, v.vy, v.omega],
-            }
-        })
-        .collect()
 }
 
 fn rows_of(
@@ -222,7 +204,7 @@ pub(crate) fn with_pose(document: &mut ReconstructionOut, pose: FittedPose) -> O
         });
     }
     // Every combination compared was searched at the fitted pose: its priors add alike.
-    let priors: f64 = pose.rows.iter().map(|r| r.z * r.z).sum();
+    let priors = pose.fit.as_ref().map_or(0.0, |f| f.prior_chi_square);
     for c in &mut document.counts {
         if let Some(x) = c.chi_square.as_mut() {
             *x += priors;
@@ -248,6 +230,8 @@ pub(crate) struct StudyPose<'a> {
     /// The nominal case's stated values (m, rad).
     stated: Vec<f64>,
     fit: &'a PoseFit,
+    /// The search settings (the case's; no draw changes them).
+    settings: &'a pim_reconstruct::Settings,
 }
 
 impl<'a> StudyPose<'a> {
@@ -301,18 +285,13 @@ impl<'a> StudyPose<'a> {
             }
         }
         let stated = case.contact_values(&unknowns)?;
-        let priors = unknowns
-            .iter()
-            .map(|u| PoseUnknown {
-                name: u.name.clone(),
-                sigma: u.sigma,
-            })
-            .collect();
+        let priors = priors_of(&unknowns);
         Ok(Some(StudyPose {
             unknowns,
             priors,
             stated,
             fit,
+            settings: &done.input.settings,
         }))
     }
 
@@ -376,7 +355,6 @@ impl<'a> StudyPose<'a> {
             .zip(&eps)
             .map(|(p, e)| p - e)
             .collect();
-        let settings = posed((c, &self.unknowns), how, &p0).ok()?.settings;
         let build = |p: &[f64]| built(posed((c, &self.unknowns), how, p));
         let start = PoseStart {
             offsets: &p0,
@@ -384,7 +362,7 @@ impl<'a> StudyPose<'a> {
             jacobian: Some(&self.fit.jacobian),
             hold: true,
         };
-        let fit = pim_reconstruct::fit_pose(build, &self.priors, &settings, start).ok()?;
+        let fit = pim_reconstruct::fit_pose(build, &self.priors, self.settings, start).ok()?;
         let mut found = fit.found;
         found.chi_square += fit.prior_chi_square;
         if found.refused() {
