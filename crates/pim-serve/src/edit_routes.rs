@@ -64,55 +64,35 @@ pub(crate) async fn move_rest(Json(m): Json<Move>) -> Response {
     })
 }
 
-/// A mark to add, to the text given.
+/// An edit the page asks of a case's text (not saved): the file, its text, the display units
+/// and what to change.
 #[derive(Deserialize)]
-pub(crate) struct MarkAsk {
+pub(crate) struct EditAsk<T> {
     path: String,
     text: String,
-    #[serde(flatten)]
-    mark: crate::NewMark,
     #[serde(default)]
     units: Option<String>,
+    #[serde(flatten)]
+    change: T,
 }
 
 /// The text with a tyre mark added where the page was clicked (not saved).
-pub(crate) async fn add_mark(Json(m): Json<MarkAsk>) -> Response {
+pub(crate) async fn add_mark(Json(m): Json<EditAsk<crate::NewMark>>) -> Response {
     edited(m.units.as_deref(), |u| {
-        crate::add_mark(&m.path, &m.text, &m.mark, u)
+        crate::add_mark(&m.path, &m.text, &m.change, u)
     })
-}
-
-/// A friction zone to add, to the text given.
-#[derive(Deserialize)]
-pub(crate) struct ZoneAsk {
-    path: String,
-    text: String,
-    #[serde(flatten)]
-    zone: crate::NewZone,
-    #[serde(default)]
-    units: Option<String>,
 }
 
 /// The text with a friction zone added where the page was clicked (not saved).
-pub(crate) async fn add_zone(Json(z): Json<ZoneAsk>) -> Response {
+pub(crate) async fn add_zone(Json(z): Json<EditAsk<crate::NewZone>>) -> Response {
     edited(z.units.as_deref(), |u| {
-        crate::add_zone(&z.path, &z.text, &z.zone, u)
+        crate::add_zone(&z.path, &z.text, &z.change, u)
     })
-}
-
-#[derive(Deserialize)]
-pub(crate) struct ContactAsk {
-    path: String,
-    text: String,
-    #[serde(default)]
-    units: Option<String>,
-    #[serde(flatten)]
-    change: crate::ContactChange,
 }
 
 /// The text with the geometry at contact moved (a vehicle's CG or heading, the impact centre,
 /// the crush surface's normal), not saved.
-pub(crate) async fn contact(Json(c): Json<ContactAsk>) -> Response {
+pub(crate) async fn contact(Json(c): Json<EditAsk<crate::ContactChange>>) -> Response {
     edited(c.units.as_deref(), |u| {
         crate::edit_contact(&c.path, &c.text, &c.change, u)
     })
