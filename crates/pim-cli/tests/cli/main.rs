@@ -6,7 +6,6 @@ mod careless;
 mod common;
 mod continuity;
 mod damage;
-mod determinism;
 mod fit;
 mod guide;
 mod highway;

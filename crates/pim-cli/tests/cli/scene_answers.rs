@@ -165,7 +165,10 @@ fn the_report_of_the_example_reports_its_reconstruction() {
 
 /// The example with its EDR moved 8 mph: the fit is poor, and the consistency table names the
 /// EDR: without it the rest fits as well as its standard deviations lead one to expect, and
-/// the speeds come back to the example's.
+/// the speeds come back to the example's. The same reconstruction is the check that an answer
+/// is the same on every machine: run again with every core busy, its document is the same byte
+/// for byte (its refinements end on their convergence or their budget of work, which counts
+/// run-out evaluations and impact-fit work, never time).
 #[test]
 fn a_conflicting_scene_yields_the_consistency_table() {
     let text = std::fs::read_to_string(repo().join(CASE)).unwrap();
@@ -176,10 +179,15 @@ fn a_conflicting_scene_yields_the_consistency_table() {
         "edr8.toml",
         text.replace(from, "speed = 35.5, time = 0.5"),
     );
-    let out = pim(&["fit", &case, "--format", "json"]);
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
-    assert!(stderr(&out).contains("fits poorly"), "{}", stderr(&out));
-    let v = json(&out);
+    // The text under --strict (a poor fit is a reason: exit 1) and the document beside it.
+    let dir = scratch_dir("scene_answers", "edr8_fit");
+    let t = pim(&["fit", &case, "--strict", "--out", dir.to_str().unwrap()]);
+    assert_eq!(t.status.code(), Some(1), "{}", stderr(&t));
+    assert!(stderr(&t).contains("fits poorly"), "{}", stderr(&t));
+    let text = String::from_utf8(t.stdout).unwrap();
+    assert!(text.contains("evidence consistency"), "{text}");
+    let document = std::fs::read(dir.join("result.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&document).unwrap();
     let p = num(&v["best"]["p_value"]);
     assert!(p < 0.05, "{p}");
     let c = &v["consistency"];
@@ -211,12 +219,16 @@ fn a_conflicting_scene_yields_the_consistency_table() {
             "{all}: {r}"
         );
     }
-    // The table in the text (under --strict, where a poor fit is a reason: exit 1), and the
-    // report's section.
-    let t = pim(&["fit", &case, "--strict"]);
-    assert_eq!(t.status.code(), Some(1), "{}", stderr(&t));
-    let text = String::from_utf8(t.stdout).unwrap();
-    assert!(text.contains("evidence consistency"), "{text}");
+    // A scene with much work to do (millions of units: every combination refined, and every
+    // row of the table), whose stops never depend on the clock.
+    let work = v["work"].as_u64().unwrap();
+    assert!(work > 2_000_000, "a scene with much work to do: {work}");
+    let undetermined = v["undetermined"].to_string();
+    assert!(!undetermined.contains("time"), "{undetermined}");
+    let busy = busy_while(|| pim(&["fit", &case, "--format", "json"]));
+    assert_eq!(busy.status.code(), Some(0), "{}", stderr(&busy));
+    assert!(busy.stdout == document, "the documents differ");
+    // The report's section.
     let dir = scratch_dir("scene_answers", "edr8_report");
     let r = pim(&[
         "report",
@@ -230,6 +242,31 @@ fn a_conflicting_scene_yields_the_consistency_table() {
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Evidence consistency"));
     assert!(md.contains("| vehicle2 EDR speed 0.5 s before contact |"));
+}
+
+/// `run` with a thread spinning beside it on every core.
+fn busy_while<T>(run: impl FnOnce() -> T) -> T {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let burners: Vec<_> = (0..cores)
+        .map(|_| {
+            let stop = std::sync::Arc::clone(&stop);
+            std::thread::spawn(move || {
+                let mut x = 0u64;
+                while !stop.load(Ordering::Relaxed) {
+                    x = x.wrapping_mul(6364136223846793005).wrapping_add(1);
+                }
+                x
+            })
+        })
+        .collect();
+    let out = run();
+    stop.store(true, Ordering::Relaxed);
+    for b in burners {
+        b.join().unwrap();
+    }
+    out
 }
 
 /// One rule for degrees of freedom: a reconstruction with none left (the runout example has
