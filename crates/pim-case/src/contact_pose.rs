@@ -91,6 +91,8 @@ pub struct ContactUnknown {
     pub field: String,
     /// Its name in tables (`vehicle2.impact_point.x`).
     pub name: String,
+    /// Whether its prior weighs in the fit (false: left out, the value still fitted).
+    pub prior: bool,
 }
 
 const AXES: [&str; 2] = ["x", "y"];
@@ -129,11 +131,13 @@ impl Case {
             } else {
                 sd * length
             };
+            let prior = s.priors_left_out & (1 << out.len().min(31)) == 0;
             out.push(ContactUnknown {
                 input,
                 sigma,
                 field,
                 name,
+                prior,
             });
             Ok(())
         };
@@ -182,6 +186,17 @@ impl Case {
             ));
         }
         Ok(out)
+    }
+
+    /// The case with the prior of its pose's unknown `i` (of [`Case::contact_unknowns`]) left
+    /// out: the value is still fitted, its prior no longer weighs (a row of the consistency
+    /// table). Unchanged without `[contact_sigma]`.
+    pub fn without_contact_prior(&self, i: usize) -> Case {
+        let mut out = self.clone();
+        if let Some(s) = out.content.contact_sigma.as_mut() {
+            s.priors_left_out |= 1 << i.min(31);
+        }
+        out
     }
 
     /// The case with its pose at contact moved by `offsets` (one per unknown, m and rad, the

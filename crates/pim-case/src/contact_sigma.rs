@@ -18,6 +18,12 @@ pub struct ContactSigmaSection {
     /// The crush surface's angle, degrees.
     #[serde(default)]
     pub crush_angle: Option<f64>,
+    /// Not read from the file: the unknowns (bit `i` for the `i`-th of
+    /// [`Case::contact_unknowns`](crate::case::Case::contact_unknowns)) whose prior is left out,
+    /// as [`Case::without_contact_prior`](crate::case::Case::without_contact_prior) leaves one
+    /// out.
+    #[serde(skip)]
+    pub priors_left_out: u32,
 }
 
 /// One vehicle's pose at contact: standard deviations.

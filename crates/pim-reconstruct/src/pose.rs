@@ -19,8 +19,12 @@ pub const MAX_ITERATIONS: usize = 20;
 pub struct PoseUnknown {
     /// Its name in tables (`vehicle2.impact_point.x`).
     pub name: String,
-    /// The standard deviation of its prior about the stated pose, m or rad.
+    /// The standard deviation of its prior about the stated pose, m or rad; it also scales
+    /// the fit's steps and tolerances for this unknown.
     pub sigma: f64,
+    /// Whether the prior weighs in the cost (false: the prior left out, the value still
+    /// fitted, as a row of the consistency table leaves it out).
+    pub prior: bool,
 }
 
 /// Where a pose fit starts: offsets (m and rad) and the answer there, or near there (a draw of
@@ -169,6 +173,7 @@ where
 fn prior_cost(p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
     p.iter()
         .zip(unknowns)
+        .filter(|(_, u)| u.prior)
         .map(|(x, u)| (x / u.sigma).powi(2))
         .sum()
 }
@@ -325,7 +330,7 @@ fn normal_equations(
 ) -> (DMatrix<f64>, DVector<f64>) {
     let mut a = j.transpose() * j;
     let mut g = j.transpose() * DVector::from_column_slice(&at.z);
-    for (k, u) in unknowns.iter().enumerate() {
+    for (k, u) in unknowns.iter().enumerate().filter(|(_, u)| u.prior) {
         a[(k, k)] += 1.0 / (u.sigma * u.sigma);
         g[k] += at.p[k] / (u.sigma * u.sigma);
     }

@@ -9,7 +9,11 @@
 //!
 //! The groups are what a reconstructionist weighs as one piece of evidence: a vehicle's rest
 //! position (its x, y and heading together), each tyre mark, each EDR speed, each named
-//! observation, and the case's `[estimates]` as a whole. A pre-impact skid is not a group: it
+//! observation, the case's `[estimates]` as a whole, and each prior of a pose fitted by
+//! `[contact_sigma]`. A prior left out keeps its value fitted: its row fits the pose again from
+//! the whole answer's without that prior ([`Case::without_contact_prior`]), one degree of
+//! freedom fewer; every other row holds the pose where the whole answer put it, the priors'
+//! share added. Pairs are left out among the evidence only. A pre-impact skid is not a group: it
 //! turns the contact speed into the speed before braking and adds no residual, so it cannot
 //! conflict with anything.
 //!
@@ -55,6 +59,9 @@ enum Piece {
     Observation(usize),
     /// The `[estimates]` (with their `[sigma]`).
     Estimates,
+    /// The prior of the pose's unknown `i` (`[contact_sigma]`, in the order of
+    /// [`Case::contact_unknowns`]).
+    Prior(usize),
 }
 
 impl Piece {
@@ -77,6 +84,10 @@ impl Piece {
                 None => format!("observation {}", i + 1),
             },
             Piece::Estimates => "the estimates ([estimates])".to_string(),
+            Piece::Prior(i) => match case.contact_unknowns().ok().and_then(|u| u.get(i).cloned()) {
+                Some(u) => format!("{} at contact (prior)", u.name),
+                None => format!("prior {} of the pose at contact", i + 1),
+            },
         }
     }
 
@@ -134,6 +145,7 @@ impl Piece {
                 c.estimates = None;
                 c.sigma = None;
             }
+            Piece::Prior(i) => out = case.without_contact_prior(i),
         }
         out
     }
@@ -168,6 +180,8 @@ fn pieces(case: &Case) -> Vec<Piece> {
         }
         out.extend((0..v.marks.len()).map(|i| Piece::Mark(k, i)));
     }
+    let priors = case.contact_unknowns().map_or(0, |u| u.len());
+    out.extend((0..priors).map(Piece::Prior));
     out
 }
 
@@ -186,7 +200,7 @@ fn left_out(case: &Case, without: &[Piece]) -> Case {
 /// The names of the pieces of evidence of `case` that can be switched off, in the order of
 /// the evidence table (the names of the consistency table's rows: `vehicle1 rest`, `vehicle2
 /// mark 1`, `vehicle2 EDR speed 0.5 s before contact`, an observation's name, `the estimates
-/// ([estimates])`).
+/// ([estimates])`, `vehicle1.heading at contact (prior)`).
 pub fn piece_names(case: &Case) -> Vec<String> {
     pieces(case).into_iter().map(|p| p.name(case)).collect()
 }
@@ -222,12 +236,26 @@ fn left_out_row(
     case: &Case,
     how: crate::reconstruct::How,
     whole: &crate::reconstruct::Reconstructed,
+    prior: bool,
 ) -> Result<ReconstructionOut, DocumentError> {
-    // A fitted pose at contact is held where the whole answer put it, its priors' share
-    // added (a pose fit per row would cost the table ten times the answer).
     let Some(pose) = &whole.pose else {
         return left_out_at(case, how, whole);
     };
+    if prior {
+        // A prior of the pose left out: the pose fitted again from the whole answer, the
+        // value still fitted, the prior's datum gone.
+        let (input, outcome, fitted) =
+            crate::reconstruct_pose::refit_without_prior(case, &how, pose)?;
+        let mut d = crate::reconstruct::document(&input, &outcome);
+        crate::reconstruct_pose::with_pose(&mut d, fitted);
+        if let Some(b) = d.best.as_mut() {
+            b.degrees_of_freedom = b.degrees_of_freedom.saturating_sub(1);
+            b.p_value = pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square);
+        }
+        return Ok(d);
+    }
+    // Any other piece: the pose held where the whole answer put it, its priors' share added
+    // (a pose fit per row would cost the table ten times the answer).
     let mut posed = case.with_contact(&case.contact_unknowns()?, &pose.offsets)?;
     posed.content.contact_sigma = None;
     let mut d = left_out_at(&posed, how, whole)?;
@@ -352,7 +380,8 @@ pub fn table(
             moment_form,
             branches: branches.to_vec(),
         };
-        row(names, left_out_row(&c, how, whole))
+        let prior = without.iter().any(|p| matches!(p, Piece::Prior(_)));
+        row(names, left_out_row(&c, how, whole, prior))
     };
     let all_row = row(Vec::new(), Ok(all.clone()));
     let groups = pieces(case);
@@ -407,9 +436,15 @@ pub fn table(
         && groups.len() <= MAX_PAIR_GROUPS
         && (groups.len() + pairs_count) as u64 * per_row <= TABLE_WORK
     {
-        let pairs: Vec<Vec<Piece>> = (0..groups.len())
-            .flat_map(|i| (i + 1..groups.len()).map(move |j| (i, j)))
-            .map(|(i, j)| vec![groups[i], groups[j]])
+        // Pairs of the evidence's pieces (a prior of the pose is left out alone).
+        let evidence: Vec<Piece> = groups
+            .iter()
+            .copied()
+            .filter(|p| !matches!(p, Piece::Prior(_)))
+            .collect();
+        let pairs: Vec<Vec<Piece>> = (0..evidence.len())
+            .flat_map(|i| (i + 1..evidence.len()).map(move |j| (i, j)))
+            .map(|(i, j)| vec![evidence[i], evidence[j]])
             .collect();
         let phase = crate::watch::Phase::start(observer, "pairs left out", pairs.len());
         rows.extend(run_all(&pairs, &phase));
@@ -442,6 +477,7 @@ fn index_key(p: Piece) -> (usize, usize, usize) {
         Piece::Edr(k, i) => (2, k, i),
         Piece::Rest(k) => (3, k, 0),
         Piece::Mark(k, i) => (4, k, i),
+        Piece::Prior(i) => (5, 0, i),
     }
 }
 

@@ -14,6 +14,9 @@ use pim_reconstruct::{Outcome, PoseFit, PoseStart, PoseUnknown, ReconstructError
 #[derive(Debug, Clone, Default)]
 pub(crate) struct FittedPose {
     rows: Vec<ContactPoseOut>,
+    /// Whether each row's prior weighs (false: left out, as a row of the consistency table
+    /// leaves it out; then it is no row of the evidence table).
+    weighed: Vec<bool>,
     fit: Option<PoseFit>,
 }
 
@@ -34,6 +37,7 @@ fn priors_of(unknowns: &[ContactUnknown]) -> Vec<PoseUnknown> {
         .map(|u| PoseUnknown {
             name: u.name.clone(),
             sigma: u.sigma,
+            prior: u.prior,
         })
         .collect()
 }
@@ -67,6 +71,50 @@ pub(crate) fn fit_contact_pose(
     if unknowns.is_empty() || outcome.best.is_none() {
         return Ok((input, outcome, FittedPose::default()));
     };
+    let zeros = vec![0.0; unknowns.len()];
+    let first = PoseStart {
+        offsets: &zeros,
+        found: outcome.best.as_ref().expect("an answer"),
+        jacobian: None,
+        hold: false,
+    };
+    settled(case, how, second_search, &input.settings, first)
+}
+
+/// The reconstruction of `case`, whose whole answer's pose fit is `whole`, with the prior of
+/// one of its pose's values left out (`case` as [`Case::without_contact_prior`] gives it):
+/// the pose fitted again from the whole answer (its pose, its answer there and its Jacobian).
+/// Leaving a prior out can only lower the minimum, and the fit descends from the whole
+/// answer's.
+///
+/// # Errors
+/// As [`fit_contact_pose`].
+pub(crate) fn refit_without_prior(
+    case: &Case,
+    how: &How,
+    whole: &PoseFit,
+) -> Result<(CaseReconstruction, Outcome, FittedPose), DocumentError> {
+    let input = case_reconstruction(case, how.model, how.moment_form, how.branches.clone())?;
+    let first = PoseStart {
+        offsets: &whole.offsets,
+        found: &whole.found,
+        jacobian: Some(&whole.jacobian),
+        hold: false,
+    };
+    settled(case, how, false, &input.settings, first)
+}
+
+/// The pose of `case` fitted from `first`, then searched again at the fitted pose (and fitted
+/// again where another combination of counts fits better there): the inputs and the answer at
+/// the fitted pose, the chi-square with the priors, and the pose's rows.
+fn settled(
+    case: &Case,
+    how: &How,
+    second_search: bool,
+    settings: &pim_reconstruct::Settings,
+    first: PoseStart,
+) -> Result<(CaseReconstruction, Outcome, FittedPose), DocumentError> {
+    let unknowns = case.contact_unknowns()?;
     let at_pose = |p: &[f64]| -> Result<CaseReconstruction, DocumentError> {
         let mut i = posed((case, &unknowns), how, p)?;
         if !second_search {
@@ -79,15 +127,7 @@ pub(crate) fn fit_contact_pose(
     let fail = |e: pim_reconstruct::ReconstructError| {
         DocumentError::Input(format!("{}: the pose at contact: {e}", case.file))
     };
-    let zeros = vec![0.0; unknowns.len()];
-    let first = PoseStart {
-        offsets: &zeros,
-        found: outcome.best.as_ref().expect("an answer"),
-        jacobian: None,
-        hold: false,
-    };
-    let mut fit =
-        pim_reconstruct::fit_pose(build, &priors, &input.settings, first).map_err(fail)?;
+    let mut fit = pim_reconstruct::fit_pose(build, &priors, settings, first).map_err(fail)?;
     // Searched again at the fitted pose; where another combination of counts of turns fits
     // the evidence better there, the pose is fitted again from it (the counts and the pose
     // each fitted in turn, at most twice).
@@ -142,6 +182,7 @@ pub(crate) fn fit_contact_pose(
         out,
         FittedPose {
             rows,
+            weighed: unknowns.iter().map(|u| u.prior).collect(),
             fit: Some(fit),
         },
     ))
@@ -192,7 +233,7 @@ pub(crate) fn with_pose(document: &mut ReconstructionOut, pose: FittedPose) -> O
     if pose.rows.is_empty() {
         return pose.fit;
     }
-    for r in &pose.rows {
+    for (r, _) in pose.rows.iter().zip(&pose.weighed).filter(|(_, w)| **w) {
         b.evidence.push(EvidenceOut {
             name: format!("{} at contact (prior)", r.name),
             phase: "impact",

@@ -201,3 +201,85 @@ fn a_pose_stated_wrong_is_fitted_toward_the_truth_for_every_wheel_state() {
     eprintln!("sum of squared distances to the truth: {before:.2} -> {after:.2}");
     assert!(after < before, "{after} vs {before}");
 }
+
+/// A prior of the pose that the scene contradicts is a row of the consistency table: the pose
+/// example with the SUV placed 4.5 ft east of where it was struck (its CG, the impact centre
+/// held) and the impact point on its side held to 0.3 ft, the only value of the pose fitted.
+/// The whole answer fits poorly; left out, that prior's row is refitted from the whole answer
+/// (the value still fitted, its prior gone, one degree of freedom fewer), fits, is named by
+/// the summary, lies below the whole fit like every row, and its speeds come back toward the
+/// example's.
+#[test]
+fn a_prior_the_scene_contradicts_is_a_row_of_the_consistency_table() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text =
+        std::fs::read_to_string(root.join("examples/cases/reconstruction_pose_us.toml")).unwrap();
+    let answer = |text: &str| {
+        let case = Case::from_text("pose.toml", text).expect("a valid case");
+        pim_studies::consistency::answer(
+            &case,
+            pim_fit::FitModel::Pim,
+            pim_core::MomentForm::Corrected,
+            pim_fit::MomentBranch::ALL.to_vec(),
+            &pim_studies::watch::Unwatched,
+        )
+        .expect("reconstructed")
+        .document
+    };
+    let example = answer(&text);
+    let v1_example = example.best.as_ref().unwrap().vehicles[0].speed_at_contact;
+    let mut moved = text.clone();
+    for (from, to) in [
+        (
+            "position = { x = 1.0, y = 1.5 }",
+            "position = { x = 1.0, y = 6.0 }",
+        ),
+        (
+            "vehicle1 = { heading = 3.0, position = { x = 1.0, y = 1.0 } }\n",
+            "",
+        ),
+        (
+            "vehicle2 = { heading = 3.0, impact_point = { x = 0.8 } }",
+            "vehicle2 = { impact_point = { x = 0.3 } }",
+        ),
+    ] {
+        assert!(moved.contains(from), "{from}");
+        moved = moved.replacen(from, to, 1);
+    }
+    let d = answer(&moved);
+    let whole = d.best.as_ref().expect("an answer");
+    assert!(whole.p_value.unwrap() < 0.01, "{}", whole.chi_square);
+    let table = d.consistency.as_ref().expect("a poor fit has its table");
+    let name = "vehicle2.impact_point.x at contact (prior)";
+    let row = table
+        .rows
+        .iter()
+        .find(|r| r.left_out == [name])
+        .expect("the prior's row");
+    eprintln!(
+        "whole {:.2} ({} dof); without the prior {:.2} ({:?} dof), v1 {:.3} -> {:.3} m/s \
+         (the example's {v1_example:.3})",
+        whole.chi_square,
+        whole.degrees_of_freedom,
+        row.chi_square.unwrap(),
+        row.degrees_of_freedom,
+        whole.vehicles[0].speed_at_contact,
+        row.speed_at_contact[0].unwrap()
+    );
+    assert!(row.consistent, "{row:?}");
+    assert!(row.chi_square.unwrap() < 2.0, "{row:?}");
+    assert_eq!(row.degrees_of_freedom, Some(whole.degrees_of_freedom - 1));
+    assert!(table.summary.contains(name), "{}", table.summary);
+    let off = |v: f64| (v - v1_example).abs();
+    assert!(
+        off(row.speed_at_contact[0].unwrap()) < off(whole.vehicles[0].speed_at_contact),
+        "{row:?}"
+    );
+    for r in &table.rows {
+        assert_ne!(r.status, "failed", "{r:?}");
+        assert!(
+            r.chi_square.unwrap() <= whole.chi_square * (1.0 + 1e-9),
+            "{r:?}"
+        );
+    }
+}
