@@ -832,6 +832,37 @@ test("the forms: a field edited writes the TOML, a bad value marks its field and
   assert.equal(await page.$(".bad-field, .bad-handle"), null);
 });
 
+test("the pose at contact's priors edited in their form: the pose is fitted with them", async () => {
+  await page.selectOption("#cases", "reconstruction_pose_us.toml");
+  await idle();
+  const original = await page.inputValue("#toml");
+  const row = () => page.evaluate(() => window.pim.answer.document.best.contact_pose
+    .find((r) => r.name === "vehicle2.impact_point.x"));
+  const before = await row();
+  assert.ok(Math.abs(before.prior_sigma - 0.8 * 0.3048) < 1e-9, JSON.stringify(before));
+  assert.match(await page.textContent("#table"), /pose at contact/);
+  await page.evaluate(() => {
+    document.getElementById("forms-box").open = true;
+    document.querySelector('#forms details[data-section="contact_sigma"]').open = true;
+  });
+  const field = page.locator('#forms input[data-key="contact_sigma.vehicle2.impact_point.x"]');
+  assert.equal(await field.inputValue(), "0.8");
+  await field.fill("0.3");
+  await field.press("Tab");
+  await page.waitForFunction(() => /impact_point = \{ x = 0\.3 \}/.test(window.pim.text));
+  await idle();
+  const after = await row();
+  assert.ok(Math.abs(after.prior_sigma - 0.3 * 0.3048) < 1e-9, JSON.stringify(after));
+  assert.ok(after.sigma < before.sigma, `${after.sigma} ${before.sigma}`);
+  const edited = await page.inputValue("#toml");
+  const changed = original.split("\n").map((l, i) => [l, edited.split("\n")[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  await page.screenshot({ path: path.join(shots, "19-pose-prior-form.png") });
+  await page.fill("#toml", original);
+  await page.waitForFunction((t) => window.pim.text === t, original);
+  await idle();
+});
+
 test("a batch of the folder in the background: pim batch's records, a row opening its case", async () => {
   // Chosen again: read from the folder (the path is already the case's: idle waits for the read).
   await page.selectOption("#cases", CASE);

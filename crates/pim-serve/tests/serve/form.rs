@@ -111,3 +111,83 @@ fn a_field_set_changes_its_value_only() {
     assert!(e("vehicle1.colour", "red").contains("the file writes no such value"));
     assert!(e("observations.0.vehicle", "1.5").contains("not a whole number"));
 }
+
+/// The pose at contact's priors (`[contact_sigma]`) are a form like any section: a deviation set
+/// from the page writes its value only, and the page's answer fits the pose with it (the
+/// prior's deviation in the answer's rows, the answer as `pim fit` gives it for the text).
+#[test]
+fn the_priors_of_the_pose_at_contact_are_a_form() {
+    let text = example("reconstruction_pose_us.toml");
+    let sections = form("p.toml", &text).unwrap();
+    let fields: Vec<(&str, &str)> = sections
+        .iter()
+        .filter(|s| s.name == "contact_sigma")
+        .flat_map(|s| &s.fields)
+        .map(|f| (f.key.as_str(), f.value.as_str()))
+        .collect();
+    assert_eq!(
+        fields,
+        [
+            ("contact_sigma.vehicle1.heading", "3.0"),
+            ("contact_sigma.vehicle1.position.x", "1.0"),
+            ("contact_sigma.vehicle1.position.y", "1.0"),
+            ("contact_sigma.vehicle2.heading", "3.0"),
+            ("contact_sigma.vehicle2.impact_point.x", "0.8"),
+        ]
+    );
+    let t = set_field(
+        "p.toml",
+        &text,
+        "contact_sigma.vehicle2.impact_point.x",
+        &FieldValue::Typed("0.3".into()),
+    )
+    .unwrap();
+    let changed: Vec<&str> = t
+        .lines()
+        .zip(text.lines())
+        .filter(|(a, b)| a != b)
+        .map(|(a, _)| a)
+        .collect();
+    assert_eq!(
+        changed,
+        ["vehicle2 = { heading = 3.0, impact_point = { x = 0.3 } }   # along its side, from the crush"]
+    );
+    let prior = |text: &str| {
+        let a = pim_serve::answer("p.toml", text).unwrap();
+        let rows = a.document["best"]["contact_pose"]
+            .as_array()
+            .unwrap()
+            .clone();
+        let row = rows
+            .iter()
+            .find(|r| r["name"] == "vehicle2.impact_point.x")
+            .unwrap()
+            .clone();
+        (
+            row["prior_sigma"].as_f64().unwrap(),
+            row["sigma"].as_f64().unwrap(),
+        )
+    };
+    let (before, fitted_before) = prior(&text);
+    let (after, fitted_after) = prior(&t);
+    assert!((before - 0.8 * 0.3048).abs() < 1e-9, "{before}");
+    assert!((after - 0.3 * 0.3048).abs() < 1e-9, "{after}");
+    // A tighter prior: the impact point is known better after the fit too.
+    assert!(
+        fitted_after < fitted_before,
+        "{fitted_after} {fitted_before}"
+    );
+    // Switched off on the page (as the consistency table leaves it out): the value is still
+    // fitted, its prior is no row of the evidence, and the chi-square does not rise.
+    let name = "vehicle2.impact_point.x at contact (prior)";
+    let chi = |d: &serde_json::Value| d["best"]["chi_square"].as_f64().unwrap();
+    let on = pim_serve::answer("p.toml", &t).unwrap();
+    assert!(on.pieces.iter().any(|p| p.name == name));
+    let (off, _) =
+        pim_serve::answer_without("p.toml", &t, None, None, &[name.to_string()]).unwrap();
+    let evidence = off.document["best"]["evidence"].as_array().unwrap();
+    assert!(evidence.iter().all(|e| e["name"] != name), "{evidence:?}");
+    let rows = off.document["best"]["contact_pose"].as_array().unwrap();
+    assert!(rows.iter().any(|r| r["name"] == "vehicle2.impact_point.x"));
+    assert!(chi(&off.document) <= chi(&on.document) + 1e-9);
+}
