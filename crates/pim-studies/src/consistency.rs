@@ -248,10 +248,6 @@ fn left_out_row(
             crate::reconstruct_pose::refit_without_prior(case, &how, pose)?;
         let mut d = crate::reconstruct::document(&input, &outcome);
         crate::reconstruct_pose::with_pose(&mut d, fitted);
-        if let Some(b) = d.best.as_mut() {
-            b.degrees_of_freedom = b.degrees_of_freedom.saturating_sub(1);
-            b.p_value = pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square);
-        }
         return Ok(d);
     }
     // Any other piece: the pose held where the whole answer put it, its priors' share added
@@ -415,7 +411,13 @@ pub fn table(
         };
     }
     let singles: Vec<Vec<Piece>> = groups.iter().map(|p| vec![*p]).collect();
-    let pairs_count = groups.len() * groups.len().saturating_sub(1) / 2;
+    // Pairs of the evidence's pieces (a prior of the pose is left out alone).
+    let evidence: Vec<Piece> = groups
+        .iter()
+        .copied()
+        .filter(|p| !matches!(p, Piece::Prior(_)))
+        .collect();
+    let pairs_count = evidence.len() * evidence.len().saturating_sub(1) / 2;
     let phase = crate::watch::Phase::start(observer, "pieces left out", singles.len());
     let run_all = |list: &[Vec<Piece>], phase: &crate::watch::Phase| -> Vec<LeftOut> {
         list.par_iter()
@@ -433,15 +435,9 @@ pub fn table(
     let mut cancelled = phase.cancelled();
     if cancelled.is_none()
         && !rows.iter().any(|r| r.consistent)
-        && groups.len() <= MAX_PAIR_GROUPS
+        && evidence.len() <= MAX_PAIR_GROUPS
         && (groups.len() + pairs_count) as u64 * per_row <= TABLE_WORK
     {
-        // Pairs of the evidence's pieces (a prior of the pose is left out alone).
-        let evidence: Vec<Piece> = groups
-            .iter()
-            .copied()
-            .filter(|p| !matches!(p, Piece::Prior(_)))
-            .collect();
         let pairs: Vec<Vec<Piece>> = (0..evidence.len())
             .flat_map(|i| (i + 1..evidence.len()).map(move |j| (i, j)))
             .map(|(i, j)| vec![evidence[i], evidence[j]])

@@ -258,6 +258,12 @@ pub(crate) fn with_pose(document: &mut ReconstructionOut, pose: FittedPose) -> O
     for e in &mut b.evidence {
         e.share_percent = 100.0 * e.z * e.z / total;
     }
+    // A prior left out takes its datum with it; its value is still an unknown.
+    let left_out = pose.weighed.iter().filter(|w| !**w).count();
+    if left_out > 0 {
+        b.degrees_of_freedom = (b.degrees_of_freedom - left_out as i64).max(0);
+        b.p_value = pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square);
+    }
     b.contact_pose = pose.rows;
     pose.fit
 }

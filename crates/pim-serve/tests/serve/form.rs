@@ -190,4 +190,6 @@ fn the_priors_of_the_pose_at_contact_are_a_form() {
     let rows = off.document["best"]["contact_pose"].as_array().unwrap();
     assert!(rows.iter().any(|r| r["name"] == "vehicle2.impact_point.x"));
     assert!(chi(&off.document) <= chi(&on.document) + 1e-9);
+    let dof = |d: &serde_json::Value| d["best"]["degrees_of_freedom"].as_u64().unwrap();
+    assert_eq!(dof(&off.document) + 1, dof(&on.document));
 }
