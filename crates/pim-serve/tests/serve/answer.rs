@@ -1,12 +1,8 @@
 //! The server's answers without a browser: the rest moved in each frame and unit, a live answer
 //! against the whole search.
 
+use crate::{changed_lines, example};
 use std::path::Path;
-
-fn example(name: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases");
-    std::fs::read_to_string(root.join(name)).unwrap()
-}
 
 fn rest_line(text: &str, vehicle: u8) -> String {
     let section = format!("[scene.vehicle{vehicle}]");
@@ -161,11 +157,7 @@ fn a_background_set_to_scale() {
         Some(pim_case::units::UnitSystem::Si),
     )
     .unwrap();
-    let changed: Vec<(&str, &str)> = text
-        .lines()
-        .zip(out.lines())
-        .filter(|(a, b)| a != b)
-        .collect();
+    let changed = changed_lines(&out, &text);
     // The points round to the tenth of a pixel they were: only the distance and `at` change.
     assert_eq!(changed.len(), 2, "{changed:?}");
     assert!(out.contains("distance = 30.0"), "{out}");
@@ -253,16 +245,9 @@ fn moves_a_tyre_mark() {
     let text = example("reconstruction_us.toml");
     let moved =
         pim_serve::move_mark("reconstruction_us.toml", &text, (1, 0), [2.5, 11.0], None).unwrap();
-    let (a, b): (Vec<&str>, Vec<&str>) = (text.lines().collect(), moved.lines().collect());
-    let changed: Vec<&&str> = b
-        .iter()
-        .zip(&a)
-        .filter(|(x, y)| x != y)
-        .map(|(x, _)| x)
-        .collect();
     assert_eq!(
-        changed,
-        [&"marks = [ { x = 11.0, y = 2.5, sigma = 0.5 } ]     # a yaw mark the CG passed"]
+        changed_lines(&moved, &text),
+        ["marks = [ { x = 11.0, y = 2.5, sigma = 0.5 } ]     # a yaw mark the CG passed"]
     );
     let e = pim_serve::move_mark("reconstruction_us.toml", &text, (1, 3), [0.0, 0.0], None)
         .unwrap_err()
@@ -281,14 +266,8 @@ fn sets_a_skid() {
     assert_eq!(a.plan.vehicles[0].skid, Some(42.0));
     assert_eq!(a.plan.vehicles[1].skid, None);
     let set = pim_serve::set_skid(file, &text, (1, 30.004), None).unwrap();
-    let changed: Vec<&str> = set
-        .lines()
-        .zip(text.lines())
-        .filter(|(x, y)| x != y)
-        .map(|(x, _)| x)
-        .collect();
     assert_eq!(
-        changed,
+        changed_lines(&set, &text),
         ["skid = 30.0                         # ft of locked-wheel skid up to the impact"]
     );
     let (b, _) = pim_serve::answer_following(file, &set, outcome.as_ref()).unwrap();

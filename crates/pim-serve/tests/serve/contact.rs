@@ -2,13 +2,8 @@
 //! the crush surface's normal written back in the file's own form, unit and frame; the plan of
 //! the edited text puts each where the page asked, and nothing else of the file changes.
 
+use crate::example;
 use pim_serve::{answer_following, edit_contact, ContactChange, Plan};
-use std::path::Path;
-
-fn example(name: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases");
-    std::fs::read_to_string(root.join(name)).unwrap()
-}
 
 /// The lines that differ (same count of lines required).
 fn changed(a: &str, b: &str) -> Vec<String> {

@@ -2,13 +2,8 @@
 //! and arrays of them flattened by key and index), the comment after a value as its help; a
 //! field set from the page changes its value and nothing else.
 
+use crate::{changed_lines, example};
 use pim_serve::{form, set_field, FieldValue};
-use std::path::Path;
-
-fn example(name: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases");
-    std::fs::read_to_string(root.join(name)).unwrap()
-}
 
 #[test]
 fn every_section_and_value_of_the_example_is_a_field() {
@@ -56,10 +51,9 @@ fn every_section_and_value_of_the_example_is_a_field() {
 fn a_field_set_changes_its_value_only() {
     let text = example("reconstruction_us.toml");
     let changed = |new: &str| -> Vec<String> {
-        new.lines()
-            .zip(text.lines())
-            .filter(|(a, b)| a != b)
-            .map(|(a, _)| a.to_string())
+        changed_lines(new, &text)
+            .into_iter()
+            .map(str::to_string)
             .collect()
     };
     let t = set_field(
@@ -142,14 +136,8 @@ fn the_priors_of_the_pose_at_contact_are_a_form() {
         &FieldValue::Typed("0.3".into()),
     )
     .unwrap();
-    let changed: Vec<&str> = t
-        .lines()
-        .zip(text.lines())
-        .filter(|(a, b)| a != b)
-        .map(|(a, _)| a)
-        .collect();
     assert_eq!(
-        changed,
+        changed_lines(&t, &text),
         ["vehicle2 = { heading = 3.0, impact_point = { x = 0.3 } }   # along its side, from the crush"]
     );
     let prior = |text: &str| {

@@ -2,6 +2,7 @@
 //! over a file changed on disk refused, two clients on one file, only regular files opened,
 //! the headers of every answer, and studies that never hold up a live answer.
 
+use crate::example;
 use axum::body::Body;
 use axum::http::{header, Request, StatusCode};
 use http_body_util::BodyExt;
@@ -12,11 +13,6 @@ use tower::ServiceExt;
 
 const TOKEN: &str = "0123456789abcdef0123456789abcdef";
 const CASE: &str = "reconstruction_us.toml";
-
-fn example(name: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cases");
-    std::fs::read_to_string(root.join(name)).unwrap()
-}
 
 /// A folder with the example case, and the server's app on it.
 fn served() -> (tempfile::TempDir, axum::Router) {

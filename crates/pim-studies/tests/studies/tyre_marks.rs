@@ -32,14 +32,19 @@ fn reconstructed(file: &str, text: &str) -> pim_studies::reconstruct::Reconstruc
     .unwrap()
 }
 
+/// Vehicle 2's (the SUV's) scene in the answer.
+fn suv_scene(done: &pim_studies::reconstruct::Reconstructed) -> &pim_reconstruct::SceneFit {
+    let best = done.outcome.best.as_ref().expect("an answer");
+    best.scene
+        .iter()
+        .find(|s| s.vehicle == VehicleId::Two)
+        .unwrap()
+}
+
 /// Vehicle 2's mark 1 residual in sigmas, the chi-square and both speeds at contact (m/s).
 fn summary(done: &pim_studies::reconstruct::Reconstructed) -> (f64, f64, [f64; 2]) {
     let best = done.outcome.best.as_ref().expect("an answer");
-    let scene = best
-        .scene
-        .iter()
-        .find(|s| s.vehicle == VehicleId::Two)
-        .unwrap();
+    let scene = suv_scene(done);
     let mark = scene.residuals.iter().find(|r| r.name == "mark 1").unwrap();
     (
         mark.value / mark.sigma,
@@ -153,13 +158,8 @@ fn a_rest_given_by_tyre_points_is_met_as_measured() {
         )
     };
     let measured = reconstructed(&file, &tyres(0.0));
-    let b = measured.outcome.best.as_ref().unwrap();
     let (_, chi, speeds) = summary(&measured);
-    let scene = b
-        .scene
-        .iter()
-        .find(|s| s.vehicle == VehicleId::Two)
-        .unwrap();
+    let scene = suv_scene(&measured);
     let names: Vec<&str> = scene.residuals.iter().map(|r| r.name.as_str()).collect();
     println!(
         "tyres: chi-square {chi:.3} (was {chi0:.3}), speeds {speeds:?} (were {speeds0:?}); {:?}",
@@ -304,13 +304,8 @@ fn a_rest_given_by_outline_corners_is_met_as_measured() {
         ),
     );
     let measured = reconstructed(&file, &corners);
-    let b = measured.outcome.best.as_ref().unwrap();
     let (_, chi, speeds) = summary(&measured);
-    let scene = b
-        .scene
-        .iter()
-        .find(|s| s.vehicle == VehicleId::Two)
-        .unwrap();
+    let scene = suv_scene(&measured);
     println!("corners: chi-square {chi:.3} (was {chi0:.3}), speeds {speeds:?} (were {speeds0:?})");
     for r in &scene.residuals[..3] {
         assert!((r.value / r.sigma).abs() < 0.1, "{r:?}");
