@@ -244,8 +244,11 @@ fn left_out_row(
     if prior {
         // A prior of the pose left out: the pose fitted again from the whole answer, the
         // value still fitted, the prior's datum gone.
-        let (input, outcome, fitted) =
-            crate::reconstruct_pose::refit_without_prior(case, &how, pose)?;
+        let (input, outcome, fitted) = crate::reconstruct_pose::refit_without_prior(
+            case,
+            &how,
+            (pose, &whole.input.settings),
+        )?;
         let mut d = crate::reconstruct::document(&input, &outcome);
         crate::reconstruct_pose::with_pose(&mut d, fitted);
         return Ok(d);

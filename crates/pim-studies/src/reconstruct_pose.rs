@@ -81,7 +81,8 @@ pub(crate) fn fit_contact_pose(
     settled(case, how, second_search, &input.settings, first)
 }
 
-/// The reconstruction of `case`, whose whole answer's pose fit is `whole`, with the prior of
+/// The reconstruction of `case`, whose whole answer's pose fit is `whole` (searched with
+/// `settings`, which a prior left out does not change), with the prior of
 /// one of its pose's values left out (`case` as [`Case::without_contact_prior`] gives it):
 /// the pose fitted again from the whole answer (its pose, its answer there and its Jacobian).
 /// Leaving a prior out can only lower the minimum, and the fit descends from the whole
@@ -92,16 +93,15 @@ pub(crate) fn fit_contact_pose(
 pub(crate) fn refit_without_prior(
     case: &Case,
     how: &How,
-    whole: &PoseFit,
+    (whole, settings): (&PoseFit, &pim_reconstruct::Settings),
 ) -> Result<(CaseReconstruction, Outcome, FittedPose), DocumentError> {
-    let input = case_reconstruction(case, how.model, how.moment_form, how.branches.clone())?;
     let first = PoseStart {
         offsets: &whole.offsets,
         found: &whole.found,
         jacobian: Some(&whole.jacobian),
         hold: false,
     };
-    settled(case, how, false, &input.settings, first)
+    settled(case, how, false, settings, first)
 }
 
 /// The pose of `case` fitted from `first`, then searched again at the fitted pose (and fitted
