@@ -220,7 +220,7 @@ fn temporaries(f: &str) -> Vec<String> {
         .collect()
 }
 
-/// `pim set` killed (SIGKILL) at every moment of its run, 40 times: the file is always the
+/// `pim set` killed (SIGKILL) at every moment of its run, 40 times from 0.25 ms to 370 ms: the file is always the
 /// old version or the new one, whole.
 #[test]
 fn a_set_killed_at_any_moment_leaves_the_old_file_or_the_new() {
@@ -243,8 +243,10 @@ fn a_set_killed_at_any_moment_leaves_the_old_file_or_the_new() {
             .stderr(std::process::Stdio::null())
             .spawn()
             .unwrap();
-        // Killed from at once to after its usual end, in 0.25 ms steps.
-        std::thread::sleep(std::time::Duration::from_micros(250 * u64::from(i)));
+        // Killed from at once (0.25 ms) to well after its usual end (about 370 ms), in steps
+        // growing by a fifth, so that a machine slowed by other work still sees both ends.
+        let wait = 250.0 * 1.2f64.powi(i32::try_from(i).unwrap());
+        std::thread::sleep(std::time::Duration::from_micros(wait as u64));
         let _ = child.kill();
         let _ = child.wait();
         let after = std::fs::read_to_string(&f).unwrap();
