@@ -5,9 +5,10 @@ use crate::error::Result;
 use crate::outcome::{Found, Outcome, Tried, TriedCounts};
 use crate::point::{linearised, stated_frictions, Lin};
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::{refine, FarFirst, Work};
+use crate::refine::refine_start;
 use crate::search::{answered, searched};
 use crate::stages::unsaid;
+use crate::work::Work;
 use pim_core::VehicleId;
 
 /// One vehicle's separation state in an earlier answer: the start [`reconstruct_from`] refines
@@ -86,13 +87,7 @@ fn from_states(
     // The scenes' cost at the earlier states (a start of the search's kind).
     let scene_alone = start.iter().map(|l| l.lin.cost).sum();
     let work = Work::new(settings.refine_work);
-    let refined = refine(
-        r,
-        settings,
-        start,
-        (f64::INFINITY, FarFirst::RefineOn),
-        &work,
-    );
+    let refined = refine_start(r, settings, start, &work);
     out.work += work.spent();
     let Ok(x) = refined else { return };
     out.fits += x.fits;

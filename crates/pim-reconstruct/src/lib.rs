@@ -37,8 +37,18 @@
 //!    the momentum balance alone (linear momentum and the angular momentum
 //!    about the impact centre, which every impulse at C conserves whatever the coefficients:
 //!    one linear solve, a lower bound of the linearised impact fit).
-//! 3. **Refinement** of the combinations in the order of those bounds (Gauss-Newton over the
-//!    separation state, with the exact impact fit inside at every step): the scenes'
+//! 3. **First points, then refinement.** Each combination, from the lowest bound, first gets
+//!    its first point: the impact fitted to its scenes linearised at their starts, the
+//!    run-outs simulated from the separation states it gives (a chi-square evaluated, not
+//!    predicted: an upper bound of the best). These probes spend at most half the budget of
+//!    work left. The combinations are then refined from their first points: the lowest bound
+//!    first (where the linearisations hold, the relaxation's order is right), then in the order
+//!    of their first points' chi-squares (where they do not hold, the bound says nothing and an
+//!    evaluated cost is the only evidence; a crash of two long rolling run-outs was refused at
+//!    199 with the true combination, the seventh-lowest bound, left unrefined after the six
+//!    before it spent the budget; its first point was the third lowest, and it answers at
+//!    0.83). Refinement is Gauss-Newton over the
+//!    separation state, with the exact impact fit inside at every step: the scenes'
 //!    linearised rows join the impact fit as linear evidence ([`pim_fit::Combination`]), the
 //!    fit is solved exactly and globally (its certificate), the scenes are relinearised at its
 //!    separation state, and so on; a step that does not lower the true chi-square (the
@@ -154,6 +164,7 @@ mod refine;
 mod relax;
 mod search;
 mod stages;
+mod work;
 
 pub use error::{ReconstructError, Result};
 pub use from::{reconstruct_from, EarlierState};

@@ -6,7 +6,8 @@ use crate::error::{ReconstructError, Result};
 use crate::outcome::Found;
 use crate::point::{linearised, velocity_of, Lin};
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::{refine, FarFirst, Work};
+use crate::refine::refine_start;
+use crate::work::Work;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -105,14 +106,7 @@ pub fn refit(r: &Reconstruction, settings: &Settings, from: &Found) -> Result<Fo
         })
         .collect::<Result<_>>()?;
     let work = Work::new(settings.refine_work);
-    let x = refine(
-        r,
-        settings,
-        start,
-        (f64::INFINITY, FarFirst::RefineOn),
-        &work,
-    )
-    .map_err(|reason| ReconstructError::Input {
+    let x = refine_start(r, settings, start, &work).map_err(|reason| ReconstructError::Input {
         field: "pose",
         reason,
     })?;

@@ -4,63 +4,13 @@
 use crate::point::{differentiated, linearised, velocity_of, Lin, Point};
 use crate::problem::FRICTION_RANGE;
 use crate::problem::{Reconstruction, Settings};
+use crate::work::Work;
 use nalgebra::{DMatrix, DVector};
 use pim_fit::{
     fit, state_vector, Combination, FitProblem, MomentBranch, Solution, Status as FitStatus,
     Vector12,
 };
 use rayon::prelude::*;
-
-/// The work of the refinements, in run-out right-hand side evaluations and their equivalents
-/// for the impact fits: counted, never timed, so that a budget ends the same refinements on
-/// every machine ([`Settings::refine_work`]).
-pub(crate) struct Work {
-    spent: std::sync::atomic::AtomicU64,
-    limit: u64,
-}
-
-impl Work {
-    pub(crate) fn new(limit: u64) -> Self {
-        Work {
-            spent: std::sync::atomic::AtomicU64::new(0),
-            limit,
-        }
-    }
-
-    pub(crate) fn add(&self, n: u64) {
-        self.spent
-            .fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-    }
-
-    /// Charges a linearisation's run-outs (a failed one by the evaluations it spent).
-    pub(crate) fn charge(&self, l: crate::Result<Lin>) -> crate::Result<Lin> {
-        self.add(match &l {
-            Ok(l) => l.lin.evaluations,
-            Err(crate::ReconstructError::Runout(pim_runout::RunoutError::Integration {
-                evaluations,
-                ..
-            })) => *evaluations,
-            Err(_) => 1,
-        });
-        l
-    }
-
-    pub(crate) fn spent(&self) -> u64 {
-        self.spent.load(std::sync::atomic::Ordering::Relaxed)
-    }
-
-    pub(crate) fn exhausted(&self) -> bool {
-        self.spent() > self.limit
-    }
-
-    /// A share of what is left for one refinement: at most a third of the whole budget, so
-    /// that one combination crawling along a curved valley (or refined far from its scenes)
-    /// leaves the others their turn; the refinement's spending is added back with
-    /// [`Work::add`].
-    pub(crate) fn share(&self) -> Work {
-        Work::new((self.limit / 3).min(self.limit.saturating_sub(self.spent())))
-    }
-}
 
 /// An impact fit's work in run-out evaluations (a run-out's right-hand side: 0.7 us): each
 /// branch on the convex route [`CONVEX_FIT_EVALUATIONS`], on the grid route one per operation
@@ -404,9 +354,61 @@ fn evaluate(
     })
 }
 
+/// A combination's first point: the impact fitted to the scenes linearised at its start, its
+/// run-outs simulated (their true cost), and what the linearisation predicted there. Probed
+/// before any is refined, so that the refinements go in the order of costs that were
+/// evaluated, not of bounds that were only linearised.
+pub(crate) struct Probe {
+    pub(crate) point: Point,
+    /// The linearised problem's chi-square at the fit.
+    pub(crate) predicted: f64,
+    /// The scenes linearised at the start (those the first fit was made on).
+    lins: Vec<Lin>,
+}
+
+impl Probe {
+    /// Whether the first point lies more than the margin above what its linearisation
+    /// predicted: the scenes' candidates are then far from the separation state the impact
+    /// gives, and the linearisation (its bound included) says nothing of the combination.
+    pub(crate) fn far(&self, settings: &Settings) -> bool {
+        self.point.total > self.predicted + settings.refine_margin
+    }
+}
+
+/// The first point of the combination whose scenes are linearised at `start`, or why it has
+/// none.
+pub(crate) fn probe(
+    r: &Reconstruction,
+    settings: &Settings,
+    start: Vec<Lin>,
+    work: &Work,
+) -> std::result::Result<Probe, String> {
+    let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
+    let fitted = fit_once(r, settings, &start, None, None, work)?;
+    let predicted = fitted.predicted;
+    let point = evaluate(r, settings, &counts, fitted, work)
+        .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())?;
+    Ok(Probe {
+        point,
+        predicted,
+        lins: start,
+    })
+}
+
+/// A combination refined from its scenes linearised at `start`, to the end (nothing to beat),
+/// or why its first point has no impact.
+pub(crate) fn refine_start(
+    r: &Reconstruction,
+    settings: &Settings,
+    start: Vec<Lin>,
+    work: &Work,
+) -> std::result::Result<Refined, String> {
+    let first = probe(r, settings, start, work)?;
+    Ok(refine(r, settings, first, f64::INFINITY, work))
+}
+
 /// What a refinement does with a first point far (more than the margin) above what its
-/// linearisation predicted: the scenes' candidates are then far from the separation state the
-/// impact gives, and the linearisation that chose the point says nothing of the combination.
+/// linearisation predicted ([`Probe::far`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum FarFirst {
     /// Refined on from where the impact put it (a restart from the impact's side).
@@ -418,34 +420,61 @@ pub(crate) enum FarFirst {
     SetAside,
 }
 
-/// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,
-/// from the scene linearised at `start`; a first point far from its linearisation is treated
-/// as `far` says, against `best_so_far`.
-pub(crate) fn refine(
+/// A combination refined on from its first point, or that point alone, abandoned, where it is
+/// far from its linearisation and `far` sets it aside against `best_so_far`.
+pub(crate) fn refine_probe(
     r: &Reconstruction,
     settings: &Settings,
-    start: Vec<Lin>,
+    first: Probe,
     (best_so_far, far): (f64, FarFirst),
     work: &Work,
-) -> std::result::Result<Refined, String> {
-    let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
-    let mut lins = start;
-    // `lins` are those of the point before the one accepted last (which has none yet).
-    let mut stale = false;
-    let mut current: Option<Point> = None;
+) -> Refined {
+    let set_aside = match far {
+        FarFirst::RefineOn => false,
+        FarFirst::AboveBest => first.point.total > best_so_far + settings.refine_margin,
+        FarFirst::SetAside => true,
+    };
+    if set_aside && first.far(settings) {
+        return Refined {
+            point: first.point,
+            iterations: 1,
+            converged: false,
+            abandoned: true,
+            fits: 1,
+        };
+    }
+    refine(r, settings, first, best_so_far, work)
+}
+
+/// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,
+/// on from its first point, abandoned where it stays far above `best_so_far`.
+fn refine(
+    r: &Reconstruction,
+    settings: &Settings,
+    first: Probe,
+    best_so_far: f64,
+    work: &Work,
+) -> Refined {
+    let Probe { point, lins, .. } = first;
+    let counts: Vec<i64> = lins.iter().map(|l| l.turns).collect();
+    let mut lins = lins;
+    // `lins` are those of the point before the one accepted last (linearised again at the
+    // accepted one before the next step).
+    let mut stale = true;
+    let mut current = point;
     let mut lambda = 0.0;
-    let mut fits = 0;
-    let mut iterations = 0;
+    let mut fits = 1;
+    let mut iterations = 1;
     let mut converged = false;
     let mut abandoned = false;
     while iterations < settings.max_iterations {
-        if current.is_some() && work.exhausted() {
+        if work.exhausted() {
             break;
         }
         // Relinearised at the point accepted last: its run-outs with their derivatives (the
         // run-outs not simulated again).
         if stale {
-            let c = current.as_ref().expect("a point was accepted");
+            let c = &current;
             let next: std::result::Result<Vec<Lin>, String> = c
                 .scene
                 .par_iter()
@@ -457,55 +486,37 @@ pub(crate) fn refine(
                     Ok(d)
                 })
                 .collect();
-            lins = next?;
+            match next {
+                Ok(next) => lins = next,
+                // The point accepted last cannot be differentiated: the refinement ends there.
+                Err(_) => break,
+            }
             stale = false;
         }
         iterations += 1;
-        let damping = (current.is_some() && lambda > 0.0).then_some((lambda, lins.as_slice()));
+        let damping = (lambda > 0.0).then_some((lambda, lins.as_slice()));
         fits += 1;
-        let at = current
-            .as_ref()
-            .map(|c| state_vector(&c.solution.initial, &c.solution.separation));
-        let fitted = fit_once(r, settings, &lins, damping, at.as_ref(), work);
+        let at = state_vector(&current.solution.initial, &current.solution.separation);
+        let fitted = fit_once(r, settings, &lins, damping, Some(&at), work);
         let predicted = fitted.as_ref().map_or(f64::NAN, |f| f.predicted);
         let trial = fitted.and_then(|f| {
             evaluate(r, settings, &counts, f, work)
                 .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
         });
-        let accepted = match (&trial, &current) {
-            (Ok(p), Some(c)) => p.total < c.total,
-            (Ok(_), None) => true,
-            (Err(e), None) => return Err(e.clone()),
-            (Err(_), Some(_)) => false,
-        };
+        let accepted = trial.as_ref().is_ok_and(|p| p.total < current.total);
         if accepted {
             let p = trial.expect("accepted");
-            // The first point far from what its linearisation predicted (see FarFirst).
-            let margin = settings.refine_margin;
-            let set_aside = match far {
-                FarFirst::RefineOn => false,
-                FarFirst::AboveBest => p.total > best_so_far + margin,
-                FarFirst::SetAside => true,
-            };
-            if set_aside && iterations == 1 && p.total > predicted + margin {
-                current = Some(p);
-                abandoned = true;
-                break;
-            }
-            let gain = current
-                .as_ref()
-                .map_or(f64::INFINITY, |c| c.total - p.total);
-            let step = current.as_ref().map_or(f64::INFINITY, |c| {
-                p.scene
-                    .iter()
-                    .zip(&c.scene)
-                    .map(|(a, b)| {
-                        (0..3)
-                            .map(|k| (a.at[k] - b.at[k]).abs())
-                            .fold(0.0, f64::max)
-                    })
-                    .fold(0.0, f64::max)
-            });
+            let gain = current.total - p.total;
+            let step = p
+                .scene
+                .iter()
+                .zip(&current.scene)
+                .map(|(a, b)| {
+                    (0..3)
+                        .map(|k| (a.at[k] - b.at[k]).abs())
+                        .fold(0.0, f64::max)
+                })
+                .fold(0.0, f64::max);
             // Linearised at the accepted point (its derivatives added when the refinement goes
             // on from it).
             stale = true;
@@ -523,7 +534,7 @@ pub(crate) fn refine(
                     1.0 / 3.0
                 };
             }
-            current = Some(p);
+            current = p;
             // A chi-square change of 1e-6 is far below any statistical meaning and near the
             // precision of the run-outs' forward differences.
             if gain < GAIN * (1.0 + total) || step < 1e-9 {
@@ -541,7 +552,7 @@ pub(crate) fn refine(
             // datum (residuals of three standard deviations on average; the evidence is then
             // refused whatever its last digits), the refinement stops here, not converged,
             // instead of crawling on through long run-outs.
-            let data = r.contact_data() + scene_data(current.as_ref());
+            let data = r.contact_data() + scene_data(Some(&current));
             let left = settings.max_iterations.saturating_sub(iterations) as i32;
             let projected = total * (1.0 - (gain / total).min(1.0)).powi(left);
             if iterations >= 4 && projected > 10.0 * data.max(1) as f64 {
@@ -550,18 +561,15 @@ pub(crate) fn refine(
         } else {
             // A trial no worse than the current point by more than the convergence tolerance:
             // the step is lost in the run-outs' precision, and so is anything left to gain.
-            if let (Ok(p), Some(c)) = (&trial, &current) {
-                if p.total - c.total < GAIN * (1.0 + c.total) {
+            if let Ok(p) = &trial {
+                if p.total - current.total < GAIN * (1.0 + current.total) {
                     converged = true;
                     break;
                 }
             }
             // Far above the best found, and the linearisation's step fails there: the
             // combination's scenes are not near what its linearised bound assumed.
-            if current
-                .as_ref()
-                .is_some_and(|c| c.total > best_so_far + settings.refine_margin)
-            {
+            if current.total > best_so_far + settings.refine_margin {
                 abandoned = true;
                 break;
             }
@@ -573,14 +581,13 @@ pub(crate) fn refine(
             }
         }
     }
-    let point = current.expect("the first fit is accepted or returned");
-    Ok(Refined {
-        point,
+    Refined {
+        point: current,
         iterations,
         converged,
         abandoned,
         fits,
-    })
+    }
 }
 
 /// A refinement has converged when a step gains less than this times (1 + its chi-square):

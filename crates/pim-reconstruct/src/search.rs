@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::outcome::{Contradiction, Found, Outcome, Status, Tried, TriedCounts};
 use crate::point::{linearised, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::{assemble, refine, FarFirst, RefineEnd, Refined};
+use crate::refine::{assemble, probe, refine_probe, FarFirst, Probe, RefineEnd, Refined};
 use pim_runout::{Estimate, EstimateSettings};
 use rayon::prelude::*;
 
@@ -139,7 +139,7 @@ impl Gate {
     fn not_refined(
         &self,
         settings: &Settings,
-        work: &crate::refine::Work,
+        work: &crate::work::Work,
         (bound, scene_bound): (f64, f64),
     ) -> Option<String> {
         if scene_bound >= self.lowest_best {
@@ -182,7 +182,7 @@ pub(crate) fn search(
     r: &Reconstruction,
     settings: &Settings,
     scatter: bool,
-    work: &crate::refine::Work,
+    work: &crate::work::Work,
 ) -> Result<Outcome> {
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
@@ -231,38 +231,46 @@ pub(crate) fn search(
         })
         .collect();
     let mut fits = 0;
+    let bound_of = |i: usize| *first[i].1.as_ref().expect("filtered");
     let mut order: Vec<usize> = (0..first.len()).filter(|&i| first[i].1.is_ok()).collect();
-    order.sort_by(|&a, &b| {
-        let cost = |i: usize| *first[i].1.as_ref().expect("filtered");
-        cost(a).total_cmp(&cost(b))
-    });
-    // 2. Refined from the lowest bound, one at a time (each knows the best found before it),
-    //    while they could still beat the best.
-    let mut best: Option<(usize, Point, usize, bool)> = None;
-    let mut ends: Vec<Option<Vec<[f64; 3]>>> = vec![None; first.len()];
-    let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
-    let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
-    let mut count = 0;
-    for &i in &order {
-        let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
-        let bound = *first[i].1.as_ref().expect("filtered");
-        let scene_bound: f64 = first[i]
+    order.sort_by(|&a, &b| bound_of(a).total_cmp(&bound_of(b)));
+    let scene_bound_of = |i: usize| -> f64 {
+        first[i]
             .0
             .iter()
             .enumerate()
             .map(|(v, &k)| starts[v][k].cost)
-            .sum();
-        let fitting = |b: &(usize, Point, usize, bool)| {
-            b.1.total <= (r.contact_data() + crate::refine::scene_data(Some(&b.1))) as f64
-        };
+            .sum()
+    };
+    let fitting = |p: &Point| fits_its_data(r, p);
+    let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
+    let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
+    // 2. Each combination's first point (the impact fitted to its scenes linearised at their
+    //    starts, the run-outs simulated), from the lowest bound, while the bound could still
+    //    beat the lowest first point (a cost evaluated: an upper bound of the best) and within
+    //    half the budget left.
+    let mut probes: Vec<Option<Probe>> = (0..first.len()).map(|_| None).collect();
+    let probe_limit = work.spent() + work.left() / 2;
+    // The lowest first point's chi-square, and whether it fits.
+    let mut lowest: (f64, bool) = (f64::INFINITY, false);
+    for &i in &order {
         let gate = Gate {
             scatter,
-            lowest_best,
-            best_fits: best.as_ref().is_some_and(fitting),
-            refined: count,
+            lowest_best: lowest.0,
+            best_fits: lowest.1,
+            refined: 0,
         };
-        if let Some(why) = gate.not_refined(settings, work, (bound, scene_bound)) {
+        if let Some(why) = gate.not_refined(settings, work, (bound_of(i), scene_bound_of(i))) {
             skipped_reason[i] = Some(why);
+            continue;
+        }
+        if work.spent() > probe_limit {
+            skipped_reason[i] = Some(format!(
+                "not refined: the first points of the combinations with lower bounds spent \
+                 half the budget of work left ({} run-out evaluations or their equivalent; \
+                 Settings::refine_work)",
+                settings.refine_work
+            ));
             continue;
         }
         let start: Vec<Lin> = first[i]
@@ -271,6 +279,53 @@ pub(crate) fn search(
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
+        match probe(r, settings, start, work) {
+            Ok(p) => {
+                fits += 1;
+                runouts += p.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>();
+                if p.point.total < lowest.0 {
+                    lowest = (p.point.total, fitting(&p.point));
+                }
+                probes[i] = Some(p);
+            }
+            Err(e) => refined[i] = Some(Err(e)),
+        }
+    }
+    // 3. Refined from the lowest first point, one at a time (each knows the best found before
+    //    it), while they could still beat the best.
+    let mut by_probe: Vec<usize> = (0..first.len()).filter(|&i| probes[i].is_some()).collect();
+    by_probe.sort_by(|&a, &b| {
+        let cost = |i: usize| probes[i].as_ref().map_or(f64::INFINITY, |p| p.point.total);
+        cost(a).total_cmp(&cost(b))
+    });
+    if let Some(&lowest_bound) = order.iter().find(|&&i| probes[i].is_some()) {
+        by_probe.retain(|&i| i != lowest_bound);
+        by_probe.insert(0, lowest_bound);
+    }
+    let mut best: Option<(usize, Point, usize, bool)> = None;
+    let mut ends: Vec<Option<Vec<[f64; 3]>>> = vec![None; first.len()];
+    let mut count = 0;
+    for i in by_probe {
+        let p = probes[i].take().expect("probed");
+        let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
+        let bound = bound_of(i);
+        let gate = Gate {
+            scatter,
+            lowest_best,
+            best_fits: best.as_ref().is_some_and(|b| fitting(&b.1)),
+            refined: count,
+        };
+        // The lowest first point is refined whatever the budget left (at least its first
+        // point is then the search's answer).
+        if best.is_some() {
+            if let Some(why) = gate.not_refined(settings, work, (bound, scene_bound_of(i))) {
+                skipped_reason[i] = Some(format!(
+                    "{why} (its first point's chi-square: {:.3})",
+                    p.point.total
+                ));
+                continue;
+            }
+        }
         // A first point far from its linearisation: refined on (restarted from the impact's
         // side) while nothing is found, so that every search has an answer; then, in the first
         // search (a quick look, followed by the second where its answer does not fit) set
@@ -280,33 +335,27 @@ pub(crate) fn search(
             FarFirst::RefineOn
         } else if !scatter {
             FarFirst::SetAside
-        } else if best.as_ref().is_some_and(fitting) {
+        } else if best.as_ref().is_some_and(|b| fitting(&b.1)) {
             FarFirst::AboveBest
         } else {
             FarFirst::RefineOn
         };
         let share = work.share();
-        let refined_here = refine(r, settings, start, (lowest_best, far), &share);
+        let x = refine_probe(r, settings, p, (lowest_best, far), &share);
         work.add(share.spent());
-        match refined_here {
-            Ok(x) => {
-                // Only a refinement whose bound held (it ended within the margin of it) counts
-                // towards the cap: where the linearisation that ordered the combinations does
-                // not hold (short, slow, spinning run-outs), the order says nothing of the
-                // combinations after it, and they are refined too (within the budget of work).
-                if x.point.total <= bound + settings.refine_margin {
-                    count += 1;
-                }
-                fits += x.fits;
-                runouts +=
-                    x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
-                refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
-                ends[i] = Some(x.point.scene.iter().map(|l| l.at).collect());
-                if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
-                    best = Some((i, x.point, x.iterations, x.converged));
-                }
-            }
-            Err(e) => refined[i] = Some(Err(e)),
+        // Only a refinement whose bound held (it ended within the margin of it) counts towards
+        // the cap: where the linearisation that ordered the combinations does not hold (short,
+        // slow, spinning run-outs), the order says nothing of the combinations after it, and
+        // they are refined too (within the budget of work).
+        if x.point.total <= bound + settings.refine_margin {
+            count += 1;
+        }
+        fits += x.fits - 1;
+        runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * (x.iterations - 1);
+        refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
+        ends[i] = Some(x.point.scene.iter().map(|l| l.at).collect());
+        if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
+            best = Some((i, x.point, x.iterations, x.converged));
         }
     }
     let all: Vec<TriedCounts> = first
@@ -341,7 +390,47 @@ pub(crate) fn search(
         })
         .collect();
     let tried = one_per_counts(all);
-    let Some((_, point, iterations, converged)) = best else {
+    let counted = Counted {
+        runouts,
+        fits,
+        work: work.spent(),
+    };
+    Ok(outcome_of(
+        r,
+        best.map(|(_, p, i, c)| (p, i, c)),
+        (tried, estimates),
+        counted,
+        scatter,
+    ))
+}
+
+/// Whether `p` fits: a chi-square no larger than its count of data.
+fn fits_its_data(r: &Reconstruction, p: &Point) -> bool {
+    p.total <= (r.contact_data() + crate::refine::scene_data(Some(p))) as f64
+}
+
+/// What a search counted: run-outs, impact fits and work.
+struct Counted {
+    runouts: usize,
+    fits: usize,
+    work: u64,
+}
+
+/// A search's outcome from its best point (with its iterations and convergence), what it
+/// tried and the scenes' estimates.
+fn outcome_of(
+    r: &Reconstruction,
+    best: Option<(Point, usize, bool)>,
+    (tried, estimates): (Vec<TriedCounts>, Vec<Estimate>),
+    counted: Counted,
+    scatter: bool,
+) -> Outcome {
+    let Counted {
+        runouts,
+        fits,
+        work,
+    } = counted;
+    let Some((point, iterations, converged)) = best else {
         let reason = tried
             .iter()
             .find_map(|t| match &t.state {
@@ -349,7 +438,7 @@ pub(crate) fn search(
                 _ => None,
             })
             .unwrap_or_else(|| "no combination of counts of turns was searched".into());
-        return Ok(Outcome {
+        return Outcome {
             status: Status::NoSolution,
             reason: Some(format!(
                 "none found: no impact fit from the scenes' own separation states was \
@@ -363,10 +452,10 @@ pub(crate) fn search(
             estimates,
             runouts,
             fits,
-            work: work.spent(),
-            first_work: work.spent(),
+            work,
+            first_work: work,
             scattered: scatter,
-        });
+        };
     };
     let found = Found::new(r, point, iterations, converged);
     let contradiction = crate::outcome::contradiction(r, &found);
@@ -375,7 +464,7 @@ pub(crate) fn search(
     } else {
         Status::Found
     };
-    Ok(Outcome {
+    Outcome {
         status,
         reason: contradiction
             .as_ref()
@@ -386,10 +475,10 @@ pub(crate) fn search(
         estimates,
         runouts,
         fits,
-        work: work.spent(),
-        first_work: work.spent(),
+        work,
+        first_work: work,
         scattered: scatter,
-    })
+    }
 }
 
 /// The reconstruction again with changed evidence or inputs (one draw of an uncertainty
@@ -410,7 +499,7 @@ pub fn redo(
         return Ok(None);
     };
     let mut found: Option<Refined> = None;
-    let work = crate::refine::Work::new(settings.refine_work);
+    let work = crate::work::Work::new(settings.refine_work);
     for t in &nominal.tried {
         let (Tried::Refined { cost, .. }, Some(end)) = (&t.state, &t.end) else {
             continue;
@@ -435,10 +524,12 @@ pub fn redo(
             .collect();
         let Ok(start) = start else { continue };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        if let Ok(x) = refine(r, settings, start, (lowest, FarFirst::AboveBest), &work) {
-            if x.point.total < lowest {
-                found = Some(x);
-            }
+        let Ok(first) = probe(r, settings, start, &work) else {
+            continue;
+        };
+        let x = refine_probe(r, settings, first, (lowest, FarFirst::AboveBest), &work);
+        if x.point.total < lowest {
+            found = Some(x);
         }
     }
     Ok(found.map(|x| Found::new(r, x.point, x.iterations, x.converged)))

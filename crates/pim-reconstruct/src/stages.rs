@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::outcome::{Found, Outcome, Status, Tried};
 use crate::point::{linearised, Lin};
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::{refine, FarFirst};
+use crate::refine::refine_start;
 use crate::search::{answered, refined_from, search, searched};
 
 /// Reconstructs the collision: see the crate docs.
@@ -24,7 +24,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     // that refines many combinations far from their scenes (each one's run-outs long and
     // slow) must not leave the second, from the scatter, nothing; where the first answer
     // fits, the second is not needed.
-    let work = crate::refine::Work::new(settings.refine_work / 2);
+    let work = crate::work::Work::new(settings.refine_work / 2);
     let first = search(r, settings, false, &work)?;
     let fits_well = first.best.as_ref().is_some_and(|b| {
         pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
@@ -39,7 +39,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     // run-outs are slow.
     let spent = work.spent();
     let limit = (spent + spent.max(settings.refine_work / 2)).min(settings.refine_work);
-    let work = crate::refine::Work::new(limit);
+    let work = crate::work::Work::new(limit);
     work.add(spent);
     let second = search(r, settings, true, &work)?;
     let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
@@ -122,7 +122,7 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
     others.sort_by(|a, b| a.0.total_cmp(&b.0));
     chosen.extend(others.iter().map(|o| o.1).take(CONTINUED - 1));
     // What the two searches left of the one budget of work.
-    let work = crate::refine::Work::new(settings.refine_work.saturating_sub(out.work));
+    let work = crate::work::Work::new(settings.refine_work.saturating_sub(out.work));
     let mut lowest: Option<(usize, crate::refine::Refined)> = None;
     for k in chosen {
         if work.exhausted() {
@@ -164,7 +164,7 @@ fn continued(
     settings: &Settings,
     counts: &[Option<i64>],
     end: Vec<[f64; 3]>,
-    work: &crate::refine::Work,
+    work: &crate::work::Work,
     fits: &mut usize,
 ) -> Option<crate::refine::Refined> {
     let mut at = end;
@@ -177,14 +177,7 @@ fn continued(
             .enumerate()
             .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
             .collect();
-        let x = refine(
-            &rk,
-            settings,
-            start.ok()?,
-            (f64::INFINITY, FarFirst::RefineOn),
-            work,
-        )
-        .ok()?;
+        let x = refine_start(&rk, settings, start.ok()?, work).ok()?;
         at = x.point.scene.iter().map(|l| l.at).collect();
         *fits += x.fits;
         if Found::new(&rk, x.point.clone(), x.iterations, x.converged).refused() {
