@@ -80,8 +80,9 @@
 //! 4. **A second search from a scatter** when the first answer's chi-square lies above its
 //!    median (p below [`SCATTER_BELOW_P`]) or the first search found none. The first search
 //!    takes the scenes' quick look ([`pim_runout::EstimateSettings::quick`]: each count from its
-//!    first guess and its neighbours' answers, polished to a chi-square gain of 1e-6); the second
-//!    searches each scene again from every start, with every count also explored from a scatter of separation states over the yaw
+//!    first guess and its neighbours' answers, polished to a chi-square gain of 1e-6, on run-outs
+//!    of tolerance 1e-6); the second searches each scene again, on run-outs of the full
+//!    precision ([`Settings::runout`]), from every start, with every count also explored from a scatter of separation states over the yaw
 //!    rates of road crashes (with a rest position, those whose run-outs end there, one per yaw
 //!    rate from -10 to 10 rad/s on several branches, every state of a branch whose rest
 //!    heading passes a count's heading a start of that count;

@@ -9,7 +9,7 @@ use crate::refine::{assemble, probe, refine_probe, FarFirst, Probe, RefineEnd, R
 use pim_runout::{Estimate, EstimateSettings};
 use rayon::prelude::*;
 
-/// Tolerance of the run-outs of the scene-alone candidates.
+/// Tolerance of the run-outs of the first search's scene-alone candidates.
 const CANDIDATE_TOLERANCE: f64 = 1e-6;
 
 /// The candidates of one scene vehicle from the run-out inverse.
@@ -26,14 +26,22 @@ fn candidates(
         friction_sigma: None,
         ..s.evidence.clone()
     };
-    // The candidates are starts of the refinement, which runs at full precision: they are
-    // searched on run-outs of tolerance CANDIDATE_TOLERANCE.
+    // The candidates are starts of the refinement, which runs at full precision: the first
+    // search's quick look searches them on run-outs of tolerance CANDIDATE_TOLERANCE; the
+    // second, thorough one at the run-outs' own precision. A long steered or rolling run-out's
+    // rest moves by tens of standard deviations per m/s, and its scene polished on run-outs of
+    // 1e-6 can miss an exact solution the same search finds at 1e-10 (a braked, steered
+    // vehicle's 68 m run-out: its true count's candidate at 10,130 against 0.20).
     let es = EstimateSettings {
         turns: settings.turns,
-        runout: pim_runout::Settings {
-            rtol: CANDIDATE_TOLERANCE.max(settings.runout.rtol),
-            atol: CANDIDATE_TOLERANCE.max(settings.runout.atol),
-            ..settings.runout
+        runout: if scatter {
+            settings.runout
+        } else {
+            pim_runout::Settings {
+                rtol: CANDIDATE_TOLERANCE.max(settings.runout.rtol),
+                atol: CANDIDATE_TOLERANCE.max(settings.runout.atol),
+                ..settings.runout
+            }
         },
         scatter,
         // The first search looks quickly; the second (where the first answer fits worse than

@@ -98,7 +98,7 @@ fn a_tenth_of_a_foot_changes_the_answer_a_little_over_two_feet() {
 }
 
 /// `pim fit --from`: the answer of the case moved 0.1 ft is refined on the case as it is, the
-/// search runs too, and the answer is the lower (here the same as without it); a document of
+/// search runs too, and the answer is the lower (here the same minimum as without it); a document of
 /// another kind or text that is not JSON is refused with the file named.
 #[test]
 fn fit_from_an_earlier_answer() {
@@ -127,8 +127,10 @@ fn fit_from_an_earlier_answer() {
     let fresh = b(&[]);
     let from = b(&["--from", earlier.to_str().unwrap()]);
     assert!((fresh - 31.667).abs() < 1e-3, "{fresh}");
+    // The same minimum, to the refinement's convergence (it stops where a step gains less than
+    // 1e-6 (1 + chi-square)): the two reach it along different paths.
     assert!(
-        (from - fresh).abs() <= 1e-9 * fresh,
+        (from - fresh).abs() <= 1e-6 * (1.0 + fresh),
         "{from} against {fresh}"
     );
 
