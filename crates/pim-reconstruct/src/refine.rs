@@ -44,8 +44,9 @@ fn fit_work(report: &pim_fit::FitReport) -> u64 {
 /// An impact fit on the convex route, in run-out evaluations.
 pub(crate) const CONVEX_FIT_EVALUATIONS: u64 = 150;
 
-pub(crate) fn scene_data(p: Option<&Point>) -> usize {
-    p.map_or(0, |c| c.scene.iter().map(|l| l.lin.weighted.len()).sum())
+/// The scenes' count of data at `p` (their residuals).
+pub(crate) fn scene_data(p: &Point) -> usize {
+    p.scene.iter().map(|l| l.lin.weighted.len()).sum()
 }
 
 /// The impact fit with each scene linearised (rows in chi-square units, weight 1 each) and,
@@ -552,7 +553,7 @@ fn refine(
             // datum (residuals of three standard deviations on average; the evidence is then
             // refused whatever its last digits), the refinement stops here, not converged,
             // instead of crawling on through long run-outs.
-            let data = r.contact_data() + scene_data(Some(&current));
+            let data = r.contact_data() + scene_data(&current);
             let left = settings.max_iterations.saturating_sub(iterations) as i32;
             let projected = total * (1.0 - (gain / total).min(1.0)).powi(left);
             if iterations >= 4 && projected > 10.0 * data.max(1) as f64 {

@@ -250,7 +250,6 @@ pub(crate) fn search(
             .map(|(v, &k)| starts[v][k].cost)
             .sum()
     };
-    let fitting = |p: &Point| fits_its_data(r, p);
     let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
     let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
     // 2. Each combination's first point (the impact fitted to its scenes linearised at their
@@ -292,7 +291,7 @@ pub(crate) fn search(
                 fits += 1;
                 runouts += p.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>();
                 if p.point.total < lowest.0 {
-                    lowest = (p.point.total, fitting(&p.point));
+                    lowest = (p.point.total, fits_its_data(r, &p.point));
                 }
                 probes[i] = Some(p);
             }
@@ -317,10 +316,11 @@ pub(crate) fn search(
         let p = probes[i].take().expect("probed");
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = bound_of(i);
+        let best_fits = best.as_ref().is_some_and(|b| fits_its_data(r, &b.1));
         let gate = Gate {
             scatter,
             lowest_best,
-            best_fits: best.as_ref().is_some_and(|b| fitting(&b.1)),
+            best_fits,
             refined: count,
         };
         // The lowest first point is refined whatever the budget left (at least its first
@@ -343,7 +343,7 @@ pub(crate) fn search(
             FarFirst::RefineOn
         } else if !scatter {
             FarFirst::SetAside
-        } else if best.as_ref().is_some_and(|b| fitting(&b.1)) {
+        } else if best_fits {
             FarFirst::AboveBest
         } else {
             FarFirst::RefineOn
@@ -414,7 +414,7 @@ pub(crate) fn search(
 
 /// Whether `p` fits: a chi-square no larger than its count of data.
 fn fits_its_data(r: &Reconstruction, p: &Point) -> bool {
-    p.total <= (r.contact_data() + crate::refine::scene_data(Some(p))) as f64
+    p.total <= (r.contact_data() + crate::refine::scene_data(p)) as f64
 }
 
 /// What a search counted: run-outs, impact fits and work.

@@ -3,7 +3,12 @@
 //! field set from the page changes its value and nothing else.
 
 use crate::{changed_lines, example};
-use pim_serve::{form, set_field, FieldValue};
+use pim_serve::{form, set_field, AnswerError, FieldValue};
+
+/// `text` with the field `key` set to `value` as typed in the page.
+fn set_typed(file: &str, text: &str, key: &str, value: &str) -> Result<String, AnswerError> {
+    set_field(file, text, key, &FieldValue::Typed(value.into()))
+}
 
 #[test]
 fn every_section_and_value_of_the_example_is_a_field() {
@@ -56,51 +61,23 @@ fn a_field_set_changes_its_value_only() {
             .map(str::to_string)
             .collect()
     };
-    let t = set_field(
-        "r.toml",
-        &text,
-        "vehicle1.mass",
-        &FieldValue::Typed("3500".into()),
-    )
-    .unwrap();
+    let t = set_typed("r.toml", &text, "vehicle1.mass", "3500").unwrap();
     assert_eq!(
         changed(&t),
         ["mass = 3500.0                       # lb, with driver"]
     );
-    let t = set_field(
-        "r.toml",
-        &text,
-        "observations.0.vehicle",
-        &FieldValue::Typed("2".into()),
-    )
-    .unwrap();
+    let t = set_typed("r.toml", &text, "observations.0.vehicle", "2").unwrap();
     assert_eq!(changed(&t), ["vehicle = 2"]);
-    let t = set_field(
-        "r.toml",
-        &text,
-        "runout.vehicle2.wheels",
-        &FieldValue::Typed("locked".into()),
-    )
-    .unwrap();
+    let t = set_typed("r.toml", &text, "runout.vehicle2.wheels", "locked").unwrap();
     assert_eq!(changed(&t), ["wheels = \"locked\""]);
-    let t = set_field(
-        "r.toml",
-        &text,
-        "scene.vehicle2.marks.0.x",
-        &FieldValue::Typed("33.0".into()),
-    )
-    .unwrap();
+    let t = set_typed("r.toml", &text, "scene.vehicle2.marks.0.x", "33.0").unwrap();
     assert_eq!(
         changed(&t),
         ["marks = [ { x = 33.0, y = 48.2, sigma = 0.5 } ]"]
     );
     // Refused: a number that is none, a key the file does not write, a whole number with a
     // fraction.
-    let e = |key: &str, v: &str| {
-        set_field("r.toml", &text, key, &FieldValue::Typed(v.into()))
-            .unwrap_err()
-            .to_string()
-    };
+    let e = |key: &str, v: &str| set_typed("r.toml", &text, key, v).unwrap_err().to_string();
     assert!(e("vehicle1.mass", "heavy").contains("vehicle1.mass: \"heavy\" is not a number"));
     assert!(e("vehicle1.colour", "red").contains("the file writes no such value"));
     assert!(e("observations.0.vehicle", "1.5").contains("not a whole number"));
@@ -129,11 +106,11 @@ fn the_priors_of_the_pose_at_contact_are_a_form() {
             ("contact_sigma.vehicle2.impact_point.x", "0.8"),
         ]
     );
-    let t = set_field(
+    let t = set_typed(
         "p.toml",
         &text,
         "contact_sigma.vehicle2.impact_point.x",
-        &FieldValue::Typed("0.3".into()),
+        "0.3",
     )
     .unwrap();
     assert_eq!(
