@@ -515,6 +515,43 @@ fn no_source_file_is_longer_than_the_limit() {
     assert!(long.is_empty(), "{}", long.join("\n"));
 }
 
+/// Evidence is told apart by its typed identity (`pim_runout::Quantity`, the evidence table's
+/// `EvidenceSource`, the consistency table's `PieceId`), never by its display name: no
+/// library code outside tests compares a `.name` field with a string.
+#[test]
+fn no_evidence_is_matched_by_its_name() {
+    const PATTERNS: [&str; 4] = [
+        ".name.contains(",
+        ".name.starts_with(",
+        ".name.ends_with(",
+        ".name == ",
+    ];
+    let mut found = Vec::new();
+    for krate in CRATES {
+        let dir = root().join(krate);
+        for (_, (path, _)) in crate_files(&dir) {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let code = code_of(before_tests(&text));
+            for (n, line) in code.lines().enumerate() {
+                if let Some(p) = PATTERNS.iter().find(|p| line.contains(*p)) {
+                    found.push(format!(
+                        "{}:{}: `{p}`: tell evidence apart by its typed identity",
+                        path.strip_prefix(root()).unwrap().display(),
+                        n + 1
+                    ));
+                }
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+#[test]
+fn the_name_rule_sees_a_name_compared() {
+    let code = code_of("fn f(r: &R) -> bool { r.name.contains(\"heading\") }\n");
+    assert!(code.contains(".name.contains("));
+}
+
 /// The longest function allowed, in lines from its `fn` to its closing brace.
 const MAX_FN_LINES: usize = 120;
 
@@ -526,7 +563,6 @@ const MAX_FN_LINES: usize = 120;
 const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-runout/src/chassis.rs", "check", 135),
     ("crates/pim-runout/src/inverse/mod.rs", "estimate", 150),
-    ("crates/pim-runout/src/inverse/scatter.rs", "scatter", 135),
     ("crates/pim-runout/src/inverse/search.rs", "solve", 246),
     ("crates/pim-reconstruct/src/refine.rs", "refine", 141),
     ("crates/pim-reconstruct/src/search.rs", "search", 225),
@@ -548,9 +584,9 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     (
         "crates/pim-studies/src/reconstruct_input.rs",
         "case_reconstruction",
-        214,
+        187,
     ),
-    ("crates/pim-studies/src/reconstruct.rs", "document", 221),
+    ("crates/pim-studies/src/reconstruct.rs", "document", 176),
     (
         "crates/pim-studies/src/reconstruct_study.rs",
         "scene_inputs",
@@ -568,7 +604,7 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     (
         "crates/pim-render/src/reconstruct.rs",
         "reconstruction_table",
-        150,
+        135,
     ),
     ("crates/pim-render/src/report/scene.rs", "answer", 144),
     ("crates/pim-render/src/runout.rs", "scene_svg", 388),

@@ -6,12 +6,68 @@
 use crate::runout::{MotionOut, PoseOut};
 use pim_fit::{Certificate, MomentBranch};
 use pim_reconstruct::Status;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+
+/// What a row of the evidence table is: its identity. The tables, the figures, the
+/// consistency table, the page and Python tell rows apart by it; the name is for display.
+/// Indices count from 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum EvidenceSource {
+    /// An estimated component of the contact state (`[estimates]` with `[sigma]`): 0-5 the
+    /// contact velocities (`initial.vehicle1.vx`, `vy`, `omega`, then vehicle 2's), 6-11 the
+    /// separation's.
+    Estimate {
+        /// The component.
+        component: usize,
+    },
+    /// One of the case's `[[observations]]`.
+    Observation {
+        /// Which, in the file's order.
+        index: usize,
+    },
+    /// An EDR record's speed (`[[pre_impact.vehicleN.edr]]`).
+    Edr {
+        /// 1 or 2.
+        vehicle: u8,
+        /// Which record of that vehicle's, in the file's order.
+        index: usize,
+    },
+    /// A linear combination of the contact state the case gives.
+    Combination {
+        /// Which, in the contact problem's order.
+        index: usize,
+    },
+    /// Evidence not linear in the velocities (the crush energy).
+    Nonlinear {
+        /// Which, in the reconstruction's order.
+        index: usize,
+    },
+    /// A fitted road friction against its stated value.
+    Friction {
+        /// Which fitted friction, in the reconstruction's order.
+        index: usize,
+    },
+    /// A piece of a vehicle's run-out evidence: its rest, a mark.
+    Scene {
+        /// 1 or 2.
+        vehicle: u8,
+        /// What it measures.
+        what: pim_runout::Quantity,
+    },
+    /// The prior of an unknown of the pose at contact (`[contact_sigma]`).
+    ContactPrior {
+        /// Which unknown, in the order the case's pose unknowns are listed.
+        index: usize,
+    },
+}
 
 /// One piece of evidence against the reconstruction.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EvidenceOut {
-    /// What it is (`initial.vehicle1.omega`, `vehicle2 rest.x`, `vehicle1 mark 1`, ...).
+    /// What it is.
+    pub source: EvidenceSource,
+    /// Its display name (`initial.vehicle1.omega`, `vehicle2 rest.x`, `vehicle1 mark 1`, ...).
     pub name: String,
     /// The phase it belongs to: `pre_impact`, `impact` or `run_out`.
     pub phase: &'static str,

@@ -128,6 +128,8 @@ pub struct PathPoint {
 /// One piece of evidence against the run-out: fitted minus given.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct ResidualOut {
+    /// What it measures (its identity; tell residuals apart by it, not by the name).
+    pub what: pim_runout::Quantity,
     /// `rest.x`, `rest.y`, `rest.heading`, `mark 1`, `mark 1 heading`, `friction`.
     pub name: String,
     /// Fitted minus given: m, deg, or the friction coefficient.

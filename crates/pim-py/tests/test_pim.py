@@ -364,6 +364,8 @@ def test_runout_results_are_typed_and_the_path_is_a_frame():
     assert [c.turns for c in est.consistent] == [1]
     assert all(s is not None for s in est.candidates[0].sigma)
     assert any("does not exclude" in u for u in est.undetermined)
+    whats = [(r.what, r.index) for r in est.candidates[0].residuals]
+    assert whats[:3] == [("rest_x", None), ("rest_y", None), ("rest_heading", None)]
 
 
 def test_runout_draws_the_plan_view_of_the_cli(tmp_path):
@@ -401,6 +403,12 @@ def test_reconstruct_matches_the_command():
     assert r.document == cli
     assert abs(r.vehicle(1).contact - cli["best"]["vehicles"][0]["speed_at_contact"]) == 0.0
     assert r.svg is not None and r.svg.lstrip().startswith("<")
+    # Each row of the evidence says what it is; names are for display.
+    sources = [(e.source.kind, e.source.vehicle, e.source.what, e.source.index) for e in r.evidence]
+    assert ("edr", 2, None, 0) in sources and ("friction", None, None, 0) in sources
+    assert ("scene", 1, "rest_heading", None) in sources and ("scene", 2, "mark", 0) in sources
+    assert ("estimate", None, None, None) not in sources
+    assert [e.source.component for e in r.evidence if e.source.kind == "estimate"] == [2, 5]
     with pytest.raises(pim.InputError, match="pim.reconstruct"):
         pim.fit(case)
 

@@ -447,12 +447,8 @@ pub fn scene_svg(
                 12,
             )?;
             line(format!("  road friction {:.3}", v.friction), color, 12)?;
-            for ev in v
-                .evidence
-                .iter()
-                .filter(|e| e.name.starts_with("mark") || e.name.starts_with("rest"))
-            {
-                let shown = if ev.name.contains("heading") {
+            for ev in v.evidence.iter().filter(|e| e.what.is_scene()) {
+                let shown = if ev.what.is_angle() {
                     format!("{} deg", num(ev.value, 1))
                 } else {
                     format!(

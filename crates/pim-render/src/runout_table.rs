@@ -3,7 +3,7 @@
 use crate::tables::num;
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
-use pim_runout::WheelState;
+use pim_runout::{Quantity, WheelState};
 use pim_studies::runout::{RunoutResult, Source};
 
 /// The wheels in a line: `all rolling`, or each wheel by name.
@@ -147,11 +147,11 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
         if !v.evidence.is_empty() {
             t.push_str("  evidence    fitted - given (sd, z):\n");
             for e in &v.evidence {
-                let (value, sigma, unit) = if e.name.contains("heading") {
+                let (value, sigma, unit) = if e.what.is_angle() {
                     (num(s * e.value, 2), format!("{:.2}", e.sigma), "deg")
-                } else if e.name == "friction" {
+                } else if e.what == Quantity::Friction {
                     (format!("{:.4}", e.value), format!("{:.4}", e.sigma), "")
-                } else if e.name == "rest.y" {
+                } else if e.what == Quantity::RestY {
                     (
                         num(units.length(s * e.value), 3),
                         num(units.length(e.sigma), 3),

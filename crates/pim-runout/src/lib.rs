@@ -91,7 +91,7 @@ pub use error::{Result, RunoutError};
 pub use forces::{wheels_at, WheelAt, SLIDING_DEADBAND};
 pub use inverse::{
     differentiate, estimate, linearise, linearise_with_friction, Alternative, Candidate, Estimate,
-    EstimateSettings, Evidence, Linearised, Mark, Residual, Rest, ALTERNATIVE_COST,
+    EstimateSettings, Evidence, Linearised, Mark, Quantity, Residual, Rest, ALTERNATIVE_COST,
     CONSISTENT_COST, MAX_ALTERNATIVES, PLAUSIBLE_COST,
 };
 pub use simulate::{full_turns, simulate, End, Runout, Settings, Step};

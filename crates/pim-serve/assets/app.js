@@ -423,10 +423,11 @@ function consistency(a) {
   box.appendChild(t);
 }
 
-// How the plan shows a piece of evidence: switched off, disagreeing (with its residual), or
-// neither.
-function pieceLook(name) {
-  const p = ((state.answer && state.answer.pieces) || []).find((x) => x.name === name);
+// How the plan shows a piece of evidence (found by what it is: kind, vehicle, index):
+// switched off, disagreeing (with its residual), or neither.
+function pieceLook(kind, vehicle, index) {
+  const p = ((state.answer && state.answer.pieces) || []).find(
+    (x) => x.id.kind === kind && x.id.vehicle === vehicle && (x.id.index ?? null) === (index ?? null));
   if (!p) return { cls: "" };
   if (p.off) return { cls: " off" };
   if (p.z != null && Math.abs(p.z) > DISAGREES) return { cls: " disagrees", z: p.z };
@@ -520,7 +521,7 @@ function render() {
     if (veh.damage && veh.damage.length) el("polygon", { points: pts(veh.damage), class: "crush" }, g);
     el("polygon", { points: pts(veh.rest), class: "outline rest" }, g);
     veh.marks.forEach((m, i) => {
-      const look = pieceLook(`vehicle${veh.vehicle} mark ${i + 1}`);
+      const look = pieceLook("mark", veh.vehicle, i);
       const mg = el("g", { class: `evidence${look.cls}`, "data-piece": `vehicle${veh.vehicle} mark ${i + 1}` }, g);
       el("circle", { cx: m[0], cy: -m[1], r: m[2], class: "sigma" }, mg);
       el("path", { d: `M${m[0] - r} ${-m[1]}h${2 * r}M${m[0]} ${-m[1] - r}v${2 * r}`, class: "mark" }, mg);
@@ -536,7 +537,7 @@ function render() {
     });
     if (veh.given_rest) {
       const gr = veh.given_rest;
-      const look = pieceLook(`vehicle${veh.vehicle} rest`);
+      const look = pieceLook("rest", veh.vehicle);
       const moved = el("g", { class: `given-rest evidence${look.cls}`, "data-piece": `vehicle${veh.vehicle} rest` }, g);
       if (look.z != null) zLabel(moved, gr.at[0] + r, gr.at[1] + r, look.z);
       el("polygon", { points: pts(gr.outline), class: "outline given" }, moved);

@@ -5,7 +5,9 @@ use pim_case::case::Case;
 use pim_case::units::UnitSystem;
 use pim_core::{Convention, MomentForm};
 use pim_fit::{FitModel, MomentBranch};
+use pim_studies::consistency::PieceId;
 use pim_studies::question::Question;
+use pim_studies::reconstruct::EvidenceSource;
 use serde::Serialize;
 
 /// Why a case has no answer to show.
@@ -44,6 +46,8 @@ pub struct Answer {
 /// the answer without it.
 #[derive(Debug, Serialize)]
 pub struct EvidencePiece {
+    /// What it is (the plan finds the piece it draws by it).
+    pub id: PieceId,
     /// Its name (`vehicle2 mark 1`), as the consistency table's rows name it.
     pub name: String,
     /// Switched off: the answer is the reconstruction without it.
@@ -53,42 +57,38 @@ pub struct EvidencePiece {
     pub z: Option<f64>,
 }
 
-/// Whether the evidence table's row `row` belongs to the piece `piece` (its name, or its
-/// name followed by a component or a description; the estimates are the rows of the contact
-/// state's components).
-fn belongs(row: &str, piece: &str) -> bool {
-    if piece.starts_with("the estimates") {
-        return row.starts_with("initial.") || row.starts_with("final.");
-    }
-    row == piece
-        || row
-            .strip_prefix(piece)
-            .is_some_and(|rest| rest.starts_with('.') || rest.starts_with(' '))
-}
-
-/// Each piece of `case`'s evidence, on or off, with its largest residual in `document`.
+/// Each piece of `case`'s evidence, on or off, with its largest residual in `document`: the
+/// rows are told to a piece by their typed source, not their names.
 fn pieces_of(case: &Case, off: &[String], document: &serde_json::Value) -> Vec<EvidencePiece> {
-    let rows: Vec<(String, f64)> = document["best"]["evidence"]
+    let rows: Vec<(PieceId, f64)> = document["best"]["evidence"]
         .as_array()
         .map(|rows| {
             rows.iter()
-                .filter_map(|r| Some((r["name"].as_str()?.to_string(), r["z"].as_f64()?)))
+                .filter_map(|r| {
+                    let source: EvidenceSource =
+                        serde_json::from_value(r["source"].clone()).ok()?;
+                    Some((
+                        pim_studies::consistency::piece_of(case, source)?,
+                        r["z"].as_f64()?,
+                    ))
+                })
                 .collect()
         })
         .unwrap_or_default();
-    pim_studies::consistency::piece_names(case)
+    pim_studies::consistency::pieces_named(case)
         .into_iter()
-        .map(|name| {
+        .map(|(id, name)| {
             let is_off = off.contains(&name);
             let z = (!is_off)
                 .then(|| {
                     rows.iter()
-                        .filter(|(r, _)| belongs(r, &name))
+                        .filter(|(piece, _)| *piece == id)
                         .map(|(_, z)| *z)
                         .max_by(|a, b| a.abs().total_cmp(&b.abs()))
                 })
                 .flatten();
             EvidencePiece {
+                id,
                 name,
                 off: is_off,
                 z,

@@ -39,6 +39,7 @@ pub mod earlier;
 pub mod fitcase;
 pub mod intervals;
 mod measured_inputs;
+mod pieces;
 pub mod predict;
 pub mod question;
 pub mod reconstruct;

@@ -8,7 +8,7 @@ use crate::fitcase::{self};
 use crate::runout::{MotionOut, PoseOut};
 use pim_case::case::Case;
 pub use pim_documents::reconstruct_doc::{
-    BestOut, CountsOut, EvidenceOut, ReconstructionOut, VehiclePhasesOut,
+    BestOut, CountsOut, EvidenceOut, EvidenceSource, ReconstructionOut, VehiclePhasesOut,
 };
 use pim_fit::{MomentBranch, COMPONENT_NAMES};
 use pim_reconstruct::{ContactTerm, Contradiction, EvidenceTerm, Outcome, Reconstruction, Tried};
@@ -87,9 +87,13 @@ pub fn finish(
 
 /// A piece of the contact evidence as the case names it (an observation by its `name`, an
 /// EDR speed by its time) and the phase it belongs to.
-fn contact_label(input: &CaseReconstruction, term: ContactTerm) -> (String, &'static str) {
+fn contact_label(
+    input: &CaseReconstruction,
+    term: ContactTerm,
+) -> (EvidenceSource, String, &'static str) {
     match term {
         ContactTerm::Component(k) => (
+            EvidenceSource::Estimate { component: k },
             COMPONENT_NAMES[k].to_string(),
             if k < 6 { "impact" } else { "run_out" },
         ),
@@ -100,15 +104,23 @@ fn contact_label(input: &CaseReconstruction, term: ContactTerm) -> (String, &'st
                 .cloned()
                 .unwrap_or_else(|| format!("observation {}", i + 1));
             // The EDR speeds follow the case's own observations.
-            let phase = if i >= input.case_observations {
-                "pre_impact"
-            } else {
-                "impact"
-            };
-            (name, phase)
+            match i
+                .checked_sub(input.case_observations)
+                .and_then(|j| input.edr_records.get(j))
+            {
+                Some(&(vehicle, index)) => {
+                    (EvidenceSource::Edr { vehicle, index }, name, "pre_impact")
+                }
+                None => (EvidenceSource::Observation { index: i }, name, "impact"),
+            }
         }
-        ContactTerm::Combination(_) => (term.name(&input.reconstruction.contact), "impact"),
+        ContactTerm::Combination(i) => (
+            EvidenceSource::Combination { index: i },
+            term.name(&input.reconstruction.contact),
+            "impact",
+        ),
         ContactTerm::Nonlinear(i) => (
+            EvidenceSource::Nonlinear { index: i },
             input
                 .reconstruction
                 .nonlinear
@@ -130,58 +142,84 @@ fn contact_quantity(r: &Reconstruction, term: ContactTerm) -> &'static str {
     }
 }
 
+/// Every piece of evidence against the best answer `b` (its contact state `u`): the contact
+/// evidence, the fitted frictions, each scene's residuals, with its identity.
+fn evidence_rows(
+    input: &CaseReconstruction,
+    b: &pim_reconstruct::Found,
+    u: &pim_fit::Vector12,
+) -> Vec<EvidenceOut> {
+    let r = &input.reconstruction;
+    let mut evidence = Vec::new();
+    let mut push = |source: EvidenceSource,
+                    name: String,
+                    phase: &'static str,
+                    quantity: &'static str,
+                    residual: f64,
+                    sigma: f64| {
+        evidence.push(EvidenceOut {
+            source,
+            name,
+            phase,
+            quantity,
+            residual,
+            sigma,
+            z: residual / sigma,
+            share_percent: 100.0 * (residual / sigma).powi(2) / b.chi_square.max(1e-300),
+        });
+    };
+    for c in r.contact_residuals(u) {
+        let (source, name, phase) = contact_label(input, c.term);
+        push(
+            source,
+            name,
+            phase,
+            contact_quantity(r, c.term),
+            c.residual,
+            r.sigma_of(&c),
+        );
+    }
+    for (index, (f, mu)) in r.frictions.iter().zip(&b.frictions).enumerate() {
+        push(
+            EvidenceSource::Friction { index },
+            f.name.clone(),
+            "run_out",
+            "friction",
+            mu - f.value,
+            f.sigma,
+        );
+    }
+    for f in &b.scene {
+        for res in &f.residuals {
+            let heading = res.what.is_angle();
+            let k = if heading {
+                180.0 / std::f64::consts::PI
+            } else {
+                1.0
+            };
+            push(
+                EvidenceSource::Scene {
+                    vehicle: f.vehicle.index() as u8 + 1,
+                    what: res.what,
+                },
+                format!("{} {}", f.vehicle, res.name),
+                "run_out",
+                if heading { "angle" } else { "length" },
+                res.value * k,
+                res.sigma * k,
+            );
+        }
+    }
+    evidence
+}
+
 /// The document of an outcome.
 pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> ReconstructionOut {
     let r = &input.reconstruction;
     let best = outcome.best.as_ref().map(|b| {
         let s = &b.solution;
         let u = pim_fit::state_vector(&s.initial, &s.separation);
-        let mut evidence = Vec::new();
-        let mut push = |name: String,
-                        phase: &'static str,
-                        quantity: &'static str,
-                        residual: f64,
-                        sigma: f64| {
-            evidence.push(EvidenceOut {
-                name,
-                phase,
-                quantity,
-                residual,
-                sigma,
-                z: residual / sigma,
-                share_percent: 100.0 * (residual / sigma).powi(2) / b.chi_square.max(1e-300),
-            });
-        };
-        for c in r.contact_residuals(&u) {
-            let (name, phase) = contact_label(input, c.term);
-            push(
-                name,
-                phase,
-                contact_quantity(r, c.term),
-                c.residual,
-                r.sigma_of(&c),
-            );
-        }
-        for (f, mu) in r.frictions.iter().zip(&b.frictions) {
-            push(f.name.clone(), "run_out", "friction", mu - f.value, f.sigma);
-        }
-        for f in &b.scene {
-            for res in &f.residuals {
-                let heading = res.name.contains("heading");
-                let k = if heading {
-                    180.0 / std::f64::consts::PI
-                } else {
-                    1.0
-                };
-                push(
-                    format!("{} {}", f.vehicle, res.name),
-                    "run_out",
-                    if heading { "angle" } else { "length" },
-                    res.value * k,
-                    res.sigma * k,
-                );
-            }
-        }
+        let evidence = evidence_rows(input, b, &u);
         let vehicles = b
             .phases
             .iter()
@@ -333,7 +371,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
         // A contradiction names its residuals as the case names them.
         reason: match &outcome.contradiction {
             Some(c) => Some(c.describe(|t| match t {
-                EvidenceTerm::Contact(term) => contact_label(input, *term).0,
+                EvidenceTerm::Contact(term) => contact_label(input, *term).1,
                 EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
                 EvidenceTerm::Friction(_) => Contradiction::default_name(r, t),
             })),

@@ -22,6 +22,9 @@ pub struct CaseReconstruction {
     pub(crate) labels: Vec<String>,
     /// How many of them are the case's `[[observations]]` (the EDR speeds follow).
     pub(crate) case_observations: usize,
+    /// Each EDR speed's vehicle (1 or 2) and record, in the order they follow the case's
+    /// observations.
+    pub(crate) edr_records: Vec<(u8, usize)>,
     /// The case's `[bounds]` (who set a bound the answer reaches).
     pub(crate) bounds: Option<pim_case::sections::BoundsSection>,
 }
@@ -33,6 +36,47 @@ fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {
     } else {
         p.vehicle2.as_ref()
     }
+}
+
+/// Checks an EDR record (`place` its path in the file): its speed (in the file's unit, `speed`
+/// m/s each), time, deceleration and sigma.
+fn check_edr(
+    case: &Case,
+    place: &str,
+    e: &pim_case::scene_sections::EdrWritten,
+    speed: f64,
+) -> Result<(), DocumentError> {
+    let ok = |x: f64, lo: f64, hi: f64| x.is_finite() && x >= lo && x <= hi;
+    if !ok(e.speed * speed, 0.0, pim_core::MAX_SPEED.min(150.0)) {
+        return Err(case
+            .error_at(place, format!("speed {}: from 0 to 150 m/s", e.speed))
+            .into());
+    }
+    if !ok(e.time, 0.0, 30.0) {
+        return Err(case
+            .error_at(
+                place,
+                format!("time {}: seconds before contact, 0 to 30", e.time),
+            )
+            .into());
+    }
+    if !ok(e.deceleration, -1.5, 1.5) {
+        return Err(case
+            .error_at(
+                place,
+                format!("deceleration {}: in g, from -1.5 to 1.5", e.deceleration),
+            )
+            .into());
+    }
+    if !(e.sigma.is_finite() && e.sigma * speed >= fitcase::SIGMA_MIN) {
+        return Err(case
+            .error_at(
+                place,
+                format!("sigma {}: a standard deviation above 0", e.sigma),
+            )
+            .into());
+    }
+    Ok(())
 }
 
 /// The reconstruction of a case: its own estimates and observations (`[sigma]` required when it
@@ -114,6 +158,7 @@ pub fn case_reconstruction(
         .unwrap_or(pim_runout::DEFAULT_FRICTION);
     // EDR speeds: each the speed along the heading at contact, v - a t.
     let mut edr = Vec::new();
+    let mut edr_records = Vec::new();
     let mut skids = [None, None];
     for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
         let Some(p) = pre_impact_of(case, k) else {
@@ -129,39 +174,10 @@ pub fn case_reconstruction(
                 .into());
         }
         for (i, e) in p.edr.iter().enumerate() {
-            let place = at(&format!("edr[{i}]"));
-            let ok = |x: f64, lo: f64, hi: f64| x.is_finite() && x >= lo && x <= hi;
-            if !ok(e.speed * speed, 0.0, pim_core::MAX_SPEED.min(150.0)) {
-                return Err(case
-                    .error_at(&place, format!("speed {}: from 0 to 150 m/s", e.speed))
-                    .into());
-            }
-            if !ok(e.time, 0.0, 30.0) {
-                return Err(case
-                    .error_at(
-                        &place,
-                        format!("time {}: seconds before contact, 0 to 30", e.time),
-                    )
-                    .into());
-            }
-            if !ok(e.deceleration, -1.5, 1.5) {
-                return Err(case
-                    .error_at(
-                        &place,
-                        format!("deceleration {}: in g, from -1.5 to 1.5", e.deceleration),
-                    )
-                    .into());
-            }
-            if !(e.sigma.is_finite() && e.sigma * speed >= fitcase::SIGMA_MIN) {
-                return Err(case
-                    .error_at(
-                        &place,
-                        format!("sigma {}: a standard deviation above 0", e.sigma),
-                    )
-                    .into());
-            }
+            check_edr(case, &at(&format!("edr[{i}]")), e, speed)?;
             let value = e.speed * speed - e.deceleration * GRAVITY * e.time;
             edr.push((id, value, e.sigma * speed));
+            edr_records.push((k as u8 + 1, i));
             labels.push(format!(
                 "vehicle{} EDR speed {:.1} s before contact",
                 k + 1,
@@ -252,6 +268,7 @@ pub fn case_reconstruction(
         settings,
         labels,
         case_observations: c.observations.len(),
+        edr_records,
         bounds: c.bounds,
     })
 }

@@ -7,7 +7,9 @@ use crate::documents::DocumentError;
 use crate::reconstruct_input::{case_reconstruction, CaseReconstruction, How};
 use pim_case::case::Case;
 use pim_case::contact_pose::ContactUnknown;
-use pim_documents::reconstruct_doc::{ContactPoseOut, EvidenceOut, ReconstructionOut};
+use pim_documents::reconstruct_doc::{
+    ContactPoseOut, EvidenceOut, EvidenceSource, ReconstructionOut,
+};
 use pim_reconstruct::{Outcome, PoseFit, PoseStart, PoseUnknown, ReconstructError, Reconstruction};
 
 /// The pose fitted, as the document gives it.
@@ -233,8 +235,15 @@ pub(crate) fn with_pose(document: &mut ReconstructionOut, pose: FittedPose) -> O
     if pose.rows.is_empty() {
         return pose.fit;
     }
-    for (r, _) in pose.rows.iter().zip(&pose.weighed).filter(|(_, w)| **w) {
+    for (index, (r, _)) in pose
+        .rows
+        .iter()
+        .zip(&pose.weighed)
+        .enumerate()
+        .filter(|(_, (_, w))| **w)
+    {
         b.evidence.push(EvidenceOut {
+            source: EvidenceSource::ContactPrior { index },
             name: format!("{} at contact (prior)", r.name),
             phase: "impact",
             quantity: r.quantity,

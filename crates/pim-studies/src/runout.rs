@@ -401,9 +401,9 @@ fn runout_failure(case: &Case, name: &str, e: pim_runout::RunoutError) -> Docume
 }
 
 fn residual_out(r: &pim_runout::inverse::Residual) -> ResidualOut {
-    let angle = r.name.contains("heading");
-    let f = |x: f64| if angle { x.to_degrees() } else { x };
+    let f = |x: f64| if r.what.is_angle() { x.to_degrees() } else { x };
     ResidualOut {
+        what: r.what,
         name: r.name.clone(),
         value: f(r.value),
         sigma: f(r.sigma),

@@ -46,11 +46,47 @@ class PhaseSpeeds:
         )
 
 
+def _int(x: Any) -> Optional[int]:
+    return None if x is None else int(x)
+
+
+@dataclass(frozen=True)
+class EvidenceSource:
+    """What a row of the evidence table is: its identity (tell rows apart by it; the name is
+    for display). ``kind`` is ``"estimate"``, ``"observation"``, ``"edr"``, ``"combination"``,
+    ``"nonlinear"``, ``"friction"``, ``"scene"`` or ``"contact_prior"``; ``vehicle`` (1 or 2)
+    for ``edr`` and ``scene``; ``index`` (from 0) the observation, EDR record, combination,
+    nonlinear evidence, fitted friction, pose prior or, for a scene row, mark; ``component``
+    (0-11, the contact velocities then the separation's) for an estimate; ``what`` for a scene
+    row: ``"rest_x"``, ``"rest_y"``, ``"rest_heading"``, ``"mark"``, ``"mark_heading"``."""
+
+    kind: str
+    vehicle: Optional[int] = None
+    index: Optional[int] = None
+    component: Optional[int] = None
+    what: Optional[str] = None
+
+    @classmethod
+    def _read(cls, d: Mapping[str, Any]) -> EvidenceSource:
+        what = d.get("what")
+        index = d.get("index")
+        if what is not None:
+            index = what.get("index")
+        return cls(
+            kind=str(d["kind"]),
+            vehicle=_int(d.get("vehicle")),
+            index=_int(index),
+            component=_int(d.get("component")),
+            what=None if what is None else str(what["kind"]),
+        )
+
+
 @dataclass(frozen=True)
 class Evidence:
-    """One piece of evidence against the reconstruction: its ``phase`` (``"pre_impact"``,
-    ``"impact"``, ``"run_out"``), ``residual`` = fitted - given (m/s, rad/s, m or deg), its
-    ``sigma``, ``z`` and its ``share`` of the chi-square in percent."""
+    """One piece of evidence against the reconstruction: its display ``name``, its ``phase``
+    (``"pre_impact"``, ``"impact"``, ``"run_out"``), ``residual`` = fitted - given (m/s,
+    rad/s, m or deg), its ``sigma``, ``z``, its ``share`` of the chi-square in percent, and
+    its ``source`` (what it is)."""
 
     name: str
     phase: str
@@ -58,6 +94,7 @@ class Evidence:
     sigma: float
     z: float
     share: float
+    source: EvidenceSource
 
     @classmethod
     def _read(cls, d: Mapping[str, Any]) -> Evidence:
@@ -68,6 +105,7 @@ class Evidence:
             float(d["sigma"]),
             float(d["z"]),
             float(d["share_percent"]),
+            EvidenceSource._read(d["source"]),
         )
 
 

@@ -14,18 +14,30 @@ Document = Dict[str, Any]
 
 @dataclass(frozen=True)
 class RunoutResidual:
-    """One piece of the scene's evidence against a run-out: ``value`` = fitted - given (m,
-    degrees for headings, or the friction coefficient), its ``sigma`` and ``z`` = value /
-    sigma."""
+    """One piece of the scene's evidence against a run-out: its display ``name``, ``value`` =
+    fitted - given (m, degrees for headings, or the friction coefficient), its ``sigma``, ``z``
+    = value / sigma, and what it is: ``what`` (``"rest_x"``, ``"rest_y"``, ``"rest_heading"``,
+    ``"mark"``, ``"mark_heading"``, ``"friction"``) with the mark's ``index`` (from 0)."""
 
     name: str
     value: float
     sigma: float
     z: float
+    what: str
+    index: Optional[int]
 
     @classmethod
     def _read(cls, d: Mapping[str, Any]) -> RunoutResidual:
-        return cls(str(d["name"]), float(d["value"]), float(d["sigma"]), float(d["z"]))
+        what = d["what"]
+        index = what.get("index")
+        return cls(
+            str(d["name"]),
+            float(d["value"]),
+            float(d["sigma"]),
+            float(d["z"]),
+            str(what["kind"]),
+            None if index is None else int(index),
+        )
 
 
 @dataclass(frozen=True)

@@ -137,10 +137,64 @@ impl Default for EstimateSettings {
     }
 }
 
+/// What a residual of a run-out's evidence measures: its identity, which every table, figure
+/// and reader tells residuals apart by ([`Quantity::name`] is only for display).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Quantity {
+    /// The rest position along x, m.
+    RestX,
+    /// The rest position along y, m.
+    RestY,
+    /// The rest heading, rad.
+    RestHeading,
+    /// A mark's distance from the path of the vehicle's point that left it, m; `index` counts
+    /// the evidence's marks from 0.
+    Mark {
+        /// Which mark of [`Evidence::marks`].
+        index: usize,
+    },
+    /// The vehicle's heading where it passed a mark, rad.
+    MarkHeading {
+        /// Which mark of [`Evidence::marks`].
+        index: usize,
+    },
+    /// The road friction against its stated value (when estimated), coefficient.
+    Friction,
+}
+
+impl Quantity {
+    /// Its display name: `rest.x`, `rest.y`, `rest.heading`, `mark 1`, `mark 1 heading`,
+    /// `friction` (marks counted from 1).
+    pub fn name(self) -> String {
+        match self {
+            Quantity::RestX => "rest.x".into(),
+            Quantity::RestY => "rest.y".into(),
+            Quantity::RestHeading => "rest.heading".into(),
+            Quantity::Mark { index } => format!("mark {}", index + 1),
+            Quantity::MarkHeading { index } => format!("mark {} heading", index + 1),
+            Quantity::Friction => "friction".into(),
+        }
+    }
+
+    /// Whether it is an angle (rad; shown in degrees).
+    pub fn is_angle(self) -> bool {
+        matches!(self, Quantity::RestHeading | Quantity::MarkHeading { .. })
+    }
+
+    /// Whether it is a rest position or heading, or a mark (what a scene figure draws), not
+    /// the friction.
+    pub fn is_scene(self) -> bool {
+        !matches!(self, Quantity::Friction)
+    }
+}
+
 /// One residual of a candidate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Residual {
-    /// What it is: `rest.x`, `rest.y`, `rest.heading`, `mark 1`, `mark 1 heading`, `friction`.
+    /// What it measures.
+    pub what: Quantity,
+    /// Its display name ([`Quantity::name`]).
     pub name: String,
     /// Fitted minus given, in its unit (m, rad, or the friction coefficient).
     pub value: f64,

@@ -73,7 +73,7 @@ mod scatter;
 mod search;
 
 pub use evidence::{
-    Alternative, Candidate, Estimate, EstimateSettings, Evidence, Mark, Residual, Rest,
+    Alternative, Candidate, Estimate, EstimateSettings, Evidence, Mark, Quantity, Residual, Rest,
     ALTERNATIVE_COST, CONSISTENT_COST, MAX_ALTERNATIVES, MAX_HEADING, MAX_SCENE_DISTANCE,
     MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE, MAX_TURNS, PLAUSIBLE_COST,
 };

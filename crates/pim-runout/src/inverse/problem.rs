@@ -1,6 +1,6 @@
 //! The cost of one candidate: the residuals of a run-out against the evidence.
 
-use super::evidence::{Evidence, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
+use super::evidence::{Evidence, Quantity, Residual, MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE};
 use crate::chassis::{Chassis, Motion};
 use crate::error::{Result, RunoutError};
 use crate::forces::Dynamics;
@@ -84,30 +84,35 @@ impl Problem<'_> {
     /// The residuals (fitted minus given, and their sigmas) of a run-out.
     pub(crate) fn residuals(&self, theta: &[f64], r: &Runout) -> Vec<Residual> {
         let mut out = Vec::new();
-        let res = |name: &str, value: f64, sigma: f64| Residual {
-            name: name.to_string(),
+        let res = |what: Quantity, value: f64, sigma: f64| Residual {
+            what,
+            name: what.name(),
             value,
             sigma,
         };
         if let Some(rest) = &self.evidence.rest {
             // The rest position of the point the scene gives (the CG, or tyres' centroid).
             let (x, y) = r.rest.point(rest.point);
-            out.push(res("rest.x", x - rest.x, rest.sigma_xy[0]));
-            out.push(res("rest.y", y - rest.y, rest.sigma_xy[1]));
+            out.push(res(Quantity::RestX, x - rest.x, rest.sigma_xy[0]));
+            out.push(res(Quantity::RestY, y - rest.y, rest.sigma_xy[1]));
             if let Some(h) = self.heading {
-                out.push(res("rest.heading", r.rest.heading - h, rest.sigma_heading));
+                out.push(res(
+                    Quantity::RestHeading,
+                    r.rest.heading - h,
+                    rest.sigma_heading,
+                ));
             }
         }
         for (i, m) in self.evidence.marks.iter().enumerate() {
             let (d, heading) = closest(r, m.x, m.y, m.point);
-            out.push(res(&format!("mark {}", i + 1), d, m.sigma));
+            out.push(res(Quantity::Mark { index: i }, d, m.sigma));
             if let Some((h, s)) = m.heading {
                 let diff = wrap(heading - h);
-                out.push(res(&format!("mark {} heading", i + 1), diff, s));
+                out.push(res(Quantity::MarkHeading { index: i }, diff, s));
             }
         }
         if let (true, Some(s)) = (self.estimate_friction, self.evidence.friction_sigma) {
-            out.push(res("friction", theta[3] - self.chassis.friction, s));
+            out.push(res(Quantity::Friction, theta[3] - self.chassis.friction, s));
         }
         out
     }

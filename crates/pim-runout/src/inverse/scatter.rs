@@ -13,8 +13,14 @@
 //! of 0.5 the branches through faster states along the guess's line (2.5 and 4 times its
 //! speed) and across it (turned 1.2 rad either way, 2.5 times): a car whose path is many times
 //! the distance to its rest (rolling, turned back by its steered wheels or its spin) lies on a
-//! branch of its own. About 2,000 to 4,000 run-outs per vehicle, each ending at the rest
-//! position, whose heading and marks then rank it; where the rest heading passes a count's
+//! branch of its own. Branches no seed lies near are found by mapping, at every whole yaw rate,
+//! a polar grid of CG velocities (24 directions, 8 speeds from 0.5 to 5.6 times the first
+//! guess's) to its rests: each cell whose image holds the rest gives a state on a branch, and
+//! those on no branch followed so far are followed too (4,032 run-outs more). A branch that
+//! crosses no whole yaw rate can still be missed: some are closed loops (a rolling car looping
+//! 98 m back to 8 m from its start reaches its rest only at yaw rates from -2.1 to -1.45
+//! rad/s). About 6,000 to 9,000 run-outs per vehicle, each ending at the rest position, whose
+//! heading and marks then rank it; where the rest heading passes a count's
 //! heading between two points of a branch, the state between them is a solution of that
 //! count's scene and is explored whatever the other counts' points cost (several per count:
 //! the rest alone is three equations in three unknowns, met by every count, often by several
@@ -92,7 +98,6 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
     let points: Vec<Vec<f64>> = branches.concat();
     let problems: Vec<Problem> = headings.iter().map(|&h| problem(h)).collect();
     let heading = |k: usize| problems[k].heading;
-    // Each point's run-out, the count it ends nearest, and its cost there.
     // Each point's run-out once: its rest heading, the count it ends nearest, its cost there.
     let runs: Vec<Option<(f64, Option<End>)>> = points
         .par_iter()
@@ -150,34 +155,8 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
             }
         }
     }
-    // Along the rest curve, where the rest heading passes a count's heading between two
-    // points of a branch, the state between them (interpolated) nearly meets the rest: each
-    // such crossing is a solution of that count's scene, explored (the first PER_COUNT).
     if base.evidence.rest.is_some() {
-        let mut crossings = vec![0; headings.len()];
-        let mut first = 0;
-        for b in &branches {
-            for i in first..(first + b.len()).saturating_sub(1) {
-                let (Some(ha), Some(hb)) = (rests[i], rests[i + 1]) else {
-                    continue;
-                };
-                for (k, h) in headings.iter().enumerate() {
-                    let Some(h) = h else { continue };
-                    if (ha - h) * (hb - h) >= 0.0 || crossings[k] >= PER_COUNT {
-                        continue;
-                    }
-                    let f = (h - ha) / (hb - ha);
-                    let t: Vec<f64> = points[i]
-                        .iter()
-                        .zip(&points[i + 1])
-                        .map(|(a, b)| a + f * (b - a))
-                        .collect();
-                    crossings[k] += 1;
-                    out[k].0.push(t);
-                }
-            }
-            first += b.len();
-        }
+        crossings(&branches, &rests, headings, &mut out);
     }
     // ... and of the others the lowest over every count, up to IN_ALL explored in all.
     let explored: usize = out.iter().map(|o| o.0.len()).sum();
@@ -186,6 +165,43 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
         out[k].0.push(t.clone());
     }
     out
+}
+
+/// Along the rest curve, where the rest heading passes a count's heading between two points
+/// of a branch (`rests` the rest headings of the branches' points, in order), the state
+/// between them (interpolated) nearly meets the rest: each such crossing is a solution of
+/// that count's scene, pushed to its starts in `out` (the first PER_COUNT).
+fn crossings(
+    branches: &[Vec<Vec<f64>>],
+    rests: &[Option<f64>],
+    headings: &[Option<f64>],
+    out: &mut [(Vec<Vec<f64>>, usize)],
+) {
+    let points: Vec<&Vec<f64>> = branches.iter().flatten().collect();
+    let mut crossings = vec![0; headings.len()];
+    let mut first = 0;
+    for b in branches {
+        for i in first..(first + b.len()).saturating_sub(1) {
+            let (Some(ha), Some(hb)) = (rests[i], rests[i + 1]) else {
+                continue;
+            };
+            for (k, h) in headings.iter().enumerate() {
+                let Some(h) = h else { continue };
+                if (ha - h) * (hb - h) >= 0.0 || crossings[k] >= PER_COUNT {
+                    continue;
+                }
+                let f = (h - ha) / (hb - ha);
+                let t: Vec<f64> = points[i]
+                    .iter()
+                    .zip(points[i + 1])
+                    .map(|(a, b)| a + f * (b - a))
+                    .collect();
+                crossings[k] += 1;
+                out[k].0.push(t);
+            }
+        }
+        first += b.len();
+    }
 }
 
 /// The grid of separation states about the first guess: every direction, speed and yaw rate of
@@ -219,8 +235,9 @@ const CURVE_LIMIT: f64 = 10.0;
 /// each yaw rate the CG velocity is solved by Newton's method (forward differences) from the
 /// last one's (continuation from 0 upwards and downwards, the seed's velocity at 0). A yaw
 /// rate where it does not converge gives its best point and the next starts again from the
-/// seed. The seeds: the first guess, and [`SEEDS`]. With the points of each branch (in the
-/// order of the scan), the run-outs spent.
+/// seed. The seeds: the first guess, [`SEEDS`], and then every state of [`preimages`] on no
+/// branch already followed. With the points of each branch (in the order of the scan), the
+/// run-outs spent.
 fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>>>, usize) {
     // A branch of the guess's is followed over every yaw rate; another is given up after
     // GIVE_UP yaw rates in a row where Newton's method does not reach the rest (each such
@@ -260,13 +277,142 @@ fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>
         bounded(&mut t);
         seeds.push((t, 2.0 * CURVE_STEP, false));
     }
-    let runs: Vec<(Vec<Vec<f64>>, usize)> = seeds
+    let mut runs: Vec<(Vec<Vec<f64>>, usize)> = seeds
         .par_iter()
         .flat_map(|(seed, step, all)| [(seed, 1.0, *step, *all), (seed, -1.0, *step, *all)])
         .map(|(seed, sign, step, all)| follow(seed, sign, step, all))
         .collect();
-    let spent = runs.iter().map(|r| r.1).sum();
+    // Then the branches no seed lies on: every state of the planes' grids that reaches the
+    // rest and lies on no branch followed so far, followed in turn.
+    let (found, mut spent) = preimages(p, guess, target);
+    let on_a_branch = |t: &Vec<f64>| {
+        runs.iter().flat_map(|r| &r.0).any(|q| {
+            (q[2] - t[2]).abs() < 1e-9
+                && (q[0] - t[0]).hypot(q[1] - t[1]) <= 0.5 + 0.03 * t[0].hypot(t[1])
+        })
+    };
+    let fresh: Vec<Vec<f64>> = found.into_iter().filter(|t| !on_a_branch(t)).collect();
+    runs.extend(
+        fresh
+            .par_iter()
+            .flat_map(|seed| [(seed, 1.0), (seed, -1.0)])
+            .map(|(seed, sign)| follow(seed, sign, 2.0 * CURVE_STEP, false))
+            .collect::<Vec<_>>(),
+    );
+    spent += runs.iter().map(|r| r.1).sum::<usize>();
     (runs.into_iter().map(|r| r.0).collect(), spent)
+}
+
+/// The yaw rates (rad/s) at which the plane of CG velocities is mapped for [`preimages`]:
+/// -10 to 10 in steps of 1 (the rest curve's range).
+fn planes() -> impl Iterator<Item = f64> {
+    (0..21).map(|i| -CURVE_LIMIT + f64::from(i))
+}
+/// The polar grid of each plane: directions all round, speeds as multiples of the first
+/// guess's (geometric).
+const GRID_DIRECTIONS: usize = 24;
+const GRID_SPEEDS: [f64; 8] = [0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6];
+
+/// Every state of the rest curve found by mapping, at each yaw rate of [`planes`], a polar
+/// grid of CG velocities to the run-outs' rest positions: wherever the rest `target` lies in
+/// the image of a grid cell (two triangles), the state interpolated there is brought to the
+/// rest by [`to_rest`]. The rest curve is a set of branches; each branch that crosses a plane
+/// crosses it in a cell whose image holds the target (the map is continuous), so every such
+/// branch is found whatever the first guess, to the grid's resolution. The distinct states
+/// reached, and the run-outs spent.
+fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, usize) {
+    let speed = guess[0].hypot(guess[1]).max(1.0);
+    let angle = guess[1].atan2(guess[0]);
+    let state = |yaw: f64, i: f64, s: f64| {
+        let a = angle + std::f64::consts::TAU * i / GRID_DIRECTIONS as f64;
+        let mut t = guess.to_vec();
+        t[0] = s * speed * a.cos();
+        t[1] = s * speed * a.sin();
+        t[2] = yaw;
+        t
+    };
+    let cells: Vec<(f64, usize, usize)> = planes()
+        .flat_map(|w| {
+            (0..GRID_DIRECTIONS).flat_map(move |i| (0..GRID_SPEEDS.len()).map(move |j| (w, i, j)))
+        })
+        .collect();
+    let rests: Vec<Option<[f64; 2]>> = cells
+        .par_iter()
+        .map(|&(w, i, j)| {
+            let t = state(w, i as f64, GRID_SPEEDS[j]);
+            p.runout(&t).ok().map(|r| [r.rest.x, r.rest.y])
+        })
+        .collect();
+    let mut spent = cells.len();
+    let n = GRID_SPEEDS.len();
+    let at =
+        |k: usize, i: usize, j: usize| rests[(k * GRID_DIRECTIONS + i % GRID_DIRECTIONS) * n + j];
+    let mut starts = Vec::new();
+    for (k, w) in planes().enumerate() {
+        for i in 0..GRID_DIRECTIONS {
+            for j in 0..n - 1 {
+                let corners = [(0, 0), (1, 0), (1, 1), (0, 1)];
+                let pts: Vec<Option<[f64; 2]>> =
+                    corners.iter().map(|&(a, b)| at(k, i + a, j + b)).collect();
+                for tri in [[0, 1, 2], [0, 2, 3]] {
+                    let (Some(a), Some(b), Some(c)) = (pts[tri[0]], pts[tri[1]], pts[tri[2]])
+                    else {
+                        continue;
+                    };
+                    let Some((u, v)) = barycentric(a, b, c, target) else {
+                        continue;
+                    };
+                    // The cell's corners in (direction index, log speed), interpolated.
+                    let coord = |m: usize| {
+                        let (da, db) = corners[tri[m]];
+                        ((i + da) as f64, GRID_SPEEDS[j + db].ln())
+                    };
+                    let (a0, b0, c0) = (coord(0), coord(1), coord(2));
+                    let di = a0.0 + u * (b0.0 - a0.0) + v * (c0.0 - a0.0);
+                    let ls = a0.1 + u * (b0.1 - a0.1) + v * (c0.1 - a0.1);
+                    starts.push(state(w, di, ls.exp()));
+                }
+            }
+        }
+    }
+    let reached: Vec<(Option<Vec<f64>>, usize)> = starts
+        .into_par_iter()
+        .map(|t| {
+            let mut used = 0;
+            let (end, ok) = to_rest(p, t, target, &mut used);
+            (ok.then_some(end), used)
+        })
+        .collect();
+    let mut found: Vec<Vec<f64>> = Vec::new();
+    for (t, used) in reached {
+        spent += used;
+        let Some(t) = t else { continue };
+        // One state per branch crossing (cells next to each other can find the same).
+        if found
+            .iter()
+            .all(|f| (f[2] - t[2]).abs() > 1e-9 || (f[0] - t[0]).hypot(f[1] - t[1]) > 0.05 * speed)
+        {
+            found.push(t);
+        }
+    }
+    (found, spent)
+}
+
+/// The barycentric coordinates `(u, v)` of `x` in the triangle `a b c` (`x = a + u (b - a) +
+/// v (c - a)`) when `x` lies in it.
+fn barycentric(a: [f64; 2], b: [f64; 2], c: [f64; 2], x: [f64; 2]) -> Option<(f64, f64)> {
+    let (e1, e2, d) = (
+        [b[0] - a[0], b[1] - a[1]],
+        [c[0] - a[0], c[1] - a[1]],
+        [x[0] - a[0], x[1] - a[1]],
+    );
+    let det = e1[0] * e2[1] - e1[1] * e2[0];
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let u = (d[0] * e2[1] - d[1] * e2[0]) / det;
+    let v = (e1[0] * d[1] - e1[1] * d[0]) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0).then_some((u, v))
 }
 
 /// Yaw rates in a row without the rest after which a seed's branch is given up.

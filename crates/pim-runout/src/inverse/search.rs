@@ -2,7 +2,7 @@
 //! determines at the answer.
 
 use super::evidence::{
-    Alternative, Candidate, Evidence, Mark, Residual, ALTERNATIVE_COST, MAX_ALTERNATIVES,
+    Alternative, Candidate, Evidence, Mark, Quantity, Residual, ALTERNATIVE_COST, MAX_ALTERNATIVES,
     MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE,
 };
 use super::problem::Problem;
@@ -599,12 +599,10 @@ fn reason_of(p: &Problem, residuals: &[Residual], r: &Runout) -> Option<String> 
     if z <= 3.0 {
         return None;
     }
-    let (value, unit) = if worst.name.contains("heading") {
-        (worst.value.to_degrees(), "deg")
-    } else if worst.name == "friction" {
-        (worst.value, "")
-    } else {
-        (worst.value, "m")
+    let (value, unit) = match worst.what {
+        w if w.is_angle() => (worst.value.to_degrees(), "deg"),
+        Quantity::Friction => (worst.value, ""),
+        _ => (worst.value, "m"),
     };
     Some(format!(
         "the best run-out found for this count misses {} by {:.3} {unit} ({z:.1} sigma) with \

@@ -195,6 +195,41 @@ fn evidence_switched_off_is_the_case_without_it() {
     let z = all.pieces[3].z.unwrap();
     assert!((z + 0.20).abs() < 0.005, "EDR z {z}");
     assert!(all.pieces.iter().all(|p| !p.off && p.z.is_some()));
+    // Each piece says what it is (the plan finds the piece it draws by that), and its residual
+    // is the largest of the evidence table's rows whose source it holds.
+    let ids: Vec<(&str, Option<u8>, Option<usize>)> = all
+        .pieces
+        .iter()
+        .map(|p| (p.id.kind, p.id.vehicle, p.id.index))
+        .collect();
+    assert_eq!(
+        ids,
+        [
+            ("estimates", None, None),
+            ("observation", None, Some(0)),
+            ("observation", None, Some(1)),
+            ("edr", Some(2), Some(0)),
+            ("rest", Some(1), None),
+            ("mark", Some(1), Some(0)),
+            ("rest", Some(2), None),
+            ("mark", Some(2), Some(0)),
+        ]
+    );
+    let rows = all.document["best"]["evidence"].as_array().unwrap();
+    let largest = |pick: &dyn Fn(&serde_json::Value) -> bool| {
+        rows.iter()
+            .filter(|r| pick(&r["source"]))
+            .map(|r| r["z"].as_f64().unwrap())
+            .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+    };
+    let rest2 = largest(&|s| {
+        s["kind"] == "scene"
+            && s["vehicle"] == 2
+            && ["rest_x", "rest_y", "rest_heading"].contains(&s["what"]["kind"].as_str().unwrap())
+    });
+    assert_eq!(all.pieces[6].z, rest2);
+    let estimates = largest(&|s| s["kind"] == "estimate");
+    assert_eq!(all.pieces[0].z, estimates);
 
     let (off, _) =
         pim_serve::answer_without(file, &text, None, None, std::slice::from_ref(&edr)).unwrap();
