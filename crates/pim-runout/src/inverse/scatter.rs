@@ -16,7 +16,8 @@
 //! branch of its own. Branches no seed lies near are found by mapping, at every whole yaw rate,
 //! a polar grid of CG velocities (24 directions, 8 speeds from 0.5 to 5.6 times the first
 //! guess's) to its rests: each cell whose image holds the rest gives a state on a branch, and
-//! those on no branch followed so far are followed too (4,032 run-outs more). A branch that
+//! those on no branch followed so far are followed too (4,032 run-outs more, at a tolerance of
+//! 1e-4: they only locate the cells). A branch that
 //! crosses no whole yaw rate can still be missed: some are closed loops (a rolling car looping
 //! 98 m back to 8 m from its start reaches its rest only at yaw rates from -2.1 to -1.45
 //! rad/s). About 6,000 to 9,000 run-outs per vehicle, each ending at the rest position, whose
@@ -312,6 +313,8 @@ fn planes() -> impl Iterator<Item = f64> {
 /// guess's (geometric).
 const GRID_DIRECTIONS: usize = 24;
 const GRID_SPEEDS: [f64; 8] = [0.5, 0.7, 1.0, 1.4, 2.0, 2.8, 4.0, 5.6];
+/// The relative and absolute tolerance of the grid's run-outs.
+const GRID_TOLERANCE: f64 = 1e-4;
 
 /// Every state of the rest curve found by mapping, at each yaw rate of [`planes`], a polar
 /// grid of CG velocities to the run-outs' rest positions: wherever the rest `target` lies in
@@ -336,11 +339,28 @@ fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, us
             (0..GRID_DIRECTIONS).flat_map(move |i| (0..GRID_SPEEDS.len()).map(move |j| (w, i, j)))
         })
         .collect();
+    // The grid only tells which cells hold the rest (their images are metres across): its
+    // run-outs at GRID_TOLERANCE; the states found are then brought to the rest at the
+    // search's own.
+    let loose = Settings {
+        rtol: GRID_TOLERANCE.max(p.settings.rtol),
+        atol: GRID_TOLERANCE.max(p.settings.atol),
+        ..*p.settings
+    };
+    let q = Problem {
+        chassis: p.chassis,
+        start: p.start,
+        evidence: p.evidence,
+        heading: p.heading,
+        settings: &loose,
+        estimate_friction: p.estimate_friction,
+        work: Default::default(),
+    };
     let rests: Vec<Option<[f64; 2]>> = cells
         .par_iter()
         .map(|&(w, i, j)| {
             let t = state(w, i as f64, GRID_SPEEDS[j]);
-            p.runout(&t).ok().map(|r| [r.rest.x, r.rest.y])
+            q.runout(&t).ok().map(|r| [r.rest.x, r.rest.y])
         })
         .collect();
     let mut spent = cells.len();
@@ -507,4 +527,73 @@ fn to_rest(p: &Problem, mut t: Vec<f64>, target: [f64; 2], spent: &mut usize) ->
     }
     let ok = r[0].hypot(r[1]) < tolerance;
     (t, ok)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::chassis::{Chassis, Motion, WheelState};
+    use crate::inverse::evidence::{Evidence, Rest};
+
+    /// A run-out from a state at a whole yaw rate: the grid at that yaw rate finds a state
+    /// whose run-out ends at its rest (within `to_rest`'s tolerance), wherever the first guess
+    /// points: the grid covers every direction.
+    #[test]
+    fn the_grid_finds_the_states_that_reach_a_rest() {
+        for (state, t) in [
+            (WheelState::Locked, [9.0, 4.0, 2.0]),
+            (WheelState::Rolling, [6.0, -3.0, -3.0]),
+        ] {
+            let mut chassis = Chassis::new(1500.0, 2500.0, 2.7, 1.2, 1.5, state);
+            chassis.rolling_resistance = 0.3;
+            let start = Motion {
+                x: 0.0,
+                y: 0.0,
+                heading: 0.3,
+                vx: t[0],
+                vy: t[1],
+                yaw_rate: t[2],
+            };
+            let settings = Settings::default();
+            let truth = crate::simulate(&chassis, &start, &settings).unwrap();
+            let evidence = Evidence {
+                rest: Some(Rest {
+                    x: truth.rest.x,
+                    y: truth.rest.y,
+                    heading: None,
+                    sigma_xy: [0.1, 0.1],
+                    sigma_heading: 0.1,
+                    point: [0.0, 0.0],
+                }),
+                ..Evidence::default()
+            };
+            let p = Problem {
+                chassis: &chassis,
+                start,
+                evidence: &evidence,
+                heading: None,
+                settings: &settings,
+                estimate_friction: false,
+                work: Default::default(),
+            };
+            // A first guess pointing the other way, at half the speed.
+            let guess = [-0.5 * t[0], -0.5 * t[1], 0.0];
+            let (found, spent) = preimages(&p, &guess, [truth.rest.x, truth.rest.y]);
+            assert!(spent >= 21 * GRID_DIRECTIONS * GRID_SPEEDS.len());
+            let near = found
+                .iter()
+                .filter(|f| (f[2] - t[2]).abs() < 1e-9)
+                .map(|f| (f[0] - t[0]).hypot(f[1] - t[1]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(near < 0.5, "{state:?}: nearest {near} m/s of {found:?}");
+        }
+    }
+
+    #[test]
+    fn barycentric_coordinates_hold_inside_only() {
+        let (a, b, c) = ([0.0, 0.0], [2.0, 0.0], [0.0, 2.0]);
+        assert_eq!(barycentric(a, b, c, [0.5, 0.5]), Some((0.25, 0.25)));
+        assert_eq!(barycentric(a, b, c, [1.5, 1.5]), None);
+        assert_eq!(barycentric(a, b, [4.0, 0.0], [1.0, 0.0]), None);
+    }
 }
