@@ -407,7 +407,6 @@ def test_reconstruct_matches_the_command():
     sources = [(e.source.kind, e.source.vehicle, e.source.what, e.source.index) for e in r.evidence]
     assert ("edr", 2, None, 0) in sources and ("friction", None, None, 0) in sources
     assert ("scene", 1, "rest_heading", None) in sources and ("scene", 2, "mark", 0) in sources
-    assert ("estimate", None, None, None) not in sources
     assert [e.source.component for e in r.evidence if e.source.kind == "estimate"] == [2, 5]
     with pytest.raises(pim.InputError, match="pim.reconstruct"):
         pim.fit(case)
