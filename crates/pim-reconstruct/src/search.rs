@@ -37,11 +37,7 @@ fn candidates(
         runout: if scatter {
             settings.runout
         } else {
-            pim_runout::Settings {
-                rtol: CANDIDATE_TOLERANCE.max(settings.runout.rtol),
-                atol: CANDIDATE_TOLERANCE.max(settings.runout.atol),
-                ..settings.runout
-            }
+            settings.runout.no_finer_than(CANDIDATE_TOLERANCE)
         },
         scatter,
         // The first search looks quickly; the second (where the first answer fits worse than

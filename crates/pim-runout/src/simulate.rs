@@ -34,6 +34,16 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// These settings with both tolerances at least `tolerance` (a quicker, coarser run-out;
+    /// tolerances already coarser are kept).
+    pub fn no_finer_than(&self, tolerance: f64) -> Settings {
+        Settings {
+            rtol: tolerance.max(self.rtol),
+            atol: tolerance.max(self.atol),
+            ..*self
+        }
+    }
+
     /// Checks the settings; the error names the field.
     pub fn check(&self) -> Result<()> {
         for (field, x) in [

@@ -21,7 +21,23 @@ pub(crate) struct Problem<'a> {
     pub(crate) work: std::sync::atomic::AtomicU64,
 }
 
-impl Problem<'_> {
+impl<'a> Problem<'a> {
+    /// The same problem with its run-outs on `settings` (its own count of work).
+    pub(crate) fn on<'b>(&self, settings: &'b Settings) -> Problem<'b>
+    where
+        'a: 'b,
+    {
+        Problem {
+            chassis: self.chassis,
+            start: self.start,
+            evidence: self.evidence,
+            heading: self.heading,
+            settings,
+            estimate_friction: self.estimate_friction,
+            work: Default::default(),
+        }
+    }
+
     pub(crate) fn n(&self) -> usize {
         if self.estimate_friction {
             4

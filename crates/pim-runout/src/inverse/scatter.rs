@@ -34,7 +34,6 @@
 use super::problem::{Problem, INTERNAL_STEP};
 use super::search::{bounded, first_guess, EXPLORE_TOLERANCE};
 use crate::simulate::Runout;
-use crate::simulate::Settings;
 use rayon::prelude::*;
 
 /// The scatter's yaw rates: -8 to 8 rad/s in steps of 0.5.
@@ -64,11 +63,7 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
     if headings.is_empty() {
         return out;
     }
-    let coarse = Settings {
-        rtol: EXPLORE_TOLERANCE.max(base.settings.rtol),
-        atol: EXPLORE_TOLERANCE.max(base.settings.atol),
-        ..*base.settings
-    };
+    let coarse = base.settings.no_finer_than(EXPLORE_TOLERANCE);
     let soft = base.evidence.softened(1.0);
     let problem = |heading: Option<f64>| Problem {
         chassis: base.chassis,
@@ -342,20 +337,8 @@ fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, us
     // The grid only tells which cells hold the rest (their images are metres across): its
     // run-outs at GRID_TOLERANCE; the states found are then brought to the rest at the
     // search's own.
-    let loose = Settings {
-        rtol: GRID_TOLERANCE.max(p.settings.rtol),
-        atol: GRID_TOLERANCE.max(p.settings.atol),
-        ..*p.settings
-    };
-    let q = Problem {
-        chassis: p.chassis,
-        start: p.start,
-        evidence: p.evidence,
-        heading: p.heading,
-        settings: &loose,
-        estimate_friction: p.estimate_friction,
-        work: Default::default(),
-    };
+    let loose = p.settings.no_finer_than(GRID_TOLERANCE);
+    let q = p.on(&loose);
     let rests: Vec<Option<[f64; 2]>> = cells
         .par_iter()
         .map(|&(w, i, j)| {
@@ -534,6 +517,7 @@ mod tests {
     use super::*;
     use crate::chassis::{Chassis, Motion, WheelState};
     use crate::inverse::evidence::{Evidence, Rest};
+    use crate::simulate::Settings;
 
     /// A run-out from a state at a whole yaw rate: the grid at that yaw rate finds a state
     /// whose run-out ends at its rest (within `to_rest`'s tolerance), wherever the first guess

@@ -8,7 +8,7 @@ use super::evidence::{
 use super::problem::Problem;
 use crate::chassis::{Motion, GRAVITY};
 use crate::error::Result;
-use crate::simulate::{End, Runout, Settings};
+use crate::simulate::{End, Runout};
 use nalgebra::{DMatrix, DVector};
 
 /// The first guess of a candidate: a uniform deceleration along the line from the start to
@@ -233,20 +233,8 @@ pub(crate) fn solve(
     // A second pass (others given) tries only the others: the rest were tried in the first.
     let second_pass = !others.is_empty();
     let guess = first_guess(p, &mut runouts);
-    let coarse_settings = Settings {
-        rtol: EXPLORE_TOLERANCE.max(p.settings.rtol),
-        atol: EXPLORE_TOLERANCE.max(p.settings.atol),
-        ..*p.settings
-    };
-    let coarse = Problem {
-        chassis: p.chassis,
-        start: p.start,
-        evidence: p.evidence,
-        heading: p.heading,
-        settings: &coarse_settings,
-        estimate_friction: p.estimate_friction,
-        work: Default::default(),
-    };
+    let coarse_settings = p.settings.no_finer_than(EXPLORE_TOLERANCE);
+    let coarse = p.on(&coarse_settings);
     let rest_only = Evidence {
         marks: Vec::new(),
         ..p.evidence.clone()
