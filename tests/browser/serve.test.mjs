@@ -586,6 +586,60 @@ test("a tyre mark placed by a click is written into the TOML where it was clicke
   await idle();
 });
 
+test("a yaw mark traced by clicks along it is written into the TOML with its tyre", async () => {
+  const original = await exampleAsCommitted();
+  const chi = () => page.evaluate(() => window.pim.answer.document.best.chi_square);
+  const before = await chi();
+  // Three points of car 2's fitted path (a fifth, two fifths and three fifths along), through
+  // the plan's own transform; then the last again to end the trace.
+  const [points, unitPx] = await page.evaluate(() => {
+    const veh = window.pim.answer.plan.vehicles.find((w) => w.vehicle === 2);
+    const n = veh.path.length, svg = document.getElementById("plan"), m = svg.getScreenCTM();
+    const pts = [n / 5, 2 * n / 5, 3 * n / 5].map((i) => {
+      const [h, v] = veh.path[Math.floor(i)];
+      const p = svg.createSVGPoint(); p.x = h; p.y = -v;
+      const q = p.matrixTransform(m);
+      return [q.x, q.y, h, v];
+    });
+    return [pts, Math.hypot(m.a, m.b)];
+  });
+  page.once("dialog", (d) => { assert.match(d.defaultValue(), /^2 [0-9.]+ fl$/); d.accept("2 0.5 cg"); });
+  await page.click("#add-trace");
+  for (const [x, y] of points) await page.mouse.click(x, y);
+  assert.equal(await page.locator("polyline.click").count(), 1);
+  const [lx, ly] = points[points.length - 1];
+  await page.mouse.click(lx + 2, ly + 1);
+  await page.waitForFunction(() => /^traces = /m.test(window.pim.text));
+  await idle();
+  const text = await page.inputValue("#toml");
+  const added = text.split("\n").filter((l) => !original.split("\n").includes(l));
+  assert.equal(added.length, 1, JSON.stringify(added));
+  const m = /^traces = \[ \{ wheel = "cg", points = \[(.*)\], sigma = 0\.5 \} \]$/.exec(added[0]);
+  assert.ok(m, added[0]);
+  // Written in the file's frame (SAE: x is the page's up, y its right), within a pixel.
+  const written = [...m[1].matchAll(/\[([-0-9.]+), ([-0-9.]+)\]/g)].map((c) => [+c[1], +c[2]]);
+  assert.equal(written.length, 3);
+  const tol = 1 / unitPx + 0.01;
+  written.forEach(([x, y], i) => {
+    const [, , h, v] = points[i];
+    assert.ok(Math.abs(x - v) <= tol && Math.abs(y - h) <= tol, `point ${i}: (${x}, ${y}) against (${v}, ${h})`);
+  });
+  // Points of its own path, traced by the CG: the answer meets them.
+  const after = await chi();
+  assert.ok(Math.abs(after - before) < 0.05, `${after} against ${before}`);
+  await page.screenshot({ path: path.join(shots, "12c-trace.png") });
+  // A trace left unfinished (its tool switched off after two points) writes nothing.
+  await page.click("#add-trace");
+  await page.mouse.click(lx, ly);
+  await page.mouse.click(lx + 1, ly);
+  await page.click("#add-trace");
+  assert.equal(await page.locator("polyline.click").count(), 0);
+  assert.equal(await page.inputValue("#toml"), text);
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => !/^traces = /m.test(window.pim.text));
+  await idle();
+});
+
 test("a friction zone is drawn on the plan under the run-outs, with its friction", async () => {
   await page.selectOption("#cases", "reconstruction_verge_us.toml");
   await idle();

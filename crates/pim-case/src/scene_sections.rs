@@ -41,8 +41,9 @@ pub struct ZoneSection {
     pub name: Option<String>,
     /// Its friction coefficient.
     pub friction: f64,
-    /// Its standard deviation: `pim uncertainty` draws the zone's friction by it (the fit
-    /// holds it as stated).
+    /// Its standard deviation: the fit then fits the zone's friction with the speeds (the
+    /// stated value a prior of this deviation) and `pim uncertainty` draws the prior's centre
+    /// by it; without it the friction is held as stated.
     #[serde(default)]
     pub friction_sigma: Option<f64>,
     /// The polygon's corners in order, `[x, y]` in the case's frame and length unit.

@@ -6,14 +6,16 @@
 //! [[runout.zones]]
 //! name = "parking lot"          # optional, for the figures
 //! friction = 0.45
-//! friction_sigma = 0.05         # optional: `pim uncertainty` draws the friction by it
+//! friction_sigma = 0.05         # optional: fit the zone's friction about it, this sd its prior
 //! corners = [ [20.0, -5.0], [40.0, -5.0], [40.0, 12.0], [20.0, 12.0] ]   # length unit
 //! ```
 //!
 //! The corners are in the case's fixed frame and length unit, in order (either sense); a later
 //! zone lies over an earlier one where they overlap. Outside every zone the wheels run on the
 //! road's friction (`[runout] friction`, or the vehicle's own). The fit holds a zone's friction
-//! as stated; with `friction_sigma` the uncertainty study draws it.
+//! as stated; with `friction_sigma` it fits it with the speeds, as `[runout] friction_sigma`
+//! fits the road's (the stated value a prior of that deviation), and the uncertainty study
+//! draws the prior's centre by it.
 
 use crate::case::Case;
 use crate::error::Result;

@@ -204,7 +204,13 @@ fn scene_record(name: &str, text: &str) -> serde_json::Value {
         row[format!("v{k}_turns")] = json!(v.turns);
     }
     if let Some(best) = &done.outcome.best {
-        row["road_friction"] = json!(best.frictions.first());
+        let road = done
+            .input
+            .reconstruction
+            .frictions
+            .iter()
+            .position(|f| f.zone.is_none());
+        row["road_friction"] = json!(road.map(|g| best.frictions[g]));
     }
     row
 }

@@ -49,8 +49,11 @@ pub struct SceneFit {
     /// The road friction the run-out ran on: the fitted one where the case fits its road's
     /// friction ([`Found::frictions`]), the stated one otherwise.
     pub friction: f64,
-    /// The rolling resistance it ran with (at most half the friction, as the chassis's
-    /// checks require of a fitted friction).
+    /// The friction of each zone under it (the chassis's order): the fitted one where the case
+    /// fits the zone's friction, the stated one otherwise.
+    pub zones: Vec<f64>,
+    /// The rolling resistance it ran with (at most half of each fitted friction, as the
+    /// chassis's checks require).
     pub rolling_resistance: f64,
 }
 
@@ -417,7 +420,8 @@ fn scene_fits(r: &Reconstruction, p: &Point) -> Vec<SceneFit> {
             residuals: l.lin.residuals.clone(),
             runout: l.lin.runout.clone(),
             friction: l.mu,
-            rolling_resistance: crate::point::rolling_resistance_for(r, l.vehicle, l.mu),
+            zones: l.zone_mus.clone(),
+            rolling_resistance: l.rolling_resistance,
         })
         .collect()
 }

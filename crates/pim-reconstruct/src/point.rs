@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::problem::{Reconstruction, SceneVehicle, Settings};
 use pim_core::Velocities;
 use pim_fit::{MomentBranch, Solution};
-use pim_runout::{differentiate, linearise, Chassis, Linearised, Motion};
+use pim_runout::{differentiate, differentiate_zones, linearise, Chassis, Linearised, Motion};
 
 /// The scene of one vehicle linearised at one separation state.
 #[derive(Debug, Clone)]
@@ -18,6 +18,10 @@ pub(crate) struct Lin {
     pub(crate) at: [f64; 3],
     /// The road friction of its run-out.
     pub(crate) mu: f64,
+    /// The friction of each zone under its run-out (the chassis's order).
+    pub(crate) zone_mus: Vec<f64>,
+    /// The rolling resistance of its run-out.
+    pub(crate) rolling_resistance: f64,
     pub(crate) lin: Linearised,
 }
 
@@ -92,6 +96,8 @@ pub(crate) fn linearised(
         turns,
         at,
         mu: chassis.friction,
+        zone_mus: chassis.zones.iter().map(|z| z.friction).collect(),
+        rolling_resistance: chassis.rolling_resistance,
         lin,
     };
     if jacobian {
@@ -113,23 +119,31 @@ pub(crate) fn differentiated(
     let (chassis, start) = runout_of(r, lin.vehicle, lin.at, mus);
     let s = &r.scene[lin.vehicle];
     let friction_too = r.friction_of(lin.vehicle).is_some();
-    Ok(Lin {
-        lin: differentiate(
-            lin.lin,
+    let mut d = differentiate(
+        lin.lin,
+        &chassis,
+        &start,
+        &s.evidence,
+        lin.turns,
+        &settings.runout,
+        friction_too,
+    )?;
+    if r.zone_frictions_of(lin.vehicle).next().is_some() {
+        d = differentiate_zones(
+            d,
             &chassis,
             &start,
             &s.evidence,
             lin.turns,
             &settings.runout,
-            friction_too,
-        )?,
-        ..lin
-    })
+        )?;
+    }
+    Ok(Lin { lin: d, ..lin })
 }
 
-/// The chassis scene vehicle `vehicle` runs out with (the fitted friction `mus` where it is
-/// fitted, the rolling resistance at most half of it) and its separation state at velocity
-/// `at`.
+/// The chassis scene vehicle `vehicle` runs out with (the fitted frictions `mus` where they
+/// are fitted, the road's and each zone's, the rolling resistance at most half of each) and
+/// its separation state at velocity `at`.
 fn runout_of(r: &Reconstruction, vehicle: usize, at: [f64; 3], mus: &[f64]) -> (Chassis, Motion) {
     let s = &r.scene[vehicle];
     let start = Motion {
@@ -139,21 +153,16 @@ fn runout_of(r: &Reconstruction, vehicle: usize, at: [f64; 3], mus: &[f64]) -> (
         ..s.pose
     };
     let mut chassis = s.chassis.clone();
+    let mut lowest = f64::INFINITY;
     if r.friction_of(vehicle).is_some() {
-        let mu = friction_for(r, vehicle, mus);
-        chassis.friction = mu;
-        chassis.rolling_resistance = rolling_resistance_for(r, vehicle, mu);
+        chassis.friction = friction_for(r, vehicle, mus);
+        lowest = chassis.friction;
     }
+    for (g, k) in r.zone_frictions_of(vehicle) {
+        let mu = mus.get(g).copied().unwrap_or(r.frictions[g].value);
+        chassis.zones[k].friction = mu;
+        lowest = lowest.min(mu);
+    }
+    chassis.rolling_resistance = chassis.rolling_resistance.min(0.5 * lowest);
     (chassis, start)
-}
-
-/// The rolling resistance scene vehicle `vehicle` runs out with on the road friction `mu`:
-/// its chassis's own, at most half of a fitted friction.
-pub(crate) fn rolling_resistance_for(r: &Reconstruction, vehicle: usize, mu: f64) -> f64 {
-    let own = r.scene[vehicle].chassis.rolling_resistance;
-    if r.friction_of(vehicle).is_some() {
-        own.min(0.5 * mu)
-    } else {
-        own
-    }
 }

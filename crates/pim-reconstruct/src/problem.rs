@@ -130,13 +130,19 @@ pub struct Reconstruction {
     pub frictions: Vec<RoadFriction>,
 }
 
-/// A road friction fitted with the velocities: its stated value and standard deviation (a
-/// datum of the chi-square, `((mu - value) / sigma)^2`) and the scene vehicles that ran out on
-/// it (one surface under both, or one each where they came to rest on different surfaces).
+/// A friction fitted with the velocities: its stated value and standard deviation (a datum of
+/// the chi-square, `((mu - value) / sigma)^2`) and the scene vehicles that ran out on it. The
+/// road's (one surface under both, or one each where they came to rest on different surfaces),
+/// or a friction zone's ([`RoadFriction::zone`]: each wheel of every run-out on it where it
+/// lies under the wheel).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoadFriction {
-    /// Its name in the evidence table (`road friction`).
+    /// Its name in the evidence table (`road friction`, `grass verge friction`).
     pub name: String,
+    /// The friction zone it is (an index into each scene vehicle's
+    /// [`Chassis::zones`](pim_runout::Chassis::zones), the same zones under both); `None`: the
+    /// road's friction outside every zone ([`Chassis::friction`](pim_runout::Chassis::friction)).
+    pub zone: Option<usize>,
     /// The stated value, coefficient.
     pub value: f64,
     /// Its standard deviation.
@@ -225,24 +231,53 @@ impl Reconstruction {
                     f.sigma
                 ));
             }
+            // A vehicle runs out on one road friction, and each zone is fitted once.
+            let taken = |v: usize| {
+                self.frictions[..g]
+                    .iter()
+                    .any(|h| h.zone == f.zone && (f.zone.is_some() || h.vehicles.contains(&v)))
+            };
             if f.vehicles.is_empty()
-                || f.vehicles.iter().any(|&v| {
-                    v >= self.scene.len()
-                        || self.frictions[..g].iter().any(|h| h.vehicles.contains(&v))
-                })
+                || f.vehicles
+                    .iter()
+                    .any(|&v| v >= self.scene.len() || taken(v))
             {
                 return bad(format!(
                     "{}: each fitted friction needs scene vehicles of its own",
                     f.name
                 ));
             }
+            if let Some(k) = f.zone {
+                if f.vehicles
+                    .iter()
+                    .any(|&v| k >= self.scene[v].chassis.zones.len())
+                {
+                    return bad(format!(
+                        "{}: zone {} is not under its vehicles",
+                        f.name,
+                        k + 1
+                    ));
+                }
+            }
         }
         Ok(())
     }
 
-    /// The fitted friction the scene vehicle `v` runs out on, if any.
+    /// The fitted road friction the scene vehicle `v` runs out on (outside every zone), if
+    /// any.
     pub fn friction_of(&self, v: usize) -> Option<usize> {
-        self.frictions.iter().position(|f| f.vehicles.contains(&v))
+        self.frictions
+            .iter()
+            .position(|f| f.zone.is_none() && f.vehicles.contains(&v))
+    }
+
+    /// The fitted zone frictions under the scene vehicle `v`: each one's index in
+    /// [`Reconstruction::frictions`] and its zone.
+    pub fn zone_frictions_of(&self, v: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.frictions
+            .iter()
+            .enumerate()
+            .filter_map(move |(g, f)| f.zone.filter(|_| f.vehicles.contains(&v)).map(|k| (g, k)))
     }
 
     /// The frictions' residuals at `mus` (one per [`Reconstruction::frictions`]) in standard

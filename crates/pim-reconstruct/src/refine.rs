@@ -152,11 +152,17 @@ pub(crate) struct FrictionStep {
 impl FrictionStep {
     fn new(r: &Reconstruction, lins: &[Lin]) -> FrictionStep {
         let groups = r.frictions.len();
+        // Each friction as the run-outs were linearised on it.
         let mus: Vec<f64> = (0..groups)
             .map(|g| {
-                lins.iter()
-                    .find(|l| r.friction_of(l.vehicle) == Some(g))
-                    .map_or(r.frictions[g].value, |l| l.mu)
+                let f = &r.frictions[g];
+                f.vehicles
+                    .iter()
+                    .find_map(|&v| lins.iter().find(|l| l.vehicle == v))
+                    .map_or(f.value, |l| match f.zone {
+                        None => l.mu,
+                        Some(k) => l.zone_mus[k],
+                    })
             })
             .collect();
         let rows: usize = lins.iter().map(|l| l.lin.weighted.len()).sum::<usize>() + groups;
@@ -179,6 +185,11 @@ impl FrictionStep {
                 b[k] = l.lin.weighted[i];
                 if let (Some(g), Some(d)) = (g, &l.lin.friction) {
                     m[(k, g)] = d[i];
+                }
+                for (g, z) in r.zone_frictions_of(l.vehicle) {
+                    if let Some(d) = l.lin.zones.get(z) {
+                        m[(k, g)] = d[i];
+                    }
                 }
                 k += 1;
             }

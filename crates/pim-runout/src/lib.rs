@@ -90,9 +90,9 @@ pub use chassis::{
 pub use error::{Result, RunoutError};
 pub use forces::{wheels_at, WheelAt, SLIDING_DEADBAND};
 pub use inverse::{
-    differentiate, estimate, linearise, linearise_with_friction, Alternative, Candidate, Estimate,
-    EstimateSettings, Evidence, Linearised, Mark, Quantity, Residual, Rest, ALTERNATIVE_COST,
-    CONSISTENT_COST, MAX_ALTERNATIVES, PLAUSIBLE_COST,
+    differentiate, differentiate_zones, estimate, linearise, linearise_with_friction, Alternative,
+    Candidate, Estimate, EstimateSettings, Evidence, Linearised, Mark, Quantity, Residual, Rest,
+    ALTERNATIVE_COST, CONSISTENT_COST, MAX_ALTERNATIVES, PLAUSIBLE_COST,
 };
 pub use simulate::{full_turns, simulate, End, Runout, Settings, Step};
 pub use zones::{friction_at, Zone};

@@ -5,7 +5,10 @@
 mod common;
 
 use common::runout::{random_chassis, random_start, Reference, KINDS};
-use pim_runout::{simulate, Chassis, End, Motion, Settings, WheelState, Zone, GRAVITY};
+use pim_runout::{
+    differentiate_zones, linearise_with_friction, simulate, Chassis, End, Evidence, Motion, Rest,
+    Settings, WheelState, Zone, GRAVITY,
+};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rayon::prelude::*;
@@ -157,4 +160,68 @@ fn a_bad_zone_names_itself() {
     c.zones[1].corners.truncate(2);
     let e = c.check().unwrap_err().to_string();
     assert!(e.contains("zone 2") && e.contains("three"), "{e}");
+}
+
+/// The derivative of a rest's residual with respect to a zone's friction
+/// (`differentiate_zones`): for the sliding translation above, the run-out's length is
+/// `D(mu2) = (m v^2/2 - (mu1 - mu2) B) / (mu2 m g)` with `B = sum Fz_i (xb - x_i)`, so
+/// `dD/dmu2 = (B - D m g) / (mu2 m g)`, and the rest's x residual in deviations moves by that
+/// over its sigma. Met to 1e-4 relative (a forward difference through the run-out's steps);
+/// the road friction's column is the road's (`-B / (mu2 m g)`), and a zone the run-out never
+/// reaches has a column of zeros (below 1e-6, the rounding of the stepped run-out's end).
+#[test]
+fn a_zones_friction_derivative_is_the_work_formulas() {
+    let (mu1, mu2, v, xb) = (0.8, 0.4, 15.0, 6.0);
+    let mut c = Chassis::new(1500.0, 2400.0, 2.7, 1.2, 1.55, WheelState::Locked);
+    c.friction = mu1;
+    c.zones = vec![
+        across([xb, 0.0], [1.0, 0.0], 500.0, mu2),
+        across([-50.0, 0.0], [-1.0, 0.0], 10.0, 0.2),
+    ];
+    let start = Motion {
+        vx: v,
+        ..Motion::default()
+    };
+    let w = c.mass * GRAVITY;
+    let b: f64 = (0..4)
+        .map(|i| c.static_loads()[i] * (xb - c.wheel_position(i)[0]))
+        .sum();
+    let d = (0.5 * c.mass * v * v - (mu1 - mu2) * b) / (mu2 * w);
+    let sigma = 0.1;
+    let ev = Evidence {
+        rest: Some(Rest {
+            x: d + 0.3,
+            y: 0.0,
+            heading: None,
+            sigma_xy: [sigma, sigma],
+            sigma_heading: 1.0,
+            point: [0.0, 0.0],
+        }),
+        ..Evidence::default()
+    };
+    let s = Settings::default();
+    let lin = linearise_with_friction(&c, &start, &ev, 0, &s).unwrap();
+    let before = (lin.runouts, lin.evaluations);
+    let lin = differentiate_zones(lin, &c, &start, &ev, 0, &s).unwrap();
+    assert_eq!(lin.zones.len(), 2);
+    assert_eq!(lin.runouts, before.0 + 2);
+    let expected = (b - d * w) / (mu2 * w) / sigma;
+    let got = lin.zones[0][0];
+    println!("d(rest.x)/d(mu zone) {got:.6} against {expected:.6} per deviation");
+    assert!((got - expected).abs() < 1e-4 * expected.abs(), "{got}");
+    // The road's: dD/dmu1 = -B / (mu2 m g).
+    let road = lin.friction.as_ref().unwrap()[0];
+    let expected_road = -b / (mu2 * w) / sigma;
+    assert!(
+        (road - expected_road).abs() < 1e-4 * expected_road.abs(),
+        "{road}"
+    );
+    assert!(
+        lin.zones[1].iter().all(|x| x.abs() < 1e-6),
+        "{:?}",
+        lin.zones[1]
+    );
+    // Differentiated again: nothing more is run.
+    let again = differentiate_zones(lin.clone(), &c, &start, &ev, 0, &s).unwrap();
+    assert_eq!(again.runouts, lin.runouts);
 }

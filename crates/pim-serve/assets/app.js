@@ -742,7 +742,7 @@ function drawClicks(svg) {
   const r = 5 / pxPerUnit();
   const pts = state.clicks.length ? state.clicks : state.measured ? state.measured.points : [];
   for (const p of pts) el("circle", { cx: p.x, cy: p.y, r, class: "click" }, svg);
-  if (state.tool === "zone" && pts.length > 1) el("polyline", { points: pts.map((p) => `${p.x},${p.y}`).join(" "), class: "click" }, svg);
+  if ((state.tool === "zone" || state.tool === "trace") && pts.length > 1) el("polyline", { points: pts.map((p) => `${p.x},${p.y}`).join(" "), class: "click" }, svg);
   else if (pts.length === 2) el("line", { x1: pts[0].x, y1: pts[0].y, x2: pts[1].x, y2: pts[1].y, class: "click" }, svg);
 }
 
@@ -762,6 +762,7 @@ function useTool(tool) {
   status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies"
     : state.tool === "skid" ? "click where the skid begins, behind the vehicle"
     : state.tool === "zone" ? "click the zone's corners in order, the first again to close it"
+    : state.tool === "trace" ? "click points along the tyre's mark in order, the last again to end"
     : state.tool === "move-image" ? "drag the image to move it, its knob to turn it; Move image again to end"
     : "click two points on the plan");
   $("move-image").classList.toggle("active", state.tool === "move-image");
@@ -771,6 +772,7 @@ function useTool(tool) {
 async function toolClick(e) {
   if (!state.tool || state.tool === "move-image") return;
   if (state.tool === "zone") { await zoneClick(svgPoint(e)); return; }
+  if (state.tool === "trace") { await traceClick(svgPoint(e)); return; }
   state.clicks.push(svgPoint(e));
   render();
   // A mark or a skid takes one click, a distance two; then the tool ends.
@@ -811,17 +813,44 @@ function nearestVehicle(p) {
 // A tyre mark where the plan was clicked: the vehicle (the one whose path passes nearest) and
 // the mark's standard deviation asked, then written into the TOML (not saved) and solved.
 async function placeMark(click) {
-  const plan = state.answer.plan, at = [click.x, -click.y];
+  const at = [click.x, -click.y];
+  const who = askWhoseMark("Tyre mark", "a point of the CG's path", at, "cg");
+  if (!who) { status("no mark placed"); render(); return; }
+  await edited("/api/mark", { at, ...who });
+}
+
+// Whose mark at the page point `at` (`what`: its kind; `cg`: what a CG mark is), asked: the
+// vehicle (the one whose path passes nearest offered), the standard deviation (0.15 m in the
+// display unit offered) and the tyre that left it (`wheel` offered); null when not given.
+function askWhoseMark(what, cg, at, wheel) {
+  const plan = state.answer.plan;
   const sigma = Math.round((0.15 / plan.metres) * 100) / 100;
-  const answer = window.prompt(`Tyre mark: the vehicle (1 or 2), its standard deviation (${plan.length_label}) `
-    + `and the tyre that left it (fl, fr, rl, rr for front left ... rear right; cg: a point of the CG's path):`,
-    `${nearestVehicle(at)} ${sigma} cg`);
+  const answer = window.prompt(`${what}: the vehicle (1 or 2), its standard deviation (${plan.length_label}) `
+    + `and the tyre that left it (fl, fr, rl, rr for front left ... rear right; cg: ${cg}):`,
+    `${nearestVehicle(at)} ${sigma} ${wheel === "cg" ? "cg" : "fl"}`);
   const words = (answer || "").trim().toLowerCase().split(/[\s,]+/);
   const [vehicle, s] = words.slice(0, 2).map(Number);
   const tyres = { fl: "front_left", fr: "front_right", rl: "rear_left", rr: "rear_right" };
-  const wheel = tyres[words[2]] || words[2] || "cg";
-  if (!(vehicle === 1 || vehicle === 2) || !(s > 0)) { status("no mark placed"); render(); return; }
-  await edited("/api/mark", { vehicle, at, sigma: s, wheel });
+  if (!(vehicle === 1 || vehicle === 2) || !(s > 0)) return null;
+  return { vehicle, sigma: s, wheel: tyres[words[2]] || words[2] || wheel };
+}
+
+// A point of a traced mark: added, or with two or more a click within 8 screen pixels of the
+// last ends it; the vehicle, the standard deviation and the tyre asked, then written into the
+// TOML (not saved) and solved.
+async function traceClick(p) {
+  const c = state.clicks, near = 8 / pxPerUnit(), last = c[c.length - 1];
+  if (!(c.length >= 2 && Math.hypot(p.x - last.x, p.y - last.y) <= near)) {
+    c.push(p);
+    render();
+    return;
+  }
+  state.tool = null; state.clicks = [];
+  $("plan").classList.remove("picking");
+  const points = c.map((q) => [q.x, -q.y]);
+  const who = askWhoseMark("Traced mark", "the CG's path", points[0], "front_left");
+  if (!who) { status("no trace placed"); render(); return; }
+  await edited("/api/trace", { points, ...who });
 }
 
 // A corner of a friction zone: added, or with three or more a click within 8 screen pixels of
@@ -1138,6 +1167,7 @@ $("batch-start").addEventListener("click", startBatch);
 $("batch-cancel").addEventListener("click", cancelBatch);
 $("add-skid").addEventListener("click", () => useTool("skid"));
 $("add-zone").addEventListener("click", () => useTool("zone"));
+$("add-trace").addEventListener("click", () => useTool("trace"));
 $("move-image").addEventListener("click", () => useTool("move-image"));
 $("lock-image").addEventListener("change", (e) => {
   if (state.tool === "move-image") useTool("move-image");

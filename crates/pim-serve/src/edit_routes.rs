@@ -1,5 +1,5 @@
-//! The routes that edit the case text from the plan: a rest or mark moved, a mark or a
-//! friction zone added, the geometry at contact moved, a skid set. Each answers the edited text
+//! The routes that edit the case text from the plan: a rest or mark moved, a mark, a traced
+//! mark or a friction zone added, the geometry at contact moved, a skid set. Each answers the edited text
 //! (not saved) or the refusal that says why.
 
 use axum::http::StatusCode;
@@ -80,6 +80,13 @@ pub(crate) struct EditAsk<T> {
 pub(crate) async fn add_mark(Json(m): Json<EditAsk<crate::NewMark>>) -> Response {
     edited(m.units.as_deref(), |u| {
         crate::add_mark(&m.path, &m.text, &m.change, u)
+    })
+}
+
+/// The text with a traced mark added through the points clicked on the page (not saved).
+pub(crate) async fn add_trace(Json(t): Json<EditAsk<crate::NewTrace>>) -> Response {
+    edited(t.units.as_deref(), |u| {
+        crate::add_trace(&t.path, &t.text, &t.change, u)
     })
 }
 

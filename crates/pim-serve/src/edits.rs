@@ -1,5 +1,5 @@
-//! The case text edited as the page's tools edit it: a rest or a mark dragged, a mark added, a
-//! skid set; each value written in the file's length unit and frame, to a hundredth (as a scene
+//! The case text edited as the page's tools edit it: a rest or a mark dragged, a mark or a
+//! traced mark added, a skid set; each value written in the file's length unit and frame, to a hundredth (as a scene
 //! diagram gives it), every other byte kept.
 
 use crate::AnswerError;
@@ -9,6 +9,7 @@ pub(crate) fn hundredth(x: f64) -> f64 {
     (x * 100.0).round() / 100.0 + 0.0
 }
 use pim_case::case::Case;
+use pim_case::edit::{CaseEdit, NewValue};
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
 
@@ -218,7 +219,6 @@ pub fn add_mark(
         sigma,
         ref wheel,
     } = *mark;
-    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     if !(vehicle == 1 || vehicle == 2)
         || !at.iter().all(|x| x.is_finite())
         || !(sigma.is_finite() && sigma > 0.0)
@@ -227,32 +227,128 @@ pub fn add_mark(
             "{file}: a mark of vehicle {vehicle} at {at:?} with sigma {sigma} cannot be written"
         )));
     }
+    let (mut edit, points, sigma) = written_evidence(file, text, &[at], sigma, units)?;
+    let mut entries = vec![
+        ("x", NewValue::Written(points[0][0])),
+        ("y", NewValue::Written(points[0][1])),
+        ("sigma", NewValue::Written(sigma)),
+    ];
+    // The tyre that left it (the CG's path without one); the case's check below refuses a
+    // name that is no wheel.
+    if let Some(w) = wheel.as_deref().filter(|w| *w != "cg") {
+        entries.push(("wheel", NewValue::Text(w.to_string())));
+    }
+    pushed(edit_with(
+        &mut edit,
+        &format!("scene.vehicle{vehicle}.marks"),
+        &entries,
+    ))
+}
+
+/// A yaw mark traced on the page: points along the mark one tyre left.
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+pub struct NewTrace {
+    /// Whose mark: 1 or 2.
+    pub vehicle: u8,
+    /// Its points in order along it, on the page (display length unit): two or more.
+    pub points: Vec<[f64; 2]>,
+    /// The standard deviation of the tyre path's distance from each point (display length
+    /// unit).
+    pub sigma: f64,
+    /// The tyre that left it (`front_left` ... `rear_right`), or `cg`.
+    pub wheel: String,
+}
+
+/// The case text with a traced mark of vehicle `vehicle` appended to `[scene.vehicleN]
+/// traces`: its points and sigma (display length unit of `units`, `None`: the case's own) in
+/// the file's length unit and frame, to a hundredth, and its wheel, every other byte kept. The
+/// text is checked as a case after the edit.
+///
+/// # Errors
+/// Text that is not a valid case, a vehicle other than 1 or 2, fewer than two points, a point
+/// or sigma that is not a finite number (the sigma above 0), or a case the trace makes invalid
+/// (a wheel the vehicle does not have: pim's message).
+pub fn add_trace(
+    file: &str,
+    text: &str,
+    trace: &NewTrace,
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    let NewTrace {
+        vehicle,
+        ref points,
+        sigma,
+        ref wheel,
+    } = *trace;
+    if !(vehicle == 1 || vehicle == 2)
+        || points.len() < 2
+        || !points.iter().flatten().all(|x| x.is_finite())
+        || !(sigma.is_finite() && sigma > 0.0)
+    {
+        return Err(AnswerError::Input(format!(
+            "{file}: a trace of vehicle {vehicle} through {points:?} with sigma {sigma} cannot \
+             be written (two points or more, a sigma above 0)"
+        )));
+    }
+    let (mut edit, points, sigma) = written_evidence(file, text, points, sigma, units)?;
+    let entries = [
+        ("wheel", NewValue::Text(wheel.trim().to_string())),
+        ("points", NewValue::Points(points)),
+        ("sigma", NewValue::Written(sigma)),
+    ];
+    pushed(edit_with(
+        &mut edit,
+        &format!("scene.vehicle{vehicle}.traces"),
+        &entries,
+    ))
+}
+
+/// The case's edit, the page's `points` in the file's length unit and frame and the page
+/// length `sigma` in the file's length unit (each to a hundredth), from the display length
+/// unit of `units` (`None`: the case's own).
+fn written_evidence(
+    file: &str,
+    text: &str,
+    points: &[[f64; 2]],
+    sigma: f64,
+    units: Option<UnitSystem>,
+) -> Result<(CaseEdit, Vec<[f64; 2]>, f64), AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let (x, y) = written_frame(&case, at, units);
     // A length, not a point: metres from the display unit.
     let sigma = sigma
         * units
             .unwrap_or_else(|| UnitSystem::of(&case.written_units))
             .length(1.0)
             .recip();
-    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    let edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    let written = |v: f64| pim_case::edit::NewValue::Written(hundredth(v / per_unit));
-    let mut entries = vec![
-        ("x", written(x)),
-        ("y", written(y)),
-        ("sigma", written(sigma)),
-    ];
-    // The tyre that left it (the CG's path without one); the case's check below refuses a
-    // name that is no wheel.
-    if let Some(w) = wheel.as_deref().filter(|w| *w != "cg") {
-        entries.push(("wheel", pim_case::edit::NewValue::Text(w.to_string())));
-    }
-    edit.push(&format!("scene.vehicle{vehicle}.marks"), &entries)
-        .map_err(|e| input(&e))?;
-    edit.check().map_err(|e| input(&e))?;
+    let points = points
+        .iter()
+        .map(|&at| {
+            let (x, y) = written_frame(&case, at, units);
+            [hundredth(x / per_unit), hundredth(y / per_unit)]
+        })
+        .collect();
+    Ok((edit, points, hundredth(sigma / per_unit)))
+}
+
+/// `entries` pushed as an inline table onto the array `path` of `edit`, the text checked as a
+/// case after the edit.
+fn edit_with(
+    edit: &mut CaseEdit,
+    path: &str,
+    entries: &[(&str, NewValue)],
+) -> Result<String, pim_case::InputError> {
+    edit.push(path, entries)?;
+    edit.check()?;
     Ok(edit.text())
+}
+
+/// An edit's text, or its error as the page's refusal.
+fn pushed(r: Result<String, pim_case::InputError>) -> Result<String, AnswerError> {
+    r.map_err(|e| AnswerError::Input(e.to_string()))
 }
 
 /// The case text with vehicle `vehicle`'s skid up to contact set to `length` (display length

@@ -54,7 +54,8 @@ pub use background::{set_background, BackgroundChange};
 pub use batch::batch;
 pub use contact::{edit_contact, ContactChange};
 pub use edits::{
-    add_mark, add_zone, move_mark, move_rest, move_rest_in, set_skid, NewMark, NewZone,
+    add_mark, add_trace, add_zone, move_mark, move_rest, move_rest_in, set_skid, NewMark, NewTrace,
+    NewZone,
 };
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, same_secret, Guard};

@@ -31,6 +31,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/answer", post(answer))
         .route("/api/move", post(crate::edit_routes::move_rest))
         .route("/api/mark", post(crate::edit_routes::add_mark))
+        .route("/api/trace", post(crate::edit_routes::add_trace))
         .route("/api/zone", post(crate::edit_routes::add_zone))
         .route("/api/contact", post(crate::edit_routes::contact))
         .route("/api/skid", post(crate::edit_routes::skid))

@@ -84,16 +84,21 @@ pub fn studied(
                 observer,
             )
             .map_err(|e| input(&e))?;
-            // Each draw's run-outs on its own fitted road friction (the run-outs' one drawn
-            // input; a vehicle on a surface of its own keeps its stated friction).
+            // Each draw's run-outs on its own fitted road friction and zone frictions (a
+            // vehicle on a surface of its own keeps its stated friction).
             let frictions = study.samples.get("road_friction");
             for (i, sep) in study.separations.iter().take(BAND_DRAWS).enumerate() {
                 let mut drawn = case.clone();
-                if let (Some(mu), Some(r)) = (
-                    frictions.and_then(|f| f.get(i)),
-                    drawn.content.runout.as_mut(),
-                ) {
-                    r.friction = Some(*mu);
+                if let Some(r) = drawn.content.runout.as_mut() {
+                    if let Some(mu) = frictions.and_then(|f| f.get(i)) {
+                        r.friction = Some(*mu);
+                    }
+                    for (k, z) in r.zones.iter_mut().enumerate() {
+                        let fitted = study.samples.get(&format!("zone{}_friction", k + 1));
+                        if let Some(mu) = fitted.and_then(|f| f.get(i)) {
+                            z.friction = *mu;
+                        }
+                    }
                 }
                 bands.extend(crate::answer::paths(&drawn, *sep, units).unwrap_or_default());
             }

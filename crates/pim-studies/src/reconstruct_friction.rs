@@ -5,11 +5,13 @@ use pim_case::case::Case;
 use pim_core::VehicleId;
 use pim_reconstruct::{Reconstruction, SceneVehicle};
 
-/// The road frictions fitted with the velocities when `[runout] friction_sigma` is given: one
+/// The frictions fitted with the velocities. When `[runout] friction_sigma` is given: one
 /// under every scene vehicle that runs out on `[runout] friction` (`road friction`), and one
 /// of its own for a vehicle whose `[runout.vehicleN] friction` sets another surface (`road
 /// friction under vehicleN`), each with that standard deviation. A skid before the impact
-/// whose `friction` is not stated apart brakes on the shared road, at its fitted value.
+/// whose `friction` is not stated apart brakes on the shared road, at its fitted value. Then
+/// each friction zone that gives its `friction_sigma` (`NAME friction`, under every scene
+/// vehicle).
 pub(crate) fn frictions_of(
     case: &Case,
     scene: &[SceneVehicle],
@@ -18,6 +20,35 @@ pub(crate) fn frictions_of(
     let Some(runout) = &case.content.runout else {
         return Vec::new();
     };
+    let mut out = road_frictions(runout, scene, skids_on_road);
+    if !scene.is_empty() {
+        for (k, z) in runout.zones.iter().enumerate() {
+            if let Some(sigma) = z.friction_sigma {
+                out.push(pim_reconstruct::RoadFriction {
+                    name: format!("{} friction", zone_name(z, k)),
+                    zone: Some(k),
+                    value: z.friction,
+                    sigma,
+                    vehicles: (0..scene.len()).collect(),
+                    skids: Vec::new(),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// A zone's name for the tables: its own, else `zone N` (from 1).
+pub(crate) fn zone_name(z: &pim_case::scene_sections::ZoneSection, k: usize) -> String {
+    z.name.clone().unwrap_or_else(|| format!("zone {}", k + 1))
+}
+
+/// The road's fitted frictions (`[runout] friction_sigma`), as [`frictions_of`] gives them.
+fn road_frictions(
+    runout: &pim_case::scene_sections::RunoutSection,
+    scene: &[SceneVehicle],
+    skids_on_road: [bool; 2],
+) -> Vec<pim_reconstruct::RoadFriction> {
     let Some(sigma) = runout.friction_sigma else {
         return Vec::new();
     };
@@ -36,6 +67,7 @@ pub(crate) fn frictions_of(
         let on_road: Vec<usize> = (0..2).filter(|&k| skids_on_road[k]).collect();
         out.push(pim_reconstruct::RoadFriction {
             name: "road friction".into(),
+            zone: None,
             value: scene[first].chassis.friction,
             sigma,
             vehicles: shared,
@@ -46,6 +78,7 @@ pub(crate) fn frictions_of(
         if own(v.id) {
             out.push(pim_reconstruct::RoadFriction {
                 name: format!("road friction under {}", v.id),
+                zone: None,
                 value: v.chassis.friction,
                 sigma,
                 vehicles: vec![i],
@@ -67,26 +100,51 @@ pub(crate) fn scene_information(
 ) -> Vec<f64> {
     r.frictions
         .iter()
-        .enumerate()
-        .map(|(g, f)| {
+        .map(|f| {
             let mut info = 0.0;
             for &v in &f.vehicles {
                 let s = &r.scene[v];
                 let Some(fit) = found.scene.iter().find(|x| x.vehicle == s.id) else {
                     continue;
                 };
+                // The chassis the fitted run-out ran on.
                 let mut chassis = s.chassis.clone();
-                chassis.friction = found.frictions[g];
-                let Ok(lin) = pim_runout::linearise_with_friction(
-                    &chassis,
-                    &fit.runout.start,
-                    &s.evidence,
-                    fit.turns.unwrap_or(0),
-                    runout,
-                ) else {
+                chassis.friction = fit.friction;
+                chassis.rolling_resistance = fit.rolling_resistance;
+                for (z, mu) in chassis.zones.iter_mut().zip(&fit.zones) {
+                    z.friction = *mu;
+                }
+                let turns = fit.turns.unwrap_or(0);
+                let start = &fit.runout.start;
+                let Ok(lin) = (match f.zone {
+                    None => pim_runout::linearise_with_friction(
+                        &chassis,
+                        start,
+                        &s.evidence,
+                        turns,
+                        runout,
+                    ),
+                    Some(_) => {
+                        pim_runout::linearise(&chassis, start, &s.evidence, turns, runout, true)
+                            .and_then(|l| {
+                                pim_runout::differentiate_zones(
+                                    l,
+                                    &chassis,
+                                    start,
+                                    &s.evidence,
+                                    turns,
+                                    runout,
+                                )
+                            })
+                    }
+                }) else {
                     continue;
                 };
-                let (Some(j), Some(d)) = (&lin.jacobian, &lin.friction) else {
+                let d = match f.zone {
+                    None => lin.friction.as_ref(),
+                    Some(k) => lin.zones.get(k),
+                };
+                let (Some(j), Some(d)) = (&lin.jacobian, d) else {
                     continue;
                 };
                 let jtj = j.transpose() * j;

@@ -24,8 +24,12 @@ use std::collections::BTreeMap;
 pub const COUNTS_MARGIN: f64 = 4.0;
 
 /// The quantities of a found reconstruction: name and value (speeds m/s, frictions as
-/// coefficients).
-pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
+/// coefficients). `frictions` are the reconstruction's fitted frictions, which
+/// [`Found::frictions`] follows.
+pub fn quantities_of(
+    found: &Found,
+    frictions: &[pim_reconstruct::RoadFriction],
+) -> Vec<(String, f64)> {
     let s = &found.solution;
     let mut out = vec![
         ("e".to_string(), s.e),
@@ -42,20 +46,28 @@ pub fn quantities_of(found: &Found) -> Vec<(String, f64)> {
         out.push((format!("vehicle{v}.speed_at_separation"), p.separation));
     }
     // The fitted road frictions (`[runout] friction_sigma`): the first `road_friction`, a
-    // second (each vehicle on its own surface) `road_friction_2`.
-    for (g, mu) in found.frictions.iter().enumerate() {
-        let name = if g == 0 {
-            "road_friction".to_string()
-        } else {
-            format!("road_friction_{}", g + 1)
+    // second (each vehicle on its own surface) `road_friction_2`; a zone's `zoneN_friction`
+    // (N from 1, in the file's order).
+    let mut roads = 0;
+    for (f, mu) in frictions.iter().zip(&found.frictions) {
+        let name = match f.zone {
+            Some(k) => format!("zone{}_friction", k + 1),
+            None => {
+                roads += 1;
+                if roads == 1 {
+                    "road_friction".to_string()
+                } else {
+                    format!("road_friction_{roads}")
+                }
+            }
         };
         out.push((name, *mu));
     }
     out
 }
 
-/// The friction of each zone that gives its spread (`[[runout.zones]] friction_sigma`), drawn
-/// about its value (the fit holds it as stated).
+/// The friction of each zone that gives its spread (`[[runout.zones]] friction_sigma`): the
+/// centre of its prior drawn about the stated value (the fit fits it, as the road's).
 fn zone_inputs(case: &Case) -> Vec<Input> {
     let Some(r) = &case.content.runout else {
         return Vec::new();
@@ -65,7 +77,7 @@ fn zone_inputs(case: &Case) -> Vec<Input> {
         .enumerate()
         .filter_map(|(k, z)| {
             let s = z.friction_sigma?;
-            let name = z.name.clone().unwrap_or_else(|| format!("zone {}", k + 1));
+            let name = crate::reconstruct_friction::zone_name(z, k);
             Some(Input {
                 name: format!("{name} friction"),
                 spread: Spread::Normal(s),
@@ -346,8 +358,9 @@ pub fn run_around(
     if let Some(p) = &pose {
         all.extend(p.inputs());
     }
+    let frictions = &done.input.reconstruction.frictions;
     let with_pose = |f: &Found| {
-        let mut q = quantities_of(f);
+        let mut q = quantities_of(f, frictions);
         q.extend(pose.as_ref().map(|p| p.nominal()).unwrap_or_default());
         q
     };
@@ -362,13 +375,18 @@ pub fn run_around(
         if let Some(p) = &pose {
             // The pose fitted again from the nominal answer: no other search.
             return p.draw((case, c), &done.how, best).map(|(f, mut pq)| {
-                let mut q = quantities_of(&f);
+                let mut q = quantities_of(&f, frictions);
                 q.append(&mut pq);
                 (values_of(q), f.solution.separation)
             });
         }
         let found = drawn(c, &done.how, nominal);
-        found.map(|f| (values_of(quantities_of(&f)), f.solution.separation))
+        found.map(|f| {
+            (
+                values_of(quantities_of(&f, frictions)),
+                f.solution.separation,
+            )
+        })
     });
     let separations: Vec<pim_core::Velocities> = results
         .iter()

@@ -296,6 +296,9 @@ pub fn fitted(
             Some(f) => {
                 v.chassis.friction = f.friction;
                 v.chassis.rolling_resistance = f.rolling_resistance;
+                for (z, mu) in v.chassis.zones.iter_mut().zip(&f.zones) {
+                    z.friction = *mu;
+                }
                 let evidence = f.residuals.iter().map(residual_out).collect();
                 (f.runout.clone(), evidence)
             }

@@ -40,6 +40,7 @@ fn on_one_road(c: &mut Crash, off: f64, sigma: f64) -> f64 {
     }
     c.recon.frictions = vec![RoadFriction {
         name: "road friction".into(),
+        zone: None,
         value: stated,
         sigma,
         vehicles: vec![0, 1],

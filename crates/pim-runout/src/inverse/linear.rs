@@ -33,6 +33,10 @@ pub struct Linearised {
     /// Derivatives of [`Linearised::weighted`] with respect to the road friction, by a forward
     /// difference (one more run-out), when asked for ([`linearise_with_friction`]).
     pub friction: Option<DVector<f64>>,
+    /// Derivatives of [`Linearised::weighted`] with respect to each friction zone's friction,
+    /// in the order of the chassis's [`zones`](crate::Chassis::zones), when asked for
+    /// ([`differentiate_zones`]); empty otherwise.
+    pub zones: Vec<DVector<f64>>,
 }
 
 /// The residuals of `evidence` against the run-out from `separation` (its position, heading and
@@ -67,6 +71,7 @@ pub fn linearise(
         runouts: 1,
         evaluations: p.work.load(std::sync::atomic::Ordering::Relaxed),
         friction: None,
+        zones: Vec::new(),
     };
     if jacobian_too {
         differentiate(lin, chassis, separation, evidence, turns, settings, false)
@@ -110,21 +115,82 @@ pub fn differentiate(
     if !friction_too || lin.friction.is_some() {
         return Ok(lin);
     }
+    let d = friction_derivative(
+        &mut lin, chassis, separation, evidence, turns, settings, None,
+    )?;
+    lin.friction = Some(d);
+    Ok(lin)
+}
+
+/// `lin` (from the same chassis, state, evidence, turns and settings) with the derivatives of
+/// its weighted residuals with respect to each friction zone's friction
+/// ([`Linearised::zones`]), each by one more run-out stepped as the road friction's is
+/// ([`linearise_with_friction`]): a zone the run-out never reaches has derivatives 0. The
+/// rolling resistance is held at most half the stepped zone's friction, as a fitted road
+/// friction holds it. Derivatives `lin` already has are kept.
+///
+/// # Errors
+/// As [`linearise`].
+pub fn differentiate_zones(
+    mut lin: Linearised,
+    chassis: &Chassis,
+    separation: &Motion,
+    evidence: &Evidence,
+    turns: i64,
+    settings: &Settings,
+) -> Result<Linearised> {
+    if lin.zones.len() == chassis.zones.len() {
+        return Ok(lin);
+    }
+    let mut zones = Vec::with_capacity(chassis.zones.len());
+    for k in 0..chassis.zones.len() {
+        zones.push(friction_derivative(
+            &mut lin,
+            chassis,
+            separation,
+            evidence,
+            turns,
+            settings,
+            Some(k),
+        )?);
+    }
+    lin.zones = zones;
+    Ok(lin)
+}
+
+/// The derivatives of `lin`'s weighted residuals with respect to the road friction (`zone`
+/// `None`) or zone `k`'s, by a forward difference through `lin`'s run-out (backward where the
+/// step would pass [`MAX_FRICTION`](crate::MAX_FRICTION)); the run-out it takes is counted in
+/// `lin`.
+fn friction_derivative(
+    lin: &mut Linearised,
+    chassis: &Chassis,
+    separation: &Motion,
+    evidence: &Evidence,
+    turns: i64,
+    settings: &Settings,
+    zone: Option<usize>,
+) -> Result<DVector<f64>> {
+    let theta = [separation.vx, separation.vy, separation.yaw_rate];
     let relative =
         problem(chassis, separation, evidence, turns, settings).difference_step(&lin.runout);
-    let mut h = relative * (1.0 + chassis.friction);
-    if chassis.friction + h > crate::chassis::MAX_FRICTION {
+    let mut stepped = chassis.clone();
+    let mu = match zone {
+        None => &mut stepped.friction,
+        Some(k) => &mut stepped.zones[k].friction,
+    };
+    let mut h = relative * (1.0 + *mu);
+    if *mu + h > crate::chassis::MAX_FRICTION {
         h = -h;
     }
-    let mut stepped = chassis.clone();
-    stepped.friction += h;
-    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped.friction);
+    *mu += h;
+    let stepped_mu = *mu;
+    stepped.rolling_resistance = stepped.rolling_resistance.min(0.5 * stepped_mu);
     let p = problem(&stepped, separation, evidence, turns, settings);
     let other = p.stepped(&theta, &lin.runout)?;
     lin.evaluations += p.work.load(std::sync::atomic::Ordering::Relaxed);
     lin.runouts += 1;
-    lin.friction = Some((&other - &lin.weighted) / h);
-    Ok(lin)
+    Ok((&other - &lin.weighted) / h)
 }
 
 /// The problem of candidate `turns` from `separation`, the friction held.

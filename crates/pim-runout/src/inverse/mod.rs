@@ -77,7 +77,9 @@ pub use evidence::{
     ALTERNATIVE_COST, CONSISTENT_COST, MAX_ALTERNATIVES, MAX_HEADING, MAX_SCENE_DISTANCE,
     MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE, MAX_TURNS, PLAUSIBLE_COST,
 };
-pub use linear::{differentiate, linearise, linearise_with_friction, Linearised};
+pub use linear::{
+    differentiate, differentiate_zones, linearise, linearise_with_friction, Linearised,
+};
 pub use problem::residuals_of;
 
 use crate::chassis::{Chassis, Motion};

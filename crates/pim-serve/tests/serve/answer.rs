@@ -439,3 +439,78 @@ fn a_case_with_coefficients_is_solved() {
         .iter()
         .all(|v| v.path.len() > 10 && !v.every.is_empty()));
 }
+
+/// A yaw mark traced on the page (the Trace tool): three points of the SUV's fitted CG path,
+/// in feet on the SAE page, are appended to `[scene.vehicle2] traces` in the file's frame
+/// (x up the page, y to its right) with their wheel and sigma, every other line kept. Traced by
+/// the CG the answer meets them (the chi-square within 0.05 of the case's); the same points
+/// named the SUV's front right tyre lie a tyre's offset from its path and are not met. One
+/// point, a sigma of 0 and a wheel the SUV does not have are refused.
+#[test]
+fn adds_a_traced_mark() {
+    let file = "reconstruction_us.toml";
+    let text = example(file);
+    let plain = pim_serve::answer(file, &text).unwrap();
+    let chi = |a: &pim_serve::Answer| a.document["best"]["chi_square"].as_f64().unwrap();
+    let suv = plain.plan.vehicles.iter().find(|v| v.vehicle == 2).unwrap();
+    let n = suv.path.len();
+    let points: Vec<[f64; 2]> = [n / 5, 2 * n / 5, 3 * n / 5]
+        .iter()
+        .map(|&i| [suv.path[i][0], suv.path[i][1]])
+        .collect();
+    let trace = |wheel: &str, sigma: f64, points: Vec<[f64; 2]>| pim_serve::NewTrace {
+        vehicle: 2,
+        points,
+        sigma,
+        wheel: wheel.into(),
+    };
+    let traced =
+        pim_serve::add_trace(file, &text, &trace("cg", 0.5, points.clone()), None).unwrap();
+    let added: Vec<&str> = traced
+        .lines()
+        .filter(|l| !text.lines().any(|m| m == *l))
+        .collect();
+    assert_eq!(traced.lines().count(), text.lines().count() + 1);
+    let written: Vec<String> = points
+        .iter()
+        .map(|p| {
+            format!(
+                "[{}, {}]",
+                (p[1] * 100.0).round() / 100.0,
+                (p[0] * 100.0).round() / 100.0
+            )
+        })
+        .collect();
+    assert_eq!(
+        added,
+        [format!(
+            "traces = [ {{ wheel = \"cg\", points = [{}], sigma = 0.5 }} ]",
+            written.join(", ")
+        )],
+        "{traced}"
+    );
+    let (met, on_tyre) = (
+        chi(&pim_serve::answer(file, &traced).unwrap()),
+        pim_serve::add_trace(
+            file,
+            &text,
+            &trace("front_right", 0.5, points.clone()),
+            None,
+        )
+        .map(|t| chi(&pim_serve::answer(file, &t).unwrap()))
+        .unwrap(),
+    );
+    println!(
+        "chi-square {:.3}; traced by the CG {met:.3}, by the front right tyre {on_tyre:.3}",
+        chi(&plain)
+    );
+    assert!((met - chi(&plain)).abs() < 0.05, "{met}");
+    assert!(on_tyre > met + 10.0, "{on_tyre}");
+    for bad in [
+        trace("cg", 0.5, points[..1].to_vec()),
+        trace("cg", 0.0, points.clone()),
+        trace("middle_left", 0.5, points.clone()),
+    ] {
+        assert!(pim_serve::add_trace(file, &text, &bad, None).is_err());
+    }
+}

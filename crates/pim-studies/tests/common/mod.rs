@@ -162,7 +162,8 @@ pub fn truth_cost(
             .expect("the true run-out linearised");
         total += lin.cost;
     }
-    for f in &r.frictions {
+    // The road's priors (a zone's fitted friction is not the road's).
+    for f in r.frictions.iter().filter(|f| f.zone.is_none()) {
         total += ((friction - f.value) / f.sigma).powi(2);
     }
     total
