@@ -640,6 +640,70 @@ test("a yaw mark traced by clicks along it is written into the TOML with its tyr
   await idle();
 });
 
+test("the motion played back: the frame at contact and at rest are the answer's, the braking starts a skid back", async () => {
+  assert.equal(await page.isVisible("#playback"), true);
+  const setTime = (t) => page.$eval("#time", (el, t) => { el.value = t; el.dispatchEvent(new Event("input")); }, t);
+  const now = (v) => page.$eval(`g.motion g.v${v} polygon.outline.now`, (p) => p.getAttribute("points"));
+  const drawn = (v, which) => page.evaluate(([v, which]) => {
+    const veh = window.pim.answer.plan.vehicles.find((w) => w.vehicle === v);
+    return veh[which].map(([h, u]) => `${h},${-u}`).join(" ");
+  }, [v, which]);
+  // No motion drawn until the slider is touched.
+  assert.equal(await page.locator("g.motion").count(), 0);
+  await setTime(0);
+  assert.match(await page.textContent("#time-label"), /t = 0\.00 s \(contact\)/);
+  for (const v of [1, 2]) assert.equal(await now(v), await drawn(v, "contact"), `vehicle ${v} at contact`);
+  const m = await page.evaluate(() => window.pim.answer.plan.motion);
+  await setTime(m.end);
+  for (const v of [1, 2]) assert.equal(await now(v), await drawn(v, "rest"), `vehicle ${v} at rest`);
+  // The sedan braked 42 ft up to contact: where its braking began its CG is 42 ft back.
+  const sedan = m.vehicles.find((t) => t.vehicle === 1);
+  assert.ok(sedan.braking);
+  const back = Math.hypot(sedan.cg[0][0] - sedan.cg[sedan.times.indexOf(0)][0], sedan.cg[0][1] - sedan.cg[sedan.times.indexOf(0)][1]);
+  assert.ok(Math.abs(back - 42.0) < 0.01, `${back} ft`);
+  // The SUV, without a skid, approaches for a second at its contact velocity; the slider
+  // starts at the earlier of the two.
+  const suv = m.vehicles.find((t) => t.vehicle === 2);
+  assert.ok(!suv.braking && Math.abs(suv.times[0] + 1) < 1e-9);
+  assert.equal(m.start, Math.min(sedan.times[0], suv.times[0]));
+  await setTime(1.0);
+  await page.screenshot({ path: path.join(shots, "19-motion.png") });
+  // Played at true time from the start: the time runs, and it stops at rest.
+  await setTime(m.start);
+  const t0 = Date.now();
+  await page.click("#play");
+  await page.waitForFunction(() => window.pim.playT > 0);
+  assert.equal(await page.textContent("#play"), "Pause");
+  await page.waitForFunction(() => !window.pim.playing, null, { timeout: 30000 });
+  const took = (Date.now() - t0) / 1000;
+  assert.ok(took >= (m.end - m.start) * 0.9, `played ${m.end - m.start} s in ${took} s`);
+  for (const v of [1, 2]) assert.equal(await now(v), await drawn(v, "rest"));
+  // The frame exported at a time, and the whole motion as an animated SVG whose key frames
+  // at contact are the outlines at contact.
+  await setTime(0.5);
+  const [frame] = await Promise.all([page.waitForEvent("download"), page.click("#export")]);
+  assert.equal(frame.suggestedFilename(), "reconstruction_us_t0.50s.svg");
+  const [anim] = await Promise.all([page.waitForEvent("download"), page.click("#export-motion")]);
+  assert.equal(anim.suggestedFilename(), "reconstruction_us_motion.svg");
+  const svg = fs.readFileSync(await anim.path(), "utf8");
+  fs.writeFileSync(path.join(shots, "19-motion.svg"), svg);
+  const animations = [...svg.matchAll(/<animate attributeName="points" dur="([0-9.]+)s"[^>]*keyTimes="([^"]*)" values="([^"]*)"/g)];
+  assert.equal(animations.length, 2, svg.slice(-600));
+  animations.forEach((a, i) => {
+    const v = m.vehicles[i];
+    const keys = a[2].split(";").map(Number), values = a[3].split(";");
+    assert.equal(keys.length, values.length);
+    assert.ok(Math.abs(+a[1] - (m.end - m.start)) < 1e-9);
+    const k = keys.findIndex((x) => Math.abs(x - (0 - m.start) / (m.end - m.start)) < 1e-5);
+    assert.ok(k > 0, `a key frame at contact for vehicle ${v.vehicle}`);
+    assert.equal(values[k], v.outlines[v.times.indexOf(0)].map(([h, u]) => `${h},${-u}`).join(" "));
+  });
+  // Back to the plan alone.
+  await page.evaluate(() => { window.pim.playT = null; });
+  await page.click("#fit");
+  assert.equal(await page.locator("g.motion").count(), 0);
+});
+
 test("a friction zone is drawn on the plan under the run-outs, with its friction", async () => {
   await page.selectOption("#cases", "reconstruction_verge_us.toml");
   await idle();

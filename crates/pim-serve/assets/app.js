@@ -9,6 +9,7 @@ const state = {
   view: null, dragging: null, timings: [], study: null, units: "",
   images: [], sizes: {}, tool: null, clicks: [], measured: null,
   off: [], // pieces of evidence switched off (by name): the answer is the case without them
+  playT: null, playing: false, // the time slider's time from contact (null: not shown), s
 };
 window.pim = state; // for the tests and the curious
 
@@ -556,6 +557,97 @@ function render() {
     }
   }
   if (a.question === "reconstruction") drawContactHandles(svg, a);
+  drawMotion(svg, a);
+}
+
+// The motion at the slider's time (none until the slider or Play is touched): each vehicle's
+// outline there, filled, and the path its CG has travelled, over the plan.
+function drawMotion(svg, a) {
+  const m = a.plan.motion, bar = $("playback");
+  bar.hidden = !m;
+  if (!m) return;
+  const slider = $("time");
+  if (+slider.min !== m.start || +slider.max !== m.end) {
+    Object.assign(slider, { min: m.start, max: m.end, step: "any" });
+    if (state.playT == null) slider.value = m.end;
+  }
+  if (state.playT == null) { $("time-label").textContent = "time: drag, or Play"; return; }
+  const t = Math.min(Math.max(state.playT, m.start), m.end);
+  slider.value = t;
+  const phase = t < 0 ? "before contact" : t === 0 ? "contact" : "run-out";
+  $("time-label").textContent = `t = ${t.toFixed(2)} s (${phase})`;
+  const g = el("g", { class: "motion" }, svg);
+  for (const tr of m.vehicles) {
+    const vg = el("g", { class: `v${tr.vehicle}`, "data-vehicle": tr.vehicle }, g);
+    const { outline, travelled } = trackAt(tr, t);
+    el("polyline", { points: pts(travelled), class: "path travelled" }, vg);
+    el("polygon", { points: pts(outline), class: "outline now" }, vg);
+  }
+}
+
+// A track at time `t`: its outline (linear between the samples, held before the first and
+// after the last) and its CG's path up to then.
+function trackAt(tr, t) {
+  const n = tr.times.length;
+  let k = 0;
+  while (k + 1 < n && tr.times[k + 1] <= t) k++;
+  if (t <= tr.times[0] || k + 1 >= n) {
+    const i = t <= tr.times[0] ? 0 : n - 1;
+    return { outline: tr.outlines[i], travelled: tr.cg.slice(0, i + 1) };
+  }
+  const w = (t - tr.times[k]) / (tr.times[k + 1] - tr.times[k]);
+  const mix = (p, q) => p.map((x, j) => x + w * (q[j] - x));
+  const outline = tr.outlines[k].map((p, j) => mix(p, tr.outlines[k + 1][j]));
+  return { outline, travelled: [...tr.cg.slice(0, k + 1), mix(tr.cg[k], tr.cg[k + 1])] };
+}
+
+// Play from the slider's time (from the start once at the end) at the chosen pace; Pause stops.
+function togglePlay() {
+  const m = state.answer && state.answer.plan.motion;
+  if (!m) return;
+  if (state.playing) { state.playing = false; $("play").textContent = "Play"; return; }
+  if (state.playT == null || state.playT >= m.end) state.playT = m.start;
+  state.playing = true;
+  $("play").textContent = "Pause";
+  let last = performance.now();
+  const step = (now) => {
+    if (!state.playing) return;
+    const motion = state.answer && state.answer.plan.motion;
+    if (!motion) { state.playing = false; return; }
+    state.playT += ((now - last) / 1000) * +$("pace").value;
+    last = now;
+    if (state.playT >= motion.end) { state.playT = motion.end; state.playing = false; $("play").textContent = "Play"; }
+    render();
+    if (state.playing) requestAnimationFrame(step);
+  };
+  requestAnimationFrame(step);
+}
+
+// The motion as an animated SVG (SMIL): the plan as it stands under both vehicles' outlines,
+// each moving through its samples at true time, and the time shown; it plays on a loop.
+function exportMotion() {
+  const m = state.answer && state.answer.plan.motion;
+  if (!m) return;
+  const saved = state.playT;
+  state.playT = null;
+  render();
+  const svg = standalonePlan();
+  state.playT = saved;
+  render();
+  const span = m.end - m.start;
+  const key = (t) => ((t - m.start) / span).toFixed(5);
+  for (const tr of m.vehicles) {
+    const g = el("g", { class: `v${tr.vehicle}` }, svg);
+    const times = [m.start, ...tr.times, m.end];
+    const outlines = [tr.outlines[0], ...tr.outlines, tr.outlines[tr.outlines.length - 1]];
+    const poly = el("polygon", { points: pts(outlines[0]), class: "outline now" }, g);
+    el("animate", {
+      attributeName: "points", dur: `${span}s`, repeatCount: "indefinite", calcMode: "linear",
+      keyTimes: times.map(key).join(";"),
+      values: outlines.map((o) => o.map(([h, v]) => `${h},${-v}`).join(" ")).join(";"),
+    }, poly);
+  }
+  download(svg, "_motion");
 }
 
 // The ground's friction zones under everything else: each polygon shaded, its friction in the
@@ -1120,12 +1212,19 @@ async function openReport() {
 
 // The plan as drawn, a standalone SVG (the page's drawing rules inlined).
 function exportSvg() {
+  const m = state.answer && state.answer.plan.motion;
+  const at = m && state.playT != null ? `_t${Math.min(Math.max(state.playT, m.start), m.end).toFixed(2)}s` : "";
+  download(standalonePlan(), at);
+}
+
+// The plan as a standalone SVG document: its drawing, the rules it is drawn with, white behind.
+function standalonePlan() {
   const svg = $("plan").cloneNode(true);
   svg.setAttribute("xmlns", NS);
   svg.setAttribute("width", $("plan").clientWidth);
   svg.setAttribute("height", $("plan").clientHeight);
   const rules = [...document.styleSheets].flatMap((sh) => [...sh.cssRules].map((r) => r.cssText))
-    .filter((t) => /^\.(grid|axis|v1|v2|path|outline|sigma|handle|mark|label)/.test(t));
+    .filter((t) => /^\.(grid|axis|v1|v2|path|outline|sigma|handle|mark|label|zone)/.test(t));
   const style = document.createElementNS(NS, "style");
   style.textContent = rules.join("\n");
   svg.insertBefore(style, svg.firstChild);
@@ -1133,10 +1232,16 @@ function exportSvg() {
   const v = state.view;
   for (const [k, x] of Object.entries({ x: v.x, y: v.y, width: v.w, height: v.h, fill: "#fff" })) bg.setAttribute(k, x);
   svg.insertBefore(bg, style.nextSibling);
+  return svg;
+}
+
+// `svg` downloaded as the case's name with `suffix` (`_t1.20s`, `_motion`, or none).
+function download(svg, suffix) {
   const text = new XMLSerializer().serializeToString(svg);
   const a = document.createElement("a");
   a.href = URL.createObjectURL(new Blob([text], { type: "image/svg+xml" }));
-  a.download = (state.path || "plan").replace(/\.toml$/, "").split("/").pop() + ".svg";
+  const name = (state.path || "plan").replace(/\.toml$/, "").split("/").pop();
+  a.download = `${name}${suffix}.svg`;
   document.body.appendChild(a); a.click(); a.remove();
 }
 
@@ -1159,6 +1264,9 @@ document.addEventListener("visibilitychange", () => { if (!document.hidden) chec
 $("study-start").addEventListener("click", startStudy);
 $("report").addEventListener("click", openReport);
 $("export").addEventListener("click", exportSvg);
+$("play").addEventListener("click", togglePlay);
+$("time").addEventListener("input", () => { state.playT = +$("time").value; render(); });
+$("export-motion").addEventListener("click", exportMotion);
 $("background").addEventListener("click", chooseBackground);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));

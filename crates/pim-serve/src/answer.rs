@@ -119,6 +119,8 @@ pub struct Plan {
     pub impact: Option<PlanImpact>,
     /// The ground's friction zones (`[[runout.zones]]`), on the page.
     pub zones: Vec<PlanZone>,
+    /// The answer's motion in time (a reconstruction's), for the time slider.
+    pub motion: Option<crate::motion::PlanMotion>,
 }
 
 /// A friction zone on the page: its corners and its friction.
@@ -289,7 +291,11 @@ pub fn answer_without(
                 Some(best) => {
                     let fitted = pim_studies::runout::fitted(&shown, best, 0.02, false)
                         .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
-                    plan(&shown, Some(&fitted), units)?
+                    let mut plan = plan(&shown, Some(&fitted), units)?;
+                    plan.motion = Some(crate::motion::motion_on_page(
+                        &shown, &done, best, &fitted, units,
+                    ));
+                    plan
                 }
                 None => plan(&shown, None, units).unwrap_or_default(),
             };
@@ -451,6 +457,7 @@ fn plan(
         background: None,
         impact: None,
         zones: Vec::new(),
+        motion: None,
     };
     // A direction (natural frame, radians) on the page, degrees counter-clockwise from the
     // page's right.

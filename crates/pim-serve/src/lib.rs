@@ -42,6 +42,7 @@ mod edits;
 mod form;
 mod guard;
 mod headers;
+mod motion;
 mod routes;
 mod served;
 mod study;
@@ -60,6 +61,7 @@ pub use edits::{
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, same_secret, Guard};
 pub use headers::{image_kind, MAX_IMAGE_BYTES};
+pub use motion::{PlanMotion, PlanTrack, STEP as MOTION_STEP};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
 pub use study::{report, studied, study, Studied, BAND_DRAWS, MAX_DRAWS};

@@ -14,6 +14,7 @@
 //!   [`consistency`], its evidence consistency table ([`consistency::answer`]: the
 //!   reconstruction as every face answers it);
 //! - [`runout`]: each vehicle from separation to rest, or the separation from the scene;
+//!   [`playback`]: the answer's motion in time, from the braking before the impact to rest;
 //! - [`uncertainty`] and [`reconstruct_study`]: the seeded parametric bootstraps of `pim
 //!   uncertainty` (of an impact fit, of a whole reconstruction);
 //! - [`batch`]: the refit of a data file; [`case_batch`]: a batch of case files;
@@ -40,6 +41,7 @@ pub mod fitcase;
 pub mod intervals;
 mod measured_inputs;
 mod pieces;
+pub mod playback;
 pub mod predict;
 pub mod question;
 pub mod reconstruct;

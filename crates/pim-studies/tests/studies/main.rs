@@ -8,6 +8,7 @@ mod contact_pose;
 mod damage;
 mod fuzz_inputs;
 mod input_forms;
+mod playback;
 mod realistic_measured;
 mod realistic_scenes;
 mod scene_coverage;
