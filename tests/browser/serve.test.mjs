@@ -305,6 +305,13 @@ test("the report opens from the page and the plan exports as SVG", async () => {
   assert.match(svg, /^<svg[^>]*viewBox=/);
   assert.ok(svg.includes("<style>") && (svg.match(/<polygon/g) || []).length >= 6, svg.slice(0, 300));
   fs.writeFileSync(path.join(shots, "07-exported.svg"), svg);
+  // The plan for CAD: `pim fit --out`'s scene.dxf of the same text, byte for byte.
+  const [dxf] = await Promise.all([page.waitForEvent("download"), page.click("#export-dxf")]);
+  assert.equal(dxf.suggestedFilename(), "reconstruction_us.dxf");
+  const out = fs.mkdtempSync(path.join(os.tmpdir(), "pim-dxf-"));
+  fs.writeFileSync(path.join(out, "case.toml"), text);
+  execFileSync(pimBin, ["fit", "case.toml", "--out", "o"], { cwd: out, encoding: "utf8" });
+  assert.ok(fs.readFileSync(await dxf.path()).equals(fs.readFileSync(path.join(out, "o", "scene.dxf"))));
 });
 
 test("a switch of the display units redraws the speeds and the plan in them, the case unchanged", async () => {

@@ -84,7 +84,8 @@ and run-outs reaches (chi-square beyond p = 1e-6, with zero degrees of freedom j
 is refused with its largest residuals and the evidence consistency table (exit 3); a fit with
 p below 0.05 is warned and shows the table too. The refinements end on a budget of work, so
 the answer is the same on every machine. --out writes
-result.json, the table, report.html and the scene to scale (scene.svg).
+result.json, the table, report.html, the scene to scale (scene.svg) and the same plan for CAD
+(scene.dxf: a DXF drawing with a layer per kind of thing).
 Example: examples/cases/reconstruction_us.toml
 
 THE DAMAGE: a case with [damage] (see `pim solve --help`, DAMAGE) is fitted as above, then the
@@ -125,4 +126,5 @@ its sigma and the road friction by [runout] friction_sigma, and refits all three
 where the nominal reconstruction ended, for each count of turns within a chi-square of 4 of
 its best). Per vehicle: speed before braking, at contact, at separation; e, mu, em, the energy
 loss; the inputs that dominate each. --out DIR writes the nominal reconstruction, the study and
-the scene to scale (report.html, report.md, scene.svg, result.json, uncertainty.json).";
+the scene to scale (report.html, report.md, scene.svg, scene.dxf, result.json,
+uncertainty.json).";

@@ -3,7 +3,7 @@
 //! Tables, the report of a crash (HTML and Markdown), the scale plan-view diagram and the SVG figures of the `pim`
 //! command, shared by every front end (the command line and the Python package), so that each
 //! draws and prints exactly the same thing. Everything is returned as text: an SVG document, a
-//! table, a CSV or Markdown string; the caller writes files.
+//! table, a CSV or Markdown string, a DXF drawing's bytes; the caller writes files.
 //!
 //! ```text
 //!   pim-core  (equations, reports)        pim-fit (fit reports)        pim-studies (cases, records)
@@ -16,6 +16,7 @@
 //!      batch_tables (summary, models, costs, Brach 1984 Table 1, intervals, CSV)
 //!      diagram (plan view at contact: outlines, C, crush surface, velocities, impulses)
 //!      figures (batch), uncertainty_figures, predict_figure (plotters, SVG strings)
+//!      runout (the scene to scale), cad (the same plan as a DXF drawing, by layer)
 //!                                           |
 //!                         pim-cli (the `pim` binary), pim-py (Python)
 //! ```
@@ -24,6 +25,7 @@
 //! the JSON documents, made by pim-studies, stay SI.
 
 pub mod batch_tables;
+pub mod cad;
 pub mod damage;
 pub mod damage_batch;
 pub mod diagram;

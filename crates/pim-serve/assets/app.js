@@ -1191,6 +1191,27 @@ async function checkDisk() {
 }
 
 // The report of the text as it stands (saved or not), in a new tab.
+// The plan for CAD (`scene.dxf` of `pim fit --out`) of the page's text, in its display units,
+// downloaded as the case's name.
+async function exportDxf() {
+  status("drawing the plan for CAD…");
+  const res = await fetch("/api/dxf", {
+    method: "POST", headers: { "content-type": "application/json" },
+    body: JSON.stringify({ path: state.path, text: state.text, units: state.units || undefined }),
+  });
+  if (!res.ok) {
+    const e = await res.json().catch(() => ({ error: res.statusText }));
+    $("error").hidden = false; $("error").textContent = e.error;
+    status("no DXF");
+    return;
+  }
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(await res.blob());
+  a.download = `${(state.path || "plan").replace(/\.toml$/, "").split("/").pop()}.dxf`;
+  document.body.appendChild(a); a.click(); a.remove();
+  status("plan for CAD written");
+}
+
 async function openReport() {
   const tab = window.open("", "_blank");
   status("making the report…");
@@ -1264,6 +1285,7 @@ document.addEventListener("visibilitychange", () => { if (!document.hidden) chec
 $("study-start").addEventListener("click", startStudy);
 $("report").addEventListener("click", openReport);
 $("export").addEventListener("click", exportSvg);
+$("export-dxf").addEventListener("click", exportDxf);
 $("play").addEventListener("click", togglePlay);
 $("time").addEventListener("input", () => { state.playT = +$("time").value; render(); });
 $("export-motion").addEventListener("click", exportMotion);

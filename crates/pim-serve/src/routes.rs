@@ -42,6 +42,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/study/cancel", post(study_cancel))
         .route("/api/batch", post(batch_start))
         .route("/api/report", post(report))
+        .route("/api/dxf", post(scene_dxf))
         .route("/api/image", get(image))
         .route("/api/background", post(background))
         .layer(middleware::from_fn_with_state(served.clone(), guard))
@@ -481,6 +482,20 @@ async fn report(Json(c): Json<CaseText>) -> Response {
         Ok(Ok(html)) => {
             ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], html).into_response()
         }
+        Ok(Err(e)) => unanswered(e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
+    }
+}
+
+/// The plan of the case's reconstruction for CAD, as `pim fit FILE --out` writes `scene.dxf`.
+async fn scene_dxf(Json(c): Json<CaseText>) -> Response {
+    let made = tokio::task::spawn_blocking(move || {
+        let units = units_of(c.units.as_deref()).map_err(crate::AnswerError::Input)?;
+        crate::study::scene_dxf(&c.path, &c.text, units)
+    })
+    .await;
+    match made {
+        Ok(Ok(bytes)) => ([(header::CONTENT_TYPE, "image/vnd.dxf")], bytes).into_response(),
         Ok(Err(e)) => unanswered(e),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }

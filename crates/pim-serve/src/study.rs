@@ -138,6 +138,37 @@ pub fn report(file: &str, text: &str) -> Result<String, AnswerError> {
     Ok(made.document.html())
 }
 
+/// The plan of the case's reconstruction for CAD (`scene.dxf` of `pim fit --out`), in the
+/// display units `units` (`None`: the case's own).
+///
+/// # Errors
+/// Text that is not a valid case, a case without scene evidence, or no reconstruction found.
+pub fn scene_dxf(
+    file: &str,
+    text: &str,
+    units: Option<pim_case::units::UnitSystem>,
+) -> Result<Vec<u8>, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    if Question::of(&case, None).question != Question::Reconstruction {
+        return Err(AnswerError::Input(format!(
+            "{file}: the plan for CAD is a reconstruction's: the case has no scene evidence"
+        )));
+    }
+    let done = pim_studies::consistency::answer(
+        &case,
+        pim_fit::FitModel::Pim,
+        pim_core::MomentForm::Corrected,
+        vec![pim_fit::MomentBranch::Free, pim_fit::MomentBranch::Zero],
+        &pim_studies::watch::Unwatched,
+    )
+    .map_err(|e| input(&e))?;
+    let units = units.unwrap_or_else(|| pim_case::units::UnitSystem::of(&case.written_units));
+    pim_render::cad::reconstruction_dxf(&case, &done, units)
+        .map_err(AnswerError::Unsupported)?
+        .ok_or_else(|| AnswerError::Input(format!("{file}: no reconstruction found to draw")))
+}
+
 /// Most studies (or batches) computed at once; the others wait their turn.
 pub const RUNNING_AT_ONCE: usize = 2;
 

@@ -144,7 +144,13 @@ impl OutDir {
 
     /// Writes the file `name`; a failure names the file by its final path.
     pub fn write(&self, name: &str, text: &str) -> Result<()> {
-        std::fs::write(self.file(name), text)
+        self.write_bytes(name, text.as_bytes())
+    }
+
+    /// Writes the file `name` of `bytes` (a drawing); a failure names the file by its final
+    /// path.
+    pub fn write_bytes(&self, name: &str, bytes: &[u8]) -> Result<()> {
+        std::fs::write(self.file(name), bytes)
             .map_err(|e| io_failure(&self.target.join(name), "cannot write", &e).into())
     }
 

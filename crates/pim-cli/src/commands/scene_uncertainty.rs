@@ -143,6 +143,11 @@ pub fn write_reconstruction(
         out.write("uncertainty.txt", t)?;
     }
     out.write("scene.svg", &svg)?;
+    if let Some(dxf) = pim_render::cad::reconstruction_dxf(case, done, units)
+        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?
+    {
+        out.write_bytes("scene.dxf", &dxf)?;
+    }
     out.write(
         "report.md",
         &format!("# Reconstruction\n\n```text\n{text}```\n\n![The scene to scale](scene.svg)\n"),

@@ -21,6 +21,65 @@ fn case_with(name: &str, from: &str, to: &str) -> String {
     scratch_file("reconstruct", name, text.replace(from, to))
 }
 
+/// `pim fit --out` writes the plan for CAD (`scene.dxf`) beside the figure: read back by a DXF
+/// reader, it has its layers and feet as its unit; both vehicles' outlines at contact and at
+/// rest are closed four-cornered polylines in their colours (blue 5, red 1); each CG path ends at
+/// the answer's rest (on the SAE plan: right is y, up is x, in feet).
+#[test]
+fn the_scene_for_cad_is_written_beside_the_figure() {
+    let dir = scratch_dir("reconstruct", "cad").join("out");
+    let out = pim_ok(&["fit", CASE, "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success());
+    let d = dxf::Drawing::load_file(dir.join("scene.dxf")).unwrap();
+    let layers: Vec<&str> = d.layers().map(|l| l.name.as_str()).collect();
+    for l in ["CONTACT", "REST", "PATHS", "EVIDENCE", "IMPACT"] {
+        assert!(layers.contains(&l), "{layers:?}");
+    }
+    assert_eq!(d.header.default_drawing_units, dxf::enums::Units::Feet);
+    type Polyline = (u8, Vec<(f64, f64)>, bool);
+    let on = |layer: &str| -> Vec<Polyline> {
+        d.entities()
+            .filter(|e| e.common.layer == layer)
+            .filter_map(|e| match &e.specific {
+                dxf::entities::EntityType::LwPolyline(p) => Some((
+                    e.common.color.index().unwrap_or(0),
+                    p.vertices.iter().map(|v| (v.x, v.y)).collect(),
+                    p.is_closed(),
+                )),
+                _ => None,
+            })
+            .collect()
+    };
+    for layer in ["CONTACT", "REST"] {
+        let outlines = on(layer);
+        assert_eq!(outlines.len(), 2);
+        assert!(outlines
+            .iter()
+            .all(|(_, v, closed)| v.len() == 4 && *closed));
+        let mut colors: Vec<u8> = outlines.iter().map(|o| o.0).collect();
+        colors.sort();
+        assert_eq!(colors, [1, 5]);
+    }
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("result.json")).unwrap()).unwrap();
+    let paths = on("PATHS");
+    for v in result["best"]["vehicles"].as_array().unwrap() {
+        let color = if v["vehicle"] == 1 { 5 } else { 1 };
+        let path = &paths.iter().find(|p| p.0 == color).unwrap().1;
+        let rest = &v["rest"];
+        let last = path[path.len() - 1];
+        let foot = 0.3048;
+        assert!(
+            (last.0 + num(&rest["y"]) / foot).abs() < 1e-6,
+            "{last:?} {rest}"
+        );
+        assert!(
+            (last.1 - num(&rest["x"]) / foot).abs() < 1e-6,
+            "{last:?} {rest}"
+        );
+    }
+}
+
 /// The example's scene was made by solving the crash forwards (38 and 27 mph, e = 0.12,
 /// mu = 0.15, no moment impulse) and running both cars out to rest with the run-out model; the
 /// rests were rounded to 0.1 ft and 1 deg, the marks read off the paths. The reconstruction
