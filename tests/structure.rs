@@ -593,7 +593,7 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
         156,
     ),
     ("crates/pim-studies/src/uncertainty.rs", "run", 168),
-    ("crates/pim-serve/src/answer.rs", "answer_without", 133),
+    ("crates/pim-serve/src/answer.rs", "answer_without", 126),
     ("crates/pim-serve/src/answer.rs", "plan", 168),
     ("crates/pim-serve/src/contact.rs", "edit_contact", 138),
     ("crates/pim-render/src/diagram/paint.rs", "draw_into", 298),

@@ -287,18 +287,7 @@ pub fn answer_without(
                 case.written,
             );
             // The plan shows every piece, those switched off too.
-            let plan = match &done.outcome.best {
-                Some(best) => {
-                    let fitted = pim_studies::runout::fitted(&shown, best, 0.02, false)
-                        .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
-                    let mut plan = plan(&shown, Some(&fitted), units)?;
-                    plan.motion = Some(crate::motion::motion_on_page(
-                        &shown, &done, best, &fitted, units,
-                    ));
-                    plan
-                }
-                None => plan(&shown, None, units).unwrap_or_default(),
-            };
+            let plan = reconstruction_plan(&shown, &done, units)?;
             let document = serde_json::to_value(&done.document).map_err(|e| input(&e))?;
             Ok((
                 Answer {
@@ -384,6 +373,25 @@ pub fn answer_without(
             ))
         }
     }
+}
+
+/// The plan of the reconstruction `done` of the case `shown` (every piece drawn, those
+/// switched off too): its fitted run-outs and their motion in time.
+fn reconstruction_plan(
+    shown: &Case,
+    done: &pim_studies::reconstruct::Reconstructed,
+    units: UnitSystem,
+) -> Result<Plan, AnswerError> {
+    let Some(best) = &done.outcome.best else {
+        return Ok(plan(shown, None, units).unwrap_or_default());
+    };
+    let fitted = pim_studies::runout::fitted(shown, best, 0.02, false)
+        .map_err(|e| AnswerError::Unsupported(e.to_string()))?;
+    let mut plan = plan(shown, Some(&fitted), units)?;
+    plan.motion = Some(crate::motion::motion_on_page(
+        shown, done, best, &fitted, units,
+    ));
+    Ok(plan)
 }
 
 /// The case reconstructed by following `previous` ([`pim_reconstruct::follow`]).
