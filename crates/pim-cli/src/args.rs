@@ -427,6 +427,10 @@ pub enum Command {
     /// (comments and layout kept), where `pim fit FILE` gives what the page showed.
     #[command(after_help = crate::serve_args::SERVE_HELP)]
     Serve(crate::serve_args::ServeArgs),
+    /// A photo of the road made into a plan-view image by four or more points of known plan
+    /// position (a homography), with each point's residual and the [background] to use it.
+    #[command(after_help = crate::rectify_args::RECTIFY_HELP)]
+    Rectify(crate::rectify_args::RectifyArgs),
     /// Brach 1984 section 6: predict each test's delta-V from its impact speeds, masses and
     /// energy loss (eq. 14 with L from eq. 16 and with L = 2/3) and from the point-mass
     /// solution at the critical friction (eq. 17), beside the measured delta-V.

@@ -11,6 +11,7 @@ mod commands;
 mod error;
 mod fit_help;
 mod inputs;
+mod rectify_args;
 mod runout_help;
 mod serve_args;
 mod set_args;
@@ -35,6 +36,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::CompareCosts(a) => commands::batch::run(a, true),
         Command::Set(a) => commands::set::run(a),
         Command::Serve(a) => commands::serve::run(a),
+        Command::Rectify(a) => commands::rectify::run(a),
     }
 }
 

@@ -36,6 +36,7 @@ pub mod momentum;
 pub mod plan;
 pub mod predict_figure;
 pub mod reconstruct;
+pub mod rectify;
 pub mod report;
 pub mod runout;
 mod runout_table;

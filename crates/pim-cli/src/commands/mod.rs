@@ -8,6 +8,7 @@ pub mod draw;
 pub mod fit;
 pub mod output;
 pub mod predict;
+pub mod rectify;
 pub mod report;
 pub mod runout;
 pub mod scene_uncertainty;

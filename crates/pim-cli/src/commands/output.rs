@@ -56,7 +56,7 @@ pub struct OutDir {
     committed: bool,
 }
 
-fn io_failure(path: &Path, what: &str, e: &std::io::Error) -> Failure {
+pub(crate) fn io_failure(path: &Path, what: &str, e: &std::io::Error) -> Failure {
     Failure::Output(format!("{}: {what}: {}", path.display(), io_reason(e)))
 }
 

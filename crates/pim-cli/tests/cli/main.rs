@@ -16,6 +16,7 @@ mod predict;
 mod realistic;
 mod reconstruct;
 mod reconstruct_evidence;
+mod rectify;
 mod report;
 mod robustness;
 mod runout;

@@ -5,3 +5,4 @@ mod svg_layout;
 mod diagram_layout;
 mod figure_layout;
 mod figures_agree;
+mod rectify;
