@@ -352,6 +352,74 @@ async function clickPixels(a, b) {
   }
 }
 
+test("a photo made into a plan: four points clicked on it, the plan-view image written beside it and set as the background", async () => {
+  const original = await exampleAsCommitted();
+  // A photo of a 40 by 30 ft patch of road seen in perspective (its far edge 2.8 times
+  // smaller), drawn by the browser's canvas: u = 600 + 28 (x - 20) / w, v = 760 - 60 y / w,
+  // w = 1 + 0.06 y, for plan points (x right, y up).
+  const cam = ([x, y]) => { const w = 1 + 0.06 * y; return [600 + 28 * (x - 20) / w, 760 - 60 * y / w]; };
+  const png = await page.evaluate((camSrc) => {
+    const cam = eval(camSrc);
+    const c = document.createElement("canvas"); c.width = 1200; c.height = 800;
+    const g = c.getContext("2d");
+    g.fillStyle = "#c8dcf0"; g.fillRect(0, 0, 1200, 800);
+    const quad = (pts, colour) => {
+      g.fillStyle = colour; g.beginPath();
+      pts.map(cam).forEach(([u, v], i) => (i ? g.lineTo(u, v) : g.moveTo(u, v)));
+      g.closePath(); g.fill();
+    };
+    quad([[0, 0], [40, 0], [40, 30], [0, 30]], "#828282");
+    quad([[25.5, 17.5], [26.5, 17.5], [26.5, 18.5], [25.5, 18.5]], "#1e1ee6");
+    return c.toDataURL("image/png").split(",")[1];
+  }, cam.toString());
+  fs.writeFileSync(path.join(dir, "road_photo.png"), Buffer.from(png, "base64"));
+  page.once("dialog", (d) => d.accept("road_photo.png"));
+  await page.click("#photo-plan");
+  await page.waitForFunction(() => { const i = document.getElementById("photo-img"); return i.complete && i.naturalWidth === 1200; });
+  // Four corners of a 24 by 16 ft rectangle; the case is SAE, so each is typed as x (up the
+  // plan) then y (to its right).
+  const box = await page.locator("#photo-img").boundingBox();
+  for (const p of [[8, 7], [32, 7], [32, 23], [8, 23]]) {
+    const [u, v] = cam(p);
+    page.once("dialog", (d) => d.accept(`${p[1]} ${p[0]}`));
+    await page.mouse.click(box.x + (u * box.width) / 1200, box.y + (v * box.height) / 800);
+  }
+  assert.equal(await page.locator(".photo-point").count(), 4);
+  assert.equal(await page.isDisabled("#photo-rectify"), false);
+  await page.screenshot({ path: path.join(shots, "20-photo-points.png") });
+  await page.click("#photo-rectify");
+  await page.waitForFunction(() => /road_photo_plan\.png/.test(window.pim.text));
+  await idle();
+  assert.equal(await page.isHidden("#photo-pane"), true);
+  const made = await page.evaluate(() => window.pim.photoResult);
+  // Four points fix the perspective: each is met exactly.
+  assert.ok(Math.max(...made.residuals) < 1e-6, JSON.stringify(made.residuals));
+  assert.deepEqual(made.size, [2000, 1334]);
+  assert.ok(fs.existsSync(path.join(dir, "road_photo_plan.png")));
+  const text = await page.inputValue("#toml");
+  const bg = /\[background\]\nimage = "road_photo_plan\.png"\npixels = \[\[0\.0, 0\.0\], \[2000\.0, 0\.0\]\]\ndistance = ([0-9.]+)\nat = \{ x = ([-0-9.]+), y = ([-0-9.]+) \}\nrotation = 0\.0\nlocked = true/.exec(text);
+  assert.ok(bg, text.slice(-400));
+  // The points' extent (8..32 by 7..23 ft) and half of it again: 48 ft wide, its top left
+  // corner 31 ft up and 4 ft left (SAE: x = 31, y = -4).
+  assert.deepEqual([+bg[1], +bg[2], +bg[3]], [48, 31, -4], bg[0]);
+  assert.equal(await page.locator("#plan image.background").count(), 1);
+  await page.screenshot({ path: path.join(shots, "21-photo-plan.png") });
+  // A second time: the first image is kept, the new one takes a name of its own.
+  page.once("dialog", (d) => d.accept("road_photo.png"));
+  await page.click("#photo-plan");
+  for (const p of [[8, 7], [32, 7], [32, 23], [8, 23]]) {
+    const [u, v] = cam(p);
+    page.once("dialog", (d) => d.accept(`${p[1]} ${p[0]}`));
+    await page.mouse.click(box.x + (u * box.width) / 1200, box.y + (v * box.height) / 800);
+  }
+  await page.click("#photo-rectify");
+  await page.waitForFunction(() => /road_photo_plan_2\.png/.test(window.pim.text));
+  assert.ok(fs.existsSync(path.join(dir, "road_photo_plan.png")) && fs.existsSync(path.join(dir, "road_photo_plan_2.png")));
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => !/road_photo_plan/.test(window.pim.text));
+  await idle();
+});
+
 test("a background diagram set to scale by two points, and a distance measured on it", async () => {
   await page.selectOption("#cases", "scene/intersection_us.toml");
   await page.waitForSelector("image.background");

@@ -9,6 +9,7 @@ const state = {
   view: null, dragging: null, timings: [], study: null, units: "",
   images: [], sizes: {}, tool: null, clicks: [], measured: null,
   off: [], // pieces of evidence switched off (by name): the answer is the case without them
+  photo: null, photoResult: null, // the photo being made into a plan, and the last made
   playT: null, playing: false, // the time slider's time from contact (null: not shown), s
 };
 window.pim = state; // for the tests and the curious
@@ -995,6 +996,68 @@ async function chooseBackground() {
   await changeBackground({ image: relative, pixels: [[0, 0], [20, 0]], distance: 1, at: [0, 0] });
 }
 
+// A photo of the folder made into a plan: the photo shown over the plan, each click on it a
+// point whose place on the scene is asked (x y in the case's frame and the display unit), then
+// Rectify writes the plan-view image beside the photo and sets it as the background.
+async function startPhotoPlan() {
+  const photos = state.images.filter((i) => /\.(png|jpe?g)$/i.test(i));
+  const photo = window.prompt(`A photo of the folder to make into a plan: ${photos.join(", ") || "(none listed)"}`, photos[0] || "");
+  if (!photo) return;
+  state.photo = { path: photo, points: [] };
+  for (const m of [...document.querySelectorAll(".photo-point")]) m.remove();
+  $("photo-img").src = `/api/image?path=${encodeURIComponent(photo)}`;
+  $("photo-pane").hidden = false;
+  photoBar();
+}
+
+function photoBar() {
+  const n = state.photo ? state.photo.points.length : 0;
+  $("photo-count").textContent = `${n} point${n === 1 ? "" : "s"} (four or more, no three in line): click a point of the ground whose place you know`;
+  $("photo-rectify").disabled = n < 4;
+}
+
+function photoClick(e) {
+  if (!state.photo) return;
+  const img = $("photo-img"), r = img.getBoundingClientRect();
+  const pixel = [(e.clientX - r.left) * img.naturalWidth / r.width, (e.clientY - r.top) * img.naturalHeight / r.height];
+  const plan = state.answer.plan;
+  const answer = window.prompt(`Where this point lies on the scene: x y (${plan.length_label}, the case's frame)`, "");
+  const xy = (answer || "").trim().split(/[\s,]+/).map(Number);
+  if (xy.length !== 2 || !xy.every(Number.isFinite)) { status("no point taken"); return; }
+  state.photo.points.push({ pixel, plan: plan.frame === "sae" ? [xy[1], xy[0]] : xy });
+  const m = document.createElement("div");
+  m.className = "photo-point";
+  m.style.left = `${e.clientX - r.left + img.offsetLeft}px`;
+  m.style.top = `${e.clientY - r.top + img.offsetTop}px`;
+  m.textContent = state.photo.points.length;
+  $("photo-wrap").appendChild(m);
+  photoBar();
+}
+
+function closePhoto() {
+  state.photo = null;
+  $("photo-pane").hidden = true;
+}
+
+async function rectifyPhoto() {
+  const p = state.photo;
+  try {
+    const { data } = await api("POST", "/api/photo-plan", { path: state.path, text: state.text, units: state.units || undefined, photo: p.path, points: p.points });
+    closePhoto();
+    state.photoResult = data;
+    if (!state.images.includes(data.image)) state.images.push(data.image);
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+    const worst = Math.max(...data.residuals);
+    status(`${data.image} written (${data.size[0]} by ${data.size[1]} pixels); the points met within ${worst.toFixed(2)} ${state.answer.plan.length_label}`);
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+    status("not rectified");
+  }
+}
+
 function svgPoint(e) {
   const svg = $("plan");
   const p = svg.createSVGPoint(); p.x = e.clientX; p.y = e.clientY;
@@ -1290,6 +1353,10 @@ $("play").addEventListener("click", togglePlay);
 $("time").addEventListener("input", () => { state.playT = +$("time").value; render(); });
 $("export-motion").addEventListener("click", exportMotion);
 $("background").addEventListener("click", chooseBackground);
+$("photo-plan").addEventListener("click", startPhotoPlan);
+$("photo-img").addEventListener("click", photoClick);
+$("photo-rectify").addEventListener("click", rectifyPhoto);
+$("photo-cancel").addEventListener("click", closePhoto);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));
 $("add-mark").addEventListener("click", () => useTool("mark"));

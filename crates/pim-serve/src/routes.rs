@@ -43,6 +43,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/batch", post(batch_start))
         .route("/api/report", post(report))
         .route("/api/dxf", post(scene_dxf))
+        .route("/api/photo-plan", post(photo_plan))
         .route("/api/image", get(image))
         .route("/api/background", post(background))
         .layer(middleware::from_fn_with_state(served.clone(), guard))
@@ -496,6 +497,50 @@ async fn scene_dxf(Json(c): Json<CaseText>) -> Response {
     .await;
     match made {
         Ok(Ok(bytes)) => ([(header::CONTENT_TYPE, "image/vnd.dxf")], bytes).into_response(),
+        Ok(Err(e)) => unanswered(e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
+    }
+}
+
+#[derive(Deserialize)]
+struct PhotoAsk {
+    path: String,
+    text: String,
+    #[serde(default)]
+    units: Option<String>,
+    /// The photo, a path inside the folder served.
+    photo: String,
+    points: Vec<crate::PhotoPoint>,
+}
+
+/// A photo of the folder made into a plan-view image written beside it, and the case's text
+/// with it as its `[background]` (not saved).
+async fn photo_plan(State(s): State<App>, Json(a): Json<PhotoAsk>) -> Response {
+    let Some(file) = inside_of(&s.served.root, &a.photo, &["png", "jpg", "jpeg"]) else {
+        return refused(
+            StatusCode::FORBIDDEN,
+            &format!(
+                "refused: {}: only a photo (PNG, JPEG) inside the folder served is rectified",
+                a.photo
+            ),
+        );
+    };
+    let root = s.served.root.clone();
+    let made = tokio::task::spawn_blocking(move || {
+        let bytes = pim_store::read_bytes(&file, MAX_IMAGE_BYTES)
+            .map_err(|e| crate::AnswerError::Input(format!("{}: {e}", a.photo)))?;
+        let units = units_of(a.units.as_deref()).map_err(crate::AnswerError::Input)?;
+        crate::photo_plan(
+            &root,
+            (&a.path, &a.text),
+            (&a.photo, &bytes),
+            &a.points,
+            units,
+        )
+    })
+    .await;
+    match made {
+        Ok(Ok(plan)) => Json(plan).into_response(),
         Ok(Err(e)) => unanswered(e),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }
