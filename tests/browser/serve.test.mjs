@@ -112,6 +112,7 @@ test("opens the example and shows its reconstruction", async () => {
   const cookies = await page.context().cookies();
   assert.ok(cookies.some((c) => c.name === "pim_token" && c.httpOnly && c.sameSite === "Strict"));
   assert.equal(await page.locator(".given-rest circle.handle").count(), 2);
+  assert.equal(await page.locator(".given-rest circle.rest-knob").count(), 2);
   // The geometry at contact: each CG and heading, the impact centre and the crush normal.
   assert.equal(await page.locator("rect.cg-handle").count(), 2);
   assert.equal(await page.locator("circle.heading-handle").count(), 2);
@@ -901,6 +902,40 @@ test("a vehicle at contact dragged and turned by its handles: the case's positio
   fs.rmSync(file);
   await page.fill("#toml", original);
   await page.waitForFunction((t) => window.pim.text === t, original);
+  await idle();
+});
+
+test("a vehicle's rest turned by its knob: the rest's heading follows, nothing else", async () => {
+  const original = await exampleAsCommitted();
+  // The SUV's knob swung a quarter turn counter-clockwise on the page about its rest's CG.
+  const [cg, knob] = await page.evaluate(() => {
+    const svg = document.getElementById("plan"), m = svg.getScreenCTM();
+    const at = (h, v) => { const p = svg.createSVGPoint(); p.x = h; p.y = -v; const q = p.matrixTransform(m); return [q.x, q.y]; };
+    const gr = window.pim.answer.plan.vehicles.find((v) => v.vehicle === 2).given_rest;
+    const k = document.querySelector('circle.rest-knob[data-vehicle="2"]');
+    const b = k.getBoundingClientRect();
+    return [at(gr.at[0], gr.at[1]), [b.x + b.width / 2, b.y + b.height / 2]];
+  });
+  const [sx, sy] = [knob[0] - cg[0], knob[1] - cg[1]];
+  await page.mouse.move(knob[0], knob[1]);
+  await page.mouse.down();
+  for (let i = 1; i <= 12; i++) {
+    // Screen y is down: a page turn of +a is (sx cos a + sy sin a, -sx sin a + sy cos a).
+    const a = (Math.PI / 2) * (i / 12);
+    await page.mouse.move(cg[0] + sx * Math.cos(a) + sy * Math.sin(a), cg[1] - sx * Math.sin(a) + sy * Math.cos(a));
+  }
+  await page.mouse.up();
+  await idle();
+  const turned = await page.inputValue("#toml");
+  const a = original.split("\n"), b = turned.split("\n");
+  const changed = a.map((l, i) => [l, b[i]]).filter(([p, q]) => p !== q);
+  assert.equal(changed.length, 1, JSON.stringify(changed));
+  // SAE headings are clockwise from x: 241 deg turned a quarter turn counter-clockwise is 151.
+  const m = /^rest = \{ x = 50\.1, y = 79\.7, heading = ([0-9.]+) \}$/.exec(changed[0][1]);
+  assert.ok(m && Math.abs(+m[1] - 151) < 1, changed[0][1]);
+  await page.screenshot({ path: path.join(shots, "22-rest-turned.png") });
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => /heading = 241\.0 \}/.test(window.pim.text));
   await idle();
 });
 

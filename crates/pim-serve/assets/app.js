@@ -555,6 +555,7 @@ function render() {
         follow(d);
       }
       h.addEventListener("pointerdown", (e) => startDrag(e, { vehicle: veh.vehicle }, gr.at, moved, h));
+      if (gr.heading != null) restKnob(moved, veh.vehicle, gr);
     }
   }
   if (a.question === "reconstruction") drawContactHandles(svg, a);
@@ -713,6 +714,20 @@ function drawContactHandles(svg, a) {
   const nk = el("circle", { cx: end[0], cy: -end[1], r: r * 0.8, class: "handle normal-handle" }, g);
   nk.addEventListener("pointerdown", (e) => dragGeometry(e, nk, (p) => ({
     normal: (Math.atan2(p[1] - c[1], p[0] - c[0]) * 180) / Math.PI,
+  })));
+}
+
+// The knob that turns a rest given as its CG and heading: on a line from the CG along the
+// heading, beyond the outline; dragged, the rest's heading follows the pointer about the CG.
+function restKnob(g, vehicle, gr) {
+  const px = pxPerUnit(), r = 6 / px;
+  const reach = Math.max(...gr.outline.map(([h, v]) => Math.hypot(h - gr.at[0], v - gr.at[1]))) + 16 / px;
+  const t = (gr.heading * Math.PI) / 180;
+  const knob = [gr.at[0] + reach * Math.cos(t), gr.at[1] + reach * Math.sin(t)];
+  el("line", { x1: gr.at[0], y1: -gr.at[1], x2: knob[0], y2: -knob[1], class: "heading-line" }, g);
+  const kn = el("circle", { cx: knob[0], cy: -knob[1], r: r * 0.8, class: "rest-knob", "data-vehicle": vehicle }, g);
+  kn.addEventListener("pointerdown", (e) => dragGeometry(e, kn, (p) => ({
+    vehicle, rest_heading: (Math.atan2(p[1] - gr.at[1], p[0] - gr.at[0]) * 180) / Math.PI,
   })));
 }
 

@@ -204,6 +204,9 @@ pub struct GivenRest {
     pub outline: Vec<[f64; 2]>,
     /// The tyres measured at rest, when the rest is given by them.
     pub tyres: Vec<[f64; 2]>,
+    /// The heading given at rest on the page, degrees counter-clockwise from the page's right
+    /// (a rest given as its CG and heading: the page turns it by a knob).
+    pub heading: Option<f64>,
 }
 
 /// The answer of the case text `text` (named `file` in messages).
@@ -554,6 +557,10 @@ fn plan(
                     .iter()
                     .map(|t| on_page(t[0], t[1]))
                     .collect(),
+                heading: rest
+                    .heading
+                    .filter(|_| input.rest_tyres.is_empty())
+                    .map(page_angle),
             }
         });
         let marks = evidence

@@ -45,6 +45,24 @@ pub struct ContactChange {
     /// right.
     #[serde(default)]
     pub normal: Option<f64>,
+    /// The vehicle's heading at rest (`[scene.vehicleN] rest`) on the page, degrees
+    /// counter-clockwise from the page's right: the rest turned, nothing at contact moved.
+    #[serde(default)]
+    pub rest_heading: Option<f64>,
+}
+
+impl ContactChange {
+    /// Whether every number of the change is finite.
+    fn is_finite(&self) -> bool {
+        [self.at, self.centre]
+            .into_iter()
+            .flatten()
+            .flatten()
+            .chain(self.heading)
+            .chain(self.normal)
+            .chain(self.rest_heading)
+            .all(f64::is_finite)
+    }
 }
 
 /// An angle in (-180, 180].
@@ -78,6 +96,36 @@ fn impact_point(
     turned(-new_heading, [new_c[0] - cg[0], new_c[1] - cg[1]])
 }
 
+/// The case text with vehicle `k`'s rest heading set to the page angle `page` (degrees
+/// counter-clockwise from the page's right), written from 0 to 360 degrees in the file's
+/// convention, to a hundredth; the text checked as a case after the edit.
+fn turn_rest(file: &str, text: &str, k: u8, page: f64) -> Result<String, AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    if !(k == 1 || k == 2) {
+        return Err(AnswerError::Input(format!(
+            "{file}: vehicle {k}: the vehicles are 1 and 2"
+        )));
+    }
+    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+    let written = match case.written {
+        Convention::Sae => 90.0 - page,
+        Convention::Brach => {
+            return Err(AnswerError::Input(format!(
+                "{file}: a case in the papers' convention is edited in its TOML"
+            )))
+        }
+        _ => page,
+    };
+    let mut edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
+    edit.set(
+        &format!("scene.vehicle{k}.rest.heading"),
+        hundredth(written.rem_euclid(360.0)),
+    )
+    .map_err(|e| input(&e))?;
+    edit.check().map_err(|e| input(&e))?;
+    Ok(edit.text())
+}
+
 /// To a hundredth, as a scene diagram gives positions and angles.
 fn hundredth(x: f64) -> NewValue {
     NewValue::Written(crate::edits::hundredth(x))
@@ -98,16 +146,13 @@ pub fn edit_contact(
 ) -> Result<String, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     let refuse = |why: String| AnswerError::Input(format!("{file}: {why}"));
-    let numbers = [change.at, change.centre]
-        .into_iter()
-        .flatten()
-        .flatten()
-        .chain(change.heading)
-        .chain(change.normal);
-    if !numbers.into_iter().all(f64::is_finite) {
+    if !change.is_finite() {
         return Err(refuse(
             "the geometry moved on the page is not a number".into(),
         ));
+    }
+    if let (Some(k), Some(page)) = (change.vehicle, change.rest_heading) {
+        return turn_rest(file, text, k, page);
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
     if case.written == Convention::Brach {
