@@ -573,8 +573,9 @@ fn realistic_cases_200() {
     assert!((0.85..=0.95).contains(&rate), "coverage {rate}");
 }
 
-/// Writes the realistic case of `SEED` (wheels `WHEELS`, e.g. `Rolling,Jammed`) into the
-/// temporary folder as `realistic_SEED.toml` and prints its truth, to look at one case.
+/// Writes the realistic case of `SEED` (wheels `WHEELS`, e.g. `Rolling,Jammed`; with `VERGE`
+/// set, onto a verge; with `MEASURED` set, its scene measured at tyres) into the temporary
+/// folder as `realistic_SEED.toml` and prints its truth, to look at one case.
 #[test]
 #[ignore]
 fn write_a_realistic_case() {
@@ -588,7 +589,8 @@ fn write_a_realistic_case() {
     };
     let mut it = names.split(',');
     let wheels = [pick(it.next().unwrap()), pick(it.next().unwrap())];
-    let s = simulated(seed, wheels, std::env::var("VERGE").is_ok()).expect("an admissible crash");
+    let env = |name: &str| std::env::var(name).is_ok();
+    let s = simulated_as(seed, wheels, env("VERGE"), env("MEASURED")).expect("an admissible crash");
     eprintln!("run-outs {:.1?} m, turns {:.2?}", s.distance, s.turns);
     common::write_with_truth(
         &format!("realistic_{seed}"),
