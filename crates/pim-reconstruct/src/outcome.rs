@@ -57,6 +57,18 @@ pub struct SceneFit {
     pub rolling_resistance: f64,
 }
 
+impl SceneFit {
+    /// `chassis` (the vehicle's as the case gives it) on the ground the fitted run-out ran on:
+    /// its road friction, its zones' frictions and its rolling resistance.
+    pub fn ground(&self, chassis: &mut pim_runout::Chassis) {
+        chassis.friction = self.friction;
+        chassis.rolling_resistance = self.rolling_resistance;
+        for (z, mu) in chassis.zones.iter_mut().zip(&self.zones) {
+            z.friction = *mu;
+        }
+    }
+}
+
 /// A vehicle's speed in each phase.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Phases {

@@ -65,6 +65,16 @@ impl ContactChange {
     }
 }
 
+/// A page angle (degrees counter-clockwise from the page's right) as the file of `written`
+/// writes a heading: SAE's clockwise from x, up the page; the natural frame's the page's own.
+fn written_angle(written: Convention, page: f64) -> f64 {
+    if written == Convention::Sae {
+        90.0 - page
+    } else {
+        page
+    }
+}
+
 /// An angle in (-180, 180].
 fn wrapped(deg: f64) -> f64 {
     let w = deg.rem_euclid(360.0);
@@ -107,15 +117,12 @@ fn turn_rest(file: &str, text: &str, k: u8, page: f64) -> Result<String, AnswerE
         )));
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let written = match case.written {
-        Convention::Sae => 90.0 - page,
-        Convention::Brach => {
-            return Err(AnswerError::Input(format!(
-                "{file}: a case in the papers' convention is edited in its TOML"
-            )))
-        }
-        _ => page,
-    };
+    if case.written == Convention::Brach {
+        return Err(AnswerError::Input(format!(
+            "{file}: a case in the papers' convention is edited in its TOML"
+        )));
+    }
+    let written = written_angle(case.written, page);
     let mut edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
     edit.set(
         &format!("scene.vehicle{k}.rest.heading"),
@@ -176,7 +183,7 @@ pub fn edit_contact(
             [h, v]
         }
     };
-    let angle = |page: f64| wrapped(if sae { 90.0 - page } else { page });
+    let angle = |page: f64| wrapped(written_angle(case.written, page));
     let num = |edit: &CaseEdit, path: &str| edit.get(path).and_then(|s| s.parse::<f64>().ok());
     let set =
         |edit: &mut CaseEdit, path: &str, v: NewValue| edit.set(path, v).map_err(|e| input(&e));

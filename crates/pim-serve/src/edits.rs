@@ -157,19 +157,14 @@ fn move_point(
     at: [f64; 2],
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
-    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
-    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let (x, y) = written_frame(&case, at, units);
-    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
-    let per_unit =
-        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    for (axis, value) in [("x", x), ("y", y)] {
-        let path = format!("{key}.{axis}");
-        let written = hundredth(value / per_unit);
-        edit.set(&path, pim_case::edit::NewValue::Written(written))
-            .map_err(|e| input(&e))?;
+    let mut on = OnFile::of(file, text, units)?;
+    let p = on.point(at);
+    for (axis, value) in [("x", p[0]), ("y", p[1])] {
+        on.edit
+            .set(&format!("{key}.{axis}"), NewValue::Written(value))
+            .map_err(|e| AnswerError::Input(e.to_string()))?;
     }
-    Ok(edit.text())
+    Ok(on.edit.text())
 }
 
 /// A page point (display length unit of `units`, `None`: the case's own) in the case's
@@ -227,22 +222,19 @@ pub fn add_mark(
             "{file}: a mark of vehicle {vehicle} at {at:?} with sigma {sigma} cannot be written"
         )));
     }
-    let (mut edit, points, sigma) = written_evidence(file, text, &[at], sigma, units)?;
+    let mut on = OnFile::of(file, text, units)?;
+    let p = on.point(at);
     let mut entries = vec![
-        ("x", NewValue::Written(points[0][0])),
-        ("y", NewValue::Written(points[0][1])),
-        ("sigma", NewValue::Written(sigma)),
+        ("x", NewValue::Written(p[0])),
+        ("y", NewValue::Written(p[1])),
+        ("sigma", NewValue::Written(on.length(sigma))),
     ];
     // The tyre that left it (the CG's path without one); the case's check below refuses a
     // name that is no wheel.
     if let Some(w) = wheel.as_deref().filter(|w| *w != "cg") {
         entries.push(("wheel", NewValue::Text(w.to_string())));
     }
-    pushed(edit_with(
-        &mut edit,
-        &format!("scene.vehicle{vehicle}.marks"),
-        &entries,
-    ))
+    on.pushed(&format!("scene.vehicle{vehicle}.marks"), &entries)
 }
 
 /// A yaw mark traced on the page: points along the mark one tyre left.
@@ -290,65 +282,65 @@ pub fn add_trace(
              be written (two points or more, a sigma above 0)"
         )));
     }
-    let (mut edit, points, sigma) = written_evidence(file, text, points, sigma, units)?;
+    let mut on = OnFile::of(file, text, units)?;
     let entries = [
         ("wheel", NewValue::Text(wheel.trim().to_string())),
-        ("points", NewValue::Points(points)),
-        ("sigma", NewValue::Written(sigma)),
+        (
+            "points",
+            NewValue::Points(points.iter().map(|&p| on.point(p)).collect()),
+        ),
+        ("sigma", NewValue::Written(on.length(sigma))),
     ];
-    pushed(edit_with(
-        &mut edit,
-        &format!("scene.vehicle{vehicle}.traces"),
-        &entries,
-    ))
+    on.pushed(&format!("scene.vehicle{vehicle}.traces"), &entries)
 }
 
-/// The case's edit, the page's `points` in the file's length unit and frame and the page
-/// length `sigma` in the file's length unit (each to a hundredth), from the display length
-/// unit of `units` (`None`: the case's own).
-fn written_evidence(
-    file: &str,
-    text: &str,
-    points: &[[f64; 2]],
-    sigma: f64,
+/// A case's text being edited from the page: its edit, and the page's points and lengths (the
+/// display length unit of `units`, `None`: the case's own) as the file writes them, in its
+/// length unit and frame, to a hundredth.
+struct OnFile {
+    case: Case,
+    edit: CaseEdit,
     units: Option<UnitSystem>,
-) -> Result<(CaseEdit, Vec<[f64; 2]>, f64), AnswerError> {
-    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
-    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    // A length, not a point: metres from the display unit.
-    let sigma = sigma
-        * units
-            .unwrap_or_else(|| UnitSystem::of(&case.written_units))
-            .length(1.0)
-            .recip();
-    let edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
-    let per_unit =
-        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    let points = points
-        .iter()
-        .map(|&at| {
-            let (x, y) = written_frame(&case, at, units);
-            [hundredth(x / per_unit), hundredth(y / per_unit)]
+    /// Metres per the file's length unit.
+    per_unit: f64,
+}
+
+impl OnFile {
+    fn of(file: &str, text: &str, units: Option<UnitSystem>) -> Result<OnFile, AnswerError> {
+        let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+        let case = Case::from_text(file, text).map_err(|e| input(&e))?;
+        let edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
+        let per_unit =
+            pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
+        Ok(OnFile {
+            case,
+            edit,
+            units,
+            per_unit,
         })
-        .collect();
-    Ok((edit, points, hundredth(sigma / per_unit)))
-}
+    }
 
-/// `entries` pushed as an inline table onto the array `path` of `edit`, the text checked as a
-/// case after the edit.
-fn edit_with(
-    edit: &mut CaseEdit,
-    path: &str,
-    entries: &[(&str, NewValue)],
-) -> Result<String, pim_case::InputError> {
-    edit.push(path, entries)?;
-    edit.check()?;
-    Ok(edit.text())
-}
+    /// The page point `at` in the file's frame and length unit.
+    fn point(&self, at: [f64; 2]) -> [f64; 2] {
+        let (x, y) = written_frame(&self.case, at, self.units);
+        [hundredth(x / self.per_unit), hundredth(y / self.per_unit)]
+    }
 
-/// An edit's text, or its error as the page's refusal.
-fn pushed(r: Result<String, pim_case::InputError>) -> Result<String, AnswerError> {
-    r.map_err(|e| AnswerError::Input(e.to_string()))
+    /// The page length `l` (a sigma, a skid) in the file's length unit.
+    fn length(&self, l: f64) -> f64 {
+        let units = self
+            .units
+            .unwrap_or_else(|| UnitSystem::of(&self.case.written_units));
+        hundredth(l * units.length(1.0).recip() / self.per_unit)
+    }
+
+    /// `entries` pushed as an inline table onto the array `path`: the text, checked as a case.
+    fn pushed(&mut self, path: &str, entries: &[(&str, NewValue)]) -> Result<String, AnswerError> {
+        let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+        self.edit.push(path, entries).map_err(|e| input(&e))?;
+        self.edit.check().map_err(|e| input(&e))?;
+        Ok(self.edit.text())
+    }
 }
 
 /// The case text with vehicle `vehicle`'s skid up to contact set to `length` (display length
@@ -370,19 +362,13 @@ pub fn set_skid(
             "{file}: a skid of {length} for vehicle {vehicle} cannot be written"
         )));
     }
-    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
-    let metres = length * units.length(1.0).recip();
-    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
-    let per_unit =
-        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    edit.set(
-        &format!("pre_impact.vehicle{vehicle}.skid"),
-        pim_case::edit::NewValue::Written(hundredth(metres / per_unit)),
-    )
-    .map_err(|e| input(&e))?;
-    edit.check().map_err(|e| input(&e))?;
-    Ok(edit.text())
+    let mut on = OnFile::of(file, text, units)?;
+    let written = NewValue::Written(on.length(length));
+    on.edit
+        .set(&format!("pre_impact.vehicle{vehicle}.skid"), written)
+        .map_err(|e| input(&e))?;
+    on.edit.check().map_err(|e| input(&e))?;
+    Ok(on.edit.text())
 }
 
 /// A friction zone drawn on the page.
@@ -418,30 +404,17 @@ pub fn add_zone(
             zone.corners
         )));
     }
-    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let mut edit = pim_case::edit::CaseEdit::new(file, text).map_err(|e| input(&e))?;
-    let per_unit =
-        pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
-    let written = |v: f64| hundredth(v / per_unit);
-    let corners = zone
-        .corners
-        .iter()
-        .map(|&at| {
-            let (x, y) = written_frame(&case, at, units);
-            [written(x), written(y)]
-        })
-        .collect();
+    let mut on = OnFile::of(file, text, units)?;
+    let corners = zone.corners.iter().map(|&at| on.point(at)).collect();
     let mut entries = Vec::new();
     if let Some(name) = zone.name.as_deref().filter(|n| !n.trim().is_empty()) {
-        entries.push((
-            "name",
-            pim_case::edit::NewValue::Text(name.trim().to_string()),
-        ));
+        entries.push(("name", NewValue::Text(name.trim().to_string())));
     }
-    entries.push(("friction", pim_case::edit::NewValue::Written(zone.friction)));
-    entries.push(("corners", pim_case::edit::NewValue::Points(corners)));
-    edit.push_table("runout.zones", &entries)
+    entries.push(("friction", NewValue::Written(zone.friction)));
+    entries.push(("corners", NewValue::Points(corners)));
+    on.edit
+        .push_table("runout.zones", &entries)
         .map_err(|e| input(&e))?;
-    edit.check().map_err(|e| input(&e))?;
-    Ok(edit.text())
+    on.edit.check().map_err(|e| input(&e))?;
+    Ok(on.edit.text())
 }

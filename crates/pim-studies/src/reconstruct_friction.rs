@@ -109,11 +109,7 @@ pub(crate) fn scene_information(
                 };
                 // The chassis the fitted run-out ran on.
                 let mut chassis = s.chassis.clone();
-                chassis.friction = fit.friction;
-                chassis.rolling_resistance = fit.rolling_resistance;
-                for (z, mu) in chassis.zones.iter_mut().zip(&fit.zones) {
-                    z.friction = *mu;
-                }
+                fit.ground(&mut chassis);
                 let turns = fit.turns.unwrap_or(0);
                 let start = &fit.runout.start;
                 let Ok(lin) = (match f.zone {

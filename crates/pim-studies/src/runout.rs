@@ -294,11 +294,7 @@ pub fn fitted(
         let mut v = v.clone();
         let (runout, evidence) = match found.scene.iter().find(|f| f.vehicle == v.id) {
             Some(f) => {
-                v.chassis.friction = f.friction;
-                v.chassis.rolling_resistance = f.rolling_resistance;
-                for (z, mu) in v.chassis.zones.iter_mut().zip(&f.zones) {
-                    z.friction = *mu;
-                }
+                f.ground(&mut v.chassis);
                 let evidence = f.residuals.iter().map(residual_out).collect();
                 (f.runout.clone(), evidence)
             }
