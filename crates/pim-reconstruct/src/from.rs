@@ -87,7 +87,7 @@ fn from_states(
     // The scenes' cost at the earlier states (a start of the search's kind).
     let scene_alone = start.iter().map(|l| l.lin.cost).sum();
     let work = Work::new(settings.refine_work);
-    let refined = refine_start(r, settings, start, &work);
+    let refined = refine_start(r, settings, start, None, &work);
     out.work += work.spent();
     let Ok(x) = refined else { return };
     out.fits += x.fits;
@@ -102,7 +102,7 @@ fn from_states(
         converged: x.converged,
         abandoned: false,
     };
-    let end = Some(x.point.scene.iter().map(|l| l.at).collect());
+    let end = Some(crate::outcome::End::of(&x.point));
     match out.tried.iter_mut().find(|t| t.counts == counts) {
         Some(t) => {
             let higher = match t.state {

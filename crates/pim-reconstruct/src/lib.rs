@@ -38,9 +38,16 @@
 //!    about the impact centre, which every impulse at C conserves whatever the coefficients:
 //!    one linear solve, a lower bound of the linearised impact fit).
 //! 3. **First points, then refinement.** Each combination, from the lowest bound, first gets
-//!    its first point: the impact fitted to its scenes linearised at their starts, the
-//!    run-outs simulated from the separation states it gives (a chi-square evaluated, not
-//!    predicted: an upper bound of the best). These probes spend at most half the budget of
+//!    its first point: the impact fitted to its scenes linearised at their starts (evidence
+//!    not linear in the velocities, such as an EDR's speed, linearised at the impact fitted
+//!    without it), the run-outs simulated from the separation states it gives (a chi-square
+//!    evaluated, not predicted: an upper bound of the best). Where that step overshoots (the
+//!    point lies more than [`Settings::refine_margin`] above what its linearised fit
+//!    predicted), the start itself is evaluated too, the impact fitted with the separation
+//!    state held there, and the lower of the two is the first point: a long run-out's
+//!    linearisation can send the undamped step thousands of chi-square away from a start that
+//!    costs a few tens (a steered car's 98 m run-out: 180.8 against 52.5), and a refinement
+//!    accepts only steps that lower what it starts from. These probes spend at most half the budget of
 //!    work left. The combinations are then refined from their first points: the lowest bound
 //!    first (where the linearisations hold, the relaxation's order is right), then in the order
 //!    of their first points' chi-squares (where they do not hold, the bound says nothing and an
@@ -86,7 +93,9 @@
 //!    rates of road crashes (with a rest position, those whose run-outs end there, one per yaw
 //!    rate from -10 to 10 rad/s on several branches, every state of a branch whose rest
 //!    heading passes a count's heading a start of that count;
-//!    [`pim_runout::EstimateSettings::scatter`]), and steps 1 to 3 repeated; the lower of the
+//!    [`pim_runout::EstimateSettings::scatter`]) and from where the first search's three
+//!    lowest refinements ended, for their counts and the counts next to them (the impact's
+//!    side of the scene: [`pim_runout::EstimateSettings::starts`]), and steps 1 to 3 repeated; the lower of the
 //!    two answers is kept ([`Outcome::scattered`]). The two searches share one budget of work
 //!    ([`Settings::refine_work`]): the first may spend half of it (one that refines many
 //!    combinations far from their scenes, each with long and slow run-outs, must leave the
@@ -108,11 +117,14 @@
 //!    that crawled along a curved valley of the full evidence, or stopped in a basin the
 //!    contact evidence does not want, is led around it; the lower answer is kept. (Two cases
 //!    whose vehicle 2 at contact differs by 0.1 ft once answered at 31.2 and 5,977; with the
-//!    continuation at 31.2 and 31.7.) So are the combinations (two at most, the lowest bounds
-//!    first) whose momentum bound lies more than the margin below the best while their
-//!    refinement ended more than the margin above that bound: the first step overshot into a
-//!    basin of its own (a crash refused at 203.7, its truth's chi-square 21.9, whose true
-//!    combination was bounded at 7.0 and set aside at 8,500, answers at 6.1). It spends what
+//!    continuation at 31.2 and 31.7.) So are two more combinations, the lowest scenes alone
+//!    first: those whose scenes alone cost less than a refusal's chi-square (the combination
+//!    can still be answered), and those whose momentum bound lies more than the margin below
+//!    the best while their refinement ended more than the margin above that bound: the first
+//!    step overshot into a basin of its own (a crash refused at 203.7, its truth's chi-square
+//!    21.9, whose true combination was bounded at 7.0 and set aside at 8,500, answers at 6.1).
+//!    Every stage starts on the frictions the stage before ended on (a long run-out started
+//!    again on the stated friction ends far from where it did). It spends what
 //!    the two searches left of the one budget
 //!    of work, and stops at a stage whose answer the evidence already refuses: narrowing the
 //!    scene's deviations raises each scene term's weight and leaves the others, so the minimum
@@ -156,6 +168,7 @@
 //! problem).
 
 mod error;
+mod friction_step;
 mod from;
 mod outcome;
 mod point;

@@ -239,10 +239,57 @@ pub struct TriedCounts {
     pub momentum_bound: Option<f64>,
     /// What became of it.
     pub state: Tried,
-    /// Where its refinement ended: each scene vehicle's separation velocity `(vx, vy,
-    /// yaw_rate)` (a start for the same combination with perturbed evidence).
+    /// Where its refinement ended (a start for the same combination with perturbed evidence).
     #[serde(skip)]
-    pub end: Option<Vec<[f64; 3]>>,
+    pub end: Option<End>,
+}
+
+/// Where a combination's refinement ended: the state a refinement of the same counts starts
+/// from again.
+#[derive(Debug, Clone, PartialEq)]
+pub struct End {
+    /// Each scene vehicle's separation velocity `(vx, vy, yaw_rate)`.
+    pub velocities: Vec<[f64; 3]>,
+    /// The frictions its run-outs ran on, one per [`Reconstruction::frictions`] (the fitted
+    /// ones: a long run-out started again on the stated friction ends far from where it did).
+    pub frictions: Vec<f64>,
+    /// The twelve velocities (contact, then separation): where the nonlinear contact evidence
+    /// is linearised again.
+    pub state: pim_fit::Vector12,
+}
+
+impl End {
+    pub(crate) fn of(p: &Point) -> End {
+        End {
+            velocities: p.scene.iter().map(|l| l.at).collect(),
+            frictions: p.mus.clone(),
+            state: pim_fit::state_vector(&p.solution.initial, &p.solution.separation),
+        }
+    }
+
+    /// Each scene linearised at this end for `counts` (a count of 0 without a rest heading).
+    pub(crate) fn linearised(
+        &self,
+        r: &Reconstruction,
+        settings: &crate::problem::Settings,
+        counts: &[Option<i64>],
+    ) -> crate::error::Result<Vec<crate::point::Lin>> {
+        self.velocities
+            .iter()
+            .enumerate()
+            .map(|(v, at)| {
+                crate::point::linearised(
+                    r,
+                    settings,
+                    v,
+                    counts[v].unwrap_or(0),
+                    *at,
+                    true,
+                    &self.frictions,
+                )
+            })
+            .collect()
+    }
 }
 
 /// A reconstruction's answer.

@@ -106,9 +106,12 @@ pub fn refit(r: &Reconstruction, settings: &Settings, from: &Found) -> Result<Fo
         })
         .collect::<Result<_>>()?;
     let work = Work::new(settings.refine_work);
-    let x = refine_start(r, settings, start, &work).map_err(|reason| ReconstructError::Input {
-        field: "pose",
-        reason,
+    let contact = pim_fit::state_vector(&from.solution.initial, &from.solution.separation);
+    let x = refine_start(r, settings, start, Some(contact), &work).map_err(|reason| {
+        ReconstructError::Input {
+            field: "pose",
+            reason,
+        }
     })?;
     Ok(Found::new(r, x.point, x.iterations, x.converged))
 }

@@ -1,11 +1,10 @@
 //! Gauss-Newton over the separation state of one combination of counts of turns, with the
 //! exact impact fit inside.
 
+use crate::friction_step::FrictionStep;
 use crate::point::{differentiated, linearised, velocity_of, Lin, Point};
-use crate::problem::FRICTION_RANGE;
 use crate::problem::{Reconstruction, Settings};
 use crate::work::Work;
-use nalgebra::{DMatrix, DVector};
 use pim_fit::{
     fit, state_vector, Combination, FitProblem, MomentBranch, Solution, Status as FitStatus,
     Vector12,
@@ -134,108 +133,6 @@ fn push_row(problem: &mut FitProblem, row: Vector12, target: f64) {
     }
 }
 
-/// The scenes and the fitted frictions linearised together: rows `b + A (U - at) + M dmu` (the
-/// scenes' weighted residuals, then each friction's `(mu - value) / sigma`), with `A` over the
-/// twelve velocities and `M` over the frictions.
-pub(crate) struct FrictionStep {
-    a: DMatrix<f64>,
-    b: DVector<f64>,
-    m: DMatrix<f64>,
-    /// `(M^T M)^-1` (the frictions' own rows make it positive definite).
-    mtm_inv: DMatrix<f64>,
-    /// The velocities linearised at (the separation components; the rest 0).
-    at: Vector12,
-    /// The frictions linearised at.
-    mus: Vec<f64>,
-}
-
-impl FrictionStep {
-    fn new(r: &Reconstruction, lins: &[Lin]) -> FrictionStep {
-        let groups = r.frictions.len();
-        // Each friction as the run-outs were linearised on it.
-        let mus: Vec<f64> = (0..groups)
-            .map(|g| {
-                let f = &r.frictions[g];
-                f.vehicles
-                    .iter()
-                    .find_map(|&v| lins.iter().find(|l| l.vehicle == v))
-                    .map_or(f.value, |l| match f.zone {
-                        None => l.mu,
-                        Some(k) => l.zone_mus[k],
-                    })
-            })
-            .collect();
-        let rows: usize = lins.iter().map(|l| l.lin.weighted.len()).sum::<usize>() + groups;
-        let mut a = DMatrix::zeros(rows, 12);
-        let mut b = DVector::zeros(rows);
-        let mut m = DMatrix::zeros(rows, groups);
-        let mut at = Vector12::zeros();
-        let mut k = 0;
-        for l in lins {
-            let base = 6 + 3 * r.scene[l.vehicle].id.index();
-            for c in 0..3 {
-                at[base + c] = l.at[c];
-            }
-            let j = l.jacobian();
-            let g = r.friction_of(l.vehicle);
-            for i in 0..j.nrows() {
-                for c in 0..3 {
-                    a[(k, base + c)] = j[(i, c)];
-                }
-                b[k] = l.lin.weighted[i];
-                if let (Some(g), Some(d)) = (g, &l.lin.friction) {
-                    m[(k, g)] = d[i];
-                }
-                for (g, z) in r.zone_frictions_of(l.vehicle) {
-                    if let Some(d) = l.lin.zones.get(z) {
-                        m[(k, g)] = d[i];
-                    }
-                }
-                k += 1;
-            }
-        }
-        for (g, f) in r.frictions.iter().enumerate() {
-            b[k] = (mus[g] - f.value) / f.sigma;
-            m[(k, g)] = 1.0 / f.sigma;
-            k += 1;
-        }
-        let mtm = m.transpose() * &m;
-        let mtm_inv = mtm
-            .clone()
-            .try_inverse()
-            .unwrap_or_else(|| DMatrix::identity(groups, groups));
-        FrictionStep {
-            a,
-            b,
-            m,
-            mtm_inv,
-            at,
-            mus,
-        }
-    }
-
-    /// `P A` and `P b` with `P = I - M (M^T M)^-1 M^T`.
-    fn projected(&self) -> (DMatrix<f64>, DVector<f64>) {
-        let mt = self.m.transpose();
-        let pa = &self.a - &self.m * (&self.mtm_inv * (&mt * &self.a));
-        let pb = &self.b - &self.m * (&self.mtm_inv * (&mt * &self.b));
-        (pa, pb)
-    }
-
-    /// The frictions that minimise the linearised cost at the velocities `u`, kept within the
-    /// searched range: `mu + dmu`, `dmu = -(M^T M)^-1 M^T (b + A (u - at))`.
-    pub(crate) fn frictions_at(&self, u: &Vector12) -> Vec<f64> {
-        let du = DVector::from_iterator(12, (u - self.at).iter().copied());
-        let r = &self.b + &self.a * du;
-        let dmu = -(&self.mtm_inv * (self.m.transpose() * r));
-        self.mus
-            .iter()
-            .zip(dmu.iter())
-            .map(|(m, d)| (m + d).clamp(FRICTION_RANGE.0, FRICTION_RANGE.1))
-            .collect()
-    }
-}
-
 /// Each piece of nonlinear evidence linearised at `u`, `z(U) ~ z(u) + g (U - u)` with `z` the
 /// residual in standard deviations and `g` by forward differences over the free components:
 /// a combination row in chi-square units.
@@ -279,16 +176,51 @@ struct Fitted {
     predicted: f64,
 }
 
+/// How an impact fit of the linearised problem may move the separation state.
+#[derive(Clone, Copy)]
+enum Step<'a> {
+    /// Freely (Gauss-Newton's step).
+    Free,
+    /// Kept near the scenes' linearisation points by Marquardt's damping `lambda`.
+    Damped(f64, &'a [Lin]),
+    /// Not at all: held at the scenes' linearisation points (the impact fitted to them).
+    Held,
+}
+
+impl<'a> Step<'a> {
+    /// Marquardt's damping `lambda` about `around` (none at 0).
+    fn marquardt(lambda: f64, around: &'a [Lin]) -> Step<'a> {
+        if lambda > 0.0 {
+            Step::Damped(lambda, around)
+        } else {
+            Step::Free
+        }
+    }
+}
+
 /// One impact fit of the linearised problem: the best optimal branch, or why there is none.
 fn fit_once(
     r: &Reconstruction,
     settings: &Settings,
     lins: &[Lin],
-    damping: Option<(f64, &[Lin])>,
+    step: Step<'_>,
     at: Option<&Vector12>,
     work: &Work,
 ) -> std::result::Result<Fitted, String> {
-    let (problem, scale, step) = assemble(r, lins, damping, at);
+    let damping = match step {
+        Step::Damped(lambda, around) => Some((lambda, around)),
+        Step::Free | Step::Held => None,
+    };
+    let (mut problem, scale, step_mu) = assemble(r, lins, damping, at);
+    if matches!(step, Step::Held) {
+        for l in lins {
+            let base = 6 + 3 * r.scene[l.vehicle].id.index();
+            for c in 0..3 {
+                problem.components[base + c] = pim_fit::Knowledge::Known { value: l.at[c] };
+            }
+        }
+    }
+    let step = step_mu;
     let report = fit(&problem, &settings.fit).map_err(|e| e.to_string())?;
     work.add(fit_work(&report));
     let best = report.best_branch().ok_or_else(|| {
@@ -388,23 +320,50 @@ impl Probe {
 }
 
 /// The first point of the combination whose scenes are linearised at `start`, or why it has
-/// none.
+/// none. The nonlinear contact evidence (an EDR's speed) is linearised at `contact`, the twelve
+/// velocities of an earlier answer of the combination (a restart); without one, at the impact
+/// fitted without it, and the impact fitted again.
 pub(crate) fn probe(
     r: &Reconstruction,
     settings: &Settings,
     start: Vec<Lin>,
+    contact: Option<Vector12>,
     work: &Work,
 ) -> std::result::Result<Probe, String> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
-    let fitted = fit_once(r, settings, &start, None, None, work)?;
+    let restart = contact.is_some();
+    let contact = match contact {
+        Some(u) => Some(u),
+        None if !r.nonlinear.0.is_empty() => {
+            let f = fit_once(r, settings, &start, Step::Free, None, work)?;
+            Some(state_vector(&f.solution.initial, &f.solution.separation))
+        }
+        None => None,
+    };
+    let fitted = fit_once(r, settings, &start, Step::Free, contact.as_ref(), work)?;
     let predicted = fitted.predicted;
     let point = evaluate(r, settings, &counts, fitted, work)
         .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())?;
-    Ok(Probe {
+    let mut first = Probe {
         point,
         predicted,
         lins: start,
-    })
+    };
+    if restart && first.far(settings) {
+        // A restart from an answer whose undamped step overshot: the start itself (the impact
+        // fitted with the separation state held there) is evaluated too, and the refinement
+        // goes on from the lower. (A search's start is a scene's candidate, not an answer: its
+        // refinement goes on from where the impact put it, a restart from the impact's side.)
+        if let Some(held) = fit_once(r, settings, &first.lins, Step::Held, contact.as_ref(), work)
+            .ok()
+            .and_then(|f| evaluate(r, settings, &counts, f, work))
+        {
+            if held.total < first.point.total {
+                first.point = held;
+            }
+        }
+    }
+    Ok(first)
 }
 
 /// A combination refined from its scenes linearised at `start`, to the end (nothing to beat),
@@ -413,9 +372,10 @@ pub(crate) fn refine_start(
     r: &Reconstruction,
     settings: &Settings,
     start: Vec<Lin>,
+    contact: Option<Vector12>,
     work: &Work,
 ) -> std::result::Result<Refined, String> {
-    let first = probe(r, settings, start, work)?;
+    let first = probe(r, settings, start, contact, work)?;
     Ok(refine(r, settings, first, f64::INFINITY, work))
 }
 
@@ -506,7 +466,7 @@ fn refine(
             stale = false;
         }
         iterations += 1;
-        let damping = (lambda > 0.0).then_some((lambda, lins.as_slice()));
+        let damping = Step::marquardt(lambda, &lins);
         fits += 1;
         let at = state_vector(&current.solution.initial, &current.solution.separation);
         let fitted = fit_once(r, settings, &lins, damping, Some(&at), work);

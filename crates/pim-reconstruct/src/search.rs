@@ -18,6 +18,7 @@ fn candidates(
     settings: &Settings,
     vehicle: usize,
     scatter: bool,
+    earlier: Option<&Outcome>,
 ) -> Result<Estimate> {
     let s = &r.scene[vehicle];
     // The road friction is held at its value in the reconstruction (its spread is drawn by an
@@ -43,6 +44,7 @@ fn candidates(
         // The first search looks quickly; the second (where the first answer fits worse than
         // its median) from every start and the scatter.
         quick: !scatter,
+        starts: earlier.map_or_else(Vec::new, |e| answers_of(e, vehicle)),
         ..EstimateSettings::default()
     };
     Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
@@ -99,6 +101,29 @@ fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
             .collect();
     }
     out
+}
+
+/// At most this many of an earlier search's refined combinations give the scenes' inverse
+/// starts from the impact's side (the lowest).
+const ANSWER_STARTS: usize = 3;
+
+/// Scene vehicle `v`'s separation states where an earlier search's lowest refinements ended,
+/// with their counts of turns: starts of the scene's inverse from the impact's side.
+fn answers_of(earlier: &Outcome, v: usize) -> Vec<(Option<i64>, [f64; 3])> {
+    let mut refined: Vec<(f64, &TriedCounts)> = earlier
+        .tried
+        .iter()
+        .filter_map(|t| match (&t.state, &t.end) {
+            (Tried::Refined { cost, .. }, Some(_)) => Some((*cost, t)),
+            _ => None,
+        })
+        .collect();
+    refined.sort_by(|a, b| a.0.total_cmp(&b.0));
+    refined
+        .iter()
+        .take(ANSWER_STARTS)
+        .filter_map(|(_, t)| Some((t.counts[v], *t.end.as_ref()?.velocities.get(v)?)))
+        .collect()
 }
 
 /// A refusal says what was searched: it rests on a search, not a proof.
@@ -185,12 +210,12 @@ impl Gate {
 pub(crate) fn search(
     r: &Reconstruction,
     settings: &Settings,
-    scatter: bool,
+    (scatter, earlier): (bool, Option<&Outcome>),
     work: &crate::work::Work,
 ) -> Result<Outcome> {
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
-        .map(|i| candidates(r, settings, i, scatter))
+        .map(|i| candidates(r, settings, i, scatter, earlier))
         .collect::<Result<_>>()?;
     let mut runouts: usize = estimates
         .iter()
@@ -282,7 +307,7 @@ pub(crate) fn search(
             .enumerate()
             .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
             .collect();
-        match probe(r, settings, start, work) {
+        match probe(r, settings, start, None, work) {
             Ok(p) => {
                 fits += 1;
                 runouts += p.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>();
@@ -306,7 +331,7 @@ pub(crate) fn search(
         by_probe.insert(0, lowest_bound);
     }
     let mut best: Option<(usize, Point, usize, bool)> = None;
-    let mut ends: Vec<Option<Vec<[f64; 3]>>> = vec![None; first.len()];
+    let mut ends: Vec<Option<crate::outcome::End>> = vec![None; first.len()];
     let mut count = 0;
     for i in by_probe {
         let p = probes[i].take().expect("probed");
@@ -357,7 +382,7 @@ pub(crate) fn search(
         fits += x.fits - 1;
         runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * (x.iterations - 1);
         refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
-        ends[i] = Some(x.point.scene.iter().map(|l| l.at).collect());
+        ends[i] = Some(crate::outcome::End::of(&x.point));
         if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
             best = Some((i, x.point, x.iterations, x.converged));
         }
@@ -511,24 +536,11 @@ pub fn redo(
         if *cost > best.chi_square + margin {
             continue;
         }
-        let start: std::result::Result<Vec<Lin>, _> = end
-            .iter()
-            .enumerate()
-            .map(|(v, at)| {
-                linearised(
-                    r,
-                    settings,
-                    v,
-                    t.counts[v].unwrap_or(0),
-                    *at,
-                    true,
-                    &crate::point::stated_frictions(r),
-                )
-            })
-            .collect();
-        let Ok(start) = start else { continue };
+        let Ok(start) = end.linearised(r, settings, &t.counts) else {
+            continue;
+        };
         let lowest = found.as_ref().map_or(f64::INFINITY, |f| f.point.total);
-        let Ok(first) = probe(r, settings, start, &work) else {
+        let Ok(first) = probe(r, settings, start, Some(end.state), &work) else {
             continue;
         };
         let x = refine_probe(r, settings, first, (lowest, FarFirst::AboveBest), &work);
@@ -539,7 +551,7 @@ pub fn redo(
     Ok(found.map(|x| Found::new(r, x.point, x.iterations, x.converged)))
 }
 
-/// [`follow`] without its fallback: `previous`'s outcome with the answer its combinations give
+/// [`crate::follow`] without its fallback: `previous`'s outcome with the answer its combinations give
 /// refined again from where they ended ([`redo`]), or `None` where none of them refines (no
 /// search is run then).
 ///

@@ -3,7 +3,6 @@
 
 use crate::error::Result;
 use crate::outcome::{Found, Outcome, Status, Tried};
-use crate::point::{linearised, Lin};
 use crate::problem::{Reconstruction, Settings};
 use crate::refine::refine_start;
 use crate::search::{answered, refined_from, search, searched};
@@ -25,7 +24,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     // slow) must not leave the second, from the scatter, nothing; where the first answer
     // fits, the second is not needed.
     let work = crate::work::Work::new(settings.refine_work / 2);
-    let first = search(r, settings, false, &work)?;
+    let first = search(r, settings, (false, None), &work)?;
     let fits_well = first.best.as_ref().is_some_and(|b| {
         pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
             .is_some_and(|p| p >= settings.scatter_below_p)
@@ -41,7 +40,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     let limit = (spent + spent.max(settings.refine_work / 2)).min(settings.refine_work);
     let work = crate::work::Work::new(limit);
     work.add(spent);
-    let second = search(r, settings, true, &work)?;
+    let second = search(r, settings, (true, Some(&first)), &work)?;
     let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
     let (runouts, fits, work) = (
         first.runouts + second.runouts,
@@ -83,9 +82,8 @@ fn widened(r: &Reconstruction, k: f64) -> Reconstruction {
 /// the evidence as given.
 const CONTINUATION: [f64; 5] = [16.0, 8.0, 4.0, 2.0, 1.0];
 
-/// At most this many combinations are continued before a refusal: the best, and those whose
-/// momentum bound lies more than the margin below it while their refinement ended more than
-/// the margin above that bound.
+/// At most this many combinations are continued before a refusal: the best, and the others
+/// [`continue_best`] names.
 const CONTINUED: usize = 3;
 
 /// A refused answer searched once more before it is refused: the best combination of counts
@@ -93,16 +91,28 @@ const CONTINUED: usize = 3;
 /// sixteen times (the impact and the contact evidence lead, the scene only pulls), then
 /// narrowed step by step to the evidence as given, each stage refined from the one before. A
 /// refinement that crawled in a curved valley of the full evidence, or stopped in a basin the
-/// contact evidence does not want, is led around it. So is each combination whose momentum
-/// bound lies more than [`Settings::refine_margin`] below the best while its refinement ended
-/// more than the margin above that bound (the linearisation that bounded it did not hold on
-/// the way: a first step that overshot into a basin of its own); the lowest bounds first,
-/// [`CONTINUED`] in all. The lowest answer is kept.
+/// contact evidence does not want, is led around it. So is each other refined combination that
+/// could still be answered:
+/// - one whose scenes alone cost less than a refusal's chi-square (their cost is the least the
+///   combination can cost where the scenes' search found their minima; above that level it is
+///   refused whatever the impact);
+/// - one whose momentum bound lies more than [`Settings::refine_margin`] below the best while
+///   its refinement ended more than the margin above that bound (the linearisation that
+///   bounded it did not hold on the way: a first step that overshot into a basin of its own);
+///
+/// the lowest scenes alone first, [`CONTINUED`] in all, within the budget of work the searches
+/// left. The lowest answer is kept.
 fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
     let (Some(best), Some(i)) = (out.best.as_ref(), out.best_index()) else {
         return;
     };
     let best_cost = best.chi_square;
+    let dof = best.degrees_of_freedom;
+    // Scenes alone that the evidence would not refuse: the combination may still meet it.
+    let admissible = |scene: f64| {
+        pim_fit::ChiSquare::p_value_of(dof, scene)
+            .is_some_and(|p| p >= crate::outcome::INCONSISTENT_P)
+    };
     let mut chosen = vec![i];
     let mut others: Vec<(f64, usize)> = out
         .tried
@@ -111,10 +121,11 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
         .filter(|&(k, _)| k != i)
         .filter_map(|(k, t)| match (&t.state, t.momentum_bound, &t.end) {
             (Tried::Refined { cost, .. }, Some(bound), Some(_))
-                if *cost > bound + settings.refine_margin
-                    && bound + settings.refine_margin < best_cost =>
+                if (*cost > bound + settings.refine_margin
+                    && bound + settings.refine_margin < best_cost)
+                    || admissible(t.scene_alone) =>
             {
-                Some((bound, k))
+                Some((t.scene_alone, k))
             }
             _ => None,
         })
@@ -151,7 +162,7 @@ fn continue_best(r: &Reconstruction, settings: &Settings, out: &mut Outcome) {
         converged: x.converged,
         abandoned: false,
     };
-    out.tried[k].end = Some(x.point.scene.iter().map(|l| l.at).collect());
+    out.tried[k].end = Some(crate::outcome::End::of(&x.point));
     answered(r, out, Found::new(r, x.point, x.iterations, x.converged));
 }
 
@@ -163,7 +174,7 @@ fn continued(
     r: &Reconstruction,
     settings: &Settings,
     counts: &[Option<i64>],
-    end: Vec<[f64; 3]>,
+    end: crate::outcome::End,
     work: &crate::work::Work,
     fits: &mut usize,
 ) -> Option<crate::refine::Refined> {
@@ -171,14 +182,9 @@ fn continued(
     let mut last = None;
     for k in CONTINUATION {
         let rk = widened(r, k);
-        let mus = crate::point::stated_frictions(&rk);
-        let start: Result<Vec<Lin>> = at
-            .iter()
-            .enumerate()
-            .map(|(v, a)| linearised(&rk, settings, v, counts[v].unwrap_or(0), *a, true, &mus))
-            .collect();
-        let x = refine_start(&rk, settings, start.ok()?, work).ok()?;
-        at = x.point.scene.iter().map(|l| l.at).collect();
+        let start = at.linearised(&rk, settings, counts).ok()?;
+        let x = refine_start(&rk, settings, start, Some(at.state), work).ok()?;
+        at = crate::outcome::End::of(&x.point);
         *fits += x.fits;
         if Found::new(&rk, x.point.clone(), x.iterations, x.converged).refused() {
             return None;

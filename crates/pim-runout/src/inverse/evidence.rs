@@ -101,7 +101,7 @@ pub struct Evidence {
 }
 
 /// How the separation velocities are searched.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct EstimateSettings {
     /// The counts of full turns tried, from the first to the second inclusive.
     pub turns: (i64, i64),
@@ -122,6 +122,14 @@ pub struct EstimateSettings {
     /// reconstruction's first search).
     #[serde(default)]
     pub quick: bool,
+    /// Separation states found elsewhere (an impact's answer: the whole reconstruction's
+    /// earlier search), each with the count of turns it was found for: each count within one
+    /// turn of it is also explored from it (its yaw rate scaled to that count's rotation), as
+    /// the scatter's states are, whatever the other starts found. A scene whose states reaching
+    /// the rest form several basins for one count keeps the basin the impact leads to among
+    /// its [`Candidate::alternatives`].
+    #[serde(default)]
+    pub starts: Vec<(Option<i64>, [f64; 3])>,
 }
 
 impl Default for EstimateSettings {
@@ -133,6 +141,7 @@ impl Default for EstimateSettings {
             runout: Settings::default(),
             scatter: false,
             quick: false,
+            starts: Vec::new(),
         }
     }
 }

@@ -146,11 +146,19 @@ pub fn estimate(
         .iter()
         .map(|k| nearest.map(|h| h + TAU * k.unwrap_or(0) as f64))
         .collect();
-    let scatter = if settings.scatter {
+    let mut scatter = if settings.scatter {
         scatter::scatter(&problem_of(middle), &headings)
     } else {
         vec![(Vec::new(), 0); counts.len()]
     };
+    let rotation =
+        |k: Option<i64>| nearest.map_or(0.0, |h| h + TAU * k.unwrap_or(0) as f64 - start.heading);
+    add_answers(
+        &mut scatter,
+        (&counts, &rotation),
+        settings,
+        (chassis.friction, estimate_friction),
+    );
     let mut candidates = counts
         .par_iter()
         .zip(&scatter)
@@ -183,9 +191,6 @@ pub fn estimate(
         })
         .collect();
     if !good.is_empty() {
-        let rotation = |k: Option<i64>| {
-            nearest.map_or(0.0, |h| h + TAU * k.unwrap_or(0) as f64 - start.heading)
-        };
         let redone = candidates
             .par_iter()
             .map(|c| {
@@ -233,12 +238,7 @@ pub fn estimate(
             }
         }
     }
-    candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
-    let best = candidates.first().map_or(0.0, |c| c.cost);
-    for c in &mut candidates {
-        c.consistent = c.cost - best <= CONSISTENT_COST;
-        c.plausible = c.cost - best < PLAUSIBLE_COST;
-    }
+    ranked(&mut candidates);
     let mut unknowns: Vec<String> = ["vx", "vy", "yaw_rate"].map(String::from).to_vec();
     if estimate_friction {
         unknowns.push("friction".into());
@@ -247,4 +247,44 @@ pub fn estimate(
         unknowns,
         candidates,
     })
+}
+
+/// A count's rotation from the heading at separation to its rest heading, rad.
+type Rotation<'a> = dyn Fn(Option<i64>) -> f64 + 'a;
+
+/// Each count's starts with [`EstimateSettings::starts`] added: every answer found for a count
+/// within one turn of it, its yaw rate scaled to the count's rotation (`rotation` of a count),
+/// the friction appended where it is estimated.
+fn add_answers(
+    scatter: &mut [(Vec<Vec<f64>>, usize)],
+    (counts, rotation): (&[Option<i64>], &Rotation<'_>),
+    settings: &EstimateSettings,
+    (friction, estimate_friction): (f64, bool),
+) {
+    for (&k, (starts, _)) in counts.iter().zip(scatter.iter_mut()) {
+        for (from, at) in &settings.starts {
+            if matches!((from, k), (Some(a), Some(b)) if (a - b).abs() > 1) {
+                continue;
+            }
+            let mut t = at.to_vec();
+            let (r0, r1) = (rotation(*from), rotation(k));
+            if r0.abs() > 1e-3 {
+                t[2] *= r1 / r0;
+            }
+            if estimate_friction {
+                t.push(friction);
+            }
+            starts.push(t);
+        }
+    }
+}
+
+/// The candidates from the lowest cost, each marked consistent or plausible against the best.
+fn ranked(candidates: &mut [evidence::Candidate]) {
+    candidates.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let best = candidates.first().map_or(0.0, |c| c.cost);
+    for c in candidates {
+        c.consistent = c.cost - best <= CONSISTENT_COST;
+        c.plausible = c.cost - best < PLAUSIBLE_COST;
+    }
 }

@@ -188,7 +188,7 @@ pub fn write_with_truth(
     std::fs::write(&file, text).expect("written");
     let case = Case::from_text(&format!("{name}.toml"), text).expect("a valid case");
     eprintln!(
-        "{}: truth's chi-square {:.3}\ncontact {contact:?}\nseparation {separation:?}",
+        "{}: truth's chi-square {:.3}, true friction {friction}\ncontact {contact:?}\nseparation {separation:?}",
         file.display(),
         truth_cost(&case, contact, separation, friction),
     );
