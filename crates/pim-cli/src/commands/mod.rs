@@ -74,6 +74,11 @@ pub fn create_dir(dir: &std::path::Path) -> Result<()> {
 /// then renamed; a device or pipe is written directly); failures are exit status 4 and leave an
 /// earlier file as it was.
 pub fn write_file(path: &std::path::Path, text: &str) -> Result<()> {
+    write_file_bytes(path, text.as_bytes())
+}
+
+/// [`write_file`] of bytes (an image).
+pub fn write_file_bytes(path: &std::path::Path, text: &[u8]) -> Result<()> {
     let fail = |e: std::io::Error| -> anyhow::Error {
         Failure::Output(format!(
             "{}: cannot write: {}",

@@ -1,7 +1,6 @@
 //! `pim rectify`: a photo of the road made into a plan-view image by points of known plan
 //! position (`pim_render::rectify`), and the `[background]` section that puts it behind a case.
 
-use super::output::io_failure;
 use crate::error::{Failure, EXIT_OK};
 use crate::rectify_args::RectifyArgs;
 use anyhow::Result;
@@ -58,7 +57,7 @@ pub fn run(a: &RectifyArgs) -> Result<ExitCode> {
     let area = a.area.as_ref().map(|v| [v[0], v[1], v[2], v[3]]);
     let out = rectify(&photo, &fitted, &controls, area, a.per_pixel)
         .map_err(|e| Failure::Input(format!("{}: {e}", a.photo.display())))?;
-    std::fs::write(&a.out, &out.png).map_err(|e| io_failure(&a.out, "cannot write", &e))?;
+    super::write_file_bytes(&a.out, &out.png)?;
     println!(
         "{}: {} by {} pixels, {} a pixel; the fit's residuals (the plan's unit):",
         a.out.display(),

@@ -127,7 +127,9 @@ pub struct EstimateSettings {
     /// turn of it is also explored from it (its yaw rate scaled to that count's rotation), as
     /// the scatter's states are, whatever the other starts found. A scene whose states reaching
     /// the rest form several basins for one count keeps the basin the impact leads to among
-    /// its [`Candidate::alternatives`].
+    /// its [`Candidate::alternatives`]. Those ends are kept apart: alternatives beyond
+    /// [`MAX_ALTERNATIVES`], never the candidate and never in place of the scene's own
+    /// alternatives (mixed with them, they crowded out the basin of a crash's truth).
     #[serde(default)]
     pub starts: Vec<(Option<i64>, [f64; 3])>,
 }

@@ -146,30 +146,29 @@ pub fn estimate(
         .iter()
         .map(|k| nearest.map(|h| h + TAU * k.unwrap_or(0) as f64))
         .collect();
-    let mut scatter = if settings.scatter {
+    let scatter = if settings.scatter {
         scatter::scatter(&problem_of(middle), &headings)
     } else {
         vec![(Vec::new(), 0); counts.len()]
     };
     let rotation =
         |k: Option<i64>| nearest.map_or(0.0, |h| h + TAU * k.unwrap_or(0) as f64 - start.heading);
-    add_answers(
-        &mut scatter,
+    let answers = answers_per_count(
         (&counts, &rotation),
         settings,
         (chassis.friction, estimate_friction),
     );
     let mut candidates = counts
         .par_iter()
-        .zip(&scatter)
-        .map(|(&k, (starts, spent))| {
+        .zip(scatter.par_iter().zip(&answers))
+        .map(|(&k, ((starts, spent), answers))| {
             let problem = problem_of(k);
             let mut c = solve(
                 &problem,
                 k,
                 settings.max_iterations,
                 &[],
-                starts,
+                (starts, answers),
                 settings.quick,
             )?;
             c.runouts += spent;
@@ -222,7 +221,7 @@ pub fn estimate(
                     c.turns,
                     settings.max_iterations,
                     &starts,
-                    &[],
+                    (&[], &[]),
                     settings.quick,
                 )
                 .map(Some)
@@ -252,31 +251,35 @@ pub fn estimate(
 /// A count's rotation from the heading at separation to its rest heading, rad.
 type Rotation<'a> = dyn Fn(Option<i64>) -> f64 + 'a;
 
-/// Each count's starts with [`EstimateSettings::starts`] added: every answer found for a count
+/// Each count's starts from [`EstimateSettings::starts`]: every answer found for a count
 /// within one turn of it, its yaw rate scaled to the count's rotation (`rotation` of a count),
 /// the friction appended where it is estimated.
-fn add_answers(
-    scatter: &mut [(Vec<Vec<f64>>, usize)],
+fn answers_per_count(
     (counts, rotation): (&[Option<i64>], &Rotation<'_>),
     settings: &EstimateSettings,
     (friction, estimate_friction): (f64, bool),
-) {
-    for (&k, (starts, _)) in counts.iter().zip(scatter.iter_mut()) {
-        for (from, at) in &settings.starts {
-            if matches!((from, k), (Some(a), Some(b)) if (a - b).abs() > 1) {
-                continue;
-            }
-            let mut t = at.to_vec();
-            let (r0, r1) = (rotation(*from), rotation(k));
-            if r0.abs() > 1e-3 {
-                t[2] *= r1 / r0;
-            }
-            if estimate_friction {
-                t.push(friction);
-            }
-            starts.push(t);
-        }
-    }
+) -> Vec<Vec<Vec<f64>>> {
+    counts
+        .iter()
+        .map(|&k| {
+            settings
+                .starts
+                .iter()
+                .filter(|(from, _)| !matches!((from, k), (Some(a), Some(b)) if (a - b).abs() > 1))
+                .map(|(from, at)| {
+                    let mut t = at.to_vec();
+                    let (r0, r1) = (rotation(*from), rotation(k));
+                    if r0.abs() > 1e-3 {
+                        t[2] *= r1 / r0;
+                    }
+                    if estimate_friction {
+                        t.push(friction);
+                    }
+                    t
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// The candidates from the lowest cost, each marked consistent or plausible against the best.

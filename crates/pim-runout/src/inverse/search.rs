@@ -115,6 +115,26 @@ pub(crate) const GAIN: f64 = 1e-6;
 /// Levenberg-Marquardt (Marquardt's scaling) from `theta`, the Jacobian by forward
 /// differences at every point; `precise`: converged only at the run-outs' precision (a gain
 /// below 1e-7 of the cost), else at a gain of [`GAIN`].
+/// `start` searched on each of the softened evidence `soft` in turn, then on `coarse` (the
+/// evidence as given, exploring run-outs), counting run-outs and iterations.
+fn softly(
+    soft: &[Problem],
+    coarse: &Problem,
+    start: &[f64],
+    (runouts, iterations): (&mut usize, &mut usize),
+) -> Result<Search> {
+    let mut theta = start.to_vec();
+    bounded(&mut theta);
+    for q in soft {
+        let s = levenberg(q, theta, EXPLORE_ITERATIONS, runouts, false)?;
+        *iterations += s.iterations;
+        theta = s.theta;
+    }
+    let s = levenberg(coarse, theta, EXPLORE_ITERATIONS, runouts, false)?;
+    *iterations += s.iterations;
+    Ok(s)
+}
+
 fn levenberg(
     p: &Problem,
     mut theta: Vec<f64>,
@@ -226,7 +246,7 @@ pub(crate) fn solve(
     turns: Option<i64>,
     max_iterations: usize,
     others: &[Vec<f64>],
-    scattered: &[Vec<f64>],
+    (scattered, answers): (&[Vec<f64>], &[Vec<f64>]),
     quick: bool,
 ) -> Result<Candidate> {
     let mut runouts = 0;
@@ -296,16 +316,16 @@ pub(crate) fn solve(
         ..coarse
     });
     for start in scattered {
-        let mut theta = start.clone();
-        bounded(&mut theta);
-        for q in &soft {
-            let s = levenberg(q, theta, EXPLORE_ITERATIONS, &mut runouts, false)?;
-            iterations += s.iterations;
-            theta = s.theta;
-        }
-        let s = levenberg(&coarse, theta, EXPLORE_ITERATIONS, &mut runouts, false)?;
-        iterations += s.iterations;
+        let s = softly(&soft, &coarse, start, (&mut runouts, &mut iterations))?;
         consider(s, &mut explored);
+    }
+    // 1c. Where an impact's answers ended (EstimateSettings::starts), searched as the
+    //     scatter's states are and kept apart: alternatives of their own, never the candidate
+    //     and never in place of the other alternatives.
+    let mut from_answers = Vec::new();
+    for start in answers {
+        let s = softly(&soft, &coarse, start, (&mut runouts, &mut iterations))?;
+        from_answers.push((s.theta, s.cost));
     }
     // 2. With marks, through the rest alone.
     if !second_pass && !good(&explored) && !p.evidence.marks.is_empty() && p.evidence.rest.is_some()
@@ -417,7 +437,12 @@ pub(crate) fn solve(
     } else {
         jacobian(p, &theta, &r, &run_now, &mut runouts)?
     };
-    let alternatives = alternatives_of(&theta, cost, p.chassis.friction, ends.into_inner());
+    let alternatives = alternatives_of(
+        (&theta, cost),
+        p.chassis.friction,
+        ends.into_inner(),
+        from_answers,
+    );
     let residuals = p.residuals(&theta, &run_now);
     let (sigma, mut free) = determinacy(&jac);
     if p.estimate_friction {
@@ -461,10 +486,10 @@ pub(crate) fn solve(
 /// the same minimum when their speeds differ by less than 5 % (and 0.2 m/s) and their yaw
 /// rates by less than 0.3 rad/s.
 fn alternatives_of(
-    theta: &[f64],
-    cost: f64,
+    (theta, cost): (&[f64], f64),
     friction: f64,
     mut ends: Vec<(Vec<f64>, f64)>,
+    answers: Vec<(Vec<f64>, f64)>,
 ) -> Vec<Alternative> {
     let same = |a: &[f64], b: &[f64]| {
         let scale = 0.05 * a[0].hypot(a[1]).max(b[0].hypot(b[1])) + 0.2;
@@ -478,6 +503,18 @@ fn alternatives_of(
             break;
         }
         if !c.is_finite() || kept.iter().any(|k| same(k, &t)) {
+            continue;
+        }
+        out.push(Alternative {
+            velocity: [t[0], t[1], t[2]],
+            friction: t.get(3).copied().unwrap_or(friction),
+            cost: c,
+        });
+        kept.push(t);
+    }
+    // The answers' ends beyond the others (the answers are few).
+    for (t, c) in answers {
+        if !c.is_finite() || c > cost + ALTERNATIVE_COST || kept.iter().any(|k| same(k, &t)) {
             continue;
         }
         out.push(Alternative {
