@@ -49,11 +49,26 @@ pub fn reconstruction_dxf(
     done: &pim_studies::reconstruct::Reconstructed,
     units: UnitSystem,
 ) -> Result<Option<Vec<u8>>, String> {
-    let Some(best) = &done.outcome.best else {
+    let Some(runouts) = crate::runout::fitted_runouts(case, done)? else {
         return Ok(None);
     };
-    let runouts =
-        pim_studies::runout::fitted(case, best, 0.02, false).map_err(|e| e.to_string())?;
+    reconstruction_dxf_of(case, done, &runouts, units).map(Some)
+}
+
+/// [`reconstruction_dxf`] of the fitted run-outs `runouts`
+/// ([`crate::runout::fitted_runouts`]).
+///
+/// # Errors
+/// The drawing cannot be written (a message).
+pub fn reconstruction_dxf_of(
+    case: &pim_case::case::Case,
+    done: &pim_studies::reconstruct::Reconstructed,
+    runouts: &pim_studies::runout::RunoutResult,
+    units: UnitSystem,
+) -> Result<Vec<u8>, String> {
+    let Some(best) = &done.outcome.best else {
+        return Err("no reconstruction to draw".into());
+    };
     let page = Page::of(case.written);
     let at = |x: f64, y: f64| page.xy((units.length(x), units.length(y)));
     let mut d = Drawing::new();
@@ -85,12 +100,12 @@ pub fn reconstruction_dxf(
             ..Default::default()
         });
     }
-    let tracks = pim_studies::playback::tracks(done, best, &runouts, 0.02);
+    let tracks = pim_studies::playback::tracks(done, best, runouts, 0.02);
     for t in &tracks {
         let k = t.index;
         let color = VEHICLE[t.vehicle.index().min(1)];
         let run = &runouts.runouts[k];
-        let outline = |m| crate::runout::outline_on_page(&runouts, k, m, units, case.written);
+        let outline = |m| crate::runout::outline_on_page(runouts, k, m, units, case.written);
         add(
             &mut d,
             "CONTACT",
@@ -143,7 +158,7 @@ pub fn reconstruction_dxf(
     );
     let mut bytes = Vec::new();
     d.save(&mut bytes).map_err(|e| e.to_string())?;
-    Ok(Some(bytes))
+    Ok(bytes)
 }
 
 /// `points` as a light-weight polyline, `closed` or open.

@@ -568,22 +568,50 @@ pub fn reconstruction_scene(
     done: &pim_studies::reconstruct::Reconstructed,
     units: UnitSystem,
 ) -> Result<Option<String>, String> {
+    let Some(runouts) = fitted_runouts(case, done)? else {
+        return Ok(None);
+    };
+    reconstruction_scene_of(case, done, &runouts, units).map(Some)
+}
+
+/// The run-outs every drawing of the reconstruction `done` of `case` draws (the fitted ones,
+/// sampled every 0.02 s; [`pim_studies::runout::fitted`]), found once for several drawings.
+/// `None` without an answer.
+///
+/// # Errors
+/// The fitted run-outs cannot be found again (a message).
+pub fn fitted_runouts(
+    case: &pim_case::case::Case,
+    done: &pim_studies::reconstruct::Reconstructed,
+) -> Result<Option<pim_studies::runout::RunoutResult>, String> {
     let Some(best) = &done.outcome.best else {
         return Ok(None);
     };
-    let runouts =
-        pim_studies::runout::fitted(case, best, 0.02, false).map_err(|e| e.to_string())?;
+    pim_studies::runout::fitted(case, best, 0.02, false)
+        .map(Some)
+        .map_err(|e| e.to_string())
+}
+
+/// [`reconstruction_scene`] of the fitted run-outs `runouts` ([`fitted_runouts`]).
+///
+/// # Errors
+/// The drawing cannot be made (a message).
+pub fn reconstruction_scene_of(
+    case: &pim_case::case::Case,
+    done: &pim_studies::reconstruct::Reconstructed,
+    runouts: &pim_studies::runout::RunoutResult,
+    units: UnitSystem,
+) -> Result<String, String> {
     let approach: Vec<Approach> = pim_studies::reconstruct::skid_lengths(&done.input)
         .into_iter()
         .map(|(vehicle, length)| Approach { vehicle, length })
         .collect();
     scene_svg(
         &crate::text::case_title(case),
-        &runouts,
+        runouts,
         &approach,
         units,
         case.written,
         0.5,
     )
-    .map(Some)
 }

@@ -122,8 +122,10 @@ pub fn write_reconstruction(
     table: &str,
     study: Option<(&str, &str)>,
 ) -> Result<()> {
-    let svg = pim_render::runout::reconstruction_scene(case, done, units)
-        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?
+    let cannot_draw = |e: String| Failure::Output(format!("{}: cannot draw: {e}", dir.display()));
+    // The fitted run-outs, found once for the scene's figure and its plan for CAD.
+    let runouts = pim_render::runout::fitted_runouts(case, done)
+        .map_err(cannot_draw)?
         .ok_or_else(|| {
             Failure::NoAnswer(format!(
                 "{}: no reconstruction to write into {}",
@@ -131,6 +133,10 @@ pub fn write_reconstruction(
                 dir.display()
             ))
         })?;
+    let svg = pim_render::runout::reconstruction_scene_of(case, done, &runouts, units)
+        .map_err(cannot_draw)?;
+    let dxf =
+        pim_render::cad::reconstruction_dxf_of(case, done, &runouts, units).map_err(cannot_draw)?;
     let text = match study {
         Some((_, t)) => format!("{table}\n{t}"),
         None => table.to_string(),
@@ -143,11 +149,7 @@ pub fn write_reconstruction(
         out.write("uncertainty.txt", t)?;
     }
     out.write("scene.svg", &svg)?;
-    if let Some(dxf) = pim_render::cad::reconstruction_dxf(case, done, units)
-        .map_err(|e| Failure::Output(format!("{}: cannot draw: {e}", dir.display())))?
-    {
-        out.write_bytes("scene.dxf", &dxf)?;
-    }
+    out.write_bytes("scene.dxf", &dxf)?;
     out.write(
         "report.md",
         &format!("# Reconstruction\n\n```text\n{text}```\n\n![The scene to scale](scene.svg)\n"),
