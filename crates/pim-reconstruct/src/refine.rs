@@ -211,7 +211,7 @@ fn fit_once(
         Step::Damped(lambda, around) => Some((lambda, around)),
         Step::Free | Step::Held => None,
     };
-    let (mut problem, scale, step_mu) = assemble(r, lins, damping, at);
+    let (mut problem, scale, frictions) = assemble(r, lins, damping, at);
     if matches!(step, Step::Held) {
         for l in lins {
             let base = 6 + 3 * r.scene[l.vehicle].id.index();
@@ -220,7 +220,6 @@ fn fit_once(
             }
         }
     }
-    let step = step_mu;
     let report = fit(&problem, &settings.fit).map_err(|e| e.to_string())?;
     work.add(fit_work(&report));
     let best = report.best_branch().ok_or_else(|| {
@@ -232,7 +231,7 @@ fn fit_once(
     })?;
     match (&best.status, &best.solution) {
         (FitStatus::Optimal, Some(s)) => {
-            let mus = step.map_or_else(Vec::new, |st| {
+            let mus = frictions.map_or_else(Vec::new, |st| {
                 st.frictions_at(&state_vector(&s.initial, &s.separation))
             });
             Ok(Fitted {
