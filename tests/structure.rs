@@ -594,7 +594,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ),
     ("crates/pim-studies/src/uncertainty.rs", "run", 168),
     ("crates/pim-serve/src/answer.rs", "answer_without", 126),
-    ("crates/pim-serve/src/answer.rs", "plan", 168),
     ("crates/pim-serve/src/contact.rs", "edit_contact", 135),
     ("crates/pim-render/src/diagram/paint.rs", "draw_into", 298),
     ("crates/pim-render/src/diagram/paint.rs", "key", 162),

@@ -79,6 +79,9 @@ pub struct CaseFile {
     /// A scene diagram or photo behind the plan, set to scale (`pim serve`; no answer reads it).
     #[serde(default)]
     pub background: Option<crate::scene_sections::BackgroundSection>,
+    /// `[survey]`: the scene's surveyed points (see [`crate::survey`]).
+    #[serde(default)]
+    pub survey: Option<crate::scene_sections::SurveySection>,
     /// A motion case's stated starts (never read from a case with an impact; see
     /// [`crate::motion`]).
     #[serde(skip)]
@@ -171,6 +174,7 @@ impl Case {
         for o in &mut case.content.observations {
             o.name = o.name.as_deref().map(printable);
         }
+        case.check_survey()?;
         case.resolve_barrier()?;
         case.resolve_forms()?;
         case.check_states()?;

@@ -270,9 +270,11 @@ impl Case {
             .any(|u| matches!(u.input, PoseInput::Centre(_)));
         if moved {
             let (length, flip) = self.length_and_flip();
-            i.centre = Some(crate::sections::PointSection {
+            // The fitted centre is no longer the surveyed point it was placed on.
+            i.centre = Some(crate::sections::CentreSection {
                 x: centre[0] / length,
                 y: flip * centre[1] / length,
+                point: None,
             });
         }
         Ok(out)

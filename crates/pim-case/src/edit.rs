@@ -271,9 +271,9 @@ impl CaseEdit {
         }
         match slot {
             Slot::Table(t) => t.remove(last).is_some(),
-            Slot::Value(Value::InlineTable(t)) => t.remove(last).is_some(),
+            Slot::Value(Value::InlineTable(t)) => remove_inline(t, last),
             Slot::Item(Item::Table(t)) => t.remove(last).is_some(),
-            Slot::Item(Item::Value(Value::InlineTable(t))) => t.remove(last).is_some(),
+            Slot::Item(Item::Value(Value::InlineTable(t))) => remove_inline(t, last),
             _ => false,
         }
     }
@@ -296,6 +296,19 @@ impl CaseEdit {
         }
     }
 
+    /// Whether the file writes `path` (a table, a key or an entry of an array).
+    pub fn has(&self, path: &str) -> bool {
+        let mut doc = self.doc.clone();
+        let mut slot = Slot::Table(doc.as_table_mut());
+        for key in segments(path) {
+            match slot.step(&key, false) {
+                Ok(next) => slot = next,
+                Err(_) => return false,
+            }
+        }
+        true
+    }
+
     /// The edited text: the file as it was but for the edits.
     pub fn text(&self) -> String {
         self.doc.to_string()
@@ -309,6 +322,21 @@ impl CaseEdit {
     fn error(&self, path: &str, what: impl std::fmt::Display) -> InputError {
         InputError::new(&self.file, format!("{path}: {what}"))
     }
+}
+
+/// `key` removed from the inline table `t`; the last entry removed gives the closing brace's
+/// space to the one before it (`{ x = 1.0, y = 2.0 }` becomes `{ x = 1.0 }`).
+fn remove_inline(t: &mut toml_edit::InlineTable, key: &str) -> bool {
+    let was_last = t.iter().last().is_some_and(|(k, _)| k == key);
+    let Some(removed) = t.remove(key) else {
+        return false;
+    };
+    if let (true, Some(suffix), Some((_, last))) =
+        (was_last, removed.decor().suffix(), t.iter_mut().last())
+    {
+        last.decor_mut().set_suffix(suffix.clone());
+    }
+    true
 }
 
 /// `a.b[0].c` and `a.b.0.c` as segments.
@@ -417,6 +445,17 @@ impl<'a> Slot<'a> {
                     Ok(())
                 }
                 None => {
+                    // After the last entry, which gives the closing brace's space up to it
+                    // (`{ x = 1.0 }` becomes `{ x = 1.0, y = 2.0 }`).
+                    let mut suffix = None;
+                    if let Some((_, last)) = t.iter_mut().last() {
+                        suffix = last.decor().suffix().cloned();
+                        last.decor_mut().set_suffix("");
+                    }
+                    new.decor_mut().set_prefix(" ");
+                    if let Some(s) = suffix {
+                        new.decor_mut().set_suffix(s);
+                    }
                     t.insert(key, new);
                     Ok(())
                 }

@@ -135,7 +135,7 @@ impl Case {
     /// `[impact] centre` with each vehicle's `position`: the impact centre in each vehicle's
     /// frame, `R(-nose) (C - P)`.
     fn resolve_centre(&mut self, noses: [f64; 2]) -> Result<()> {
-        let centre = self.content.impact.centre;
+        let centre = self.content.impact.centre.clone();
         for (k, name) in ["vehicle1", "vehicle2"].into_iter().enumerate() {
             let v = self.content.vehicle(k);
             if v.barrier {
@@ -148,7 +148,7 @@ impl Case {
                 continue;
             }
             let own = v.impact_point.is_some() || v.d.is_some() || v.phi.is_some();
-            let point = match (centre, v.position, own) {
+            let point = match (&centre, v.position, own) {
                 (Some(_), Some(_), true) => {
                     return Err(self.error_at(
                         &format!("{name}.position"),

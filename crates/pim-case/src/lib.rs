@@ -12,6 +12,9 @@
 //! - [`motion`]: a motion case, the vehicles from a stated state without an impact;
 //! - [`units`]: the `[units]` of a case file and the unit systems of printed tables;
 //! - [`edit`]: a case file edited in place, its comments and formatting kept;
+//! - [`templates`]: a case started from nothing and its sections added with starting values;
+//! - [`survey`]: the scene's surveyed points (`[survey]`, read from a survey's CSV) and the
+//!   evidence placed on them;
 //! - [`ricsac`]: the RICSAC data file (`data/ricsac.csv`), one [`ricsac::RicsacTest`] per staged
 //!   collision, in the papers' geometry;
 //! - [`reference`](mod@reference): the paper tables shipped under `data/reference/`.
@@ -39,6 +42,8 @@ pub mod scene_sections;
 mod scene_zones;
 pub mod sections;
 pub mod spread;
+pub mod survey;
+pub mod templates;
 pub mod tyres;
 pub mod units;
 

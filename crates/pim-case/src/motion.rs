@@ -199,6 +199,7 @@ impl Case {
             contact_sigma: None,
             damage: None,
             background: None,
+            survey: None,
             start: Some(m.start),
         };
         let case = Case {

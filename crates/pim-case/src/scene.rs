@@ -95,6 +95,7 @@ impl Case {
         self.content
             .impact
             .centre
+            .as_ref()
             .map_or([0.0, 0.0], |p| [p.x * length, flip * p.y * length])
     }
 
@@ -523,7 +524,7 @@ impl Case {
         let unit = self.written_units.length;
         let reach = pim_runout::inverse::MAX_SCENE_DISTANCE / length;
         let mut places: Vec<(String, f64, bool)> = Vec::new();
-        if let Some(r) = s.rest {
+        if let Some(r) = &s.rest {
             places.extend([(at("rest.x"), r.x, false), (at("rest.y"), r.y, false)]);
             if let Some(h) = r.heading {
                 places.push((at("rest.heading"), h, true));
@@ -567,7 +568,7 @@ impl Case {
         let at = |field: &str| format!("scene.{name}.{field}");
         self.check_places(name, s, length)?;
         let tyres = self.rest_of_tyres(name, s, chassis, (length, flip))?;
-        let rest = match (s.rest, s.rest_sigma) {
+        let rest = match (s.rest.clone(), s.rest_sigma) {
             _ if tyres.is_some() => tyres.map(|t| t.rest),
             (None, None) => None,
             (None, Some(_)) => {

@@ -200,7 +200,7 @@ pub enum BrakingWritten {
 }
 
 /// A point as written: `{ x, y }` with an optional heading.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PoseWritten {
     /// x (length unit).
@@ -210,6 +210,10 @@ pub struct PoseWritten {
     /// Heading, degrees.
     #[serde(default)]
     pub heading: Option<f64>,
+    /// The survey point it was placed on (`[survey]`'s id), if any: kept with it, and checked
+    /// to lie there.
+    #[serde(default)]
+    pub point: Option<String>,
 }
 
 /// `rest_sigma = { x, y, heading }`.
@@ -255,7 +259,7 @@ impl MarkPoint {
 }
 
 /// One mark: a point a tyre (`wheel`) or the CG passed.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MarkWritten {
     /// x (length unit).
@@ -274,6 +278,10 @@ pub struct MarkWritten {
     /// or `cg` (the default): the mark is measured against that point's path.
     #[serde(default)]
     pub wheel: Option<MarkPoint>,
+    /// The survey point it was placed on (`[survey]`'s id), if any: kept with it, and checked
+    /// to lie there.
+    #[serde(default)]
+    pub point: Option<String>,
 }
 
 /// A mark surveyed along its length (a yaw mark, a scuff): its points, in order, each a point
@@ -292,7 +300,7 @@ pub struct TraceWritten {
 
 /// A point of the vehicle measured at rest: a tyre's contact point, or a corner of its
 /// outline.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TyreWritten {
     /// Which tyre (`front_left`, `front_right`, `rear_left`, `rear_right`).
@@ -308,6 +316,10 @@ pub struct TyreWritten {
     pub y: f64,
     /// sd of each coordinate (length unit).
     pub sigma: f64,
+    /// The survey point it was placed on (`[survey]`'s id), if any: kept with it, and checked
+    /// to lie there.
+    #[serde(default)]
+    pub point: Option<String>,
 }
 
 /// `[scene.vehicleN]`.
@@ -533,4 +545,33 @@ impl BackgroundSection {
         }
         Ok(())
     }
+}
+
+/// `[survey]`: the scene's surveyed points (see [`crate::survey`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurveySection {
+    /// Where the points came from (a file name; not read).
+    #[serde(default)]
+    pub source: Option<String>,
+    /// The points, in the case's frame and length unit.
+    pub points: Vec<SurveyPoint>,
+}
+
+/// One surveyed point.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurveyPoint {
+    /// The surveyor's id of the point (unique in the survey).
+    pub id: String,
+    /// x (the case's length unit and frame).
+    pub x: f64,
+    /// y.
+    pub y: f64,
+    /// The surveyor's code (`LF`, `HYD`, `SKID`), if any.
+    #[serde(default)]
+    pub code: Option<String>,
+    /// What the point is, if said.
+    #[serde(default)]
+    pub description: Option<String>,
 }

@@ -14,6 +14,20 @@ pub struct PointSection {
     pub y: f64,
 }
 
+/// The impact centre in the scene's frame: `{ x, y }` (length unit), with the survey point it
+/// was placed on, if any (see [`crate::survey`]).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CentreSection {
+    /// x (length unit).
+    pub x: f64,
+    /// y (length unit).
+    pub y: f64,
+    /// The survey point it was placed on (`[survey]`'s id), if any.
+    #[serde(default)]
+    pub point: Option<String>,
+}
+
 /// One vehicle as written in the case file. After loading
 /// ([`Case::from_text`](crate::case::Case::from_text)) every number
 /// is SI and `d`, `phi` are set whichever form the file used.
@@ -130,7 +144,7 @@ pub struct ImpactSection {
     /// The impact centre in the case's fixed frame (length unit), with each vehicle's
     /// `position`, instead of each vehicle's `impact_point` or `d` and `phi`.
     #[serde(default)]
-    pub centre: Option<PointSection>,
+    pub centre: Option<CentreSection>,
     /// Which side of the crush surface vehicle 1 lies on, `"+n"` or `"-n"` (n at
     /// `crush_angle`), when the case knows it: otherwise it is read from the two CGs' heights
     /// above the crush plane (weighted by mobility when both lie on one side).

@@ -38,7 +38,8 @@ async function api(method, url, body) {
   return { data, res };
 }
 
-async function loadCases() {
+// The folder's case files in the case menu (`current` chosen in it); the folder's answer.
+async function listCases(current) {
   const { data } = await api("GET", "/api/cases");
   state.images = data.images || [];
   state.cases = data.cases;
@@ -49,6 +50,12 @@ async function loadCases() {
     o.value = o.textContent = c;
     sel.appendChild(o);
   }
+  if (current) sel.value = current;
+  return data;
+}
+
+async function loadCases() {
+  const data = await listCases();
   const first = data.initial || (data.cases.includes("reconstruction_us.toml")
     ? "reconstruction_us.toml" : data.cases[0]);
   const wanted = new URLSearchParams(location.search).get("case") || first;
@@ -61,6 +68,7 @@ async function openCase(path) {
   try {
     const { data } = await api("GET", `/api/case?path=${encodeURIComponent(path)}`);
     state.path = path; state.text = state.saved = data.text; state.version = data.version; state.view = null;
+    state.fresh = false;
     state.conflict = null; $("conflict").hidden = true;
     state.study = null; state.measured = null; state.off = [];
     $("study-status").textContent = ""; $("study-progress").hidden = true; $("study-cancel").hidden = true;
@@ -82,6 +90,7 @@ async function solve(live = false) {
   try {
     const { data, res } = await api("POST", "/api/answer", { path: state.path, text: state.text, live, units: state.units, off: state.off });
     state.answer = data;
+    data.path = state.path;
     const server = /dur=([0-9.]+)/.exec(res.headers.get("server-timing") || "");
     state.timings.push({ live, server: server ? +server[1] : null, page: performance.now() - t0 });
     performance.measure(live ? "live answer" : "answer", { start: t0, end: performance.now() });
@@ -95,6 +104,11 @@ async function solve(live = false) {
     $("error").textContent = e.message;
     $("toml").classList.add("bad");
     status("not solved");
+    // A case being built: the plan of what its text gives so far (background, survey).
+    if (e.data && e.data.sketch && (!state.answer || state.answer.sketch || state.answer.path !== state.path)) {
+      state.answer = { sketch: true, path: state.path, plan: e.data.sketch, table: "" };
+      render();
+    }
     await refreshForms(e.message);
   } finally {
     state.busy = false;
@@ -148,6 +162,7 @@ async function refreshForms(error) {
       box.appendChild(d);
     }
   }
+  await refreshSections();
   for (const b of document.querySelectorAll(".bad-field")) b.classList.remove("bad-field");
   for (const b of document.querySelectorAll(".bad-handle")) b.classList.remove("bad-handle");
   const key = keyOf(error);
@@ -447,6 +462,8 @@ function bounds(plan) {
       all.push([v.cg[0] - v.skid * Math.cos(t), v.cg[1] - v.skid * Math.sin(t)]);
     }
   }
+  for (const s of plan.survey || []) all.push(s.at);
+  if (plan.impact) all.push(plan.impact.centre);
   const b = plan.background, size = b && state.sizes[b.image];
   if (size) {
     // The image's corners on the page.
@@ -494,9 +511,14 @@ function grid(g) {
 function render() {
   const a = state.answer;
   if (!a) return;
-  speedsTable(a);
-  summary(a);
-  evidence(a);
+  if (a.sketch) {
+    for (const id of ["speeds", "evidence", "consistency", "summary"]) $(id).innerHTML = "";
+    $("summary").textContent = "not yet a case that answers: add its sections (Forms), place what the scene gives";
+  } else {
+    speedsTable(a);
+    summary(a);
+    evidence(a);
+  }
   const bg = a.plan.background;
   $("lock-image").disabled = !bg;
   // The checkbox follows the answer only when the answer's lock changes: a render of an answer
@@ -511,6 +533,7 @@ function render() {
   drawBackground(svg);
   drawZones(svg, a.plan.zones || []);
   grid(el("g", {}, svg));
+  drawSurvey(svg);
   drawClicks(svg);
   drawBands(svg);
   const r = 7 / pxPerUnit();
@@ -781,7 +804,9 @@ function dragGeometry(e, handle, changeAt) {
       editQueued(last, true).finally(() => { state.inFlight = false; });
     }
   }, () => {
-    if (last) editQueued(last, false); else render();
+    const s = last && last.centre && surveySnap(last.centre);
+    if (s) editQueued({ centre: s.at, point: s.id }, false);
+    else if (last) editQueued(last, false); else render();
   }, handle);
 }
 
@@ -921,10 +946,11 @@ function nearestVehicle(p) {
 // A tyre mark where the plan was clicked: the vehicle (the one whose path passes nearest) and
 // the mark's standard deviation asked, then written into the TOML (not saved) and solved.
 async function placeMark(click) {
-  const at = [click.x, -click.y];
-  const who = askWhoseMark("Tyre mark", "a point of the CG's path", at, "cg");
+  const s = surveySnap([click.x, -click.y]);
+  const at = s ? s.at : [click.x, -click.y];
+  const who = askWhoseMark(s ? `Tyre mark on survey point ${s.id}` : "Tyre mark", "a point of the CG's path", at, "cg");
   if (!who) { status("no mark placed"); render(); return; }
-  await edited("/api/mark", { at, ...who });
+  await edited("/api/mark", { at, ...who, point: s ? s.id : undefined });
 }
 
 // Whose mark at the page point `at` (`what`: its kind; `cg`: what a CG mark is), asked: the
@@ -1140,7 +1166,9 @@ function startDrag(e, target, at, group, handle) {
       moveTo(target, d.to, true).finally(() => { state.inFlight = false; });
     }
   }, (moved, d) => {
-    if (moved) moveTo(target, d.to); else render();
+    const s = moved && surveySnap(d.to);
+    if (s) moveTo({ ...target, point: s.id }, s.at);
+    else if (moved) moveTo(target, d.to); else render();
   }, handle);
 }
 
@@ -1207,8 +1235,10 @@ function panAndZoom() {
 async function save(over) {
   try {
     const version = over || state.version;
-    const { data } = await api("POST", "/api/save", { path: state.path, text: state.text, version });
-    state.saved = state.text; state.version = data.version;
+    const create = !!state.fresh;
+    const { data } = await api("POST", "/api/save", { path: state.path, text: state.text, version, create });
+    state.saved = state.text; state.version = data.version; state.fresh = false;
+    if (create) await listCases(state.path);
     state.conflict = null; $("conflict").hidden = true;
     status(`saved ${data.saved} (${data.bytes} bytes)`);
   } catch (e) {

@@ -3,7 +3,6 @@
 //! text with every other byte kept.
 
 use crate::AnswerError;
-use pim_case::case::Case;
 use pim_case::edit::{CaseEdit, NewValue, Quantity};
 use pim_case::units::UnitSystem;
 use pim_core::Convention;
@@ -47,12 +46,12 @@ pub fn set_background(
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
-    let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+    let (case, was_case) = crate::plan::Sketch::read(file, text)?;
+    let units = units.unwrap_or_else(|| UnitSystem::of(&case.units));
     // Display length unit to the file's.
-    let per_unit = units.length(1.0).recip() / case.written_units.length.to_si();
+    let per_unit = units.length(1.0).recip() / case.units.length.to_si();
     let mut text = text.to_string();
-    if case.content.background.is_none() {
+    if case.background.is_none() {
         let (Some(image), Some([p, q]), Some(d)) = (&change.image, change.pixels, change.distance)
         else {
             return Err(AnswerError::Input(format!(
@@ -103,7 +102,7 @@ pub fn set_background(
     }
     if let Some(at) = change.at {
         // The page is the written frame turned: natural (h, v) = (x, y); SAE (h, v) = (y, x).
-        let (x, y) = match case.written {
+        let (x, y) = match case.convention {
             Convention::Sae => (at[1], at[0]),
             _ => (at[0], at[1]),
         };
@@ -127,8 +126,9 @@ pub fn set_background(
     if let Some(l) = change.locked {
         set(&mut edit, "background.locked", NewValue::Bool(l))?;
     }
-    edit.check().map_err(|e| input(&e))?;
-    Ok(edit.text())
+    let text = edit.text();
+    crate::plan::Sketch::check_edited(file, &text, was_case)?;
+    Ok(text)
 }
 
 /// To a thousandth, as a scene is measured.

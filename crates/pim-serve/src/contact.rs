@@ -49,6 +49,10 @@ pub struct ContactChange {
     /// counter-clockwise from the page's right: the rest turned, nothing at contact moved.
     #[serde(default)]
     pub rest_heading: Option<f64>,
+    /// The survey point the impact centre was dropped on (`[survey]`'s id), if any: the centre
+    /// is written at the point's own coordinates, its id kept beside them.
+    #[serde(default)]
+    pub point: Option<String>,
 }
 
 impl ContactChange {
@@ -134,6 +138,44 @@ fn turn_rest(file: &str, text: &str, k: u8, page: f64) -> Result<String, AnswerE
 }
 
 /// To a hundredth, as a scene diagram gives positions and angles.
+/// `[impact] centre` moved from `old` to `c` (written frame and unit), or placed on the survey
+/// point `point` (`c` its coordinates); a vehicle that gives its own impact point keeps its
+/// CG, the point following the centre.
+fn move_centre(
+    case: &Case,
+    edit: &mut CaseEdit,
+    (old, c): ([f64; 2], [f64; 2]),
+    point: Option<&str>,
+) -> Result<(), AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let num = |edit: &CaseEdit, path: &str| edit.get(path).and_then(|s| s.parse::<f64>().ok());
+    let set_point = |edit: &mut CaseEdit, key: &str, p: [f64; 2]| {
+        for (axis, v) in [("x", p[0]), ("y", p[1])] {
+            edit.set(&format!("{key}.{axis}"), hundredth(v))
+                .map_err(|e| input(&e))?;
+        }
+        Ok::<_, AnswerError>(())
+    };
+    for name in ["vehicle1", "vehicle2"] {
+        let heading = num(edit, &format!("{name}.heading")).unwrap_or(0.0);
+        let (Some(px), Some(py)) = (
+            num(edit, &format!("{name}.impact_point.x")),
+            num(edit, &format!("{name}.impact_point.y")),
+        ) else {
+            continue;
+        };
+        let p = impact_point(([px, py], heading, old), (None, heading, c));
+        set_point(edit, &format!("{name}.impact_point"), p)?;
+    }
+    if point.is_some() {
+        crate::survey::placed_on(case, edit, "impact.centre", point)?;
+    } else {
+        set_point(edit, "impact.centre", c)?;
+        edit.remove("impact.centre.point");
+    }
+    Ok(())
+}
+
 fn hundredth(x: f64) -> NewValue {
     NewValue::Written(crate::edits::hundredth(x))
 }
@@ -241,29 +283,25 @@ pub fn edit_contact(
             )?;
         }
     }
-    if let Some(c) = change.centre.map(point) {
-        if centre.is_none() {
+    let snapped = match (&change.point, change.centre) {
+        (Some(id), Some(_)) => Some(crate::survey::survey_point(&case, id)?),
+        _ => None,
+    };
+    if let Some(c) = snapped.or(change.centre.map(point)) {
+        let Some(old) = centre else {
             return Err(refuse(
                 "the impact centre of this case is each vehicle's impact_point (the centre at \
                  the origin): move the vehicles, or write [impact] centre with each vehicle's \
                  CG position to move the centre"
                     .into(),
             ));
-        }
-        let old = centre.unwrap_or([0.0, 0.0]);
-        // A vehicle that gives its own impact point keeps its CG: the point follows the centre.
-        for name in ["vehicle1", "vehicle2"] {
-            let heading = num(&edit, &format!("{name}.heading")).unwrap_or(0.0);
-            let (Some(px), Some(py)) = (
-                num(&edit, &format!("{name}.impact_point.x")),
-                num(&edit, &format!("{name}.impact_point.y")),
-            ) else {
-                continue;
-            };
-            let p = impact_point(([px, py], heading, old), (None, heading, c));
-            set_point(&mut edit, &format!("{name}.impact_point"), p)?;
-        }
-        set_point(&mut edit, "impact.centre", c)?;
+        };
+        move_centre(
+            &case,
+            &mut edit,
+            (old, c),
+            snapped.and(change.point.as_deref()),
+        )?;
     }
     if let Some(n) = change.normal.map(angle) {
         if edit.get("impact.crush_angle_from_vehicle1").is_some() {

@@ -55,13 +55,26 @@ pub(crate) struct Move {
     /// A tyre mark of the vehicle (from 0) instead of its rest.
     #[serde(default)]
     mark: Option<usize>,
+    /// The survey point it was dropped on (`[survey]`'s id), if any.
+    #[serde(default)]
+    point: Option<String>,
 }
 
 pub(crate) async fn move_rest(Json(m): Json<Move>) -> Response {
-    edited(m.units.as_deref(), |units| match m.mark {
-        Some(i) => crate::move_mark(&m.path, &m.text, (m.vehicle, i), m.at, units),
-        None => crate::move_rest_in(&m.path, &m.text, m.vehicle, m.at, units),
+    edited(m.units.as_deref(), |units| {
+        crate::move_onto(
+            &m.path,
+            &m.text,
+            (m.vehicle, m.mark),
+            (m.at, m.point.as_deref()),
+            units,
+        )
     })
+}
+
+/// The text with a survey's points imported as `[survey]` (not saved).
+pub(crate) async fn survey(Json(s): Json<EditAsk<crate::SurveyImport>>) -> Response {
+    edited(None, |_| crate::import_survey(&s.path, &s.text, &s.change))
 }
 
 /// An edit the page asks of a case's text (not saved): the file, its text, the display units
@@ -120,4 +133,43 @@ pub(crate) async fn skid(Json(k): Json<SkidAsk>) -> Response {
     edited(k.units.as_deref(), |u| {
         crate::set_skid(&k.path, &k.text, (k.vehicle, k.length), u)
     })
+}
+
+/// A store's refusal as the page is told it, the file named by its path in the folder: a
+/// missing file 404, a file that is not a regular file (or leads outside, or is read-only,
+/// or too large) 403, a text `pim fit` refuses 422, a file changed on disk 409 (with the
+/// file's text and version now), the system's failure 500.
+pub(crate) fn stored_error(path: &str, e: &pim_store::StoreError) -> Response {
+    use pim_store::StoreError as E;
+    let named = |m: String| match m.split_once(": ") {
+        Some((_, rest)) => format!("{path}: {rest}"),
+        None => m,
+    };
+    match e {
+        E::Missing { .. } => refused(StatusCode::NOT_FOUND, &format!("{path}: no such file")),
+        E::Unusable { .. } => refused(StatusCode::FORBIDDEN, &named(e.to_string())),
+        E::Refused(m) => refused(StatusCode::UNPROCESSABLE_ENTITY, &format!("not saved: {m}")),
+        E::Conflict { current, .. } => (
+            StatusCode::CONFLICT,
+            Json(json!({
+                "error": format!(
+                    "not saved: {path} changed on disk since it was opened (by another editor, \
+                     another page or pim set): reload it, or compare the two and save again"
+                ),
+                "conflict": { "text": current.text, "version": current.version.0 },
+            })),
+        )
+            .into_response(),
+        E::Io { .. } => refused(StatusCode::INTERNAL_SERVER_ERROR, &named(e.to_string())),
+    }
+}
+
+pub(crate) fn outside(path: &str) -> Response {
+    refused(
+        StatusCode::FORBIDDEN,
+        &format!(
+            "refused: {path}: only the case files (.toml) inside the folder served can be read \
+             or written"
+        ),
+    )
 }

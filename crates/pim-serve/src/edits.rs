@@ -34,6 +34,39 @@ pub fn move_rest_in(
     at: [f64; 2],
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
+    move_onto(file, text, (vehicle, None), (at, None), units)
+}
+
+/// Vehicle `vehicle`'s rest (`mark: None`) or its tyre mark `mark` moved to the page point
+/// `at` (display length unit of `units`, `None`: the case's own), or placed on the survey point
+/// `point` (its coordinates as `[survey]` writes them, and `point = "id"` kept beside them); a
+/// move without a point drops the `point` the evidence had.
+///
+/// # Errors
+/// As [`move_rest`], a survey point the case does not have, and a rest given by tyre points
+/// placed on one survey point.
+pub fn move_onto(
+    file: &str,
+    text: &str,
+    (vehicle, mark): (u8, Option<usize>),
+    (at, point): ([f64; 2], Option<&str>),
+    units: Option<UnitSystem>,
+) -> Result<String, AnswerError> {
+    if let Some(i) = mark {
+        if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
+            return Err(AnswerError::Input(format!(
+                "{file}: mark {} of vehicle {vehicle} at {at:?} cannot be written",
+                i + 1
+            )));
+        }
+        return move_point(
+            file,
+            text,
+            &format!("scene.vehicle{vehicle}.marks.{i}"),
+            (at, point),
+            units,
+        );
+    }
     if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
         return Err(AnswerError::Input(format!(
             "{file}: a rest position of vehicle {vehicle} at {at:?} cannot be written"
@@ -50,12 +83,20 @@ pub fn move_rest_in(
         .as_ref()
     });
     match scene {
-        Some(s) if !s.rest_tyres.is_empty() => move_tyres(&case, text, vehicle, at, units),
+        Some(s) if !s.rest_tyres.is_empty() => {
+            if point.is_some() {
+                return Err(AnswerError::Input(format!(
+                    "{file}: vehicle {vehicle}'s rest is given by its tyre points: place each \
+                     tyre point on its survey point in the TOML (`point = \"id\"`)"
+                )));
+            }
+            move_tyres(&case, text, vehicle, at, units)
+        }
         _ => move_point(
             file,
             text,
             &format!("scene.vehicle{vehicle}.rest"),
-            at,
+            (at, point),
             units,
         ),
     }
@@ -133,31 +174,23 @@ pub fn move_mark(
     at: [f64; 2],
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
-    if !(vehicle == 1 || vehicle == 2) || !at.iter().all(|x| x.is_finite()) {
-        return Err(AnswerError::Input(format!(
-            "{file}: mark {} of vehicle {vehicle} at {at:?} cannot be written",
-            mark + 1
-        )));
-    }
-    move_point(
-        file,
-        text,
-        &format!("scene.vehicle{vehicle}.marks.{mark}"),
-        at,
-        units,
-    )
+    move_onto(file, text, (vehicle, Some(mark)), (at, None), units)
 }
 
 /// `{key}.x` and `{key}.y` rewritten to the page point `at`, in the file's length unit and
-/// frame, to a hundredth (as a scene diagram gives them), every other byte kept.
+/// frame, to a hundredth (as a scene diagram gives them), every other byte kept; or to the
+/// survey point `point` (see [`move_onto`]).
 fn move_point(
     file: &str,
     text: &str,
     key: &str,
-    at: [f64; 2],
+    (at, point): ([f64; 2], Option<&str>),
     units: Option<UnitSystem>,
 ) -> Result<String, AnswerError> {
     let mut on = OnFile::of(file, text, units)?;
+    if crate::survey::placed_on(&on.case, &mut on.edit, key, point)?.is_some() {
+        return Ok(on.edit.text());
+    }
     let p = on.point(at);
     for (axis, value) in [("x", p[0]), ("y", p[1])] {
         on.edit
@@ -192,6 +225,10 @@ pub struct NewMark {
     /// of the CG's path).
     #[serde(default)]
     pub wheel: Option<String>,
+    /// The survey point it lies on (`[survey]`'s id), if placed on one: written at the point's
+    /// own coordinates, its id kept beside them.
+    #[serde(default)]
+    pub point: Option<String>,
 }
 
 /// The case text with a tyre mark of vehicle `vehicle` added at the page point `at` with the
@@ -213,6 +250,7 @@ pub fn add_mark(
         at,
         sigma,
         ref wheel,
+        ref point,
     } = *mark;
     if !(vehicle == 1 || vehicle == 2)
         || !at.iter().all(|x| x.is_finite())
@@ -223,7 +261,10 @@ pub fn add_mark(
         )));
     }
     let mut on = OnFile::of(file, text, units)?;
-    let p = on.point(at);
+    let p = match point {
+        Some(id) => crate::survey::survey_point(&on.case, id)?,
+        None => on.point(at),
+    };
     let mut entries = vec![
         ("x", NewValue::Written(p[0])),
         ("y", NewValue::Written(p[1])),
@@ -233,6 +274,9 @@ pub fn add_mark(
     // name that is no wheel.
     if let Some(w) = wheel.as_deref().filter(|w| *w != "cg") {
         entries.push(("wheel", NewValue::Text(w.to_string())));
+    }
+    if let Some(id) = point {
+        entries.push(("point", NewValue::Text(id.clone())));
     }
     on.pushed(&format!("scene.vehicle{vehicle}.marks"), &entries)
 }

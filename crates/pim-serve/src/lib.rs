@@ -36,37 +36,45 @@
 mod answer;
 mod background;
 mod batch;
+mod build;
 mod contact;
 mod edit_routes;
 mod edits;
+mod error;
 mod form;
 mod guard;
 mod headers;
 mod motion;
 mod photo;
+mod plan;
 mod routes;
 mod served;
 mod study;
+mod survey;
 
 pub use answer::{
-    answer, answer_following, answer_in, answer_without, Answer, AnswerError, EvidencePiece, Plan,
+    answer, answer_following, answer_in, answer_without, Answer, AnswerError, EvidencePiece,
     VehiclePath,
 };
 pub use background::{set_background, BackgroundChange};
 pub use batch::batch;
 pub use contact::{edit_contact, ContactChange};
 pub use edits::{
-    add_mark, add_trace, add_zone, move_mark, move_rest, move_rest_in, set_skid, NewMark, NewTrace,
-    NewZone,
+    add_mark, add_trace, add_zone, move_mark, move_onto, move_rest, move_rest_in, set_skid,
+    NewMark, NewTrace, NewZone,
 };
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, same_secret, Guard};
 pub use headers::{image_kind, MAX_IMAGE_BYTES};
 pub use motion::{PlanMotion, PlanTrack, STEP as MOTION_STEP};
 pub use photo::{photo_plan, PhotoPlan, PhotoPoint};
+pub use plan::{
+    GivenRest, Plan, PlanBackground, PlanImpact, PlanSurveyPoint, PlanVehicle, PlanZone,
+};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
 pub use study::{report, studied, study, Studied, BAND_DRAWS, MAX_DRAWS};
+pub use survey::{import_survey, SurveyImport};
 
 use std::sync::Arc;
 

@@ -1,6 +1,6 @@
 //! The routes: the page, its assets and the API.
 
-use crate::edit_routes::{edited, refused, unanswered, units_of};
+use crate::edit_routes::{edited, outside, refused, stored_error, unanswered, units_of};
 use crate::guard::{inside, inside_of, Guard, COOKIE};
 use crate::headers::{image_kind, secured, IMAGE_POLICY, MAX_IMAGE_BYTES};
 use crate::served::{Server, BODY_LIMIT};
@@ -33,6 +33,10 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/mark", post(crate::edit_routes::add_mark))
         .route("/api/trace", post(crate::edit_routes::add_trace))
         .route("/api/zone", post(crate::edit_routes::add_zone))
+        .route("/api/survey", post(crate::edit_routes::survey))
+        .route("/api/new", post(crate::build::new_case))
+        .route("/api/sections", post(crate::build::sections))
+        .route("/api/section", post(crate::build::add_section))
         .route("/api/contact", post(crate::edit_routes::contact))
         .route("/api/skid", post(crate::edit_routes::skid))
         .route("/api/form", post(form))
@@ -194,45 +198,6 @@ async fn case(State(s): State<App>, Query(q): Query<CasePath>) -> Response {
     }
 }
 
-/// A store's refusal as the page is told it, the file named by its path in the folder: a
-/// missing file 404, a file that is not a regular file (or leads outside, or is read-only,
-/// or too large) 403, a text `pim fit` refuses 422, a file changed on disk 409 (with the
-/// file's text and version now), the system's failure 500.
-fn stored_error(path: &str, e: &pim_store::StoreError) -> Response {
-    use pim_store::StoreError as E;
-    let named = |m: String| match m.split_once(": ") {
-        Some((_, rest)) => format!("{path}: {rest}"),
-        None => m,
-    };
-    match e {
-        E::Missing { .. } => refused(StatusCode::NOT_FOUND, &format!("{path}: no such file")),
-        E::Unusable { .. } => refused(StatusCode::FORBIDDEN, &named(e.to_string())),
-        E::Refused(m) => refused(StatusCode::UNPROCESSABLE_ENTITY, &format!("not saved: {m}")),
-        E::Conflict { current, .. } => (
-            StatusCode::CONFLICT,
-            Json(json!({
-                "error": format!(
-                    "not saved: {path} changed on disk since it was opened (by another editor, \
-                     another page or pim set): reload it, or compare the two and save again"
-                ),
-                "conflict": { "text": current.text, "version": current.version.0 },
-            })),
-        )
-            .into_response(),
-        E::Io { .. } => refused(StatusCode::INTERNAL_SERVER_ERROR, &named(e.to_string())),
-    }
-}
-
-fn outside(path: &str) -> Response {
-    refused(
-        StatusCode::FORBIDDEN,
-        &format!(
-            "refused: {path}: only the case files (.toml) inside the folder served can be read \
-             or written"
-        ),
-    )
-}
-
 #[derive(Deserialize)]
 struct CaseText {
     path: String,
@@ -253,6 +218,7 @@ async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
         Ok(u) => u,
         Err(why) => return refused(StatusCode::UNPROCESSABLE_ENTITY, &why),
     };
+    let sketch = (c.path.clone(), c.text.clone(), units);
     let done = tokio::task::spawn_blocking(move || {
         let started = std::time::Instant::now();
         let previous = if c.live {
@@ -277,7 +243,7 @@ async fn answer(State(s): State<App>, Json(c): Json<CaseText>) -> Response {
                 .insert("server-timing", timing.parse().expect("header"));
             res
         }
-        Ok(Err(e)) => unanswered(e),
+        Ok(Err(e)) => crate::build::unanswered_with_sketch(e, &sketch),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, &e.to_string()),
     }
 }
@@ -318,6 +284,10 @@ struct SaveAsk {
     /// The version of the file the text was made from (as `/api/case` or the last save gave
     /// it): the save is refused (409) if the file is no longer that version.
     version: Option<String>,
+    /// A new case (`/api/new`): the file is created, and the save refused if one of that name
+    /// exists.
+    #[serde(default)]
+    create: bool,
 }
 
 /// Saves a case: only a case `pim fit` reads, only inside the folder, only over the version
@@ -327,6 +297,9 @@ async fn save(State(s): State<App>, Json(c): Json<SaveAsk>) -> Response {
     let Some(file) = inside(&s.served.root, &c.path) else {
         return outside(&c.path);
     };
+    if c.create {
+        return crate::build::create(&s.served.root, file, &c.path, c.text).await;
+    }
     let Some(version) = c.version else {
         return refused(
             StatusCode::PRECONDITION_REQUIRED,

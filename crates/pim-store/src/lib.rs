@@ -423,3 +423,65 @@ pub fn check(file: &str, text: &str) -> Result<(), StoreError> {
         .map(|_| ())
         .map_err(|e| StoreError::Refused(e.to_string()))
 }
+
+/// Creates the case file at `path` with `text`: checked as `pim fit` reads it, written to a
+/// temporary beside it and linked into place only if no file of that name exists (a file made
+/// meanwhile by another writer is never replaced), the folder synced. With `options.inside`,
+/// the folder must lie inside it. `options.expected` is not used (there is no version yet).
+///
+/// # Errors
+/// [`StoreError::Refused`] for a text `pim fit` refuses; [`StoreError::Unusable`] for a name
+/// that exists already or a folder outside `options.inside`; [`StoreError::Io`]. Nothing is
+/// written on any error.
+pub fn create(path: &Path, text: &str, options: &WriteOptions<'_>) -> Result<Stored, StoreError> {
+    let shown = path.display().to_string();
+    let file = options.name.unwrap_or(&shown);
+    check(file, text)?;
+    let exists = || {
+        unusable(
+            file,
+            "exists already: open it, or give the new case another name",
+        )
+    };
+    if std::fs::symlink_metadata(path).is_ok() {
+        return Err(exists());
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if let Some(root) = options.inside {
+        let root = std::fs::canonicalize(root).map_err(io(file, "write"))?;
+        let real = std::fs::canonicalize(dir).map_err(io(file, "write"))?;
+        if !real.starts_with(&root) {
+            return Err(unusable(
+                file,
+                "lies outside the folder served: not written",
+            ));
+        }
+    }
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".new.")
+        .suffix(TEMP_SUFFIX)
+        .tempfile_in(dir)
+        .map_err(io(file, "write"))?;
+    tmp.write_all(text.as_bytes()).map_err(io(file, "write"))?;
+    tmp.as_file().sync_all().map_err(io(file, "write"))?;
+    tmp.as_file()
+        .set_permissions(std::fs::Permissions::from_mode(0o644))
+        .map_err(io(file, "write"))?;
+    tmp.persist_noclobber(path).map_err(|e| {
+        if e.error.kind() == std::io::ErrorKind::AlreadyExists {
+            exists()
+        } else {
+            io(file, "write")(e.error)
+        }
+    })?;
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(Stored {
+        text: text.to_string(),
+        version: Version::of(text),
+    })
+}

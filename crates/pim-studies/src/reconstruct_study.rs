@@ -201,7 +201,7 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
     for (n, pick) in picks {
         let mut probe = case.clone();
         let Some(v) = pick(&mut probe) else { continue };
-        if let (Some(rest), Some(sd)) = (v.rest, v.rest_sigma) {
+        if let (Some(rest), Some(sd)) = (&v.rest, v.rest_sigma) {
             out.push(Input {
                 name: format!("vehicle{n} rest.x"),
                 spread: Spread::Normal(sd.x),

@@ -5,5 +5,7 @@ mod contact_pose;
 mod edit;
 mod motion;
 mod ricsac_loader;
+mod survey;
+mod templates;
 mod tyre;
 mod zones;

@@ -11,23 +11,28 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 use tower::ServiceExt;
 
-const TOKEN: &str = "0123456789abcdef0123456789abcdef";
+pub(crate) const TOKEN: &str = "0123456789abcdef0123456789abcdef";
 const CASE: &str = "reconstruction_us.toml";
 
 /// A folder with the example case, and the server's app on it.
 fn served() -> (tempfile::TempDir, axum::Router) {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join(CASE), example(CASE)).unwrap();
-    let app = pim_serve::app(pim_serve::Served {
-        root: dir.path().to_path_buf(),
-        initial: None,
-        token: TOKEN.into(),
-        hosts: vec![],
-    });
+    let app = app_on(dir.path());
     (dir, app)
 }
 
-fn request(method: &str, uri: &str, body: Option<Value>) -> Request<Body> {
+/// The server's app on the folder `root`, with the tests' token.
+pub(crate) fn app_on(root: &Path) -> axum::Router {
+    pim_serve::app(pim_serve::Served {
+        root: root.to_path_buf(),
+        initial: None,
+        token: TOKEN.into(),
+        hosts: vec![],
+    })
+}
+
+pub(crate) fn request(method: &str, uri: &str, body: Option<Value>) -> Request<Body> {
     let b = Request::builder()
         .method(method)
         .uri(uri)
@@ -42,7 +47,7 @@ fn request(method: &str, uri: &str, body: Option<Value>) -> Request<Body> {
     }
 }
 
-async fn send(
+pub(crate) async fn send(
     app: &axum::Router,
     req: Request<Body>,
 ) -> (StatusCode, axum::http::HeaderMap, Vec<u8>) {
@@ -52,7 +57,7 @@ async fn send(
     (parts.status, parts.headers, bytes)
 }
 
-async fn call(
+pub(crate) async fn call(
     app: &axum::Router,
     method: &str,
     uri: &str,

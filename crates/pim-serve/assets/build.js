@@ -1,0 +1,76 @@
+// pim serve: a case built in the page. New case… names a file of the folder and its frame
+// and units (nothing is written until Save, which creates it); Forms offers each section the
+// text does not write yet, added with starting values to edit in its form. Until the text is a
+// case that answers, the plan shows what it gives so far (its background, its survey).
+"use strict";
+
+function openNewDialog() {
+  $("new-error").textContent = "";
+  $("new-dialog").showModal();
+}
+
+async function startNewCase(e) {
+  e.preventDefault();
+  if (state.text !== state.saved && !window.confirm(`${state.path} has changes not saved: leave them?`)) return;
+  const body = {
+    name: $("new-name").value.trim(), title: $("new-title").value.trim() || undefined,
+    units: $("new-units").value, convention: $("new-convention").value,
+  };
+  try {
+    const { data } = await api("POST", "/api/new", body);
+    $("new-dialog").close();
+    state.path = data.path; state.text = data.text; state.saved = ""; state.version = null;
+    state.fresh = true; state.view = null; state.answer = null; state.off = [];
+    state.study = null; state.measured = null; state.conflict = null; $("conflict").hidden = true;
+    const sel = $("cases");
+    const o = document.createElement("option");
+    o.value = data.path; o.textContent = `${data.path} (new)`;
+    sel.appendChild(o); sel.value = data.path;
+    $("toml").value = data.text;
+    $("forms-box").open = true;
+    await solve();
+    status(`new case ${data.path}: add its sections (Forms), then Save`);
+  } catch (err) {
+    $("new-error").textContent = err.message;
+  }
+}
+
+// The sections the text does not write yet, in the Forms' menu.
+async function refreshSections() {
+  if (state.sectionsText === state.text) return;
+  state.sectionsText = state.text;
+  let sections = [];
+  try {
+    ({ data: { sections } } = await api("POST", "/api/sections", { path: state.path, text: state.text }));
+  } catch (e) { /* not TOML: the TOML's own mark says why */ }
+  const sel = $("add-section");
+  sel.innerHTML = "";
+  for (const s of sections) {
+    const o = document.createElement("option");
+    o.value = s.name; o.textContent = `[${s.name}] ${s.what}`;
+    sel.appendChild(o);
+  }
+  $("add-section-bar").hidden = !sections.length;
+}
+
+// The section chosen added to the text (not saved), its form opened, and solved.
+async function addSection() {
+  const name = $("add-section").value;
+  if (!name) return;
+  try {
+    const { data } = await api("POST", "/api/section", { path: state.path, text: state.text, name });
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+    const d = $("forms").querySelector(`details[data-section="${CSS.escape(name)}"]`);
+    if (d) d.open = true;
+  } catch (e) {
+    $("error").hidden = false;
+    $("error").textContent = e.message;
+  }
+}
+
+$("new-case").addEventListener("click", openNewDialog);
+$("new-form").addEventListener("submit", startNewCase);
+$("new-cancel").addEventListener("click", () => $("new-dialog").close());
+$("add-section-button").addEventListener("click", addSection);

@@ -1,0 +1,12 @@
+//! Why a case has no answer to show.
+
+/// Why a case has no answer to show.
+#[derive(Debug, thiserror::Error)]
+pub enum AnswerError {
+    /// The text is not a valid case (the message names the file, line and field).
+    #[error("{0}")]
+    Input(String),
+    /// The case is valid but its question cannot be answered here yet.
+    #[error("{0}")]
+    Unsupported(String),
+}
