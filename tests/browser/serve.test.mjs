@@ -4,12 +4,13 @@
 // /usr/bin/chromium (CHROMIUM overrides). Screenshots go to target/browser-screenshots/.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { spawn, execFileSync } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import http from "node:http";
 import { chromium } from "playwright-core";
+import { startPim } from "./server.mjs";
 
 const repo = path.resolve(import.meta.dirname, "../..");
 const pimBin = process.env.PIM_BIN || path.join(repo, "target/release/pim");
@@ -24,16 +25,9 @@ before(async () => {
   dir = fs.mkdtempSync(path.join(os.tmpdir(), "pim-serve-"));
   fs.cpSync(path.join(repo, "examples/cases"), dir, { recursive: true });
   fs.cpSync(path.join(repo, "examples/scene"), path.join(dir, "scene"), { recursive: true });
-  server = spawn(pimBin, ["serve", dir, "--port", "0"], { stdio: ["ignore", "pipe", "inherit"] });
-  url = await new Promise((resolve, reject) => {
-    let out = "";
-    server.stdout.on("data", (d) => {
-      out += d;
-      const m = /(http:\/\/\S+)/.exec(out);
-      if (m) resolve(m[1]);
-    });
-    server.on("exit", (c) => reject(new Error(`pim serve exited ${c}: ${out}`)));
-  });
+  let started;
+  ({ server, url: started } = startPim(pimBin, dir));
+  url = await started;
   base = url.replace(/\/\?.*$/, "");
   token = /token=([0-9a-f]+)/.exec(url)[1];
   browser = await chromium.launch({

@@ -72,6 +72,8 @@ pub enum NewValue {
     Integer(i64),
     /// Points `[x, y]` as they are to be written (a zone's corners, in the file's units).
     Points(Vec<[f64; 2]>),
+    /// An inline table of values (`{ x = 1.0, y = 2.0 }`), in its order.
+    Fields(Vec<(String, NewValue)>),
 }
 
 /// The keys a case reads as whole numbers (`scene.vehicleN.turns`, an observation's
@@ -235,6 +237,14 @@ impl CaseEdit {
                     array.push(pair);
                 }
                 Value::Array(array)
+            }
+            NewValue::Fields(fields) => {
+                let mut table = toml_edit::InlineTable::new();
+                for (key, v) in fields {
+                    table.insert(&key, self.value(&format!("{path}.{key}"), v)?);
+                }
+                table.fmt();
+                Value::InlineTable(table)
             }
         })
     }

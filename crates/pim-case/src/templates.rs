@@ -20,8 +20,6 @@ enum Start {
     Point(f64, f64),
     /// A yaw rate `{ omega }` per vehicle (rad/s).
     Omega(f64),
-    /// A rest `{ x, y, heading }` (m) and its standard deviations.
-    Rest(f64, f64),
     /// TOML written as is.
     Raw(&'static str),
 }
@@ -93,8 +91,10 @@ macro_rules! chassis {
     };
 }
 
-/// The sections that can be added, in the order a case is usually written.
-pub const SECTIONS: [Section; 12] = [
+/// The sections that can be added, in the order a case is usually written. A rest is not
+/// among them: it is where the scene puts it, placed on the plan (`pim serve`'s Rest tool) or
+/// written in `[scene.vehicleN]`.
+pub const SECTIONS: [Section; 10] = [
     Section {
         table: "vehicle1",
         what: "vehicle 1: mass, inertia, size, and where it was at contact",
@@ -158,16 +158,6 @@ pub const SECTIONS: [Section; 12] = [
         table: "runout.vehicle2",
         what: "vehicle 2's wheels after the impact",
         values: chassis!(),
-    },
-    Section {
-        table: "scene.vehicle1",
-        what: "vehicle 1's rest: drag it onto the scene's",
-        values: &[("rest", Start::Rest(10.0, -3.0), "")],
-    },
-    Section {
-        table: "scene.vehicle2",
-        what: "vehicle 2's rest: drag it onto the scene's",
-        values: &[("rest", Start::Rest(10.0, 6.0), "")],
     },
     Section {
         table: "pre_impact.vehicle1",
@@ -235,19 +225,6 @@ impl Section {
         let mut out = format!("[{}]\n", self.table);
         for (key, start, comment) in self.values {
             let (value, unit) = match *start {
-                Start::Rest(x, y) => {
-                    let (x, y) = (
-                        written(x, Quantity::Length, units),
-                        written(y, Quantity::Length, units),
-                    );
-                    let one = written(1.0, Quantity::Length, units);
-                    out.push_str(&format!(
-                        "rest = {{ x = {x}, y = {y}, heading = 0.0 }}  # {length}, {length}, deg: where \
-                         it came to rest (replace with the scene's)\nrest_sigma = {{ x = {one}, y = \
-                         {one}, heading = 3.0 }}  # their standard deviations\n"
-                    ));
-                    continue;
-                }
                 Start::Num(si, q) => (written(si, q, units), label(q, units)),
                 Start::Text(t) => (toml_edit::Value::from(t).to_string(), String::new()),
                 Start::Point(x, y) => (

@@ -59,7 +59,7 @@ async function loadCases() {
   const first = data.initial || (data.cases.includes("reconstruction_us.toml")
     ? "reconstruction_us.toml" : data.cases[0]);
   const wanted = new URLSearchParams(location.search).get("case") || first;
-  if (wanted) { sel.value = wanted; await openCase(wanted); }
+  if (wanted) { $("cases").value = wanted; await openCase(wanted); }
 }
 
 // `state.opening` while the case is read and its first answer asked for.
@@ -893,6 +893,7 @@ function useTool(tool) {
   state.clicks = [];
   $("plan").classList.toggle("picking", !!state.tool);
   status(!state.tool ? "" : state.tool === "mark" ? "click where the tyre mark lies"
+    : state.tool === "rest" ? "click where a vehicle's CG came to rest (a survey point's square takes its place and id)"
     : state.tool === "skid" ? "click where the skid begins, behind the vehicle"
     : state.tool === "zone" ? "click the zone's corners in order, the first again to close it"
     : state.tool === "trace" ? "click points along the tyre's mark in order, the last again to end"
@@ -908,12 +909,13 @@ async function toolClick(e) {
   if (state.tool === "trace") { await traceClick(svgPoint(e)); return; }
   state.clicks.push(svgPoint(e));
   render();
-  // A mark or a skid takes one click, a distance two; then the tool ends.
-  if (state.clicks.length < (state.tool === "mark" || state.tool === "skid" ? 1 : 2)) return;
+  // A mark, a rest or a skid takes one click, a distance two; then the tool ends.
+  if (state.clicks.length < (["mark", "skid", "rest"].includes(state.tool) ? 1 : 2)) return;
   const clicks = state.clicks, tool = state.tool;
   state.tool = null; state.clicks = [];
   $("plan").classList.remove("picking");
   if (tool === "mark") { await placeMark(clicks[0]); return; }
+  if (tool === "rest") { await placeRest(clicks[0]); return; }
   if (tool === "skid") { await placeSkid(clicks[0]); return; }
   const [a, b] = clicks;
   const label = state.answer.plan.length_label;
@@ -1405,6 +1407,7 @@ $("photo-cancel").addEventListener("click", closePhoto);
 $("set-scale").addEventListener("click", () => useTool("scale"));
 $("measure").addEventListener("click", () => useTool("measure"));
 $("add-mark").addEventListener("click", () => useTool("mark"));
+$("add-rest").addEventListener("click", () => useTool("rest"));
 $("batch-start").addEventListener("click", startBatch);
 $("batch-cancel").addEventListener("click", cancelBatch);
 $("add-skid").addEventListener("click", () => useTool("skid"));

@@ -70,6 +70,25 @@ async function addSection() {
   }
 }
 
+// A rest where the plan was clicked (on a survey point: at the point, its id kept): the
+// vehicle, its heading as the case writes headings and the standard deviation asked.
+async function placeRest(click) {
+  const s = surveySnap([click.x, -click.y]);
+  const at = s ? s.at : [click.x, -click.y];
+  const plan = state.answer.plan;
+  const sigma = Math.round((0.3 / plan.metres) * 100) / 100;
+  const clockwise = plan.frame === "sae" ? "clockwise from north" : "counter-clockwise from east";
+  const answer = window.prompt(`Rest${s ? ` on survey point ${s.id}` : ""}: the vehicle (1 or 2), its heading `
+    + `(deg ${clockwise}; - if not measured) and the standard deviation of its position (${plan.length_label}):`,
+    `${state.answer.sketch ? 1 : nearestVehicle(at)} - ${sigma}`);
+  const [v, h, sd] = (answer || "").trim().split(/[\s,]+/);
+  const vehicle = +v, sdv = +sd, heading = h === "-" || h === undefined ? undefined : +h;
+  if (!(vehicle === 1 || vehicle === 2) || !(sdv > 0) || (heading !== undefined && !Number.isFinite(heading))) {
+    status("no rest placed"); render(); return;
+  }
+  await edited("/api/rest", { vehicle, at, heading, sigma: sdv, point: s ? s.id : undefined });
+}
+
 $("new-case").addEventListener("click", openNewDialog);
 $("new-form").addEventListener("submit", startNewCase);
 $("new-cancel").addEventListener("click", () => $("new-dialog").close());

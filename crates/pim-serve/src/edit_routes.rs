@@ -72,6 +72,13 @@ pub(crate) async fn move_rest(Json(m): Json<Move>) -> Response {
     })
 }
 
+/// The text with a vehicle's rest placed where the page was clicked (not saved).
+pub(crate) async fn place_rest(Json(r): Json<EditAsk<crate::NewRest>>) -> Response {
+    edited(r.units.as_deref(), |u| {
+        crate::place_rest(&r.path, &r.text, &r.change, u)
+    })
+}
+
 /// The text with a survey's points imported as `[survey]` (not saved).
 pub(crate) async fn survey(Json(s): Json<EditAsk<crate::SurveyImport>>) -> Response {
     edited(None, |_| crate::import_survey(&s.path, &s.text, &s.change))

@@ -21,6 +21,15 @@
 //! `pim report FILE` writes. `GET /api/image?path=` gives an image of the folder (PNG, JPEG,
 //! SVG) and `POST /api/background` writes the case's `[background]` as the page sets it.
 //!
+//! A case is built in the page from nothing: `POST /api/new` (`{name, title, units,
+//! convention}`) gives a new case's text and path (nothing written), `POST /api/sections` the
+//! sections its text does not write yet and `POST /api/section` (`{path, text, name}`) the text
+//! with one added ([`pim_case::templates`]); `POST /api/survey` imports a survey's CSV as
+//! `[survey]` ([`SurveyImport`]) and `POST /api/rest` places a rest ([`NewRest`]), both on a
+//! text that is not yet a case too; `POST /api/save` with `create` creates the file
+//! ([`pim_store::create`]). An answer refused for a text being built carries the plan of what
+//! it gives so far (`sketch`: its background and survey).
+//!
 //! # Safety of a local server
 //! - It binds 127.0.0.1 unless told otherwise.
 //! - Every request needs the run's token: the address `pim serve` prints carries it
@@ -47,6 +56,7 @@ mod headers;
 mod motion;
 mod photo;
 mod plan;
+mod rest;
 mod routes;
 mod served;
 mod study;
@@ -71,6 +81,7 @@ pub use photo::{photo_plan, PhotoPlan, PhotoPoint};
 pub use plan::{
     GivenRest, Plan, PlanBackground, PlanImpact, PlanSurveyPoint, PlanVehicle, PlanZone,
 };
+pub use rest::{place_rest, NewRest};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
 pub use study::{report, studied, study, Studied, BAND_DRAWS, MAX_DRAWS};

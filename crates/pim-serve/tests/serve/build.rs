@@ -94,15 +94,31 @@ async fn a_case_is_built_from_an_empty_folder() {
     )
     .await;
     assert_eq!(v["sections"], json!([]));
-    // The rests dropped on the survey's points keep their ids.
-    for (vehicle, point) in [(1, "R1"), (2, "R2")] {
-        let (s, v) = post(&app, "/api/move", json!({ "path": "main_and_oak.toml", "text": text, "vehicle": vehicle, "at": [0.0, 0.0], "point": point })).await;
+    // The rests placed on the survey's points keep their ids: a section each, added at the
+    // end; placed again, the rest is moved in it.
+    for (vehicle, point, heading) in [(1, "R1", 144.0), (2, "R2", 241.0), (1, "R1", 145.0)] {
+        let (s, v) = post(&app, "/api/rest", json!({ "path": "main_and_oak.toml", "text": text, "vehicle": vehicle, "at": [0.0, 0.0], "heading": heading, "sigma": 1.0, "point": point })).await;
         assert_eq!(s, StatusCode::OK, "{v}");
         text = v["text"].as_str().unwrap().to_string();
     }
     assert!(
-        text.contains("rest = { x = 40.5, y = 10.25, heading = 0.0, point = \"R1\" }"),
+        text.ends_with(
+            "\n\n[scene.vehicle1]\nrest = { x = 40.5, y = 10.25, heading = 145.0, point = \"R1\" }\n\
+             rest_sigma = { x = 1.0, y = 1.0, heading = 3.0 }\n\n[scene.vehicle2]\n\
+             rest = { x = 35.0, y = 60.0, heading = 241.0, point = \"R2\" }\n\
+             rest_sigma = { x = 1.0, y = 1.0, heading = 3.0 }\n"
+        ),
         "{text}"
+    );
+    // Off the survey, where the page was clicked (feet, the SAE page's right is y).
+    let (s, v) = post(&app, "/api/rest", json!({ "path": "main_and_oak.toml", "text": text, "vehicle": 2, "at": [61.234, 36.0], "sigma": 0.5 })).await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert!(
+        v["text"]
+            .as_str()
+            .unwrap()
+            .contains("rest = { x = 36.0, y = 61.23 }"),
+        "{v}"
     );
     // Now a case: it answers, and saves by creating its file.
     let (s, v) = post(
