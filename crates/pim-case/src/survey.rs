@@ -315,3 +315,69 @@ pub fn with_survey(
     crate::edit::CaseEdit::new(file, &out)?;
     Ok(out)
 }
+
+/// How a survey's CSV is imported into a case: its length unit, the point made the case's
+/// origin and its turn (see [`Placing`]).
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
+pub struct Import {
+    /// The survey's length unit (`m` or `ft`; `None`: the case's own).
+    #[serde(default)]
+    pub unit: Option<crate::units::LengthUnit>,
+    /// The survey point made the case's origin (`None`: the survey's own origin).
+    #[serde(default)]
+    pub origin: Option<String>,
+    /// Degrees the survey is turned, counter-clockwise as seen on the plan.
+    #[serde(default)]
+    pub rotation: f64,
+}
+
+/// The case text (`file`, a case or one being built) with its `[survey]` replaced by the CSV
+/// `csv` (named `source` in messages and kept as `[survey] source`) placed by `import` in the
+/// case's frame and length unit; every other byte kept. The text is not checked as a case.
+///
+/// # Errors
+/// Text whose `convention` or `[units]` do not read, a turn that is not a finite number, and
+/// the CSV's faults (named at its line).
+pub fn import(
+    file: &str,
+    text: &str,
+    (source, csv): (&str, &str),
+    import: &Import,
+) -> Result<String> {
+    #[derive(serde::Deserialize)]
+    struct Frame {
+        #[serde(default)]
+        convention: Convention,
+        #[serde(default)]
+        units: crate::units::UnitsSection,
+    }
+    let frame: Frame = crate::parse::parse_toml(file, text)?;
+    if !import.rotation.is_finite() {
+        return Err(InputError::new(
+            file,
+            format!(
+                "survey rotation {}: give a finite angle, degrees",
+                import.rotation
+            ),
+        ));
+    }
+    let unit = frame.units.length;
+    let placing = Placing {
+        scale: import.unit.unwrap_or(unit).to_si() / unit.to_si(),
+        origin: import
+            .origin
+            .as_deref()
+            .map(str::trim)
+            .filter(|o| !o.is_empty())
+            .map(str::to_string),
+        rotation: import.rotation,
+        convention: frame.convention,
+    };
+    let points = read_csv(source, csv, &placing)?;
+    with_survey(
+        file,
+        text,
+        Some(source).filter(|s| !s.trim().is_empty()),
+        &points,
+    )
+}

@@ -419,6 +419,9 @@ pub enum Command {
     /// case is checked as every command reads a case before it is written.
     #[command(after_help = crate::set_args::SET_HELP)]
     Set(crate::set_args::SetArgs),
+    /// A survey's points (CSV: id, x, y, code, description) imported into a case's [survey].
+    #[command(after_help = crate::survey_args::SURVEY_HELP)]
+    Survey(crate::survey_args::SurveyArgs),
     /// The scene editor in the browser: serves a folder of case files (or one case and its
     /// folder) on this machine and prints the address to open. The page draws the scene to
     /// scale (vehicles at contact and at rest, run-out paths, rest positions and marks with

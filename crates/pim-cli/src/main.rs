@@ -15,6 +15,7 @@ mod rectify_args;
 mod runout_help;
 mod serve_args;
 mod set_args;
+mod survey_args;
 
 use anyhow::Result;
 use args::{Cli, Command};
@@ -35,6 +36,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Batch(a) => commands::batch::run(a, false),
         Command::CompareCosts(a) => commands::batch::run(a, true),
         Command::Set(a) => commands::set::run(a),
+        Command::Survey(a) => commands::survey::run(a),
         Command::Serve(a) => commands::serve::run(a),
         Command::Rectify(a) => commands::rectify::run(a),
     }

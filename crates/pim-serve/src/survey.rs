@@ -5,11 +5,10 @@
 use crate::AnswerError;
 use pim_case::case::Case;
 use pim_case::edit::{CaseEdit, NewValue};
-use pim_case::survey::{read_csv, with_survey, Placing};
-use pim_case::units::LengthUnit;
+use pim_case::survey::Import;
 use serde::Deserialize;
 
-/// A survey the page imports.
+/// A survey the page imports: its CSV, its file's name and how it is placed.
 #[derive(Debug, Clone, Deserialize)]
 pub struct SurveyImport {
     /// The CSV's text: `id, x, y[, code[, description]]` a line, with or without a header.
@@ -17,49 +16,25 @@ pub struct SurveyImport {
     /// Its file name, kept as `[survey] source`.
     #[serde(default)]
     pub source: Option<String>,
-    /// The survey's length unit (`m` or `ft`; default the case's own).
-    #[serde(default)]
-    pub unit: Option<LengthUnit>,
-    /// The survey point made the case's origin (default: the survey's own origin).
-    #[serde(default)]
-    pub origin: Option<String>,
-    /// Degrees the survey is turned, counter-clockwise as seen on the plan (default 0).
-    #[serde(default)]
-    pub rotation: f64,
+    /// Its unit, origin point and turn.
+    #[serde(flatten)]
+    pub placing: Import,
 }
 
-/// The case text with its `[survey]` replaced by the survey `import` reads (placed by its unit,
-/// origin and turn), every other byte kept; checked as a case after the edit (evidence that
-/// names a point the new survey moved or dropped is refused, named at its line).
+/// The case text with its `[survey]` replaced by the survey `import` reads
+/// ([`pim_case::survey::import`]), every other byte kept; checked as a case after the edit
+/// when it was one (evidence that names a point the new survey moved or dropped is refused,
+/// named at its line), a case being built otherwise.
 ///
 /// # Errors
-/// Text that is not a valid case (the CSV's faults name its source, line and column), a turn
-/// that is not a finite number, or a case the survey makes invalid.
+/// Text that is not a case or one being built, the CSV's faults (named at its line), or a
+/// case the survey makes invalid.
 pub fn import_survey(file: &str, text: &str, import: &SurveyImport) -> Result<String, AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
-    if !import.rotation.is_finite() {
-        return Err(AnswerError::Input(format!(
-            "{file}: survey rotation {}: give a finite angle, degrees",
-            import.rotation
-        )));
-    }
-    let (case, was_case) = crate::plan::Sketch::read(file, text)?;
-    let unit = case.units.length;
-    let placing = Placing {
-        scale: import.unit.unwrap_or(unit).to_si() / unit.to_si(),
-        origin: import
-            .origin
-            .as_deref()
-            .map(str::trim)
-            .filter(|o| !o.is_empty())
-            .map(str::to_string),
-        rotation: import.rotation,
-        convention: case.convention,
-    };
-    let source = import.source.as_deref().filter(|s| !s.trim().is_empty());
-    let points =
-        read_csv(source.unwrap_or("survey"), &import.csv, &placing).map_err(|e| input(&e))?;
-    let out = with_survey(file, text, source, &points).map_err(|e| input(&e))?;
+    let (_, was_case) = crate::plan::Sketch::read(file, text)?;
+    let source = import.source.as_deref().unwrap_or("survey");
+    let out = pim_case::survey::import(file, text, (source, &import.csv), &import.placing)
+        .map_err(|e| input(&e))?;
     crate::plan::Sketch::check_edited(file, &out, was_case)?;
     Ok(out)
 }

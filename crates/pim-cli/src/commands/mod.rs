@@ -16,6 +16,7 @@ pub mod serve;
 pub mod set;
 pub mod solve;
 pub mod study;
+pub mod survey;
 pub mod uncertainty;
 pub mod verdict;
 

@@ -27,7 +27,7 @@ fn value_of(text: &str) -> NewValue {
 
 /// The failure of a read or write of the store: a changed file or the system's refusal is
 /// exit status 4, anything about the text or the file given is bad input (2).
-fn store_failure(e: StoreError) -> Failure {
+pub(crate) fn store_failure(e: StoreError) -> Failure {
     match e {
         StoreError::Conflict { .. } | StoreError::Io { .. } => Failure::Output(e.to_string()),
         StoreError::Missing { file } => {

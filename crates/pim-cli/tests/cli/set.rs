@@ -265,3 +265,56 @@ fn a_set_killed_at_any_moment_leaves_the_old_file_or_the_new() {
     pim_ok(&["set", &f, "vehicle1.mass=3400"]);
     assert!(temporaries(&f).is_empty(), "{:?}", temporaries(&f));
 }
+
+/// `pim survey`: the CSV placed from its origin point in the case's feet, written as
+/// `[survey]` with every other byte kept; evidence then named on a point must lie on it; a bad
+/// line is refused at the CSV's line with the file untouched (exit 2).
+#[test]
+fn a_survey_is_imported_and_evidence_on_its_points_checked() {
+    let text = example();
+    let f = scratch_file("survey", "surveyed.toml", &text);
+    let csv = repo().join("examples/scene/intersection_survey.csv");
+    let csv = csv.to_str().unwrap();
+    let out = pim_ok(&["survey", &f, csv, "--unit", "ft", "--origin", "POI"]);
+    assert!(
+        stderr(&out).contains("[survey] of 5 points"),
+        "{}",
+        stderr(&out)
+    );
+    let written = std::fs::read_to_string(&f).unwrap();
+    assert!(written.starts_with(text.trim_end()));
+    assert!(written.contains(
+        "  { id = \"R1\", x = 11.9, y = 2.9, code = \"REST\", description = \"sedan at rest (CG)\" },\n"
+    ));
+    // The sedan's rest is R1: named, it reads; moved off it, it is refused at its line.
+    pim_ok(&["set", &f, "scene.vehicle1.rest.point=R1"]);
+    let off = pim(&["set", &f, "scene.vehicle1.rest.x=12.5"]);
+    assert_eq!(off.status.code(), Some(2));
+    assert!(
+        stderr(&off).contains(
+            "scene.vehicle1.rest.point: survey point \"R1\" is at (11.9, 2.9), this at (12.5, 2.9)"
+        ),
+        "{}",
+        stderr(&off)
+    );
+    let before = std::fs::read_to_string(&f).unwrap();
+    let bad = scratch_file("survey", "bad.csv", "id,x,y\nA,1,2\nB,one,2\n");
+    let out = pim(&["survey", &f, &bad]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("bad.csv:3: x: expected a number, got \"one\""),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), before);
+    // A survey imported again that drops the point in use is refused, naming the evidence.
+    let fewer = scratch_file("survey", "fewer.csv", "id,x,y\nPOI,1000,2000\n");
+    let out = pim(&["survey", &f, &fewer, "--origin", "POI"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("\"R1\": [survey] has no such point"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), before);
+}

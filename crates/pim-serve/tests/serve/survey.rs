@@ -2,6 +2,7 @@
 //! written at the point's own coordinates with its id kept, the id dropped when the evidence
 //! is moved off it again.
 use crate::{changed_lines, example};
+use pim_case::survey::Import;
 use pim_case::units::{LengthUnit, UnitSystem};
 use pim_serve::{import_survey, ContactChange, NewMark, SurveyImport};
 
@@ -16,9 +17,11 @@ fn surveyed() -> String {
     let import = SurveyImport {
         csv: CSV.into(),
         source: Some("scene.csv".into()),
-        unit: Some(LengthUnit::Metre),
-        origin: Some("1".into()),
-        rotation: 0.0,
+        placing: Import {
+            unit: Some(LengthUnit::Metre),
+            origin: Some("1".into()),
+            rotation: 0.0,
+        },
     };
     import_survey(FILE, &example(FILE), &import).unwrap()
 }
@@ -51,9 +54,7 @@ fn a_survey_is_imported_and_drawn() {
     let bad = SurveyImport {
         csv: "id,x,y\n1,2,x\n".into(),
         source: Some("scene.csv".into()),
-        unit: None,
-        origin: None,
-        rotation: 0.0,
+        placing: Import::default(),
     };
     let e = import_survey(FILE, &example(FILE), &bad)
         .unwrap_err()
