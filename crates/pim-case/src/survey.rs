@@ -65,6 +65,8 @@ pub fn read_csv(file: &str, text: &str, placing: &Placing) -> Result<Vec<SurveyP
         .from_reader(text.as_bytes());
     let mut columns = [0usize, 1, 2, 3, 4];
     let mut raw: Vec<(u64, SurveyPoint)> = Vec::new();
+    // Each id's line, to refuse one given twice.
+    let mut lines: std::collections::HashMap<String, u64> = std::collections::HashMap::new();
     for (i, record) in reader.records().enumerate() {
         let record = record.map_err(|e| InputError::new(file, e))?;
         let line = record.position().map_or(i as u64 + 1, |p| p.line());
@@ -95,7 +97,7 @@ pub fn read_csv(file: &str, text: &str, placing: &Placing) -> Result<Vec<SurveyP
                 format!("{file}:{line}: id: every point needs its id (the first column)"),
             ));
         }
-        if let Some((earlier, _)) = raw.iter().find(|(_, p)| p.id == id) {
+        if let Some(earlier) = lines.insert(id.clone(), line) {
             return Err(InputError::located(
                 file,
                 format!("{file}:{line}: id: {id:?} is given twice (first on line {earlier})"),
@@ -193,12 +195,13 @@ impl Case {
             .survey
             .as_ref()
             .map_or(&[][..], |s| s.points.as_slice());
+        let mut ids = std::collections::HashMap::new();
         for (i, p) in points.iter().enumerate() {
             let at = format!("survey.points.{i}");
             if p.id.trim().is_empty() {
                 return Err(self.error_at(&format!("{at}.id"), "every point needs its id"));
             }
-            if points[..i].iter().any(|q| q.id == p.id) {
+            if ids.insert(p.id.as_str(), i).is_some() {
                 return Err(self.error_at(
                     &format!("{at}.id"),
                     format!("{:?} is given twice: each point's id once", p.id),
@@ -209,7 +212,7 @@ impl Case {
             }
         }
         for (path, id, x, y) in self.survey_references() {
-            let Some(p) = points.iter().find(|p| p.id == id) else {
+            let Some(p) = ids.get(id.as_str()).map(|&i| &points[i]) else {
                 let what = if points.is_empty() {
                     "the case has no [survey]".to_string()
                 } else {
