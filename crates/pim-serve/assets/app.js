@@ -1168,7 +1168,10 @@ function startDrag(e, target, at, group, handle) {
       moveTo(target, d.to, true).finally(() => { state.inFlight = false; });
     }
   }, (moved, d) => {
-    const s = moved && surveySnap(d.to);
+    // A rest given by tyre points moves whole: its tyres are placed on survey points in the TOML.
+    const veh = state.answer.plan.vehicles.find((v) => v.vehicle === target.vehicle);
+    const byTyres = target.mark == null && veh && veh.given_rest && (veh.given_rest.tyres || []).length;
+    const s = moved && !byTyres && surveySnap(d.to);
     if (s) moveTo({ ...target, point: s.id }, s.at);
     else if (moved) moveTo(target, d.to); else render();
   }, handle);
