@@ -284,7 +284,11 @@ pub fn edit_contact(
         }
     }
     let snapped = match (&change.point, change.centre) {
-        (Some(id), Some(_)) => Some(crate::survey::survey_point(&case, id)?),
+        (Some(id), Some(_)) => Some(crate::survey::survey_point(
+            &case.file,
+            case.content.survey.as_ref(),
+            id,
+        )?),
         _ => None,
     };
     if let Some(c) = snapped.or(change.centre.map(point)) {

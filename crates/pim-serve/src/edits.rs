@@ -131,7 +131,7 @@ fn move_tyres(
         1.0
     };
     let (cx, cy) = rest.cg();
-    let (x, y) = written_frame(case, at, units);
+    let (x, y) = written_frame((case.written, &case.written_units), at, units);
     let mut edit = pim_case::edit::CaseEdit::new(&case.file, text).map_err(|e| input(&e))?;
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
@@ -200,13 +200,17 @@ fn move_point(
     Ok(on.edit.text())
 }
 
-/// A page point (display length unit of `units`, `None`: the case's own) in the case's
-/// written frame, metres: the page is the written frame turned, natural (h, v) = (x, y), SAE
-/// (h, v) = (y, x).
-fn written_frame(case: &Case, at: [f64; 2], units: Option<UnitSystem>) -> (f64, f64) {
-    let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
+/// A page point (display length unit of `units`, `None`: the case's own, `written_units`) in
+/// the written frame of a case written in `written`, metres: the page is the written frame
+/// turned, natural (h, v) = (x, y), SAE (h, v) = (y, x).
+pub(crate) fn written_frame(
+    (written, written_units): (Convention, &pim_case::units::UnitsSection),
+    at: [f64; 2],
+    units: Option<UnitSystem>,
+) -> (f64, f64) {
+    let units = units.unwrap_or_else(|| UnitSystem::of(written_units));
     let m = units.length(1.0).recip();
-    match case.written {
+    match written {
         Convention::Sae => (at[1] * m, at[0] * m),
         _ => (at[0] * m, at[1] * m),
     }
@@ -262,7 +266,9 @@ pub fn add_mark(
     }
     let mut on = OnFile::of(file, text, units)?;
     let p = match point {
-        Some(id) => crate::survey::survey_point(&on.case, id)?,
+        Some(id) => {
+            crate::survey::survey_point(&on.case.file, on.case.content.survey.as_ref(), id)?
+        }
         None => on.point(at),
     };
     let mut entries = vec![
@@ -366,7 +372,11 @@ impl OnFile {
 
     /// The page point `at` in the file's frame and length unit.
     fn point(&self, at: [f64; 2]) -> [f64; 2] {
-        let (x, y) = written_frame(&self.case, at, self.units);
+        let (x, y) = written_frame(
+            (self.case.written, &self.case.written_units),
+            at,
+            self.units,
+        );
         [hundredth(x / self.per_unit), hundredth(y / self.per_unit)]
     }
 

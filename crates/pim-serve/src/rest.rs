@@ -60,16 +60,16 @@ pub fn place_rest(
     let per_unit = units.length(1.0).recip() / sketch.units.length.to_si();
     let hundredth = |x: f64| crate::edits::hundredth(x * per_unit);
     let xy = match point {
-        Some(id) => sketch
-            .survey
-            .as_ref()
-            .and_then(|s| s.points.iter().find(|p| &p.id == id))
-            .map(|p| [p.x, p.y])
-            .ok_or_else(|| AnswerError::Input(format!("{file}: the survey has no point {id:?}")))?,
-        None if sketch.convention == pim_core::Convention::Sae => {
-            [hundredth(at[1]), hundredth(at[0])]
+        Some(id) => crate::survey::survey_point(file, sketch.survey.as_ref(), id)?,
+        None => {
+            let (x, y) =
+                crate::edits::written_frame((sketch.convention, &sketch.units), at, Some(units));
+            let metres = sketch.units.length.to_si();
+            [
+                crate::edits::hundredth(x / metres),
+                crate::edits::hundredth(y / metres),
+            ]
         }
-        None => [hundredth(at[0]), hundredth(at[1])],
     };
     let mut fields = vec![
         ("x".to_string(), NewValue::Written(xy[0])),

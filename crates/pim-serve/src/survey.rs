@@ -39,14 +39,16 @@ pub fn import_survey(file: &str, text: &str, import: &SurveyImport) -> Result<St
     Ok(out)
 }
 
-/// The written coordinates of the survey point `id` of `case`.
-pub(crate) fn survey_point(case: &Case, id: &str) -> Result<[f64; 2], AnswerError> {
-    case.content
-        .survey
-        .as_ref()
+/// The written coordinates of the survey point `id` of the `survey` of `file`.
+pub(crate) fn survey_point(
+    file: &str,
+    survey: Option<&pim_case::survey::SurveySection>,
+    id: &str,
+) -> Result<[f64; 2], AnswerError> {
+    survey
         .and_then(|s| s.points.iter().find(|p| p.id == id))
         .map(|p| [p.x, p.y])
-        .ok_or_else(|| AnswerError::Input(format!("{}: the survey has no point {id:?}", case.file)))
+        .ok_or_else(|| AnswerError::Input(format!("{file}: the survey has no point {id:?}")))
 }
 
 /// `{key}.x`, `{key}.y` set to the survey point `point` (its own coordinates) and
@@ -63,7 +65,7 @@ pub(crate) fn placed_on(
         edit.remove(&format!("{key}.point"));
         return Ok(None);
     };
-    let p = survey_point(case, id)?;
+    let p = survey_point(&case.file, case.content.survey.as_ref(), id)?;
     for (axis, value) in [("x", p[0]), ("y", p[1])] {
         edit.set(&format!("{key}.{axis}"), NewValue::Written(value))
             .map_err(|e| input(&e))?;
