@@ -138,12 +138,17 @@ test("a case built in the page from a diagram and a survey, then reconstructed a
   const fields = [
     ["vehicle1.mass", "3400.0"], ["vehicle1.yaw_inertia", "1900.0"], ["vehicle1.position.x", "-7.5"], ["vehicle1.position.y", "-1.0"],
     ["vehicle1.length", "16.0"], ["vehicle1.width", "6.0"], ["vehicle1.cg_to_front", "7.2"],
-    ["vehicle2.mass", "3900.0"], ["vehicle2.yaw_inertia", "2400.0"], ["vehicle2.position.x", "1.0"], ["vehicle2.position.y", "1.5"],
+    ["vehicle2.mass", "3900.0"], ["vehicle2.position.x", "1.0"], ["vehicle2.position.y", "1.5"],
     ["vehicle2.length", "15.0"], ["vehicle2.width", "6.2"], ["vehicle2.cg_to_front", "6.8"],
     ["runout.vehicle1.braking", "0.3"], ["runout.vehicle2.braking", "0.2"],
     ["pre_impact.vehicle1.skid", "42.0"], ["pre_impact.vehicle2.edr.0.speed", "27.5"],
   ];
   for (const [k, v] of fields) { await setField(k, v); step(`${k} = ${v}`); }
+  // Vehicle 2's yaw inertia is left to the estimate from its outline, offered in the form.
+  const inertia = page.locator('#forms input[data-key="vehicle2.yaw_inertia"]');
+  assert.equal(await inertia.inputValue(), "");
+  assert.equal(await inertia.getAttribute("placeholder"), "estimated");
+  assert.match(await inertia.getAttribute("title"), /^estimated as 2395 slug ft\^2 from mass 3900 lb, length 15\.00 and width 6\.20 ft/);
 
   // The rests placed on their survey points with the Rest tool: written at the points with
   // their headings, their ids kept.

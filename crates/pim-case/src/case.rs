@@ -180,6 +180,7 @@ impl Case {
         case.check_states()?;
         case.resolve_impact_points()?;
         case.convert_to_si();
+        case.estimate_inertias();
         case.check_ranges()?;
         case.check_outlines()?;
         if let Some(b) = &case.content.background {
@@ -292,7 +293,11 @@ impl Case {
         for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
             for (field, x, what) in [
                 ("mass", v.mass, "the vehicle's mass"),
-                ("yaw_inertia", v.yaw_inertia, "its yaw moment of inertia"),
+                (
+                    "yaw_inertia",
+                    crate::inertia::inertia_or_outline(&self.source, name, v),
+                    crate::inertia::INERTIA_WANTED,
+                ),
                 ("heading", v.heading, "where its nose points, degrees"),
             ] {
                 if x.is_nan() {

@@ -146,6 +146,7 @@ impl Case {
             length: v.length.map(|x| x * length),
             width: v.width.map(|x| x * length),
             cg_to_front: v.cg_to_front.map(|x| x * length),
+            yaw_inertia_source: Default::default(),
         };
         let flip = if m.convention == Convention::Sae {
             -1.0
@@ -169,6 +170,7 @@ impl Case {
                 length: None,
                 width: None,
                 cg_to_front: None,
+                yaw_inertia_source: Default::default(),
             },
         };
         let content = CaseFile {

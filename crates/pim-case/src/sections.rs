@@ -76,6 +76,21 @@ pub struct VehicleSection {
     /// CG to the front face, for drawings (default half the length; m after loading).
     #[serde(default)]
     pub cg_to_front: Option<f64>,
+    /// Where `yaw_inertia` came from: written, or estimated from `length` and `width` when
+    /// not (set on loading, never read from the file; the estimate is pim_case's `inertia`).
+    #[serde(skip)]
+    pub yaw_inertia_source: InertiaSource,
+}
+
+/// Where a vehicle's yaw inertia came from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InertiaSource {
+    /// Written in the case (`yaw_inertia`), or a barrier's (infinite).
+    #[default]
+    Stated,
+    /// Estimated from the mass, `length` and `width` (pim_case's `inertia::from_outline`).
+    Outline,
 }
 
 /// A required number the file did not give (checked after parsing, so that a barrier can

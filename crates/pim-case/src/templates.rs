@@ -46,11 +46,6 @@ macro_rules! vehicle {
                 "with its occupants",
             ),
             (
-                "yaw_inertia",
-                Start::Num(2500.0, Quantity::YawInertia),
-                "about its CG: the measured or published value",
-            ),
-            (
                 "heading",
                 Start::Num($heading, Quantity::Angle),
                 "deg: its heading at contact",
@@ -97,12 +92,12 @@ macro_rules! chassis {
 pub const SECTIONS: [Section; 10] = [
     Section {
         table: "vehicle1",
-        what: "vehicle 1: mass, inertia, size, and where it was at contact",
+        what: "vehicle 1: mass, size (its yaw inertia estimated from them unless given), where it was at contact",
         values: vehicle!(0.0, -2.5, "vehicle 1"),
     },
     Section {
         table: "vehicle2",
-        what: "vehicle 2: mass, inertia, size, and where it was at contact",
+        what: "vehicle 2: mass, size (its yaw inertia estimated from them unless given), where it was at contact",
         values: vehicle!(90.0 * DEG, 1.2, "vehicle 2"),
     },
     Section {
@@ -186,12 +181,7 @@ pub const SECTIONS: [Section; 10] = [
     },
 ];
 
-fn unit_label<T: serde::Serialize>(u: T) -> String {
-    toml::Value::try_from(u)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_string))
-        .unwrap_or_default()
-}
+use crate::units::unit_label;
 
 fn label(q: Quantity, units: &UnitsSection) -> String {
     match q {

@@ -259,6 +259,14 @@ pub struct UnitsSection {
     pub crush: Option<CrushUnit>,
 }
 
+/// A unit as the file writes it (`"slug ft^2"`, `"mph"`).
+pub(crate) fn unit_label<T: serde::Serialize>(u: T) -> String {
+    toml::Value::try_from(u)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default()
+}
+
 impl UnitsSection {
     /// The units in a line: `speed mph, length ft, mass lb, yaw inertia slug ft^2, yaw rate
     /// deg/s`.
@@ -351,6 +359,22 @@ impl UnitSystem {
         match self {
             UnitSystem::Us => "lb",
             _ => "kg",
+        }
+    }
+
+    /// A yaw inertia in kg m^2 in this system (US: slug ft^2).
+    pub fn yaw_inertia(self, i: f64) -> f64 {
+        match self {
+            UnitSystem::Us => i / InertiaUnit::SlugFootSquared.to_si(),
+            _ => i,
+        }
+    }
+
+    /// Label of yaw inertias.
+    pub fn yaw_inertia_label(self) -> &'static str {
+        match self {
+            UnitSystem::Us => "slug ft^2",
+            _ => "kg m^2",
         }
     }
 

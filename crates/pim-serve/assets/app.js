@@ -151,6 +151,7 @@ async function refreshForms(error) {
         if (f.kind === "bool") { input.type = "checkbox"; input.checked = f.value === "true"; }
         else { input.type = "text"; input.value = f.value; input.readOnly = f.kind === "list"; }
         if (f.comment) input.title = f.comment;
+        if (f.optional && !f.value) input.placeholder = "estimated";
         input.setAttribute("aria-label", f.key);
         input.addEventListener("change", () => setField(f.key, f.kind === "bool" ? input.checked : input.value));
         r.insertCell().appendChild(input);

@@ -31,8 +31,11 @@ pub struct FormField {
     pub kind: &'static str,
     /// The value as the file writes it (`3400.0`, `locked`, `true`, `[16, 22, 26]`).
     pub value: String,
-    /// The comment after it in the file, if any.
+    /// The comment after it in the file, if any; for a value not written, what stands for it.
     pub comment: Option<String>,
+    /// A value the file may leave out: emptied, it is removed, and the case estimates it (a
+    /// vehicle's `yaw_inertia` beside its `length` and `width`, [`pim_case::inertia`]).
+    pub optional: bool,
 }
 
 /// A field's new value from the page.
@@ -80,6 +83,7 @@ fn scalar(key: &str, label: &str, v: &Value, out: &mut Vec<FormField>) {
         kind,
         value,
         comment: comment_of(v),
+        optional: false,
     });
 }
 
@@ -124,7 +128,58 @@ pub fn form(file: &str, text: &str) -> Result<Vec<FormSection>, AnswerError> {
     })?;
     let mut out = Vec::new();
     section("", doc.as_table(), &mut out);
+    offer_inertias(file, text, &mut out);
     Ok(out)
+}
+
+/// Each vehicle section that writes its `length` and `width` gets its `yaw_inertia` as an
+/// optional field: written, it may be emptied; not written, it is offered empty, its comment
+/// the estimate the case makes instead (once the text loads as a case).
+fn offer_inertias(file: &str, text: &str, out: &mut [FormSection]) {
+    let estimates = pim_case::case::Case::from_text(file, text)
+        .map(|c| c.estimates())
+        .unwrap_or_default();
+    for s in out
+        .iter_mut()
+        .filter(|s| matches!(s.name.as_str(), "vehicle1" | "vehicle2"))
+    {
+        let writes = |k: &str| s.fields.iter().any(|f| f.label == k);
+        if !(writes("length") && writes("width")) || writes("barrier") {
+            continue;
+        }
+        let key = format!("{}.yaw_inertia", s.name);
+        if let Some(f) = s.fields.iter_mut().find(|f| f.key == key) {
+            f.optional = true;
+            continue;
+        }
+        let said = estimates
+            .iter()
+            .find_map(|e| e.strip_prefix(&format!("{key}: not given, ")));
+        let comment = match said {
+            Some(e) => e.to_string(),
+            None => format!(
+                "not given: estimated from mass, length and width as {}",
+                pim_case::inertia::RULE
+            ),
+        };
+        // After the mass, where the templates and the examples write it.
+        let at = s
+            .fields
+            .iter()
+            .position(|f| f.label == "mass")
+            .map_or(0, |i| i + 1);
+        s.fields.insert(
+            at,
+            FormField {
+                key,
+                label: "yaw_inertia".to_string(),
+                kind: "number",
+                value: String::new(),
+                comment: Some(comment),
+                optional: true,
+            },
+        );
+    }
 }
 
 /// The case text with the value at `key` (a field of [`form`]) set to `value`: a number where
@@ -147,6 +202,13 @@ pub fn set_field(
             "{file}: {key}: the file writes no such value"
         )));
     };
+    if let (true, FieldValue::Typed(s)) = (field.optional, value) {
+        if s.trim().is_empty() {
+            let mut edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
+            edit.remove(key);
+            return Ok(edit.text());
+        }
+    }
     let new = match (field.kind, value) {
         ("bool", FieldValue::Bool(b)) => NewValue::Bool(*b),
         ("number", FieldValue::Typed(s)) => match s.trim().parse::<f64>() {

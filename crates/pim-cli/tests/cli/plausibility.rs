@@ -178,3 +178,33 @@ fn a_small_heading_beside_one_in_degrees_is_not_taken_for_radians() {
         "{msg}"
     );
 }
+
+/// A yaw inertia left out beside the outline is estimated: a note on stderr naming the value,
+/// its rule and its inputs, not a warning (`--strict` exits 0); the answer is that of the same
+/// case with the estimate written in.
+#[test]
+fn an_estimated_yaw_inertia_is_a_note_not_a_warning() {
+    let side = std::fs::read_to_string(repo().join("examples/cases/side_impact.toml")).unwrap();
+    let without = side.replacen("yaw_inertia = 2500.0                   # kg m^2\n", "", 1);
+    assert_ne!(without, side);
+    let path = scratch_file("plausibility", "estimated_inertia.toml", &without);
+    let out = pim(&["solve", &path, "--strict"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    // 1500 kg, 4.5 by 1.8 m: 0.9 x 1500 (20.25 + 3.24) / 12 = 2642.6 kg m^2.
+    assert_eq!(
+        stderr(&out).lines().next().unwrap(),
+        "pim: note: vehicle1.yaw_inertia: not given, estimated as 2643 kg m^2 from mass 1500 \
+         kg, length 4.50 and width 1.80 m as 0.9 m (L^2 + W^2) / 12 (0.9 times the mass spread \
+         evenly over the outline), within 11 % of the RICSAC cars' listed inertias; give the \
+         measured value if known"
+    );
+    let written = side.replacen("yaw_inertia = 2500.0  ", "yaw_inertia = 2642.625", 1);
+    let written = scratch_file("plausibility", "written_inertia.toml", &written);
+    let json = |p: &str| {
+        String::from_utf8_lossy(&pim(&["solve", p, "--format", "json"]).stdout).to_string()
+    };
+    assert_eq!(
+        json(&path),
+        json(&written).replace("written_inertia", "estimated_inertia")
+    );
+}

@@ -453,7 +453,26 @@ pub(super) fn inputs(case: &Case, u: UnitSystem) -> Section {
             num(u.mass(v[1].mass), 1)
         },
     ]);
+    let inertia = |k: usize| {
+        let x = num(u.yaw_inertia(v[k].yaw_inertia), 0);
+        match v[k].yaw_inertia_source {
+            pim_case::inertia::InertiaSource::Outline => format!("{x} (estimated)"),
+            pim_case::inertia::InertiaSource::Stated => x,
+        }
+    };
+    t.row(vec![
+        format!("yaw inertia [{}]", u.yaw_inertia_label()),
+        inertia(0),
+        if case.is_barrier() {
+            "fixed barrier".into()
+        } else {
+            inertia(1)
+        },
+    ]);
     s.blocks.push(Block::Table(t));
+    for e in case.estimates() {
+        s.text(format!("Estimated: {e}."));
+    }
     s.text(format!(
         "The case file, exactly as given (its own units: {}):",
         case.written_units.describe()

@@ -158,3 +158,50 @@ fn the_priors_of_the_pose_at_contact_are_a_form() {
     let dof = |d: &serde_json::Value| d["best"]["degrees_of_freedom"].as_u64().unwrap();
     assert_eq!(dof(&off.document) + 1, dof(&on.document));
 }
+
+/// A vehicle that writes its length and width has a yaw inertia field whatever the file says:
+/// not written, it is offered empty with the case's estimate as its help; typed, the value is
+/// written after the mass; emptied again, it is removed and the estimate comes back.
+#[test]
+fn a_yaw_inertia_not_given_is_offered_with_its_estimate() {
+    let text = example("reconstruction_us.toml");
+    let line = "yaw_inertia = 1900.0                # slug ft^2\n";
+    assert!(text.contains(line));
+    let without = text.replacen(line, "", 1);
+    let field = |text: &str, key: &str| {
+        form("r.toml", text)
+            .unwrap()
+            .into_iter()
+            .flat_map(|s| s.fields)
+            .find(|f| f.key == key)
+    };
+    let offered = field(&without, "vehicle1.yaw_inertia").expect("offered");
+    assert_eq!((offered.kind, offered.value.as_str()), ("number", ""));
+    assert!(offered.optional);
+    assert!(
+        offered
+            .comment
+            .as_deref()
+            .unwrap()
+            .starts_with("estimated as 2314 slug ft^2 from mass 3400 lb"),
+        "{:?}",
+        offered.comment
+    );
+    // Written (at the end of its section), then removed by an empty value.
+    let typed = set_typed("r.toml", &without, "vehicle1.yaw_inertia", "1900").unwrap();
+    assert_eq!(typed.replacen("yaw_inertia = 1900.0\n", "", 1), without);
+    let written = field(&typed, "vehicle1.yaw_inertia").unwrap();
+    assert_eq!(written.value, "1900.0");
+    assert!(written.optional);
+    let emptied = set_typed("r.toml", &typed, "vehicle1.yaw_inertia", " ").unwrap();
+    assert_eq!(emptied, without);
+    // A written inertia emptied goes back to the estimate too; vehicle 2 keeps its own.
+    let back = set_typed("r.toml", &text, "vehicle1.yaw_inertia", "").unwrap();
+    assert_eq!(back, without);
+    assert_eq!(
+        field(&text, "vehicle2.yaw_inertia").unwrap().value,
+        "2400.0"
+    );
+    // A field that is not optional is not removed by an empty value.
+    assert!(set_typed("r.toml", &text, "vehicle1.mass", "").is_err());
+}
