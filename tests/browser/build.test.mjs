@@ -170,6 +170,26 @@ test("a case built in the page from a diagram and a survey, then reconstructed a
   await page.waitForFunction(() => window.pim.text.includes('point = "M2"'));
   await idle();
   step("mark on M2");
+  // The SUV's EDR table pasted as the crash data report prints it (km/h, newest last): its
+  // rows kept in the case, the last carried to contact as its record, and drawn beside the
+  // answer's speeds.
+  await page.click("#edr");
+  await page.selectOption("#edr-vehicle", "2");
+  await page.selectOption("#edr-unit", "km/h");
+  await page.fill("#edr-table", [
+    "Time (sec)\tSpeed, Vehicle Indicated (km/h)\tAccelerator Pedal, % Full\tService Brake",
+    "-2.0\t46\t15\tOff", "-1.5\t45\t0\tOff", "-1.0\t45\t0\tOff", "-0.5\t44\t0\tOff",
+  ].join("\n"));
+  await page.click("#edr-import");
+  await page.waitForFunction(() => window.pim.text.includes("edr_history = ["));
+  await idle();
+  step("EDR table pasted");
+  assert.match(await page.inputValue("#toml"), /edr = \[\n  \{ speed = 27\.34, time = 0\.5, deceleration = 0\.0, sigma = 1\.01 \},\n\]/);
+  assert.equal(await page.isVisible("#speed-history svg"), true);
+  // Four rows (open: brake off) and the answer's point at contact.
+  assert.ok(await page.locator("#speed-history svg circle").count() >= 5);
+  await page.locator("#speed-history-box").screenshot({ path: path.join(shots, "build-5-edr.png") });
+
   const text = await page.inputValue("#toml");
   assert.match(text, /rest = \{ x = 11\.9, y = 2\.9, heading = 144\.0, point = "R1" \}/);
   assert.match(text, /rest = \{ x = 50\.1, y = 79\.7, heading = 241\.0, point = "R2" \}/);

@@ -74,6 +74,8 @@ pub enum NewValue {
     Points(Vec<[f64; 2]>),
     /// An inline table of values (`{ x = 1.0, y = 2.0 }`), in its order.
     Fields(Vec<(String, NewValue)>),
+    /// An array of inline tables, one to a line (an EDR's rows).
+    Rows(Vec<Vec<(String, NewValue)>>),
 }
 
 /// The keys a case reads as whole numbers (`scene.vehicleN.turns`, an observation's
@@ -236,6 +238,17 @@ impl CaseEdit {
                     pair.push(number(finite(p[1])?));
                     array.push(pair);
                 }
+                Value::Array(array)
+            }
+            NewValue::Rows(rows) => {
+                let mut array = toml_edit::Array::new();
+                for fields in rows {
+                    let mut row = self.value(path, NewValue::Fields(fields))?;
+                    row.decor_mut().set_prefix("\n  ");
+                    array.push_formatted(row);
+                }
+                array.set_trailing_comma(true);
+                array.set_trailing("\n");
                 Value::Array(array)
             }
             NewValue::Fields(fields) => {

@@ -27,6 +27,7 @@ pub mod contact_pose;
 mod contact_sigma;
 pub mod damage;
 pub mod edit;
+pub mod edr;
 mod error;
 mod estimates;
 mod forms;

@@ -376,6 +376,24 @@ pub struct EdrWritten {
     pub sigma: f64,
 }
 
+/// One row of an event data recorder's pre-crash table, as it was recorded. The rows are not
+/// evidence themselves (the `edr` records are, see pim_case's `edr` module); they are drawn
+/// beside the answer's speed history.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EdrRow {
+    /// How long before contact it was recorded, s (the report's -2.5 s is 2.5).
+    pub time: f64,
+    /// The recorded speed (speed unit).
+    pub speed: f64,
+    /// The service brake: on or off.
+    #[serde(default)]
+    pub brake: Option<bool>,
+    /// The accelerator pedal, percent of full.
+    #[serde(default)]
+    pub accelerator: Option<f64>,
+}
+
 /// `[pre_impact.vehicleN]`: braking before the impact and EDR speeds.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -392,9 +410,12 @@ pub struct PreImpactVehicleSection {
     /// Road friction under the marks (default `[runout] friction`, else 0.7).
     #[serde(default)]
     pub friction: Option<f64>,
-    /// Speeds the EDR recorded before contact.
+    /// Speeds the EDR recorded before contact, as evidence on the speed at contact.
     #[serde(default)]
     pub edr: Vec<EdrWritten>,
+    /// The EDR's pre-crash table as recorded, oldest row first (drawn, not evidence).
+    #[serde(default)]
+    pub edr_history: Vec<EdrRow>,
 }
 
 /// `[pre_impact]`.

@@ -405,23 +405,23 @@ pub enum Command {
     /// velocities, their estimate from the scene's rest positions and marks, per count of turns.
     #[command(after_help = crate::runout_help::RUNOUT_HELP)]
     Runout(RunoutArgs),
-    /// One self-contained document for a crash, HTML with its figures inline (prints to PDF
-    /// from any browser), or with --out a folder with Markdown beside the figures: the inputs
-    /// as given, the method, the answer with its ranges, each value given against the fit,
-    /// the fit statistics, what the data do not determine, every warning, the plan view and
-    /// the momentum diagram.
+    /// One self-contained document for a crash, HTML with its figures inline (prints to PDF),
+    /// or with --out Markdown beside the figures: the inputs, the method, the answer and its
+    /// ranges, the evidence against it, what the data do not determine, every warning.
     #[command(after_help = format!("{CASE_HELP}\n\n{EXIT_CODES_HELP}"))]
     Report(ReportArgs),
     /// Change values of a case file in place: each KEY=VALUE names a value by its dotted path
-    /// as the file writes it (`scene.vehicle1.rest.x`, `runout.vehicle1.wheels.front_left`,
-    /// `observations.0.sigma` for the first [[observations]]), in the file's own units. The
-    /// file's comments, key order and number formatting are kept everywhere else; the edited
-    /// case is checked as every command reads a case before it is written.
+    /// as the file writes it (`scene.vehicle1.rest.x`, `observations.0.sigma`), in the file's
+    /// own units; comments, key order and number formatting are kept everywhere else, and the
+    /// edited case is checked as every command reads a case before it is written.
     #[command(after_help = crate::set_args::SET_HELP)]
     Set(crate::set_args::SetArgs),
     /// A survey's points (CSV: id, x, y, code, description) imported into a case's [survey].
     #[command(after_help = crate::survey_args::SURVEY_HELP)]
     Survey(crate::survey_args::SurveyArgs),
+    /// An EDR's pre-crash table (time, speed, brake, accelerator) imported into a case.
+    #[command(after_help = crate::edr_args::EDR_HELP)]
+    Edr(crate::edr_args::EdrArgs),
     /// The scene editor in the browser: serves a folder of case files (or one case and its
     /// folder) on this machine and prints the address to open. The page draws the scene to
     /// scale (vehicles at contact and at rest, run-out paths, rest positions and marks with

@@ -8,6 +8,7 @@
 
 mod args;
 mod commands;
+mod edr_args;
 mod error;
 mod fit_help;
 mod inputs;
@@ -37,6 +38,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::CompareCosts(a) => commands::batch::run(a, true),
         Command::Set(a) => commands::set::run(a),
         Command::Survey(a) => commands::survey::run(a),
+        Command::Edr(a) => commands::edr::run(a),
         Command::Serve(a) => commands::serve::run(a),
         Command::Rectify(a) => commands::rectify::run(a),
     }

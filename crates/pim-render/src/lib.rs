@@ -41,6 +41,7 @@ pub mod report;
 pub mod runout;
 mod runout_table;
 pub mod solved;
+pub mod speed_history;
 pub mod statistics;
 pub mod tables;
 pub mod text;

@@ -276,24 +276,36 @@ pub fn consistency_lines(c: &pim_studies::consistency::Consistency, units: UnitS
     t
 }
 
-/// The reconstruction's report as one HTML page: the table and the scene to scale.
-pub fn reconstruction_html(title: &str, table: &str, svg: &str) -> String {
+/// The reconstruction's report as one HTML page: the table, the scene to scale and, when
+/// given, the speeds before contact beside the EDR's (`speeds`, an SVG).
+pub fn reconstruction_html(title: &str, table: &str, svg: &str, speeds: Option<&str>) -> String {
     let esc = |t: &str| {
         t.replace('&', "&amp;")
             .replace('<', "&lt;")
             .replace('>', "&gt;")
     };
+    // An SVG document inline: without its XML declaration.
+    let inline = |svg: &'_ str| -> String {
+        svg.trim_start_matches(|c| c != '<')
+            .split_once("?>")
+            .map_or(svg, |(_, rest)| rest)
+            .to_string()
+    };
+    let speeds = speeds.map_or(String::new(), |s| {
+        format!(
+            "<h2>The speeds before contact: the answer and the EDR</h2>\n{}\n",
+            inline(s)
+        )
+    });
     let first = title.lines().next().unwrap_or("");
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Reconstruction: \
          {}</title>\n<style>body{{font-family:sans-serif;max-width:60rem;margin:2rem auto;}}\
          pre{{font-size:0.72rem;line-height:1.25;}} svg{{max-width:100%;height:auto;}}\
          </style></head><body>\n<h1>Reconstruction</h1>\n<h2>The speeds, the evidence, what is \
-         proven</h2>\n<pre>{}</pre>\n<h2>The scene to scale</h2>\n{}\n</body></html>\n",
+         proven</h2>\n<pre>{}</pre>\n<h2>The scene to scale</h2>\n{}\n{speeds}</body></html>\n",
         esc(first),
         esc(table),
-        svg.trim_start_matches(|c| c != '<')
-            .split_once("?>")
-            .map_or(svg, |(_, rest)| rest)
+        inline(svg)
     )
 }

@@ -520,6 +520,7 @@ function render() {
     summary(a);
     evidence(a);
   }
+  if (typeof speedHistory === "function") speedHistory(a);
   const bg = a.plan.background;
   $("lock-image").disabled = !bg;
   // The checkbox follows the answer only when the answer's lock changes: a render of an answer

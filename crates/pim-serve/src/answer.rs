@@ -274,6 +274,9 @@ fn reconstruction_plan(
     plan.motion = Some(crate::motion::motion_on_page(
         shown, done, best, &fitted, units,
     ));
+    plan.speed_history = pim_render::speed_history::figure(shown, done, units, 500)
+        .map_err(AnswerError::Unsupported)?
+        .map(|f| f.svg);
     Ok(plan)
 }
 

@@ -84,6 +84,11 @@ pub(crate) async fn survey(Json(s): Json<EditAsk<crate::SurveyImport>>) -> Respo
     edited(None, |_| crate::import_survey(&s.path, &s.text, &s.change))
 }
 
+/// The text with an EDR's pasted table imported (not saved).
+pub(crate) async fn edr(Json(e): Json<EditAsk<crate::EdrImport>>) -> Response {
+    edited(None, |_| crate::import_edr(&e.path, &e.text, &e.change))
+}
+
 /// An edit the page asks of a case's text (not saved): the file, its text, the display units
 /// and what to change.
 #[derive(Deserialize)]

@@ -49,6 +49,7 @@ mod build;
 mod contact;
 mod edit_routes;
 mod edits;
+mod edr;
 mod error;
 mod form;
 mod guard;
@@ -73,6 +74,7 @@ pub use edits::{
     add_mark, add_trace, add_zone, move_mark, move_onto, move_rest, move_rest_in, set_skid,
     NewMark, NewTrace, NewZone,
 };
+pub use edr::{import_edr, EdrImport};
 pub use form::{form, set_field, FieldValue, FormField, FormSection};
 pub use guard::{inside, inside_of, same_secret, Guard};
 pub use headers::{image_kind, MAX_IMAGE_BYTES};

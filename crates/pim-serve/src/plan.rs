@@ -31,6 +31,9 @@ pub struct Plan {
     pub zones: Vec<PlanZone>,
     /// The answer's motion in time (a reconstruction's), for the time slider.
     pub motion: Option<crate::motion::PlanMotion>,
+    /// The speeds before contact beside the EDR's (`speed_history.svg` of `pim fit --out`),
+    /// when a vehicle has an EDR.
+    pub speed_history: Option<String>,
     /// The case's surveyed points (`[survey]`), on the page.
     pub survey: Vec<PlanSurveyPoint>,
 }
@@ -301,6 +304,7 @@ impl Sketch {
             impact: None,
             zones: Vec::new(),
             motion: None,
+            speed_history: None,
             survey: Vec::new(),
         };
         if let Some(b) = self.background.as_ref().filter(|b| b.check().is_ok()) {

@@ -34,6 +34,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/trace", post(crate::edit_routes::add_trace))
         .route("/api/zone", post(crate::edit_routes::add_zone))
         .route("/api/survey", post(crate::edit_routes::survey))
+        .route("/api/edr", post(crate::edit_routes::edr))
         .route("/api/rest", post(crate::edit_routes::place_rest))
         .route("/api/new", post(crate::build::new_case))
         .route("/api/sections", post(crate::build::sections))

@@ -40,6 +40,60 @@ pub struct Track {
     pub poses: Vec<(f64, Motion)>,
 }
 
+/// How a vehicle came to contact in the answer: its speed there and the braking before it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeadIn {
+    /// Its velocity at contact (m/s, natural frame).
+    pub velocity: pim_core::VehicleVelocity,
+    /// Its speed at contact, m/s.
+    pub speed: f64,
+    /// How long before contact its braking began (a skid), else [`APPROACH`], s.
+    pub duration: f64,
+    /// Its deceleration over that time, m/s^2 (0 without a skid).
+    pub deceleration: f64,
+    /// Whether it braked before contact (`[pre_impact.vehicleN] skid`).
+    pub braking: bool,
+}
+
+impl LeadIn {
+    /// Its speed `tau` seconds before contact (m/s): braking, `vc + a tau` back to where the
+    /// braking began and the speed there before it; else its speed at contact.
+    pub fn speed_before(&self, tau: f64) -> f64 {
+        self.speed + self.deceleration * tau.clamp(0.0, self.duration)
+    }
+}
+
+/// The lead-in of vehicle `id` in the answer `best` of `done` (see the module's docs).
+pub fn lead_in(done: &Reconstructed, best: &Found, id: VehicleId) -> LeadIn {
+    let velocity = if id == VehicleId::One {
+        best.solution.initial.vehicle1
+    } else {
+        best.solution.initial.vehicle2
+    };
+    let speed = velocity.vx.hypot(velocity.vy);
+    let before = best
+        .phases
+        .iter()
+        .find(|p| p.vehicle == id)
+        .and_then(|p| p.before_braking);
+    let skid = done.input.reconstruction.skids[id.index()].as_ref();
+    let (duration, deceleration, braking) = match (before, skid) {
+        (Some(v0), Some(s)) if s.distance > 0.0 && v0 + speed > 1e-9 => (
+            2.0 * s.distance / (v0 + speed),
+            (v0 * v0 - speed * speed) / (2.0 * s.distance),
+            true,
+        ),
+        _ => (APPROACH, 0.0, false),
+    };
+    LeadIn {
+        velocity,
+        speed,
+        duration,
+        deceleration,
+        braking,
+    }
+}
+
 /// Each vehicle of the fitted run-outs `fitted` (of the answer `best` of `done`) sampled every
 /// `dt` seconds (times before contact counted back from it, so that 0 is always a sample), the
 /// rest its last sample.
@@ -52,32 +106,14 @@ pub fn tracks(done: &Reconstructed, best: &Found, fitted: &RunoutResult, dt: f64
         .enumerate()
         .map(|(index, (input, run))| {
             let id = input.id;
-            let v = if id == VehicleId::One {
-                best.solution.initial.vehicle1
-            } else {
-                best.solution.initial.vehicle2
-            };
-            let speed = v.vx.hypot(v.vy);
+            let lead = lead_in(done, best, id);
+            let (speed, v) = (lead.speed, lead.velocity);
             let u = if speed > 1e-9 {
                 [v.vx / speed, v.vy / speed]
             } else {
                 [run.start.heading.cos(), run.start.heading.sin()]
             };
-            let before = best
-                .phases
-                .iter()
-                .find(|p| p.vehicle == id)
-                .and_then(|p| p.before_braking);
-            let skid = done.input.reconstruction.skids[id.index()].as_ref();
-            // The lead-in's length in time and its deceleration.
-            let (duration, a, braking) = match (before, skid) {
-                (Some(v0), Some(s)) if s.distance > 0.0 && v0 + speed > 1e-9 => (
-                    2.0 * s.distance / (v0 + speed),
-                    (v0 * v0 - speed * speed) / (2.0 * s.distance),
-                    true,
-                ),
-                _ => (APPROACH, 0.0, false),
-            };
+            let (duration, a, braking) = (lead.duration, lead.deceleration, lead.braking);
             let at = |tau: f64| {
                 let s = speed * tau + 0.5 * a * tau * tau;
                 let now = speed + a * tau;

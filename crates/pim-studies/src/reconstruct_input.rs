@@ -38,6 +38,32 @@ fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {
     }
 }
 
+/// Checks vehicle `k`'s (0 or 1) EDR table (`edr_history`): each row's time and speed as a
+/// record's, its accelerator a percentage.
+fn check_history(
+    case: &Case,
+    k: usize,
+    p: &PreImpactVehicleSection,
+    speed: f64,
+) -> Result<(), DocumentError> {
+    for (i, r) in p.edr_history.iter().enumerate() {
+        let place = format!("pre_impact.vehicle{}.edr_history[{i}]", k + 1);
+        let row = pim_case::scene_sections::EdrWritten {
+            speed: r.speed,
+            time: r.time,
+            deceleration: 0.0,
+            sigma: 1.0,
+        };
+        check_edr(case, &place, &row, speed)?;
+        if let Some(a) = r.accelerator.filter(|a| !(0.0..=100.0).contains(a)) {
+            return Err(case
+                .error_at(&place, format!("accelerator {a}: a percentage, 0 to 100"))
+                .into());
+        }
+    }
+    Ok(())
+}
+
 /// Checks an EDR record (`place` its path in the file): its speed (in the file's unit, `speed`
 /// m/s each), time, deceleration and sigma.
 fn check_edr(
@@ -166,13 +192,10 @@ pub fn case_reconstruction(
         };
         let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
         if id == VehicleId::Two && case.is_barrier() {
-            return Err(case
-                .error_at(
-                    &format!("pre_impact.vehicle{}", k + 1),
-                    "a barrier does not move",
-                )
-                .into());
+            let place = format!("pre_impact.vehicle{}", k + 1);
+            return Err(case.error_at(&place, "a barrier does not move").into());
         }
+        check_history(case, k, p, speed)?;
         for (i, e) in p.edr.iter().enumerate() {
             check_edr(case, &at(&format!("edr[{i}]")), e, speed)?;
             let value = e.speed * speed - e.deceleration * GRAVITY * e.time;

@@ -3,6 +3,7 @@
 
 mod contact_pose;
 mod edit;
+mod edr;
 mod inertia;
 mod motion;
 mod ricsac_loader;

@@ -5,6 +5,7 @@ pub mod batch_cases;
 pub mod batch_damage;
 pub mod batch_plan;
 pub mod draw;
+pub mod edr;
 pub mod fit;
 pub mod output;
 pub mod predict;

@@ -111,7 +111,8 @@ pub fn table(
 }
 
 /// The folder of a reconstruction (`pim fit --out`, `pim uncertainty --out` of a scene case):
-/// result.json, the table, the scene to scale, report.md and report.html; with a study, its
+/// result.json, the table, the scene to scale, report.md and report.html; the speeds before
+/// contact beside the EDR's (speed_history.svg) when a vehicle has one; with a study, its
 /// table (the intervals of every phase) too.
 pub fn write_reconstruction(
     dir: &std::path::Path,
@@ -137,6 +138,9 @@ pub fn write_reconstruction(
         .map_err(cannot_draw)?;
     let dxf =
         pim_render::cad::reconstruction_dxf_of(case, done, &runouts, units).map_err(cannot_draw)?;
+    let speeds =
+        pim_render::speed_history::figure(case, done, units, pim_render::speed_history::WIDTH)
+            .map_err(cannot_draw)?;
     let text = match study {
         Some((_, t)) => format!("{table}\n{t}"),
         None => table.to_string(),
@@ -150,13 +154,24 @@ pub fn write_reconstruction(
     }
     out.write("scene.svg", &svg)?;
     out.write_bytes("scene.dxf", &dxf)?;
-    out.write(
-        "report.md",
-        &format!("# Reconstruction\n\n```text\n{text}```\n\n![The scene to scale](scene.svg)\n"),
-    )?;
+    let mut md =
+        format!("# Reconstruction\n\n```text\n{text}```\n\n![The scene to scale](scene.svg)\n");
+    if let Some(f) = &speeds {
+        out.write(&f.name, &f.svg)?;
+        md.push_str(&format!(
+            "\n![The speeds before contact: the answer and the EDR]({})\n",
+            f.name
+        ));
+    }
+    out.write("report.md", &md)?;
     out.write(
         "report.html",
-        &pim_render::reconstruct::reconstruction_html(&title_of(case), &text, &svg),
+        &pim_render::reconstruct::reconstruction_html(
+            &title_of(case),
+            &text,
+            &svg,
+            speeds.as_ref().map(|f| f.svg.as_str()),
+        ),
     )?;
     out.commit()
 }

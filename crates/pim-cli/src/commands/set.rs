@@ -59,6 +59,26 @@ fn edited(name: &str, text: &str, values: &[String]) -> Result<(String, Vec<Stri
     Ok((edit.text(), said))
 }
 
+/// The case file at `path` changed by `edit` and written as `pim set` writes (checked,
+/// atomic); or, with `dry_run`, the changed text printed and the file left as it was.
+pub fn write_or_print(
+    path: &std::path::Path,
+    options: &WriteOptions<'_>,
+    dry_run: bool,
+    edit: impl FnOnce(&pim_store::Stored) -> std::result::Result<String, String>,
+) -> Result<pim_store::Stored> {
+    let done = if dry_run {
+        pim_store::preview(path, options, edit)
+    } else {
+        pim_store::update(path, options, edit)
+    }
+    .map_err(store_failure)?;
+    if dry_run {
+        super::print_out(&done.text)?;
+    }
+    Ok(done)
+}
+
 /// `pim set CASE KEY=VALUE...`.
 pub fn run(a: &SetArgs) -> Result<ExitCode> {
     let name = a.case.display().to_string();
@@ -77,15 +97,7 @@ pub fn run(a: &SetArgs) -> Result<ExitCode> {
         said = s;
         Ok(text)
     };
-    let done = if a.dry_run {
-        pim_store::preview(&a.case, &options, edit)
-    } else {
-        pim_store::update(&a.case, &options, edit)
-    }
-    .map_err(store_failure)?;
-    if a.dry_run {
-        super::print_out(&done.text)?;
-    }
+    let done = write_or_print(&a.case, &options, a.dry_run, edit)?;
     for s in said {
         eprintln!("pim: {s}");
     }

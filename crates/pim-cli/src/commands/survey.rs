@@ -36,16 +36,8 @@ pub fn run(a: &SurveyArgs) -> Result<ExitCode> {
         )?;
         Ok(text)
     };
-    let options = WriteOptions::default();
-    let done = if a.dry_run {
-        pim_store::preview(&a.case, &options, edit)
-    } else {
-        pim_store::update(&a.case, &options, edit)
-    }
-    .map_err(super::set::store_failure)?;
-    if a.dry_run {
-        super::print_out(&done.text)?;
-    } else {
+    let done = super::set::write_or_print(&a.case, &WriteOptions::default(), a.dry_run, edit)?;
+    if !a.dry_run {
         let points = pim_case::case::Case::from_text(&name, &done.text)
             .ok()
             .and_then(|c| c.content.survey)

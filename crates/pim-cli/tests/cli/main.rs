@@ -6,6 +6,7 @@ mod careless;
 mod common;
 mod continuity;
 mod damage;
+mod edr;
 mod fit;
 mod guide;
 mod highway;

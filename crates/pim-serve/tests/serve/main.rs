@@ -3,6 +3,7 @@
 mod answer;
 mod build;
 mod contact;
+mod edr;
 mod figures_print_the_table;
 mod form;
 mod survey;
