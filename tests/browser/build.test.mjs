@@ -133,6 +133,24 @@ test("a case built in the page from a diagram and a survey, then reconstructed a
     step(`[${next[0]}] added`);
   }
   await page.screenshot({ path: path.join(shots, "build-3-sections.png") });
+  // A section removed from its form (asked first) is offered again by the menu.
+  const whole = await page.evaluate(() => window.pim.text);
+  await page.locator("#forms-box").evaluate((d) => { d.open = true; });
+  page.once("dialog", (d) => d.accept());
+  await page.click('#forms button.remove-section[data-section="sigma.initial"]');
+  await page.waitForFunction(() => !window.pim.text.includes("[sigma.initial]"));
+  await idle();
+  assert.deepEqual(await page.$$eval("#add-section option", (o) => o.map((x) => x.value)), ["sigma.initial"]);
+  await page.selectOption("#add-section", "sigma.initial");
+  await page.click("#add-section-button");
+  await page.waitForFunction(() => window.pim.text.includes("[sigma.initial]"));
+  await idle();
+  // Added back at the end of the file, with the values it had.
+  const block = (t) => /\[sigma\.initial\]\n(?:[^[\n][^\n]*\n)*/.exec(t)[0];
+  const again = await page.evaluate(() => window.pim.text);
+  assert.equal(block(again), block(whole));
+  assert.equal(again.length, whole.length);
+  step("[sigma.initial] removed and added back");
 
   // The vehicles and the evidence as the brief gives them, typed into the forms.
   const fields = [

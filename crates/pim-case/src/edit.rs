@@ -279,7 +279,8 @@ impl CaseEdit {
         Ok(())
     }
 
-    /// Removes the key at `path`; `false` when the file does not write it.
+    /// Removes the key at `path` (or the entry of an array of tables, `observations.0`);
+    /// `false` when the file does not write it.
     pub fn remove(&mut self, path: &str) -> bool {
         let keys = segments(path);
         let Some((last, parents)) = keys.split_last() else {
@@ -292,8 +293,17 @@ impl CaseEdit {
                 Err(_) => return false,
             }
         }
+        let index = last.parse::<usize>().ok();
         match slot {
             Slot::Table(t) => t.remove(last).is_some(),
+            // An entry of an array of tables (`observations.0`) or of an inline array.
+            Slot::Item(Item::ArrayOfTables(a)) => match index.filter(|&i| i < a.len()) {
+                Some(i) => {
+                    a.remove(i);
+                    true
+                }
+                None => false,
+            },
             Slot::Value(Value::InlineTable(t)) => remove_inline(t, last),
             Slot::Item(Item::Table(t)) => t.remove(last).is_some(),
             Slot::Item(Item::Value(Value::InlineTable(t))) => remove_inline(t, last),

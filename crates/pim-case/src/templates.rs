@@ -301,6 +301,32 @@ pub fn with_section(file: &str, text: &str, name: &str) -> Result<String> {
     Ok(out)
 }
 
+/// The case text without the section `name` (a table `vehicle2`, `scene.vehicle1`, or one
+/// entry of an array of tables, `observations.0`, `runout.zones.1`); every other byte kept.
+/// The top of the file and `[units]` are not removed: every number is written in them.
+///
+/// # Errors
+/// Text that is not TOML, a section the file does not write, or the top or `[units]`.
+pub fn without_section(file: &str, text: &str, name: &str) -> Result<String> {
+    if name.is_empty() || name == "units" {
+        return Err(InputError::new(
+            file,
+            format!(
+                "[{name}]: the top of the file and [units] stay (every value is written in their \
+                 units and frame)"
+            ),
+        ));
+    }
+    let mut edit = CaseEdit::new(file, text)?;
+    if !edit.remove(name) {
+        return Err(InputError::new(
+            file,
+            format!("[{name}]: the file writes no such section"),
+        ));
+    }
+    Ok(edit.text())
+}
+
 /// A new case's text: its title, its frame and its units, ready for sections.
 pub fn new_case(title: &str, convention: Convention, units: &UnitsSection) -> String {
     let frame = match convention {

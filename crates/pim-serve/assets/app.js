@@ -141,6 +141,16 @@ async function refreshForms(error) {
       d.open = open.has(sec.name);
       const sum = document.createElement("summary");
       sum.textContent = sec.name ? `[${sec.name}]` : "(top of the file)";
+      if (sec.name && sec.name !== "units") {
+        const rm = document.createElement("button");
+        rm.type = "button";
+        rm.className = "remove-section";
+        rm.textContent = "remove";
+        rm.title = `remove [${sec.name}] from the case (the TOML; Save writes it)`;
+        rm.dataset.section = sec.name;
+        rm.addEventListener("click", (e) => { e.preventDefault(); e.stopPropagation(); removeSection(sec.name); });
+        sum.appendChild(rm);
+      }
       d.appendChild(sum);
       const t = document.createElement("table");
       for (const f of sec.fields) {

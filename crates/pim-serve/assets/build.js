@@ -93,3 +93,18 @@ $("new-case").addEventListener("click", openNewDialog);
 $("new-form").addEventListener("submit", startNewCase);
 $("new-cancel").addEventListener("click", () => $("new-dialog").close());
 $("add-section-button").addEventListener("click", addSection);
+
+// A section removed from the case's text (not saved), after asking; the forms and the answer
+// follow.
+async function removeSection(name) {
+  if (!confirm(`Remove [${name}] from the case?`)) return;
+  try {
+    const { data } = await api("POST", "/api/section/remove", { path: state.path, text: state.text, name });
+    state.text = data.text;
+    $("toml").value = data.text;
+    await solve();
+    status(`[${name}] removed`);
+  } catch (e) {
+    status(e.message);
+  }
+}

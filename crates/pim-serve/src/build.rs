@@ -123,6 +123,14 @@ pub(crate) async fn add_section(Json(a): Json<SectionAsk>) -> Response {
     })
 }
 
+/// `/api/section/remove`: the text without a section (not saved).
+pub(crate) async fn remove_section(Json(a): Json<SectionAsk>) -> Response {
+    edited(None, |_| {
+        templates::without_section(&a.path, &a.text, &a.name)
+            .map_err(|e| crate::AnswerError::Input(e.to_string()))
+    })
+}
+
 /// A new case saved: its file created (see [`pim_store::create`]).
 pub(crate) async fn create(root: &Path, file: PathBuf, path: &str, text: String) -> Response {
     let root = root.to_path_buf();

@@ -39,6 +39,7 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/new", post(crate::build::new_case))
         .route("/api/sections", post(crate::build::sections))
         .route("/api/section", post(crate::build::add_section))
+        .route("/api/section/remove", post(crate::build::remove_section))
         .route("/api/contact", post(crate::edit_routes::contact))
         .route("/api/skid", post(crate::edit_routes::skid))
         .route("/api/form", post(form))

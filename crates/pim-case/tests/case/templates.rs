@@ -60,3 +60,37 @@ fn a_case_is_built_from_nothing() {
         "{e}"
     );
 }
+
+/// A section removed: a table, an entry of an array of tables, a nested table; every other
+/// line kept; the top and [units] stay; a section not written is refused.
+#[test]
+fn a_section_is_removed_and_nothing_else() {
+    use pim_case::templates::without_section;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = std::fs::read_to_string(root.join("examples/cases/reconstruction_us.toml")).unwrap();
+    for name in ["pre_impact.vehicle2", "observations.1", "scene.vehicle1"] {
+        let out = without_section("r.toml", &text, name).unwrap();
+        let edit = pim_case::edit::CaseEdit::new("r.toml", &out).unwrap();
+        assert!(!edit.has(name), "{name}");
+        // Every line of the result is a line of the original, in order.
+        let mut lines = text.lines();
+        for l in out.lines() {
+            assert!(lines.any(|o| o == l), "{name}: {l:?} is new");
+        }
+    }
+    let out = without_section("r.toml", &text, "observations.0").unwrap();
+    assert_eq!(
+        out.matches("[[observations]]").count(),
+        text.matches("[[observations]]").count() - 1
+    );
+    for name in ["", "units"] {
+        assert!(without_section("r.toml", &text, name).is_err());
+    }
+    let e = without_section("r.toml", &text, "pre_impact.vehicle3")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "r.toml: [pre_impact.vehicle3]: the file writes no such section"
+    );
+}
