@@ -710,6 +710,44 @@ test("a yaw mark traced by clicks along it is written into the TOML with its tyr
   await idle();
 });
 
+test("a rest measured by its tyres is placed by clicks and written as its tyre points", async () => {
+  const original = await exampleAsCommitted();
+  page.once("dialog", (d) => { assert.match(d.defaultValue(), /^2 [0-9.]+ fl rl$/); d.accept("2 0.3 fl rl"); });
+  await page.click("#add-tyres");
+  // The SUV's left tyres at its rest (SAE, ft: the page's right is y, up is x), on the screen
+  // (once the tool is on: its status line may move the plan).
+  const [points, unitPx] = await page.evaluate(() => {
+    const svg = document.getElementById("plan"), m = svg.getScreenCTM();
+    const pts = [[77.66, 45.94], [85.36, 50.21]].map(([h, v]) => {
+      const p = svg.createSVGPoint(); p.x = h; p.y = -v;
+      const q = p.matrixTransform(m);
+      return [q.x, q.y, h, v];
+    });
+    return [pts, Math.hypot(m.a, m.b)];
+  });
+  for (const [x, y] of points) await page.mouse.click(x, y);
+  const [lx, ly] = points[points.length - 1];
+  await page.mouse.click(lx + 2, ly + 1);
+  await page.waitForFunction(() => /^rest_tyres = \[/m.test(window.pim.text));
+  await idle();
+  const text = await page.inputValue("#toml");
+  const scene = text.slice(text.indexOf("[scene.vehicle2]"));
+  assert.ok(!/^rest = /m.test(scene) && !/^rest_sigma = /m.test(scene), scene);
+  const written = [...scene.matchAll(/\{ wheel = "(\w+)", x = ([-0-9.]+), y = ([-0-9.]+), sigma = 0\.3 \}/g)];
+  assert.deepEqual(written.map((w) => w[1]), ["front_left", "rear_left"]);
+  // Written in the file's frame, within a pixel of where it was clicked.
+  const tol = 1 / unitPx + 0.01;
+  written.forEach((w, i) => {
+    const [, , h, v] = points[i];
+    assert.ok(Math.abs(+w[2] - v) <= tol && Math.abs(+w[3] - h) <= tol, `${w[0]} against (${v}, ${h})`);
+  });
+  assert.equal(await page.evaluate(() => window.pim.answer.document.status), "found");
+  await page.screenshot({ path: path.join(shots, "12d-tyres.png") });
+  await page.fill("#toml", original);
+  await page.waitForFunction(() => !/^rest_tyres = /m.test(window.pim.text));
+  await idle();
+});
+
 test("the motion played back: the frame at contact and at rest are the answer's, the braking starts a skid back", async () => {
   assert.equal(await page.isVisible("#playback"), true);
   const setTime = (t) => page.$eval("#time", (el, t) => { el.value = t; el.dispatchEvent(new Event("input")); }, t);

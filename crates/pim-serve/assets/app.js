@@ -887,7 +887,7 @@ function drawClicks(svg) {
   const r = 5 / pxPerUnit();
   const pts = state.clicks.length ? state.clicks : state.measured ? state.measured.points : [];
   for (const p of pts) el("circle", { cx: p.x, cy: p.y, r, class: "click" }, svg);
-  if ((state.tool === "zone" || state.tool === "trace") && pts.length > 1) el("polyline", { points: pts.map((p) => `${p.x},${p.y}`).join(" "), class: "click" }, svg);
+  if (["zone", "trace", "tyres"].includes(state.tool) && pts.length > 1) el("polyline", { points: pts.map((p) => `${p.x},${p.y}`).join(" "), class: "click" }, svg);
   else if (pts.length === 2) el("line", { x1: pts[0].x, y1: pts[0].y, x2: pts[1].x, y2: pts[1].y, class: "click" }, svg);
 }
 
@@ -909,6 +909,7 @@ function useTool(tool) {
     : state.tool === "skid" ? "click where the skid begins, behind the vehicle"
     : state.tool === "zone" ? "click the zone's corners in order, the first again to close it"
     : state.tool === "trace" ? "click points along the tyre's mark in order, the last again to end"
+    : state.tool === "tyres" ? "click the tyres or corners measured at rest, the last again to end"
     : state.tool === "move-image" ? "drag the image to move it, its knob to turn it; Move image again to end"
     : "click two points on the plan");
   $("move-image").classList.toggle("active", state.tool === "move-image");
@@ -919,6 +920,7 @@ async function toolClick(e) {
   if (!state.tool || state.tool === "move-image") return;
   if (state.tool === "zone") { await zoneClick(svgPoint(e)); return; }
   if (state.tool === "trace") { await traceClick(svgPoint(e)); return; }
+  if (state.tool === "tyres") { await tyresClick(svgPoint(e)); return; }
   state.clicks.push(svgPoint(e));
   render();
   // A mark, a rest or a skid takes one click, a distance two; then the tool ends.
@@ -986,15 +988,23 @@ function askWhoseMark(what, cg, at, wheel) {
 // A point of a traced mark: added, or with two or more a click within 8 screen pixels of the
 // last ends it; the vehicle, the standard deviation and the tyre asked, then written into the
 // TOML (not saved) and solved.
-async function traceClick(p) {
+// A click of a tool that takes two or more points, the last clicked again (within 8 screen
+// pixels) to end: the points once ended (the tool then off), else null.
+function pointsEnded(p) {
   const c = state.clicks, near = 8 / pxPerUnit(), last = c[c.length - 1];
   if (!(c.length >= 2 && Math.hypot(p.x - last.x, p.y - last.y) <= near)) {
     c.push(p);
     render();
-    return;
+    return null;
   }
   state.tool = null; state.clicks = [];
   $("plan").classList.remove("picking");
+  return c;
+}
+
+async function traceClick(p) {
+  const c = pointsEnded(p);
+  if (!c) return;
   const points = c.map((q) => [q.x, -q.y]);
   const who = askWhoseMark("Traced mark", "the CG's path", points[0], "front_left");
   if (!who) { status("no trace placed"); render(); return; }
@@ -1428,6 +1438,7 @@ $("batch-cancel").addEventListener("click", cancelBatch);
 $("add-skid").addEventListener("click", () => useTool("skid"));
 $("add-zone").addEventListener("click", () => useTool("zone"));
 $("add-trace").addEventListener("click", () => useTool("trace"));
+$("add-tyres").addEventListener("click", () => useTool("tyres"));
 $("move-image").addEventListener("click", () => useTool("move-image"));
 $("lock-image").addEventListener("change", (e) => {
   if (state.tool === "move-image") useTool("move-image");

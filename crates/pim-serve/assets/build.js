@@ -89,6 +89,35 @@ async function placeRest(click) {
   await edited("/api/rest", { vehicle, at, heading, sigma: sdv, point: s ? s.id : undefined });
 }
 
+// A point of a rest measured by its tyres or corners: added, or with two or more a click
+// within 8 screen pixels of the last ends it; then the vehicle, the sd and each point's name
+// are asked, and the rest written as rest_tyres (its CG rest replaced).
+const TYRE_NAMES = { fl: "front_left", fr: "front_right", rl: "rear_left", rr: "rear_right" };
+
+async function tyresClick(p) {
+  const c = pointsEnded(p);
+  if (!c) return;
+  const placed = c.map((q) => surveySnap([q.x, -q.y]) || { at: [q.x, -q.y] });
+  const plan = state.answer.plan;
+  const sigma = Math.round((0.1 / plan.metres) * 100) / 100;
+  const on = placed.map((q) => q.id || "-").join(" ");
+  const answer = window.prompt(`Rest by ${placed.length} points (survey points: ${on}): the vehicle (1 or 2), `
+    + `the standard deviation of each point (${plan.length_label}), then each point's name in the order clicked: `
+    + "fl fr rl rr for a tyre's contact point, cfl cfr crl crr for a corner of the outline",
+    `${state.answer.sketch ? 1 : nearestVehicle(placed[0].at)} ${sigma} ${["fl", "rl", "fr", "rr"].slice(0, placed.length).join(" ")}`);
+  const [v, sd, ...names] = (answer || "").trim().split(/[\s,]+/);
+  const vehicle = +v, sdv = +sd;
+  const named = names.map((n) => {
+    const corner = n.startsWith("c") && TYRE_NAMES[n.slice(1)];
+    return { name: corner || TYRE_NAMES[n], corner: !!corner };
+  });
+  if (!(vehicle === 1 || vehicle === 2) || !(sdv > 0) || named.length !== placed.length || named.some((n) => !n.name)) {
+    status("no rest placed: give the vehicle, the sd and a name for each point"); render(); return;
+  }
+  const points = placed.map((q, i) => ({ at: q.at, ...named[i], point: q.id }));
+  await edited("/api/rest-tyres", { vehicle, sigma: sdv, points });
+}
+
 $("new-case").addEventListener("click", openNewDialog);
 $("new-form").addEventListener("submit", startNewCase);
 $("new-cancel").addEventListener("click", () => $("new-dialog").close());

@@ -79,6 +79,13 @@ pub(crate) async fn place_rest(Json(r): Json<EditAsk<crate::NewRest>>) -> Respon
     })
 }
 
+/// The text with a vehicle's rest given by the tyre points or corners placed (not saved).
+pub(crate) async fn place_rest_tyres(Json(r): Json<EditAsk<crate::NewRestTyres>>) -> Response {
+    edited(r.units.as_deref(), |u| {
+        crate::place_rest_tyres(&r.path, &r.text, &r.change, u)
+    })
+}
+
 /// The text with a survey's points imported as `[survey]` (not saved).
 pub(crate) async fn survey(Json(s): Json<EditAsk<crate::SurveyImport>>) -> Response {
     edited(None, |_| crate::import_survey(&s.path, &s.text, &s.change))

@@ -83,7 +83,7 @@ pub use photo::{photo_plan, PhotoPlan, PhotoPoint};
 pub use plan::{
     GivenRest, Plan, PlanBackground, PlanImpact, PlanSurveyPoint, PlanVehicle, PlanZone,
 };
-pub use rest::{place_rest, NewRest};
+pub use rest::{place_rest, place_rest_tyres, NewRest, NewRestTyres, NewTyre};
 use served::Server;
 pub use served::{Served, BODY_LIMIT};
 pub use study::{report, studied, study, Studied, BAND_DRAWS, MAX_DRAWS};

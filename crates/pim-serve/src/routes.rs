@@ -36,6 +36,10 @@ pub(crate) fn router(served: App) -> Router {
         .route("/api/survey", post(crate::edit_routes::survey))
         .route("/api/edr", post(crate::edit_routes::edr))
         .route("/api/rest", post(crate::edit_routes::place_rest))
+        .route(
+            "/api/rest-tyres",
+            post(crate::edit_routes::place_rest_tyres),
+        )
         .route("/api/new", post(crate::build::new_case))
         .route("/api/sections", post(crate::build::sections))
         .route("/api/section", post(crate::build::add_section))

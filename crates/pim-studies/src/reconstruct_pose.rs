@@ -74,13 +74,88 @@ pub(crate) fn fit_contact_pose(
         return Ok((input, outcome, FittedPose::default()));
     };
     let zeros = vec![0.0; unknowns.len()];
-    let first = PoseStart {
+    let start = |found| PoseStart {
         offsets: &zeros,
-        found: outcome.best.as_ref().expect("an answer"),
+        found,
         jacobian: None,
         hold: false,
     };
-    settled(case, how, second_search, &input.settings, first)
+    let best = outcome.best.as_ref().expect("an answer");
+    let answer = settled(case, how, second_search, &input.settings, start(best))?;
+    if !poor(&answer.1) {
+        return Ok(answer);
+    }
+    // A pose fit that ends poor may have held the wrong counts of turns: the counts best at
+    // a wrong stated pose need not be the truth's, and the pose fit holds them. The pose is
+    // fitted again from each of the next combinations refined at the stated pose
+    // ([`RUNNER_UPS`], lowest first), and the lowest whole cost (the priors' included) kept.
+    let others = runner_ups(&input, &outcome, &best.counts());
+    let mut answer = answer;
+    for other in &others {
+        if !poor(&answer.1) {
+            break;
+        }
+        let from = PoseStart {
+            offsets: &zeros,
+            found: other,
+            jacobian: None,
+            hold: false,
+        };
+        let Ok(again) = settled(case, how, second_search, &input.settings, from) else {
+            continue;
+        };
+        if cost(&again.1) < cost(&answer.1) {
+            answer = again;
+        }
+    }
+    Ok(answer)
+}
+
+/// How many more combinations of counts of turns a poor pose fit is fitted again from.
+pub const RUNNER_UPS: usize = 2;
+
+/// The whole cost of an answer (with the priors of the pose), infinite without one.
+fn cost(out: &Outcome) -> f64 {
+    out.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square)
+}
+
+/// Whether an answer fits poorly (its chi-square's probability below
+/// [`pim_reconstruct::POOR_FIT_P`]), or there is none.
+fn poor(out: &Outcome) -> bool {
+    out.best.as_ref().is_none_or(|b| {
+        pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
+            .is_some_and(|p| p < pim_reconstruct::POOR_FIT_P)
+    })
+}
+
+/// The answers at the stated pose of the [`RUNNER_UPS`] combinations of `outcome` refined
+/// lowest after its best (counts `best`), each refined again from where it ended.
+fn runner_ups(
+    input: &CaseReconstruction,
+    outcome: &Outcome,
+    best: &[Option<i64>],
+) -> Vec<pim_reconstruct::Found> {
+    let mut refined: Vec<(f64, &pim_reconstruct::TriedCounts)> = outcome
+        .tried
+        .iter()
+        .filter(|t| t.counts != best && t.end.is_some())
+        .filter_map(|t| match t.state {
+            pim_reconstruct::Tried::Refined { cost, .. } => Some((cost, t)),
+            _ => None,
+        })
+        .collect();
+    refined.sort_by(|a, b| a.0.total_cmp(&b.0));
+    refined
+        .into_iter()
+        .take(RUNNER_UPS)
+        .filter_map(|(_, t)| {
+            let mut one = outcome.clone();
+            one.tried = vec![t.clone()];
+            pim_reconstruct::redo(&input.reconstruction, &input.settings, &one, f64::INFINITY)
+                .ok()
+                .flatten()
+        })
+        .collect()
 }
 
 /// The reconstruction of `case`, whose whole answer's pose fit is `whole` (searched with

@@ -514,3 +514,63 @@ fn adds_a_traced_mark() {
         assert!(pim_serve::add_trace(file, &text, &bad, None).is_err());
     }
 }
+
+/// A rest placed by its tyre points (the Tyres tool): written as `rest_tyres` in the file's
+/// frame and unit, the CG's `rest` and `rest_sigma` replaced, and the case answered as before
+/// (the points are the example's rest's left tyres: SAE, feet). Fewer than two points, or a
+/// name that is no tyre, are refused.
+#[test]
+fn a_rest_is_placed_by_its_tyre_points() {
+    use pim_serve::{place_rest_tyres, NewRestTyres, NewTyre};
+    let text = example("reconstruction_us.toml");
+    let tyre = |at: [f64; 2], name: &str| NewTyre {
+        at,
+        name: name.into(),
+        corner: false,
+        point: None,
+    };
+    // The page's right is +y, up is +x: front left (45.94, 77.66), rear left (50.21, 85.36).
+    let rest = NewRestTyres {
+        vehicle: 2,
+        points: vec![
+            tyre([77.66, 45.94], "front_left"),
+            tyre([85.36, 50.21], "rear_left"),
+        ],
+        sigma: 0.3,
+    };
+    let placed = place_rest_tyres("r.toml", &text, &rest, None).unwrap();
+    let section = &placed[placed.find("[scene.vehicle2]").unwrap()..];
+    assert!(section.contains(
+        "rest_tyres = [\n  { wheel = \"front_left\", x = 45.94, y = 77.66, sigma = 0.3 },\n  { wheel = \"rear_left\", x = 50.21, y = 85.36, sigma = 0.3 },\n]"
+    ), "{section}");
+    assert!(!section.contains("rest = {") && !section.contains("rest_sigma"));
+    let a = pim_serve::answer("r.toml", &placed).unwrap();
+    assert_eq!(a.document["status"], "found");
+    // Placed again as a CG, the tyre points go.
+    let back = pim_serve::place_rest(
+        "r.toml",
+        &placed,
+        &pim_serve::NewRest {
+            vehicle: 2,
+            at: [79.7, 50.1],
+            heading: Some(241.0),
+            sigma: 1.0,
+            point: None,
+        },
+        None,
+    )
+    .unwrap();
+    assert!(!back.contains("rest_tyres"));
+    // Refused: one point; a name that is no tyre (the case names the field).
+    let one = NewRestTyres {
+        points: vec![tyre([77.66, 45.94], "front_left")],
+        ..rest.clone()
+    };
+    assert!(place_rest_tyres("r.toml", &text, &one, None).is_err());
+    let mut bad = rest.clone();
+    bad.points[1].name = "boot".into();
+    let e = place_rest_tyres("r.toml", &text, &bad, None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rest_tyres"), "{e}");
+}
