@@ -17,7 +17,8 @@
 //!
 //! with `t_last` its time before contact and `a` the deceleration over the rows that end the
 //! table with the brake on (the drop in speed over their time, from the table itself), or 0
-//! when the brake is off at the last row (a coasting car loses about 0.01 to 0.02 g, within
+//! when the brake is off at the last row or on at it alone (one row gives no rate: say the
+//! braking in the record's `deceleration`) (a coasting car loses about 0.01 to 0.02 g, within
 //! an EDR's speed tolerance over the half second usual before contact). Braking that began
 //! after the last row is not in the table: where the scene shows it (a skid to contact), the
 //! record's `deceleration` is the place to say so. The record is written as an ordinary `edr`
@@ -57,8 +58,8 @@ fn column_named(field: &str) -> Option<Column> {
 }
 
 /// The fields of a line, split by the first of tab, comma or semicolon it holds, else by
-/// spaces.
-fn fields(line: &str) -> Vec<&str> {
+/// spaces (then a unit in brackets, `Speed (mph)`, stays with the word before it).
+fn fields(line: &str) -> Vec<String> {
     let split: Vec<&str> = if line.contains('\t') {
         line.split('\t').collect()
     } else if line.contains(',') {
@@ -66,9 +67,19 @@ fn fields(line: &str) -> Vec<&str> {
     } else if line.contains(';') {
         line.split(';').collect()
     } else {
-        line.split_whitespace().collect()
+        let mut words: Vec<String> = Vec::new();
+        for w in line.split_whitespace() {
+            match words.last_mut() {
+                Some(last) if w.starts_with(['(', '[']) => {
+                    last.push(' ');
+                    last.push_str(w);
+                }
+                _ => words.push(w.to_string()),
+            }
+        }
+        return words;
     };
-    split.into_iter().map(str::trim).collect()
+    split.into_iter().map(|f| f.trim().to_string()).collect()
 }
 
 /// A brake field: on or off (`on`, `yes`, `true`, `1`, `applied`; `off`, `no`, `false`, `0`,

@@ -44,6 +44,18 @@ fn a_reports_table_is_read_by_its_header_and_converted() {
     )
     .unwrap();
     assert_eq!(again, rows);
+    // Spaces between, a unit in brackets after each name: the header still names them.
+    let spaced = "Time (sec) Speed (km/h) Brake\n-1.0 45 On\n-0.5 40 On\n";
+    let spaced = parse_table(
+        "paste",
+        spaced,
+        SpeedUnit::KilometresPerHour,
+        SpeedUnit::KilometresPerHour,
+    )
+    .unwrap();
+    assert_eq!(spaced.len(), 2);
+    assert!((spaced[1].speed - 40.0).abs() < 1e-12);
+    assert_eq!(spaced[1].brake, Some(true));
 }
 
 #[test]
