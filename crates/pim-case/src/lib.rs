@@ -29,7 +29,7 @@ pub mod damage;
 pub mod edit;
 pub mod edr;
 mod error;
-mod estimates;
+mod estimated;
 mod forms;
 pub mod inertia;
 pub mod input;

@@ -53,7 +53,7 @@ pub fn load_runout_case(path: &Path) -> Result<Case, Failure> {
 /// warnings there were (for `--strict`).
 pub fn checked_impact(case: &Case) -> Result<(pim_core::Impact, usize), Failure> {
     let impact = case.impact()?;
-    for e in case.estimates() {
+    for e in case.estimated() {
         eprintln!("pim: note: {e}");
     }
     let warnings = case.warnings();

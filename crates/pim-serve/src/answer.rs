@@ -258,6 +258,10 @@ pub fn answer_without(
     }
 }
 
+/// The width of the speeds before contact in the page's side pane, pixels (drawn at the
+/// size shown, so that its text is read at its own size).
+const SPEED_HISTORY_WIDTH: u32 = 500;
+
 /// The plan of the reconstruction `done` of the case `shown` (every piece drawn, those
 /// switched off too): its fitted run-outs and their motion in time.
 fn reconstruction_plan(
@@ -274,7 +278,7 @@ fn reconstruction_plan(
     plan.motion = Some(crate::motion::motion_on_page(
         shown, done, best, &fitted, units,
     ));
-    plan.speed_history = pim_render::speed_history::figure(shown, done, units, 500)
+    plan.speed_history = pim_render::speed_history::figure(shown, done, units, SPEED_HISTORY_WIDTH)
         .map_err(AnswerError::Unsupported)?
         .map(|f| f.svg);
     Ok(plan)

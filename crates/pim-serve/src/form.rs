@@ -137,7 +137,7 @@ pub fn form(file: &str, text: &str) -> Result<Vec<FormSection>, AnswerError> {
 /// the estimate the case makes instead (once the text loads as a case).
 fn offer_inertias(file: &str, text: &str, out: &mut [FormSection]) {
     let estimates = pim_case::case::Case::from_text(file, text)
-        .map(|c| c.estimates())
+        .map(|c| c.estimated())
         .unwrap_or_default();
     for s in out
         .iter_mut()

@@ -36,7 +36,7 @@ fn a_vehicle_without_a_yaw_inertia_takes_the_outlines_estimate() {
     );
     assert!((case.content.vehicle2.yaw_inertia - 2400.0 * 1.355_817_948).abs() < 1e-3);
     // Named once, in the case's own units (2314 slug ft^2), with its rule.
-    let said = case.estimates();
+    let said = case.estimated();
     assert_eq!(said.len(), 1, "{said:?}");
     assert!(
         said[0].starts_with(

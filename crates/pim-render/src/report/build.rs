@@ -470,7 +470,7 @@ pub(super) fn inputs(case: &Case, u: UnitSystem) -> Section {
         },
     ]);
     s.blocks.push(Block::Table(t));
-    for e in case.estimates() {
+    for e in case.estimated() {
         s.text(format!("Estimated: {e}."));
     }
     s.text(format!(

@@ -21,7 +21,7 @@ impl Case {
 
     /// Each estimated value of the case, in words naming its rule and inputs in SI (for
     /// stderr and reports; not a warning: an estimate is a stated choice, not a mistake).
-    pub fn estimates(&self) -> Vec<String> {
+    pub fn estimated(&self) -> Vec<String> {
         let (c, u) = (&self.content, &self.written_units);
         let (mass, length) = (u.mass.to_si(), u.length.to_si());
         [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)]
