@@ -62,7 +62,10 @@ impl Case {
                 continue;
             }
             checks.push((format!("{name}.mass"), v.mass, MASS));
-            checks.push((format!("{name}.yaw_inertia"), v.yaw_inertia, YAW_INERTIA));
+            // An estimated inertia is checked with the outline it comes from.
+            if v.yaw_inertia_source == crate::sections::InertiaSource::Stated {
+                checks.push((format!("{name}.yaw_inertia"), v.yaw_inertia, YAW_INERTIA));
+            }
             checks.push((format!("{name}.heading"), v.heading, ANGLE));
             if v.impact_point.is_some() {
                 checks.push((format!("{name}.impact_point"), v.d(), DISTANCE));
@@ -116,6 +119,17 @@ impl Case {
         for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
             v.check_outline()
                 .map_err(|(field, what)| self.error_at(&format!("{name}.{field}"), what))?;
+            if v.yaw_inertia_source == crate::sections::InertiaSource::Outline {
+                YAW_INERTIA.check(v.yaw_inertia).map_err(|why| {
+                    self.error_at(
+                        &format!("{name}.yaw_inertia"),
+                        format!(
+                            "estimated from the mass, length and width: {why}; give the yaw \
+                             inertia"
+                        ),
+                    )
+                })?;
+            }
         }
         Ok(())
     }

@@ -76,3 +76,31 @@ fn an_inertia_written_as_nan_is_refused_not_estimated() {
     let e = Case::from_text("nan.toml", &text).unwrap_err().to_string();
     assert!(e.contains("vehicle1.yaw_inertia"), "{e}");
 }
+
+/// An outline out of its range is refused as the outline (not as the inertia estimated from
+/// it); an estimate out of the inertia's range is refused naming it as an estimate.
+#[test]
+fn an_estimate_from_a_bad_outline_is_refused_at_the_outline() {
+    let text = without_vehicle1_inertia();
+    let huge = text.replacen("length = 16.0", "length = 1e200", 1);
+    let e = Case::from_text("huge.toml", &huge).unwrap_err().to_string();
+    assert!(e.contains("vehicle1.length"), "{e}");
+    // 230 lb on 2 by 1 ft: 0.9 x 104 kg x 0.46 m^2 / 12 = 3.6 kg m^2, below the 10 of any
+    // road vehicle.
+    let light = text
+        .replacen("mass = 3400.0", "mass = 230.0", 1)
+        .replacen("length = 16.0", "length = 2.0", 1)
+        .replacen("width = 6.0", "width = 1.0", 1)
+        .replacen("cg_to_front = 7.2", "cg_to_front = 1.0", 1);
+    assert_eq!(
+        light.matches(" = 2.0\n").count(),
+        text.matches(" = 2.0\n").count() + 1
+    );
+    let e = Case::from_text("light.toml", &light)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("vehicle1.yaw_inertia: estimated from the mass, length and width:"),
+        "{e}"
+    );
+}
