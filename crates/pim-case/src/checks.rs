@@ -145,6 +145,16 @@ impl CaseFile {
         }
     }
 
+    /// Vehicle `k`'s (0 or 1) `[pre_impact.vehicleN]`, if the case writes one.
+    pub fn pre_impact(&self, k: usize) -> Option<&crate::scene_sections::PreImpactVehicleSection> {
+        let p = self.pre_impact.as_ref()?;
+        if k == 0 {
+            p.vehicle1.as_ref()
+        } else {
+            p.vehicle2.as_ref()
+        }
+    }
+
     /// Vehicle `k` (0 or 1), to change.
     pub fn vehicle_mut(&mut self, k: usize) -> &mut VehicleSection {
         if k == 0 {

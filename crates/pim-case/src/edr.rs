@@ -16,12 +16,12 @@
 //! ```
 //!
 //! with `t_last` its time before contact and `a` the deceleration over the rows that end the
-//! table with the brake on (the drop in speed over their time, from the table itself), or 0
-//! when the brake is off at the last row or on at it alone (one row gives no rate: say the
-//! braking in the record's `deceleration`) (a coasting car loses about 0.01 to 0.02 g, within
-//! an EDR's speed tolerance over the half second usual before contact). Braking that began
-//! after the last row is not in the table: where the scene shows it (a skid to contact), the
-//! record's `deceleration` is the place to say so. The record is written as an ordinary `edr`
+//! table with the brake on (the drop in speed over their time, from the table itself). It is
+//! 0 when the brake is off at the last row (a coasting car loses about 0.01 to 0.02 g, within
+//! an EDR's speed tolerance over the half second usual before contact) or on at it alone (one
+//! row gives no rate). Braking that began at or after the last row is not measured by the
+//! table: where the scene shows it (a skid to contact), the record's `deceleration` is the
+//! place to say so. The record is written as an ordinary `edr`
 //! entry, to be read and changed like one.
 
 use crate::edit::{CaseEdit, NewValue};
@@ -192,17 +192,16 @@ pub fn parse_table(
 /// the module's docs), with the standard deviation `sigma` (speed unit of the rows; `speed_si`
 /// m/s per that unit, for the deceleration in g).
 pub fn evidence_of(rows: &[EdrRow], sigma: f64, speed_si: f64) -> Option<EdrWritten> {
-    let last = rows.iter().min_by(|a, b| a.time.total_cmp(&b.time))?;
-    // The rows that end the table with the brake on, oldest first.
+    // Newest first: the row nearest contact, then the rows that end the table braking.
     let mut by_time: Vec<&EdrRow> = rows.iter().collect();
-    by_time.sort_by(|a, b| b.time.total_cmp(&a.time));
-    let braking: Vec<&&EdrRow> = by_time
-        .iter()
-        .rev()
+    by_time.sort_by(|a, b| a.time.total_cmp(&b.time));
+    let last = *by_time.first()?;
+    let braking: Vec<&EdrRow> = by_time
+        .into_iter()
         .take_while(|r| r.brake == Some(true))
         .collect();
-    let deceleration = match (braking.last(), braking.first()) {
-        (Some(first), Some(end)) if first.time > end.time => {
+    let deceleration = match (braking.first(), braking.last()) {
+        (Some(end), Some(first)) if first.time > end.time => {
             (first.speed - end.speed) * speed_si / (first.time - end.time) / GRAVITY
         }
         _ => 0.0,

@@ -49,8 +49,7 @@ pub fn load_runout_case(path: &Path) -> Result<Case, Failure> {
 
 /// The collision of a case, checked; then the values it estimated (notes) and its plausibility
 /// warnings go to stderr (only for a valid collision, so that an error is never preceded by
-/// noise). Also returns how many
-/// warnings there were (for `--strict`).
+/// noise). Also returns how many warnings there were (for `--strict`).
 pub fn checked_impact(case: &Case) -> Result<(pim_core::Impact, usize), Failure> {
     let impact = case.impact()?;
     for e in case.estimated() {

@@ -126,8 +126,18 @@ impl Found {
     /// Whether the evidence contradicts this answer: its chi-square's probability lies below
     /// [`INCONSISTENT_P`] (as a refusal judges it).
     pub fn refused(&self) -> bool {
+        self.p_below(INCONSISTENT_P)
+    }
+
+    /// Whether it fits poorly: its chi-square's probability lies below [`POOR_FIT_P`].
+    pub fn fits_poorly(&self) -> bool {
+        self.p_below(POOR_FIT_P)
+    }
+
+    /// Whether its chi-square's probability lies below `p`.
+    fn p_below(&self, p: f64) -> bool {
         pim_fit::ChiSquare::p_value_of(self.degrees_of_freedom, self.chi_square)
-            .is_some_and(|p| p < INCONSISTENT_P)
+            .is_some_and(|q| q < p)
     }
 
     pub(crate) fn new(r: &Reconstruction, p: Point, iterations: usize, converged: bool) -> Found {

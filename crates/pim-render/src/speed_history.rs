@@ -43,14 +43,6 @@ const OFF: RGBColor = RGBColor(31, 119, 180);
 const PEDAL: RGBColor = RGBColor(150, 150, 150);
 const RECORD: RGBColor = RGBColor(44, 160, 44);
 
-fn pre_impact(case: &Case, id: VehicleId) -> Option<&PreImpactVehicleSection> {
-    let p = case.content.pre_impact.as_ref()?;
-    match id {
-        VehicleId::One => p.vehicle1.as_ref(),
-        VehicleId::Two => p.vehicle2.as_ref(),
-    }
-}
-
 /// The figure, `width` pixels wide (each vehicle's panel 0.45 of that high), or `None` when
 /// no vehicle has an EDR or there is no answer; speeds in `u`. [`WIDTH`] for a report.
 ///
@@ -68,7 +60,7 @@ pub fn figure(
     let written = case.written_units.speed.to_si();
     let shown: Vec<(VehicleId, &PreImpactVehicleSection)> = [VehicleId::One, VehicleId::Two]
         .into_iter()
-        .filter_map(|id| pre_impact(case, id).map(|p| (id, p)))
+        .filter_map(|id| case.content.pre_impact(id.index()).map(|p| (id, p)))
         .filter(|(_, p)| !p.edr.is_empty() || !p.edr_history.is_empty())
         .collect();
     if shown.is_empty() {

@@ -60,18 +60,7 @@ pub fn place_rest(
     let units = units.unwrap_or_else(|| sketch.system());
     let per_unit = units.length(1.0).recip() / sketch.units.length.to_si();
     let hundredth = |x: f64| crate::edits::hundredth(x * per_unit);
-    let xy = match point {
-        Some(id) => crate::survey::survey_point(file, sketch.survey.as_ref(), id)?,
-        None => {
-            let (x, y) =
-                crate::edits::written_frame((sketch.convention, &sketch.units), at, Some(units));
-            let metres = sketch.units.length.to_si();
-            [
-                crate::edits::hundredth(x / metres),
-                crate::edits::hundredth(y / metres),
-            ]
-        }
-    };
+    let xy = written_point(file, &sketch, (at, point.as_deref()), units)?;
     let mut fields = vec![
         ("x".to_string(), NewValue::Written(xy[0])),
         ("y".to_string(), NewValue::Written(xy[1])),
@@ -101,6 +90,26 @@ pub fn place_rest(
     let out = edit.text();
     crate::plan::Sketch::check_edited(file, &out, was_case)?;
     Ok(out)
+}
+
+/// A point placed on the page at `at` (display length unit of `units`) in the file's frame and
+/// length unit, to a hundredth; or, placed on the survey point `point`, that point's own
+/// coordinates.
+fn written_point(
+    file: &str,
+    sketch: &crate::plan::Sketch,
+    (at, point): ([f64; 2], Option<&str>),
+    units: pim_case::units::UnitSystem,
+) -> Result<[f64; 2], AnswerError> {
+    if let Some(id) = point {
+        return crate::survey::survey_point(file, sketch.survey.as_ref(), id);
+    }
+    let (x, y) = crate::edits::written_frame((sketch.convention, &sketch.units), at, Some(units));
+    let metres = sketch.units.length.to_si();
+    Ok([
+        crate::edits::hundredth(x / metres),
+        crate::edits::hundredth(y / metres),
+    ])
 }
 
 /// The case text open for editing with its section `[key]` (`scene.vehicleN`), added at the
@@ -186,20 +195,7 @@ pub fn place_rest_tyres(
     let per_unit = units.length(1.0).recip() / metres;
     let mut rows = Vec::new();
     for p in points {
-        let xy = match &p.point {
-            Some(id) => crate::survey::survey_point(file, sketch.survey.as_ref(), id)?,
-            None => {
-                let (x, y) = crate::edits::written_frame(
-                    (sketch.convention, &sketch.units),
-                    p.at,
-                    Some(units),
-                );
-                [
-                    crate::edits::hundredth(x / metres),
-                    crate::edits::hundredth(y / metres),
-                ]
-            }
-        };
+        let xy = written_point(file, &sketch, (p.at, p.point.as_deref()), units)?;
         let mut row = vec![
             (
                 if p.corner { "corner" } else { "wheel" }.to_string(),

@@ -29,15 +29,6 @@ pub struct CaseReconstruction {
     pub(crate) bounds: Option<pim_case::sections::BoundsSection>,
 }
 
-fn pre_impact_of(case: &Case, k: usize) -> Option<&PreImpactVehicleSection> {
-    let p = case.content.pre_impact.as_ref()?;
-    if k == 0 {
-        p.vehicle1.as_ref()
-    } else {
-        p.vehicle2.as_ref()
-    }
-}
-
 /// Checks vehicle `k`'s (0 or 1) EDR table (`edr_history`): each row's time and speed as a
 /// record's, its accelerator a percentage.
 fn check_history(
@@ -187,7 +178,7 @@ pub fn case_reconstruction(
     let mut edr_records = Vec::new();
     let mut skids = [None, None];
     for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
-        let Some(p) = pre_impact_of(case, k) else {
+        let Some(p) = case.content.pre_impact(k) else {
             continue;
         };
         let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
@@ -271,9 +262,12 @@ pub fn case_reconstruction(
         nonlinear.0.push(std::sync::Arc::new(c));
     }
     // A skid whose friction is not stated apart brakes on the road of the run-outs.
-    let skids_on_road = [0, 1].map(|k| {
-        skids[k].is_some() && pre_impact_of(case, k).is_some_and(|p| p.friction.is_none())
-    });
+    let stated_apart = |k| {
+        case.content
+            .pre_impact(k)
+            .is_some_and(|p| p.friction.is_some())
+    };
+    let skids_on_road = [0, 1].map(|k| skids[k].is_some() && !stated_apart(k));
     let frictions = crate::reconstruct_friction::frictions_of(case, &scene, skids_on_road);
     let reconstruction = Reconstruction {
         contact,

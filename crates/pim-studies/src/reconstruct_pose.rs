@@ -74,14 +74,14 @@ pub(crate) fn fit_contact_pose(
         return Ok((input, outcome, FittedPose::default()));
     };
     let zeros = vec![0.0; unknowns.len()];
-    let start = |found| PoseStart {
-        offsets: &zeros,
-        found,
-        jacobian: None,
-        hold: false,
-    };
     let best = outcome.best.as_ref().expect("an answer");
-    let answer = settled(case, how, second_search, &input.settings, start(best))?;
+    let answer = settled(
+        case,
+        how,
+        second_search,
+        &input.settings,
+        stated(&zeros, best),
+    )?;
     if !second_search || !poor(&answer.1) {
         return Ok(answer);
     }
@@ -97,13 +97,13 @@ pub(crate) fn fit_contact_pose(
         if !poor(&answer.1) {
             break;
         }
-        let from = PoseStart {
-            offsets: &zeros,
-            found: other,
-            jacobian: None,
-            hold: false,
-        };
-        let Ok(again) = settled(case, how, second_search, &input.settings, from) else {
+        let Ok(again) = settled(
+            case,
+            how,
+            second_search,
+            &input.settings,
+            stated(&zeros, other),
+        ) else {
             continue;
         };
         if cost(&again.1) < cost(&answer.1) {
@@ -111,6 +111,16 @@ pub(crate) fn fit_contact_pose(
         }
     }
     Ok(answer)
+}
+
+/// A pose fit from the stated pose (`zeros`: no offsets) and the answer `found` there.
+fn stated<'a>(zeros: &'a [f64], found: &'a pim_reconstruct::Found) -> PoseStart<'a> {
+    PoseStart {
+        offsets: zeros,
+        found,
+        jacobian: None,
+        hold: false,
+    }
 }
 
 /// How many more combinations of counts of turns a poor pose fit is fitted again from (one
@@ -122,13 +132,9 @@ fn cost(out: &Outcome) -> f64 {
     out.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square)
 }
 
-/// Whether an answer fits poorly (its chi-square's probability below
-/// [`pim_reconstruct::POOR_FIT_P`]), or there is none.
+/// Whether an answer fits poorly ([`pim_reconstruct::Found::fits_poorly`]), or there is none.
 fn poor(out: &Outcome) -> bool {
-    out.best.as_ref().is_none_or(|b| {
-        pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
-            .is_some_and(|p| p < pim_reconstruct::POOR_FIT_P)
-    })
+    out.best.as_ref().is_none_or(|b| b.fits_poorly())
 }
 
 /// The answers at the stated pose of the [`RUNNER_UPS`] combinations of `outcome` refined
