@@ -630,10 +630,10 @@ pub struct FitArgs {
     /// (for scripts and signed reports).
     #[arg(long)]
     pub strict: bool,
-    /// A case with scene evidence: also refine from the answer in this JSON document (an
-    /// earlier `pim fit --format json` or `--out`'s result.json, of this case before an edit
-    /// or of a neighbouring one); the search runs as without it and the lower answer is kept, so
-    /// a small change of the case changes the answer a little.
+    /// A case with scene evidence: also refine from the answer (its states, on its fitted
+    /// frictions) in this JSON document (`pim fit --format json` or `--out`'s result.json, of
+    /// this case before an edit or of a neighbouring one); the search runs as without it and the
+    /// lower answer is kept, so a small change of the case changes the answer a little.
     #[arg(long, value_name = "RESULT_JSON")]
     pub from: Option<PathBuf>,
 }

@@ -184,6 +184,11 @@ pub struct BestOut {
     /// The search bounds the impact ends on (the bound, not the evidence, ends it there),
     /// each with who set it.
     pub bounds_reached: Vec<crate::records::BoundReached>,
+    /// The fitted frictions the run-outs ran on, in the order of the `friction` rows of
+    /// `evidence` (the road's, then each zone's whose friction is fitted); absent where no
+    /// friction is fitted. `pim fit --from` starts its run-outs on them again.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frictions: Vec<f64>,
     /// The pose at contact, where the case fits it (`[contact_sigma]`): each unknown stated and
     /// fitted. Its priors are rows of `evidence` and terms of `chi_square`.
     #[serde(skip_serializing_if = "Vec::is_empty")]

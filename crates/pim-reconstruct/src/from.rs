@@ -23,11 +23,27 @@ pub struct EarlierState {
     pub velocity: [f64; 3],
 }
 
+/// An earlier answer, as [`reconstruct_from`] starts from it: each scene vehicle's state and
+/// the frictions its run-outs ran on.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Earlier {
+    /// Each scene vehicle's count of turns and separation velocity.
+    pub states: Vec<EarlierState>,
+    /// The frictions the earlier answer's run-outs ran on, one per
+    /// [`Reconstruction::frictions`] (the fitted ones); `None`, or a list of another length
+    /// (a friction zone added or taken away since), starts on the stated frictions. A long
+    /// run-out fitted on a friction of 0.53 and started again on a stated 0.60 ends metres
+    /// from the rest it met: the start would not be the earlier answer.
+    pub frictions: Option<Vec<f64>>,
+}
+
 impl Found {
-    /// Each scene vehicle's count of turns and separation velocity: where a search or a
-    /// refinement starts from this answer ([`reconstruct_from`]).
-    pub fn states(&self) -> Vec<EarlierState> {
-        self.scene
+    /// Each scene vehicle's count of turns and separation velocity, and the frictions the
+    /// run-outs ran on: where a search or a refinement starts from this answer
+    /// ([`reconstruct_from`]).
+    pub fn earlier(&self) -> Earlier {
+        let states = self
+            .scene
             .iter()
             .map(|s| {
                 let v = self.solution.separation.vehicle(s.vehicle);
@@ -37,12 +53,17 @@ impl Found {
                     velocity: [v.vx, v.vy, v.omega],
                 }
             })
-            .collect()
+            .collect();
+        Earlier {
+            states,
+            frictions: Some(self.frictions.clone()),
+        }
     }
 }
 
 /// [`crate::reconstruct`], and the combination of counts of `earlier` refined from its states
-/// (every scene vehicle's must be given, else it is not used); the lower answer is kept.
+/// (every scene vehicle's must be given, else it is not used), on the frictions its run-outs
+/// ran on; the lower answer is kept.
 ///
 /// The search alone is a function of the input: two inputs a tenth of a foot apart can end in
 /// different basins when each holds a minimum the other's search does not reach. Started also
@@ -56,42 +77,80 @@ impl Found {
 pub fn reconstruct_from(
     r: &Reconstruction,
     settings: &Settings,
-    earlier: &[EarlierState],
+    earlier: &Earlier,
 ) -> Result<Outcome> {
     let mut out = unsaid(r, settings)?;
-    let states: Option<Vec<&EarlierState>> = r
-        .scene
-        .iter()
-        .map(|s| earlier.iter().find(|e| e.vehicle == s.id))
-        .collect();
-    if let Some(states) = states.filter(|s| !s.is_empty()) {
-        from_states(r, settings, &states, &mut out);
+    let work = Work::new(settings.refine_work);
+    let from = from_earlier(r, settings, earlier, &work);
+    out.work += work.spent();
+    if let Some(from) = from {
+        kept(r, from, &mut out);
     }
     Ok(searched(r, out))
 }
 
-/// `out` with the refinement from `states` as its answer where that is lower.
-fn from_states(
+/// The refinement from `earlier` alone, without the search ([`reconstruct_from`] keeps it
+/// where it is lower than the search's): the answer of `earlier`'s counts of turns refined on
+/// `r` from its states and frictions, with a budget of work of [`Settings::refine_work`].
+/// `None` where `earlier` lacks a scene vehicle's state or the refinement fails.
+pub fn refine_earlier(r: &Reconstruction, settings: &Settings, earlier: &Earlier) -> Option<Found> {
+    let work = Work::new(settings.refine_work);
+    from_earlier(r, settings, earlier, &work)
+        .map(|f| Found::new(r, f.x.point, f.x.iterations, f.x.converged))
+}
+
+/// A refinement from an earlier answer: where it ended, the cost of the scenes alone at its
+/// start, and its counts of turns.
+struct FromEarlier {
+    x: crate::refine::Refined,
+    scene_alone: f64,
+    counts: Vec<Option<i64>>,
+}
+
+/// The refinement from `earlier`'s states, on its frictions where they fit `r` (else the
+/// stated ones); `None` where a scene vehicle's state is missing or the refinement fails.
+fn from_earlier(
     r: &Reconstruction,
     settings: &Settings,
-    states: &[&EarlierState],
-    out: &mut Outcome,
-) {
-    let mus = stated_frictions(r);
-    let start: Result<Vec<Lin>> = states
+    earlier: &Earlier,
+    work: &Work,
+) -> Option<FromEarlier> {
+    let states: Vec<&EarlierState> = r
+        .scene
+        .iter()
+        .map(|s| earlier.states.iter().find(|e| e.vehicle == s.id))
+        .collect::<Option<_>>()
+        .filter(|s: &Vec<&EarlierState>| !s.is_empty())?;
+    let mus = earlier
+        .frictions
+        .clone()
+        .filter(|m| m.len() == r.frictions.len() && m.iter().all(|x| x.is_finite() && *x > 0.0))
+        .unwrap_or_else(|| stated_frictions(r));
+    let start: Vec<Lin> = states
         .iter()
         .enumerate()
         .map(|(v, e)| linearised(r, settings, v, e.turns.unwrap_or(0), e.velocity, true, &mus))
-        .collect();
-    let Ok(start) = start else { return };
+        .collect::<Result<_>>()
+        .ok()?;
     // The scenes' cost at the earlier states (a start of the search's kind).
     let scene_alone = start.iter().map(|l| l.lin.cost).sum();
-    let work = Work::new(settings.refine_work);
-    let refined = refine_start(r, settings, start, None, &work);
-    out.work += work.spent();
-    let Ok(x) = refined else { return };
+    let x = refine_start(r, settings, start, None, work).ok()?;
+    Some(FromEarlier {
+        x,
+        scene_alone,
+        counts: states.iter().map(|e| e.turns).collect(),
+    })
+}
+
+/// `out` with the refinement `from` an earlier answer as its answer where that is lower, and
+/// as its counts' entry where that ended higher.
+fn kept(r: &Reconstruction, from: FromEarlier, out: &mut Outcome) {
+    let FromEarlier {
+        x,
+        scene_alone,
+        counts,
+    } = from;
     out.fits += x.fits;
-    let counts: Vec<Option<i64>> = states.iter().map(|e| e.turns).collect();
     let lower = out
         .best
         .as_ref()

@@ -181,7 +181,7 @@ mod stages;
 mod work;
 
 pub use error::{ReconstructError, Result};
-pub use from::{reconstruct_from, EarlierState};
+pub use from::{reconstruct_from, refine_earlier, Earlier, EarlierState};
 pub use outcome::{
     Contradiction, EvidenceTerm, Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts,
     INCONSISTENT_P, POOR_FIT_P,

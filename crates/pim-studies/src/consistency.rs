@@ -91,7 +91,7 @@ fn left_out_at(
     how: crate::reconstruct::How,
     whole: &crate::reconstruct::Reconstructed,
 ) -> Result<ReconstructionOut, DocumentError> {
-    let fresh = crate::reconstruct::reconstruct_searching(case, how, false, &[])?;
+    let fresh = crate::reconstruct::reconstruct_searching(case, how, false, &Default::default())?;
     let ids =
         |r: &pim_reconstruct::Reconstruction| r.scene.iter().map(|s| s.id).collect::<Vec<_>>();
     let same_scenes = ids(&fresh.input.reconstruction) == ids(&whole.input.reconstruction);
@@ -411,7 +411,12 @@ pub fn answer(
     branches: Vec<MomentBranch>,
     observer: &dyn crate::watch::Observer,
 ) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
-    answer_from(case, (model, moment_form, branches), &[], observer)
+    answer_from(
+        case,
+        (model, moment_form, branches),
+        &Default::default(),
+        observer,
+    )
 }
 
 /// [`answer`], the reconstruction also refined from an earlier answer's states
@@ -422,7 +427,7 @@ pub fn answer(
 pub fn answer_from(
     case: &Case,
     (model, moment_form, branches): (pim_fit::FitModel, pim_core::MomentForm, Vec<MomentBranch>),
-    earlier: &[crate::earlier::EarlierState],
+    earlier: &crate::earlier::Earlier,
     observer: &dyn crate::watch::Observer,
 ) -> Result<crate::reconstruct::Reconstructed, DocumentError> {
     let how = crate::reconstruct::How {

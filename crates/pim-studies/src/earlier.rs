@@ -4,16 +4,17 @@
 
 use crate::documents::DocumentError;
 use pim_core::VehicleId;
-pub use pim_reconstruct::EarlierState;
+pub use pim_reconstruct::{Earlier, EarlierState};
 
 /// Each scene vehicle's separation state and count of turns in a reconstruction's JSON document
 /// (`kind = "reconstruction"`, as `pim fit --format json` prints it and `--out` writes it as
-/// `result.json`): the starts of
+/// `result.json`), and the fitted frictions its run-outs ran on (`best.frictions`; a document
+/// without them starts on the stated frictions): the starts of
 /// [`crate::reconstruct::reconstruct_searching`]. `file` names the document in messages.
 ///
 /// # Errors
 /// Text that is not JSON, a document of another kind, or one without an answer.
-pub fn earlier_states(file: &str, text: &str) -> Result<Vec<EarlierState>, DocumentError> {
+pub fn earlier_states(file: &str, text: &str) -> Result<Earlier, DocumentError> {
     let bad = |what: String| DocumentError::Input(format!("{file}: {what}"));
     let doc: serde_json::Value =
         serde_json::from_str(text).map_err(|e| bad(format!("not a JSON document: {e}")))?;
@@ -42,6 +43,18 @@ pub fn earlier_states(file: &str, text: &str) -> Result<Vec<EarlierState>, Docum
         return Err(bad(
             "best: no answer to start from (the earlier reconstruction found none)".into(),
         ));
+    };
+    let frictions = match doc.pointer("/best/frictions") {
+        None => None,
+        Some(f) => Some(
+            f.as_array()
+                .and_then(|a| {
+                    a.iter()
+                        .map(|x| x.as_f64().filter(|x| x.is_finite() && *x > 0.0))
+                        .collect::<Option<Vec<f64>>>()
+                })
+                .ok_or_else(|| bad("best.frictions: expected a list of positive numbers".into()))?,
+        ),
     };
     let mut out = Vec::new();
     for (i, v) in vehicles.iter().enumerate() {
@@ -72,5 +85,8 @@ pub fn earlier_states(file: &str, text: &str) -> Result<Vec<EarlierState>, Docum
             velocity: [component("vx")?, component("vy")?, component("yaw_rate")?],
         });
     }
-    Ok(out)
+    Ok(Earlier {
+        states: out,
+        frictions,
+    })
 }

@@ -11,7 +11,9 @@ pub use pim_documents::reconstruct_doc::{
     BestOut, CountsOut, EvidenceOut, EvidenceSource, ReconstructionOut, VehiclePhasesOut,
 };
 use pim_fit::{MomentBranch, COMPONENT_NAMES};
-use pim_reconstruct::{ContactTerm, Contradiction, EvidenceTerm, Outcome, Reconstruction, Tried};
+use pim_reconstruct::{
+    ContactTerm, Contradiction, Earlier, EvidenceTerm, Outcome, Reconstruction, Tried,
+};
 
 pub use crate::question::has_scene_evidence;
 
@@ -34,12 +36,13 @@ pub fn reconstruct(
         moment_form,
         branches,
     };
-    reconstruct_searching(case, how, true, &[])
+    reconstruct_searching(case, how, true, &Earlier::default())
 }
 
 /// As [`reconstruct`]; without `second_search` an answer that fits worse than its median is
 /// not searched again (a row of the consistency table); with `earlier` (an earlier answer's
-/// states, [`crate::earlier::earlier_states`]) also refined from them, the lower answer kept.
+/// states and frictions, [`crate::earlier::earlier_states`]) also refined from them, the lower
+/// answer kept.
 ///
 /// # Errors
 /// Bad input ([`DocumentError::Input`], located).
@@ -47,7 +50,7 @@ pub fn reconstruct_searching(
     case: &Case,
     how: How,
     second_search: bool,
-    earlier: &[pim_reconstruct::EarlierState],
+    earlier: &Earlier,
 ) -> Result<Reconstructed, DocumentError> {
     let mut input = case_reconstruction(case, how.model, how.moment_form, how.branches.clone())?;
     if !second_search {
@@ -225,11 +228,10 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             .iter()
             .map(|p| {
                 let k = p.vehicle.index();
-                let (c, sep) = if k == 0 {
-                    (s.initial.vehicle1, s.separation.vehicle1)
-                } else {
-                    (s.initial.vehicle2, s.separation.vehicle2)
-                };
+                let (c, sep) = (
+                    *s.initial.vehicle(p.vehicle),
+                    *s.separation.vehicle(p.vehicle),
+                );
                 let f = b.scene.iter().find(|f| f.vehicle == p.vehicle);
                 let motion = |v: pim_core::VehicleVelocity| MotionOut {
                     x: 0.0,
@@ -282,6 +284,7 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             converged: b.converged,
             certificate: b.certificate.clone(),
             contact_pose: Vec::new(),
+            frictions: b.frictions.clone(),
             bounds_reached: {
                 let branch = pim_fit::BranchReport {
                     moment: b.branch,

@@ -223,7 +223,7 @@ fn settled(
         let out = pim_reconstruct::reconstruct_from(
             &posed.reconstruction,
             &posed.settings,
-            &fit.found.states(),
+            &fit.found.earlier(),
         )
         .map_err(|e| DocumentError::Input(format!("{}: {e}", case.file)))?;
         let other = out

@@ -121,7 +121,7 @@ fn reconstruction(a: &FitArgs, case: &pim_case::case::Case, warnings: usize) -> 
             pim_studies::earlier::earlier_states(&path.display().to_string(), &text)
                 .map_err(Failure::from)?
         }
-        None => Vec::new(),
+        None => Default::default(),
     };
     let how = (a.model, a.moment_form, unique(&a.branch));
     let done =

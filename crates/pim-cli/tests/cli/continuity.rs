@@ -57,7 +57,9 @@ fn sweep(first: f64, count: usize) {
     let ys: Vec<f64> = (0..count).map(|i| first + 0.1 * i as f64).collect();
     let answers: Vec<Reconstructed> = ys
         .iter()
-        .map(|&y| reconstruct_searching(&at(y), how(), true, &[]).expect("answered"))
+        .map(|&y| {
+            reconstruct_searching(&at(y), how(), true, &Default::default()).expect("answered")
+        })
         .collect();
     let cost: Vec<f64> = answers.iter().map(chi).collect();
     for (i, &y) in ys.iter().enumerate() {
@@ -99,7 +101,8 @@ fn a_tenth_of_a_foot_changes_the_answer_a_little_over_two_feet() {
 
 /// `pim fit --from`: the answer of the case moved 0.1 ft is refined on the case as it is, the
 /// search runs too, and the answer is the lower (here the same minimum as without it); a document of
-/// another kind or text that is not JSON is refused with the file named.
+/// another kind, text that is not JSON or frictions that are not numbers are refused with the
+/// file named.
 #[test]
 fn fit_from_an_earlier_answer() {
     let dir = scratch_dir("continuity", "from");
@@ -140,9 +143,16 @@ fn fit_from_an_earlier_answer() {
         r#"{"kind": "fit", "branches": []}"#,
     );
     let not_json = scratch_file("continuity", "broken.json", "{ not json");
+    let mut doc: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
+    doc["best"]["frictions"] = serde_json::json!([0.7, "high"]);
+    let bad_friction = scratch_file("continuity", "bad_friction.json", doc.to_string());
     for (file, says) in [
         (&other, "not a reconstruction's"),
         (&not_json, "not a JSON document"),
+        (
+            &bad_friction,
+            "best.frictions: expected a list of positive numbers",
+        ),
     ] {
         let out = pim(&[
             "fit",
@@ -162,4 +172,39 @@ fn fit_from_an_earlier_answer() {
         "{}",
         stderr(&out)
     );
+}
+
+/// The document carries the fitted frictions its run-outs ran on (`best.frictions`, the
+/// friction rows' stated values plus their residuals), and `pim fit --from` of the guide's
+/// example's own answer returns that answer.
+#[test]
+fn fit_from_its_own_answer_keeps_the_fitted_friction() {
+    let case = "examples/cases/reconstruction_us.toml";
+    let a = pim_ok(&["fit", case, "--format", "json"]);
+    let earlier = scratch_file(
+        "continuity",
+        "own.json",
+        std::str::from_utf8(&a.stdout).unwrap(),
+    );
+    let d: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
+    let frictions = d["best"]["frictions"].as_array().expect("fitted frictions");
+    let row = d["best"]["evidence"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["source"]["kind"] == "friction")
+        .expect("the friction's row");
+    // The example states the road's friction as 0.72.
+    let fitted = frictions[0].as_f64().unwrap();
+    assert!((fitted - (0.72 + row["residual"].as_f64().unwrap())).abs() < 1e-12);
+    let b = pim_ok(&["fit", case, "--format", "json", "--from", &earlier]);
+    let e: serde_json::Value = serde_json::from_slice(&b.stdout).unwrap();
+    let chi = |v: &serde_json::Value| v["best"]["chi_square"].as_f64().unwrap();
+    assert!(
+        (chi(&e) - chi(&d)).abs() <= 1e-6 * (1.0 + chi(&d)),
+        "{} {}",
+        chi(&e),
+        chi(&d)
+    );
+    assert!((e["best"]["frictions"][0].as_f64().unwrap() - fitted).abs() < 1e-4);
 }

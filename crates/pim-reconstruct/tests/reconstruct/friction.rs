@@ -95,3 +95,60 @@ fn a_known_speed_finds_the_friction_back() {
         );
     }
 }
+
+/// An answer refined again from itself ([`pim_reconstruct::refine_earlier`], the start of
+/// `pim fit --from` and of a pose fit's search) starts on the frictions its run-outs ran on:
+/// with the friction fitted 0.2 from its stated value, it is at its minimum from the first
+/// step (the same chi-square and friction, one iteration). Started on the stated friction
+/// instead, each run-out ends elsewhere and the refinement has to find its way back.
+#[test]
+fn an_answer_refined_again_starts_on_its_fitted_friction() {
+    for (seed, mut c) in crashes(0.0).take(2) {
+        on_one_road(&mut c, 2.0, 0.1);
+        let unit = c.recon.unit.unwrap();
+        let u: Vector12 = pim_fit::state_vector(&c.contact, &c.separation);
+        for k in 0..2 {
+            c.recon.contact.components[k] = Knowledge::Estimated {
+                value: u[k],
+                weight: unit / 0.05f64.powi(2),
+            };
+        }
+        let s = settings();
+        let out = reconstruct(&c.recon, &s).unwrap();
+        let b = out.best.as_ref().expect("an answer");
+        let earlier = b.earlier();
+        assert_eq!(earlier.frictions.as_deref(), Some(&b.frictions[..]));
+        let again = pim_reconstruct::refine_earlier(&c.recon, &s, &earlier).expect("refined");
+        let stated = pim_reconstruct::refine_earlier(
+            &c.recon,
+            &s,
+            &pim_reconstruct::Earlier {
+                frictions: None,
+                ..earlier.clone()
+            },
+        );
+        eprintln!(
+            "seed {seed}: answer {:.6} (friction {:.4}); again {:.6} in {} iterations; from \
+             the stated friction {:?}",
+            b.chi_square,
+            b.frictions[0],
+            again.chi_square,
+            again.iterations,
+            stated.as_ref().map(|f| (f.chi_square, f.iterations))
+        );
+        assert!(
+            (again.chi_square - b.chi_square).abs() <= 1e-6 * (1.0 + b.chi_square),
+            "seed {seed}: {} against {}",
+            again.chi_square,
+            b.chi_square
+        );
+        assert!((again.frictions[0] - b.frictions[0]).abs() < 1e-4);
+        assert!(again.iterations <= 2, "{}", again.iterations);
+        let stated = stated.expect("refined from the stated friction");
+        assert!(
+            stated.iterations > again.iterations,
+            "{}",
+            stated.iterations
+        );
+    }
+}
