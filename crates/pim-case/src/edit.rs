@@ -397,10 +397,31 @@ enum Slot<'a> {
     Value(&'a mut Value),
 }
 
+/// Why a key path cannot be followed, or a value written, in the text.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+enum PathError {
+    #[error("is not written in the file")]
+    NotWritten,
+    #[error("the file has {0} of them; give an index 0 to {last}", last = .0.saturating_sub(1))]
+    TableIndex(usize),
+    #[error("the array has {0} entries; give an index 0 to {last}", last = .0.saturating_sub(1))]
+    ArrayIndex(usize),
+    #[error("the array has {0} entries")]
+    Beyond(usize),
+    #[error("is a value, not a table")]
+    NotTable,
+    #[error("is a table, not a value")]
+    NotValue,
+    #[error("is a table or an array, not a value")]
+    NotScalar,
+    #[error("is not inside a table")]
+    NotInside,
+}
+
 impl<'a> Slot<'a> {
     /// One step down the path: a key of a table, an index of an array. With `create`, a key a
     /// table does not have becomes a new table.
-    fn step(self, key: &str, create: bool) -> std::result::Result<Slot<'a>, String> {
+    fn step(self, key: &str, create: bool) -> std::result::Result<Slot<'a>, PathError> {
         let index = key.parse::<usize>().ok();
         match self {
             Slot::Table(t) => {
@@ -409,9 +430,7 @@ impl<'a> Slot<'a> {
                     new.set_implicit(true);
                     t.insert(key, Item::Table(new));
                 }
-                t.get_mut(key)
-                    .map(Slot::Item)
-                    .ok_or_else(|| "is not written in the file".to_string())
+                t.get_mut(key).map(Slot::Item).ok_or(PathError::NotWritten)
             }
             Slot::Item(Item::Table(t)) => Slot::Table(t).step(key, create),
             Slot::Item(Item::ArrayOfTables(a)) => {
@@ -419,40 +438,28 @@ impl<'a> Slot<'a> {
                 index
                     .and_then(|i| a.get_mut(i))
                     .map(Slot::Table)
-                    .ok_or_else(|| {
-                        format!(
-                            "the file has {n} of them; give an index 0 to {}",
-                            n.saturating_sub(1)
-                        )
-                    })
+                    .ok_or(PathError::TableIndex(n))
             }
             Slot::Item(Item::Value(v)) => Slot::Value(v).step(key, create),
             Slot::Value(Value::InlineTable(t)) => {
                 if create && !t.contains_key(key) {
                     t.insert(key, Value::InlineTable(toml_edit::InlineTable::new()));
                 }
-                t.get_mut(key)
-                    .map(Slot::Value)
-                    .ok_or_else(|| "is not written in the file".to_string())
+                t.get_mut(key).map(Slot::Value).ok_or(PathError::NotWritten)
             }
             Slot::Value(Value::Array(a)) => {
                 let n = a.len();
                 index
                     .and_then(|i| a.get_mut(i))
                     .map(Slot::Value)
-                    .ok_or_else(|| {
-                        format!(
-                            "the array has {n} entries; give an index 0 to {}",
-                            n.saturating_sub(1)
-                        )
-                    })
+                    .ok_or(PathError::ArrayIndex(n))
             }
-            _ => Err("is a value, not a table".to_string()),
+            _ => Err(PathError::NotTable),
         }
     }
 
     /// Writes `new` under `key` here, keeping the old value's comment and spacing.
-    fn put(self, key: &str, mut new: Value) -> std::result::Result<(), String> {
+    fn put(self, key: &str, mut new: Value) -> std::result::Result<(), PathError> {
         match self {
             Slot::Table(t) => match t.get_mut(key) {
                 Some(Item::Value(old)) => {
@@ -460,7 +467,7 @@ impl<'a> Slot<'a> {
                     *old = new;
                     Ok(())
                 }
-                Some(_) => Err("is a table, not a value".to_string()),
+                Some(_) => Err(PathError::NotValue),
                 None => {
                     t.insert(key, Item::Value(new));
                     Ok(())
@@ -471,7 +478,7 @@ impl<'a> Slot<'a> {
             Slot::Value(Value::InlineTable(t)) => match t.get_mut(key) {
                 Some(old) => {
                     if old.is_inline_table() || old.is_array() {
-                        return Err("is a table or an array, not a value".to_string());
+                        return Err(PathError::NotScalar);
                     }
                     *new.decor_mut() = old.decor().clone();
                     *old = new;
@@ -501,10 +508,10 @@ impl<'a> Slot<'a> {
                         *old = new;
                         Ok(())
                     }
-                    None => Err(format!("the array has {n} entries")),
+                    None => Err(PathError::Beyond(n)),
                 }
             }
-            _ => Err("is not inside a table".to_string()),
+            _ => Err(PathError::NotInside),
         }
     }
 }

@@ -82,24 +82,36 @@ pub const MAX_DRAWS: usize = 1_000_000;
 /// runs on; the default is the machine's cores).
 pub const MAX_THREADS: usize = 256;
 
+/// A number outside its [`Range`] (or not a number): the message says the range and the value
+/// ("must be a number between lo and hi unit, got x").
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("must be a number between {} and {}{}, got {}", .range.lo, .range.hi, unit_after(.range.unit), short(*.got))]
+pub struct OutOfRange {
+    /// The range it should lie in.
+    pub range: Range,
+    /// The value given.
+    pub got: f64,
+}
+
+/// A unit after a number: a space before it, nothing for none.
+fn unit_after(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
 impl Range {
-    /// `Err` with the words "must be between lo and hi unit" when `x` is not a finite number in
-    /// the range.
-    pub fn check(&self, x: f64) -> Result<(), String> {
+    /// [`OutOfRange`] when `x` is not a finite number in the range.
+    pub fn check(&self, x: f64) -> Result<(), OutOfRange> {
         if x.is_finite() && x >= self.lo && x <= self.hi {
             Ok(())
         } else {
-            let unit = if self.unit.is_empty() {
-                String::new()
-            } else {
-                format!(" {}", self.unit)
-            };
-            Err(format!(
-                "must be a number between {} and {}{unit}, got {}",
-                self.lo,
-                self.hi,
-                short(x)
-            ))
+            Err(OutOfRange {
+                range: *self,
+                got: x,
+            })
         }
     }
 }
@@ -123,10 +135,16 @@ mod tests {
         for bad in [99.9, 1e-300, f64::NAN, f64::INFINITY, -1.0, 1.000001e6] {
             assert!(MASS.check(bad).is_err(), "{bad}");
         }
-        assert!(SPEED
-            .check(1e308)
-            .unwrap_err()
-            .contains("between -100 and 100 m/s"));
+        let e = SPEED.check(1e308).unwrap_err();
+        assert_eq!(e.range, SPEED);
+        assert_eq!(
+            e.to_string(),
+            "must be a number between -100 and 100 m/s, got 1e308"
+        );
+        assert_eq!(
+            MASS.check(f64::NAN).unwrap_err().to_string(),
+            "must be a number between 100 and 1000000 kg, got NaN"
+        );
         assert!(DELTA_V.check(-3.0).is_err());
     }
 }

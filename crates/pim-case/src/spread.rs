@@ -49,39 +49,37 @@ impl Spread {
     /// Checks the spread against the value it qualifies (in SI): a positive quantity (mass,
     /// inertia, distance) needs a standard deviation smaller than the value and a uniform range
     /// above 0; an angle a standard deviation of at most 90 deg and a range within one turn.
+    /// `what` names the quantity in the message.
     pub fn check_against(
         self,
         what: &str,
         nominal: f64,
         positive: bool,
-    ) -> std::result::Result<(), String> {
+    ) -> std::result::Result<(), SpreadError> {
         self.check_own()?;
         let bad = match (positive, self) {
-            (true, Spread::Normal(s)) => (s >= nominal).then(|| {
-                format!(
-                    "standard deviation {s} is not smaller than the value {nominal}: most draws \
-                     would not be a {what} at all"
-                )
-            }),
-            (true, Spread::Uniform { uniform: [a, _] }) => {
-                (a <= 0.0).then(|| format!("uniform = [{}, ...] must lie above 0", short(a)))
+            (true, Spread::Normal(sigma)) => {
+                (sigma >= nominal).then(|| SpreadError::WiderThanValue {
+                    sigma,
+                    nominal,
+                    what: what.to_string(),
+                })
             }
-            (false, Spread::Normal(s)) => {
-                (s > 90.0).then(|| format!("standard deviation {s} deg is more than 90 deg"))
+            (true, Spread::Uniform { uniform: [lo, _] }) => {
+                (lo <= 0.0).then_some(SpreadError::NotAboveZero { lo })
             }
-            (false, Spread::Uniform { uniform: [a, b] }) => (a < -360.0 || b > 360.0).then(|| {
-                format!(
-                    "uniform = [{}, {}] deg must lie within -360 and 360 deg",
-                    short(a),
-                    short(b)
-                )
-            }),
+            (false, Spread::Normal(sigma)) => {
+                (sigma > 90.0).then_some(SpreadError::AngleTooWide { sigma })
+            }
+            (false, Spread::Uniform { uniform: [lo, hi] }) => {
+                (lo < -360.0 || hi > 360.0).then_some(SpreadError::BeyondATurn { lo, hi })
+            }
         };
         bad.map_or(Ok(()), Err)
     }
 
     /// A standard deviation >= 0, or a uniform range with low <= high, both finite.
-    pub fn check_own(self) -> std::result::Result<(), String> {
+    pub fn check_own(self) -> std::result::Result<(), SpreadError> {
         let ok = match self {
             Spread::Normal(s) => s.is_finite() && s >= 0.0,
             Spread::Uniform { uniform: [a, b] } => a.is_finite() && b.is_finite() && a <= b,
@@ -89,9 +87,50 @@ impl Spread {
         if ok {
             Ok(())
         } else {
-            Err("a standard deviation >= 0 or { uniform = [lo, hi] } with lo <= hi".to_string())
+            Err(SpreadError::Malformed)
         }
     }
+}
+
+/// A spread that cannot qualify its value ([`Spread::check_own`], [`Spread::check_against`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpreadError {
+    /// Not a standard deviation >= 0 nor a uniform range low <= high, both finite.
+    #[error("a standard deviation >= 0 or {{ uniform = [lo, hi] }} with lo <= hi")]
+    Malformed,
+    /// A positive quantity's standard deviation not below its value.
+    #[error(
+        "standard deviation {sigma} is not smaller than the value {nominal}: most draws would \
+         not be a {what} at all"
+    )]
+    WiderThanValue {
+        /// The standard deviation.
+        sigma: f64,
+        /// The value.
+        nominal: f64,
+        /// What the value is.
+        what: String,
+    },
+    /// A positive quantity's uniform range reaching 0 or below.
+    #[error("uniform = [{}, ...] must lie above 0", short(*.lo))]
+    NotAboveZero {
+        /// Its low end.
+        lo: f64,
+    },
+    /// An angle's standard deviation above 90 deg.
+    #[error("standard deviation {sigma} deg is more than 90 deg")]
+    AngleTooWide {
+        /// The standard deviation, deg.
+        sigma: f64,
+    },
+    /// An angle's uniform range beyond -360 to 360 deg.
+    #[error("uniform = [{}, {}] deg must lie within -360 and 360 deg", short(*.lo), short(*.hi))]
+    BeyondATurn {
+        /// Its low end, deg.
+        lo: f64,
+        /// Its high end, deg.
+        hi: f64,
+    },
 }
 
 /// Uncertain inputs of one vehicle.

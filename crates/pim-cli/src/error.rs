@@ -62,6 +62,18 @@ impl Failure {
     }
 }
 
+impl Failure {
+    /// A figure or drawing that could not be made for the output `place` (a folder, a file):
+    /// the studies' located errors as they classify themselves, any other an output failure
+    /// (exit status 4) naming `place`.
+    pub fn render(place: &std::path::Path, e: pim_render::RenderError) -> Self {
+        match e {
+            pim_render::RenderError::Input(d) => d.into(),
+            e => Failure::Output(format!("{}: {e}", place.display())),
+        }
+    }
+}
+
 impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

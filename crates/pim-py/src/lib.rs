@@ -227,7 +227,7 @@ fn batch_csv(
     let records = detached(py, threads, || {
         pim_studies::batch::run(&rows, &plan, &pim_studies::watch::Unwatched)
     })?;
-    pim_render::batch_tables::records_csv(&records).map_err(input_error)
+    pim_render::batch_tables::records_csv(&records).map_err(|e| input_error(e.to_string()))
 }
 
 /// Propagates the case's stated uncertainties ([sigma], [uncertainty]) through the fit by a
@@ -323,7 +323,7 @@ fn draw(
     }
     diagram
         .svg()
-        .map_err(pyo3::exceptions::PyRuntimeError::new_err)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))
 }
 
 /// The compiled part of the package `pim`.

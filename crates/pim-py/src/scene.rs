@@ -71,7 +71,7 @@ pub(crate) fn runout(
         let title = pim_render::text::case_title(&case);
         Some(
             pim_render::runout::runout_svg(&title, &result, units, case.written, every)
-                .map_err(pyo3::exceptions::PyRuntimeError::new_err)?,
+                .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?,
         )
     } else {
         None
@@ -118,7 +118,7 @@ pub(crate) fn reconstruct(
     let svg = if draw {
         let units = units.unwrap_or_else(|| pim_case::units::UnitSystem::of(&case.written_units));
         pim_render::runout::reconstruction_scene(&case, &done, units)
-            .map_err(pyo3::exceptions::PyRuntimeError::new_err)?
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?
     } else {
         None
     };

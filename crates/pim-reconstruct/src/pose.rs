@@ -110,7 +110,7 @@ pub fn refit(r: &Reconstruction, settings: &Settings, from: &Found) -> Result<Fo
     let x = refine_start(r, settings, start, Some(contact), &work).map_err(|reason| {
         ReconstructError::Input {
             field: "pose",
-            reason,
+            reason: reason.to_string(),
         }
     })?;
     Ok(Found::new(r, x.point, x.iterations, x.converged))

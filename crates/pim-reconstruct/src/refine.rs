@@ -1,6 +1,7 @@
 //! Gauss-Newton over the separation state of one combination of counts of turns, with the
 //! exact impact fit inside.
 
+use crate::error::NoPoint;
 use crate::friction_step::FrictionStep;
 use crate::point::{differentiated, linearised, velocity_of, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
@@ -206,7 +207,7 @@ fn fit_once(
     step: Step<'_>,
     at: Option<&Vector12>,
     work: &Work,
-) -> std::result::Result<Fitted, String> {
+) -> std::result::Result<Fitted, NoPoint> {
     let damping = match step {
         Step::Damped(lambda, around) => Some((lambda, around)),
         Step::Free | Step::Held => None,
@@ -220,14 +221,16 @@ fn fit_once(
             }
         }
     }
-    let report = fit(&problem, &settings.fit).map_err(|e| e.to_string())?;
+    let report = fit(&problem, &settings.fit)?;
     work.add(fit_work(&report));
     let best = report.best_branch().ok_or_else(|| {
-        report
-            .branches
-            .iter()
-            .find_map(|b| b.reason.as_ref().map(|x| x.to_string()))
-            .unwrap_or_else(|| "no admissible impact".into())
+        NoPoint::NoImpact(
+            report
+                .branches
+                .iter()
+                .find_map(|b| b.reason.as_ref().map(|x| x.to_string()))
+                .unwrap_or_else(|| "no admissible impact".into()),
+        )
     })?;
     match (&best.status, &best.solution) {
         (FitStatus::Optimal, Some(s)) => {
@@ -242,7 +245,7 @@ fn fit_once(
                 predicted: s.cost / scale,
             })
         }
-        _ => Err(format!("the impact fit ended {:?}", best.status)),
+        _ => Err(NoPoint::Ended(best.status)),
     }
 }
 
@@ -328,7 +331,7 @@ pub(crate) fn probe(
     start: Vec<Lin>,
     contact: Option<Vector12>,
     work: &Work,
-) -> std::result::Result<Probe, String> {
+) -> std::result::Result<Probe, NoPoint> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
     let restart = contact.is_some();
     let contact = match contact {
@@ -341,8 +344,7 @@ pub(crate) fn probe(
     };
     let fitted = fit_once(r, settings, &start, Step::Free, contact.as_ref(), work)?;
     let predicted = fitted.predicted;
-    let point = evaluate(r, settings, &counts, fitted, work)
-        .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())?;
+    let point = evaluate(r, settings, &counts, fitted, work).ok_or(NoPoint::Runout)?;
     let mut first = Probe {
         point,
         predicted,
@@ -373,7 +375,7 @@ pub(crate) fn refine_start(
     start: Vec<Lin>,
     contact: Option<Vector12>,
     work: &Work,
-) -> std::result::Result<Refined, String> {
+) -> std::result::Result<Refined, NoPoint> {
     let first = probe(r, settings, start, contact, work)?;
     Ok(refine(r, settings, first, f64::INFINITY, work))
 }
@@ -446,13 +448,12 @@ fn refine(
         // run-outs not simulated again).
         if stale {
             let c = &current;
-            let next: std::result::Result<Vec<Lin>, String> = c
+            let next: std::result::Result<Vec<Lin>, NoPoint> = c
                 .scene
                 .par_iter()
                 .map(|l| {
                     let spent = l.lin.evaluations;
-                    let d = differentiated(r, settings, l.clone(), &c.mus)
-                        .map_err(|e| e.to_string())?;
+                    let d = differentiated(r, settings, l.clone(), &c.mus)?;
                     work.add(d.lin.evaluations - spent);
                     Ok(d)
                 })
@@ -470,10 +471,8 @@ fn refine(
         let at = state_vector(&current.solution.initial, &current.solution.separation);
         let fitted = fit_once(r, settings, &lins, damping, Some(&at), work);
         let predicted = fitted.as_ref().map_or(f64::NAN, |f| f.predicted);
-        let trial = fitted.and_then(|f| {
-            evaluate(r, settings, &counts, f, work)
-                .ok_or_else(|| "the run-out of the fitted separation state failed".to_string())
-        });
+        let trial =
+            fitted.and_then(|f| evaluate(r, settings, &counts, f, work).ok_or(NoPoint::Runout));
         let accepted = trial.as_ref().is_ok_and(|p| p.total < current.total);
         if accepted {
             let p = trial.expect("accepted");
@@ -567,7 +566,7 @@ fn refine(
 const GAIN: f64 = 1e-6;
 
 /// A refinement's cost, iterations, convergence and abandonment, or why it failed.
-pub(crate) type RefineEnd = std::result::Result<(f64, usize, bool, bool), String>;
+pub(crate) type RefineEnd = std::result::Result<(f64, usize, bool, bool), NoPoint>;
 
 /// The end of one combination's refinement.
 pub(crate) struct Refined {

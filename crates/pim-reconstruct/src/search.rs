@@ -1,7 +1,7 @@
 //! The search: the run-out inverse's candidates per count of turns, a bound per combination
 //! of counts, and the refinement of the promising ones.
 
-use crate::error::Result;
+use crate::error::{NoPoint, Result};
 use crate::outcome::{Contradiction, Found, Outcome, Status, Tried, TriedCounts};
 use crate::point::{linearised, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
@@ -241,7 +241,7 @@ pub(crate) fn search(
         .sum::<usize>();
     // 1. Each combination's bound: the linearised problem under the momentum balance alone.
     let combos = combinations(&starts);
-    let first: Vec<(Vec<usize>, std::result::Result<f64, String>)> = combos
+    let first: Vec<(Vec<usize>, std::result::Result<f64, NoPoint>)> = combos
         .into_iter()
         .map(|c| {
             let start: Option<Vec<Lin>> = c
@@ -250,7 +250,7 @@ pub(crate) fn search(
                 .map(|(v, &k)| lins[v][k].clone())
                 .collect();
             let out = match start {
-                None => Err("a candidate's run-out could not be linearised".to_string()),
+                None => Err(NoPoint::Unlinearised),
                 Some(start) => {
                     let (problem, scale, _) = assemble(r, &start, None, None);
                     Ok(crate::relax::momentum_bound(&problem) / scale)
@@ -404,7 +404,9 @@ pub(crate) fn search(
                     converged: *converged,
                     abandoned: *abandoned,
                 },
-                (Some(Err(e)), _) | (None, Err(e)) => Tried::NoImpact { reason: e.clone() },
+                (Some(Err(e)), _) | (None, Err(e)) => Tried::NoImpact {
+                    reason: e.to_string(),
+                },
                 (None, Ok(_)) => Tried::NotRefined {
                     reason: skipped_reason[i].clone().unwrap_or_default(),
                 },

@@ -502,7 +502,7 @@ pub fn intervals_table(records: &[BatchRecord], draws: usize, seed: u64, u: Unit
 }
 
 /// The records as CSV (one row per record; velocity errors in [`errors_csv`]).
-pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
+pub fn records_csv(records: &[BatchRecord]) -> Result<String, crate::RenderError> {
     let tan = |r: &BatchRecord| r.branch.as_ref().and_then(|b| b.tangential.clone());
     let mut w = csv::Writer::from_writer(Vec::new());
     for r in records {
@@ -550,10 +550,10 @@ pub fn records_csv(records: &[BatchRecord]) -> Result<String, String> {
             friction: tan(r).map(|t| t.friction),
             friction_max: tan(r).map(|t| t.friction_max),
         })
-        .map_err(|e| e.to_string())?;
+        .map_err(crate::csv_error)?;
     }
-    let bytes = w.into_inner().map_err(|e| e.to_string())?;
-    String::from_utf8(bytes).map_err(|e| e.to_string())
+    let bytes = w.into_inner().map_err(crate::csv_error)?;
+    String::from_utf8(bytes).map_err(crate::csv_error)
 }
 
 /// Fitted minus measured velocity per component and record, as CSV.

@@ -48,7 +48,7 @@ pub fn reconstruction_dxf(
     case: &pim_case::case::Case,
     done: &pim_studies::reconstruct::Reconstructed,
     units: UnitSystem,
-) -> Result<Option<Vec<u8>>, String> {
+) -> Result<Option<Vec<u8>>, crate::RenderError> {
     let Some(runouts) = crate::runout::fitted_runouts(case, done)? else {
         return Ok(None);
     };
@@ -65,9 +65,9 @@ pub fn reconstruction_dxf_of(
     done: &pim_studies::reconstruct::Reconstructed,
     runouts: &pim_studies::runout::RunoutResult,
     units: UnitSystem,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, crate::RenderError> {
     let Some(best) = &done.outcome.best else {
-        return Err("no reconstruction to draw".into());
+        return Err(crate::RenderError::Nothing("no reconstruction"));
     };
     let page = Page::of(case.written);
     let at = |x: f64, y: f64| page.xy((units.length(x), units.length(y)));
@@ -157,7 +157,7 @@ pub fn reconstruction_dxf_of(
         EntityType::ModelPoint(ModelPoint::new(Point::new(h, v, 0.0))),
     );
     let mut bytes = Vec::new();
-    d.save(&mut bytes).map_err(|e| e.to_string())?;
+    d.save(&mut bytes).map_err(crate::err)?;
     Ok(bytes)
 }
 

@@ -1,7 +1,7 @@
 //! The crush of a data file's tests (`pim batch DATA --damage CRUSH`): a table, a CSV and the
 //! figure of crush energy against the fitted energy loss.
 
-use crate::{err, svg_figure, Figure};
+use crate::{csv_error, err, svg_figure, Figure};
 use pim_case::units::UnitSystem;
 use pim_studies::ricsac_damage::DamageRecord;
 use plotters::prelude::*;
@@ -126,7 +126,7 @@ pub fn damage_table(records: &[DamageRecord], u: UnitSystem) -> String {
 }
 
 /// The CSV `damage.csv`: one row per test.
-pub fn damage_csv(records: &[DamageRecord]) -> Result<String, String> {
+pub fn damage_csv(records: &[DamageRecord]) -> Result<String, crate::RenderError> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
         "test",
@@ -161,7 +161,7 @@ pub fn damage_csv(records: &[DamageRecord]) -> Result<String, String> {
         "with_energy_proven",
         "error",
     ])
-    .map_err(err)?;
+    .map_err(csv_error)?;
     for r in records {
         let mut row = vec![
             r.test.to_string(),
@@ -205,15 +205,15 @@ pub fn damage_csv(records: &[DamageRecord]) -> Result<String, String> {
         }
         row.push(f.map_or_else(String::new, |f| f.proven.to_string()));
         row.push(r.error.clone().unwrap_or_default());
-        w.write_record(&row).map_err(err)?;
+        w.write_record(&row).map_err(csv_error)?;
     }
-    String::from_utf8(w.into_inner().map_err(err)?).map_err(err)
+    String::from_utf8(w.into_inner().map_err(csv_error)?).map_err(csv_error)
 }
 
 /// The figure `crush_energy.svg`: per test the crush energy (with its sigma) against the Q2
 /// fit's energy loss, and both again at the fit with the crush as evidence (its PDOF factors
 /// move with the fitted impulse); the line of equality.
-pub fn crush_energy_figure(records: &[DamageRecord]) -> Result<Figure, String> {
+pub fn crush_energy_figure(records: &[DamageRecord]) -> Result<Figure, crate::RenderError> {
     // (test, loss, crush, its sigma, (loss, crush) with the crush as evidence), kJ.
     type Point = (u32, f64, f64, f64, Option<(f64, f64)>);
     let points: Vec<Point> = records

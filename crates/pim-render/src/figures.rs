@@ -40,7 +40,7 @@ fn grouped_bars(
     tests: &[u32],
     series: &[Series],
     bounds: &[Bound],
-) -> Result<(), String> {
+) -> Result<(), crate::RenderError> {
     let (w_px, _) = area.dim_in_pixel();
     let (plot, key) = area.split_horizontally(w_px.saturating_sub(KEY_WIDTH));
     let data: Vec<f64> = series
@@ -206,7 +206,7 @@ pub fn models(
     records: &[BatchRecord],
     costs: &[pim_fit::CostPreset],
     models: &[pim_fit::FitModel],
-) -> Result<Figure, String> {
+) -> Result<Figure, crate::RenderError> {
     let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
     tests.dedup();
     let series = |f: &Getter| -> Vec<Series> {
@@ -276,7 +276,7 @@ pub fn all(
     records: &[BatchRecord],
     costs: &[pim_fit::CostPreset],
     settings: &pim_fit::FitSettings,
-) -> Result<Vec<Figure>, String> {
+) -> Result<Vec<Figure>, crate::RenderError> {
     let mut tests: Vec<u32> = records.iter().map(|r| r.test).collect();
     tests.dedup();
     let per_cost = |f: &dyn Fn(&BatchRecord) -> Option<f64>| -> Vec<Series> {

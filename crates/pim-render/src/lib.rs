@@ -56,9 +56,48 @@ pub struct Figure {
     pub svg: String,
 }
 
-/// A plotting error as text (the figures' error type).
-pub(crate) fn err<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
+/// Why a figure, a drawing or a table could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    /// The plotting library failed (its message): an SVG could not be drawn.
+    #[error("cannot draw: {0}")]
+    Draw(String),
+    /// A number to draw is not finite (what holds it).
+    #[error("cannot draw: {0} is not a finite number")]
+    NotFinite(&'static str),
+    /// There is nothing to draw (what is missing).
+    #[error("nothing to draw: {0}")]
+    Nothing(&'static str),
+    /// The impact of a case cannot be set up for its diagram.
+    #[error("the impact: {0}")]
+    Impact(pim_core::PimError),
+    /// A table could not be written as CSV (the writer's message).
+    #[error("cannot write the CSV: {0}")]
+    Csv(String),
+    /// The case, or an answer of it, cannot be drawn (located, as the studies say it).
+    #[error(transparent)]
+    Input(#[from] pim_studies::documents::DocumentError),
+}
+
+impl RenderError {
+    /// The message, naming the case file `file` where the error does not already (the
+    /// studies' errors are located).
+    pub fn in_file(&self, file: &str) -> String {
+        match self {
+            RenderError::Input(e) => e.to_string(),
+            e => format!("{file}: {e}"),
+        }
+    }
+}
+
+/// A CSV writer's error as a [`RenderError::Csv`].
+pub(crate) fn csv_error<E: std::fmt::Display>(e: E) -> RenderError {
+    RenderError::Csv(e.to_string())
+}
+
+/// A plotting error as a [`RenderError::Draw`] (the figures' error).
+pub(crate) fn err<E: std::fmt::Display>(e: E) -> RenderError {
+    RenderError::Draw(e.to_string())
 }
 
 /// A figure drawn by `draw` on a white SVG canvas of `size` pixels.
@@ -67,15 +106,15 @@ pub(crate) fn svg_figure(
     size: (u32, u32),
     draw: impl FnOnce(
         &plotters::drawing::DrawingArea<plotters::prelude::SVGBackend<'_>, plotters::coord::Shift>,
-    ) -> Result<(), String>,
-) -> Result<Figure, String> {
+    ) -> Result<(), crate::RenderError>,
+) -> Result<Figure, crate::RenderError> {
     use plotters::prelude::*;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        root.fill(&WHITE).map_err(crate::err)?;
         draw(&root)?;
-        root.present().map_err(|e| e.to_string())?;
+        root.present().map_err(crate::err)?;
     }
     Ok(Figure {
         name: name.into(),

@@ -7,7 +7,7 @@
 //! Drawn in the case's frame (SAE's y axis points to the right of x, so its plot is the
 //! natural one mirrored) and impulse unit.
 
-use crate::{err, svg_figure, Figure};
+use crate::{err, svg_figure, Figure, RenderError};
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
 use pim_core::{Convention, Velocities};
@@ -25,6 +25,9 @@ struct Arrow {
     label: String,
 }
 
+/// What a momentum diagram that is not finite holds.
+const NOT_FINITE: &str = "a velocity or mass of the momentum diagram";
+
 /// The momentum diagram of the states `initial` and `separation` (natural frame, SI) of `case`,
 /// named `name`.
 pub fn figure(
@@ -32,7 +35,7 @@ pub fn figure(
     initial: &Velocities,
     separation: &Velocities,
     name: &str,
-) -> Result<Figure, String> {
+) -> Result<Figure, RenderError> {
     let u = UnitSystem::of(&case.written_units);
     let sae = case.written == Convention::Sae;
     let barrier = case.is_barrier();
@@ -86,7 +89,7 @@ pub fn figure(
     }
     let pts: Vec<[f64; 2]> = arrows.iter().flat_map(|a| [a.from, a.to]).collect();
     if !pts.iter().flatten().all(|x| x.is_finite()) {
-        return Err("the momentum diagram has a velocity or mass that is not finite".into());
+        return Err(RenderError::NotFinite(NOT_FINITE));
     }
     let (mut lo, mut hi) = ([0.0f64; 2], [0.0f64; 2]);
     for q in &pts {

@@ -16,11 +16,14 @@ const COLORS: [RGBColor; 5] = [
 ];
 
 /// The figure `predict_dv.svg`.
-pub fn figure(rows: &[TestPrediction]) -> Result<Figure, String> {
+pub fn figure(rows: &[TestPrediction]) -> Result<Figure, crate::RenderError> {
     svg_figure("predict_dv.svg", (1100, 520), |root| draw(rows, root))
 }
 
-fn draw(rows: &[TestPrediction], root: &DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), String> {
+fn draw(
+    rows: &[TestPrediction],
+    root: &DrawingArea<SVGBackend<'_>, Shift>,
+) -> Result<(), crate::RenderError> {
     let (left, right) = root.split_horizontally(550);
     let mut chart = ChartBuilder::on(&left)
         .caption(

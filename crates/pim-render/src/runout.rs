@@ -118,7 +118,7 @@ pub fn runout_svg(
     units: UnitSystem,
     frame: Convention,
     every: f64,
-) -> Result<String, String> {
+) -> Result<String, crate::RenderError> {
     scene_svg(title, r, &[], units, frame, every)
 }
 
@@ -141,7 +141,7 @@ pub fn scene_svg(
     units: UnitSystem,
     frame: Convention,
     every: f64,
-) -> Result<String, String> {
+) -> Result<String, crate::RenderError> {
     let sae = frame == Convention::Sae;
     let u = |x: f64| units.length(x);
     // Everything in display units, laid on the page as every figure of the case is (SAE: x up,
@@ -196,7 +196,7 @@ pub fn scene_svg(
         }
     }
     if !lo.iter().chain(&hi).all(|x| x.is_finite()) {
-        return Err("the run-out has a position that is not a finite number".into());
+        return Err(crate::RenderError::NotFinite("a position of the run-out"));
     }
     let pad = 0.06 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + u(1.0);
     let (x0, x1) = (lo[0] - pad, hi[0] + pad);
@@ -213,7 +213,7 @@ pub fn scene_svg(
     let mut buf = String::new();
     {
         let root = SVGBackend::with_string(&mut buf, (width, height)).into_drawing_area();
-        let e = |e: &dyn std::fmt::Display| e.to_string();
+        let e = |e: &dyn std::fmt::Display| crate::err(e);
         root.fill(&WHITE).map_err(|x| e(&x))?;
         let (plot, key) = root.split_horizontally(width - key_w);
         let len = units.length_label();
@@ -400,16 +400,17 @@ pub fn scene_svg(
         }
         // The key.
         let mut y = 30;
-        let mut line = |text: String, color: RGBColor, size: u32| -> Result<(), String> {
-            key.draw(&Text::new(
-                text,
-                (10, y),
-                ("sans-serif", size).into_font().color(&color),
-            ))
-            .map_err(|x| e(&x))?;
-            y += size as i32 + 6;
-            Ok(())
-        };
+        let mut line =
+            |text: String, color: RGBColor, size: u32| -> Result<(), crate::RenderError> {
+                key.draw(&Text::new(
+                    text,
+                    (10, y),
+                    ("sans-serif", size).into_font().color(&color),
+                ))
+                .map_err(|x| e(&x))?;
+                y += size as i32 + 6;
+                Ok(())
+            };
         for (i, part) in title.lines().enumerate() {
             for piece in wrap(part, if i == 0 { 40 } else { 48 }) {
                 line(piece, BLACK, if i == 0 { 15 } else { 12 })?;
@@ -544,7 +545,12 @@ type Chart<'a, 'b> = ChartContext<
     Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
 >;
 
-fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> Result<(), String> {
+fn dashed(
+    chart: &mut Chart,
+    a: (f64, f64),
+    b: (f64, f64),
+    color: RGBColor,
+) -> Result<(), crate::RenderError> {
     let n = 8;
     for i in (0..n).step_by(2) {
         let f = |t: f64| (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t);
@@ -554,7 +560,7 @@ fn dashed(chart: &mut Chart, a: (f64, f64), b: (f64, f64), color: RGBColor) -> R
                 vec![p, q],
                 color.stroke_width(2),
             )))
-            .map_err(|e| e.to_string())?;
+            .map_err(crate::err)?;
     }
     Ok(())
 }
@@ -567,7 +573,7 @@ pub fn reconstruction_scene(
     case: &pim_case::case::Case,
     done: &pim_studies::reconstruct::Reconstructed,
     units: UnitSystem,
-) -> Result<Option<String>, String> {
+) -> Result<Option<String>, crate::RenderError> {
     let Some(runouts) = fitted_runouts(case, done)? else {
         return Ok(None);
     };
@@ -583,13 +589,13 @@ pub fn reconstruction_scene(
 pub fn fitted_runouts(
     case: &pim_case::case::Case,
     done: &pim_studies::reconstruct::Reconstructed,
-) -> Result<Option<pim_studies::runout::RunoutResult>, String> {
+) -> Result<Option<pim_studies::runout::RunoutResult>, crate::RenderError> {
     let Some(best) = &done.outcome.best else {
         return Ok(None);
     };
     pim_studies::runout::fitted(case, best, 0.02, false)
         .map(Some)
-        .map_err(|e| e.to_string())
+        .map_err(crate::err)
 }
 
 /// [`reconstruction_scene`] of the fitted run-outs `runouts` ([`fitted_runouts`]).
@@ -601,7 +607,7 @@ pub fn reconstruction_scene_of(
     done: &pim_studies::reconstruct::Reconstructed,
     runouts: &pim_studies::runout::RunoutResult,
     units: UnitSystem,
-) -> Result<String, String> {
+) -> Result<String, crate::RenderError> {
     let approach: Vec<Approach> = pim_studies::reconstruct::skid_lengths(&done.input)
         .into_iter()
         .map(|(vehicle, length)| Approach { vehicle, length })

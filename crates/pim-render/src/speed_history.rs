@@ -53,7 +53,7 @@ pub fn figure(
     done: &Reconstructed,
     u: UnitSystem,
     width: u32,
-) -> Result<Option<Figure>, String> {
+) -> Result<Option<Figure>, crate::RenderError> {
     let Some(best) = done.outcome.best.as_ref() else {
         return Ok(None);
     };
@@ -99,7 +99,7 @@ fn panel(
     lead: &pim_studies::playback::LeadIn,
     u: UnitSystem,
     written: f64,
-) -> Result<(), String> {
+) -> Result<(), crate::RenderError> {
     let label = u.speed_label();
     let speed = |file: f64| u.speed(file * written);
     let (earliest, history, records) = answer_lines(p, lead);

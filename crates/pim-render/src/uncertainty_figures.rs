@@ -25,15 +25,13 @@ fn index(name: &str) -> usize {
 
 /// The figures `histograms.svg`, `speeds.svg` and `tornado.svg`, speeds in the unit system
 /// `u`.
-pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, String> {
+pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, crate::RenderError> {
     let speed = u.speed_label();
     let s = &s.in_speed_unit(u.speed(1.0));
     if s.samples.is_empty() || s.samples.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(
-            "no feasible draw, or a draw with a value that is not a number: nothing to \
-                    draw"
-                .to_string(),
-        );
+        return Err(crate::RenderError::Nothing(
+            "no feasible draw, or a draw with a value that is not a number",
+        ));
     }
     let mut figures = Vec::new();
     let figure = svg_figure("histograms.svg", (1000, 700), |root| {
@@ -184,7 +182,7 @@ pub(crate) fn histogram(
     nominal: Option<f64>,
     label: &str,
     caption: String,
-) -> Result<(), String> {
+) -> Result<(), crate::RenderError> {
     let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     if !(lo.is_finite() && hi.is_finite()) {

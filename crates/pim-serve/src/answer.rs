@@ -278,9 +278,8 @@ fn reconstruction_plan(
     plan.motion = Some(crate::motion::motion_on_page(
         shown, done, best, &fitted, units,
     ));
-    plan.speed_history = pim_render::speed_history::figure(shown, done, units, SPEED_HISTORY_WIDTH)
-        .map_err(AnswerError::Unsupported)?
-        .map(|f| f.svg);
+    plan.speed_history =
+        pim_render::speed_history::figure(shown, done, units, SPEED_HISTORY_WIDTH)?.map(|f| f.svg);
     Ok(plan)
 }
 

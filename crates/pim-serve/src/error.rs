@@ -9,4 +9,7 @@ pub enum AnswerError {
     /// The case is valid but its question cannot be answered here yet.
     #[error("{0}")]
     Unsupported(String),
+    /// A figure or drawing of the answer could not be made.
+    #[error(transparent)]
+    Render(#[from] pim_render::RenderError),
 }

@@ -164,8 +164,7 @@ pub fn scene_dxf(
     )
     .map_err(|e| input(&e))?;
     let units = units.unwrap_or_else(|| pim_case::units::UnitSystem::of(&case.written_units));
-    pim_render::cad::reconstruction_dxf(&case, &done, units)
-        .map_err(AnswerError::Unsupported)?
+    pim_render::cad::reconstruction_dxf(&case, &done, units)?
         .ok_or_else(|| AnswerError::Input(format!("{file}: no reconstruction found to draw")))
 }
 

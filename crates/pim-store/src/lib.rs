@@ -327,10 +327,10 @@ fn lock(file: &str, real: &Path, max_bytes: u64) -> Result<File, StoreError> {
 /// (as [`StoreError::Refused`]); [`StoreError::Refused`] for an edited text `pim fit`
 /// refuses; [`StoreError::Unusable`], [`StoreError::Missing`] or [`StoreError::Io`] for the
 /// file itself. Nothing is written on any error.
-pub fn update(
+pub fn update<E: std::fmt::Display>(
     path: &Path,
     options: &WriteOptions<'_>,
-    edit: impl FnOnce(&Stored) -> Result<String, String>,
+    edit: impl FnOnce(&Stored) -> Result<String, E>,
 ) -> Result<Stored, StoreError> {
     let shown = path.display().to_string();
     let file = options.name.unwrap_or(&shown);
@@ -363,10 +363,10 @@ pub fn update(
 ///
 /// # Errors
 /// As [`update`], but for those of the write itself.
-pub fn preview(
+pub fn preview<E: std::fmt::Display>(
     path: &Path,
     options: &WriteOptions<'_>,
-    edit: impl FnOnce(&Stored) -> Result<String, String>,
+    edit: impl FnOnce(&Stored) -> Result<String, E>,
 ) -> Result<Stored, StoreError> {
     let shown = path.display().to_string();
     let file = options.name.unwrap_or(&shown);
@@ -379,11 +379,11 @@ pub fn preview(
 
 /// The text `edit` makes of `current`: refused when `current` is not the version `expected`,
 /// when `edit` refuses, or when `pim fit` would refuse the result.
-fn edited(
+fn edited<E: std::fmt::Display>(
     file: &str,
     current: &Stored,
     expected: Option<&str>,
-    edit: impl FnOnce(&Stored) -> Result<String, String>,
+    edit: impl FnOnce(&Stored) -> Result<String, E>,
 ) -> Result<String, StoreError> {
     if let Some(expected) = expected {
         if !current.version.matches(expected) {
@@ -394,7 +394,7 @@ fn edited(
             });
         }
     }
-    let text = edit(current).map_err(StoreError::Refused)?;
+    let text = edit(current).map_err(|e| StoreError::Refused(e.to_string()))?;
     check(file, &text)?;
     Ok(text)
 }
@@ -405,7 +405,9 @@ fn edited(
 /// # Errors
 /// As [`update`].
 pub fn write(path: &Path, text: &str, options: &WriteOptions<'_>) -> Result<Stored, StoreError> {
-    update(path, options, |_| Ok(text.to_string()))
+    update(path, options, |_| {
+        Ok::<_, std::convert::Infallible>(text.to_string())
+    })
 }
 
 /// Checks a case's text as `pim fit` does ([`pim_studies::check::check_text`]).

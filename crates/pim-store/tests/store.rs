@@ -229,11 +229,9 @@ fn two_writers_lose_no_update_and_a_reader_never_sees_a_part() {
             std::thread::spawn(move || {
                 for i in 0..100u32 {
                     pim_store::update(&p, &WriteOptions::default(), |current| {
-                        let mut e = pim_case::edit::CaseEdit::new("case.toml", &current.text)
-                            .map_err(|e| e.message)?;
-                        e.set(key, pim_case::edit::NewValue::Written(f64::from(3000 + i)))
-                            .map_err(|e| e.message)?;
-                        Ok(e.text())
+                        let mut e = pim_case::edit::CaseEdit::new("case.toml", &current.text)?;
+                        e.set(key, pim_case::edit::NewValue::Written(f64::from(3000 + i)))?;
+                        Ok::<_, pim_case::InputError>(e.text())
                     })
                     .unwrap();
                 }

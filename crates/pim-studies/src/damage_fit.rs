@@ -77,14 +77,14 @@ pub fn fit_damage(
 /// deviations: the velocity residuals then count as if their sigma were 1 m/s).
 ///
 /// # Errors
-/// A fit's error, in words.
+/// The nonlinear fit's error.
 pub fn fit_damage_of(
     damage: &Damage,
     problem: &FitProblem,
     report: &FitReport,
     settings: &ValidSettings,
     unit: Option<f64>,
-) -> std::result::Result<FitDamage, String> {
+) -> std::result::Result<FitDamage, pim_fit::FitError> {
     let at_fit = report
         .best_branch()
         .and_then(|b| b.solution.as_ref())
@@ -121,8 +121,7 @@ pub fn fit_damage_of(
     };
     let terms: [&dyn NonlinearTerm; 1] = [&term];
     let u = unit.unwrap_or(1.0);
-    let fitted =
-        pim_fit::fit_nonlinear(problem, report, u, &terms, settings).map_err(|e| e.to_string())?;
+    let fitted = pim_fit::fit_nonlinear(problem, report, u, &terms, settings)?;
     let Some(f) = fitted else {
         out.not_evidence = Some("no admissible answer to start from".into());
         return Ok(out);

@@ -66,14 +66,40 @@ pub struct CrushRow {
     pub yaw_inertia_kgm2: f64,
 }
 
-fn parse<T: for<'de> Deserialize<'de>>(text: &str) -> Result<Vec<T>, String> {
+/// A row of the RICSAC damage data that cannot be read or used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DataError {
+    /// A row that is not one of the table's (the CSV reader's message).
+    #[error("row {row}: {message}")]
+    Row {
+        /// The row, from 1 after the header.
+        row: usize,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// A vehicle's crush profile or stiffness out of its range.
+    #[error("test {test} vehicle {vehicle}: crush depths must be at least 0, L and B above 0")]
+    Crush {
+        /// The RICSAC test.
+        test: u32,
+        /// 1 or 2.
+        vehicle: u32,
+    },
+}
+
+fn parse<T: for<'de> Deserialize<'de>>(text: &str) -> Result<Vec<T>, DataError> {
     let mut rdr = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
     rdr.deserialize()
         .enumerate()
-        .map(|(i, r)| r.map_err(|e| format!("row {}: {e}", i + 1)))
+        .map(|(i, r)| {
+            r.map_err(|e| DataError::Row {
+                row: i + 1,
+                message: e.to_string(),
+            })
+        })
         .collect()
 }
 
@@ -81,17 +107,17 @@ fn parse<T: for<'de> Deserialize<'de>>(text: &str) -> Result<Vec<T>, String> {
 ///
 /// # Errors
 /// The row and what is wrong with it.
-pub fn parse_crush(text: &str) -> Result<Vec<CrushRow>, String> {
+pub fn parse_crush(text: &str) -> Result<Vec<CrushRow>, DataError> {
     let rows: Vec<CrushRow> = parse(text)?;
     for r in &rows {
         let c = [r.c1_cm, r.c2_cm, r.c3_cm, r.c4_cm, r.c5_cm, r.c6_cm];
         if c.iter().any(|x| !(x.is_finite() && *x >= 0.0))
             || !(r.damage_length_cm > 0.0 && r.a_n_per_cm >= 0.0 && r.b_n_per_cm2 > 0.0)
         {
-            return Err(format!(
-                "test {} vehicle {}: crush depths must be at least 0, L and B above 0",
-                r.test, r.vehicle
-            ));
+            return Err(DataError::Crush {
+                test: r.test,
+                vehicle: r.vehicle,
+            });
         }
     }
     Ok(rows)
@@ -101,7 +127,7 @@ pub fn parse_crush(text: &str) -> Result<Vec<CrushRow>, String> {
 ///
 /// # Errors
 /// The row and what is wrong with it.
-pub fn parse_measured(text: &str) -> Result<Vec<MeasuredDeltaV>, String> {
+pub fn parse_measured(text: &str) -> Result<Vec<MeasuredDeltaV>, DataError> {
     parse(text)
 }
 
@@ -211,7 +237,7 @@ pub fn damage_records(
                     measured,
                     error: None,
                 },
-                Err(e) => failed(e),
+                Err(e) => failed(e.to_string()),
             }
         })
         .collect()

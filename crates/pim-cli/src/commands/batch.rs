@@ -255,7 +255,7 @@ pub fn run(a: &BatchArgs, compare: bool) -> Result<ExitCode> {
             out.write("damage.txt", text)?;
             out.write(
                 "damage.csv",
-                &pim_render::damage_batch::damage_csv(d).map_err(Failure::Output)?,
+                &pim_render::damage_batch::damage_csv(d).map_err(|e| Failure::render(dir, e))?,
             )?;
             out.write(
                 "damage.json",

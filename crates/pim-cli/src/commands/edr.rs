@@ -26,7 +26,6 @@ pub fn run(a: &EdrArgs) -> Result<ExitCode> {
     };
     let edit = |current: &pim_store::Stored| {
         pim_case::edr::import(&name, &current.text, (&source, &table), &import)
-            .map_err(|e| e.message)
     };
     let done = super::set::write_or_print(&a.case, &WriteOptions::default(), a.dry_run, edit)?;
     if !a.dry_run {

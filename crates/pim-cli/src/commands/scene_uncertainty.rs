@@ -123,7 +123,7 @@ pub fn write_reconstruction(
     table: &str,
     study: Option<(&str, &str)>,
 ) -> Result<()> {
-    let cannot_draw = |e: String| Failure::Output(format!("{}: cannot draw: {e}", dir.display()));
+    let cannot_draw = |e| Failure::render(dir, e);
     // The fitted run-outs, found once for the scene's figure and its plan for CAD.
     let runouts = pim_render::runout::fitted_runouts(case, done)
         .map_err(cannot_draw)?

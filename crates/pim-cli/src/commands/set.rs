@@ -38,18 +38,23 @@ pub(crate) fn store_failure(e: StoreError) -> Failure {
 }
 
 /// The text with every KEY=VALUE of `values` set, and what was said of each.
-fn edited(name: &str, text: &str, values: &[String]) -> Result<(String, Vec<String>), String> {
-    let mut edit = CaseEdit::new(name, text).map_err(|e| e.message)?;
+fn edited(
+    name: &str,
+    text: &str,
+    values: &[String],
+) -> std::result::Result<(String, Vec<String>), pim_case::InputError> {
+    let mut edit = CaseEdit::new(name, text)?;
     let mut said = Vec::new();
     for pair in values {
         let Some((key, value)) = pair.split_once('=') else {
-            return Err(format!(
-                "{pair}: expected KEY=VALUE, e.g. scene.vehicle1.rest.x=12.0"
+            return Err(pim_case::InputError::new(
+                name,
+                format!("{pair}: expected KEY=VALUE, e.g. scene.vehicle1.rest.x=12.0"),
             ));
         };
         let key = key.trim();
         let was = edit.get(key);
-        edit.set(key, value_of(value)).map_err(|e| e.message)?;
+        edit.set(key, value_of(value))?;
         let now = edit.get(key).unwrap_or_default();
         said.push(match was {
             Some(w) => format!("{name}: {key} = {now} (was {w})"),
@@ -61,11 +66,11 @@ fn edited(name: &str, text: &str, values: &[String]) -> Result<(String, Vec<Stri
 
 /// The case file at `path` changed by `edit` and written as `pim set` writes (checked,
 /// atomic); or, with `dry_run`, the changed text printed and the file left as it was.
-pub fn write_or_print(
+pub fn write_or_print<E: std::fmt::Display>(
     path: &std::path::Path,
     options: &WriteOptions<'_>,
     dry_run: bool,
-    edit: impl FnOnce(&pim_store::Stored) -> std::result::Result<String, String>,
+    edit: impl FnOnce(&pim_store::Stored) -> std::result::Result<String, E>,
 ) -> Result<pim_store::Stored> {
     let done = if dry_run {
         pim_store::preview(path, options, edit)
@@ -95,7 +100,7 @@ pub fn run(a: &SetArgs) -> Result<ExitCode> {
     let edit = |current: &pim_store::Stored| {
         let (text, s) = edited(&name, &current.text, &a.values)?;
         said = s;
-        Ok(text)
+        Ok::<_, pim_case::InputError>(text)
     };
     let done = write_or_print(&a.case, &options, a.dry_run, edit)?;
     for s in said {

@@ -34,7 +34,7 @@ pub fn run(a: &SurveyArgs) -> Result<ExitCode> {
                     .replacen(&format!("{kept}:"), &format!("{source}:"), 1)
             },
         )?;
-        Ok(text)
+        Ok::<_, String>(text)
     };
     let done = super::set::write_or_print(&a.case, &WriteOptions::default(), a.dry_run, edit)?;
     if !a.dry_run {

@@ -69,20 +69,26 @@ fn the_friction_never_costs_more_than_the_truth() {
     }
 }
 
+/// Vehicle 1's velocity at contact known to 0.05 m/s (an EDR): the scenes then fix the speed
+/// and with it the friction.
+fn speed_of_vehicle1_known(c: &mut Crash) {
+    let unit = c.recon.unit.unwrap();
+    let u: Vector12 = pim_fit::state_vector(&c.contact, &c.separation);
+    for k in 0..2 {
+        c.recon.contact.components[k] = Knowledge::Estimated {
+            value: u[k],
+            weight: unit / 0.05f64.powi(2),
+        };
+    }
+}
+
 /// With the speed at contact of vehicle 1 known (an EDR, 0.05 m/s), the scenes fix the speed
 /// and with it the friction: stated two sigmas off, the friction is found back at the truth.
 #[test]
 fn a_known_speed_finds_the_friction_back() {
     for (seed, mut c) in crashes(0.0).take(3) {
         let truth = on_one_road(&mut c, 2.0, 0.1);
-        let unit = c.recon.unit.unwrap();
-        let u: Vector12 = pim_fit::state_vector(&c.contact, &c.separation);
-        for k in 0..2 {
-            c.recon.contact.components[k] = Knowledge::Estimated {
-                value: u[k],
-                weight: unit / 0.05f64.powi(2),
-            };
-        }
+        speed_of_vehicle1_known(&mut c);
         let out = reconstruct(&c.recon, &settings()).unwrap();
         let Some(b) = out.best.as_ref() else {
             panic!("seed {seed}: {:?}", out.reason)
@@ -105,14 +111,7 @@ fn a_known_speed_finds_the_friction_back() {
 fn an_answer_refined_again_starts_on_its_fitted_friction() {
     for (seed, mut c) in crashes(0.0).take(2) {
         on_one_road(&mut c, 2.0, 0.1);
-        let unit = c.recon.unit.unwrap();
-        let u: Vector12 = pim_fit::state_vector(&c.contact, &c.separation);
-        for k in 0..2 {
-            c.recon.contact.components[k] = Knowledge::Estimated {
-                value: u[k],
-                weight: unit / 0.05f64.powi(2),
-            };
-        }
+        speed_of_vehicle1_known(&mut c);
         let s = settings();
         let out = reconstruct(&c.recon, &s).unwrap();
         let b = out.best.as_ref().expect("an answer");

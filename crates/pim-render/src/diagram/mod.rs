@@ -287,6 +287,10 @@ impl Diagram {
                 pts.push(a);
             }
         }
+        // `min` and `max` pass over a NaN: a point not finite makes the extent so.
+        if pts.iter().flatten().any(|x| !x.is_finite()) {
+            return ([f64::NAN; 2], [f64::NAN; 2]);
+        }
         let lo = pts
             .iter()
             .fold([f64::INFINITY; 2], |a, p| [a[0].min(p[0]), a[1].min(p[1])]);
@@ -301,14 +305,13 @@ impl Diagram {
     /// A diagram whose extent is not finite (a non-finite dimension or velocity that reached it
     /// without validation) is an error, never handed to the plotting library, whose axis ticks
     /// would not end.
-    pub fn svg(&self) -> Result<String, String> {
+    pub fn svg(&self) -> Result<String, crate::RenderError> {
         let (lo, hi) = self.extent();
         if !lo.iter().chain(&hi).all(|x| x.is_finite()) {
-            return Err(
-                "the plan view has a dimension or velocity that is not a finite number \
-                        (check length, width, cg_to_front and the velocities)"
-                    .to_string(),
-            );
+            return Err(crate::RenderError::NotFinite(
+                "a dimension or velocity of the plan view (check length, width, cg_to_front and \
+                 the velocities)",
+            ));
         }
         let mut buf = String::new();
         self.in_display_units().draw_into(&mut buf)?;
@@ -393,7 +396,7 @@ pub fn of_fit(
     case: &pim_case::case::Case,
     f: &pim_studies::documents::Fitted,
     cost: &str,
-) -> Result<Diagram, String> {
+) -> Result<Diagram, crate::RenderError> {
     let report = &f.report;
     let contact = estimated_contact(case);
     let best = report.best_branch().and_then(|b| b.solution.as_ref());
@@ -402,7 +405,7 @@ pub fn of_fit(
     if let Some(g) = report.best_branch().and_then(|b| b.geometry.as_ref()) {
         let mut c = *impact.collision();
         g.apply(&mut c);
-        impact = Impact::new(c).map_err(|e| format!("{}: {e}", case.file))?;
+        impact = Impact::new(c).map_err(crate::RenderError::Impact)?;
     }
     let mut d = diagram(case, &impact, contact.as_ref(), best.map(Solved::of_fit));
     if let Some(b) = report.best_branch() {

@@ -4,8 +4,8 @@ use super::{Diagram, IMPULSE_COLOR, PDOF_COLOR, SEPARATION_COLORS, SURFACE_COLOR
 use plotters::prelude::*;
 
 impl Diagram {
-    pub(super) fn draw_into(&self, buf: &mut String) -> Result<(), String> {
-        let err = |e: &dyn std::fmt::Display| e.to_string();
+    pub(super) fn draw_into(&self, buf: &mut String) -> Result<(), crate::RenderError> {
+        let err = |e: &dyn std::fmt::Display| crate::err(e);
         let (lo, hi) = self.extent();
         let units = self.units;
         let len = units.length_label();
@@ -304,7 +304,7 @@ impl Diagram {
     }
 
     /// Writes the key's lines (or, with a key without an area, only measures them).
-    fn key(&self, key: &mut Key, sv: f64, si: f64) -> Result<(), String> {
+    fn key(&self, key: &mut Key, sv: f64, si: f64) -> Result<(), crate::RenderError> {
         let u = self.units;
         let units = u;
         let len = units.length_label();
@@ -483,7 +483,7 @@ fn arrow(
     to: [f64; 2],
     color: RGBColor,
     width: u32,
-) -> Result<Vec<(f64, f64)>, String> {
+) -> Result<Vec<(f64, f64)>, crate::RenderError> {
     let d = [to[0] - from[0], to[1] - from[1]];
     let len = d[0].hypot(d[1]);
     if len <= 0.0 {
@@ -498,7 +498,7 @@ fn arrow(
             vec![(from[0], from[1]), (base[0], base[1])],
             color.stroke_width(width),
         )))
-        .map_err(|e| e.to_string())?;
+        .map_err(crate::err)?;
     let triangle = vec![
         (to[0], to[1]),
         (base[0] + side[0], base[1] + side[1]),
@@ -509,7 +509,7 @@ fn arrow(
             triangle.clone(),
             color.filled(),
         )))
-        .map_err(|e| e.to_string())?;
+        .map_err(crate::err)?;
     Ok(triangle)
 }
 
@@ -521,7 +521,12 @@ struct Key<'a, 'b> {
 }
 
 impl Key<'_, '_> {
-    fn line(&mut self, text: String, color: Option<RGBColor>, bold: bool) -> Result<(), String> {
+    fn line(
+        &mut self,
+        text: String,
+        color: Option<RGBColor>,
+        bold: bool,
+    ) -> Result<(), crate::RenderError> {
         let x = 12i32;
         let y = self.y;
         if text.is_empty() {
@@ -537,7 +542,7 @@ impl Key<'_, '_> {
                 vec![(x, y + 7), (x + 26, y + 7)],
                 c.stroke_width(3),
             ))
-            .map_err(|e| e.to_string())?;
+            .map_err(crate::err)?;
         }
         let f = if bold {
             ("sans-serif", 15).into_font().style(FontStyle::Bold)
@@ -545,7 +550,7 @@ impl Key<'_, '_> {
             ("sans-serif", 14).into_font()
         };
         area.draw(&Text::new(text, (x + 34, y), f))
-            .map_err(|e| e.to_string())?;
+            .map_err(crate::err)?;
         self.y += 20;
         Ok(())
     }

@@ -68,7 +68,7 @@ fn side_sentence(side: &pim_documents::records::SideOut, u: UnitSystem) -> Strin
 }
 
 /// The report of a solve of `case`, in the units `u`.
-pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, String> {
+pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, crate::RenderError> {
     let frame = case.written;
     let r = if frame == Convention::Sae {
         s.report.mirrored()
@@ -139,7 +139,7 @@ pub fn fit(
     cost: &str,
     study: Option<&Study>,
     u: UnitSystem,
-) -> Result<Document, String> {
+) -> Result<Document, crate::RenderError> {
     let frame = case.written;
     let report = &f.report;
     let best = report.best_branch();

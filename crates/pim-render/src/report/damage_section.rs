@@ -17,7 +17,7 @@ pub(super) fn section(
     at: Option<&Assessment>,
     fit: Option<&FitDamage>,
     u: UnitSystem,
-) -> Result<Option<Section>, String> {
+) -> Result<Option<Section>, crate::RenderError> {
     let Some(a) = at.or_else(|| fit.and_then(|f| f.at_fit.as_ref())) else {
         return Ok(None);
     };
@@ -175,7 +175,7 @@ fn profile_points(
 }
 
 /// The figure `damage.svg`: each damaged vehicle's outline with its crushed region.
-fn profiles_figure(case: &Case, a: &Assessment) -> Result<Figure, String> {
+fn profiles_figure(case: &Case, a: &Assessment) -> Result<Figure, crate::RenderError> {
     let damaged: Vec<usize> = (0..2).filter(|&k| a.vehicles[k].is_some()).collect();
     let panels = damaged.len().max(1) as u32;
     let offsets: Vec<f64> = damaged

@@ -92,7 +92,7 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         return reconstruction(case, o, units);
     }
     let is_fit = !o.solve && pim_studies::fitcase::is_fit_case(case);
-    let cannot = |e: String| DocumentError::Input(format!("{}: cannot draw: {e}", case.file));
+    let cannot = |e: crate::RenderError| DocumentError::Input(e.in_file(&case.file));
     if !is_fit {
         let solved = documents::solve(case, &pim_core::SolveOptions::default())?;
         let document = super::build::solve(case, &solved, units).map_err(cannot)?;
@@ -167,7 +167,7 @@ fn reconstruction(case: &Case, o: &Options, units: UnitSystem) -> Result<Made, D
         None
     };
     let document = super::scene::reconstruction(case, &done, study.as_ref(), units)
-        .map_err(|e| DocumentError::Input(format!("{}: cannot draw: {e}", case.file)))?;
+        .map_err(|e| DocumentError::Input(e.in_file(&case.file)))?;
     Ok(Made {
         document,
         basis: Basis::Reconstruction(Box::new(done)),

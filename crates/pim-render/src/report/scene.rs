@@ -47,7 +47,7 @@ pub fn reconstruction(
     done: &Reconstructed,
     study: Option<&ReconstructionStudy>,
     u: UnitSystem,
-) -> Result<Document, String> {
+) -> Result<Document, crate::RenderError> {
     let d = &done.document;
     let frame = case.written;
     let mut doc = header(case, "Reconstruction (pre-impact, impact, run-out)", u);
@@ -309,7 +309,7 @@ fn figures(
     done: &Reconstructed,
     study: Option<&ReconstructionStudy>,
     u: UnitSystem,
-) -> Result<Section, String> {
+) -> Result<Section, crate::RenderError> {
     let mut s = Section::new("Figures");
     if let Some(svg) = crate::runout::reconstruction_scene(case, done, u)? {
         s.blocks.push(Block::Figure(
@@ -354,7 +354,7 @@ fn figures(
 }
 
 /// Histograms of every speed of a reconstruction study, in `u`.
-fn histograms(st: &ReconstructionStudy, u: UnitSystem) -> Result<Figure, String> {
+fn histograms(st: &ReconstructionStudy, u: UnitSystem) -> Result<Figure, crate::RenderError> {
     let names: Vec<&String> = st
         .quantities
         .keys()

@@ -96,3 +96,20 @@ fn the_checker_sees_an_overlap_and_a_label_off_the_canvas() {
     assert!(d.iter().any(|x| x.contains("leaves the canvas")), "{d:?}");
     assert!(d.iter().any(|x| x.contains("arrowhead")), "{d:?}");
 }
+
+/// A diagram that reached the drawing with a number that is not finite is refused with a typed
+/// error naming what holds it, never handed to the plotting library.
+#[test]
+fn a_diagram_not_finite_is_refused_as_such() {
+    let case = load(&repo().join("examples/cases/ricsac7_fit.toml"));
+    let mut d =
+        pim_render::diagram::case_diagram(&case, &pim_core::SolveOptions::default()).unwrap();
+    d.vehicles[1].cg = [f64::NAN, 0.0];
+    let e = d.svg().unwrap_err();
+    assert!(matches!(e, pim_render::RenderError::NotFinite(_)), "{e:?}");
+    assert_eq!(
+        e.in_file("case.toml"),
+        "case.toml: cannot draw: a dimension or velocity of the plan view (check length, width, \
+         cg_to_front and the velocities) is not a finite number"
+    );
+}
