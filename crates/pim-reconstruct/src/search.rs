@@ -205,6 +205,13 @@ impl Gate {
     }
 }
 
+/// A combination without a point to refine: why, in words.
+fn no_impact(e: &NoPoint) -> Tried {
+    Tried::NoImpact {
+        reason: e.to_string(),
+    }
+}
+
 /// One search: the scenes' candidates (from a scatter too, with `scatter`), the bounds, the
 /// refinements.
 pub(crate) fn search(
@@ -404,9 +411,7 @@ pub(crate) fn search(
                     converged: *converged,
                     abandoned: *abandoned,
                 },
-                (Some(Err(e)), _) | (None, Err(e)) => Tried::NoImpact {
-                    reason: e.to_string(),
-                },
+                (Some(Err(e)), _) | (None, Err(e)) => no_impact(e),
                 (None, Ok(_)) => Tried::NotRefined {
                     reason: skipped_reason[i].clone().unwrap_or_default(),
                 },
