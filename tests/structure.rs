@@ -546,6 +546,48 @@ fn no_evidence_is_matched_by_its_name() {
     assert!(found.is_empty(), "{}", found.join("\n"));
 }
 
+/// The frame a case is written in is decided in one place: above pim-case no library code
+/// tests it (`== Convention::Sae`, a match on it); each conversion between the natural frame,
+/// the written one and the page is a method of `pim_core::Convention` (`sign`, `shown`,
+/// `to_page`, `from_page`, `angle_from_page`, ...).
+#[test]
+fn no_frame_is_tested_above_the_case() {
+    const ABOVE: [&str; 7] = [
+        "crates/pim-reconstruct",
+        "crates/pim-documents",
+        "crates/pim-studies",
+        "crates/pim-render",
+        "crates/pim-cli",
+        "crates/pim-serve",
+        "crates/pim-py",
+    ];
+    let tests = |line: &str| {
+        ["Sae", "Natural", "Brach"].iter().any(|c| {
+            line.contains(&format!("== Convention::{c}"))
+                || line.contains(&format!("!= Convention::{c}"))
+                || line.contains(&format!("Convention::{c} =>"))
+                || line.contains(&format!("== pim_core::Convention::{c}"))
+                || line.contains(&format!("pim_core::Convention::{c} =>"))
+        })
+    };
+    let mut found = Vec::new();
+    for krate in ABOVE {
+        for (_, (path, _)) in crate_files(&root().join(krate)) {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let code = code_of(before_tests(&text));
+            for (n, line) in code.lines().enumerate().filter(|(_, l)| tests(l)) {
+                found.push(format!(
+                    "{}:{}: `{}`: convert with a method of pim_core::Convention",
+                    path.strip_prefix(root()).unwrap().display(),
+                    n + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
 #[test]
 fn the_name_rule_sees_a_name_compared() {
     let code = code_of("fn f(r: &R) -> bool { r.name.contains(\"heading\") }\n");

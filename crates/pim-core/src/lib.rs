@@ -147,6 +147,7 @@ mod friction;
 mod impact_model;
 mod impc;
 mod mirror;
+pub use mirror::Mirror;
 mod model;
 mod names;
 pub mod outline;

@@ -10,7 +10,7 @@
 use crate::{err, svg_figure, Figure, RenderError};
 use pim_case::case::Case;
 use pim_case::units::UnitSystem;
-use pim_core::{Convention, Velocities};
+use pim_core::Velocities;
 use plotters::prelude::*;
 
 const COLORS: [RGBColor; 2] = [RGBColor(31, 119, 180), RGBColor(214, 39, 40)];
@@ -37,7 +37,7 @@ pub fn figure(
     name: &str,
 ) -> Result<Figure, RenderError> {
     let u = UnitSystem::of(&case.written_units);
-    let sae = case.written == Convention::Sae;
+    let sae = case.written.mirrors();
     let barrier = case.is_barrier();
     let masses = [case.content.vehicle1.mass, case.content.vehicle2.mass];
     let k = u.impulse(1.0);

@@ -28,7 +28,7 @@ impl Page {
     }
 
     fn sae(self) -> bool {
-        self.frame == Convention::Sae
+        self.frame.mirrors()
     }
 
     /// How far the fixed (natural) frame is turned on the page, degrees counter-clockwise: 0 for
@@ -44,11 +44,7 @@ impl Page {
     /// A point (or vector) of the fixed natural frame, in any length unit, on the page: to the
     /// right, up.
     pub fn point(self, p: [f64; 2]) -> [f64; 2] {
-        if self.sae() {
-            [-p[1], p[0]]
-        } else {
-            p
-        }
+        self.frame.to_page(p)
     }
 
     /// [`Page::point`] of a tuple.

@@ -15,12 +15,12 @@ pub fn reconstruction_table(
     units: UnitSystem,
     frame: Convention,
 ) -> String {
-    let s = if frame == Convention::Sae { -1.0 } else { 1.0 };
+    let s = frame.sign();
     let spd = units.speed_label();
     let len = units.length_label();
     let v = |x: f64| num(units.speed(x), 2);
     let mut t = format!("Reconstruction (pre-impact, impact, run-out): {title}\n");
-    if frame == Convention::Sae {
+    if frame.mirrors() {
         t.push_str("frame: SAE (y to the right, headings and turns clockwise)\n");
     }
     let Some(b) = &d.best else {

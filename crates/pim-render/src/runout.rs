@@ -142,7 +142,7 @@ pub fn scene_svg(
     frame: Convention,
     every: f64,
 ) -> Result<String, crate::RenderError> {
-    let sae = frame == Convention::Sae;
+    let sae = frame.mirrors();
     let u = |x: f64| units.length(x);
     // Everything in display units, laid on the page as every figure of the case is (SAE: x up,
     // y to the right).

@@ -73,7 +73,7 @@ fn inputs_text(inputs: &[pim_runout::Input], s: f64, units: UnitSystem) -> Strin
 /// and yaw rates clockwise).
 pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Convention) -> String {
     let d = &r.document;
-    let s = if frame == Convention::Sae { -1.0 } else { 1.0 };
+    let s = frame.sign();
     let (len, spd, rate) = (
         units.length_label(),
         units.speed_label(),
@@ -81,7 +81,7 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
     );
     let l = |x: f64| num(units.length(x), 2);
     let mut t = format!("Run-out: {title}\n");
-    if frame == Convention::Sae {
+    if frame.mirrors() {
         t.push_str("frame: SAE (y to the right, headings and yaw rates clockwise)\n");
     }
     // A motion case starts from a stated state, not from a separation.

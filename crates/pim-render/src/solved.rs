@@ -14,8 +14,7 @@ pub fn solved_table(title: &str, solved: &Solved, units: UnitSystem, frame: Conv
         forward,
         document,
     } = solved;
-    let mirrored = (frame == Convention::Sae).then(|| report.mirrored());
-    let shown = mirrored.as_ref().unwrap_or(report);
+    let shown = &frame.shown(report);
     let mut table = crate::tables::solve_table(
         title,
         impact,

@@ -94,13 +94,10 @@ pub fn tangential_words(
 
 /// The line that says which frame a table's signs are in.
 pub fn frame_line(frame: Convention) -> &'static str {
-    match frame {
-        Convention::Sae => {
-            "frame: SAE J670 (x forward, y to the right, headings, angles and yaw rates clockwise)"
-        }
-        _ => {
-            "frame: x, y with y to the left of x; headings, angles and yaw rates counter-clockwise"
-        }
+    if frame.mirrors() {
+        "frame: SAE J670 (x forward, y to the right, headings, angles and yaw rates clockwise)"
+    } else {
+        "frame: x, y with y to the left of x; headings, angles and yaw rates counter-clockwise"
     }
 }
 
@@ -113,9 +110,10 @@ pub fn vehicle_rows(
     frame: Convention,
 ) -> Vec<(String, [String; 2])> {
     let (sp, yr) = (u.speed_label(), u.yaw_rate_label());
-    let (heading, lateral) = match frame {
-        Convention::Sae => ("heading of the nose [deg, clockwise]", "right"),
-        _ => ("heading of the nose [deg]", "left"),
+    let (heading, lateral) = if frame.mirrors() {
+        ("heading of the nose [deg, clockwise]", "right")
+    } else {
+        ("heading of the nose [deg]", "left")
     };
     type Cell<'a> = &'a dyn Fn(&pim_core::VehicleResult) -> String;
     let rows: [(String, Cell); 9] = [
@@ -247,11 +245,7 @@ pub fn solve_table(
         s,
         "equation residual   {:.1e} (largest, relative to the size of its terms)",
         // The residual of the solution as solved (mirroring twice is the identity).
-        match frame {
-            Convention::Sae => r.mirrored().residuals(impact),
-            _ => r.residuals(impact),
-        }
-        .max_relative()
+        frame.shown(r).residuals(impact).max_relative()
     );
     if r.admissibility.admissible {
         let _ = writeln!(s, "admissible          yes");
@@ -311,8 +305,7 @@ pub fn sensitivity_table(
     );
     let (v, w) = (|x: f64| u.speed(x), |x: f64| u.yaw_rate(x));
     for c in &st.cases {
-        let mirrored = (frame == Convention::Sae).then(|| c.report.mirrored());
-        let r = mirrored.as_ref().unwrap_or(&c.report);
+        let r = &frame.shown(&c.report);
         let a = &r.separation.vehicle1;
         let b = &r.separation.vehicle2;
         let _ = writeln!(
@@ -333,7 +326,7 @@ pub fn sensitivity_table(
             if r.admissibility.admissible { "yes" } else { "NO" }
         );
     }
-    if u != UnitSystem::Si || frame == Convention::Sae {
+    if u != UnitSystem::Si || frame.mirrors() {
         let _ = writeln!(
             s,
             "(separation velocities V in {}, yaw rates W in {}; {})",
@@ -535,15 +528,11 @@ pub fn in_frame(
     pim_core::Velocities,
     [pim_core::VehicleResult; 2],
 ) {
-    if frame == Convention::Sae {
-        (
-            sol.initial.mirrored(),
-            sol.separation.mirrored(),
-            sol.vehicles.map(|v| v.mirrored()),
-        )
-    } else {
-        (sol.initial, sol.separation, sol.vehicles)
-    }
+    (
+        frame.shown(&sol.initial),
+        frame.shown(&sol.separation),
+        frame.shown(&sol.vehicles),
+    )
 }
 
 /// The tangential model's coefficients of a fitted solution, in words.

@@ -5,7 +5,6 @@
 use crate::AnswerError;
 use pim_case::edit::{CaseEdit, NewValue, Quantity};
 use pim_case::units::UnitSystem;
-use pim_core::Convention;
 use serde::Deserialize;
 
 /// What the page changes of `[background]`: each value given is written, the others kept.
@@ -102,10 +101,7 @@ pub fn set_background(
     }
     if let Some(at) = change.at {
         // The page is the written frame turned: natural (h, v) = (x, y); SAE (h, v) = (y, x).
-        let (x, y) = match case.convention {
-            Convention::Sae => (at[1], at[0]),
-            _ => (at[0], at[1]),
-        };
+        let [x, y] = case.convention.from_page(at);
         let si = Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
         let display = units.length(1.0).recip();
         for (key, value) in [("x", x), ("y", y)] {

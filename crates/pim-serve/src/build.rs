@@ -64,8 +64,7 @@ pub(crate) async fn new_case(State(s): State<Arc<Server>>, Json(n): Json<NewCase
         );
     }
     let convention = match n.convention.as_deref().unwrap_or("natural") {
-        "natural" => Convention::Natural,
-        "sae" => Convention::Sae,
+        name @ ("natural" | "sae") => Convention::named(name).expect("a frame's name"),
         other => {
             return refused(
                 StatusCode::UNPROCESSABLE_ENTITY,

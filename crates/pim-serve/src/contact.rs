@@ -23,7 +23,6 @@ use crate::AnswerError;
 use pim_case::case::Case;
 use pim_case::edit::{CaseEdit, NewValue, Quantity};
 use pim_case::units::UnitSystem;
-use pim_core::Convention;
 use serde::Deserialize;
 
 /// What the page moved (page points and angles; `None`: unchanged).
@@ -69,16 +68,6 @@ impl ContactChange {
     }
 }
 
-/// A page angle (degrees counter-clockwise from the page's right) as the file of `written`
-/// writes a heading: SAE's clockwise from x, up the page; the natural frame's the page's own.
-fn written_angle(written: Convention, page: f64) -> f64 {
-    if written == Convention::Sae {
-        90.0 - page
-    } else {
-        page
-    }
-}
-
 /// An angle in (-180, 180].
 fn wrapped(deg: f64) -> f64 {
     let w = deg.rem_euclid(360.0);
@@ -121,12 +110,12 @@ fn turn_rest(file: &str, text: &str, k: u8, page: f64) -> Result<String, AnswerE
         )));
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    if case.written == Convention::Brach {
+    if !case.written.heads_by_nose() {
         return Err(AnswerError::Input(format!(
             "{file}: a case in the papers' convention is edited in its TOML"
         )));
     }
-    let written = written_angle(case.written, page);
+    let written = case.written.angle_from_page(page);
     let mut edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
     edit.set(
         &format!("scene.vehicle{k}.rest.heading"),
@@ -204,28 +193,20 @@ pub fn edit_contact(
         return turn_rest(file, text, k, page);
     }
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    if case.written == Convention::Brach {
+    if !case.written.heads_by_nose() {
         return Err(refuse(
             "a case in the papers' convention is edited in its TOML (the page moves vehicles \
              of the natural and SAE forms)"
                 .into(),
         ));
     }
-    let sae = case.written == Convention::Sae;
     let units = units.unwrap_or_else(|| UnitSystem::of(&case.written_units));
     let mut edit = CaseEdit::new(file, text).map_err(|e| input(&e))?;
     let per_unit = Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
     // Page point (display unit) to the written frame (file unit); page angle to written.
     let metres = units.length(1.0).recip();
-    let point = |p: [f64; 2]| {
-        let (h, v) = (p[0] * metres / per_unit, p[1] * metres / per_unit);
-        if sae {
-            [v, h]
-        } else {
-            [h, v]
-        }
-    };
-    let angle = |page: f64| wrapped(written_angle(case.written, page));
+    let point = |p: [f64; 2]| case.written.from_page(p.map(|x| x * metres / per_unit));
+    let angle = |page: f64| wrapped(case.written.angle_from_page(page));
     let num = |edit: &CaseEdit, path: &str| edit.get(path).and_then(|s| s.parse::<f64>().ok());
     let set =
         |edit: &mut CaseEdit, path: &str, v: NewValue| edit.set(path, v).map_err(|e| input(&e));

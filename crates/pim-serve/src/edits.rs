@@ -125,11 +125,7 @@ fn move_tyres(
             case.file
         )));
     };
-    let flip = if case.written == Convention::Sae {
-        -1.0
-    } else {
-        1.0
-    };
+    let flip = case.written.sign();
     let (cx, cy) = rest.cg();
     let (x, y) = written_frame((case.written, &case.written_units), at, units);
     let mut edit = pim_case::edit::CaseEdit::new(&case.file, text).map_err(|e| input(&e))?;
@@ -210,10 +206,8 @@ pub(crate) fn written_frame(
 ) -> (f64, f64) {
     let units = units.unwrap_or_else(|| UnitSystem::of(written_units));
     let m = units.length(1.0).recip();
-    match written {
-        Convention::Sae => (at[1] * m, at[0] * m),
-        _ => (at[0] * m, at[1] * m),
-    }
+    let [x, y] = written.from_page(at);
+    (x * m, y * m)
 }
 
 /// A tyre mark placed on the page.

@@ -281,19 +281,16 @@ impl Sketch {
     pub(crate) fn plan(&self, file: &str, units: UnitSystem) -> Plan {
         let page = pim_render::plan::Page::of(self.convention);
         let length = self.units.length.to_si();
-        let flip = if self.convention == Convention::Sae {
-            -1.0
-        } else {
-            1.0
-        };
+        let flip = self.convention.sign();
         let on_page = |x: f64, y: f64| {
             let (h, v) = page.xy((units.length(x * length), units.length(flip * y * length)));
             [h, v]
         };
         let mut out = Plan {
-            frame: match self.convention {
-                Convention::Sae => "sae",
-                _ => "natural",
+            frame: if self.convention.mirrors() {
+                "sae"
+            } else {
+                "natural"
             },
             length_label: units.length_label(),
             metres: units.length(1.0).recip(),

@@ -74,7 +74,7 @@ fn impact_point_inputs(
     let (x0, y0) = pim_core::impact_point_cartesian(v.d(), v.phi());
     // A range of y is written in the file's frame (SAE: to the right); the point is held in
     // the natural frame (to the left).
-    let sae = case.written == pim_core::Convention::Sae;
+    let sae = case.written.mirrors();
     let y = p.y.map(|sp| match sp {
         Spread::Uniform { uniform: [a, b] } if sae => Spread::Uniform { uniform: [-b, -a] },
         other => other,

@@ -17,11 +17,7 @@ fn shown(name: &str, u: UnitSystem, frame: pim_core::Convention) -> (f64, f64) {
     if let Some(pose) = name.strip_prefix("contact ") {
         let angle = pose.ends_with("heading") || pose == "crush_angle";
         let mirrored = angle || pose.ends_with(".y");
-        let sign = if mirrored && frame == pim_core::Convention::Sae {
-            -1.0
-        } else {
-            1.0
-        };
+        let sign = if mirrored { frame.sign() } else { 1.0 };
         (if angle { 1.0 } else { u.length(1.0) }, sign)
     } else if name.contains("speed") {
         (u.speed(1.0), 1.0)
@@ -79,11 +75,7 @@ pub fn table(
             format!(
                 ", the pose at contact in {} and degrees{}",
                 u.length_label(),
-                if frame == pim_core::Convention::Sae {
-                    ", SAE frame"
-                } else {
-                    ""
-                }
+                if frame.mirrors() { ", SAE frame" } else { "" }
             )
         } else {
             String::new()

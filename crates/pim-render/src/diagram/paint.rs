@@ -158,11 +158,7 @@ impl Diagram {
                     SEPARATION_COLORS[k],
                     2,
                 )?);
-                let shown = if self.frame == pim_core::Convention::Sae {
-                    -w
-                } else {
-                    w
-                };
+                let shown = self.frame.sign() * w;
                 let a = a0 + 0.5 * sweep;
                 labels.push((
                     format!(
@@ -308,7 +304,7 @@ impl Diagram {
         let u = self.units;
         let units = u;
         let len = units.length_label();
-        let sae = self.frame == pim_core::Convention::Sae;
+        let sae = self.frame.mirrors();
         let u_speed = |v: f64| u.speed(v);
         let mut line =
             |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
@@ -387,7 +383,7 @@ impl Diagram {
                 )?;
             }
             if let Some(w) = v.yaw_separation {
-                let shown = if sae { -w } else { w };
+                let shown = self.frame.sign() * w;
                 line(
                     format!(
                         "  separation yaw {} {} (arc)",
@@ -454,11 +450,7 @@ impl Diagram {
             false,
         )?;
         line(
-            if sae {
-                "yaw rates clockwise +".into()
-            } else {
-                "yaw rates counter-clockwise +".into()
-            },
+            format!("yaw rates {} +", self.frame.positive_sense()),
             None,
             false,
         )?;

@@ -70,11 +70,7 @@ fn side_sentence(side: &pim_documents::records::SideOut, u: UnitSystem) -> Strin
 /// The report of a solve of `case`, in the units `u`.
 pub fn solve(case: &Case, s: &Solved, u: UnitSystem) -> Result<Document, crate::RenderError> {
     let frame = case.written;
-    let r = if frame == Convention::Sae {
-        s.report.mirrored()
-    } else {
-        s.report.clone()
-    };
+    let r = frame.shown(&s.report);
     let c = &r.coefficients;
     let mut answer = Section::new("Answer");
     answer.text(format!(

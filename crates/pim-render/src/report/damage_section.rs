@@ -199,7 +199,7 @@ fn profiles_figure(case: &Case, a: &Assessment) -> Result<Figure, crate::RenderE
         .written_units
         .crush
         .map_or(case.written_units.length.to_si(), |c| c.to_si());
-    let sae = case.written == pim_core::Convention::Sae;
+    let sae = case.written.mirrors();
     svg_figure("damage.svg", (420 * panels, 470), |root| {
         let areas = root.split_evenly((1, panels as usize));
         for ((area, &k), offset) in areas.iter().zip(&damaged).zip(&offsets) {

@@ -148,11 +148,7 @@ pub(super) fn branches_table(r: &pim_fit::FitReport, records: &[BranchRecord]) -
 
 /// A residual's value in the display units and frame.
 fn shown(r: &Residual, x: f64, u: UnitSystem, frame: Convention) -> f64 {
-    let x = if r.lateral && frame == Convention::Sae {
-        -x
-    } else {
-        x
-    };
+    let x = if r.lateral { frame.sign() * x } else { x };
     if r.unit == "rad/s" {
         u.yaw_rate(x)
     } else {
@@ -229,16 +225,7 @@ pub(super) fn residual_section(r: &BranchRecord, u: UnitSystem, frame: Conventio
             ),
             x.normalised.map_or_else(
                 || "-".into(),
-                |n| {
-                    num(
-                        if x.lateral && frame == Convention::Sae {
-                            -n
-                        } else {
-                            n
-                        },
-                        2,
-                    )
-                },
+                |n| num(if x.lateral { frame.sign() * n } else { n }, 2),
             ),
             x.share.map_or_else(|| "-".into(), |v| num(100.0 * v, 1)),
         ]);

@@ -109,7 +109,7 @@ fn answer(
                 )
             })
     };
-    let sgn = if frame == Convention::Sae { -1.0 } else { 1.0 };
+    let sgn = frame.sign();
     let mut t = Table::new(&[
         "vehicle",
         &format!("before braking [{spd}]"),
@@ -162,15 +162,11 @@ fn answer(
         Some(st) => format!(
             "In brackets: the 90 % interval of {} refits with every measured input drawn ({} with \
              an answer; seed {}). Turns: full turns beyond the shortest rotation to the rest \
-             heading, {}.",
+             heading, {} positive.",
             st.draws,
             st.feasible_draws,
             st.seed,
-            if frame == Convention::Sae {
-                "clockwise positive"
-            } else {
-                "counter-clockwise positive"
-            }
+            frame.positive_sense()
         ),
         None => {
             "No uncertainty study was run (`--draws 0`): the speeds have no intervals here.".into()
@@ -273,7 +269,7 @@ fn proven(d: &ReconstructionOut, frame: Convention) -> Section {
     let mut s = Section::new("What is proven and what is not");
     s.text(format!("How the answer was found: {}.", d.method));
     s.text(format!("Proven: {}.", d.proven));
-    let sgn: i64 = if frame == Convention::Sae { -1 } else { 1 };
+    let sgn: i64 = frame.turns(1);
     let mut t = Table::new(&["counts of turns", "chi-square", "state"]);
     t.numeric[2] = false;
     for c in d.counts.iter().filter(|c| c.chi_square.is_some()) {
