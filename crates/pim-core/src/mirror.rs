@@ -199,6 +199,12 @@ impl Convention {
         }
     }
 
+    /// A point (or the deviations along the axes) written in this frame, on the page: SAE's y
+    /// to the right, x up ([`Convention::from_page`]'s inverse).
+    pub fn page_of_written(self, p: [f64; 2]) -> [f64; 2] {
+        self.to_page([p[0], self.sign() * p[1]])
+    }
+
     /// A direction on the page (degrees counter-clockwise from the page's right) as a heading of
     /// this frame (SAE: clockwise from x, which points up).
     pub fn angle_from_page(self, degrees: f64) -> f64 {
@@ -225,6 +231,7 @@ mod frame_tests {
         assert!(close(natural, [10.0, -30.0]));
         assert!(close(sae.to_page(natural), [30.0, 10.0]));
         assert!(close(sae.from_page(sae.to_page(natural)), [10.0, 30.0]));
+        assert!(close(sae.page_of_written([10.0, 30.0]), [30.0, 10.0]));
         assert!((sae.angle_from_page(0.0) - 90.0).abs() < 1e-12);
         let n = Convention::Natural;
         assert!(close(n.from_page(n.to_page([1.0, 2.0])), [1.0, 2.0]));

@@ -579,9 +579,8 @@ function render() {
       if (look.z != null) zLabel(moved, gr.at[0] + r, gr.at[1] + r, look.z);
       el("polygon", { points: pts(gr.outline), class: "outline given" }, moved);
       for (const t of gr.tyres || []) el("rect", { x: t[0] - r / 2, y: -t[1] - r / 2, width: r, height: r, class: "tyre" }, moved);
-      // The one-sigma ellipse: sigma along the written frame's x and y, turned onto the page.
-      const [sx, sy] = a.plan.frame === "sae" ? [gr.sigma[1], gr.sigma[0]] : gr.sigma;
-      el("ellipse", { cx: gr.at[0], cy: -gr.at[1], rx: sx, ry: sy, class: "sigma" }, moved);
+      // The one-sigma ellipse: its deviations along the page's axes.
+      el("ellipse", { cx: gr.at[0], cy: -gr.at[1], rx: gr.sigma[0], ry: gr.sigma[1], class: "sigma" }, moved);
       const h = el("circle", { cx: gr.at[0], cy: -gr.at[1], r, class: "handle", "data-vehicle": veh.vehicle }, moved);
       const d = state.dragging;
       if (d && d.vehicle === veh.vehicle && d.mark == null) {
@@ -1089,7 +1088,7 @@ function photoClick(e) {
   const answer = window.prompt(`Where this point lies on the scene: x y (${plan.length_label}, the case's frame)`, "");
   const xy = (answer || "").trim().split(/[\s,]+/).map(Number);
   if (xy.length !== 2 || !xy.every(Number.isFinite)) { status("no point taken"); return; }
-  state.photo.points.push({ pixel, plan: plan.frame === "sae" ? [xy[1], xy[0]] : xy });
+  state.photo.points.push({ pixel, at: xy });
   const m = document.createElement("div");
   m.className = "photo-point";
   m.style.left = `${e.clientX - r.left + img.offsetLeft}px`;

@@ -15,8 +15,8 @@ use std::path::Path;
 pub struct PhotoPoint {
     /// Its pixel on the photo (right, down from the top left).
     pub pixel: [f64; 2],
-    /// Its place on the page (right, up; the display length unit).
-    pub plan: [f64; 2],
+    /// Where it lies in the scene: x and y in the case's own frame (the display length unit).
+    pub at: [f64; 2],
 }
 
 /// What the page is given back.
@@ -47,11 +47,12 @@ pub fn photo_plan(
     points: &[PhotoPoint],
     units: Option<UnitSystem>,
 ) -> Result<PhotoPlan, AnswerError> {
+    let (sketch, _) = crate::plan::Sketch::read(file, text)?;
     let controls: Vec<Control> = points
         .iter()
         .map(|p| Control {
             pixel: p.pixel,
-            plan: p.plan,
+            plan: sketch.convention.page_of_written(p.at),
         })
         .collect();
     let bad = |e: &dyn std::fmt::Display| AnswerError::Input(format!("{photo}: {e}"));

@@ -126,7 +126,7 @@ pub struct PlanVehicle {
 pub struct GivenRest {
     /// Its CG.
     pub at: [f64; 2],
-    /// Its standard deviations along the written frame's x and y.
+    /// Its standard deviations along the page's axes (right, up).
     pub sigma: [f64; 2],
     /// The vehicle's outline there.
     pub outline: Vec<[f64; 2]>,
@@ -384,10 +384,10 @@ fn plan_runouts(
             };
             GivenRest {
                 at: on_page(x, y),
-                sigma: [
-                    units.length(rest.sigma_xy[0]),
-                    units.length(rest.sigma_xy[1]),
-                ],
+                sigma: case
+                    .written
+                    .page_of_written(rest.sigma_xy.map(|s| units.length(s)))
+                    .map(f64::abs),
                 outline: outline(k, &pose),
                 tyres: input
                     .rest_tyres
