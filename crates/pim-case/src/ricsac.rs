@@ -297,44 +297,7 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>> {
         .headers()
         .map_err(|e| InputError::located(file, format!("{file}:1: cannot read the header: {e}")))?
         .clone();
-    let got: Vec<&str> = headers.iter().collect();
-    for (i, want) in COLUMNS.iter().enumerate() {
-        match got.get(i) {
-            Some(g) if g == want => {}
-            Some(g) => {
-                return Err(InputError::located(
-                    file,
-                    format!(
-                        "{file}:1: column {} is `{g}`, expected `{want}` (the columns must be, in \
-                     this order: {})",
-                        i + 1,
-                        COLUMNS.join(",")
-                    ),
-                ))
-            }
-            None => {
-                return Err(InputError::located(
-                    file,
-                    format!(
-                    "{file}:1: missing column {} `{want}` (the header has {} columns, {} expected)",
-                    i + 1,
-                    got.len(),
-                    COLUMNS.len()
-                ),
-                ))
-            }
-        }
-    }
-    if got.len() > COLUMNS.len() {
-        return Err(InputError::located(
-            file,
-            format!(
-                "{file}:1: unexpected extra column {} `{}`",
-                COLUMNS.len() + 1,
-                got[COLUMNS.len()]
-            ),
-        ));
-    }
+    check_header(file, &headers)?;
     let mut tests: Vec<RicsacTest> = Vec::new();
     for result in rdr.records() {
         let record = result.map_err(|e| csv_error(file, &e))?;
@@ -406,6 +369,50 @@ pub fn parse(file: &str, text: &str) -> Result<Vec<RicsacTest>> {
         ));
     }
     Ok(tests)
+}
+
+/// The header `headers` of the file `file`: the columns of [`COLUMNS`] in their order, no
+/// more and no fewer.
+fn check_header(file: &str, headers: &csv::StringRecord) -> Result<()> {
+    let got: Vec<&str> = headers.iter().collect();
+    for (i, want) in COLUMNS.iter().enumerate() {
+        match got.get(i) {
+            Some(g) if g == want => {}
+            Some(g) => {
+                return Err(InputError::located(
+                    file,
+                    format!(
+                        "{file}:1: column {} is `{g}`, expected `{want}` (the columns must be, in \
+                     this order: {})",
+                        i + 1,
+                        COLUMNS.join(",")
+                    ),
+                ))
+            }
+            None => {
+                return Err(InputError::located(
+                    file,
+                    format!(
+                    "{file}:1: missing column {} `{want}` (the header has {} columns, {} expected)",
+                    i + 1,
+                    got.len(),
+                    COLUMNS.len()
+                ),
+                ))
+            }
+        }
+    }
+    if got.len() > COLUMNS.len() {
+        return Err(InputError::located(
+            file,
+            format!(
+                "{file}:1: unexpected extra column {} `{}`",
+                COLUMNS.len() + 1,
+                got[COLUMNS.len()]
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn deserialize_reason(e: &csv::Error) -> String {

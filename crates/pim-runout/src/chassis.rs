@@ -315,8 +315,15 @@ impl Chassis {
                 );
             }
         }
-        // Times in order, unless some input starts by distance: each then starts no earlier
-        // than the one before it, whatever its time.
+        self.check_inputs()?;
+        self.check_wheels_and_zones()?;
+        self.check_outline()
+    }
+
+    /// The driver's inputs (each valid), their times in order unless some input starts by
+    /// distance (each then starts no earlier than the one before it, whatever its time): the
+    /// part of [`Chassis::check`] about the inputs.
+    fn check_inputs(&self) -> Result<()> {
         let by_distance = self.inputs.iter().any(|i| i.distance.is_some());
         let mut last = 0.0;
         for (k, input) in self.inputs.iter().enumerate() {
@@ -329,11 +336,20 @@ impl Chassis {
                     )
                 })
             }) {
-                return bad("inputs", format!("input {}: {why}", k + 1));
+                return Err(RunoutError::Input {
+                    field: "inputs",
+                    reason: format!("input {}: {why}", k + 1),
+                });
             }
             last = input.at;
         }
-        self.check_wheels_and_zones()?;
+        Ok(())
+    }
+
+    /// The wheels inside the outline where it is known: the part of [`Chassis::check`] about
+    /// the outline.
+    fn check_outline(&self) -> Result<()> {
+        let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
         if let Some(l) = self.length {
             let front = self.cg_to_front.unwrap_or(l / 2.0);
             if self.cg_to_front_axle > front || self.wheelbase - self.cg_to_front_axle > l - front {

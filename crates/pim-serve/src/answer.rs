@@ -213,49 +213,48 @@ pub fn answer_without(
                 None,
             ))
         }
-        _ => {
-            let fitted = pim_studies::documents::fit(
-                &case,
-                None,
-                FitModel::Pim,
-                MomentForm::Corrected,
-                branches,
-            )
-            .map_err(|e| input(&e))?;
-            let table = pim_render::tables::fit_table(
-                &title,
-                "custom",
-                &fitted.report,
-                units,
-                case.written,
-            );
-            let separation = fitted
-                .report
-                .best_branch()
-                .and_then(|b| b.solution.as_ref())
-                .map(|s| s.separation);
-            let plan = if case.has_runout() {
-                separation
-                    .map(|sep| run_out(&case, sep))
-                    .transpose()
-                    .and_then(|r| plan(&case, r.as_ref(), units))
-                    .unwrap_or_default()
-            } else {
-                Plan::default()
-            };
-            Ok((
-                Answer {
-                    question: "fit",
-                    live: false,
-                    pieces: Vec::new(),
-                    document: serde_json::to_value(&fitted.document).map_err(|e| input(&e))?,
-                    table,
-                    plan,
-                },
-                None,
-            ))
-        }
+        _ => fit_answer(&case, &title, units, branches),
     }
+}
+
+/// The answer of a case that fits its coefficients (`pim fit` of a case without a scene):
+/// the fit's table, its document and the run-outs from its separation.
+fn fit_answer(
+    case: &Case,
+    title: &str,
+    units: UnitSystem,
+    branches: Vec<MomentBranch>,
+) -> Result<(Answer, Option<pim_reconstruct::Outcome>), AnswerError> {
+    let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
+    let fitted =
+        pim_studies::documents::fit(case, None, FitModel::Pim, MomentForm::Corrected, branches)
+            .map_err(|e| input(&e))?;
+    let table = pim_render::tables::fit_table(title, "custom", &fitted.report, units, case.written);
+    let separation = fitted
+        .report
+        .best_branch()
+        .and_then(|b| b.solution.as_ref())
+        .map(|s| s.separation);
+    let plan = if case.has_runout() {
+        separation
+            .map(|sep| run_out(case, sep))
+            .transpose()
+            .and_then(|r| plan(case, r.as_ref(), units))
+            .unwrap_or_default()
+    } else {
+        Plan::default()
+    };
+    Ok((
+        Answer {
+            question: "fit",
+            live: false,
+            pieces: Vec::new(),
+            document: serde_json::to_value(&fitted.document).map_err(|e| input(&e))?,
+            table,
+            plan,
+        },
+        None,
+    ))
 }
 
 /// The width of the speeds before contact in the page's side pane, pixels (drawn at the

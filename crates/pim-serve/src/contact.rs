@@ -289,17 +289,25 @@ pub fn edit_contact(
         )?;
     }
     if let Some(n) = change.normal.map(angle) {
-        if edit.get("impact.crush_angle_from_vehicle1").is_some() {
-            let nose = num(&edit, "vehicle1.heading").unwrap_or(0.0);
-            set(
-                &mut edit,
-                "impact.crush_angle_from_vehicle1",
-                hundredth(wrapped(n - nose)),
-            )?;
-        } else {
-            set(&mut edit, "impact.crush_angle", hundredth(n))?;
-        }
+        set_normal(&mut edit, n).map_err(|e| input(&e))?;
     }
     edit.check().map_err(|e| input(&e))?;
     Ok(edit.text())
+}
+
+/// The crush surface's normal `n` (degrees, the written frame) written as the case gives it:
+/// as an angle from vehicle 1's heading where it writes one, else as the crush angle.
+fn set_normal(edit: &mut CaseEdit, n: f64) -> Result<(), pim_case::InputError> {
+    if edit.get("impact.crush_angle_from_vehicle1").is_some() {
+        let nose = edit
+            .get("vehicle1.heading")
+            .and_then(|s| s.parse::<f64>().ok())
+            .unwrap_or(0.0);
+        edit.set(
+            "impact.crush_angle_from_vehicle1",
+            hundredth(wrapped(n - nose)),
+        )
+    } else {
+        edit.set("impact.crush_angle", hundredth(n))
+    }
 }
