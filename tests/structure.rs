@@ -638,19 +638,8 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-render/src/figures.rs", "grouped_bars", 148),
     ("crates/pim-render/src/figures.rs", "all", 194),
     ("crates/pim-render/src/momentum.rs", "figure", 183),
-    (
-        "crates/pim-render/src/reconstruct.rs",
-        "reconstruction_table",
-        135,
-    ),
-    ("crates/pim-render/src/report/scene.rs", "answer", 140),
     ("crates/pim-render/src/runout.rs", "scene_svg", 381),
     ("crates/pim-render/src/runout_table.rs", "runout_table", 174),
-    (
-        "crates/pim-render/src/uncertainty_figures.rs",
-        "figures",
-        147,
-    ),
     ("crates/pim-cli/src/commands/batch.rs", "run", 280),
     ("crates/pim-cli/src/commands/batch_cases.rs", "run", 165),
 ];

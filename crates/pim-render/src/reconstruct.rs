@@ -92,6 +92,34 @@ pub fn reconstruction_table(
         contact_pose_lines(b, units, s)
     ));
     t.push_str(&evidence_lines(b, units));
+    t.push_str(&counts_lines(d, s));
+    for (head, text) in [("how found", &d.method), ("proven", &d.proven)] {
+        let lines = wrap(&format!("{head}: {text}"), 96);
+        for l in lines {
+            t.push_str(&format!("{l}\n"));
+        }
+    }
+    for u in &d.undetermined {
+        for (i, l) in wrap(&format!("not determined: {u}"), 96)
+            .into_iter()
+            .enumerate()
+        {
+            t.push_str(&format!("{}{l}\n", if i == 0 { "" } else { "  " }));
+        }
+    }
+    if !b.converged {
+        t.push_str("warning: the iterations reached their limit before their tolerance\n");
+    }
+    if let Some(c) = &d.consistency {
+        t.push_str(&consistency_lines(c, units));
+    }
+    t
+}
+
+/// The combinations of counts of turns compared (each refined one's chi-square and state), the
+/// counts in the frame of `s` (its sign).
+fn counts_lines(d: &ReconstructionOut, s: f64) -> String {
+    let mut t = String::new();
     t.push_str("\ncounts of turns compared (vehicle order: ");
     t.push_str(
         &d.scene_vehicles
@@ -121,26 +149,6 @@ pub fn reconstruction_table(
         t.push_str(&format!(
             "  {others} other combinations not refined (their bounds exclude them; see the JSON)\n"
         ));
-    }
-    for (head, text) in [("how found", &d.method), ("proven", &d.proven)] {
-        let lines = wrap(&format!("{head}: {text}"), 96);
-        for l in lines {
-            t.push_str(&format!("{l}\n"));
-        }
-    }
-    for u in &d.undetermined {
-        for (i, l) in wrap(&format!("not determined: {u}"), 96)
-            .into_iter()
-            .enumerate()
-        {
-            t.push_str(&format!("{}{l}\n", if i == 0 { "" } else { "  " }));
-        }
-    }
-    if !b.converged {
-        t.push_str("warning: the iterations reached their limit before their tolerance\n");
-    }
-    if let Some(c) = &d.consistency {
-        t.push_str(&consistency_lines(c, units));
     }
     t
 }

@@ -57,55 +57,7 @@ pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, crate::RenderErr
     })?;
     figures.push(figure);
 
-    let figure = svg_figure("speeds.svg", (620, 560), |root| {
-        let (a, b) = (index("speed1"), index("speed2"));
-        let pts: Vec<(f64, f64)> = s.samples.iter().map(|d| (d[a], d[b])).collect();
-        let range = |k: usize| {
-            let lo = pts
-                .iter()
-                .map(|p| if k == 0 { p.0 } else { p.1 })
-                .fold(f64::INFINITY, f64::min);
-            let hi = pts
-                .iter()
-                .map(|p| if k == 0 { p.0 } else { p.1 })
-                .fold(f64::NEG_INFINITY, f64::max);
-            let pad = 0.05 * (hi - lo).max(0.1);
-            (lo - pad)..(hi + pad)
-        };
-        let mut chart = ChartBuilder::on(root)
-            .caption(
-                "Impact speeds of the draws (black: nominal fit)",
-                ("sans-serif", 16),
-            )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .build_cartesian_2d(range(0), range(1))
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(format!("vehicle 1 speed at contact [{speed}]"))
-            .y_desc(format!("vehicle 2 speed at contact [{speed}]"))
-            .draw()
-            .map_err(err)?;
-        chart
-            .draw_series(
-                pts.iter()
-                    .map(|p| Circle::new(*p, 2, BAR.mix(0.6).filled())),
-            )
-            .map_err(err)?;
-        if let (Some(x), Some(y)) = (s.nominal.get("speed1"), s.nominal.get("speed2")) {
-            chart
-                .draw_series(std::iter::once(Cross::new(
-                    (*x, *y),
-                    7,
-                    BLACK.stroke_width(2),
-                )))
-                .map_err(err)?;
-        }
-        Ok(())
-    })?;
-    figures.push(figure);
+    figures.push(speeds_figure(s, speed)?);
 
     let figure = svg_figure("tornado.svg", (1100, 700), |root| {
         for (area, (name, label)) in root.split_evenly((2, 2)).iter().zip(SHOWN) {
@@ -171,6 +123,58 @@ pub fn figures(s: &Study, u: UnitSystem) -> Result<Vec<Figure>, crate::RenderErr
     })?;
     figures.push(figure);
     Ok(figures)
+}
+
+/// The scatter of the draws' impact speeds (`speed`: the unit's label), the nominal fit marked.
+fn speeds_figure(s: &Study, speed: &str) -> Result<Figure, crate::RenderError> {
+    svg_figure("speeds.svg", (620, 560), |root| {
+        let (a, b) = (index("speed1"), index("speed2"));
+        let pts: Vec<(f64, f64)> = s.samples.iter().map(|d| (d[a], d[b])).collect();
+        let range = |k: usize| {
+            let lo = pts
+                .iter()
+                .map(|p| if k == 0 { p.0 } else { p.1 })
+                .fold(f64::INFINITY, f64::min);
+            let hi = pts
+                .iter()
+                .map(|p| if k == 0 { p.0 } else { p.1 })
+                .fold(f64::NEG_INFINITY, f64::max);
+            let pad = 0.05 * (hi - lo).max(0.1);
+            (lo - pad)..(hi + pad)
+        };
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                "Impact speeds of the draws (black: nominal fit)",
+                ("sans-serif", 16),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(range(0), range(1))
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("vehicle 1 speed at contact [{speed}]"))
+            .y_desc(format!("vehicle 2 speed at contact [{speed}]"))
+            .draw()
+            .map_err(err)?;
+        chart
+            .draw_series(
+                pts.iter()
+                    .map(|p| Circle::new(*p, 2, BAR.mix(0.6).filled())),
+            )
+            .map_err(err)?;
+        if let (Some(x), Some(y)) = (s.nominal.get("speed1"), s.nominal.get("speed2")) {
+            chart
+                .draw_series(std::iter::once(Cross::new(
+                    (*x, *y),
+                    7,
+                    BLACK.stroke_width(2),
+                )))
+                .map_err(err)?;
+        }
+        Ok(())
+    })
 }
 
 /// One histogram panel of a study's draws: 25 bars of `v`, its 90 % interval `band` shaded and

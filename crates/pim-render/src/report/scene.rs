@@ -185,6 +185,17 @@ fn answer(
         "Fit: {}.",
         chi_square_words(b.chi_square, b.degrees_of_freedom, b.p_value)
     ));
+    warnings.extend(answer_warnings(b, study));
+    s
+}
+
+/// What the signer of an answer `b` is warned of: a poor fit, an impact ended on a bound, a
+/// nominal value outside its own interval.
+fn answer_warnings(
+    b: &pim_studies::reconstruct::BestOut,
+    study: Option<&ReconstructionStudy>,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
     if let Some(p) = b.p_value.filter(|p| *p < pim_reconstruct::POOR_FIT_P) {
         warnings.push(format!(
             "The reconstruction fits poorly (p = {}): the evidence disagrees more than its \
@@ -213,7 +224,7 @@ fn answer(
             ));
         }
     }
-    s
+    warnings
 }
 
 fn evidence_table(d: &ReconstructionOut, u: UnitSystem) -> Table {
