@@ -143,6 +143,17 @@ fn grouped_bars(
             .map_err(err)?;
     }
     // The key, beside the plot so that it never covers a bar.
+    bars_key(&key, series, bounds, &reached)
+}
+
+/// The key of [`grouped_bars`]: each series' colour, the mark of no solution, each bound
+/// (drawn where `reached`, else named as not reached).
+fn bars_key(
+    key: &Area,
+    series: &[Series],
+    bounds: &[Bound],
+    reached: &dyn Fn(&Bound) -> bool,
+) -> Result<(), crate::RenderError> {
     let mut y = 40;
     for s in series {
         let color = s.color;
