@@ -60,9 +60,7 @@ impl Failure {
     pub fn from_core(file: &str, e: pim_core::PimError) -> Self {
         pim_studies::documents::DocumentError::from_core(file, e).into()
     }
-}
 
-impl Failure {
     /// A figure or drawing that could not be made for the output `place` (a folder, a file):
     /// the studies' located errors as they classify themselves, any other an output failure
     /// (exit status 4) naming `place`.

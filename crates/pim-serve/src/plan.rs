@@ -279,12 +279,11 @@ impl Sketch {
 
     /// The plan of the sketch (of the file `file`) in `units`.
     pub(crate) fn plan(&self, file: &str, units: UnitSystem) -> Plan {
-        let page = pim_render::plan::Page::of(self.convention);
+        // Written in the file's frame and length unit.
         let length = self.units.length.to_si();
-        let flip = self.convention.sign();
         let on_page = |x: f64, y: f64| {
-            let (h, v) = page.xy((units.length(x * length), units.length(flip * y * length)));
-            [h, v]
+            self.convention
+                .page_of_written([x, y].map(|v| units.length(v * length)))
         };
         let mut out = Plan {
             frame: if self.convention.mirrors() {
