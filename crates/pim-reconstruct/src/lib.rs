@@ -157,7 +157,9 @@
 //! Where the vehicles met (impact points, headings, the crush surface, each run-out's start)
 //! is an input of a reconstruction; where it is uncertain, [`fit_pose`] fits it as unknowns
 //! with priors: the whole reconstruction refitted at each pose (variable projection) and the
-//! pose moved by Levenberg-Marquardt, the counts of turns held (see [`fit_pose`]).
+//! pose moved by Levenberg-Marquardt, the counts of turns held (see [`fit_pose`]). That descent
+//! can end in another basin of the pose than the truth's; [`screened_poses`] draws starts for
+//! another descent from the priors.
 //!
 //! ## Pre-impact
 //! A mark of braking before contact over a distance `d` with a share `b` of the road friction
@@ -173,6 +175,7 @@ mod from;
 mod outcome;
 mod point;
 mod pose;
+mod pose_starts;
 mod problem;
 mod refine;
 mod relax;
@@ -187,6 +190,7 @@ pub use outcome::{
     INCONSISTENT_P, POOR_FIT_P,
 };
 pub use pose::{fit_pose, refit, residual_z, PoseFit, PoseStart, PoseUnknown};
+pub use pose_starts::{screened_poses, Screened, SCREENED_POSES};
 pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
     Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,

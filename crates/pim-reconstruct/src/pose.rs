@@ -175,7 +175,9 @@ fn prior_cost(p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
         .sum()
 }
 
-fn cost_of(z: &[f64], p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
+/// The whole cost at offsets `p` with the residuals `z` (in standard deviations): `sum z^2`
+/// and the priors' share.
+pub(crate) fn cost_of(z: &[f64], p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
     z.iter().map(|x| x * x).sum::<f64>() + prior_cost(p, unknowns)
 }
 

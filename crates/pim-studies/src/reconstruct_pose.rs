@@ -110,8 +110,44 @@ pub(crate) fn fit_contact_pose(
             answer = again;
         }
     }
+    if !poor(&answer.1) {
+        return Ok(answer);
+    }
+    // Still poor: the descent may have ended in another basin of the pose than the scene's.
+    // Poses drawn from the priors are screened by refits from the answers above, and the
+    // pose fitted again from the lowest ([`POSE_RESTARTS`]) below the answer's whole cost.
+    let build = |p: &[f64]| built(posed((case, &unknowns), how, p));
+    let from: Vec<&pim_reconstruct::Found> = std::iter::once(best).chain(&others).collect();
+    let screened = pim_reconstruct::screened_poses(
+        build,
+        &priors_of(&unknowns),
+        &input.settings,
+        &from,
+        pim_reconstruct::SCREENED_POSES,
+    );
+    for s in screened.iter().take(POSE_RESTARTS) {
+        if !poor(&answer.1) || s.cost >= cost(&answer.1) {
+            break;
+        }
+        let start = PoseStart {
+            offsets: &s.offsets,
+            found: &s.found,
+            jacobian: None,
+            hold: false,
+        };
+        let Ok(again) = settled(case, how, second_search, &input.settings, start) else {
+            continue;
+        };
+        if cost(&again.1) < cost(&answer.1) {
+            answer = again;
+        }
+    }
     Ok(answer)
 }
+
+/// How many of the screened poses ([`pim_reconstruct::screened_poses`]) below a poor answer's
+/// whole cost the pose is fitted again from, lowest first.
+pub const POSE_RESTARTS: usize = 2;
 
 /// A pose fit from the stated pose (`zeros`: no offsets) and the answer `found` there.
 fn stated<'a>(zeros: &'a [f64], found: &'a pim_reconstruct::Found) -> PoseStart<'a> {
