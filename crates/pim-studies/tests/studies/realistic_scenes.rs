@@ -432,17 +432,29 @@ pub(crate) fn run_simulated(
             &pim_studies::watch::Unwatched,
         )
     });
+    let truth_speeds = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
     let covered = match study {
         None => [false, false],
-        Some(Ok(study)) => {
-            let truth_speeds = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
-            std::array::from_fn(|k| {
-                study
-                    .quantities
-                    .get(&format!("vehicle{}.speed_at_contact", k + 1))
-                    .is_some_and(|q| q.p05 <= truth_speeds[k] && truth_speeds[k] <= q.p95)
-            })
-        }
+        Some(Ok(study)) => std::array::from_fn(|k| {
+            let q = study
+                .quantities
+                .get(&format!("vehicle{}.speed_at_contact", k + 1));
+            // The answer, the truth and the draws' quantiles (m/s), for the intervals' study.
+            if let (Some(q), Some(b)) = (q, done.document.best.as_ref()) {
+                eprintln!(
+                    "interval {seed} {wheels:?} vehicle{}: answer {:.4} truth {:.4} p05 {:.4} \
+                     p50 {:.4} p95 {:.4} sd {:.4}",
+                    k + 1,
+                    b.vehicles[k].speed_at_contact,
+                    truth_speeds[k],
+                    q.p05,
+                    q.p50,
+                    q.p95,
+                    q.sd
+                );
+            }
+            q.is_some_and(|q| q.p05 <= truth_speeds[k] && truth_speeds[k] <= q.p95)
+        }),
         Some(Err(_)) => [false, false],
     };
     eprintln!(
