@@ -22,11 +22,13 @@ use std::fmt::Write;
 pub const SIGMA_LATERAL: f64 = 0.3;
 pub const SIGMA_YAW: f64 = 0.1;
 
+/// A standard normal draw (Box-Muller), times `NOISE_SCALE` where the environment sets it
+/// (`NOISE_SCALE=0`: the simulated scenes' measurements written exactly, the same crashes).
 pub fn normal(rng: &mut StdRng) -> f64 {
-    // Box-Muller.
     let u1: f64 = rng.random_range(f64::EPSILON..1.0);
     let u2: f64 = rng.random_range(0.0..1.0);
-    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
+    let scale: f64 = std::env::var("NOISE_SCALE").map_or(1.0, |v| v.parse().unwrap());
+    scale * (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
 }
 
 /// The title, `[units]` (SI, yaw rates in rad/s, and `units` besides), both vehicles at
