@@ -190,7 +190,7 @@ pub use outcome::{
     INCONSISTENT_P, POOR_FIT_P,
 };
 pub use pose::{fit_pose, refit, residual_z, PoseFit, PoseStart, PoseUnknown};
-pub use pose_starts::{screened_poses, Screened, SCREENED_POSES};
+pub use pose_starts::{screened_count, screened_poses, Screened, SCREENED_POSES};
 pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
     Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,

@@ -8,10 +8,16 @@ use crate::problem::{Reconstruction, Settings};
 use rayon::prelude::*;
 use statrs::distribution::{ContinuousCDF, Normal};
 
-/// How many poses [`screened_poses`] draws: enough that, in six unknowns, every orthant of
-/// the priors (which of each unknown's two sides of the stated value) holds one point in two
-/// on average, and few enough that the refits take about as long as one pose fit.
+/// The most poses [`screened_poses`] draws ([`screened_count`]): in six unknowns, every orthant
+/// of the priors (which of each unknown's two sides of the stated value) holds one point in two
+/// on average, and the refits take about as long as one pose fit.
 pub const SCREENED_POSES: usize = 32;
+
+/// How many poses to draw for `n` unknowns: four per orthant of the priors (`4 2^n`), at most
+/// [`SCREENED_POSES`]. One unknown gets 8, five or more get 32.
+pub fn screened_count(n: usize) -> usize {
+    SCREENED_POSES.min(4usize.saturating_mul(1usize.checked_shl(n as u32).unwrap_or(usize::MAX)))
+}
 
 /// A pose of the screen: its offsets (m and rad), the answer refitted there and the whole
 /// cost `chi2 + sum (p_j / s_j)^2`.
@@ -113,6 +119,8 @@ mod tests {
     fn the_drawn_poses_follow_the_priors() {
         let sigmas = [0.05, 0.3, 0.3, 0.05, 0.3, 0.3, 0.2];
         let u = unknowns(&sigmas);
+        assert_eq!(screened_count(7), SCREENED_POSES);
+        assert_eq!(screened_count(1), 8);
         let p = drawn(&u, SCREENED_POSES);
         assert_eq!(p, drawn(&u, SCREENED_POSES));
         assert_eq!(p.len(), SCREENED_POSES);

@@ -123,7 +123,7 @@ pub(crate) fn fit_contact_pose(
         &priors_of(&unknowns),
         &input.settings,
         &from,
-        pim_reconstruct::SCREENED_POSES,
+        pim_reconstruct::screened_count(unknowns.len()),
     );
     for s in screened.iter().take(POSE_RESTARTS) {
         if !poor(&answer.1) || s.cost >= cost(&answer.1) {
