@@ -116,12 +116,31 @@ pub fn refit(r: &Reconstruction, settings: &Settings, from: &Found) -> Result<Fo
     Ok(Found::new(r, x.point, x.iterations, x.converged))
 }
 
-/// A point of the pose fit: the offsets, the answer there and its residuals.
-struct At {
-    p: Vec<f64>,
-    found: Found,
+/// A point of the pose fit: the offsets, the answer there, its residuals and its whole cost.
+pub(crate) struct At {
+    pub(crate) p: Vec<f64>,
+    pub(crate) found: Found,
     z: Vec<f64>,
-    cost: f64,
+    pub(crate) cost: f64,
+}
+
+impl At {
+    /// The point at offsets `p` of the reconstruction `r` there, refitted from `from`.
+    pub(crate) fn refitted(
+        (r, settings): (&Reconstruction, &Settings),
+        unknowns: &[PoseUnknown],
+        p: &[f64],
+        from: &Found,
+    ) -> Result<At> {
+        let found = refit(r, settings, from)?;
+        let z = residual_z(r, &found);
+        Ok(At {
+            cost: cost_of(&z, p, unknowns),
+            p: p.to_vec(),
+            found,
+            z,
+        })
+    }
 }
 
 /// The reconstruction at a pose, refitted: `build` gives it at offsets, each refit counted.
@@ -150,14 +169,7 @@ where
         self.refits
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let r = (self.build)(p)?;
-        let found = refit(&r, self.settings, from)?;
-        let z = residual_z(&r, &found);
-        Ok(At {
-            cost: cost_of(&z, p, self.unknowns),
-            p: p.to_vec(),
-            found,
-            z,
-        })
+        At::refitted((&r, self.settings), self.unknowns, p, from)
     }
 
     /// Refits so far.
@@ -175,9 +187,7 @@ fn prior_cost(p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
         .sum()
 }
 
-/// The whole cost at offsets `p` with the residuals `z` (in standard deviations): `sum z^2`
-/// and the priors' share.
-pub(crate) fn cost_of(z: &[f64], p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
+fn cost_of(z: &[f64], p: &[f64], unknowns: &[PoseUnknown]) -> f64 {
     z.iter().map(|x| x * x).sum::<f64>() + prior_cost(p, unknowns)
 }
 

@@ -3,7 +3,7 @@
 //! See [`screened_poses`].
 
 use crate::outcome::Found;
-use crate::pose::{cost_of, refit, residual_z, PoseUnknown};
+use crate::pose::{At, PoseUnknown};
 use crate::problem::{Reconstruction, Settings};
 use rayon::prelude::*;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -14,9 +14,9 @@ use statrs::distribution::{ContinuousCDF, Normal};
 pub const SCREENED_POSES: usize = 32;
 
 /// How many poses to draw for `n` unknowns: four per orthant of the priors (`4 2^n`), at most
-/// [`SCREENED_POSES`]. One unknown gets 8, five or more get 32.
+/// [`SCREENED_POSES`]. One unknown gets 8, two 16, three or more 32.
 pub fn screened_count(n: usize) -> usize {
-    SCREENED_POSES.min(4usize.saturating_mul(1usize.checked_shl(n as u32).unwrap_or(usize::MAX)))
+    SCREENED_POSES.min(4 << n.min(3))
 }
 
 /// A pose of the screen: its offsets (m and rad), the answer refitted there and the whole
@@ -32,7 +32,7 @@ pub struct Screened {
 }
 
 /// The pose fit's cost landscape screened for other basins: `count` poses drawn from the
-/// priors, each the reconstruction `build` gives refitted there ([`refit`]) from each of
+/// priors, each the reconstruction `build` gives refitted there ([`crate::refit`]) from each of
 /// `answers` (answers at the stated pose, one per combination of counts of turns worth a
 /// start), the lower kept; returned lowest whole cost first.
 ///
@@ -63,14 +63,13 @@ where
             let r = build(&p).ok()?;
             answers
                 .iter()
-                .filter_map(|from| refit(&r, settings, from).ok())
-                .map(|found| (cost_of(&residual_z(&r, &found), &p, unknowns), found))
-                .filter(|(cost, _)| cost.is_finite())
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-                .map(|(cost, found)| Screened {
-                    offsets: p.clone(),
-                    found,
-                    cost,
+                .filter_map(|from| At::refitted((&r, settings), unknowns, &p, from).ok())
+                .filter(|at| at.cost.is_finite())
+                .min_by(|a, b| a.cost.total_cmp(&b.cost))
+                .map(|at| Screened {
+                    offsets: at.p,
+                    found: at.found,
+                    cost: at.cost,
                 })
         })
         .collect();
@@ -121,6 +120,8 @@ mod tests {
         let u = unknowns(&sigmas);
         assert_eq!(screened_count(7), SCREENED_POSES);
         assert_eq!(screened_count(1), 8);
+        assert_eq!(screened_count(2), 16);
+        assert_eq!(screened_count(3), SCREENED_POSES);
         let p = drawn(&u, SCREENED_POSES);
         assert_eq!(p, drawn(&u, SCREENED_POSES));
         assert_eq!(p.len(), SCREENED_POSES);

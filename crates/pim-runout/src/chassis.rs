@@ -240,7 +240,6 @@ impl Chassis {
     /// Checks every field: finite, positive where it must be, of a road vehicle's size, the
     /// wheels inside the outline when the outline is known. The error names the field.
     pub fn check(&self) -> Result<()> {
-        let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
         let positive = [
             ("mass", self.mass, 1e6),
             ("yaw_inertia", self.yaw_inertia, 2.5e8),
@@ -336,10 +335,7 @@ impl Chassis {
                     )
                 })
             }) {
-                return Err(RunoutError::Input {
-                    field: "inputs",
-                    reason: format!("input {}: {why}", k + 1),
-                });
+                return bad("inputs", format!("input {}: {why}", k + 1));
             }
             last = input.at;
         }
@@ -349,7 +345,6 @@ impl Chassis {
     /// The wheels inside the outline where it is known: the part of [`Chassis::check`] about
     /// the outline.
     fn check_outline(&self) -> Result<()> {
-        let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
         if let Some(l) = self.length {
             let front = self.cg_to_front.unwrap_or(l / 2.0);
             if self.cg_to_front_axle > front || self.wheelbase - self.cg_to_front_axle > l - front {
@@ -385,7 +380,6 @@ impl Chassis {
     /// The wheels' braking shares (0 to 1) and the friction zones (each valid, its friction
     /// above the rolling resistance): the part of [`Chassis::check`] about the wheels' grip.
     fn check_wheels_and_zones(&self) -> Result<()> {
-        let bad = |field: &'static str, reason: String| Err(RunoutError::Input { field, reason });
         for (k, z) in self.zones.iter().enumerate() {
             let why = z.check().err().or_else(|| {
                 (z.friction <= self.rolling_resistance).then(|| {
@@ -478,4 +472,9 @@ pub fn ackermann(delta: f64, wheelbase: f64, track: f64) -> Option<[f64; 2]> {
     let k = t * track / (2.0 * wheelbase);
     let (left, right) = (1.0 - k, 1.0 + k);
     (left > 0.0 && right > 0.0 && t.is_finite()).then(|| [(t / left).atan(), (t / right).atan()])
+}
+
+/// A field of a chassis refused, with why.
+fn bad(field: &'static str, reason: String) -> Result<()> {
+    Err(RunoutError::Input { field, reason })
 }

@@ -137,7 +137,6 @@ fn move_centre(
     point: Option<&str>,
 ) -> Result<(), AnswerError> {
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
-    let num = |edit: &CaseEdit, path: &str| edit.get(path).and_then(|s| s.parse::<f64>().ok());
     let set_point = |edit: &mut CaseEdit, key: &str, p: [f64; 2]| {
         for (axis, v) in [("x", p[0]), ("y", p[1])] {
             edit.set(&format!("{key}.{axis}"), hundredth(v))
@@ -207,7 +206,6 @@ pub fn edit_contact(
     let metres = units.length(1.0).recip();
     let point = |p: [f64; 2]| case.written.from_page(p.map(|x| x * metres / per_unit));
     let angle = |page: f64| wrapped(case.written.angle_from_page(page));
-    let num = |edit: &CaseEdit, path: &str| edit.get(path).and_then(|s| s.parse::<f64>().ok());
     let set =
         |edit: &mut CaseEdit, path: &str, v: NewValue| edit.set(path, v).map_err(|e| input(&e));
     let set_point = |edit: &mut CaseEdit, key: &str, p: [f64; 2]| {
@@ -299,10 +297,7 @@ pub fn edit_contact(
 /// as an angle from vehicle 1's heading where it writes one, else as the crush angle.
 fn set_normal(edit: &mut CaseEdit, n: f64) -> Result<(), pim_case::InputError> {
     if edit.get("impact.crush_angle_from_vehicle1").is_some() {
-        let nose = edit
-            .get("vehicle1.heading")
-            .and_then(|s| s.parse::<f64>().ok())
-            .unwrap_or(0.0);
+        let nose = num(edit, "vehicle1.heading").unwrap_or(0.0);
         edit.set(
             "impact.crush_angle_from_vehicle1",
             hundredth(wrapped(n - nose)),
@@ -310,4 +305,9 @@ fn set_normal(edit: &mut CaseEdit, n: f64) -> Result<(), pim_case::InputError> {
     } else {
         edit.set("impact.crush_angle", hundredth(n))
     }
+}
+
+/// The number the case writes at `path`, if it writes one there.
+fn num(edit: &CaseEdit, path: &str) -> Option<f64> {
+    edit.get(path).and_then(|s| s.parse::<f64>().ok())
 }

@@ -93,22 +93,19 @@ pub(crate) fn fit_contact_pose(
     // false), which descends from the whole answer.
     let others = runner_ups(&input, &outcome, &best.counts());
     let mut answer = answer;
+    // The pose fitted again from `start`, the lower whole cost kept.
+    let again_from = |answer: &mut (CaseReconstruction, Outcome, FittedPose), start: PoseStart| {
+        if let Ok(again) = settled(case, how, second_search, &input.settings, start) {
+            if cost(&again.1) < cost(&answer.1) {
+                *answer = again;
+            }
+        }
+    };
     for other in &others {
         if !poor(&answer.1) {
             break;
         }
-        let Ok(again) = settled(
-            case,
-            how,
-            second_search,
-            &input.settings,
-            stated(&zeros, other),
-        ) else {
-            continue;
-        };
-        if cost(&again.1) < cost(&answer.1) {
-            answer = again;
-        }
+        again_from(&mut answer, stated(&zeros, other));
     }
     if !poor(&answer.1) {
         return Ok(answer);
@@ -135,12 +132,7 @@ pub(crate) fn fit_contact_pose(
             jacobian: None,
             hold: false,
         };
-        let Ok(again) = settled(case, how, second_search, &input.settings, start) else {
-            continue;
-        };
-        if cost(&again.1) < cost(&answer.1) {
-            answer = again;
-        }
+        again_from(&mut answer, start);
     }
     Ok(answer)
 }
