@@ -26,7 +26,8 @@
 //! ## The search
 //! 1. **Each scene alone** ([`pim_runout::estimate`]): one candidate separation state per count
 //!    of turns, and up to three other local minima of that count's scene within a chi-square
-//!    of 25 of it ([`pim_runout::Candidate::alternatives`]: a scene often has several basins
+//!    of 25 of it, besides every one that meets the scene as well as its data expect
+//!    ([`pim_runout::Candidate::alternatives`]: a scene often has several basins
 //!    for one count, e.g. a car that spins out against one whose tyres turn it back, and the
 //!    scene's own best may be the one the impact cannot reach). A rest heading is known only
 //!    modulo a full turn; the scene alone rarely decides the count, the impact does. Every
@@ -54,7 +55,10 @@
 //!    evaluated cost is the only evidence; a crash of two long rolling run-outs was refused at
 //!    199 with the true combination, the seventh-lowest bound, left unrefined after the six
 //!    before it spent the budget; its first point was the third lowest, and it answers at
-//!    0.83). Refinement is Gauss-Newton over the
+//!    0.83). Both the first points and the refinements take one start per combination of
+//!    counts before any combination's second (a scene with five exact solutions for one count
+//!    must not spend the budget before another combination is tried at all). Refinement is
+//!    Gauss-Newton over the
 //!    separation state, with the exact impact fit inside at every step: the scenes'
 //!    linearised rows join the impact fit as linear evidence ([`pim_fit::Combination`]), the
 //!    fit is solved exactly and globally (its certificate), the scenes are relinearised at its

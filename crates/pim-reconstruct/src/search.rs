@@ -85,6 +85,15 @@ fn starts_of(estimates: &[Estimate]) -> Vec<Vec<Start>> {
         .collect()
 }
 
+/// The counts of turns of a combination of starts (one per vehicle).
+fn counts(combination: &[usize], starts: &[Vec<Start>]) -> Vec<Option<i64>> {
+    combination
+        .iter()
+        .enumerate()
+        .map(|(v, &k)| starts[v][k].turns)
+        .collect()
+}
+
 /// Every combination of one start per vehicle.
 fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
     let mut out: Vec<Vec<usize>> = vec![Vec::new()];
@@ -101,6 +110,26 @@ fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
             .collect();
     }
     out
+}
+
+/// `order` with, for each combination of counts of turns, its first entry before every
+/// second: a combination's further starts (its scenes' other minima for the same counts) come
+/// after each other combination has had its turn, so that a scene with many exact solutions
+/// cannot spend the budget of work before another combination is tried at all.
+fn counts_first<K: PartialEq>(order: Vec<usize>, counts_of: impl Fn(usize) -> K) -> Vec<usize> {
+    let mut seen: Vec<K> = Vec::new();
+    let (mut firsts, mut rest) = (Vec::new(), Vec::new());
+    for i in order {
+        let k = counts_of(i);
+        if seen.contains(&k) {
+            rest.push(i);
+        } else {
+            seen.push(k);
+            firsts.push(i);
+        }
+    }
+    firsts.extend(rest);
+    firsts
 }
 
 /// At most this many of an earlier search's refined combinations give the scenes' inverse
@@ -268,8 +297,10 @@ pub(crate) fn search(
         .collect();
     let mut fits = 0;
     let bound_of = |i: usize| *first[i].1.as_ref().expect("filtered");
+    let counts_of = |i: usize| counts(&first[i].0, &starts);
     let mut order: Vec<usize> = (0..first.len()).filter(|&i| first[i].1.is_ok()).collect();
     order.sort_by(|&a, &b| bound_of(a).total_cmp(&bound_of(b)));
+    let order = counts_first(order, counts_of);
     let scene_bound_of = |i: usize| -> f64 {
         first[i]
             .0
@@ -337,6 +368,7 @@ pub(crate) fn search(
         by_probe.retain(|&i| i != lowest_bound);
         by_probe.insert(0, lowest_bound);
     }
+    let by_probe = counts_first(by_probe, counts_of);
     let mut best: Option<(usize, Point, usize, bool)> = None;
     let mut ends: Vec<Option<crate::outcome::End>> = vec![None; first.len()];
     let mut count = 0;
@@ -398,11 +430,7 @@ pub(crate) fn search(
         .iter()
         .enumerate()
         .map(|(i, (c, lin))| {
-            let counts = c
-                .iter()
-                .enumerate()
-                .map(|(v, &k)| starts[v][k].turns)
-                .collect();
+            let counts = counts_of(i);
             let scene_alone = c.iter().enumerate().map(|(v, &k)| starts[v][k].cost).sum();
             let state = match (&refined[i], lin) {
                 (Some(Ok((cost, iterations, converged, abandoned))), _) => Tried::Refined {

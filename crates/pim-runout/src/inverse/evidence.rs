@@ -251,7 +251,8 @@ pub struct Candidate {
     pub runout: Runout,
     /// Other local minima of this count's cost that the search passed through (distinct
     /// separation states within [`ALTERNATIVE_COST`] of this candidate's cost, the lowest first,
-    /// at most [`MAX_ALTERNATIVES`]; found on the exploring run-outs, not polished). The scene
+    /// at most [`MAX_ALTERNATIVES`] beyond those whose cost is no larger than the count of
+    /// residuals, which are all kept; found on the exploring run-outs, not polished). The scene
     /// alone prefers the candidate; evidence beyond the scene (the impact) may prefer one of
     /// these.
     #[serde(skip)]
@@ -275,7 +276,9 @@ pub struct Alternative {
 /// back).
 pub const ALTERNATIVE_COST: f64 = 25.0;
 
-/// Most alternatives kept per candidate.
+/// Most alternatives kept per candidate beyond those that meet the scene as well as its data
+/// expect (a cost no larger than its count of residuals: the scene cannot tell them from the
+/// candidate, and all are kept).
 pub const MAX_ALTERNATIVES: usize = 3;
 
 /// The separation velocities of one vehicle estimated from its run-out evidence.

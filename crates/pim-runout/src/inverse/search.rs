@@ -437,13 +437,13 @@ pub(crate) fn solve(
     } else {
         jacobian(p, &theta, &r, &run_now, &mut runouts)?
     };
+    let residuals = p.residuals(&theta, &run_now);
     let alternatives = alternatives_of(
-        (&theta, cost),
+        (&theta, cost, residuals.len()),
         p.chassis.friction,
         ends.into_inner(),
         from_answers,
     );
-    let residuals = p.residuals(&theta, &run_now);
     let (sigma, mut free) = determinacy(&jac);
     if p.estimate_friction {
         // What the scene alone leaves free (the friction's own standard deviation then
@@ -481,12 +481,16 @@ pub(crate) fn solve(
     })
 }
 
-/// The distinct explored minima other than the answer `theta` (cost `cost`): within
-/// [`ALTERNATIVE_COST`] of it, the lowest first, at most [`MAX_ALTERNATIVES`]. Two states are
-/// the same minimum when their speeds differ by less than 5 % (and 0.2 m/s) and their yaw
+/// The distinct explored minima other than the answer `theta` (cost `cost`, over `data`
+/// residuals): within [`ALTERNATIVE_COST`] of it, the lowest first, at most
+/// [`MAX_ALTERNATIVES`] beyond those that meet the scene as well as its own data expect (a cost
+/// no larger than `data`): the scene alone cannot tell those from its candidate, so none is
+/// dropped (a car steered 50 m without marks has its rest as three equations in its three
+/// unknowns, and five exact solutions for one count; the truth's was the fourth). Two states
+/// are the same minimum when their speeds differ by less than 5 % (and 0.2 m/s) and their yaw
 /// rates by less than 0.3 rad/s.
 fn alternatives_of(
-    (theta, cost): (&[f64], f64),
+    (theta, cost, data): (&[f64], f64, usize),
     friction: f64,
     mut ends: Vec<(Vec<f64>, f64)>,
     answers: Vec<(Vec<f64>, f64)>,
@@ -499,7 +503,7 @@ fn alternatives_of(
     let mut kept: Vec<Vec<f64>> = vec![theta.to_vec()];
     let mut out = Vec::new();
     for (t, c) in ends {
-        if out.len() >= MAX_ALTERNATIVES || c > cost + ALTERNATIVE_COST {
+        if (out.len() >= MAX_ALTERNATIVES && c > data as f64) || c > cost + ALTERNATIVE_COST {
             break;
         }
         if !c.is_finite() || kept.iter().any(|k| same(k, &t)) {

@@ -22,13 +22,31 @@ use std::fmt::Write;
 pub const SIGMA_LATERAL: f64 = 0.3;
 pub const SIGMA_YAW: f64 = 0.1;
 
+thread_local! {
+    /// The noise scale [`exactly`] sets on its thread.
+    static SCALE: std::cell::Cell<Option<f64>> = const { std::cell::Cell::new(None) };
+}
+
 /// A standard normal draw (Box-Muller), times `NOISE_SCALE` where the environment sets it
-/// (`NOISE_SCALE=0`: the simulated scenes' measurements written exactly, the same crashes).
+/// (`NOISE_SCALE=0`: the simulated scenes' measurements written exactly, the same crashes), or
+/// 0 within [`exactly`].
 pub fn normal(rng: &mut StdRng) -> f64 {
     let u1: f64 = rng.random_range(f64::EPSILON..1.0);
     let u2: f64 = rng.random_range(0.0..1.0);
-    let scale: f64 = std::env::var("NOISE_SCALE").map_or(1.0, |v| v.parse().unwrap());
+    let scale: f64 = SCALE
+        .get()
+        .unwrap_or_else(|| std::env::var("NOISE_SCALE").map_or(1.0, |v| v.parse().unwrap()));
     scale * (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
+}
+
+/// `f` with every [`normal`] draw on this thread 0: a simulated crash's measurements written
+/// exactly (the same draws are taken, so the crash is the same).
+#[allow(dead_code)]
+pub fn exactly<T>(f: impl FnOnce() -> T) -> T {
+    SCALE.set(Some(0.0));
+    let out = f();
+    SCALE.set(None);
+    out
 }
 
 /// The title, `[units]` (SI, yaw rates in rad/s, and `units` besides), both vehicles at

@@ -586,6 +586,27 @@ fn the_impacts_starts_do_not_crowd_out_the_scenes_own() {
     check(&results);
 }
 
+/// Crash 100285 written exactly (its measurements without noise): the SUV steered 50 m with no
+/// marks, so its rest is three equations in its three unknowns, met exactly by at least five
+/// states of count 0. With three alternatives kept per count the truth's was dropped and the
+/// scene refused at 136.5; every alternative that meets the scene as its data expect is now a
+/// start, and each combination of counts is refined once before any is refined again (so the
+/// extra starts cannot spend the budget that 100235's true combination needs): answered at
+/// the truth.
+#[test]
+fn every_exact_solution_of_a_scene_is_a_start() {
+    let wheels = [Wheels::Jammed, Wheels::Steered];
+    let s = common::exactly(|| simulated(100_285, wheels, false)).expect("an admissible crash");
+    let r = run_simulated(100_285, wheels, s, 0).expect("answered");
+    assert!(
+        r.truth < 1e-3,
+        "an exact scene: the truth's chi-square {}",
+        r.truth
+    );
+    assert!(r.found.is_some_and(|f| f < 1e-4), "{:?}", r.found);
+    check(&[r]);
+}
+
 /// The full figure: 200 cases, 100 draws each (`CASES` and `DRAWS` change them, for a shorter
 /// look): none refused, none above the truth's chi-square, the 90 % intervals of the contact
 /// speeds hold the truth in 85-95 %.
