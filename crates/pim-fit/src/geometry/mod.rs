@@ -499,7 +499,7 @@ fn prove(
     let proof = certify::Context::new(search.problem, search.geometry, settings.get(), branch)
         .and_then(|context| certify::prove(&context, best, &cost_at, limit));
     match proof {
-        Err(reason) => (not(reason), None),
+        Err(reason) => (not(reason.to_string()), None),
         Ok(p) => {
             let status = match (p.closed, p.upper.is_finite()) {
                 (true, true) => ProofStatus::Proven,

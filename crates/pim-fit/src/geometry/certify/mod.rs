@@ -22,6 +22,7 @@ mod enclose;
 mod interval;
 mod leaf;
 mod poly;
+mod unproved;
 
 use crate::family::Friction;
 use crate::geometry::types::GeometryBound;
@@ -36,6 +37,7 @@ use poly::{Inertia, MonoBox};
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::atomic::Ordering::Relaxed;
+pub(crate) use unproved::Unproved;
 
 /// Relative tolerance of the proof: the best point is within it of the optimum (or within
 /// [`ABSOLUTE`] times `1 + sum w t^2` of the data, the fit's own floor for comparing costs, when
@@ -84,21 +86,18 @@ pub(crate) fn absolute_tolerance(problem: &FitProblem) -> f64 {
 
 /// Why a problem's geometry is not proven, as far as its model and collision say (its cost is
 /// asked of [`cost_of`]).
-fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Option<&'static str> {
+fn unsupported(problem: &FitProblem, settings: &FitSettings) -> Option<Unproved> {
     if problem.impact.is_barrier() {
-        return Some("a barrier");
+        return Some(Unproved::Barrier);
     }
     if settings.model.family().friction() != Friction::Equivalent {
-        return Some("the bound over the geometry is written for PIM only");
+        return Some(Unproved::NotPim);
     }
     if !settings.mu_max_condition {
-        return Some("the mu <= mu_max condition is off");
+        return Some(Unproved::NoMuMax);
     }
     if problem.impact.side_is_fixed() {
-        return Some(
-            "the case states the side of the crush surface, or its estimates fix it (the bound \
-             reads it from the geometry)",
-        );
+        return Some(Unproved::SideFixed);
     }
     None
 }
@@ -189,9 +188,9 @@ impl<'a> Context<'a> {
         geometry: &'a [GeometryBound],
         settings: &FitSettings,
         branch: MomentBranch,
-    ) -> Result<Context<'a>, String> {
+    ) -> Result<Context<'a>, Unproved> {
         if let Some(why) = unsupported(problem, settings) {
-            return Err(why.to_string());
+            return Err(why);
         }
         let impact = &problem.impact;
         let forms = Forms::new(
@@ -201,9 +200,7 @@ impl<'a> Context<'a> {
             },
             settings,
         );
-        let mut cost = cost_of(problem).ok_or(
-            "the cost couples components (observations) or leaves a free component unweighted",
-        )?;
+        let mut cost = cost_of(problem).ok_or(Unproved::CostNotSeparable)?;
         cost.limit = forms.limits();
         Ok(Context {
             geometry,
@@ -235,7 +232,7 @@ impl<'a> Context<'a> {
         em: [f64; 2],
         goal: f64,
         inherited: &Proved,
-    ) -> Result<BoxBound, String> {
+    ) -> Result<BoxBound, Unproved> {
         let (plo, phi) = (self.physical(lo), self.physical(hi));
         let u_c = self.physical(&centre(lo, hi));
         let half: Vec<f64> = plo.iter().zip(&phi).map(|(a, b)| 0.5 * (b - a)).collect();
@@ -244,7 +241,7 @@ impl<'a> Context<'a> {
             let (d, n) = (i.levers(), i.normal());
             Some([d[0], d[1], d[2], d[3], n[0], n[1]])
         };
-        let pc = p_at(&u_c).ok_or("a box's centre is not a valid collision")?;
+        let pc = p_at(&u_c).ok_or(Unproved::InvalidCentre)?;
         let pbox = self.enclosure.over(&plo, &phi);
         // The centre's geometry (as pim-core rounds it) lies in the box's enclosure.
         let pbox_p: [Iv; 6] =
@@ -313,7 +310,7 @@ pub(crate) fn prove(
     best: (Vec<f64>, f64),
     cost_at: &(dyn Fn(&[f64]) -> f64 + Sync),
     max_boxes: usize,
-) -> Result<Proof, String> {
+) -> Result<Proof, Unproved> {
     let (geometry, branch) = (context.geometry, context.branch);
     let k = geometry.len();
     let (mut at, mut upper) = best;
