@@ -606,7 +606,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-runout/src/inverse/mod.rs", "estimate", 149),
     ("crates/pim-runout/src/inverse/search.rs", "solve", 239),
     ("crates/pim-reconstruct/src/refine.rs", "refine", 138),
-    ("crates/pim-reconstruct/src/search.rs", "search", 225),
     ("crates/pim-fit/src/convex/mod.rs", "new", 168),
     ("crates/pim-fit/src/convex/dual.rs", "run", 133),
     ("crates/pim-fit/src/geometry/mod.rs", "branch_search", 187),

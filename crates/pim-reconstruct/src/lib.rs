@@ -173,6 +173,7 @@
 //! `v_edr - a t` (a [`pim_fit::ObservationKind::SpeedAlongHeading`] observation of the contact
 //! problem).
 
+mod combos;
 mod error;
 mod friction_step;
 mod from;

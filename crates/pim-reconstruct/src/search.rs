@@ -1,11 +1,12 @@
 //! The search: the run-out inverse's candidates per count of turns, a bound per combination
 //! of counts, and the refinement of the promising ones.
 
+use crate::combos::{counts_first, Combos};
 use crate::error::{NoPoint, Result};
 use crate::outcome::{Contradiction, Found, Outcome, Status, Tried, TriedCounts};
-use crate::point::{linearised, Lin, Point};
+use crate::point::Point;
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::{assemble, probe, refine_probe, FarFirst, Probe, RefineEnd, Refined};
+use crate::refine::{probe, refine_probe, FarFirst, Probe, RefineEnd, Refined};
 use pim_runout::{Estimate, EstimateSettings};
 use rayon::prelude::*;
 
@@ -48,88 +49,6 @@ fn candidates(
         ..EstimateSettings::default()
     };
     Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
-}
-
-/// A separation state the refinement may start from: a scene's candidate for a count of
-/// turns, or another local minimum of that count's scene ([`pim_runout::Alternative`]).
-struct Start {
-    turns: Option<i64>,
-    at: [f64; 3],
-    /// The scene's cost there.
-    cost: f64,
-}
-
-/// Each vehicle's starts: every candidate, then its alternatives.
-fn starts_of(estimates: &[Estimate]) -> Vec<Vec<Start>> {
-    estimates
-        .iter()
-        .map(|e| {
-            let mut out: Vec<Start> = e
-                .candidates
-                .iter()
-                .map(|c| Start {
-                    turns: c.turns,
-                    at: [c.separation.vx, c.separation.vy, c.separation.yaw_rate],
-                    cost: c.cost,
-                })
-                .collect();
-            for c in &e.candidates {
-                out.extend(c.alternatives.iter().map(|a| Start {
-                    turns: c.turns,
-                    at: a.velocity,
-                    cost: a.cost,
-                }));
-            }
-            out
-        })
-        .collect()
-}
-
-/// The counts of turns of a combination of starts (one per vehicle).
-fn counts(combination: &[usize], starts: &[Vec<Start>]) -> Vec<Option<i64>> {
-    combination
-        .iter()
-        .enumerate()
-        .map(|(v, &k)| starts[v][k].turns)
-        .collect()
-}
-
-/// Every combination of one start per vehicle.
-fn combinations(starts: &[Vec<Start>]) -> Vec<Vec<usize>> {
-    let mut out: Vec<Vec<usize>> = vec![Vec::new()];
-    for e in starts {
-        out = out
-            .into_iter()
-            .flat_map(|c| {
-                (0..e.len()).map(move |i| {
-                    let mut c = c.clone();
-                    c.push(i);
-                    c
-                })
-            })
-            .collect();
-    }
-    out
-}
-
-/// `order` with, for each combination of counts of turns, its first entry before every
-/// second: a combination's further starts (its scenes' other minima for the same counts) come
-/// after each other combination has had its turn, so that a scene with many exact solutions
-/// cannot spend the budget of work before another combination is tried at all.
-fn counts_first<K: PartialEq>(order: Vec<usize>, counts_of: impl Fn(usize) -> K) -> Vec<usize> {
-    let mut seen: Vec<K> = Vec::new();
-    let (mut firsts, mut rest) = (Vec::new(), Vec::new());
-    for i in order {
-        let k = counts_of(i);
-        if seen.contains(&k) {
-            rest.push(i);
-        } else {
-            seen.push(k);
-            firsts.push(i);
-        }
-    }
-    firsts.extend(rest);
-    firsts
 }
 
 /// At most this many of an earlier search's refined combinations give the scenes' inverse
@@ -241,6 +160,16 @@ fn no_impact(e: &NoPoint) -> Tried {
     }
 }
 
+/// What became of each combination so far: refined (or no impact), why not, where it ended.
+struct Fates {
+    refined: Vec<Option<RefineEnd>>,
+    skipped: Vec<Option<String>>,
+    ends: Vec<Option<crate::outcome::End>>,
+}
+
+/// A search's best point: its combination, the point, iterations, converged.
+type Best = Option<(usize, Point, usize, bool)>;
+
 /// One search: the scenes' candidates (from a scatter too, with `scatter`), the bounds, the
 /// refinements.
 pub(crate) fn search(
@@ -253,85 +182,79 @@ pub(crate) fn search(
         .into_par_iter()
         .map(|i| candidates(r, settings, i, scatter, earlier))
         .collect::<Result<_>>()?;
+    // 1. Each combination's bound: the linearised problem under the momentum balance alone.
+    let combos = Combos::new(r, settings, &estimates);
     let mut runouts: usize = estimates
         .iter()
         .flat_map(|e| e.candidates.iter().map(|c| c.runouts))
-        .sum();
-    let starts = starts_of(&estimates);
-    let mus = crate::point::stated_frictions(r);
-    // Each start linearised once (shared by every combination it is part of).
-    let lins: Vec<Vec<Option<Lin>>> = starts
-        .iter()
-        .enumerate()
-        .map(|(i, e)| {
-            e.par_iter()
-                .map(|c| linearised(r, settings, i, c.turns.unwrap_or(0), c.at, true, &mus).ok())
-                .collect()
-        })
-        .collect();
-    runouts += lins
-        .iter()
-        .flatten()
-        .flatten()
-        .map(|l| l.lin.runouts)
-        .sum::<usize>();
-    // 1. Each combination's bound: the linearised problem under the momentum balance alone.
-    let combos = combinations(&starts);
-    let first: Vec<(Vec<usize>, std::result::Result<f64, NoPoint>)> = combos
-        .into_iter()
-        .map(|c| {
-            let start: Option<Vec<Lin>> = c
-                .iter()
-                .enumerate()
-                .map(|(v, &k)| lins[v][k].clone())
-                .collect();
-            let out = match start {
-                None => Err(NoPoint::Unlinearised),
-                Some(start) => {
-                    let (problem, scale, _) = assemble(r, &start, None, None);
-                    Ok(crate::relax::momentum_bound(&problem) / scale)
-                }
-            };
-            (c, out)
-        })
-        .collect();
-    let mut fits = 0;
-    let bound_of = |i: usize| *first[i].1.as_ref().expect("filtered");
-    let counts_of = |i: usize| counts(&first[i].0, &starts);
-    let mut order: Vec<usize> = (0..first.len()).filter(|&i| first[i].1.is_ok()).collect();
-    order.sort_by(|&a, &b| bound_of(a).total_cmp(&bound_of(b)));
-    let order = counts_first(order, counts_of);
-    let scene_bound_of = |i: usize| -> f64 {
-        first[i]
-            .0
-            .iter()
-            .enumerate()
-            .map(|(v, &k)| starts[v][k].cost)
-            .sum()
+        .sum::<usize>()
+        + combos.runouts;
+    let order = combos.order();
+    let mut fates = Fates {
+        refined: vec![None; combos.len()],
+        skipped: vec![None; combos.len()],
+        ends: vec![None; combos.len()],
     };
-    let mut refined: Vec<Option<RefineEnd>> = vec![None; first.len()];
-    let mut skipped_reason: Vec<Option<String>> = vec![None; first.len()];
-    // 2. Each combination's first point (the impact fitted to its scenes linearised at their
-    //    starts, the run-outs simulated), from the lowest bound, while the bound could still
-    //    beat the lowest first point (a cost evaluated: an upper bound of the best) and within
-    //    half the budget left.
-    let mut probes: Vec<Option<Probe>> = (0..first.len()).map(|_| None).collect();
+    let (probes, probed) =
+        first_points(r, settings, (scatter, work), (&combos, &order), &mut fates);
+    let (best, refined) = refine_each(
+        r,
+        settings,
+        (scatter, work),
+        (&combos, &order),
+        probes,
+        &mut fates,
+    );
+    runouts += probed.runouts + refined.runouts;
+    let tried = one_per_counts(tried_of(&combos, &fates));
+    let counted = Counted {
+        runouts,
+        fits: probed.fits + refined.fits,
+        work: work.spent(),
+    };
+    Ok(outcome_of(
+        r,
+        best.map(|(_, p, i, c)| (p, i, c)),
+        (tried, estimates),
+        counted,
+        scatter,
+    ))
+}
+
+/// 2. Each combination's first point (the impact fitted to its scenes linearised at their
+///    starts, the run-outs simulated), from the lowest bound, while the bound could still beat
+///    the lowest first point (a cost evaluated: an upper bound of the best) and within half the
+///    budget left. The points, and the run-outs and fits spent.
+fn first_points(
+    r: &Reconstruction,
+    settings: &Settings,
+    (scatter, work): (bool, &crate::work::Work),
+    (combos, order): (&Combos, &[usize]),
+    fates: &mut Fates,
+) -> (Vec<Option<Probe>>, Counted) {
+    let mut spent = Counted {
+        runouts: 0,
+        fits: 0,
+        work: 0,
+    };
+    let mut probes: Vec<Option<Probe>> = (0..combos.len()).map(|_| None).collect();
     let probe_limit = work.spent() + work.left() / 2;
     // The lowest first point's chi-square, and whether it fits.
     let mut lowest: (f64, bool) = (f64::INFINITY, false);
-    for &i in &order {
+    for &i in order {
         let gate = Gate {
             scatter,
             lowest_best: lowest.0,
             best_fits: lowest.1,
             refined: 0,
         };
-        if let Some(why) = gate.not_refined(settings, work, (bound_of(i), scene_bound_of(i))) {
-            skipped_reason[i] = Some(why);
+        let bounds = (combos.bound(i), combos.scene_alone(i));
+        if let Some(why) = gate.not_refined(settings, work, bounds) {
+            fates.skipped[i] = Some(why);
             continue;
         }
         if work.spent() > probe_limit {
-            skipped_reason[i] = Some(format!(
+            fates.skipped[i] = Some(format!(
                 "not refined: the first points of the combinations with lower bounds spent \
                  half the budget of work left ({} run-out evaluations or their equivalent; \
                  Settings::refine_work)",
@@ -339,27 +262,37 @@ pub(crate) fn search(
             ));
             continue;
         }
-        let start: Vec<Lin> = first[i]
-            .0
-            .iter()
-            .enumerate()
-            .map(|(v, &k)| lins[v][k].clone().expect("linearised"))
-            .collect();
-        match probe(r, settings, start, None, work) {
+        match probe(r, settings, combos.start(i), None, work) {
             Ok(p) => {
-                fits += 1;
-                runouts += p.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>();
+                spent.fits += 1;
+                spent.runouts += p.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>();
                 if p.point.total < lowest.0 {
                     lowest = (p.point.total, fits_its_data(r, &p.point));
                 }
                 probes[i] = Some(p);
             }
-            Err(e) => refined[i] = Some(Err(e)),
+            Err(e) => fates.refined[i] = Some(Err(e)),
         }
     }
-    // 3. Refined from the lowest first point, one at a time (each knows the best found before
-    //    it), while they could still beat the best.
-    let mut by_probe: Vec<usize> = (0..first.len()).filter(|&i| probes[i].is_some()).collect();
+    (probes, spent)
+}
+
+/// 3. Refined from the lowest first point, one at a time (each knows the best found before
+///    it), while they could still beat the best. The best, and the run-outs and fits spent.
+fn refine_each(
+    r: &Reconstruction,
+    settings: &Settings,
+    (scatter, work): (bool, &crate::work::Work),
+    (combos, order): (&Combos, &[usize]),
+    mut probes: Vec<Option<Probe>>,
+    fates: &mut Fates,
+) -> (Best, Counted) {
+    let mut spent = Counted {
+        runouts: 0,
+        fits: 0,
+        work: 0,
+    };
+    let mut by_probe: Vec<usize> = (0..combos.len()).filter(|&i| probes[i].is_some()).collect();
     by_probe.sort_by(|&a, &b| {
         let cost = |i: usize| probes[i].as_ref().map_or(f64::INFINITY, |p| p.point.total);
         cost(a).total_cmp(&cost(b))
@@ -368,14 +301,13 @@ pub(crate) fn search(
         by_probe.retain(|&i| i != lowest_bound);
         by_probe.insert(0, lowest_bound);
     }
-    let by_probe = counts_first(by_probe, counts_of);
-    let mut best: Option<(usize, Point, usize, bool)> = None;
-    let mut ends: Vec<Option<crate::outcome::End>> = vec![None; first.len()];
+    let by_probe = counts_first(by_probe, |i| combos.counts(i));
+    let mut best: Best = None;
     let mut count = 0;
     for i in by_probe {
         let p = probes[i].take().expect("probed");
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
-        let bound = bound_of(i);
+        let bound = combos.bound(i);
         let best_fits = best.as_ref().is_some_and(|b| fits_its_data(r, &b.1));
         let gate = Gate {
             scatter,
@@ -386,8 +318,8 @@ pub(crate) fn search(
         // The lowest first point is refined whatever the budget left (at least its first
         // point is then the search's answer).
         if best.is_some() {
-            if let Some(why) = gate.not_refined(settings, work, (bound, scene_bound_of(i))) {
-                skipped_reason[i] = Some(format!(
+            if let Some(why) = gate.not_refined(settings, work, (bound, combos.scene_alone(i))) {
+                fates.skipped[i] = Some(format!(
                     "{why} (its first point's chi-square: {:.3})",
                     p.point.total
                 ));
@@ -418,21 +350,26 @@ pub(crate) fn search(
         if x.point.total <= bound + settings.refine_margin {
             count += 1;
         }
-        fits += x.fits - 1;
-        runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * (x.iterations - 1);
-        refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
-        ends[i] = Some(crate::outcome::End::of(&x.point));
+        spent.fits += x.fits - 1;
+        spent.runouts +=
+            x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * (x.iterations - 1);
+        fates.refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
+        fates.ends[i] = Some(crate::outcome::End::of(&x.point));
         if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
             best = Some((i, x.point, x.iterations, x.converged));
         }
     }
-    let all: Vec<TriedCounts> = first
+    (best, spent)
+}
+
+/// What became of every combination, in their order.
+fn tried_of(combos: &Combos, fates: &Fates) -> Vec<TriedCounts> {
+    combos
+        .first
         .iter()
         .enumerate()
-        .map(|(i, (c, lin))| {
-            let counts = counts_of(i);
-            let scene_alone = c.iter().enumerate().map(|(v, &k)| starts[v][k].cost).sum();
-            let state = match (&refined[i], lin) {
+        .map(|(i, (_, lin))| {
+            let state = match (&fates.refined[i], lin) {
                 (Some(Ok((cost, iterations, converged, abandoned))), _) => Tried::Refined {
                     cost: *cost,
                     iterations: *iterations,
@@ -441,31 +378,18 @@ pub(crate) fn search(
                 },
                 (Some(Err(e)), _) | (None, Err(e)) => no_impact(e),
                 (None, Ok(_)) => Tried::NotRefined {
-                    reason: skipped_reason[i].clone().unwrap_or_default(),
+                    reason: fates.skipped[i].clone().unwrap_or_default(),
                 },
             };
             TriedCounts {
-                counts,
-                scene_alone,
+                counts: combos.counts(i),
+                scene_alone: combos.scene_alone(i),
                 momentum_bound: lin.as_ref().ok().copied(),
                 state,
-                end: ends[i].clone(),
+                end: fates.ends[i].clone(),
             }
         })
-        .collect();
-    let tried = one_per_counts(all);
-    let counted = Counted {
-        runouts,
-        fits,
-        work: work.spent(),
-    };
-    Ok(outcome_of(
-        r,
-        best.map(|(_, p, i, c)| (p, i, c)),
-        (tried, estimates),
-        counted,
-        scatter,
-    ))
+        .collect()
 }
 
 /// Whether `p` fits: a chi-square no larger than its count of data.
