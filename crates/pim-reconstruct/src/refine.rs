@@ -447,18 +447,7 @@ fn refine(
         // Relinearised at the point accepted last: its run-outs with their derivatives (the
         // run-outs not simulated again).
         if stale {
-            let c = &current;
-            let next: std::result::Result<Vec<Lin>, NoPoint> = c
-                .scene
-                .par_iter()
-                .map(|l| {
-                    let spent = l.lin.evaluations;
-                    let d = differentiated(r, settings, l.clone(), &c.mus)?;
-                    work.add(d.lin.evaluations - spent);
-                    Ok(d)
-                })
-                .collect();
-            match next {
+            match relinearised(r, settings, &current, work) {
                 Ok(next) => lins = next,
                 // The point accepted last cannot be differentiated: the refinement ends there.
                 Err(_) => break,
@@ -477,32 +466,13 @@ fn refine(
         if accepted {
             let p = trial.expect("accepted");
             let gain = current.total - p.total;
-            let step = p
-                .scene
-                .iter()
-                .zip(&current.scene)
-                .map(|(a, b)| {
-                    (0..3)
-                        .map(|k| (a.at[k] - b.at[k]).abs())
-                        .fold(0.0, f64::max)
-                })
-                .fold(0.0, f64::max);
+            let step = largest_step(&p, &current);
             // Linearised at the accepted point (its derivatives added when the refinement goes
             // on from it).
             stale = true;
             let total = p.total;
-            // Marquardt's damping after a success: kept near what the step needed (Nielsen's
-            // rule: down to a third where the linearisation predicted the gain well, up to
-            // twice where it did not), not dropped, so that a valley the linearisation
-            // overshoots is not crossed again and again by undamped steps.
             if lambda > 0.0 {
-                let before = gain + total;
-                let rho = gain / (before - predicted);
-                lambda *= if rho.is_finite() && rho > 0.0 {
-                    (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0)
-                } else {
-                    1.0 / 3.0
-                };
+                lambda *= nielsen(gain, gain + total - predicted);
             }
             current = p;
             // A chi-square change of 1e-6 is far below any statistical meaning and near the
@@ -557,6 +527,52 @@ fn refine(
         converged,
         abandoned,
         fits,
+    }
+}
+
+/// The point `c` linearised again, its run-outs differentiated where they stand (not simulated
+/// again), the work counted.
+fn relinearised(
+    r: &Reconstruction,
+    settings: &Settings,
+    c: &Point,
+    work: &Work,
+) -> std::result::Result<Vec<Lin>, NoPoint> {
+    c.scene
+        .par_iter()
+        .map(|l| {
+            let spent = l.lin.evaluations;
+            let d = differentiated(r, settings, l.clone(), &c.mus)?;
+            work.add(d.lin.evaluations - spent);
+            Ok(d)
+        })
+        .collect()
+}
+
+/// The largest change of any separation state's component from `b` to `a`.
+fn largest_step(a: &Point, b: &Point) -> f64 {
+    a.scene
+        .iter()
+        .zip(&b.scene)
+        .map(|(a, b)| {
+            (0..3)
+                .map(|k| (a.at[k] - b.at[k]).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Marquardt's damping after a success, the factor on `lambda`: kept near what the step needed
+/// (Nielsen's rule `max(1/3, 1 - (2 rho - 1)^3)`, `rho` the gain over the linearised fit's
+/// `predicted_gain`: down to a third where the linearisation predicted the gain well, up to
+/// twice where it did not), not dropped, so that a valley the linearisation overshoots is not
+/// crossed again and again by undamped steps.
+fn nielsen(gain: f64, predicted_gain: f64) -> f64 {
+    let rho = gain / predicted_gain;
+    if rho.is_finite() && rho > 0.0 {
+        (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0)
+    } else {
+        1.0 / 3.0
     }
 }
 

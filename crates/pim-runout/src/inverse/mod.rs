@@ -175,8 +175,35 @@ pub fn estimate(
             Ok(c)
         })
         .collect::<Result<Vec<_>>>()?;
-    // Counts that ended above the chi-square's expectation start again from the answers of the
-    // counts that did not (neighbouring counts often have neighbouring answers).
+    restart_poor(
+        &mut candidates,
+        (&problem_of, &rotation),
+        settings,
+        estimate_friction,
+    )?;
+    ranked(&mut candidates);
+    let mut unknowns: Vec<String> = ["vx", "vy", "yaw_rate"].map(String::from).to_vec();
+    if estimate_friction {
+        unknowns.push("friction".into());
+    }
+    Ok(Estimate {
+        unknowns,
+        candidates,
+    })
+}
+
+/// Counts that ended above the chi-square's expectation start again from the answers of the
+/// counts that did not (neighbouring counts often have neighbouring answers), the lower kept.
+fn restart_poor<'a, P, R>(
+    candidates: &mut [Candidate],
+    (problem_of, rotation): (&P, &R),
+    settings: &EstimateSettings,
+    estimate_friction: bool,
+) -> Result<()>
+where
+    P: Fn(Option<i64>) -> Problem<'a> + Sync,
+    R: Fn(Option<i64>) -> f64 + Sync,
+{
     let good: Vec<(Option<i64>, Vec<f64>)> = candidates
         .iter()
         .filter(|c| c.cost <= c.residuals.len() as f64)
@@ -237,15 +264,7 @@ pub fn estimate(
             }
         }
     }
-    ranked(&mut candidates);
-    let mut unknowns: Vec<String> = ["vx", "vy", "yaw_rate"].map(String::from).to_vec();
-    if estimate_friction {
-        unknowns.push("friction".into());
-    }
-    Ok(Estimate {
-        unknowns,
-        candidates,
-    })
+    Ok(())
 }
 
 /// A count's rotation from the heading at separation to its rest heading, rad.
