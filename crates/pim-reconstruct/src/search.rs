@@ -232,11 +232,7 @@ fn first_points(
     (combos, order): (&Combos, &[usize]),
     fates: &mut Fates,
 ) -> (Vec<Option<Probe>>, Counted) {
-    let mut spent = Counted {
-        runouts: 0,
-        fits: 0,
-        work: 0,
-    };
+    let mut spent = Counted::default();
     let mut probes: Vec<Option<Probe>> = (0..combos.len()).map(|_| None).collect();
     let probe_limit = work.spent() + work.left() / 2;
     // The lowest first point's chi-square, and whether it fits.
@@ -287,11 +283,7 @@ fn refine_each(
     mut probes: Vec<Option<Probe>>,
     fates: &mut Fates,
 ) -> (Best, Counted) {
-    let mut spent = Counted {
-        runouts: 0,
-        fits: 0,
-        work: 0,
-    };
+    let mut spent = Counted::default();
     let mut by_probe: Vec<usize> = (0..combos.len()).filter(|&i| probes[i].is_some()).collect();
     by_probe.sort_by(|&a, &b| {
         let cost = |i: usize| probes[i].as_ref().map_or(f64::INFINITY, |p| p.point.total);
@@ -398,6 +390,7 @@ fn fits_its_data(r: &Reconstruction, p: &Point) -> bool {
 }
 
 /// What a search counted: run-outs, impact fits and work.
+#[derive(Default)]
 struct Counted {
     runouts: usize,
     fits: usize,

@@ -216,51 +216,52 @@ where
             (c.turns, theta)
         })
         .collect();
-    if !good.is_empty() {
-        let redone = candidates
-            .par_iter()
-            .map(|c| {
-                if c.cost <= c.residuals.len() as f64 {
-                    return Ok(None);
-                }
-                // A quick search starts only from the neighbouring counts' answers.
-                let starts: Vec<Vec<f64>> = good
-                    .iter()
-                    .filter(|(k, _)| {
-                        !settings.quick
-                            || matches!((k, c.turns), (Some(a), Some(b)) if (a - b).abs() <= 1)
-                    })
-                    .map(|(k, theta)| {
-                        let mut t = theta.clone();
-                        let (from, to) = (rotation(*k), rotation(c.turns));
-                        if from.abs() > 1e-3 {
-                            t[2] *= to / from;
-                        }
-                        t
-                    })
-                    .collect();
-                if starts.is_empty() {
-                    return Ok(None);
-                }
-                let problem = problem_of(c.turns);
-                solve(
-                    &problem,
-                    c.turns,
-                    settings.max_iterations,
-                    &starts,
-                    (&[], &[]),
-                    settings.quick,
-                )
-                .map(Some)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        for (c, r) in candidates.iter_mut().zip(redone) {
-            if let Some(r) = r {
-                if r.cost < c.cost {
-                    let runouts = c.runouts + r.runouts;
-                    *c = r;
-                    c.runouts = runouts;
-                }
+    if good.is_empty() {
+        return Ok(());
+    }
+    let redone = candidates
+        .par_iter()
+        .map(|c| {
+            if c.cost <= c.residuals.len() as f64 {
+                return Ok(None);
+            }
+            // A quick search starts only from the neighbouring counts' answers.
+            let starts: Vec<Vec<f64>> = good
+                .iter()
+                .filter(|(k, _)| {
+                    !settings.quick
+                        || matches!((k, c.turns), (Some(a), Some(b)) if (a - b).abs() <= 1)
+                })
+                .map(|(k, theta)| {
+                    let mut t = theta.clone();
+                    let (from, to) = (rotation(*k), rotation(c.turns));
+                    if from.abs() > 1e-3 {
+                        t[2] *= to / from;
+                    }
+                    t
+                })
+                .collect();
+            if starts.is_empty() {
+                return Ok(None);
+            }
+            let problem = problem_of(c.turns);
+            solve(
+                &problem,
+                c.turns,
+                settings.max_iterations,
+                &starts,
+                (&[], &[]),
+                settings.quick,
+            )
+            .map(Some)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    for (c, r) in candidates.iter_mut().zip(redone) {
+        if let Some(r) = r {
+            if r.cost < c.cost {
+                let runouts = c.runouts + r.runouts;
+                *c = r;
+                c.runouts = runouts;
             }
         }
     }
