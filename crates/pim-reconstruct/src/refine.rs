@@ -310,6 +310,9 @@ pub(crate) struct Probe {
     pub(crate) predicted: f64,
     /// The scenes linearised at the start (those the first fit was made on).
     lins: Vec<Lin>,
+    /// Where the undamped step overshot ([`Probe::far`]): the start itself, the impact
+    /// fitted with the separation state held there, where it is lower than `point`.
+    held: Option<Point>,
 }
 
 impl Probe {
@@ -318,6 +321,17 @@ impl Probe {
     /// gives, and the linearisation (its bound included) says nothing of the combination.
     pub(crate) fn far(&self, settings: &Settings) -> bool {
         self.point.total > self.predicted + settings.refine_margin
+    }
+
+    /// The start's own first point ([`Probe::held`]) as a probe of its own, taken out of this
+    /// one: a second start of the combination.
+    pub(crate) fn take_held(&mut self) -> Option<Probe> {
+        self.held.take().map(|h| Probe {
+            point: h,
+            predicted: self.predicted,
+            lins: self.lins.clone(),
+            held: None,
+        })
     }
 }
 
@@ -333,7 +347,6 @@ pub(crate) fn probe(
     work: &Work,
 ) -> std::result::Result<Probe, NoPoint> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
-    let restart = contact.is_some();
     let contact = match contact {
         Some(u) => Some(u),
         None if !r.nonlinear.0.is_empty() => {
@@ -349,20 +362,20 @@ pub(crate) fn probe(
         point,
         predicted,
         lins: start,
+        held: None,
     };
-    if restart && first.far(settings) {
-        // A restart from an answer whose undamped step overshot: the start itself (the impact
-        // fitted with the separation state held there) is evaluated too, and the refinement
-        // goes on from the lower. (A search's start is a scene's candidate, not an answer: its
-        // refinement goes on from where the impact put it, a restart from the impact's side.)
-        if let Some(held) = fit_once(r, settings, &first.lins, Step::Held, contact.as_ref(), work)
+    if first.far(settings) {
+        // The undamped step overshot: the start itself (the impact fitted with the separation
+        // state held there) is evaluated too, and where it is lower the combination is also
+        // refined from it (`refine_probe`). A start near an answer (a scene's candidate near
+        // the truth, an earlier answer) whose linearisation is poor along a weakly determined
+        // direction (a long rolling run-out's speed against its turn) is otherwise thrown into
+        // another basin by its first step; the step's own point is kept as well, since a
+        // scene's candidate far from the impact is often nearer an answer after it.
+        first.held = fit_once(r, settings, &first.lins, Step::Held, contact.as_ref(), work)
             .ok()
             .and_then(|f| evaluate(r, settings, &counts, f, work))
-        {
-            if held.total < first.point.total {
-                first.point = held;
-            }
-        }
+            .filter(|h| h.total < first.point.total);
     }
     Ok(first)
 }
@@ -377,7 +390,13 @@ pub(crate) fn refine_start(
     work: &Work,
 ) -> std::result::Result<Refined, NoPoint> {
     let first = probe(r, settings, start, contact, work)?;
-    Ok(refine(r, settings, first, f64::INFINITY, work))
+    Ok(refine_probe(
+        r,
+        settings,
+        first,
+        (f64::INFINITY, FarFirst::RefineOn),
+        work,
+    ))
 }
 
 /// What a refinement does with a first point far (more than the margin) above what its
@@ -402,21 +421,39 @@ pub(crate) fn refine_probe(
     (best_so_far, far): (f64, FarFirst),
     work: &Work,
 ) -> Refined {
+    let mut first = first;
+    // Refined from the start itself too where it was lower.
+    let from_start = first.take_held();
     let set_aside = match far {
         FarFirst::RefineOn => false,
         FarFirst::AboveBest => first.point.total > best_so_far + settings.refine_margin,
         FarFirst::SetAside => true,
     };
-    if set_aside && first.far(settings) {
-        return Refined {
+    let stepped = if set_aside && first.far(settings) {
+        Refined {
             point: first.point,
             iterations: 1,
             converged: false,
             abandoned: true,
             fits: 1,
-        };
-    }
-    refine(r, settings, first, best_so_far, work)
+        }
+    } else {
+        refine(r, settings, first, best_so_far, work)
+    };
+    let Some(from_start) = from_start else {
+        return stepped;
+    };
+    // The lower kept, the fits of both counted.
+    let lowest = best_so_far.min(stepped.point.total);
+    let other = refine(r, settings, from_start, lowest, work);
+    let fits = stepped.fits + other.fits;
+    let mut kept = if other.point.total < stepped.point.total {
+        other
+    } else {
+        stepped
+    };
+    kept.fits = fits;
+    kept
 }
 
 /// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,

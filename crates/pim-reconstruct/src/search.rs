@@ -274,7 +274,9 @@ fn first_points(
 }
 
 /// 3. Refined from the lowest first point, one at a time (each knows the best found before
-///    it), while they could still beat the best. The best, and the run-outs and fits spent.
+///    it), while they could still beat the best; then, where a first step overshot, from its
+///    start itself (the impact fitted with the start's separation state held), while that
+///    start could still be the answer. The best, and the run-outs and fits spent.
 fn refine_each(
     r: &Reconstruction,
     settings: &Settings,
@@ -296,8 +298,14 @@ fn refine_each(
     let by_probe = counts_first(by_probe, |i| combos.counts(i));
     let mut best: Best = None;
     let mut count = 0;
+    // The starts themselves where their first steps overshot (`Probe::held`): second starts of
+    // their combinations, refined once every combination has had its first.
+    let mut second = Vec::new();
     for i in by_probe {
-        let p = probes[i].take().expect("probed");
+        let mut p = probes[i].take().expect("probed");
+        if let Some(h) = p.take_held() {
+            second.push((i, h));
+        }
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = combos.bound(i);
         let best_fits = best.as_ref().is_some_and(|b| fits_its_data(r, &b.1));
@@ -351,7 +359,50 @@ fn refine_each(
             best = Some((i, x.point, x.iterations, x.converged));
         }
     }
+    refine_starts(r, settings, work, second, fates, &mut best, &mut spent);
     (best, spent)
+}
+
+/// Refines each combination `i` again from its start itself (`second`: the probes of
+/// [`Probe::take_held`]), where it could still be the answer: the start lies within the margin
+/// of the best found, or the best found does not fit (a refusal is not given while a start
+/// below it is left). A lower end replaces the combination's fate, and the best.
+fn refine_starts(
+    r: &Reconstruction,
+    settings: &Settings,
+    work: &crate::work::Work,
+    second: Vec<(usize, Probe)>,
+    fates: &mut Fates,
+    best: &mut Best,
+    spent: &mut Counted,
+) {
+    for (i, p) in second {
+        if work.exhausted() {
+            break;
+        }
+        let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
+        let best_fits = best.as_ref().is_some_and(|b| fits_its_data(r, &b.1));
+        if best_fits && p.point.total > lowest_best + settings.refine_margin {
+            continue;
+        }
+        let share = work.share();
+        let x =
+            crate::refine::refine_probe(r, settings, p, (lowest_best, FarFirst::RefineOn), &share);
+        work.add(share.spent());
+        spent.fits += x.fits;
+        spent.runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
+        let before = match &fates.refined[i] {
+            Some(Ok((cost, ..))) => *cost,
+            _ => f64::INFINITY,
+        };
+        if x.point.total < before {
+            fates.refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
+            fates.ends[i] = Some(crate::outcome::End::of(&x.point));
+        }
+        if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
+            *best = Some((i, x.point, x.iterations, x.converged));
+        }
+    }
 }
 
 /// What became of every combination, in their order.

@@ -25,14 +25,22 @@ pub const SIGMA_YAW: f64 = 0.1;
 thread_local! {
     /// The noise scale [`exactly`] sets on its thread.
     static SCALE: std::cell::Cell<Option<f64>> = const { std::cell::Cell::new(None) };
+    /// The noise's own generator [`with_noise`] sets on its thread.
+    static NOISE: std::cell::RefCell<Option<StdRng>> = const { std::cell::RefCell::new(None) };
 }
 
 /// A standard normal draw (Box-Muller), times `NOISE_SCALE` where the environment sets it
 /// (`NOISE_SCALE=0`: the simulated scenes' measurements written exactly, the same crashes), or
 /// 0 within [`exactly`].
 pub fn normal(rng: &mut StdRng) -> f64 {
-    let u1: f64 = rng.random_range(f64::EPSILON..1.0);
-    let u2: f64 = rng.random_range(0.0..1.0);
+    let mut u1: f64 = rng.random_range(f64::EPSILON..1.0);
+    let mut u2: f64 = rng.random_range(0.0..1.0);
+    NOISE.with_borrow_mut(|noise| {
+        if let Some(noise) = noise {
+            u1 = noise.random_range(f64::EPSILON..1.0);
+            u2 = noise.random_range(0.0..1.0);
+        }
+    });
     let scale: f64 = SCALE
         .get()
         .unwrap_or_else(|| std::env::var("NOISE_SCALE").map_or(1.0, |v| v.parse().unwrap()));
@@ -46,6 +54,18 @@ pub fn exactly<T>(f: impl FnOnce() -> T) -> T {
     SCALE.set(Some(0.0));
     let out = f();
     SCALE.set(None);
+    out
+}
+
+/// `f` with every [`normal`] draw on this thread taken from a generator of its own, seeded by
+/// `seed`: the same crash (the crash's own draws are taken as before) measured with other
+/// noise, to compare a study's spread with the spread of the answers over many measurements.
+#[allow(dead_code)]
+pub fn with_noise<T>(seed: u64, f: impl FnOnce() -> T) -> T {
+    use rand::SeedableRng;
+    NOISE.set(Some(StdRng::seed_from_u64(seed)));
+    let out = f();
+    NOISE.set(None);
     out
 }
 

@@ -11,6 +11,7 @@ mod input_forms;
 mod playback;
 mod realistic_measured;
 mod realistic_scenes;
+mod realistic_spread;
 mod scene_coverage;
 mod tyre_marks;
 mod watch;

@@ -400,7 +400,14 @@ pub(crate) struct Outcome {
 }
 
 fn run_case(seed: u64, wheels: [Wheels; 2], draws: usize) -> Option<Outcome> {
-    run_simulated(seed, wheels, simulated(seed, wheels, false)?, draws)
+    // `NOISE=k`: each crash measured with the `k`-th other noise (the same crashes).
+    let s = match std::env::var("NOISE") {
+        Ok(k) => common::with_noise(k.parse().expect("a whole number"), || {
+            simulated(seed, wheels, false)
+        })?,
+        Err(_) => simulated(seed, wheels, false)?,
+    };
+    run_simulated(seed, wheels, s, draws)
 }
 
 /// [`run_case`] of the crash `s`.
@@ -491,7 +498,7 @@ pub(crate) fn reconstructed(case: &Case) -> pim_studies::reconstruct::Reconstruc
 }
 
 /// The wheels of the `i`-th case: every pair of states in turn over 25 cases.
-fn wheels_of(i: usize) -> [Wheels; 2] {
+pub(crate) fn wheels_of(i: usize) -> [Wheels; 2] {
     [WHEELS[i % 5], WHEELS[(i / 5 + i) % 5]]
 }
 
@@ -607,8 +614,23 @@ fn every_exact_solution_of_a_scene_is_a_start() {
     check(&[r]);
 }
 
+/// Crash 100150 measured with other noise (the eleventh of `one_crash_measured_many_times`):
+/// the sedan ABS-braked 38 m without marks, the SUV locked 14 m. Its rest gives the sedan's
+/// three unknowns three equations, and along the sedan's speed against its turn the
+/// linearisation is poor: from the scene's candidate of the true counts (and from the truth
+/// itself) the undamped first step leapt to a chi-square of 8,531 in another basin, which
+/// refined to 1,946, and the case was refused at 223.9 (the truth's 8.14). The start itself,
+/// the impact fitted with its separation state held, is refined too: answered at 1.72.
+#[test]
+fn a_start_near_the_answer_is_not_thrown_out_by_its_first_step() {
+    let wheels = [Wheels::Abs, Wheels::Locked];
+    let s = common::with_noise(11, || simulated(100_150, wheels, false)).expect("a crash");
+    let r = run_simulated(100_150, wheels, s, 0).expect("answered");
+    check(&[r]);
+}
+
 /// The full figure: 200 cases, 100 draws each (`CASES` and `DRAWS` change them, for a shorter
-/// look): none refused, none above the truth's chi-square, the 90 % intervals of the contact
+/// look; `NOISE=k` measures the same crashes with other noise): none refused, none above the truth's chi-square, the 90 % intervals of the contact
 /// speeds hold the truth in 85-95 %.
 #[test]
 #[ignore]
@@ -625,12 +647,31 @@ fn realistic_cases_200() {
 
 /// Writes the realistic case of `SEED` (wheels `WHEELS`, e.g. `Rolling,Jammed`; with `VERGE`
 /// set, onto a verge; with `MEASURED` set, its scene measured at tyres) into the temporary
-/// folder as `realistic_SEED.toml` and prints its truth, to look at one case.
+/// folder as `realistic_SEED.toml` and prints its truth, to look at one case (`MEASUREMENT=k`:
+/// measured with the `k`-th noise of `one_crash_measured_many_times`).
 #[test]
 #[ignore]
 fn write_a_realistic_case() {
     let seed = common::seed_from_env();
-    let names = std::env::var("WHEELS").unwrap_or_else(|_| "Locked,Locked".into());
+    let wheels = wheels_named(&std::env::var("WHEELS").unwrap_or_else(|_| "Locked,Locked".into()));
+    let env = |name: &str| std::env::var(name).is_ok();
+    let write = || simulated_as(seed, wheels, env("VERGE"), env("MEASURED"));
+    // `MEASUREMENT=k`: the same crash measured with the `k`-th other noise.
+    let s = match std::env::var("MEASUREMENT") {
+        Ok(k) => common::with_noise(k.parse().expect("a whole number"), write),
+        Err(_) => write(),
+    }
+    .expect("an admissible crash");
+    eprintln!("run-outs {:.1?} m, turns {:.2?}", s.distance, s.turns);
+    common::write_with_truth(
+        &format!("realistic_{seed}"),
+        &s.text,
+        (&s.contact, &s.separation, s.friction),
+    );
+}
+
+/// The wheels named as `Rolling,Jammed` (vehicle 1's, vehicle 2's).
+pub(crate) fn wheels_named(names: &str) -> [Wheels; 2] {
     let pick = |n: &str| {
         *WHEELS
             .iter()
@@ -638,13 +679,5 @@ fn write_a_realistic_case() {
             .expect("Locked, Abs, Rolling, Steered or Jammed")
     };
     let mut it = names.split(',');
-    let wheels = [pick(it.next().unwrap()), pick(it.next().unwrap())];
-    let env = |name: &str| std::env::var(name).is_ok();
-    let s = simulated_as(seed, wheels, env("VERGE"), env("MEASURED")).expect("an admissible crash");
-    eprintln!("run-outs {:.1?} m, turns {:.2?}", s.distance, s.turns);
-    common::write_with_truth(
-        &format!("realistic_{seed}"),
-        &s.text,
-        (&s.contact, &s.separation, s.friction),
-    );
+    [pick(it.next().unwrap()), pick(it.next().unwrap())]
 }
