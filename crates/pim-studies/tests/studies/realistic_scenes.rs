@@ -430,15 +430,7 @@ pub(crate) fn run_simulated(
             done.outcome.reason.clone().unwrap_or_default()
         )
     });
-    let study = (draws > 0).then(|| {
-        pim_studies::reconstruct_study::run_around(
-            &case,
-            &done,
-            draws,
-            seed,
-            &pim_studies::watch::Unwatched,
-        )
-    });
+    let study = (draws > 0).then(|| studied(&case, &done, draws, seed));
     let truth_speeds = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
     let covered = match study {
         None => [false, false],
@@ -484,6 +476,20 @@ pub(crate) fn run_simulated(
         covered,
         seconds,
     })
+}
+
+/// The uncertainty study of `draws` draws around the reconstruction `done` of `case`.
+pub(crate) fn studied(
+    case: &Case,
+    done: &pim_studies::reconstruct::Reconstructed,
+    draws: usize,
+    seed: u64,
+) -> Result<
+    pim_documents::reconstruct_study::ReconstructionStudy,
+    pim_studies::documents::DocumentError,
+> {
+    let unwatched = pim_studies::watch::Unwatched;
+    pim_studies::reconstruct_study::run_around(case, done, draws, seed, &unwatched)
 }
 
 /// The whole reconstruction of `case` (both moment branches).

@@ -4,7 +4,7 @@
 //! and the study's deviation of one measurement agree (to the sampling error of both), and the
 //! study's 90 % intervals hold the truth in about 90 % of the measurements.
 use crate::common;
-use crate::realistic_scenes::{reconstructed, simulated, wheels_named};
+use crate::realistic_scenes::{reconstructed, simulated, studied, wheels_named};
 use pim_case::case::Case;
 
 fn number(name: &str, default: usize) -> usize {
@@ -45,15 +45,7 @@ fn one_crash_measured_many_times() {
                 .as_ref()
                 .map_or(f64::NAN, |b| b.chi_square);
             let study = (k < studies).then(|| {
-                pim_studies::reconstruct_study::run_around(
-                    &case,
-                    &done,
-                    draws,
-                    seed,
-                    &pim_studies::watch::Unwatched,
-                )
-                .ok()
-                .map(|st| {
+                studied(&case, &done, draws, seed).ok().map(|st| {
                     std::array::from_fn(|v| {
                         let q = &st.quantities[&format!("vehicle{}.speed_at_contact", v + 1)];
                         (q.p05, q.p95, q.sd)
