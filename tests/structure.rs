@@ -603,7 +603,6 @@ const MAX_FN_LINES: usize = 120;
 /// list). `PIM_LONG_FUNCTIONS=1 cargo test --release --test structure -- --nocapture` prints
 /// the list as it stands.
 const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
-    ("crates/pim-runout/src/inverse/search.rs", "solve", 239),
     ("crates/pim-fit/src/convex/mod.rs", "new", 168),
     ("crates/pim-fit/src/convex/dual.rs", "run", 133),
     ("crates/pim-fit/src/geometry/mod.rs", "branch_search", 187),

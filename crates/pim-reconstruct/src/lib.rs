@@ -45,10 +45,16 @@
 //!    evaluated, not predicted: an upper bound of the best). Where that step overshoots (the
 //!    point lies more than [`Settings::refine_margin`] above what its linearised fit
 //!    predicted), the start itself is evaluated too, the impact fitted with the separation
-//!    state held there, and the lower of the two is the first point: a long run-out's
-//!    linearisation can send the undamped step thousands of chi-square away from a start that
-//!    costs a few tens (a steered car's 98 m run-out: 180.8 against 52.5), and a refinement
-//!    accepts only steps that lower what it starts from. These probes spend at most half the budget of
+//!    state held there; where it is lower it is a second start of the combination, refined
+//!    after every combination has had its first refinement, where it lies within the margin
+//!    of the best found or the best found does not fit (a restart from an answer refines both
+//!    at once and keeps the lower). A long run-out's linearisation can send the undamped step
+//!    thousands of chi-square away from a start that costs a few tens (a steered car's 98 m
+//!    run-out: 180.8 against 52.5; an ABS-braked car's 38 m run-out without marks, whose
+//!    rest is three equations in its three unknowns: 8,531 from the truth itself, whose
+//!    chi-square is 8.1), and a refinement accepts only steps that lower what it starts from;
+//!    the step's own point is kept as a start too, since a scene's candidate far from the
+//!    impact is often nearer an answer after it. These probes spend at most half the budget of
 //!    work left. The combinations are then refined from their first points: the lowest bound
 //!    first (where the linearisations hold, the relaxation's order is right), then in the order
 //!    of their first points' chi-squares (where they do not hold, the bound says nothing and an

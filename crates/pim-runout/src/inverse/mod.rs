@@ -71,6 +71,7 @@ mod linear;
 mod problem;
 mod scatter;
 mod search;
+mod starts;
 
 pub use evidence::{
     Alternative, Candidate, Estimate, EstimateSettings, Evidence, Mark, Quantity, Residual, Rest,

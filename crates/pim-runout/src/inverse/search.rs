@@ -2,10 +2,11 @@
 //! determines at the answer.
 
 use super::evidence::{
-    Alternative, Candidate, Evidence, Mark, Quantity, Residual, ALTERNATIVE_COST, MAX_ALTERNATIVES,
+    Alternative, Candidate, Evidence, Quantity, Residual, ALTERNATIVE_COST, MAX_ALTERNATIVES,
     MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE,
 };
 use super::problem::Problem;
+use super::starts::{around, toward_nearest_mark, turned};
 use crate::chassis::{Motion, GRAVITY};
 use crate::error::Result;
 use crate::simulate::{End, Runout};
@@ -112,9 +113,6 @@ struct Search {
 /// precise polish goes on to the run-outs' own precision.
 pub(crate) const GAIN: f64 = 1e-6;
 
-/// Levenberg-Marquardt (Marquardt's scaling) from `theta`, the Jacobian by forward
-/// differences at every point; `precise`: converged only at the run-outs' precision (a gain
-/// below 1e-7 of the cost), else at a gain of [`GAIN`].
 /// `start` searched on each of the softened evidence `soft` in turn, then on `coarse` (the
 /// evidence as given, exploring run-outs), counting run-outs and iterations.
 fn softly(
@@ -135,6 +133,9 @@ fn softly(
     Ok(s)
 }
 
+/// Levenberg-Marquardt (Marquardt's scaling) from `theta`, the Jacobian by forward
+/// differences at every point; `precise`: converged only at the run-outs' precision (a gain
+/// below 1e-7 of the cost), else at a gain of [`GAIN`].
 fn levenberg(
     p: &Problem,
     mut theta: Vec<f64>,
@@ -255,38 +256,10 @@ pub(crate) fn solve(
     let guess = first_guess(p, &mut runouts);
     let coarse_settings = p.settings.no_finer_than(EXPLORE_TOLERANCE);
     let coarse = p.on(&coarse_settings);
-    let rest_only = Evidence {
-        marks: Vec::new(),
-        ..p.evidence.clone()
-    };
-    let turned = |angle: f64| -> Vec<f64> {
-        let (s, c) = angle.sin_cos();
-        let mut t = guess.clone();
-        t[0] = c * guess[0] - s * guess[1];
-        t[1] = s * guess[0] + c * guess[1];
-        t
-    };
-    let toward_mark = p
-        .evidence
-        .marks
-        .iter()
-        .min_by(|a, b| {
-            let d = |m: &Mark| (m.x - p.start.x).hypot(m.y - p.start.y);
-            d(a).total_cmp(&d(b))
-        })
-        .map(|m| {
-            let speed = guess[0].hypot(guess[1]);
-            let (dx, dy) = (m.x - p.start.x, m.y - p.start.y);
-            let d = dx.hypot(dy).max(1e-9);
-            let mut t = guess.clone();
-            t[0] = speed * dx / d;
-            t[1] = speed * dy / d;
-            t
-        });
     let mut iterations = 0;
     let mut explored: Option<Search> = None;
     // Every explored end, for the alternatives.
-    let ends = std::cell::RefCell::new(Vec::<(Vec<f64>, f64)>::new());
+    let ends = std::cell::RefCell::new(Vec::<Ended>::new());
     let consider = |s: Search, explored: &mut Option<Search>| {
         ends.borrow_mut().push((s.theta.clone(), s.cost));
         if explored.as_ref().is_none_or(|b| s.cost < b.cost) {
@@ -330,24 +303,7 @@ pub(crate) fn solve(
     // 2. With marks, through the rest alone.
     if !second_pass && !good(&explored) && !p.evidence.marks.is_empty() && p.evidence.rest.is_some()
     {
-        let q = Problem {
-            chassis: coarse.chassis,
-            start: coarse.start,
-            evidence: &rest_only,
-            heading: coarse.heading,
-            settings: coarse.settings,
-            estimate_friction: coarse.estimate_friction,
-            work: Default::default(),
-        };
-        let first = levenberg(&q, guess.clone(), EXPLORE_ITERATIONS, &mut runouts, false)?;
-        let s = levenberg(
-            &coarse,
-            first.theta,
-            EXPLORE_ITERATIONS,
-            &mut runouts,
-            false,
-        )?;
-        iterations += first.iterations + s.iterations;
+        let s = through_rest_alone(&coarse, &guess, (&mut runouts, &mut iterations))?;
         consider(s, &mut explored);
     }
     // 3. The other starts.
@@ -362,8 +318,14 @@ pub(crate) fn solve(
     if second_pass {
         starts.extend(others.iter().cloned());
     } else if !quick {
-        starts.extend([spun(2.5), spun(0.4), turned(0.4), turned(-0.4), spun(-1.0)]);
-        starts.extend(toward_mark);
+        starts.extend([
+            spun(2.5),
+            spun(0.4),
+            turned(&guess, 0.4),
+            turned(&guess, -0.4),
+            spun(-1.0),
+        ]);
+        starts.extend(toward_nearest_mark(p, &guess));
     }
     for start in starts {
         if good(&explored) {
@@ -378,23 +340,7 @@ pub(crate) fn solve(
     // 4. Still above the expectation: a scatter of single run-outs around the first guess
     //    (direction, speed, yaw rate), searched from the two lowest.
     if !second_pass && !quick && !good(&explored) {
-        let mut scattered: Vec<(f64, Vec<f64>)> = Vec::new();
-        for turn in [-0.5, 0.0, 0.5] {
-            for speed in [0.8, 1.25] {
-                for yaw in [0.5, 1.0, 2.0] {
-                    let mut t = turned(turn);
-                    t[0] *= speed;
-                    t[1] *= speed;
-                    t[2] *= yaw;
-                    runouts += 1;
-                    if let Ok((r, _)) = coarse.weighted(&t) {
-                        scattered.push((r.norm_squared(), t));
-                    }
-                }
-            }
-        }
-        scattered.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (_, start) in scattered.into_iter().take(2) {
+        for start in around(&coarse, &guess, &mut runouts).into_iter().take(2) {
             if good(&explored) {
                 break;
             }
@@ -405,13 +351,57 @@ pub(crate) fn solve(
             consider(s, &mut explored);
         }
     }
-    // 5. Polished at the settings' precision (a polish on coarser run-outs would answer a
-    //    slightly different model: a long free-rolling run-out moves by millimetres between
-    //    tolerances 1e-9 and 1e-10).
-    //    A quick look whose exploring run-outs already have the settings' precision keeps a
-    //    converged exploring search as it is: polishing it again on the same run-outs would
-    //    only confirm it.
+    // 5. Polished ([`polished`]).
     let same_runouts = coarse_settings == *p.settings;
+    polished(
+        p,
+        (turns, max_iterations, quick, same_runouts),
+        (explored, guess),
+        (ends.into_inner(), from_answers),
+        (runouts, iterations),
+    )
+}
+
+/// Where an exploring search ended: its unknowns and its cost.
+type Ended = (Vec<f64>, f64);
+
+/// Stage 2 of [`solve`]: `guess` fitted to the rest alone on `coarse` (the rest's exact
+/// solutions are often the marks' basin), then to all of its evidence.
+fn through_rest_alone(
+    coarse: &Problem,
+    guess: &[f64],
+    (runouts, iterations): (&mut usize, &mut usize),
+) -> Result<Search> {
+    let rest_only = Evidence {
+        marks: Vec::new(),
+        ..coarse.evidence.clone()
+    };
+    let q = Problem {
+        evidence: &rest_only,
+        work: Default::default(),
+        ..*coarse
+    };
+    let first = levenberg(&q, guess.to_vec(), EXPLORE_ITERATIONS, runouts, false)?;
+    let s = levenberg(coarse, first.theta, EXPLORE_ITERATIONS, runouts, false)?;
+    *iterations += first.iterations + s.iterations;
+    Ok(s)
+}
+
+/// Stage 5 of [`solve`]: the best explored point polished at the settings' precision (a polish
+/// on coarser run-outs would answer a slightly different model: a long free-rolling run-out
+/// moves by millimetres between tolerances 1e-9 and 1e-10), or, in a quick look whose
+/// exploring run-outs already have the settings' precision (`same_runouts`), a converged
+/// explored point kept as it is (polishing it again on the same run-outs would only confirm
+/// it); from the first guess where nothing was explored. The candidate, with its alternatives
+/// among `ends` and `from_answers`, what the evidence determines and the run-outs and
+/// iterations spent.
+fn polished(
+    p: &Problem,
+    (turns, max_iterations, quick, same_runouts): (Option<i64>, usize, bool, bool),
+    (explored, guess): (Option<Search>, Vec<f64>),
+    (ends, from_answers): (Vec<Ended>, Vec<Ended>),
+    (mut runouts, mut iterations): (usize, usize),
+) -> Result<Candidate> {
     let best = match explored {
         Some(s) if quick && same_runouts && s.converged => s,
         explored => {
@@ -441,7 +431,7 @@ pub(crate) fn solve(
     let alternatives = alternatives_of(
         (&theta, cost, residuals.len()),
         p.chassis.friction,
-        ends.into_inner(),
+        ends,
         from_answers,
     );
     let (sigma, mut free) = determinacy(&jac);
@@ -492,8 +482,8 @@ pub(crate) fn solve(
 fn alternatives_of(
     (theta, cost, data): (&[f64], f64, usize),
     friction: f64,
-    mut ends: Vec<(Vec<f64>, f64)>,
-    answers: Vec<(Vec<f64>, f64)>,
+    mut ends: Vec<Ended>,
+    answers: Vec<Ended>,
 ) -> Vec<Alternative> {
     let same = |a: &[f64], b: &[f64]| {
         let scale = 0.05 * a[0].hypot(a[1]).max(b[0].hypot(b[1])) + 0.2;

@@ -504,7 +504,7 @@ pub(crate) fn reconstructed(case: &Case) -> pim_studies::reconstruct::Reconstruc
 }
 
 /// The wheels of the `i`-th case: every pair of states in turn over 25 cases.
-pub(crate) fn wheels_of(i: usize) -> [Wheels; 2] {
+fn wheels_of(i: usize) -> [Wheels; 2] {
     [WHEELS[i % 5], WHEELS[(i / 5 + i) % 5]]
 }
 
