@@ -142,9 +142,9 @@ fn out_err(path: &Path, e: std::io::Error) -> Failure {
     ))
 }
 
-/// `pim batch CASES...`.
-pub fn run(a: &BatchArgs) -> Result<ExitCode> {
-    let files = case_files(&a.inputs)?;
+/// The arguments that select among a data file's rows or models, or give its tolerances:
+/// refused with case files, not ignored.
+fn refuse_data_only(a: &BatchArgs) -> Result<()> {
     if !a.tests.is_empty() {
         return Err(
             Failure::Input("--tests selects rows of a data file, not case files".into()).into(),
@@ -166,6 +166,109 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         )
         .into());
     }
+    Ok(())
+}
+
+/// Where the records stream to: `--out`'s records.csv and records.jsonl (named in messages by
+/// their final paths), and stdout as CSV or JSON lines (`--format`).
+struct Sinks {
+    csv_file: Option<(PathBuf, csv::Writer<std::fs::File>)>,
+    jsonl_file: Option<(PathBuf, std::io::BufWriter<std::fs::File>)>,
+    stdout_csv: Option<csv::Writer<std::io::StdoutLock<'static>>>,
+    format: BatchFormat,
+}
+
+impl Sinks {
+    /// Opened before any work, so that an unwritable directory fails at once; each CSV with
+    /// its header.
+    fn open(out: Option<&super::output::OutDir>, format: BatchFormat) -> Result<Self> {
+        let mut sinks = Sinks {
+            csv_file: None,
+            jsonl_file: None,
+            stdout_csv: None,
+            format,
+        };
+        if let Some(out) = out {
+            // Written in the staging folder, named in messages by their final paths.
+            let (p, shown) = (out.file("records.csv"), out.shown("records.csv"));
+            let mut w = csv::Writer::from_path(&p)
+                .map_err(|e| Failure::Output(format!("{}: {e}", shown.display())))?;
+            w.write_record(CaseRecord::CSV_HEADER)
+                .map_err(|e| Failure::Output(format!("{}: {e}", shown.display())))?;
+            sinks.csv_file = Some((shown, w));
+            let (p, shown) = (out.file("records.jsonl"), out.shown("records.jsonl"));
+            let f = std::fs::File::create(&p).map_err(|e| out_err(&shown, e))?;
+            sinks.jsonl_file = Some((shown, std::io::BufWriter::new(f)));
+        }
+        sinks.stdout_csv = (format == BatchFormat::Csv)
+            .then(|| csv::Writer::from_writer(std::io::stdout().lock()));
+        if let Some(w) = &mut sinks.stdout_csv {
+            if let Err(e) = w.write_record(CaseRecord::CSV_HEADER) {
+                closed_or(e)?;
+                sinks.stdout_csv = None;
+            }
+        }
+        Ok(sinks)
+    }
+
+    /// One record to every sink.
+    fn write(&mut self, r: &CaseRecord) -> Result<()> {
+        let row = r.csv_row();
+        if let Some((p, w)) = &mut self.csv_file {
+            w.write_record(&row)
+                .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
+        }
+        if let Some((p, w)) = &mut self.jsonl_file {
+            serde_json::to_writer(&mut *w, r)?;
+            w.write_all(b"\n").map_err(|e| out_err(p, e))?;
+        }
+        match self.format {
+            BatchFormat::Csv => {
+                if let Some(w) = &mut self.stdout_csv {
+                    if let Err(e) = w.write_record(&row) {
+                        // A reader that stopped (`| head`) ends our stdout quietly.
+                        closed_or(e)?;
+                        self.stdout_csv = None;
+                    }
+                }
+            }
+            BatchFormat::Json => {
+                let mut line = serde_json::to_string(r)?;
+                line.push('\n');
+                super::print_out(&line)?;
+            }
+            BatchFormat::Table => {}
+        }
+        Ok(())
+    }
+
+    /// Stdout's CSV flushed after each chunk of files.
+    fn flush_stdout(&mut self) -> Result<()> {
+        if let Some(w) = &mut self.stdout_csv {
+            if let Err(e) = w.flush() {
+                closed_or(csv::Error::from(e))?;
+                self.stdout_csv = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// The files flushed at the end.
+    fn finish(self) -> Result<()> {
+        if let Some((p, mut w)) = self.csv_file {
+            w.flush().map_err(|e| out_err(&p, e))?;
+        }
+        if let Some((p, mut w)) = self.jsonl_file {
+            w.flush().map_err(|e| out_err(&p, e))?;
+        }
+        Ok(())
+    }
+}
+
+/// `pim batch CASES...`.
+pub fn run(a: &BatchArgs) -> Result<ExitCode> {
+    let files = case_files(&a.inputs)?;
+    refuse_data_only(a)?;
     let plan = super::batch_plan::plan(a)?;
     // Each file's own cost, unless --cost names presets.
     let choices: Vec<CostChoice> = if a.cost.is_empty() {
@@ -185,34 +288,12 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
         .map_err(|e| Failure::Input(format!("--threads: {e}")))?;
 
     // Outputs, opened before any work so that an unwritable directory fails at once.
-    let mut csv_file = None;
-    let mut jsonl_file = None;
     let out = a
         .out
         .as_deref()
         .map(super::output::OutDir::create)
         .transpose()?;
-    if let Some(out) = &out {
-        // Written in the staging folder, named in messages by their final paths.
-        let (p, shown) = (out.file("records.csv"), out.shown("records.csv"));
-        let mut w = csv::Writer::from_path(&p)
-            .map_err(|e| Failure::Output(format!("{}: {e}", shown.display())))?;
-        w.write_record(CaseRecord::CSV_HEADER)
-            .map_err(|e| Failure::Output(format!("{}: {e}", shown.display())))?;
-        csv_file = Some((shown, w));
-        let (p, shown) = (out.file("records.jsonl"), out.shown("records.jsonl"));
-        let f = std::fs::File::create(&p).map_err(|e| out_err(&shown, e))?;
-        jsonl_file = Some((shown, std::io::BufWriter::new(f)));
-    }
-    let stdout = std::io::stdout();
-    let mut stdout_csv =
-        (a.format == BatchFormat::Csv).then(|| csv::Writer::from_writer(stdout.lock()));
-    if let Some(w) = &mut stdout_csv {
-        if let Err(e) = w.write_record(CaseRecord::CSV_HEADER) {
-            closed_or(e)?;
-            stdout_csv = None;
-        }
-    }
+    let mut sinks = Sinks::open(out.as_ref(), a.format)?;
     let bar = super::study::Bar::on_terminal(true);
     bar.0.set_length(files.len() as u64);
     let mut tally = Tally::default();
@@ -237,49 +318,14 @@ pub fn run(a: &BatchArgs) -> Result<ExitCode> {
                 eprintln!("pim: {why}");
             }
             for r in &file_records {
-                let row = r.csv_row();
-                if let Some((p, w)) = &mut csv_file {
-                    w.write_record(&row)
-                        .map_err(|e| Failure::Output(format!("{}: {e}", p.display())))?;
-                }
-                if let Some((p, w)) = &mut jsonl_file {
-                    serde_json::to_writer(&mut *w, r)?;
-                    w.write_all(b"\n").map_err(|e| out_err(p, e))?;
-                }
-                match a.format {
-                    BatchFormat::Csv => {
-                        if let Some(w) = &mut stdout_csv {
-                            if let Err(e) = w.write_record(&row) {
-                                // A reader that stopped (`| head`) ends our stdout quietly.
-                                closed_or(e)?;
-                                stdout_csv = None;
-                            }
-                        }
-                    }
-                    BatchFormat::Json => {
-                        let mut line = serde_json::to_string(r)?;
-                        line.push('\n');
-                        super::print_out(&line)?;
-                    }
-                    BatchFormat::Table => {}
-                }
+                sinks.write(r)?;
             }
         }
-        if let Some(w) = &mut stdout_csv {
-            if let Err(e) = w.flush() {
-                closed_or(csv::Error::from(e))?;
-                stdout_csv = None;
-            }
-        }
+        sinks.flush_stdout()?;
     }
     bar.0.finish_and_clear();
     let summary = summary_text(&tally, files.len());
-    if let Some((p, mut w)) = csv_file {
-        w.flush().map_err(|e| out_err(&p, e))?;
-    }
-    if let Some((p, mut w)) = jsonl_file {
-        w.flush().map_err(|e| out_err(&p, e))?;
-    }
+    sinks.finish()?;
     if let Some(out) = out {
         out.write("summary.txt", &summary)?;
         let dir = out.target().to_path_buf();
