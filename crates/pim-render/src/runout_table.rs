@@ -144,104 +144,124 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
             s as i64 * v.turns,
             v.tyre_work / 1000.0,
         ));
-        if !v.evidence.is_empty() {
-            t.push_str("  evidence    fitted - given (sd, z):\n");
-            for e in &v.evidence {
-                let (value, sigma, unit) = if e.what.is_angle() {
-                    (num(s * e.value, 2), format!("{:.2}", e.sigma), "deg")
-                } else if e.what == Quantity::Friction {
-                    (format!("{:.4}", e.value), format!("{:.4}", e.sigma), "")
-                } else if e.what == Quantity::RestY {
-                    (
-                        num(units.length(s * e.value), 3),
-                        num(units.length(e.sigma), 3),
-                        len,
-                    )
-                } else {
-                    (
-                        num(units.length(e.value), 3),
-                        num(units.length(e.sigma), 3),
-                        len,
-                    )
-                };
-                t.push_str(&format!(
-                    "    {:<16} {value:>9} {unit} (sd {sigma}, z {})\n",
-                    e.name,
-                    num(e.z, 2)
-                ));
-            }
-        }
+        t.push_str(&evidence_lines(&v.evidence, s, units));
         if let Some(est) = &v.estimate {
-            t.push_str(&format!(
-                "  candidates  ({} run-outs simulated; cost = sum of squared z)\n",
-                est.runouts
-            ));
-            t.push_str(
-                "    turns: full turns added to the shortest rotation to the rest heading\n",
-            );
-            t.push_str(&format!(
-                "    {:>5} {:>11} {:>9} {:>9} {:>9} {:>8}  \n",
-                "turns",
-                "cost",
-                format!("vx {spd}"),
-                format!("vy {spd}"),
-                format!("yaw {rate}"),
-                "friction"
-            ));
-            for c in &est.candidates {
-                let turns = c.turns.map_or("-".into(), |k| (s as i64 * k).to_string());
-                t.push_str(&format!(
-                    "    {turns:>5} {:>11.3e} {:>9} {:>9} {:>9} {:>8.3}  {}{}\n",
-                    c.cost,
-                    num(units.speed(c.separation.vx), 3),
-                    num(units.speed(s * c.separation.vy), 3),
-                    num(units.yaw_rate(s * c.separation.yaw_rate), 3),
-                    c.friction,
-                    if c.consistent {
-                        "consistent"
-                    } else if c.plausible {
-                        "not excluded"
-                    } else {
-                        ""
-                    },
-                    c.reason
-                        .as_ref()
-                        .map_or(String::new(), |r| format!(" ({r})"))
-                ));
-            }
-            if let Some(best) = est.candidates.first() {
-                let sd: Vec<String> = est
-                    .unknowns
-                    .iter()
-                    .zip(&best.sigma)
-                    .map(|(n, x)| {
-                        let shown = match (n.as_str(), x) {
-                            (_, None) => "not determined".to_string(),
-                            ("vx", Some(x)) | ("vy", Some(x)) => {
-                                format!("{} {spd}", num(units.speed(*x), 3))
-                            }
-                            ("yaw_rate", Some(x)) => {
-                                format!("{} {rate}", num(units.yaw_rate(*x), 3))
-                            }
-                            (_, Some(x)) => format!("{x:.4}"),
-                        };
-                        format!("{n} {shown}")
-                    })
-                    .collect();
-                t.push_str(&format!(
-                    "  standard errors of the first candidate (linearised): {}\n",
-                    sd.join(", ")
-                ));
-            }
-            for u in &est.undetermined {
-                t.push_str(&format!("  NOT DETERMINED: {u}\n"));
-            }
+            t.push_str(&candidate_lines(est, s, units));
         }
     }
     for n in &d.notes {
         if !n.contains("candidates reach the evidence equally well") {
             t.push_str(&format!("note: {n}\n"));
         }
+    }
+    t
+}
+
+/// The lines of a vehicle's evidence, fitted less given (with the sign `s` of the frame).
+fn evidence_lines(
+    evidence: &[pim_documents::runout::ResidualOut],
+    s: f64,
+    units: UnitSystem,
+) -> String {
+    let len = units.length_label();
+    let mut t = String::new();
+    if evidence.is_empty() {
+        return t;
+    }
+    t.push_str("  evidence    fitted - given (sd, z):\n");
+    for e in evidence {
+        let (value, sigma, unit) = if e.what.is_angle() {
+            (num(s * e.value, 2), format!("{:.2}", e.sigma), "deg")
+        } else if e.what == Quantity::Friction {
+            (format!("{:.4}", e.value), format!("{:.4}", e.sigma), "")
+        } else if e.what == Quantity::RestY {
+            (
+                num(units.length(s * e.value), 3),
+                num(units.length(e.sigma), 3),
+                len,
+            )
+        } else {
+            (
+                num(units.length(e.value), 3),
+                num(units.length(e.sigma), 3),
+                len,
+            )
+        };
+        t.push_str(&format!(
+            "    {:<16} {value:>9} {unit} (sd {sigma}, z {})\n",
+            e.name,
+            num(e.z, 2)
+        ));
+    }
+    t
+}
+
+/// The lines of a scene's estimate: its candidates, the first one's standard errors and what
+/// the evidence leaves undetermined.
+fn candidate_lines(est: &pim_documents::runout::EstimateOut, s: f64, units: UnitSystem) -> String {
+    let (spd, rate) = (units.speed_label(), units.yaw_rate_label());
+    let mut t = String::new();
+    t.push_str(&format!(
+        "  candidates  ({} run-outs simulated; cost = sum of squared z)\n",
+        est.runouts
+    ));
+    t.push_str("    turns: full turns added to the shortest rotation to the rest heading\n");
+    t.push_str(&format!(
+        "    {:>5} {:>11} {:>9} {:>9} {:>9} {:>8}  \n",
+        "turns",
+        "cost",
+        format!("vx {spd}"),
+        format!("vy {spd}"),
+        format!("yaw {rate}"),
+        "friction"
+    ));
+    for c in &est.candidates {
+        let turns = c.turns.map_or("-".into(), |k| (s as i64 * k).to_string());
+        t.push_str(&format!(
+            "    {turns:>5} {:>11.3e} {:>9} {:>9} {:>9} {:>8.3}  {}{}\n",
+            c.cost,
+            num(units.speed(c.separation.vx), 3),
+            num(units.speed(s * c.separation.vy), 3),
+            num(units.yaw_rate(s * c.separation.yaw_rate), 3),
+            c.friction,
+            if c.consistent {
+                "consistent"
+            } else if c.plausible {
+                "not excluded"
+            } else {
+                ""
+            },
+            c.reason
+                .as_ref()
+                .map_or(String::new(), |r| format!(" ({r})"))
+        ));
+    }
+    if let Some(best) = est.candidates.first() {
+        let sd: Vec<String> = est
+            .unknowns
+            .iter()
+            .zip(&best.sigma)
+            .map(|(n, x)| {
+                let shown = match (n.as_str(), x) {
+                    (_, None) => "not determined".to_string(),
+                    ("vx", Some(x)) | ("vy", Some(x)) => {
+                        format!("{} {spd}", num(units.speed(*x), 3))
+                    }
+                    ("yaw_rate", Some(x)) => {
+                        format!("{} {rate}", num(units.yaw_rate(*x), 3))
+                    }
+                    (_, Some(x)) => format!("{x:.4}"),
+                };
+                format!("{n} {shown}")
+            })
+            .collect();
+        t.push_str(&format!(
+            "  standard errors of the first candidate (linearised): {}\n",
+            sd.join(", ")
+        ));
+    }
+    for u in &est.undetermined {
+        t.push_str(&format!("  NOT DETERMINED: {u}\n"));
     }
     t
 }
