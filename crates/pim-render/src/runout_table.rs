@@ -149,10 +149,15 @@ pub fn runout_table(title: &str, r: &RunoutResult, units: UnitSystem, frame: Con
             t.push_str(&candidate_lines(est, s, units));
         }
     }
-    for n in &d.notes {
-        if !n.contains("candidates reach the evidence equally well") {
-            t.push_str(&format!("note: {n}\n"));
-        }
+    // A note already printed as a vehicle's NOT DETERMINED line is not printed again.
+    let printed: Vec<&String> = d
+        .vehicles
+        .iter()
+        .filter_map(|v| v.estimate.as_ref())
+        .flat_map(|e| &e.undetermined)
+        .collect();
+    for n in d.notes.iter().filter(|n| !printed.contains(n)) {
+        t.push_str(&format!("note: {n}\n"));
     }
     t
 }
