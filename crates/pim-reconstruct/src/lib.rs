@@ -45,10 +45,10 @@
 //!    evaluated, not predicted: an upper bound of the best). Where that step overshoots (the
 //!    point lies more than [`Settings::refine_margin`] above what its linearised fit
 //!    predicted), the start itself is evaluated too, the impact fitted with the separation
-//!    state held there; where it is lower it is a second start of the combination, refined
-//!    after every combination has had its first refinement, where it lies within the margin
-//!    of the best found or the best found does not fit (a restart from an answer refines both
-//!    at once and keeps the lower). A long run-out's linearisation can send the undamped step
+//!    state held there; where it is lower it is a second start of the combination, refined in
+//!    the thorough search after every combination has had its first refinement, where it lies
+//!    within the margin of the best found or the best found does not fit (a restart from an
+//!    answer goes on from the lower of the two). A long run-out's linearisation can send the undamped step
 //!    thousands of chi-square away from a start that costs a few tens (a steered car's 98 m
 //!    run-out: 180.8 against 52.5; an ABS-braked car's 38 m run-out without marks, whose
 //!    rest is three equations in its three unknowns: 8,531 from the truth itself, whose

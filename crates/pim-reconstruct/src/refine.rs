@@ -304,15 +304,15 @@ fn evaluate(
 /// run-outs simulated (their true cost), and what the linearisation predicted there. Probed
 /// before any is refined, so that the refinements go in the order of costs that were
 /// evaluated, not of bounds that were only linearised.
+#[derive(Clone)]
 pub(crate) struct Probe {
     pub(crate) point: Point,
     /// The linearised problem's chi-square at the fit.
     pub(crate) predicted: f64,
     /// The scenes linearised at the start (those the first fit was made on).
     lins: Vec<Lin>,
-    /// Where the undamped step overshot ([`Probe::far`]): the start itself, the impact
-    /// fitted with the separation state held there, where it is lower than `point`.
-    held: Option<Point>,
+    /// Where the nonlinear contact evidence was linearised.
+    contact: Option<Vector12>,
 }
 
 impl Probe {
@@ -323,14 +323,43 @@ impl Probe {
         self.point.total > self.predicted + settings.refine_margin
     }
 
-    /// The start's own first point ([`Probe::held`]) as a probe of its own, taken out of this
-    /// one: a second start of the combination.
-    pub(crate) fn take_held(&mut self) -> Option<Probe> {
-        self.held.take().map(|h| Probe {
-            point: h,
-            predicted: self.predicted,
-            lins: self.lins.clone(),
-            held: None,
+    /// The scenes' chi-square at the start (a lower bound of [`Probe::start_itself`]'s point:
+    /// the separation state held there meets the scenes as the start does).
+    pub(crate) fn start_cost(&self) -> f64 {
+        self.lins.iter().map(|l| l.lin.cost).sum()
+    }
+
+    /// Where the undamped step overshot ([`Probe::far`]): the start itself, the impact fitted
+    /// with the separation state held there, as a probe of its own where it is lower than
+    /// this one's point. A start near an answer (a scene's candidate near the truth, an
+    /// earlier answer) whose linearisation is poor along a weakly determined direction (a long
+    /// rolling run-out's speed against its turn) is otherwise thrown into another basin by its
+    /// first step; the step's own point is kept as well, since a scene's candidate far from the
+    /// impact is often nearer an answer after it.
+    pub(crate) fn start_itself(
+        &self,
+        r: &Reconstruction,
+        settings: &Settings,
+        work: &Work,
+    ) -> Option<Probe> {
+        if !self.far(settings) {
+            return None;
+        }
+        let counts: Vec<i64> = self.lins.iter().map(|l| l.turns).collect();
+        let held = fit_once(
+            r,
+            settings,
+            &self.lins,
+            Step::Held,
+            self.contact.as_ref(),
+            work,
+        )
+        .ok()
+        .and_then(|f| evaluate(r, settings, &counts, f, work))
+        .filter(|h| h.total < self.point.total)?;
+        Some(Probe {
+            point: held,
+            ..self.clone()
         })
     }
 }
@@ -347,6 +376,7 @@ pub(crate) fn probe(
     work: &Work,
 ) -> std::result::Result<Probe, NoPoint> {
     let counts: Vec<i64> = start.iter().map(|l| l.turns).collect();
+    let restart = contact.is_some();
     let contact = match contact {
         Some(u) => Some(u),
         None if !r.nonlinear.0.is_empty() => {
@@ -362,20 +392,16 @@ pub(crate) fn probe(
         point,
         predicted,
         lins: start,
-        held: None,
+        contact,
     };
-    if first.far(settings) {
-        // The undamped step overshot: the start itself (the impact fitted with the separation
-        // state held there) is evaluated too, and where it is lower the combination is also
-        // refined from it (`refine_probe`). A start near an answer (a scene's candidate near
-        // the truth, an earlier answer) whose linearisation is poor along a weakly determined
-        // direction (a long rolling run-out's speed against its turn) is otherwise thrown into
-        // another basin by its first step; the step's own point is kept as well, since a
-        // scene's candidate far from the impact is often nearer an answer after it.
-        first.held = fit_once(r, settings, &first.lins, Step::Held, contact.as_ref(), work)
-            .ok()
-            .and_then(|f| evaluate(r, settings, &counts, f, work))
-            .filter(|h| h.total < first.point.total);
+    if restart {
+        // A restart from an answer whose undamped step overshot: the refinement goes on from
+        // the start itself where it is lower. (A search's start is a scene's candidate, not an
+        // answer: its refinement goes on from where the impact put it, and from the start
+        // itself after every combination has had its first refinement.)
+        if let Some(held) = first.start_itself(r, settings, work) {
+            first.point = held.point;
+        }
     }
     Ok(first)
 }
@@ -390,13 +416,7 @@ pub(crate) fn refine_start(
     work: &Work,
 ) -> std::result::Result<Refined, NoPoint> {
     let first = probe(r, settings, start, contact, work)?;
-    Ok(refine_probe(
-        r,
-        settings,
-        first,
-        (f64::INFINITY, FarFirst::RefineOn),
-        work,
-    ))
+    Ok(refine(r, settings, first, f64::INFINITY, work))
 }
 
 /// What a refinement does with a first point far (more than the margin) above what its
@@ -421,39 +441,21 @@ pub(crate) fn refine_probe(
     (best_so_far, far): (f64, FarFirst),
     work: &Work,
 ) -> Refined {
-    let mut first = first;
-    // Refined from the start itself too where it was lower.
-    let from_start = first.take_held();
     let set_aside = match far {
         FarFirst::RefineOn => false,
         FarFirst::AboveBest => first.point.total > best_so_far + settings.refine_margin,
         FarFirst::SetAside => true,
     };
-    let stepped = if set_aside && first.far(settings) {
-        Refined {
+    if set_aside && first.far(settings) {
+        return Refined {
             point: first.point,
             iterations: 1,
             converged: false,
             abandoned: true,
             fits: 1,
-        }
-    } else {
-        refine(r, settings, first, best_so_far, work)
-    };
-    let Some(from_start) = from_start else {
-        return stepped;
-    };
-    // The lower kept, the fits of both counted.
-    let lowest = best_so_far.min(stepped.point.total);
-    let other = refine(r, settings, from_start, lowest, work);
-    let fits = stepped.fits + other.fits;
-    let mut kept = if other.point.total < stepped.point.total {
-        other
-    } else {
-        stepped
-    };
-    kept.fits = fits;
-    kept
+        };
+    }
+    refine(r, settings, first, best_so_far, work)
 }
 
 /// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,

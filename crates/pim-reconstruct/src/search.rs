@@ -298,13 +298,14 @@ fn refine_each(
     let by_probe = counts_first(by_probe, |i| combos.counts(i));
     let mut best: Best = None;
     let mut count = 0;
-    // The starts themselves where their first steps overshot (`Probe::held`): second starts of
-    // their combinations, refined once every combination has had its first.
+    // Where a first step overshot, the start itself (`Probe::start_itself`): a second start of
+    // its combination, refined once every combination has had its first, in the thorough
+    // search (the quick look's budget is the thorough search's too).
     let mut second = Vec::new();
     for i in by_probe {
-        let mut p = probes[i].take().expect("probed");
-        if let Some(h) = p.take_held() {
-            second.push((i, h));
+        let p = probes[i].take().expect("probed");
+        if scatter && p.far(settings) {
+            second.push((i, p.clone()));
         }
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let bound = combos.bound(i);
@@ -363,10 +364,12 @@ fn refine_each(
     (best, spent)
 }
 
-/// Refines each combination `i` again from its start itself (`second`: the probes of
-/// [`Probe::take_held`]), where it could still be the answer: the start lies within the margin
-/// of the best found, or the best found does not fit (a refusal is not given while a start
-/// below it is left). A lower end replaces the combination's fate, and the best.
+/// Refines each combination `i` again from its start itself ([`Probe::start_itself`], for the
+/// probes in `second`, whose first steps overshot), where it could still be the answer: the
+/// start lies within the margin of the best found, or the best found does not fit (a refusal
+/// is not given while a start below it is left). The start is evaluated only where the
+/// scenes' cost there (a lower bound of its point) passes that test. A lower end replaces the
+/// combination's fate, and the best.
 fn refine_starts(
     r: &Reconstruction,
     settings: &Settings,
@@ -382,7 +385,15 @@ fn refine_starts(
         }
         let lowest_best = best.as_ref().map_or(f64::INFINITY, |b| b.1.total);
         let best_fits = best.as_ref().is_some_and(|b| fits_its_data(r, &b.1));
-        if best_fits && p.point.total > lowest_best + settings.refine_margin {
+        let could = |cost: f64| !best_fits || cost <= lowest_best + settings.refine_margin;
+        // The scenes' cost at the start bounds the start's own point from below.
+        if !could(p.start_cost()) {
+            continue;
+        }
+        let Some(p) = p.start_itself(r, settings, work) else {
+            continue;
+        };
+        if !could(p.point.total) {
             continue;
         }
         let share = work.share();
