@@ -631,8 +631,6 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-studies/src/uncertainty.rs", "run", 168),
     ("crates/pim-render/src/diagram/paint.rs", "draw_into", 294),
     ("crates/pim-render/src/diagram/paint.rs", "key", 158),
-    ("crates/pim-render/src/figures.rs", "all", 194),
-    ("crates/pim-render/src/momentum.rs", "figure", 183),
     ("crates/pim-render/src/runout.rs", "scene_svg", 381),
 ];
 

@@ -22,7 +22,7 @@ struct Series {
 /// Reads one value of a record.
 type Getter = dyn Fn(&BatchRecord) -> Option<f64>;
 
-type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
+pub(crate) type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 
 /// A horizontal reference line (a bound) with its label.
 struct Bound {
@@ -281,8 +281,98 @@ pub fn models(
     Ok(figure)
 }
 
-/// The four figures of a batch: `cost.svg`, `coefficients.svg`, `delta_v.svg` and the
-/// comparison with Brach 1984 Table 1.
+/// One panel of separation.svg: the separation components `comps` (of the twelve velocities)
+/// fitted against measured, per cost function (those that hold them fixed said in the key).
+fn separation_panel(
+    panel: &Area,
+    (title, unit, comps): (&str, &str, &[usize]),
+    records: &[BatchRecord],
+    costs: &[pim_fit::CostPreset],
+    tests: &[u32],
+) -> Result<(), crate::RenderError> {
+    let mut pts: Vec<(usize, f64, f64)> = Vec::new();
+    for (j, &c) in costs.iter().enumerate() {
+        // A cost function that holds the separation state fixed (Q1) reproduces it
+        // exactly: its points say nothing and are left out.
+        if comps.iter().all(|&k| c.holds_fixed(k)) {
+            continue;
+        }
+        for &t in tests {
+            if let Some(r) = best_per_cost(records, t, c) {
+                if let (Some(e), Some(b)) = (r.velocity_error, r.branch.as_ref()) {
+                    let f = b.final_.as_ref().map(|s| s.to_array());
+                    if let Some(f) = f {
+                        for &k in comps {
+                            let fitted = f[k - 6];
+                            pts.push((j, fitted - e[k], fitted));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let lim = pts
+        .iter()
+        .flat_map(|p| [p.1.abs(), p.2.abs()])
+        .fold(1.0_f64, f64::max)
+        * 1.1;
+    let mut chart = ChartBuilder::on(panel)
+        .caption(title, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(50)
+        .build_cartesian_2d(-lim..lim, -lim..lim)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc(format!("measured [{unit}]"))
+        .y_desc(format!("fitted [{unit}]"))
+        .x_label_formatter(&|x| tick(*x))
+        .y_label_formatter(&|y| tick(*y))
+        .max_light_lines(1)
+        .draw()
+        .map_err(err)?;
+    chart
+        .draw_series(LineSeries::new([(-lim, -lim), (lim, lim)], BLACK.mix(0.4)))
+        .map_err(err)?
+        .label("fitted = measured")
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 12, y)], BLACK.mix(0.4)));
+    for (j, &c) in costs.iter().enumerate() {
+        if comps.iter().all(|&k| c.holds_fixed(k)) {
+            // Said in the key: the cost function reproduces these exactly.
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(err)?
+                .label(format!(
+                    "{}: held fixed, not shown",
+                    c.name().to_uppercase()
+                ))
+                .legend(|(x, y)| PathElement::new([(x, y), (x, y)], WHITE));
+            continue;
+        }
+        let color = COLORS[j % COLORS.len()];
+        chart
+            .draw_series(
+                pts.iter()
+                    .filter(|p| p.0 == j)
+                    .map(|p| Circle::new((p.1, p.2), 3, color.filled())),
+            )
+            .map_err(err)?
+            .label(c.name().to_uppercase())
+            .legend(move |(x, y)| Circle::new((x + 5, y), 3, color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
+
+/// The four figures of a batch: `cost.svg`, `coefficients.svg`, `delta_v.svg` and
+/// `separation.svg` (the separation state fitted against measured).
 pub fn all(
     records: &[BatchRecord],
     costs: &[pim_fit::CostPreset],
@@ -393,84 +483,7 @@ pub fn all(
                 [8usize, 11].as_slice(),
             ),
         ]) {
-            let mut pts: Vec<(usize, f64, f64)> = Vec::new();
-            for (j, &c) in costs.iter().enumerate() {
-                // A cost function that holds the separation state fixed (Q1) reproduces it
-                // exactly: its points say nothing and are left out.
-                if comps.iter().all(|&k| c.holds_fixed(k)) {
-                    continue;
-                }
-                for &t in &tests {
-                    if let Some(r) = best_per_cost(records, t, c) {
-                        if let (Some(e), Some(b)) = (r.velocity_error, r.branch.as_ref()) {
-                            let f = b.final_.as_ref().map(|s| s.to_array());
-                            if let Some(f) = f {
-                                for &k in comps {
-                                    let fitted = f[k - 6];
-                                    pts.push((j, fitted - e[k], fitted));
-                                }
-                            }
-                        }
-                    }
-                }
-            }
-            let lim = pts
-                .iter()
-                .flat_map(|p| [p.1.abs(), p.2.abs()])
-                .fold(1.0_f64, f64::max)
-                * 1.1;
-            let mut chart = ChartBuilder::on(panel)
-                .caption(title, ("sans-serif", 16))
-                .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(50)
-                .build_cartesian_2d(-lim..lim, -lim..lim)
-                .map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc(format!("measured [{unit}]"))
-                .y_desc(format!("fitted [{unit}]"))
-                .x_label_formatter(&|x| tick(*x))
-                .y_label_formatter(&|y| tick(*y))
-                .max_light_lines(1)
-                .draw()
-                .map_err(err)?;
-            chart
-                .draw_series(LineSeries::new([(-lim, -lim), (lim, lim)], BLACK.mix(0.4)))
-                .map_err(err)?
-                .label("fitted = measured")
-                .legend(|(x, y)| PathElement::new([(x, y), (x + 12, y)], BLACK.mix(0.4)));
-            for (j, &c) in costs.iter().enumerate() {
-                if comps.iter().all(|&k| c.holds_fixed(k)) {
-                    // Said in the key: the cost function reproduces these exactly.
-                    chart
-                        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                        .map_err(err)?
-                        .label(format!(
-                            "{}: held fixed, not shown",
-                            c.name().to_uppercase()
-                        ))
-                        .legend(|(x, y)| PathElement::new([(x, y), (x, y)], WHITE));
-                    continue;
-                }
-                let color = COLORS[j % COLORS.len()];
-                chart
-                    .draw_series(
-                        pts.iter()
-                            .filter(|p| p.0 == j)
-                            .map(|p| Circle::new((p.1, p.2), 3, color.filled())),
-                    )
-                    .map_err(err)?
-                    .label(c.name().to_uppercase())
-                    .legend(move |(x, y)| Circle::new((x + 5, y), 3, color.filled()));
-            }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .draw()
-                .map_err(err)?;
+            separation_panel(panel, (title, unit, comps), records, costs, &tests)?;
         }
         Ok(())
     })?;

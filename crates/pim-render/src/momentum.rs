@@ -39,54 +39,7 @@ pub fn figure(
     let u = UnitSystem::of(&case.written_units);
     let sae = case.written.mirrors();
     let barrier = case.is_barrier();
-    let masses = [case.content.vehicle1.mass, case.content.vehicle2.mass];
-    let k = u.impulse(1.0);
-    // Drawn in the natural frame (the picture of the plan view); an SAE case's y ticks read
-    // SAE's y, which points the other way.
-    let p = |m: f64, vx: f64, vy: f64| [k * m * vx, k * m * vy];
-    let count = if barrier { 1 } else { 2 };
-    let mut arrows = Vec::new();
-    for (state, dashed, when) in [
-        (initial, false, "contact"),
-        (separation, true, "separation"),
-    ] {
-        let mut at = [0.0, 0.0];
-        for (i, v) in [&state.vehicle1, &state.vehicle2]
-            .iter()
-            .enumerate()
-            .take(count)
-        {
-            let m = p(masses[i], v.vx, v.vy);
-            let to = [at[0] + m[0], at[1] + m[1]];
-            arrows.push(Arrow {
-                from: at,
-                to,
-                color: if dashed { LIGHT[i] } else { COLORS[i] },
-                dashed,
-                label: format!(
-                    "vehicle {} at {when}: {} {}",
-                    i + 1,
-                    crate::tables::num(m[0].hypot(m[1]), 0),
-                    u.impulse_label()
-                ),
-            });
-            at = to;
-        }
-    }
-    let total = arrows[count - 1].to;
-    if !barrier {
-        arrows.push(Arrow {
-            from: [0.0, 0.0],
-            to: total,
-            color: RGBColor(40, 40, 40),
-            dashed: false,
-            label: format!(
-                "total momentum: {} {}",
-                crate::tables::num(total[0].hypot(total[1]), 0),
-                u.impulse_label()
-            ),
-        });
-    }
+    let arrows = arrows_of(case, [initial, separation], u);
     let pts: Vec<[f64; 2]> = arrows.iter().flat_map(|a| [a.from, a.to]).collect();
     if !pts.iter().flatten().all(|x| x.is_finite()) {
         return Err(RenderError::NotFinite(NOT_FINITE));
@@ -165,51 +118,116 @@ pub fn figure(
         chart
             .draw_series(std::iter::once(Circle::new((0.0, 0.0), 3, BLACK.filled())))
             .map_err(err)?;
-        // The key: one line per arrow.
-        let font = ("sans-serif", 13).into_font();
-        right
-            .draw(&Text::new(
-                "Key",
-                (10, 40),
-                font.clone().style(FontStyle::Bold),
-            ))
-            .map_err(err)?;
-        for (i, a) in arrows.iter().enumerate() {
-            let y = 66 + 24 * i as i32;
-            let style = a.color.stroke_width(if a.dashed { 2 } else { 3 });
-            if a.dashed {
-                right
-                    .draw(&PathElement::new(vec![(10, y), (18, y)], style))
-                    .map_err(err)?;
-                right
-                    .draw(&PathElement::new(vec![(24, y), (34, y)], style))
-                    .map_err(err)?;
-            } else {
-                right
-                    .draw(&PathElement::new(vec![(10, y), (34, y)], style))
-                    .map_err(err)?;
-            }
-            right
-                .draw(&Text::new(a.label.clone(), (42, y - 7), font.clone()))
-                .map_err(err)?;
-        }
-        let notes = [
-            "Head to tail from the origin (dot):".to_string(),
-            "solid at contact, dashed at separation.".to_string(),
-            if barrier {
-                "Vehicle 2 is a fixed barrier.".to_string()
-            } else {
-                "Both chains end at the total momentum.".to_string()
-            },
-            "A vehicle's impulse = its separation".to_string(),
-            "arrow minus its contact arrow.".to_string(),
-        ];
-        for (i, n) in notes.iter().enumerate() {
-            let y = 90 + 24 * arrows.len() as i32 + 18 * i as i32;
-            right
-                .draw(&Text::new(n.clone(), (10, y), font.clone()))
-                .map_err(err)?;
-        }
+        draw_key(&right, &arrows, barrier)?;
         Ok(())
     })
+}
+
+/// The arrows of the diagram, in the impulse unit of `u`: each vehicle's momentum at contact
+/// (solid) and at separation (dashed), head to tail from the origin, then the total (not against
+/// a barrier).
+fn arrows_of(case: &Case, [initial, separation]: [&Velocities; 2], u: UnitSystem) -> Vec<Arrow> {
+    let barrier = case.is_barrier();
+    let masses = [case.content.vehicle1.mass, case.content.vehicle2.mass];
+    let k = u.impulse(1.0);
+    // Drawn in the natural frame (the picture of the plan view); an SAE case's y ticks read
+    // SAE's y, which points the other way.
+    let p = |m: f64, vx: f64, vy: f64| [k * m * vx, k * m * vy];
+    let count = if barrier { 1 } else { 2 };
+    let mut arrows = Vec::new();
+    for (state, dashed, when) in [
+        (initial, false, "contact"),
+        (separation, true, "separation"),
+    ] {
+        let mut at = [0.0, 0.0];
+        for (i, v) in [&state.vehicle1, &state.vehicle2]
+            .iter()
+            .enumerate()
+            .take(count)
+        {
+            let m = p(masses[i], v.vx, v.vy);
+            let to = [at[0] + m[0], at[1] + m[1]];
+            arrows.push(Arrow {
+                from: at,
+                to,
+                color: if dashed { LIGHT[i] } else { COLORS[i] },
+                dashed,
+                label: format!(
+                    "vehicle {} at {when}: {} {}",
+                    i + 1,
+                    crate::tables::num(m[0].hypot(m[1]), 0),
+                    u.impulse_label()
+                ),
+            });
+            at = to;
+        }
+    }
+    let total = arrows[count - 1].to;
+    if !barrier {
+        arrows.push(Arrow {
+            from: [0.0, 0.0],
+            to: total,
+            color: RGBColor(40, 40, 40),
+            dashed: false,
+            label: format!(
+                "total momentum: {} {}",
+                crate::tables::num(total[0].hypot(total[1]), 0),
+                u.impulse_label()
+            ),
+        });
+    }
+    arrows
+}
+
+/// The key beside the plot: one line per arrow, then how to read the diagram.
+fn draw_key(
+    right: &crate::figures::Area,
+    arrows: &[Arrow],
+    barrier: bool,
+) -> Result<(), RenderError> {
+    let font = ("sans-serif", 13).into_font();
+    right
+        .draw(&Text::new(
+            "Key",
+            (10, 40),
+            font.clone().style(FontStyle::Bold),
+        ))
+        .map_err(err)?;
+    for (i, a) in arrows.iter().enumerate() {
+        let y = 66 + 24 * i as i32;
+        let style = a.color.stroke_width(if a.dashed { 2 } else { 3 });
+        if a.dashed {
+            right
+                .draw(&PathElement::new(vec![(10, y), (18, y)], style))
+                .map_err(err)?;
+            right
+                .draw(&PathElement::new(vec![(24, y), (34, y)], style))
+                .map_err(err)?;
+        } else {
+            right
+                .draw(&PathElement::new(vec![(10, y), (34, y)], style))
+                .map_err(err)?;
+        }
+        right
+            .draw(&Text::new(a.label.clone(), (42, y - 7), font.clone()))
+            .map_err(err)?;
+    }
+    let notes = [
+        "Head to tail from the origin (dot):".to_string(),
+        "solid at contact, dashed at separation.".to_string(),
+        if barrier {
+            "Vehicle 2 is a fixed barrier.".to_string()
+        } else {
+            "Both chains end at the total momentum.".to_string()
+        },
+        "A vehicle's impulse = its separation".to_string(),
+        "arrow minus its contact arrow.".to_string(),
+    ];
+    for (i, n) in notes.iter().enumerate() {
+        let y = 90 + 24 * arrows.len() as i32 + 18 * i as i32;
+        right
+            .draw(&Text::new(n.clone(), (10, y), font.clone()))
+            .map_err(err)?;
+    }
+    Ok(())
 }
