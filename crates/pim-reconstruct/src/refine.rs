@@ -323,30 +323,23 @@ impl Probe {
         self.point.total > self.predicted + settings.refine_margin
     }
 
-    /// The scenes' chi-square at the start (a lower bound of [`Probe::start_itself`]'s point:
+    /// The scenes' chi-square at the start (a lower bound of [`Probe::held_point`]:
     /// the separation state held there meets the scenes as the start does).
     pub(crate) fn start_cost(&self) -> f64 {
         self.lins.iter().map(|l| l.lin.cost).sum()
     }
 
     /// Where the undamped step overshot ([`Probe::far`]): the start itself, the impact fitted
-    /// with the separation state held there, as a probe of its own where it is lower than
-    /// this one's point. A start near an answer (a scene's candidate near the truth, an
-    /// earlier answer) whose linearisation is poor along a weakly determined direction (a long
-    /// rolling run-out's speed against its turn) is otherwise thrown into another basin by its
-    /// first step; the step's own point is kept as well, since a scene's candidate far from the
-    /// impact is often nearer an answer after it.
-    pub(crate) fn start_itself(
-        &self,
-        r: &Reconstruction,
-        settings: &Settings,
-        work: &Work,
-    ) -> Option<Probe> {
+    /// with the separation state held there, where it is lower than this probe's point. A start
+    /// near an answer (a scene's candidate near the truth, an earlier answer) whose
+    /// linearisation is poor along a weakly determined direction (a long rolling run-out's
+    /// speed against its turn) is otherwise thrown into another basin by its first step.
+    fn held_point(&self, r: &Reconstruction, settings: &Settings, work: &Work) -> Option<Point> {
         if !self.far(settings) {
             return None;
         }
         let counts: Vec<i64> = self.lins.iter().map(|l| l.turns).collect();
-        let held = fit_once(
+        fit_once(
             r,
             settings,
             &self.lins,
@@ -356,10 +349,22 @@ impl Probe {
         )
         .ok()
         .and_then(|f| evaluate(r, settings, &counts, f, work))
-        .filter(|h| h.total < self.point.total)?;
+        .filter(|h| h.total < self.point.total)
+    }
+
+    /// [`Probe::held_point`] as a probe of its own (a second start of the combination; the
+    /// step's own point is kept as well, since a scene's candidate far from the impact is often
+    /// nearer an answer after it).
+    pub(crate) fn start_itself(
+        self,
+        r: &Reconstruction,
+        settings: &Settings,
+        work: &Work,
+    ) -> Option<Probe> {
+        let held = self.held_point(r, settings, work)?;
         Some(Probe {
             point: held,
-            ..self.clone()
+            ..self
         })
     }
 }
@@ -399,8 +404,8 @@ pub(crate) fn probe(
         // the start itself where it is lower. (A search's start is a scene's candidate, not an
         // answer: its refinement goes on from where the impact put it, and from the start
         // itself after every combination has had its first refinement.)
-        if let Some(held) = first.start_itself(r, settings, work) {
-            first.point = held.point;
+        if let Some(held) = first.held_point(r, settings, work) {
+            first.point = held;
         }
     }
     Ok(first)

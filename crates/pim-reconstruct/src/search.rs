@@ -167,6 +167,22 @@ struct Fates {
     ends: Vec<Option<crate::outcome::End>>,
 }
 
+impl Fates {
+    /// Combination `i` refined to `x`: where it ended.
+    fn record(&mut self, i: usize, x: &Refined) {
+        self.refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
+        self.ends[i] = Some(crate::outcome::End::of(&x.point));
+    }
+
+    /// The chi-square combination `i` was refined to (infinite where it was not).
+    fn cost(&self, i: usize) -> f64 {
+        match &self.refined[i] {
+            Some(Ok((cost, ..))) => *cost,
+            _ => f64::INFINITY,
+        }
+    }
+}
+
 /// A search's best point: its combination, the point, iterations, converged.
 type Best = Option<(usize, Point, usize, bool)>;
 
@@ -354,8 +370,7 @@ fn refine_each(
         spent.fits += x.fits - 1;
         spent.runouts +=
             x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * (x.iterations - 1);
-        fates.refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
-        fates.ends[i] = Some(crate::outcome::End::of(&x.point));
+        fates.record(i, &x);
         if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
             best = Some((i, x.point, x.iterations, x.converged));
         }
@@ -397,18 +412,12 @@ fn refine_starts(
             continue;
         }
         let share = work.share();
-        let x =
-            crate::refine::refine_probe(r, settings, p, (lowest_best, FarFirst::RefineOn), &share);
+        let x = refine_probe(r, settings, p, (lowest_best, FarFirst::RefineOn), &share);
         work.add(share.spent());
         spent.fits += x.fits;
         spent.runouts += x.point.scene.iter().map(|l| l.lin.runouts).sum::<usize>() * x.iterations;
-        let before = match &fates.refined[i] {
-            Some(Ok((cost, ..))) => *cost,
-            _ => f64::INFINITY,
-        };
-        if x.point.total < before {
-            fates.refined[i] = Some(Ok((x.point.total, x.iterations, x.converged, x.abandoned)));
-            fates.ends[i] = Some(crate::outcome::End::of(&x.point));
+        if x.point.total < fates.cost(i) {
+            fates.record(i, &x);
         }
         if best.as_ref().is_none_or(|b| x.point.total < b.1.total) {
             *best = Some((i, x.point, x.iterations, x.converged));
