@@ -552,15 +552,6 @@ fn no_evidence_is_matched_by_its_name() {
 /// `to_page`, `from_page`, `angle_from_page`, ...).
 #[test]
 fn no_frame_is_tested_above_the_case() {
-    const ABOVE: [&str; 7] = [
-        "crates/pim-reconstruct",
-        "crates/pim-documents",
-        "crates/pim-studies",
-        "crates/pim-render",
-        "crates/pim-cli",
-        "crates/pim-serve",
-        "crates/pim-py",
-    ];
     let tests = |line: &str| {
         ["Sae", "Natural", "Brach"].iter().any(|c| {
             line.contains(&format!("== Convention::{c}"))
@@ -571,7 +562,7 @@ fn no_frame_is_tested_above_the_case() {
         })
     };
     let mut found = Vec::new();
-    for krate in ABOVE {
+    for krate in ABOVE_THE_CASE {
         for (_, (path, _)) in crate_files(&root().join(krate)) {
             let text = std::fs::read_to_string(&path).unwrap();
             let code = code_of(before_tests(&text));
@@ -586,6 +577,107 @@ fn no_frame_is_tested_above_the_case() {
         }
     }
     assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// The crates above pim-case: they take the case resolved, not its raw sections.
+const ABOVE_THE_CASE: [&str; 7] = [
+    "crates/pim-reconstruct",
+    "crates/pim-documents",
+    "crates/pim-studies",
+    "crates/pim-render",
+    "crates/pim-cli",
+    "crates/pim-serve",
+    "crates/pim-py",
+];
+
+/// Each file above pim-case that still reads the case's raw sections (`case.content`), with
+/// its count of reads when the rule was set: a count may only shrink (a file that reads fewer
+/// must say so here; one that reads none leaves the list). A new read of a raw section above
+/// pim-case fails: the value belongs in the resolved case, read once with its default and its
+/// range. `PIM_RAW_READS=1 cargo test --release --test structure -- --nocapture` prints the
+/// list as it stands.
+const RAW_READS: &[(&str, usize)] = &[
+    ("crates/pim-studies/src/batch.rs", 3),
+    ("crates/pim-studies/src/check.rs", 1),
+    ("crates/pim-studies/src/consistency.rs", 1),
+    ("crates/pim-studies/src/damage_draws.rs", 2),
+    ("crates/pim-studies/src/documents.rs", 1),
+    ("crates/pim-studies/src/fitcase.rs", 9),
+    ("crates/pim-studies/src/measured_inputs.rs", 4),
+    ("crates/pim-studies/src/pieces.rs", 3),
+    ("crates/pim-studies/src/question.rs", 1),
+    ("crates/pim-studies/src/reconstruct_friction.rs", 1),
+    ("crates/pim-studies/src/reconstruct_input.rs", 6),
+    ("crates/pim-studies/src/reconstruct_pose.rs", 1),
+    ("crates/pim-studies/src/reconstruct_study.rs", 13),
+    ("crates/pim-studies/src/runout.rs", 1),
+    ("crates/pim-studies/src/tolerances.rs", 2),
+    ("crates/pim-studies/src/uncertainty.rs", 9),
+    ("crates/pim-render/src/diagram/mod.rs", 4),
+    ("crates/pim-render/src/momentum.rs", 2),
+    ("crates/pim-render/src/report/build.rs", 4),
+    ("crates/pim-render/src/report/damage_section.rs", 2),
+    ("crates/pim-render/src/report/make.rs", 1),
+    ("crates/pim-render/src/speed_history.rs", 1),
+    ("crates/pim-render/src/text.rs", 1),
+    ("crates/pim-cli/src/commands/survey.rs", 1),
+    ("crates/pim-cli/src/commands/uncertainty.rs", 1),
+    ("crates/pim-serve/src/answer.rs", 4),
+    ("crates/pim-serve/src/contact.rs", 2),
+    ("crates/pim-serve/src/edits.rs", 3),
+    ("crates/pim-serve/src/plan.rs", 5),
+    ("crates/pim-serve/src/study.rs", 2),
+    ("crates/pim-serve/src/survey.rs", 1),
+    ("crates/pim-py/src/lib.rs", 1),
+];
+
+#[test]
+fn no_raw_section_is_read_above_the_case() {
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for krate in ABOVE_THE_CASE {
+        for (_, (path, _)) in crate_files(&root().join(krate)) {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let code = code_of(before_tests(&text));
+            let n = code
+                .match_indices(".content")
+                .filter(|(i, _)| {
+                    !code[i + ".content".len()..]
+                        .starts_with(|c: char| c.is_alphanumeric() || c == '_')
+                })
+                .count();
+            if n > 0 {
+                let file = path.strip_prefix(root()).unwrap().display().to_string();
+                counts.push((file, n));
+            }
+        }
+    }
+    if std::env::var("PIM_RAW_READS").is_ok() {
+        for (f, n) in &counts {
+            println!("    (\"{f}\", {n}),");
+        }
+    }
+    let mut wrong = Vec::new();
+    for (file, n) in &counts {
+        match RAW_READS.iter().find(|(f, _)| f == file) {
+            None => wrong.push(format!(
+                "{file}: {n} reads of the raw sections, none allowed"
+            )),
+            Some((_, allowed)) if n > allowed => wrong.push(format!(
+                "{file}: {n} reads of the raw sections, at most {allowed} allowed"
+            )),
+            Some((_, allowed)) if n < allowed => wrong.push(format!(
+                "{file}: {n} reads of the raw sections, {allowed} listed: lower the count in \
+                 RAW_READS"
+            )),
+            _ => {}
+        }
+    }
+    for (f, _) in RAW_READS {
+        if !counts.iter().any(|(file, _)| file == f) {
+            wrong.push(format!("{f}: reads no raw section: leave RAW_READS"));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
 #[test]
@@ -608,30 +700,8 @@ const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
     ("crates/pim-fit/src/geometry/mod.rs", "branch_search", 187),
     ("crates/pim-fit/src/geometry/certify/mod.rs", "prove", 138),
     ("crates/pim-fit/src/inner/general.rs", "solve_rows", 125),
-    ("crates/pim-case/src/damage.rs", "of", 173),
-    ("crates/pim-case/src/plausibility.rs", "warnings", 236),
-    ("crates/pim-studies/src/damage_assess.rs", "assess", 142),
-    ("crates/pim-studies/src/fitcase.rs", "problem", 201),
-    (
-        "crates/pim-studies/src/measured_inputs.rs",
-        "measured_inputs",
-        157,
-    ),
-    ("crates/pim-studies/src/reconstruct.rs", "document", 176),
-    (
-        "crates/pim-studies/src/reconstruct_input.rs",
-        "case_reconstruction",
-        187,
-    ),
-    (
-        "crates/pim-studies/src/reconstruct_study.rs",
-        "scene_inputs",
-        156,
-    ),
-    ("crates/pim-studies/src/uncertainty.rs", "run", 168),
     ("crates/pim-render/src/diagram/paint.rs", "draw_into", 294),
     ("crates/pim-render/src/diagram/paint.rs", "key", 158),
-    ("crates/pim-render/src/runout.rs", "scene_svg", 381),
 ];
 
 /// Each function of `code` (comments and strings blanked, its lines the source's): its name

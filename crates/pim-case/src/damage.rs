@@ -121,137 +121,17 @@ impl Damage {
         let Some(section) = &case.content.damage else {
             return Ok(None);
         };
-        let u = &case.written_units;
-        let crush_unit = u.crush.map_or(u.length.to_si(), CrushUnit::to_si);
-        let (a_unit, b_unit) = (u.stiffness.a_to_si(), u.stiffness.b_to_si());
-        let sae = case.written == pim_core::Convention::Sae;
         let mut read = [None, None];
-        for (k, name) in ["vehicle1", "vehicle2"].into_iter().enumerate() {
-            let Some(s) = (if k == 0 {
-                &section.vehicle1
-            } else {
-                &section.vehicle2
-            }) else {
-                continue;
-            };
-            let at = |field: &str| format!("damage.{name}.{field}");
-            let vehicle = case.content.vehicle(k);
-            if vehicle.barrier {
-                return Err(case.error_at(
-                    &format!("damage.{name}"),
-                    "vehicle 2 is a rigid barrier, which takes no crush: leave its damage out",
-                ));
+        for (k, s) in [&section.vehicle1, &section.vehicle2]
+            .into_iter()
+            .enumerate()
+        {
+            if let Some(s) = s {
+                read[k] = Some(Read::of(case, k, s)?);
             }
-            let side = match s.side.as_deref() {
-                Some(t) => Side::parse(t).ok_or_else(|| {
-                    case.error_at(
-                        &at("side"),
-                        format!("{t:?}: accepted \"front\", \"rear\", \"left\", \"right\""),
-                    )
-                })?,
-                None => {
-                    return Err(case.error_at(
-                        &format!("damage.{name}"),
-                        "side: missing; give the damaged face: \"front\", \"rear\", \"left\" \
-                         or \"right\"",
-                    ))
-                }
-            };
-            let (a, b) = match (s.a, s.b) {
-                (Some(a), Some(b)) => (a * a_unit, b * b_unit),
-                (a, _) => {
-                    let missing = if a.is_none() { "a" } else { "b" };
-                    return Err(case.error_at(
-                        &format!("damage.{name}"),
-                        format!(
-                            "{missing}: missing; give the stiffness A and B of the damaged face \
-                             (in [units] stiffness: N/m, N/cm or lbf/in), e.g. from a crash \
-                             test of the same vehicle"
-                        ),
-                    ));
-                }
-            };
-            let stiffness = Stiffness { a, b };
-            stiffness
-                .check()
-                .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
-            for (field, x, limit, unit) in [("a", a, MAX_A, "N/m"), ("b", b, MAX_B, "N/m^2")] {
-                if x > limit {
-                    return Err(case.error_at(
-                        &at(field),
-                        format!(
-                            "{} {unit} (in SI) is beyond any vehicle's stiffness (at most {} \
-                             {unit}; passenger cars' fronts are near 5e4 N/m and 5e5 N/m^2): \
-                             check the value and [units] stiffness",
-                            crate::ranges::short(x),
-                            crate::ranges::short(limit)
-                        ),
-                    ));
-                }
-            }
-            let sigma = |x: Option<f64>, scale: f64, field: &str| -> Result<f64> {
-                let v = x.unwrap_or(0.0);
-                if !(v.is_finite() && v >= 0.0) {
-                    return Err(case.error_at(
-                        &at(field),
-                        format!("{v}: a standard deviation is a number of at least 0"),
-                    ));
-                }
-                Ok(v * scale)
-            };
-            let sigmas = ProfileSigmas {
-                a: sigma(s.a_sigma, a_unit, "a_sigma")?,
-                b: sigma(s.b_sigma, b_unit, "b_sigma")?,
-                depth: sigma(s.depth_sigma, crush_unit, "depth_sigma")?,
-                width: sigma(s.width_sigma, crush_unit, "width_sigma")?,
-            };
-            let offset = s.offset.unwrap_or(0.0) * crush_unit;
-            if !offset.is_finite() {
-                return Err(case.error_at(&at("offset"), "must be a finite number"));
-            }
-            // The lateral offset of front and rear damage is a y coordinate of the file's frame.
-            let offset = if sae && matches!(side, Side::Front | Side::Rear) {
-                -offset
-            } else {
-                offset
-            };
-            if let Some(p) = s.pdof {
-                if !(p.is_finite() && p.abs() <= 360.0) {
-                    return Err(case.error_at(
-                        &at("pdof"),
-                        format!("{p}: degrees clockwise from the nose, within +-360"),
-                    ));
-                }
-            }
-            let profile =
-                match (&s.depths, s.width) {
-                    (Some(d), Some(w)) => Some(Profile {
-                        width: w * crush_unit,
-                        depths: d.iter().map(|c| c * crush_unit).collect(),
-                    }),
-                    (None, None) => None,
-                    (Some(_), None) => return Err(case.error_at(
-                        &format!("damage.{name}"),
-                        "width: missing; give the width of the damage the depths were measured \
-                         across",
-                    )),
-                    (None, Some(_)) => return Err(case.error_at(
-                        &format!("damage.{name}"),
-                        "depths: missing; give the crush depths measured across the width (2, 4 \
-                         or 6 equally spaced, as CRASH3 measures them)",
-                    )),
-                };
-            if let Some(p) = &profile {
-                p.check()
-                    .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
-                check_fits(case, name, k, side, p, offset)?;
-            }
-            read[k] = Some((side, profile, offset, stiffness, sigmas, s.pdof));
         }
-        let measured: Vec<usize> = (0..2)
-            .filter(|&k| matches!(&read[k], Some((_, Some(_), ..))))
-            .collect();
-        if read.iter().any(Option::is_some) && measured.is_empty() {
+        let measured = |r: &Option<Read>| r.as_ref().is_some_and(|r| r.profile.is_some());
+        if read.iter().any(Option::is_some) && !read.iter().any(measured) {
             return Err(case.error_at(
                 "damage",
                 "no vehicle's crush is measured: give depths and width for at least one vehicle \
@@ -260,28 +140,29 @@ impl Damage {
         }
         let mut vehicles: [Option<VehicleDamage>; 2] = [None, None];
         for k in 0..2 {
-            let Some((side, profile, offset, stiffness, sigmas, pdof)) = read[k].clone() else {
+            let Some(r) = read[k].clone() else {
                 continue;
             };
-            let (profile, measured) = match profile {
+            let (profile, measured) = match r.profile {
                 Some(p) => (p, true),
                 None => {
-                    let other = 1 - k;
-                    let (_, op, _, os, ..) = read[other].clone().expect("the other is measured");
-                    let op = op.expect("measured");
-                    let p = pim_crush::balanced_profile(&op, &os, &stiffness)
-                        .map_err(|e| crush_error(case, "vehicle", &e, u.stiffness))?;
+                    let other = read[1 - k].as_ref().expect("the other is measured");
+                    let op = other.profile.as_ref().expect("measured");
+                    let p = pim_crush::balanced_profile(op, &other.stiffness, &r.stiffness)
+                        .map_err(|e| {
+                            crush_error(case, "vehicle", &e, case.written_units.stiffness)
+                        })?;
                     (p, false)
                 }
             };
             vehicles[k] = Some(VehicleDamage {
-                side,
+                side: r.side,
                 profile,
-                offset,
-                stiffness,
-                sigmas,
+                offset: r.offset,
+                stiffness: r.stiffness,
+                sigmas: r.sigmas,
                 measured,
-                pdof,
+                pdof: r.pdof,
             });
         }
         Ok(Some(Damage {
@@ -289,6 +170,168 @@ impl Damage {
             evidence: section.evidence,
             vehicles,
         }))
+    }
+}
+
+/// One vehicle's `[damage.vehicleN]` checked and in SI, its profile `None` where the case
+/// leaves it to the force balance.
+#[derive(Clone)]
+struct Read {
+    side: Side,
+    profile: Option<Profile>,
+    offset: f64,
+    stiffness: Stiffness,
+    sigmas: ProfileSigmas,
+    pdof: Option<f64>,
+}
+
+impl Read {
+    /// Vehicle `k`'s section `s`, checked; messages name the file, line and field.
+    fn of(case: &Case, k: usize, s: &crate::sections::DamageVehicleSection) -> Result<Read> {
+        let name = ["vehicle1", "vehicle2"][k];
+        let u = &case.written_units;
+        let crush_unit = u.crush.map_or(u.length.to_si(), CrushUnit::to_si);
+        let at = |field: &str| format!("damage.{name}.{field}");
+        if case.content.vehicle(k).barrier {
+            return Err(case.error_at(
+                &format!("damage.{name}"),
+                "vehicle 2 is a rigid barrier, which takes no crush: leave its damage out",
+            ));
+        }
+        let side = match s.side.as_deref() {
+            Some(t) => Side::parse(t).ok_or_else(|| {
+                case.error_at(
+                    &at("side"),
+                    format!("{t:?}: accepted \"front\", \"rear\", \"left\", \"right\""),
+                )
+            })?,
+            None => {
+                return Err(case.error_at(
+                    &format!("damage.{name}"),
+                    "side: missing; give the damaged face: \"front\", \"rear\", \"left\" \
+                     or \"right\"",
+                ))
+            }
+        };
+        let stiffness = stiffness_of(case, name, s)?;
+        let (a_unit, b_unit) = (u.stiffness.a_to_si(), u.stiffness.b_to_si());
+        let sigma = |x: Option<f64>, scale: f64, field: &str| -> Result<f64> {
+            let v = x.unwrap_or(0.0);
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(case.error_at(
+                    &at(field),
+                    format!("{v}: a standard deviation is a number of at least 0"),
+                ));
+            }
+            Ok(v * scale)
+        };
+        let sigmas = ProfileSigmas {
+            a: sigma(s.a_sigma, a_unit, "a_sigma")?,
+            b: sigma(s.b_sigma, b_unit, "b_sigma")?,
+            depth: sigma(s.depth_sigma, crush_unit, "depth_sigma")?,
+            width: sigma(s.width_sigma, crush_unit, "width_sigma")?,
+        };
+        let offset = s.offset.unwrap_or(0.0) * crush_unit;
+        if !offset.is_finite() {
+            return Err(case.error_at(&at("offset"), "must be a finite number"));
+        }
+        // The lateral offset of front and rear damage is a y coordinate of the file's frame.
+        let sae = case.written == pim_core::Convention::Sae;
+        let offset = if sae && matches!(side, Side::Front | Side::Rear) {
+            -offset
+        } else {
+            offset
+        };
+        if let Some(p) = s.pdof {
+            if !(p.is_finite() && p.abs() <= 360.0) {
+                return Err(case.error_at(
+                    &at("pdof"),
+                    format!("{p}: degrees clockwise from the nose, within +-360"),
+                ));
+            }
+        }
+        let profile = profile_of(case, name, s, crush_unit)?;
+        if let Some(p) = &profile {
+            p.check()
+                .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
+            check_fits(case, name, k, side, p, offset)?;
+        }
+        Ok(Read {
+            side,
+            profile,
+            offset,
+            stiffness,
+            sigmas,
+            pdof: s.pdof,
+        })
+    }
+}
+
+/// The stiffness A and B of vehicle `name`'s section `s`, checked, in SI.
+fn stiffness_of(
+    case: &Case,
+    name: &str,
+    s: &crate::sections::DamageVehicleSection,
+) -> Result<Stiffness> {
+    let u = &case.written_units;
+    let (a, b) = match (s.a, s.b) {
+        (Some(a), Some(b)) => (a * u.stiffness.a_to_si(), b * u.stiffness.b_to_si()),
+        (a, _) => {
+            let missing = if a.is_none() { "a" } else { "b" };
+            return Err(case.error_at(
+                &format!("damage.{name}"),
+                format!(
+                    "{missing}: missing; give the stiffness A and B of the damaged face (in \
+                     [units] stiffness: N/m, N/cm or lbf/in), e.g. from a crash test of the \
+                     same vehicle"
+                ),
+            ));
+        }
+    };
+    let stiffness = Stiffness { a, b };
+    stiffness
+        .check()
+        .map_err(|e| crush_error(case, name, &e, u.stiffness))?;
+    for (field, x, limit, unit) in [("a", a, MAX_A, "N/m"), ("b", b, MAX_B, "N/m^2")] {
+        if x > limit {
+            return Err(case.error_at(
+                &format!("damage.{name}.{field}"),
+                format!(
+                    "{} {unit} (in SI) is beyond any vehicle's stiffness (at most {} {unit}; \
+                     passenger cars' fronts are near 5e4 N/m and 5e5 N/m^2): check the value \
+                     and [units] stiffness",
+                    crate::ranges::short(x),
+                    crate::ranges::short(limit)
+                ),
+            ));
+        }
+    }
+    Ok(stiffness)
+}
+
+/// The measured profile of vehicle `name`'s section `s` in SI (`None`: neither depths nor
+/// width, the profile left to the force balance).
+fn profile_of(
+    case: &Case,
+    name: &str,
+    s: &crate::sections::DamageVehicleSection,
+    crush_unit: f64,
+) -> Result<Option<Profile>> {
+    match (&s.depths, s.width) {
+        (Some(d), Some(w)) => Ok(Some(Profile {
+            width: w * crush_unit,
+            depths: d.iter().map(|c| c * crush_unit).collect(),
+        })),
+        (None, None) => Ok(None),
+        (Some(_), None) => Err(case.error_at(
+            &format!("damage.{name}"),
+            "width: missing; give the width of the damage the depths were measured across",
+        )),
+        (None, Some(_)) => Err(case.error_at(
+            &format!("damage.{name}"),
+            "depths: missing; give the crush depths measured across the width (2, 4 or 6 \
+             equally spaced, as CRASH3 measures them)",
+        )),
     }
 }
 

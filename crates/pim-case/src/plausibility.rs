@@ -59,6 +59,17 @@ impl Case {
     /// heading with no yaw rate.
     pub fn warnings(&self) -> Vec<String> {
         let mut out = self.tyre_warnings();
+        out.extend(self.radians_warnings());
+        out.extend(self.vehicle_warnings());
+        out.extend(self.side_warnings());
+        out.extend(self.state_warnings());
+        out.extend(self.overlap_warning());
+        out
+    }
+
+    /// Angles that look like radians in a case read in degrees.
+    fn radians_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
         let c = &self.content;
         let vehicles = [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)];
         // Radians: when every non-zero angle of the case looks like radians (a single small
@@ -108,7 +119,15 @@ impl Case {
                 a.to_degrees()
             ));
         }
-        for (name, v) in vehicles {
+        out
+    }
+
+    /// Masses beyond road vehicles, yaw inertias out of proportion, impact centres outside the
+    /// outline.
+    fn vehicle_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let c = &self.content;
+        for (name, v) in [("vehicle1", &c.vehicle1), ("vehicle2", &c.vehicle2)] {
             if v.barrier {
                 continue;
             }
@@ -170,7 +189,12 @@ impl Case {
                 ));
             }
         }
-        // The side of the crush surface: a choice, not a fact, when both CGs lie on one side.
+        out
+    }
+
+    /// The side of the crush surface: a choice, not a fact, when both CGs lie on one side.
+    fn side_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
         if let Ok(impact) = self.impact() {
             if impact.side_basis() == pim_core::SideBasis::Velocities {
                 let side = if impact.side() >= 0.0 { "+n" } else { "-n" };
@@ -225,6 +249,14 @@ impl Case {
                 ));
             }
         }
+        out
+    }
+
+    /// Speeds, yaw rates and sideslip of the states and estimates.
+    fn state_warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let c = &self.content;
+        let vehicles = [&c.vehicle1, &c.vehicle2];
         // States and estimates: speeds, yaw rates, sideslip. Each entry: the path of the
         // vehicle's state, vx, vy, omega, the vehicle, and whether it is the contact state.
         type State = (String, f64, f64, Option<f64>, usize, bool);
@@ -277,7 +309,7 @@ impl Case {
                 ));
             }
             // Sideslip at contact, for a vehicle that is not turning.
-            let v = vehicles[k].1;
+            let v = vehicles[k];
             if at_contact && !v.barrier && omega == Some(0.0) && speed > 1.0 {
                 let nose = c.convention.nose(VehicleId::from_index(k), v.heading);
                 let slip = wrap_degrees(vy.atan2(vx).to_degrees() - nose).abs();
@@ -290,7 +322,6 @@ impl Case {
                 }
             }
         }
-        out.extend(self.overlap_warning());
         out
     }
 

@@ -39,6 +39,7 @@ pub mod reconstruct;
 pub mod rectify;
 pub mod report;
 pub mod runout;
+mod runout_plan;
 mod runout_table;
 pub mod solved;
 pub mod speed_history;

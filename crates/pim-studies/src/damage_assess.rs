@@ -1,7 +1,7 @@
 //! The crush energies at a pair of states: set beside PIM's energy loss and delta-V, and as a
 //! residual of a fit.
 
-use pim_case::damage::Damage;
+use pim_case::damage::{Damage, Side};
 use pim_core::{Impact, VehicleId, Velocities};
 use pim_crush::{EnergyRelation, MAX_PDOF_CORRECTION_ANGLE};
 pub use pim_documents::damage_assess::{Assessment, VehicleAssessment};
@@ -43,22 +43,7 @@ pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessme
         };
         let alpha = wrap(pdof - v.side.normal_pdof());
         let factor = pim_crush::pdof_factor(alpha.to_radians());
-        let name = if k == 0 { "vehicle 1" } else { "vehicle 2" };
-        if alpha.abs() > 90.0 {
-            warnings.push(format!(
-                "{name}: the force (PDOF {pdof:.0} deg) points out of its damaged {} face \
-                 ({alpha:.0} deg from the face's normal): check [damage.vehicle{}] side",
-                v.side.name(),
-                k + 1
-            ));
-        } else if alpha.abs().to_radians() > MAX_PDOF_CORRECTION_ANGLE {
-            warnings.push(format!(
-                "{name}: the force is {:.0} deg from the {} face's normal; the direction-of-force \
-                 factor is held at its 45 deg value (2), as CRASH3 does",
-                alpha.abs(),
-                v.side.name()
-            ));
-        }
+        warnings.extend(pdof_warning(k, v.side, pdof, alpha));
         let e0 = pim_crush::crush_energy(&v.profile, &v.stiffness).ok()?;
         let s0 = pim_crush::crush_energy_sigma(&v.profile, &v.stiffness, &v.sigmas).ok()?;
         let energy = e0 * factor;
@@ -117,9 +102,51 @@ pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessme
     let expected_sigma = damage.relation.expected_loss(sigma, e);
     let energy_loss = x.kinetic_energy(impact) - y.kinetic_energy(impact);
     let difference = energy_loss - expected;
+    let relation_note = relation_note(damage.relation, e);
+    Some(Assessment {
+        relation: damage.relation,
+        vehicles,
+        crush_energy: total,
+        crush_energy_sigma: sigma,
+        e,
+        expected_loss: expected,
+        expected_loss_sigma: expected_sigma,
+        energy_loss,
+        difference,
+        z: (expected_sigma > 0.0).then(|| difference / expected_sigma),
+        relation_note,
+        warnings,
+    })
+}
+
+/// A force that points out of the damaged face, or so far off its normal that CRASH3's
+/// direction-of-force factor is held: said of vehicle `k`.
+fn pdof_warning(k: usize, side: Side, pdof: f64, alpha: f64) -> Option<String> {
+    let name = if k == 0 { "vehicle 1" } else { "vehicle 2" };
+    if alpha.abs() > 90.0 {
+        Some(format!(
+            "{name}: the force (PDOF {pdof:.0} deg) points out of its damaged {} face \
+             ({alpha:.0} deg from the face's normal): check [damage.vehicle{}] side",
+            side.name(),
+            k + 1
+        ))
+    } else if alpha.abs().to_radians() > MAX_PDOF_CORRECTION_ANGLE {
+        Some(format!(
+            "{name}: the force is {:.0} deg from the {} face's normal; the direction-of-force \
+             factor is held at its 45 deg value (2), as CRASH3 does",
+            alpha.abs(),
+            side.name()
+        ))
+    } else {
+        None
+    }
+}
+
+/// What the crush energy is compared with, in words, at restitution `e`.
+fn relation_note(relation: EnergyRelation, e: f64) -> String {
     // Shown to three decimals: a restitution of -1e-12 reads 0.000, not -0.000.
     let e_shown = if e.abs() < 5e-4 { 0.0 } else { e };
-    let relation_note = match damage.relation {
+    match relation {
         EnergyRelation::EnergyLoss => format!(
             "crush energy taken as the energy loss (CRASH3's convention); a barrier-calibrated \
              stiffness measures the energy up to maximum crush, of which a collision with e = \
@@ -139,21 +166,7 @@ pub fn assess(damage: &Damage, impact: &Impact, u: &Vector12) -> Option<Assessme
                 f64::INFINITY
             }
         ),
-    };
-    Some(Assessment {
-        relation: damage.relation,
-        vehicles,
-        crush_energy: total,
-        crush_energy_sigma: sigma,
-        e,
-        expected_loss: expected,
-        expected_loss_sigma: expected_sigma,
-        energy_loss,
-        difference,
-        z: (expected_sigma > 0.0).then(|| difference / expected_sigma),
-        relation_note,
-        warnings,
-    })
+    }
 }
 
 /// The crush energy as a residual of a fit: `(expected loss - PIM's loss) / sigma`, with the

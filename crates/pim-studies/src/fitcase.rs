@@ -92,6 +92,58 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
         None => c.weights.unwrap_or_default().components(),
     };
     let known = c.known.unwrap_or_default().components();
+    check_weights(case, choice, (&weights, &est), (unit, &sig))?;
+    for (k, v) in est.iter().chain(known.iter()).enumerate() {
+        if let Some(v) = v {
+            if !v.is_finite() {
+                let sec = if k < 12 { "estimates" } else { "known" };
+                return Err(input(
+                    case,
+                    format!(
+                        "[{sec}] {}: must be a finite number, got {v}",
+                        COMPONENT_NAMES[k % 12]
+                    ),
+                ));
+            }
+        }
+    }
+    let barrier = case.is_barrier();
+    if barrier {
+        check_barrier(case, (&est, &known, &sig))?;
+    }
+    let components = components_of(case, choice, (&est, &known, &weights), barrier)?;
+    let observations = observations_of(case, unit)?;
+    if unit.is_some() {
+        for k in 0..12 {
+            if matches!(components[k], Knowledge::Estimated { .. }) && sig[k].is_none() {
+                return Err(input(
+                    case,
+                    format!(
+                        "[sigma] {}: missing; with [sigma] every estimate needs a standard deviation",
+                        COMPONENT_NAMES[k]
+                    ),
+                ));
+            }
+        }
+    }
+    let problem = FitProblem {
+        impact,
+        components,
+        observations,
+        combinations: Vec::new(),
+    };
+    problem.check().map_err(|e| input(case, e.to_string()))?;
+    Ok(problem)
+}
+
+/// The weights (or standard deviations) checked: each within (0, 1] and, outside the presets,
+/// of an estimate.
+fn check_weights(
+    case: &Case,
+    choice: CostChoice,
+    (weights, est): (&Components, &Components),
+    (unit, sig): (Option<f64>, &Components),
+) -> Result<()> {
     for (k, w) in weights.iter().enumerate() {
         if let Some(w) = w {
             if !(w.is_finite() && *w > 0.0 && *w <= 1.0) {
@@ -125,49 +177,52 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             }
         }
     }
-    for (k, v) in est.iter().chain(known.iter()).enumerate() {
-        if let Some(v) = v {
-            if !v.is_finite() {
-                let sec = if k < 12 { "estimates" } else { "known" };
+    Ok(())
+}
+
+/// A barrier case gives vehicle 2 no velocities and no observations.
+fn check_barrier(
+    case: &Case,
+    (est, known, sig): (&Components, &Components, &Components),
+) -> Result<()> {
+    let c = &case.content;
+    let given_weights = c.weights.unwrap_or_default().components();
+    for k in [3, 4, 5, 9, 10, 11] {
+        for (sec, given) in [
+            ("estimates", est[k].is_some()),
+            ("known", known[k].is_some()),
+            ("sigma", sig[k].is_some()),
+            ("weights", given_weights[k].is_some()),
+        ] {
+            if given {
                 return Err(input(
                     case,
                     format!(
-                        "[{sec}] {}: must be a finite number, got {v}",
-                        COMPONENT_NAMES[k % 12]
+                        "[{sec}] {}: vehicle 2 is a fixed barrier (barrier = true), at rest \
+                         before and after the impact; leave its velocities out",
+                        COMPONENT_NAMES[k]
                     ),
                 ));
             }
         }
     }
-    let barrier = case.is_barrier();
-    if barrier {
-        let given_weights = c.weights.unwrap_or_default().components();
-        for k in [3, 4, 5, 9, 10, 11] {
-            for (sec, given) in [
-                ("estimates", est[k].is_some()),
-                ("known", known[k].is_some()),
-                ("sigma", sig[k].is_some()),
-                ("weights", given_weights[k].is_some()),
-            ] {
-                if given {
-                    return Err(input(
-                        case,
-                        format!(
-                            "[{sec}] {}: vehicle 2 is a fixed barrier (barrier = true), at rest \
-                             before and after the impact; leave its velocities out",
-                            COMPONENT_NAMES[k]
-                        ),
-                    ));
-                }
-            }
-        }
-        if let Some(i) = c.observations.iter().position(|o| o.vehicle == 2) {
-            return Err(case.error_at(
-                &format!("observations[{i}].vehicle"),
-                "vehicle = 2 is a fixed barrier, which has no delta-V or speed to observe",
-            ));
-        }
+    if let Some(i) = c.observations.iter().position(|o| o.vehicle == 2) {
+        return Err(case.error_at(
+            &format!("observations[{i}].vehicle"),
+            "vehicle = 2 is a fixed barrier, which has no delta-V or speed to observe",
+        ));
     }
+    Ok(())
+}
+
+/// What the fit knows of each component: known, estimated (with its weight) or unknown, by
+/// the preset or as the case says.
+fn components_of(
+    case: &Case,
+    choice: CostChoice,
+    (est, known, weights): (&Components, &Components, &Components),
+    barrier: bool,
+) -> Result<[Knowledge; 12]> {
     let mut components = [Knowledge::Unknown; 12];
     match choice {
         CostChoice::Preset(preset) => {
@@ -224,8 +279,14 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             }
         }
     }
+    Ok(components)
+}
+
+/// The case's observations, each weighted by its standard deviation where the case gives
+/// `[sigma]`.
+fn observations_of(case: &Case, unit: Option<f64>) -> Result<Vec<Observation>> {
     let mut observations = Vec::new();
-    for (i, o) in c.observations.iter().enumerate() {
+    for (i, o) in case.content.observations.iter().enumerate() {
         let vehicle = match o.vehicle {
             1 => VehicleId::One,
             2 => VehicleId::Two,
@@ -254,28 +315,11 @@ pub fn problem(case: &Case, choice: CostChoice) -> Result<FitProblem> {
             weight,
         });
     }
-    if unit.is_some() {
-        for k in 0..12 {
-            if matches!(components[k], Knowledge::Estimated { .. }) && sig[k].is_none() {
-                return Err(input(
-                    case,
-                    format!(
-                        "[sigma] {}: missing; with [sigma] every estimate needs a standard deviation",
-                        COMPONENT_NAMES[k]
-                    ),
-                ));
-            }
-        }
-    }
-    let problem = FitProblem {
-        impact,
-        components,
-        observations,
-        combinations: Vec::new(),
-    };
-    problem.check().map_err(|e| input(case, e.to_string()))?;
-    Ok(problem)
+    Ok(observations)
 }
+
+/// One optional value per component of the twelve.
+type Components = [Option<f64>; 12];
 
 /// The settings of a case (`[bounds]`), with the command-line choices.
 pub fn settings(

@@ -9,7 +9,7 @@
 use crate::uncertainty::Input;
 use pim_case::case::Case;
 use pim_case::scene_sections::{PreImpactVehicleSection, RunoutVehicleSection};
-use pim_case::spread::Spread;
+use pim_case::spread::{Spread, VehicleSpread};
 use pim_case::Result;
 
 fn pre_impact(c: &mut Case, k: usize) -> Option<&mut PreImpactVehicleSection> {
@@ -48,128 +48,9 @@ pub(crate) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
     };
     let mut out = Vec::new();
     for (k, v) in [unc.vehicle1, unc.vehicle2].into_iter().enumerate() {
-        let fields = [
-            Field {
-                key: "skid",
-                spread: v.skid,
-                get: |c, k| pre_impact(c, k)?.skid,
-                set: |c, k, x| {
-                    if let Some(p) = pre_impact(c, k) {
-                        p.skid = Some(x.max(0.0));
-                    }
-                },
-            },
-            Field {
-                key: "skid_braking",
-                spread: v.skid_braking,
-                get: |c, k| {
-                    pre_impact(c, k)
-                        .filter(|p| p.skid.is_some())
-                        .map(|p| p.braking.unwrap_or(1.0))
-                },
-                set: |c, k, x| {
-                    if let Some(p) = pre_impact(c, k) {
-                        p.braking = Some(x.clamp(0.0, 1.0));
-                    }
-                },
-            },
-            Field {
-                key: "grade",
-                spread: v.grade,
-                get: |c, k| {
-                    pre_impact(c, k)
-                        .filter(|p| p.skid.is_some())
-                        .map(|p| p.grade.unwrap_or(0.0))
-                },
-                set: |c, k, x| {
-                    if let Some(p) = pre_impact(c, k) {
-                        p.grade = Some(x);
-                    }
-                },
-            },
-            Field {
-                key: "edr_time",
-                spread: v.edr_time,
-                // The offset of the EDR's clock, 0 nominally.
-                get: |c, k| pre_impact(c, k).filter(|p| !p.edr.is_empty()).map(|_| 0.0),
-                set: |c, k, x| {
-                    if let Some(p) = pre_impact(c, k) {
-                        for e in &mut p.edr {
-                            e.time = (e.time + x).max(0.0);
-                        }
-                    }
-                },
-            },
-            Field {
-                key: "runout_braking",
-                spread: v.runout_braking,
-                get: |c, k| runout(c, k).map(|r| r.braking.unwrap_or(0.0)),
-                set: |c, k, x| {
-                    if let Some(r) = runout(c, k) {
-                        r.braking = Some(x.clamp(0.0, 1.0));
-                    }
-                },
-            },
-            Field {
-                key: "wheelbase",
-                spread: v.wheelbase,
-                get: |c, k| runout(c, k).map(|r| r.wheelbase),
-                set: |c, k, x| {
-                    if let Some(r) = runout(c, k) {
-                        r.wheelbase = x.max(0.1 * r.wheelbase);
-                    }
-                },
-            },
-            Field {
-                key: "track",
-                spread: v.track,
-                get: |c, k| runout(c, k).map(|r| r.track),
-                set: |c, k, x| {
-                    if let Some(r) = runout(c, k) {
-                        r.track = x.max(0.1 * r.track);
-                    }
-                },
-            },
-            Field {
-                key: "cg_to_front_axle",
-                spread: v.cg_to_front_axle,
-                get: |c, k| runout(c, k).map(|r| r.cg_to_front_axle.unwrap_or(0.5 * r.wheelbase)),
-                set: |c, k, x| {
-                    if let Some(r) = runout(c, k) {
-                        r.cg_to_front_axle = Some(x.clamp(0.0, r.wheelbase));
-                    }
-                },
-            },
-            Field {
-                key: "cg_height",
-                spread: v.cg_height,
-                get: |c, k| runout(c, k)?.cg_height,
-                set: |c, k, x| {
-                    if let Some(r) = runout(c, k) {
-                        r.cg_height = Some(x.max(0.0));
-                    }
-                },
-            },
-            Field {
-                key: "rolling_resistance",
-                spread: v.rolling_resistance,
-                get: |c, k| {
-                    runout(c, k).map(|r| {
-                        r.rolling_resistance
-                            .unwrap_or(pim_runout::DEFAULT_ROLLING_RESISTANCE)
-                    })
-                },
-                // At least a trace (a rolling wheel must stop), at most half the road's
-                // friction (the chassis refuses one at or above the friction).
-                set: |c, k, x| {
-                    let road = c.content.runout.as_ref().and_then(|r| r.friction);
-                    if let Some(r) = runout(c, k) {
-                        let mu = r.friction.or(road).unwrap_or(pim_runout::DEFAULT_FRICTION);
-                        r.rolling_resistance = Some(x.clamp(1e-4, 0.5 * mu));
-                    }
-                },
-            },
-        ];
+        let [a, b, c, d] = pre_impact_fields(&v);
+        let [e, f, g, h, i, j] = runout_fields(&v);
+        let fields = [a, b, c, d, e, f, g, h, i, j];
         for f in fields {
             let Some(spread) = f.spread else { continue };
             let mut probe = case.clone();
@@ -198,6 +79,138 @@ pub(crate) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
         }
     }
     Ok(out)
+}
+
+/// The drawn fields of a vehicle's braking before the impact and its EDR, with `v`'s spreads.
+fn pre_impact_fields(v: &VehicleSpread) -> [Field; 4] {
+    [
+        Field {
+            key: "skid",
+            spread: v.skid,
+            get: |c, k| pre_impact(c, k)?.skid,
+            set: |c, k, x| {
+                if let Some(p) = pre_impact(c, k) {
+                    p.skid = Some(x.max(0.0));
+                }
+            },
+        },
+        Field {
+            key: "skid_braking",
+            spread: v.skid_braking,
+            get: |c, k| {
+                pre_impact(c, k)
+                    .filter(|p| p.skid.is_some())
+                    .map(|p| p.braking.unwrap_or(1.0))
+            },
+            set: |c, k, x| {
+                if let Some(p) = pre_impact(c, k) {
+                    p.braking = Some(x.clamp(0.0, 1.0));
+                }
+            },
+        },
+        Field {
+            key: "grade",
+            spread: v.grade,
+            get: |c, k| {
+                pre_impact(c, k)
+                    .filter(|p| p.skid.is_some())
+                    .map(|p| p.grade.unwrap_or(0.0))
+            },
+            set: |c, k, x| {
+                if let Some(p) = pre_impact(c, k) {
+                    p.grade = Some(x);
+                }
+            },
+        },
+        Field {
+            key: "edr_time",
+            spread: v.edr_time,
+            // The offset of the EDR's clock, 0 nominally.
+            get: |c, k| pre_impact(c, k).filter(|p| !p.edr.is_empty()).map(|_| 0.0),
+            set: |c, k, x| {
+                if let Some(p) = pre_impact(c, k) {
+                    for e in &mut p.edr {
+                        e.time = (e.time + x).max(0.0);
+                    }
+                }
+            },
+        },
+    ]
+}
+
+/// The drawn fields of a vehicle's run-out, with `v`'s spreads.
+fn runout_fields(v: &VehicleSpread) -> [Field; 6] {
+    [
+        Field {
+            key: "runout_braking",
+            spread: v.runout_braking,
+            get: |c, k| runout(c, k).map(|r| r.braking.unwrap_or(0.0)),
+            set: |c, k, x| {
+                if let Some(r) = runout(c, k) {
+                    r.braking = Some(x.clamp(0.0, 1.0));
+                }
+            },
+        },
+        Field {
+            key: "wheelbase",
+            spread: v.wheelbase,
+            get: |c, k| runout(c, k).map(|r| r.wheelbase),
+            set: |c, k, x| {
+                if let Some(r) = runout(c, k) {
+                    r.wheelbase = x.max(0.1 * r.wheelbase);
+                }
+            },
+        },
+        Field {
+            key: "track",
+            spread: v.track,
+            get: |c, k| runout(c, k).map(|r| r.track),
+            set: |c, k, x| {
+                if let Some(r) = runout(c, k) {
+                    r.track = x.max(0.1 * r.track);
+                }
+            },
+        },
+        Field {
+            key: "cg_to_front_axle",
+            spread: v.cg_to_front_axle,
+            get: |c, k| runout(c, k).map(|r| r.cg_to_front_axle.unwrap_or(0.5 * r.wheelbase)),
+            set: |c, k, x| {
+                if let Some(r) = runout(c, k) {
+                    r.cg_to_front_axle = Some(x.clamp(0.0, r.wheelbase));
+                }
+            },
+        },
+        Field {
+            key: "cg_height",
+            spread: v.cg_height,
+            get: |c, k| runout(c, k)?.cg_height,
+            set: |c, k, x| {
+                if let Some(r) = runout(c, k) {
+                    r.cg_height = Some(x.max(0.0));
+                }
+            },
+        },
+        Field {
+            key: "rolling_resistance",
+            spread: v.rolling_resistance,
+            get: |c, k| {
+                runout(c, k).map(|r| {
+                    r.rolling_resistance
+                        .unwrap_or(pim_runout::DEFAULT_ROLLING_RESISTANCE)
+                })
+            },
+            // At least a trace (a rolling wheel must stop), at most half the road's
+            // friction (the chassis refuses one at or above the friction).
+            set: |c, k, x| {
+                let road = c.content.runout.as_ref().and_then(|r| r.friction);
+                if let Some(r) = runout(c, k) {
+                    let mu = r.friction.or(road).unwrap_or(pim_runout::DEFAULT_FRICTION);
+                    r.rolling_resistance = Some(x.clamp(1e-4, 0.5 * mu));
+                }
+            },
+        },
+    ]
 }
 
 /// The wheel states a run-out may have had instead of its stated ones

@@ -219,93 +219,130 @@ fn evidence_rows(
 /// The document of an outcome.
 pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> ReconstructionOut {
     let r = &input.reconstruction;
-    let best = outcome.best.as_ref().map(|b| {
-        let s = &b.solution;
-        let u = pim_fit::state_vector(&s.initial, &s.separation);
-        let evidence = evidence_rows(input, b, &u);
-        let vehicles = b
-            .phases
-            .iter()
-            .map(|p| {
-                let k = p.vehicle.index();
-                let (c, sep) = (
-                    *s.initial.vehicle(p.vehicle),
-                    *s.separation.vehicle(p.vehicle),
-                );
-                let f = b.scene.iter().find(|f| f.vehicle == p.vehicle);
-                let motion = |v: pim_core::VehicleVelocity| MotionOut {
-                    x: 0.0,
-                    y: 0.0,
-                    heading: 0.0,
-                    vx: v.vx,
-                    vy: v.vy,
-                    yaw_rate: v.omega,
-                };
-                let (mut contact, mut separation) = (motion(c), motion(sep));
-                if let Some(f) = f {
-                    let start = MotionOut::from(&f.runout.start);
-                    for m in [&mut contact, &mut separation] {
-                        m.x = start.x;
-                        m.y = start.y;
-                        m.heading = start.heading;
-                    }
-                }
-                VehiclePhasesOut {
-                    vehicle: k as u8 + 1,
-                    speed_before_braking: p.before_braking,
-                    speed_at_contact: p.contact,
-                    speed_at_separation: p.separation,
-                    speed_at_rest: f.map(|_| 0.0),
-                    contact,
-                    separation,
-                    turns: f.and_then(|f| f.turns),
-                    rest: f.map(|f| PoseOut {
-                        x: f.runout.rest.x,
-                        y: f.runout.rest.y,
-                        heading: f.runout.rest.heading.to_degrees(),
-                    }),
-                    runout_distance: p.runout_distance,
-                    runout_time: p.runout_time,
-                }
-            })
-            .collect();
-        BestOut {
-            branch: b.branch,
-            e: s.e,
-            mu: s.mu,
-            em: s.em,
-            energy_loss_percent: s.energy_loss_percent,
-            chi_square: b.chi_square,
-            degrees_of_freedom: b.degrees_of_freedom,
-            p_value: pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square),
-            vehicles,
-            evidence,
-            iterations: b.iterations,
-            converged: b.converged,
-            certificate: b.certificate.clone(),
-            contact_pose: Vec::new(),
-            frictions: b.frictions.clone(),
-            bounds_reached: {
-                let branch = pim_fit::BranchReport {
-                    moment: b.branch,
-                    status: pim_fit::Status::Optimal,
-                    reason: None,
-                    solution: Some(s.clone()),
-                    identifiability: Vec::new(),
-                    certificate: b.certificate.clone(),
-                    geometry: None,
-                };
-                let bounds = input.bounds;
-                pim_documents::records::BranchRecord::new(&branch)
-                    .with_bounds(&branch, input.settings.fit.get(), &|x| {
-                        fitcase::bound_in(bounds.as_ref(), x)
-                    })
-                    .bounds_reached
-            },
+    let best = outcome.best.as_ref().map(|b| best_out(input, b));
+    let counts = counts_out(outcome);
+    let method = method_of(outcome, &counts);
+    let proven = proven_of(outcome);
+    let undetermined = crate::reconstruct_open::undetermined(r, &input.settings.runout, outcome);
+    ReconstructionOut {
+        units: pim_documents::records::SiUnits,
+        kind: "reconstruction",
+        status: outcome.status,
+        // A contradiction names its residuals as the case names them.
+        reason: match &outcome.contradiction {
+            Some(c) => Some(c.describe(|t| match t {
+                EvidenceTerm::Contact(term) => contact_label(input, *term).1,
+                EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
+                EvidenceTerm::Friction(_) => Contradiction::default_name(r, t),
+            })),
+            None => outcome.reason.clone(),
+        },
+        best,
+        scene_vehicles: r.scene.iter().map(|v| v.id.index() as u8 + 1).collect(),
+        counts,
+        runouts: outcome.runouts,
+        fits: outcome.fits,
+        work: outcome.work,
+        first_search_work: outcome.first_work,
+        method,
+        proven,
+        undetermined,
+        consistency: None,
+    }
+}
+
+/// The best answer's record: its coefficients, each vehicle's phases, the evidence and the
+/// bounds it reached.
+fn best_out(input: &CaseReconstruction, b: &pim_reconstruct::Found) -> BestOut {
+    let s = &b.solution;
+    let u = pim_fit::state_vector(&s.initial, &s.separation);
+    let evidence = evidence_rows(input, b, &u);
+    let vehicles = b.phases.iter().map(|p| vehicle_phases(b, p)).collect();
+    BestOut {
+        branch: b.branch,
+        e: s.e,
+        mu: s.mu,
+        em: s.em,
+        energy_loss_percent: s.energy_loss_percent,
+        chi_square: b.chi_square,
+        degrees_of_freedom: b.degrees_of_freedom,
+        p_value: pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square),
+        vehicles,
+        evidence,
+        iterations: b.iterations,
+        converged: b.converged,
+        certificate: b.certificate.clone(),
+        contact_pose: Vec::new(),
+        frictions: b.frictions.clone(),
+        bounds_reached: {
+            let branch = pim_fit::BranchReport {
+                moment: b.branch,
+                status: pim_fit::Status::Optimal,
+                reason: None,
+                solution: Some(s.clone()),
+                identifiability: Vec::new(),
+                certificate: b.certificate.clone(),
+                geometry: None,
+            };
+            let bounds = input.bounds;
+            pim_documents::records::BranchRecord::new(&branch)
+                .with_bounds(&branch, input.settings.fit.get(), &|x| {
+                    fitcase::bound_in(bounds.as_ref(), x)
+                })
+                .bounds_reached
+        },
+    }
+}
+
+/// One vehicle's speeds and states through its phases in the best answer.
+fn vehicle_phases(b: &pim_reconstruct::Found, p: &pim_reconstruct::Phases) -> VehiclePhasesOut {
+    let s = &b.solution;
+    let k = p.vehicle.index();
+    let (c, sep) = (
+        *s.initial.vehicle(p.vehicle),
+        *s.separation.vehicle(p.vehicle),
+    );
+    let f = b.scene.iter().find(|f| f.vehicle == p.vehicle);
+    let motion = |v: pim_core::VehicleVelocity| MotionOut {
+        x: 0.0,
+        y: 0.0,
+        heading: 0.0,
+        vx: v.vx,
+        vy: v.vy,
+        yaw_rate: v.omega,
+    };
+    let (mut contact, mut separation) = (motion(c), motion(sep));
+    if let Some(f) = f {
+        let start = MotionOut::from(&f.runout.start);
+        for m in [&mut contact, &mut separation] {
+            m.x = start.x;
+            m.y = start.y;
+            m.heading = start.heading;
         }
-    });
+    }
+    VehiclePhasesOut {
+        vehicle: k as u8 + 1,
+        speed_before_braking: p.before_braking,
+        speed_at_contact: p.contact,
+        speed_at_separation: p.separation,
+        speed_at_rest: f.map(|_| 0.0),
+        contact,
+        separation,
+        turns: f.and_then(|f| f.turns),
+        rest: f.map(|f| PoseOut {
+            x: f.runout.rest.x,
+            y: f.runout.rest.y,
+            heading: f.runout.rest.heading.to_degrees(),
+        }),
+        runout_distance: p.runout_distance,
+        runout_time: p.runout_time,
+    }
+}
+
+/// Every combination of counts tried, with what became of it.
+fn counts_out(outcome: &Outcome) -> Vec<CountsOut> {
     let best_index = outcome.best_index();
-    let counts = outcome
+    outcome
         .tried
         .iter()
         .enumerate()
@@ -335,7 +372,11 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
                 reason,
             }
         })
-        .collect::<Vec<_>>();
+        .collect()
+}
+
+/// How the answer was searched, in words.
+fn method_of(outcome: &Outcome, counts: &[CountsOut]) -> String {
     let refined = counts.iter().filter(|c| c.chi_square.is_some()).count();
     let mut method = format!(
         "each scene alone gave one separation state per count of turns and the other local \
@@ -353,7 +394,12 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
              the rest position (one per yaw rate from -10 to 10 rad/s), and the lower answer kept",
         );
     }
-    let proven = match &outcome.best {
+    method
+}
+
+/// What is proven of the answer, in words.
+fn proven_of(outcome: &Outcome) -> String {
+    match &outcome.best {
         Some(b) => format!(
             "the coefficients and both velocity states are the certified optimum of the impact \
              fit with the scenes linearised at the found separation state (route: {}); the \
@@ -365,31 +411,5 @@ pub fn document(input: &CaseReconstruction, outcome: &Outcome) -> Reconstruction
             }
         ),
         None => "nothing: no admissible impact was found".into(),
-    };
-    let undetermined = crate::reconstruct_open::undetermined(r, &input.settings.runout, outcome);
-    ReconstructionOut {
-        units: pim_documents::records::SiUnits,
-        kind: "reconstruction",
-        status: outcome.status,
-        // A contradiction names its residuals as the case names them.
-        reason: match &outcome.contradiction {
-            Some(c) => Some(c.describe(|t| match t {
-                EvidenceTerm::Contact(term) => contact_label(input, *term).1,
-                EvidenceTerm::Scene { vehicle, name } => format!("{vehicle} {name}"),
-                EvidenceTerm::Friction(_) => Contradiction::default_name(r, t),
-            })),
-            None => outcome.reason.clone(),
-        },
-        best,
-        scene_vehicles: r.scene.iter().map(|v| v.id.index() as u8 + 1).collect(),
-        counts,
-        runouts: outcome.runouts,
-        fits: outcome.fits,
-        work: outcome.work,
-        first_search_work: outcome.first_work,
-        method,
-        proven,
-        undetermined,
-        consistency: None,
     }
 }

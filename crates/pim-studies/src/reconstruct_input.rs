@@ -110,119 +110,11 @@ pub fn case_reconstruction(
 ) -> Result<CaseReconstruction, DocumentError> {
     let c = &case.content;
     let impact = case.impact()?;
-    // The geometry bounds estimate the impact geometry in a fit of the impact alone; the whole
-    // reconstruction holds the geometry as given, so they are refused rather than ignored.
-    if let Some(g) = fitcase::geometry(case)?.first() {
-        let field = match g.input {
-            pim_fit::GeometryInput::CrushAngle => "bounds.crush_angle".to_string(),
-            other => format!("bounds.{}", other.name()),
-        };
-        return Err(case
-            .error_at(
-                &field,
-                format!(
-                    "the whole reconstruction holds the impact geometry as given, so it cannot \
-                     estimate {}: give it a spread in [uncertainty] (drawn by `pim \
-                     uncertainty`), or fit the impact alone with `pim fit --cost ...`",
-                    g.input.name()
-                ),
-            )
-            .into());
-    }
+    refuse_geometry_bounds(case)?;
     let unit = fitcase::sigma_unit(case)?;
-    let mut contact = if fitcase::is_fit_case(case) {
-        if unit.is_none() && (c.estimates.is_some() || !c.observations.is_empty()) {
-            return Err(DocumentError::Input(format!(
-                "{}: a fit of the scene needs standard deviations: give [sigma] for the \
-                 estimates and `sigma` on each observation (the scene's evidence has them, so \
-                 the whole cost is one chi-square), not [weights]",
-                case.file
-            )));
-        }
-        fitcase::problem(case, CostChoice::Custom)?
-    } else {
-        FitProblem {
-            impact,
-            components: [Knowledge::Unknown; 12],
-            observations: Vec::new(),
-            combinations: Vec::new(),
-        }
-    };
-    let mut labels: Vec<String> = c
-        .observations
-        .iter()
-        .enumerate()
-        .map(|(i, o)| match &o.name {
-            Some(n) => format!(
-                "{n} ({} of vehicle{})",
-                crate::residuals::kind_name(o.kind),
-                o.vehicle
-            ),
-            None => format!(
-                "observation {} ({} of vehicle{})",
-                i + 1,
-                crate::residuals::kind_name(o.kind),
-                o.vehicle
-            ),
-        })
-        .collect();
-    let speed = case.written_units.speed.to_si();
-    let length = case.written_units.length.to_si();
-    let road = c
-        .runout
-        .as_ref()
-        .and_then(|r| r.friction)
-        .unwrap_or(pim_runout::DEFAULT_FRICTION);
-    // EDR speeds: each the speed along the heading at contact, v - a t.
-    let mut edr = Vec::new();
-    let mut edr_records = Vec::new();
-    let mut skids = [None, None];
-    for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
-        let Some(p) = case.content.pre_impact(k) else {
-            continue;
-        };
-        let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
-        if id == VehicleId::Two && case.is_barrier() {
-            let place = format!("pre_impact.vehicle{}", k + 1);
-            return Err(case.error_at(&place, "a barrier does not move").into());
-        }
-        check_history(case, k, p, speed)?;
-        for (i, e) in p.edr.iter().enumerate() {
-            check_edr(case, &at(&format!("edr[{i}]")), e, speed)?;
-            let value = e.speed * speed - e.deceleration * GRAVITY * e.time;
-            edr.push((id, value, e.sigma * speed));
-            edr_records.push((k as u8 + 1, i));
-            labels.push(format!(
-                "vehicle{} EDR speed {:.1} s before contact",
-                k + 1,
-                e.time
-            ));
-        }
-        if let Some(d) = p.skid {
-            let skid = Skid {
-                distance: d * length,
-                braking: p.braking.unwrap_or(1.0),
-                grade: (p.grade.unwrap_or(0.0) / 100.0).atan(),
-                friction: p.friction.unwrap_or(road),
-            };
-            skid.check().map_err(|e| {
-                let field = match &e {
-                    pim_reconstruct::ReconstructError::Input { field, .. } => *field,
-                    _ => "skid",
-                };
-                let field = if field == "distance" { "skid" } else { field };
-                DocumentError::from(case.error_at(&at(field), e.to_string()))
-            })?;
-            skids[k] = Some(skid);
-        } else if p.braking.is_some() || p.grade.is_some() || p.friction.is_some() {
-            return Err(case
-                .error_at(
-                    &format!("pre_impact.vehicle{}", k + 1),
-                    "braking, grade and friction describe a skid: give its length, `skid`",
-                )
-                .into());
-        }
-    }
+    let mut contact = contact_problem(case, unit, impact)?;
+    let mut labels = observation_labels(case);
+    let (edr, edr_records, skids) = pre_impact(case, &mut labels)?;
     // The unit of the weights: the case's, or the smallest EDR variance.
     let unit = unit.or_else(|| edr.iter().map(|(_, _, s)| s * s).min_by(f64::total_cmp));
     for (id, value, s) in edr {
@@ -288,6 +180,166 @@ pub fn case_reconstruction(
         edr_records,
         bounds: c.bounds,
     })
+}
+
+/// The geometry bounds estimate the impact geometry in a fit of the impact alone; the whole
+/// reconstruction holds the geometry as given, so they are refused rather than ignored.
+fn refuse_geometry_bounds(case: &Case) -> Result<(), DocumentError> {
+    // reconstruction holds the geometry as given, so they are refused rather than ignored.
+    if let Some(g) = fitcase::geometry(case)?.first() {
+        let field = match g.input {
+            pim_fit::GeometryInput::CrushAngle => "bounds.crush_angle".to_string(),
+            other => format!("bounds.{}", other.name()),
+        };
+        return Err(case
+            .error_at(
+                &field,
+                format!(
+                    "the whole reconstruction holds the impact geometry as given, so it cannot \
+                     estimate {}: give it a spread in [uncertainty] (drawn by `pim \
+                     uncertainty`), or fit the impact alone with `pim fit --cost ...`",
+                    g.input.name()
+                ),
+            )
+            .into());
+    }
+    Ok(())
+}
+
+/// The impact's own evidence: the case's estimates and observations where it is a fit case,
+/// nothing known otherwise.
+fn contact_problem(
+    case: &Case,
+    unit: Option<f64>,
+    impact: pim_core::Impact,
+) -> Result<FitProblem, DocumentError> {
+    let c = &case.content;
+    Ok(if fitcase::is_fit_case(case) {
+        if unit.is_none() && (c.estimates.is_some() || !c.observations.is_empty()) {
+            return Err(DocumentError::Input(format!(
+                "{}: a fit of the scene needs standard deviations: give [sigma] for the \
+                 estimates and `sigma` on each observation (the scene's evidence has them, so \
+                 the whole cost is one chi-square), not [weights]",
+                case.file
+            )));
+        }
+        fitcase::problem(case, CostChoice::Custom)?
+    } else {
+        FitProblem {
+            impact,
+            components: [Knowledge::Unknown; 12],
+            observations: Vec::new(),
+            combinations: Vec::new(),
+        }
+    })
+}
+
+/// The case's observations as the tables name them.
+fn observation_labels(case: &Case) -> Vec<String> {
+    case.content
+        .observations
+        .iter()
+        .enumerate()
+        .map(|(i, o)| match &o.name {
+            Some(n) => format!(
+                "{n} ({} of vehicle{})",
+                crate::residuals::kind_name(o.kind),
+                o.vehicle
+            ),
+            None => format!(
+                "observation {} ({} of vehicle{})",
+                i + 1,
+                crate::residuals::kind_name(o.kind),
+                o.vehicle
+            ),
+        })
+        .collect()
+}
+
+/// The EDR speeds (vehicle, speed along the heading at contact, its standard deviation; each
+/// labelled in `labels`), where each came from (vehicle number, record) and each vehicle's
+/// skid.
+fn pre_impact(case: &Case, labels: &mut Vec<String>) -> Result<PreImpact, DocumentError> {
+    let speed = case.written_units.speed.to_si();
+    let road = case
+        .content
+        .runout
+        .as_ref()
+        .and_then(|r| r.friction)
+        .unwrap_or(pim_runout::DEFAULT_FRICTION);
+    // EDR speeds: each the speed along the heading at contact, v - a t.
+    let mut edr = Vec::new();
+    let mut edr_records = Vec::new();
+    let mut skids = [None, None];
+    for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
+        let Some(p) = case.content.pre_impact(k) else {
+            continue;
+        };
+        let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
+        if id == VehicleId::Two && case.is_barrier() {
+            let place = format!("pre_impact.vehicle{}", k + 1);
+            return Err(case.error_at(&place, "a barrier does not move").into());
+        }
+        check_history(case, k, p, speed)?;
+        for (i, e) in p.edr.iter().enumerate() {
+            check_edr(case, &at(&format!("edr[{i}]")), e, speed)?;
+            let value = e.speed * speed - e.deceleration * GRAVITY * e.time;
+            edr.push((id, value, e.sigma * speed));
+            edr_records.push((k as u8 + 1, i));
+            labels.push(format!(
+                "vehicle{} EDR speed {:.1} s before contact",
+                k + 1,
+                e.time
+            ));
+        }
+        skids[k] = skid_of(case, k, p, road)?;
+    }
+    Ok((edr, edr_records, skids))
+}
+
+/// What [`pre_impact`] reads.
+type PreImpact = (
+    Vec<(VehicleId, f64, f64)>,
+    Vec<(u8, usize)>,
+    [Option<Skid>; 2],
+);
+
+/// Vehicle `k`'s skid before the impact (`pre_impact` section `p`; on the road's friction
+/// `road` unless it states its own), checked.
+fn skid_of(
+    case: &Case,
+    k: usize,
+    p: &PreImpactVehicleSection,
+    road: f64,
+) -> Result<Option<Skid>, DocumentError> {
+    let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
+    let length = case.written_units.length.to_si();
+    let Some(d) = p.skid else {
+        if p.braking.is_some() || p.grade.is_some() || p.friction.is_some() {
+            return Err(case
+                .error_at(
+                    &format!("pre_impact.vehicle{}", k + 1),
+                    "braking, grade and friction describe a skid: give its length, `skid`",
+                )
+                .into());
+        }
+        return Ok(None);
+    };
+    let skid = Skid {
+        distance: d * length,
+        braking: p.braking.unwrap_or(1.0),
+        grade: (p.grade.unwrap_or(0.0) / 100.0).atan(),
+        friction: p.friction.unwrap_or(road),
+    };
+    skid.check().map_err(|e| {
+        let field = match &e {
+            pim_reconstruct::ReconstructError::Input { field, .. } => *field,
+            _ => "skid",
+        };
+        let field = if field == "distance" { "skid" } else { field };
+        DocumentError::from(case.error_at(&at(field), e.to_string()))
+    })?;
+    Ok(Some(skid))
 }
 
 /// Each vehicle's braking before the impact: its length, m (for the plan view).

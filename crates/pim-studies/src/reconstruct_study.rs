@@ -143,6 +143,14 @@ fn trace_inputs(case: &Case) -> Vec<Input> {
 
 /// The scene's, the friction's and the EDR's drawn inputs (in the file's units).
 fn scene_inputs(case: &Case) -> Vec<Input> {
+    let mut out = friction_inputs(case);
+    out.extend(scene_vehicle_inputs(case));
+    out.extend(edr_inputs(case));
+    out
+}
+
+/// The road friction and each vehicle's own, where the case gives them a spread.
+fn friction_inputs(case: &Case) -> Vec<Input> {
     let mut out: Vec<Input> = Vec::new();
     let c = &case.content;
     if let Some(r) = &c.runout {
@@ -189,6 +197,12 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
             }
         }
     }
+    out
+}
+
+/// Each vehicle's rest, rest tyres and marks.
+fn scene_vehicle_inputs(case: &Case) -> Vec<Input> {
+    let mut out: Vec<Input> = Vec::new();
     type Pick = fn(&mut Case) -> Option<&mut pim_case::scene_sections::SceneVehicleSection>;
     let picks: [(usize, Pick); 2] = [
         (1, |c| {
@@ -272,6 +286,13 @@ fn scene_inputs(case: &Case) -> Vec<Input> {
             }
         }
     }
+    out
+}
+
+/// Each EDR speed.
+fn edr_inputs(case: &Case) -> Vec<Input> {
+    let mut out: Vec<Input> = Vec::new();
+    let c = &case.content;
     if let Some(p) = &c.pre_impact {
         for (n, v) in [(1usize, &p.vehicle1), (2, &p.vehicle2)] {
             let Some(v) = v else { continue };

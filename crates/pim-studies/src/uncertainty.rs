@@ -345,33 +345,7 @@ pub fn run(
     seed: u64,
     observer: &dyn crate::watch::Observer,
 ) -> Result<Study> {
-    // The geometry [bounds] estimates is an unknown of every draw's fit (a full fit over the
-    // geometry box); drawing it as well would make it both, so one of the two must go.
-    for g in fitcase::geometry(case)? {
-        if unc.draws_geometry(g.input) {
-            return Err(InputError::new(
-                &case.file,
-                format!(
-                    "{} is estimated by [bounds] (an unknown of every draw's fit) and drawn by \
-                     [uncertainty]: give it one or the other",
-                    g.input.name()
-                ),
-            ));
-        }
-    }
-    // The reconstruction's inputs are never dropped in silence by a study of the impact alone.
-    for (n, v) in [(1, &unc.vehicle1), (2, &unc.vehicle2)] {
-        if let Some(key) = v.scene_only().first() {
-            return Err(InputError::new(
-                &case.file,
-                format!(
-                    "[uncertainty.vehicle{n}] {key} is an input of the whole reconstruction \
-                     (a case with [scene] evidence, without --cost); this study fits the \
-                     impact alone and would not draw it"
-                ),
-            ));
-        }
-    }
+    check_drawn(case, unc)?;
     let inputs = inputs(case, unc)?;
     if inputs.is_empty() {
         return Err(InputError::new(
@@ -390,27 +364,7 @@ pub fn run(
         .best_branch()
         .map(|b| pim_documents::records::bounds_reached(b, settings.get(), &set_by_case))
         .unwrap_or_default();
-    let mut undetermined = [false; 8];
-    if let Some(b) = report.best_branch() {
-        for i in &b.identifiability {
-            if !i.identifiable {
-                let k = match i.coefficient {
-                    Quantity::E => 0,
-                    Quantity::Mu | Quantity::Et => 1,
-                    Quantity::Em | Quantity::Friction => 2,
-                    Quantity::Speed1 => 3,
-                    Quantity::Speed2 => 4,
-                };
-                undetermined[k] = true;
-            }
-        }
-        if b.solution
-            .as_ref()
-            .is_some_and(|s| !s.undetermined.is_empty())
-        {
-            undetermined[3..].iter_mut().for_each(|u| *u = true);
-        }
-    }
+    let undetermined = undetermined_of(&report);
     // A draw needs only its optimum (no identifiability ranges, no proof over a geometry box),
     // to a precision well below the spread of the draws: the compass polish stops at 1e-5 of
     // the coefficient box instead of 1e-7 (e to 2e-6, mu to 2.4e-5 with the default box).
@@ -430,17 +384,7 @@ pub fn run(
         .iter()
         .filter_map(|(x, r)| r.as_ref().map(|r| (x, r)))
         .collect();
-    let shares: Vec<(pim_fit::SearchBound, f64)> = pim_fit::SearchBound::ALL
-        .iter()
-        .map(|&b| {
-            let k = feasible
-                .iter()
-                .filter(|(_, r)| r.bounds.contains(&b))
-                .count();
-            (b, k as f64 / feasible.len().max(1) as f64)
-        })
-        .filter(|(_, share)| *share > 0.0)
-        .collect();
+    let shares = bound_shares(&feasible);
     let source = |b| pim_documents::records::BoundSource::of(set_by_case(b));
     let names = self::quantities(settings.get().model);
     let mut quantities = BTreeMap::new();
@@ -466,14 +410,7 @@ pub fn run(
     } else {
         linearised(case, &inputs, choice, &draw_settings)
     };
-    let mut branch_share = BTreeMap::new();
-    for b in [MomentBranch::Free, MomentBranch::Zero] {
-        let k = feasible.iter().filter(|(_, r)| r.branch == b).count();
-        branch_share.insert(
-            b.name().to_string(),
-            k as f64 / feasible.len().max(1) as f64,
-        );
-    }
+    let branch_share = branch_shares(&feasible);
     Ok(Study {
         units: pim_documents::records::SiUnits,
         model: settings.get().model,
@@ -503,6 +440,94 @@ pub fn run(
         cancelled,
         samples: feasible.iter().map(|(_, r)| r.values).collect(),
     })
+}
+
+/// Inputs a study of the impact alone cannot draw: a geometry [bounds] estimates (an unknown
+/// of every draw's fit) and the whole reconstruction's inputs.
+fn check_drawn(case: &Case, unc: &UncertaintySection) -> Result<()> {
+    // The geometry [bounds] estimates is an unknown of every draw's fit (a full fit over the
+    // geometry box); drawing it as well would make it both, so one of the two must go.
+    for g in fitcase::geometry(case)? {
+        if unc.draws_geometry(g.input) {
+            return Err(InputError::new(
+                &case.file,
+                format!(
+                    "{} is estimated by [bounds] (an unknown of every draw's fit) and drawn by \
+                     [uncertainty]: give it one or the other",
+                    g.input.name()
+                ),
+            ));
+        }
+    }
+    // The reconstruction's inputs are never dropped in silence by a study of the impact alone.
+    for (n, v) in [(1, &unc.vehicle1), (2, &unc.vehicle2)] {
+        if let Some(key) = v.scene_only().first() {
+            return Err(InputError::new(
+                &case.file,
+                format!(
+                    "[uncertainty.vehicle{n}] {key} is an input of the whole reconstruction \
+                     (a case with [scene] evidence, without --cost); this study fits the \
+                     impact alone and would not draw it"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Which of the study's quantities the nominal fit leaves undetermined (the coefficients by
+/// their identifiability, the speeds by the solution's undetermined directions).
+fn undetermined_of(report: &pim_fit::FitReport) -> [bool; 8] {
+    let mut undetermined = [false; 8];
+    if let Some(b) = report.best_branch() {
+        for i in &b.identifiability {
+            if !i.identifiable {
+                let k = match i.coefficient {
+                    Quantity::E => 0,
+                    Quantity::Mu | Quantity::Et => 1,
+                    Quantity::Em | Quantity::Friction => 2,
+                    Quantity::Speed1 => 3,
+                    Quantity::Speed2 => 4,
+                };
+                undetermined[k] = true;
+            }
+        }
+        if b.solution
+            .as_ref()
+            .is_some_and(|s| !s.undetermined.is_empty())
+        {
+            undetermined[3..].iter_mut().for_each(|u| *u = true);
+        }
+    }
+    undetermined
+}
+
+/// Each search bound reached by some feasible draw, with the share of the draws reaching it.
+fn bound_shares(feasible: &[(&Vec<f64>, &DrawResult)]) -> Vec<(pim_fit::SearchBound, f64)> {
+    pim_fit::SearchBound::ALL
+        .iter()
+        .map(|&b| {
+            let k = feasible
+                .iter()
+                .filter(|(_, r)| r.bounds.contains(&b))
+                .count();
+            (b, k as f64 / feasible.len().max(1) as f64)
+        })
+        .filter(|(_, share)| *share > 0.0)
+        .collect()
+}
+
+/// The share of the feasible draws on each branch of the moment.
+fn branch_shares(feasible: &[(&Vec<f64>, &DrawResult)]) -> BTreeMap<String, f64> {
+    let mut branch_share = BTreeMap::new();
+    for b in [MomentBranch::Free, MomentBranch::Zero] {
+        let k = feasible.iter().filter(|(_, r)| r.branch == b).count();
+        branch_share.insert(
+            b.name().to_string(),
+            k as f64 / feasible.len().max(1) as f64,
+        );
+    }
+    branch_share
 }
 
 /// The delta-method standard deviations (see [`Study::linearised_sd`]).
