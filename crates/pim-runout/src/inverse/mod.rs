@@ -42,7 +42,9 @@
 //! [`EstimateSettings::scatter`], the counts are also explored from one scatter of single
 //! run-outs shared by every count (with a rest position, the separation states whose run-outs
 //! end there, one per yaw rate from -10 to 10 rad/s on the branches through the first guess
-//! and through faster states, every state where a branch's rest heading passes a count's
+//! and through faster states, and those a grid of each whole yaw rate finds, by the rest
+//! position and, for a rolling car whose rest moves tens of metres with one per cent of speed,
+//! by the rest heading; every state where a branch's rest heading passes a count's
 //! heading explored for that count; without, a grid of yaw rates, directions and speeds; each
 //! run-out counts for the count of turns it ends nearest): those and the lowest other points
 //! over all counts (up to twelve in all), ranked and first searched on the evidence with its standard
@@ -67,6 +69,7 @@
 //! standard deviation then decides along them).
 
 mod evidence;
+mod headings;
 mod linear;
 mod problem;
 mod scatter;

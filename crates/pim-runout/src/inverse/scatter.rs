@@ -17,7 +17,11 @@
 //! a polar grid of CG velocities (24 directions, 8 speeds from 0.5 to 5.6 times the first
 //! guess's) to its rests: each cell whose image holds the rest gives a state on a branch, and
 //! those on no branch followed so far are followed too (4,032 run-outs more, at a tolerance of
-//! 1e-4: they only locate the cells). A branch that
+//! 1e-4: they only locate the cells). Where a rolling
+//! car's rest is too sensitive for those cells to hold it, the same speed lines find the states
+//! whose rest *heading* is a count's ([`super::headings`]): the one per count nearest its
+//! count's heading once brought to the rest is that count's start besides the others. A
+//! branch that
 //! crosses no whole yaw rate can still be missed: some are closed loops (a rolling car looping
 //! 98 m back to 8 m from its start reaches its rest only at yaw rates from -2.1 to -1.45
 //! rad/s). About 6,000 to 9,000 run-outs per vehicle, each ending at the rest position, whose
@@ -31,6 +35,7 @@
 //! the exploring tolerance, once per vehicle, not once per count; of each count's six lowest
 //! distinct points (by the softened cost) the twelve lowest over all counts are explored.
 
+use super::headings;
 use super::problem::{Problem, INTERNAL_STEP};
 use super::search::{bounded, first_guess, EXPLORE_TOLERANCE};
 use crate::simulate::Runout;
@@ -76,17 +81,17 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
     };
     let mut guess_runouts = 0;
     let guess = first_guess(base, &mut guess_runouts);
+    let mut seeds = Vec::new();
     let branches = match base.evidence.rest {
         Some(rest) => {
             let path = Problem {
                 evidence: base.evidence,
                 ..problem(None)
             };
-            let (branches, spent) = rest_curve(&path, &guess, {
-                let (x, y) = rest.cg();
-                [x, y]
-            });
+            let (x, y) = rest.cg();
+            let (branches, spent, found) = rest_curve(&path, &guess, [x, y], headings);
             guess_runouts += spent;
+            seeds = found;
             branches
         }
         None => vec![grid(&guess)],
@@ -159,6 +164,11 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     for (_, k, t) in candidates.into_iter().take(IN_ALL.saturating_sub(explored)) {
         out[k].0.push(t.clone());
+    }
+    // The states found through the rest heading (see `headings`) are each their count's start
+    // besides those.
+    for (k, t) in seeds {
+        out[k].0.push(t);
     }
     out
 }
@@ -234,7 +244,12 @@ const CURVE_LIMIT: f64 = 10.0;
 /// seed. The seeds: the first guess, [`SEEDS`], and then every state of [`preimages`] on no
 /// branch already followed. With the points of each branch (in the order of the scan), the
 /// run-outs spent.
-fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>>>, usize) {
+fn rest_curve(
+    p: &Problem,
+    guess: &[f64],
+    target: [f64; 2],
+    headings: &[Option<f64>],
+) -> (Vec<Vec<Vec<f64>>>, usize, Vec<Counted>) {
     // A branch of the guess's is followed over every yaw rate; another is given up after
     // GIVE_UP yaw rates in a row where Newton's method does not reach the rest (each such
     // costs up to 24 run-outs: the seed is on no branch there).
@@ -280,7 +295,7 @@ fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>
         .collect();
     // Then the branches no seed lies on: every state of the planes' grids that reaches the
     // rest and lies on no branch followed so far, followed in turn.
-    let (found, mut spent) = preimages(p, guess, target);
+    let (found, mut spent, seeds) = preimages(p, guess, target, headings);
     let on_a_branch = |t: &Vec<f64>| {
         runs.iter().flat_map(|r| &r.0).any(|q| {
             (q[2] - t[2]).abs() < 1e-9
@@ -296,7 +311,7 @@ fn rest_curve(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<Vec<f64>
             .collect::<Vec<_>>(),
     );
     spent += runs.iter().map(|r| r.1).sum::<usize>();
-    (runs.into_iter().map(|r| r.0).collect(), spent)
+    (runs.into_iter().map(|r| r.0).collect(), spent, seeds)
 }
 
 /// The yaw rates (rad/s) at which the plane of CG velocities is mapped for [`preimages`]:
@@ -318,7 +333,12 @@ const GRID_TOLERANCE: f64 = 1e-4;
 /// crosses it in a cell whose image holds the target (the map is continuous), so every such
 /// branch is found whatever the first guess, to the grid's resolution. The distinct states
 /// reached, and the run-outs spent.
-fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, usize) {
+fn preimages(
+    p: &Problem,
+    guess: &[f64],
+    target: [f64; 2],
+    headings: &[Option<f64>],
+) -> (Vec<Vec<f64>>, usize, Vec<Counted>) {
     let speed = guess[0].hypot(guess[1]).max(1.0);
     let angle = guess[1].atan2(guess[0]);
     let state = |yaw: f64, i: f64, s: f64| {
@@ -339,20 +359,28 @@ fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, us
     // search's own.
     let loose = p.settings.no_finer_than(GRID_TOLERANCE);
     let q = p.on(&loose);
-    let rests: Vec<Option<[f64; 2]>> = cells
+    let ends: Vec<Option<[f64; 3]>> = cells
         .par_iter()
         .map(|&(w, i, j)| {
             let t = state(w, i as f64, GRID_SPEEDS[j]);
-            q.runout(&t).ok().map(|r| [r.rest.x, r.rest.y])
+            q.runout(&t)
+                .ok()
+                .map(|r| [r.rest.x, r.rest.y, r.rest.heading])
         })
         .collect();
+    let rests: Vec<Option<[f64; 2]>> = ends.iter().map(|e| e.map(|e| [e[0], e[1]])).collect();
     let mut spent = cells.len();
     let n = GRID_SPEEDS.len();
     let at =
         |k: usize, i: usize, j: usize| rests[(k * GRID_DIRECTIONS + i % GRID_DIRECTIONS) * n + j];
     let mut starts = Vec::new();
+    let mut brackets = Vec::new();
     for (k, w) in planes().enumerate() {
         for i in 0..GRID_DIRECTIONS {
+            let line: Vec<(f64, Option<[f64; 3]>)> = (0..n)
+                .map(|j| (GRID_SPEEDS[j], ends[(k * GRID_DIRECTIONS + i) * n + j]))
+                .collect();
+            headings::brackets_of((w, i as f64), &line, headings, &mut brackets);
             for j in 0..n - 1 {
                 let corners = [(0, 0), (1, 0), (1, 1), (0, 1)];
                 let pts: Vec<Option<[f64; 2]>> =
@@ -386,6 +414,24 @@ fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, us
             (ok.then_some(end), used)
         })
         .collect();
+    // Where the rest heading passes a count's along a speed line: see `headings`.
+    let speed_of = |yaw: f64, i: f64, s: f64| state(yaw, i, s);
+    let (crossing, used) = headings::crossing_states(&q, &brackets, headings, target, &speed_of);
+    spent += used;
+    let dist = (target[0] - p.start.x).hypot(target[1] - p.start.y);
+    let near = headings::near_the_line(crossing, dist);
+    let at_rest: Vec<(usize, headings::AtRest, usize)> = near
+        .into_par_iter()
+        .map(|(k, t)| {
+            let mut used = 1;
+            let (end, ok) = to_rest(p, t, target, &mut used);
+            let miss =
+                headings[k].and_then(|h| Some((p.runout(&end).ok()?.rest.heading - h).abs()));
+            (k, ok.then_some(()).and(miss).map(|m| (m, end)), used)
+        })
+        .collect();
+    spent += at_rest.iter().map(|r| r.2).sum::<usize>();
+    let seeds = headings::best_per_count(at_rest.into_iter().map(|r| (r.0, r.1)), headings.len());
     let mut found: Vec<Vec<f64>> = Vec::new();
     for (t, used) in reached {
         spent += used;
@@ -398,8 +444,11 @@ fn preimages(p: &Problem, guess: &[f64], target: [f64; 2]) -> (Vec<Vec<f64>>, us
             found.push(t);
         }
     }
-    (found, spent)
+    (found, spent, seeds)
 }
+
+/// A state with the index of the count of turns it was found for.
+type Counted = (usize, Vec<f64>);
 
 /// The barycentric coordinates `(u, v)` of `x` in the triangle `a b c` (`x = a + u (b - a) +
 /// v (c - a)`) when `x` lies in it.
@@ -562,7 +611,7 @@ mod tests {
             };
             // A first guess pointing the other way, at half the speed.
             let guess = [-0.5 * t[0], -0.5 * t[1], 0.0];
-            let (found, spent) = preimages(&p, &guess, [truth.rest.x, truth.rest.y]);
+            let (found, spent, _) = preimages(&p, &guess, [truth.rest.x, truth.rest.y], &[]);
             assert!(spent >= 21 * GRID_DIRECTIONS * GRID_SPEEDS.len());
             let near = found
                 .iter()

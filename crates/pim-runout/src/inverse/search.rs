@@ -492,12 +492,20 @@ fn alternatives_of(
     ends.sort_by(|a, b| a.1.total_cmp(&b.1));
     let mut kept: Vec<Vec<f64>> = vec![theta.to_vec()];
     let mut out = Vec::new();
+    // Those beyond the data's expectation kept so far (the ends are in order of cost).
+    let mut beyond = 0;
     for (t, c) in ends {
-        if (out.len() >= MAX_ALTERNATIVES && c > data as f64) || c > cost + ALTERNATIVE_COST {
+        if c > cost + ALTERNATIVE_COST {
             break;
         }
         if !c.is_finite() || kept.iter().any(|k| same(k, &t)) {
             continue;
+        }
+        if c > data as f64 {
+            if beyond >= MAX_ALTERNATIVES {
+                break;
+            }
+            beyond += 1;
         }
         out.push(Alternative {
             velocity: [t[0], t[1], t[2]],
