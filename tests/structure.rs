@@ -694,15 +694,7 @@ const MAX_FN_LINES: usize = 120;
 /// longer than listed, fails, and so does a listed one brought within the limit (it leaves the
 /// list). `PIM_LONG_FUNCTIONS=1 cargo test --release --test structure -- --nocapture` prints
 /// the list as it stands.
-const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[
-    ("crates/pim-fit/src/convex/mod.rs", "new", 168),
-    ("crates/pim-fit/src/convex/dual.rs", "run", 133),
-    ("crates/pim-fit/src/geometry/mod.rs", "branch_search", 187),
-    ("crates/pim-fit/src/geometry/certify/mod.rs", "prove", 138),
-    ("crates/pim-fit/src/inner/general.rs", "solve_rows", 125),
-    ("crates/pim-render/src/diagram/paint.rs", "draw_into", 294),
-    ("crates/pim-render/src/diagram/paint.rs", "key", 158),
-];
+const LONG_FUNCTIONS: &[(&str, &str, usize)] = &[];
 
 /// Each function of `code` (comments and strings blanked, its lines the source's): its name
 /// and its length in lines, from the line of its `fn` to that of its closing brace. A

@@ -197,27 +197,14 @@ impl Objective {
         let limit = 4 * rows.len() + 20;
         let mut steps = 0;
         loop {
-            // The most violated inactive row.
-            let mut p = usize::MAX;
-            let mut worst = 0.0;
-            for (i, row) in rows.iter().enumerate() {
-                if act[..q].contains(&i) {
-                    continue;
-                }
-                let s = row.slack(&z);
-                if s < -eps(row) && s < worst {
-                    worst = s;
-                    p = i;
-                }
-            }
-            if p == usize::MAX {
+            let Some(p) = most_violated(rows, &z, &act[..q], &eps) else {
                 let out = self.verify(rows, &z, &act[..q], &u[..q], scale);
                 if let (Some(m), Outcome::Solved { .. }) = (multipliers, &out) {
                     m.clear();
                     m.extend(act[..q].iter().copied().zip(u[..q].iter().copied()));
                 }
                 return out;
-            }
+            };
             let np = rows[p].n;
             u[q] = 0.0;
             loop {
@@ -225,31 +212,9 @@ impl Objective {
                 if steps > limit {
                     return Outcome::Failed;
                 }
-                // d = J' n+, the primal direction J2 d2 and the dual direction R^-1 d1.
-                let mut d = [0.0; N];
-                for (c, v) in d.iter_mut().enumerate().take(n) {
-                    *v = (0..n).map(|i| j[i][c] * np[i]).sum();
-                }
-                let mut dir = [0.0; N];
-                for (i, v) in dir.iter_mut().enumerate().take(n) {
-                    *v = (q..n).map(|c| j[i][c] * d[c]).sum();
-                }
-                let mut rv = [0.0; N];
-                for l in (0..q).rev() {
-                    let s: f64 = d[l] - (l + 1..q).map(|m| r[l][m] * rv[m]).sum::<f64>();
-                    rv[l] = s / r[l][l];
-                }
+                let (mut d, dir, rv) = directions((&j, &r), &np, q, n);
                 // Partial step (a multiplier reaches zero) and full step (the row holds).
-                let (mut t1, mut k) = (f64::INFINITY, usize::MAX);
-                for l in 0..q {
-                    if rv[l] > 0.0 {
-                        let t = u[l] / rv[l];
-                        if t < t1 {
-                            t1 = t;
-                            k = l;
-                        }
-                    }
-                }
+                let (t1, k) = partial_step(&u[..q], &rv[..q]);
                 let dn = dot(&dir, &np);
                 let dir_norm = dir.iter().fold(0.0f64, |m, v| m.max(v.abs()));
                 let t2 = if dir_norm <= 1e-14 * scale || dn <= 0.0 {
@@ -387,6 +352,68 @@ fn drop_row(
         rotate_columns(j, n, c, cos, sin);
     }
     *q = qq - 1;
+}
+
+/// The most violated row not in `active` at `z` (beyond its tolerance `eps`), if any.
+fn most_violated(
+    rows: &[Row],
+    z: &[f64; N],
+    active: &[usize],
+    eps: &dyn Fn(&Row) -> f64,
+) -> Option<usize> {
+    let mut p = None;
+    let mut worst = 0.0;
+    for (i, row) in rows.iter().enumerate() {
+        if active.contains(&i) {
+            continue;
+        }
+        let s = row.slack(z);
+        if s < -eps(row) && s < worst {
+            worst = s;
+            p = Some(i);
+        }
+    }
+    p
+}
+
+/// For the row of normal `np` being added with `q` rows active: `d = J' n+`, the primal
+/// direction `J2 d2` and the dual direction `R^-1 d1`.
+fn directions(
+    (j, r): (&[[f64; N]; N], &[[f64; N]; N]),
+    np: &[f64; N],
+    q: usize,
+    n: usize,
+) -> ([f64; N], [f64; N], [f64; N]) {
+    let mut d = [0.0; N];
+    for (c, v) in d.iter_mut().enumerate().take(n) {
+        *v = (0..n).map(|i| j[i][c] * np[i]).sum();
+    }
+    let mut dir = [0.0; N];
+    for (i, v) in dir.iter_mut().enumerate().take(n) {
+        *v = (q..n).map(|c| j[i][c] * d[c]).sum();
+    }
+    let mut rv = [0.0; N];
+    for l in (0..q).rev() {
+        let s: f64 = d[l] - (l + 1..q).map(|m| r[l][m] * rv[m]).sum::<f64>();
+        rv[l] = s / r[l][l];
+    }
+    (d, dir, rv)
+}
+
+/// The partial step: the least `u_l / rv_l` over the active rows with `rv_l > 0` (a
+/// multiplier reaches zero) and its row (infinite and none where no multiplier falls).
+fn partial_step(u: &[f64], rv: &[f64]) -> (f64, usize) {
+    let (mut t1, mut k) = (f64::INFINITY, usize::MAX);
+    for (l, (&ul, &rl)) in u.iter().zip(rv).enumerate() {
+        if rl > 0.0 {
+            let t = ul / rl;
+            if t < t1 {
+                t1 = t;
+                k = l;
+            }
+        }
+    }
+    (t1, k)
 }
 
 #[cfg(test)]

@@ -145,37 +145,9 @@ impl Formulation {
         if equivalent && !settings.mu_max_condition {
             return Err(Fallback::NoMuMaxCondition);
         }
-        // Basis of the velocity changes allowed by equations 1-3 (and B = 0 in the zero branch).
-        let mut rows: Vec<RowVector6<f64>> = vec![
-            momentum_x(impact).0,
-            momentum_y(impact).0,
-            angular_momentum(impact).0,
-        ];
         let b_row = moment_b_row(impact);
-        if branch == MomentBranch::Zero {
-            rows.push(b_row);
-        }
-        let mut cc = Matrix6::zeros();
-        for r in &rows {
-            let unit = r / r.norm();
-            cc += unit.transpose() * unit;
-        }
-        let eig =
-            SymmetricEigen::try_new(cc, f64::EPSILON, 500).ok_or(Fallback::DegenerateGeometry)?;
-        let null: Vec<usize> = (0..6)
-            .filter(|&i| eig.eigenvalues[i].abs() <= 1e-10)
-            .collect();
-        if null.len() != 6 - rows.len() {
-            return Err(Fallback::DegenerateGeometry);
-        }
-        let r = null.len();
+        let (d, r) = velocity_basis(impact, &b_row, branch)?;
         let n = 6 + r;
-        let mut d = [[0.0; 3]; 6];
-        for (c, &i) in null.iter().enumerate() {
-            for (k, row) in d.iter_mut().enumerate() {
-                row[c] = eig.eigenvectors[(k, i)];
-            }
-        }
         // Forms of x, of X = x + D q, and of rows over x or over d.
         let over_x = |row: &RowVector6<f64>| {
             let mut f = [0.0; N];
@@ -190,33 +162,7 @@ impl Formulation {
             f
         };
         let over_final = |row: &RowVector6<f64>| add(&over_x(row), &over_d(row), 1.0);
-        // The cost U'HU - 2g'U + c0 with U = T z.
-        let (hu, gu, c0) = inner.objective.quadratic();
-        let mut t = [[0.0; N]; 12];
-        for k in 0..6 {
-            t[k][k] = 1.0;
-            t[6 + k][k] = 1.0;
-            for c in 0..r {
-                t[6 + k][6 + c] = d[k][c];
-            }
-        }
-        let mut g = [[0.0; N]; N];
-        let mut a = [0.0; N];
-        for i in 0..n {
-            for j in 0..n {
-                let mut s = 0.0;
-                for p in 0..12 {
-                    if t[p][i] == 0.0 {
-                        continue;
-                    }
-                    for q in 0..12 {
-                        s += t[p][i] * hu[(p, q)] * t[q][j];
-                    }
-                }
-                g[i][j] = 2.0 * s;
-            }
-            a[i] = -2.0 * (0..12).map(|p| t[p][i] * gu[p]).sum::<f64>();
-        }
+        let (t, g, a, c0) = cost_over_z(inner, &d, r);
         // Components known exactly are equalities over z (x_k, or x_k + (D q)_k).
         let equalities: Vec<([f64; N], f64)> = inner
             .objective
@@ -494,6 +440,80 @@ impl Formulation {
         Some(rows)
     }
 }
+
+/// The basis `D` (6 x r, r = 3 or 2 columns used) of the velocity changes equations 1-3 allow
+/// (and B = 0, row `b_row`, in the zero branch), and r.
+fn velocity_basis(
+    impact: &pim_core::Impact,
+    b_row: &RowVector6<f64>,
+    branch: MomentBranch,
+) -> Result<([[f64; 3]; 6], usize), Fallback> {
+    // Basis of the velocity changes allowed by equations 1-3 (and B = 0 in the zero branch).
+    let mut rows: Vec<RowVector6<f64>> = vec![
+        momentum_x(impact).0,
+        momentum_y(impact).0,
+        angular_momentum(impact).0,
+    ];
+    if branch == MomentBranch::Zero {
+        rows.push(*b_row);
+    }
+    let mut cc = Matrix6::zeros();
+    for r in &rows {
+        let unit = r / r.norm();
+        cc += unit.transpose() * unit;
+    }
+    let eig = SymmetricEigen::try_new(cc, f64::EPSILON, 500).ok_or(Fallback::DegenerateGeometry)?;
+    let null: Vec<usize> = (0..6)
+        .filter(|&i| eig.eigenvalues[i].abs() <= 1e-10)
+        .collect();
+    if null.len() != 6 - rows.len() {
+        return Err(Fallback::DegenerateGeometry);
+    }
+    let r = null.len();
+    let mut d = [[0.0; 3]; 6];
+    for (c, &i) in null.iter().enumerate() {
+        for (k, row) in d.iter_mut().enumerate() {
+            row[c] = eig.eigenvectors[(k, i)];
+        }
+    }
+    Ok((d, r))
+}
+
+/// The cost `U'HU - 2g'U + c0` over `z` with `U = T z` (T the 12 x n map of `z = (x, q)`,
+/// `X = x + D q`): `T`, `G = 2 T'HT`, `a = -2 T'g` and `c0`.
+fn cost_over_z(inner: &Inner, d: &[[f64; 3]; 6], r: usize) -> CostOverZ {
+    let n = 6 + r;
+    let (hu, gu, c0) = inner.objective.quadratic();
+    let mut t = [[0.0; N]; 12];
+    for k in 0..6 {
+        t[k][k] = 1.0;
+        t[6 + k][k] = 1.0;
+        for c in 0..r {
+            t[6 + k][6 + c] = d[k][c];
+        }
+    }
+    let mut g = [[0.0; N]; N];
+    let mut a = [0.0; N];
+    for i in 0..n {
+        for j in 0..n {
+            let mut s = 0.0;
+            for p in 0..12 {
+                if t[p][i] == 0.0 {
+                    continue;
+                }
+                for q in 0..12 {
+                    s += t[p][i] * hu[(p, q)] * t[q][j];
+                }
+            }
+            g[i][j] = 2.0 * s;
+        }
+        a[i] = -2.0 * (0..12).map(|p| t[p][i] * gu[p]).sum::<f64>();
+    }
+    (t, g, a, c0)
+}
+
+/// See [`cost_over_z`].
+type CostOverZ = ([[f64; N]; 12], [[f64; N]; N], [f64; N], f64);
 
 #[cfg(test)]
 mod tests;

@@ -303,65 +303,22 @@ fn branch_search(
     if value(case_point).is_finite() && !starts.contains(&case_point) {
         starts.push(case_point);
     }
-    let neighbours = |i: usize, j: usize| {
-        i != j
-            && points[i]
-                .iter()
-                .zip(&points[j])
-                .all(|(a, b)| (a - b).abs() <= 1.01 * step)
-    };
-    for &i in &order {
-        if starts.len() >= 4 {
-            break;
-        }
-        if i < n_grid
-            && !starts.contains(&i)
-            && (0..n_grid).all(|j| !neighbours(i, j) || value(j) >= value(i))
-        {
-            starts.push(i);
-        }
-    }
+    add_local_minima(&mut starts, (points, &order, value), n_grid, step);
     let mut best: Option<(Vec<f64>, f64)> = order.first().map(|&i| (points[i].clone(), value(i)));
     let mut refinements = 0;
     for &i in &starts {
         refinements += 1;
-        let counted = std::cell::Cell::new(0);
-        let obj = Objective {
+        let (found, counted) = nelder_mead(
             search,
+            settings,
             branch,
-            fits: &counted,
-        };
-        let mut simplex = vec![points[i].clone()];
-        for (d, axis) in axes.iter().enumerate() {
-            let mut v = points[i].clone();
-            if axis.len() > 1 {
-                v[d] = if v[d] + 0.5 * step <= 1.0 {
-                    v[d] + 0.5 * step
-                } else {
-                    v[d] - 0.5 * step
-                };
-            } else {
-                v[d] += 1e-9; // outside the box: never better
-            }
-            simplex.push(v);
-        }
-        let tol = settings.get().search.nelder_mead_tolerance * (1.0 + value(i));
-        let result = NelderMead::new(simplex)
-            .with_sd_tolerance(tol)
-            .and_then(|nm| {
-                Executor::new(obj, nm)
-                    .configure(|st| st.max_iters(100 * k as u64 + 100))
-                    .timer(false)
-                    .run()
-            });
-        fits += counted.get();
-        if let Ok(r) = result {
-            let st = r.state();
-            if let Some(p) = st.get_best_param() {
-                let c = st.get_best_cost();
-                if best.as_ref().is_none_or(|b| c < b.1) {
-                    best = Some((p.clone(), c));
-                }
+            (&points[i], value(i)),
+            (axes, step, k),
+        );
+        fits += counted;
+        if let Some((p, c)) = found {
+            if best.as_ref().is_none_or(|b| c < b.1) {
+                best = Some((p, c));
             }
         }
     }
@@ -391,9 +348,120 @@ fn branch_search(
         ));
         return Ok(report);
     };
-    // Nelder-Mead approaches a bound without reaching it: an input within 0.1 % of its range
-    // from a bound is put on it when that costs no more.
     let (mut u, mut cost) = (u, cost);
+    fits += snap_to_bounds(search, branch, (&mut u, &mut cost), k);
+    // The proof over the box (and a better point, should a box's centre give one).
+    let (proof, found) = prove(search, settings, branch, (u.clone(), cost));
+    fits += found.as_ref().map_or(0, |f| f.2);
+    if let Some((q, c, _)) = found {
+        if c < cost {
+            (u, cost) = (q, c);
+        }
+    }
+    let (ranges, scanned) = scan_ranges(search, settings, branch, (&u, cost));
+    fits += scanned;
+    let mut report = complete(search, settings, branch, &u)?;
+    report.geometry = Some(estimate(
+        search,
+        &u,
+        ranges,
+        GeometrySearch {
+            method: method(k, n, points.len(), refinements),
+            points_per_input: n,
+            grid_points: points.len(),
+            refinements,
+            fits: fits + 1,
+            proof,
+        },
+    ));
+    Ok(report)
+}
+
+/// The grid's other local minima (points no neighbour of the grid undercuts), in order of
+/// value, added to `starts` up to four in all.
+fn add_local_minima(
+    starts: &mut Vec<usize>,
+    (points, order, value): (&[Vec<f64>], &[usize], &Value),
+    n_grid: usize,
+    step: f64,
+) {
+    let neighbours = |i: usize, j: usize| {
+        i != j
+            && points[i]
+                .iter()
+                .zip(&points[j])
+                .all(|(a, b)| (a - b).abs() <= 1.01 * step)
+    };
+    for &i in order {
+        if starts.len() >= 4 {
+            break;
+        }
+        if i < n_grid
+            && !starts.contains(&i)
+            && (0..n_grid).all(|j| !neighbours(i, j) || value(j) >= value(i))
+        {
+            starts.push(i);
+        }
+    }
+}
+
+/// The cost of grid point `i` (infinite where no answer).
+type Value<'a> = dyn Fn(usize) -> f64 + 'a;
+
+/// Nelder-Mead from the grid point `start` (cost `value`), its simplex half a grid step along
+/// each free input: the best point and cost it found, and the complete fits it ran.
+fn nelder_mead(
+    search: &Search<'_>,
+    settings: &ValidSettings,
+    branch: MomentBranch,
+    (start, value): (&[f64], f64),
+    (axes, step, k): (&[Vec<f64>], f64, usize),
+) -> (Option<(Vec<f64>, f64)>, usize) {
+    let counted = std::cell::Cell::new(0);
+    let obj = Objective {
+        search,
+        branch,
+        fits: &counted,
+    };
+    let mut simplex = vec![start.to_vec()];
+    for (d, axis) in axes.iter().enumerate() {
+        let mut v = start.to_vec();
+        if axis.len() > 1 {
+            v[d] = if v[d] + 0.5 * step <= 1.0 {
+                v[d] + 0.5 * step
+            } else {
+                v[d] - 0.5 * step
+            };
+        } else {
+            v[d] += 1e-9; // outside the box: never better
+        }
+        simplex.push(v);
+    }
+    let tol = settings.get().search.nelder_mead_tolerance * (1.0 + value);
+    let result = NelderMead::new(simplex)
+        .with_sd_tolerance(tol)
+        .and_then(|nm| {
+            Executor::new(obj, nm)
+                .configure(|st| st.max_iters(100 * k as u64 + 100))
+                .timer(false)
+                .run()
+        });
+    let found = result.ok().and_then(|r| {
+        let st = r.state();
+        st.get_best_param().map(|p| (p.clone(), st.get_best_cost()))
+    });
+    (found, counted.get())
+}
+
+/// Nelder-Mead approaches a bound without reaching it: each of the `k` inputs within 0.1 % of
+/// its range from a bound is put on it when that costs no more. The complete fits run.
+fn snap_to_bounds(
+    search: &Search<'_>,
+    branch: MomentBranch,
+    (u, cost): (&mut Vec<f64>, &mut f64),
+    k: usize,
+) -> usize {
+    let mut fits = 0;
     for d in 0..k {
         let snapped = if u[d] <= 1e-3 {
             0.0
@@ -406,19 +474,22 @@ fn branch_search(
         q[d] = snapped;
         fits += 1;
         let c = search.cost(&q, branch);
-        if c <= cost {
-            (u, cost) = (q, c);
+        if c <= *cost {
+            (*u, *cost) = (q, c);
         }
     }
-    // The proof over the box (and a better point, should a box's centre give one).
-    let (proof, found) = prove(search, settings, branch, (u.clone(), cost));
-    fits += found.as_ref().map_or(0, |f| f.2);
-    if let Some((q, c, _)) = found {
-        if c < cost {
-            (u, cost) = (q, c);
-        }
-    }
-    // Scans through the optimum along each input.
+    fits
+}
+
+/// Scans through the optimum `u` (cost `cost`) along each input: the range of each over which
+/// the cost stays within the identifiability tolerance, and the complete fits run.
+fn scan_ranges(
+    search: &Search<'_>,
+    settings: &ValidSettings,
+    branch: MomentBranch,
+    (u, cost): (&[f64], f64),
+) -> (Vec<GeometryRange>, usize) {
+    let mut fits = 0;
     let tol = settings.get().identifiability_tolerance;
     let limit = cost * (1.0 + tol) + 1e-6 * (1.0 + crate::inner::data_scale_of(search.problem));
     let mut ranges = Vec::new();
@@ -429,7 +500,7 @@ fn branch_search(
         let mut high = low;
         if hi > lo {
             for i in 0..9 {
-                let mut q = u.clone();
+                let mut q = u.to_vec();
                 q[d] = i as f64 / 8.0;
                 fits += 1;
                 if search.cost(&q, branch) <= limit {
@@ -450,21 +521,7 @@ fn branch_search(
             at_bound: hi > lo && (u[d] <= 1e-3 || u[d] >= 1.0 - 1e-3),
         });
     }
-    let mut report = complete(search, settings, branch, &u)?;
-    report.geometry = Some(estimate(
-        search,
-        &u,
-        ranges,
-        GeometrySearch {
-            method: method(k, n, points.len(), refinements),
-            points_per_input: n,
-            grid_points: points.len(),
-            refinements,
-            fits: fits + 1,
-            proof,
-        },
-    ));
-    Ok(report)
+    (ranges, fits)
 }
 
 /// The proof over the box for one branch, and the best point it met (unit-cube coordinates,

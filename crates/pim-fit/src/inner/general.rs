@@ -173,7 +173,7 @@ impl Inner {
         cs: &ConstraintSet<'_>,
         rows: &[RowX],
     ) -> Result<Answer, Violation> {
-        let (hy, gy, qe, zq, lq) = (&lag.hy, &lag.gy, lag.qe, &lag.zq, &lag.lq);
+        let (hy, gy, zq, lq) = (&lag.hy, &lag.gy, &lag.zq, &lag.lq);
         let over_y: Vec<(DVector<f64>, f64)> = rows
             .iter()
             .map(|(row, rhs, _)| (ox.z.tr_mul(&to_d(&row.transpose())), rhs - (row * ox.xp)[0]))
@@ -225,10 +225,22 @@ impl Inner {
             }
         };
         let x0 = solve(0.0)?;
-        let energy_of = |x: &Vector6<f64>| (x.transpose() * qe * x)[0];
         if !pim_core::creates_energy(cs.energy(&x0), cs.energy(&(ox.r * x0))) {
             return Ok(Answer { x: x0, lambda: 0.0 });
         }
+        self.energy_root(&solve, x0, (lag, cs))
+    }
+
+    /// The answer where the energy condition is active: the multiplier lambda with E = 0 of
+    /// the minimisers `solve(lambda)` of cost + lambda E (`x0` that of lambda = 0).
+    fn energy_root(
+        &self,
+        solve: &dyn Fn(f64) -> Result<Vector6<f64>, Violation>,
+        x0: Vector6<f64>,
+        (lag, cs): (&Lagrangian, &ConstraintSet<'_>),
+    ) -> Result<Answer, Violation> {
+        let (hy, qe, zq) = (&lag.hy, lag.qe, &lag.zq);
+        let energy_of = |x: &Vector6<f64>| (x.transpose() * qe * x)[0];
         // Energy condition active: the multiplier lambda with E = 0, while the Lagrangian stays
         // convex. E falls as lambda grows; a bracket is found by doubling, then narrowed by the
         // Illinois variant of regula falsi (superlinear on a smooth piece, never leaving the

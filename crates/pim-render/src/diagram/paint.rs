@@ -44,7 +44,6 @@ impl Diagram {
             .map_err(|e| err(&e))?;
         // Laid on the page as every figure of the case (SAE: x up, y to the right).
         let page = crate::plan::Page::of(self.frame);
-        let c0 = self.centre;
         chart
             .configure_mesh()
             .x_desc(page.horizontal_label(len))
@@ -54,14 +53,32 @@ impl Diagram {
             .draw()
             .map_err(|e| err(&e))?;
         let head = 0.035 * (x1 - x0);
-        let draw_arrow =
-            |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
-                arrow(chart, head, from, to, color, width)
-            };
         // Labels are placed at the end, clear of each other and of the arrowheads and marks.
-        let mut heads: Vec<Vec<(f64, f64)>> = Vec::new();
-        let mut labels: Vec<(String, [f64; 2], f64, RGBColor)> = Vec::new();
-        // Outlines, noses and CGs.
+        let mut heads: Vec<Head> = Vec::new();
+        let mut labels: Vec<Label> = Vec::new();
+        self.draw_outlines(&mut chart, &mut labels)?;
+        self.draw_vehicle_arrows(&mut chart, (head, sv, si), (&mut heads, &mut labels))?;
+        self.draw_surface(&mut chart, head, (&mut heads, &mut labels))?;
+        let bar = scale_bar(&mut chart, [x0, x1, y0, y1], len)?;
+        self.place_labels(&root, &chart, (&heads, &labels), bar)?;
+
+        // The key, beside the plot.
+        let mut key = Key {
+            area: Some(&key_area),
+            y: 30,
+        };
+        self.key(&mut key, sv, si)?;
+        root.present().map_err(|e| err(&e))?;
+        Ok(())
+    }
+
+    /// The outlines (filled lightly, the front face thick) and the CGs, each CG's label.
+    fn draw_outlines(
+        &self,
+        chart: &mut Chart,
+        labels: &mut Vec<Label>,
+    ) -> Result<(), crate::RenderError> {
+        let err = |e: &dyn std::fmt::Display| crate::err(e);
         let series: Vec<(Vec<(f64, f64)>, RGBColor)> = VEHICLE_COLORS
             .iter()
             .enumerate()
@@ -102,13 +119,31 @@ impl Diagram {
                 .map_err(|e| err(&e))?;
             labels.push((format!("CG{}", k + 1), v.cg, 14.0, *color));
         }
+        Ok(())
+    }
+
+    /// Each vehicle's velocities at contact and separation (drawn `sv` per unit of speed from
+    /// its CG), its impulse (`si` per unit from the impact centre), its yaw rate at separation
+    /// and its PDOF; arrowheads `head` long, each head and label pushed.
+    fn draw_vehicle_arrows(
+        &self,
+        chart: &mut Chart,
+        (head, sv, si): (f64, f64, f64),
+        (heads, labels): (&mut Vec<Head>, &mut Vec<Label>),
+    ) -> Result<(), crate::RenderError> {
+        let err = |e: &dyn std::fmt::Display| crate::err(e);
+        let c0 = self.centre;
+        let draw_arrow =
+            |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
+                arrow(chart, head, from, to, color, width)
+            };
         let l = self.longest();
         for (k, v) in self.vehicles.iter().enumerate() {
             let color = VEHICLE_COLORS[k];
             // The nose is marked by the thick front edge of the outline.
             if let Some(w) = v.contact {
                 heads.push(draw_arrow(
-                    &mut chart,
+                    chart,
                     v.cg,
                     [v.cg[0] + sv * w[0], v.cg[1] + sv * w[1]],
                     color,
@@ -117,7 +152,7 @@ impl Diagram {
             }
             if let Some(w) = v.separation {
                 heads.push(draw_arrow(
-                    &mut chart,
+                    chart,
                     v.cg,
                     [v.cg[0] + sv * w[0], v.cg[1] + sv * w[1]],
                     SEPARATION_COLORS[k],
@@ -127,7 +162,7 @@ impl Diagram {
             if let Some(p) = v.impulse {
                 // Each vehicle's impulse in its colour, labelled at its tip.
                 let tip = [c0[0] + si * p[0], c0[1] + si * p[1]];
-                heads.push(draw_arrow(&mut chart, c0, tip, color, 2)?);
+                heads.push(draw_arrow(chart, c0, tip, color, 2)?);
                 labels.push((format!("on vehicle {}", k + 1), tip, 13.0, color));
             }
             // The yaw rate at separation: an arc about the CG in the sense of rotation, its
@@ -151,7 +186,7 @@ impl Diagram {
                     .map_err(|e| err(&e))?;
                 let (p, q) = (pts[n - 3], pts[n - 1]);
                 heads.push(arrow(
-                    &mut chart,
+                    chart,
                     0.6 * head,
                     [p.0, p.1],
                     [q.0, q.1],
@@ -172,11 +207,26 @@ impl Diagram {
                 ));
             }
             if let Some((from, to)) = self.pdof_arrow(k) {
-                heads.push(draw_arrow(&mut chart, from, to, PDOF_COLOR, 3)?);
+                heads.push(draw_arrow(chart, from, to, PDOF_COLOR, 3)?);
                 labels.push((format!("PDOF {}", k + 1), from, 13.0, PDOF_COLOR));
             }
         }
-        // Crush surface through C, n and t.
+        Ok(())
+    }
+
+    /// The crush surface through the impact centre C, its normal n and tangent t.
+    fn draw_surface(
+        &self,
+        chart: &mut Chart,
+        head: f64,
+        (heads, labels): (&mut Vec<Head>, &mut Vec<Label>),
+    ) -> Result<(), crate::RenderError> {
+        let err = |e: &dyn std::fmt::Display| crate::err(e);
+        let (c0, l) = (self.centre, self.longest());
+        let draw_arrow =
+            |chart: &mut Chart, from: [f64; 2], to: [f64; 2], color: RGBColor, width: u32| {
+                arrow(chart, head, from, to, color, width)
+            };
         let n = self.normal;
         let t = [-n[1], n[0]];
         let half = 0.3 * l;
@@ -190,8 +240,8 @@ impl Diagram {
             ))
             .map_err(|e| err(&e))?;
         let at = |a: f64, d: [f64; 2]| [c0[0] + a * l * d[0], c0[1] + a * l * d[1]];
-        heads.push(draw_arrow(&mut chart, c0, at(0.2, n), SURFACE_COLOR, 1)?);
-        heads.push(draw_arrow(&mut chart, c0, at(0.12, t), SURFACE_COLOR, 1)?);
+        heads.push(draw_arrow(chart, c0, at(0.2, n), SURFACE_COLOR, 1)?);
+        heads.push(draw_arrow(chart, c0, at(0.12, t), SURFACE_COLOR, 1)?);
         labels.push(("n".into(), at(0.2, n), 14.0, SURFACE_COLOR));
         labels.push(("t".into(), at(0.12, t), 14.0, SURFACE_COLOR));
         chart
@@ -202,29 +252,20 @@ impl Diagram {
             )))
             .map_err(|e| err(&e))?;
         labels.push(("C".into(), c0, 14.0, BLACK));
-        // Scale bar: 1, 2 or 5 length units, about a fifth of the width, bottom left.
-        let span = x1 - x0;
-        let bar = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
-            .into_iter()
-            .find(|b| *b >= 0.15 * span)
-            .unwrap_or(100.0);
-        let bx = x0 + 0.04 * span;
-        let by = y0 + 0.05 * (y1 - y0);
-        chart
-            .draw_series(LineSeries::new(
-                vec![(bx, by), (bx + bar, by)],
-                BLACK.stroke_width(4),
-            ))
-            .map_err(|e| err(&e))?;
-        let bar_label = format!("{bar} {len}");
-        chart
-            .draw_series(std::iter::once(Text::new(
-                bar_label.clone(),
-                (bx, by + 0.03 * (y1 - y0)),
-                ("sans-serif", 14).into_font().color(&BLACK),
-            )))
-            .map_err(|e| err(&e))?;
-        // The labels, each clear of the others, the arrowheads and the marks (CGs, C).
+        Ok(())
+    }
+
+    /// The labels, each placed clear of the others, the arrowheads `heads`, the marks (CGs,
+    /// C) and the scale bar's label.
+    fn place_labels(
+        &self,
+        root: &DrawingArea<SVGBackend, plotters::coord::Shift>,
+        chart: &Chart,
+        (heads, labels): (&[Head], &[Label]),
+        (bar_at, bar_label): ((f64, f64), String),
+    ) -> Result<(), crate::RenderError> {
+        let err = |e: &dyn std::fmt::Display| crate::err(e);
+        let c0 = self.centre;
         let px = |p: (f64, f64)| chart.backend_coord(&p);
         let mut obstacles: Vec<super::labels::PixelBox> = heads
             .iter()
@@ -254,7 +295,7 @@ impl Diagram {
         }
         // The scale bar's label.
         {
-            let (x, y) = px((bx, by + 0.03 * (y1 - y0)));
+            let (x, y) = px(bar_at);
             let w = super::labels::text_width(&bar_label, super::labels::svg_size(14.0));
             obstacles.push([
                 f64::from(x),
@@ -289,23 +330,11 @@ impl Diagram {
             .map_err(|e| err(&e))?;
         }
 
-        // The key, beside the plot.
-        let mut key = Key {
-            area: Some(&key_area),
-            y: 30,
-        };
-        self.key(&mut key, sv, si)?;
-        root.present().map_err(|e| err(&e))?;
         Ok(())
     }
 
     /// Writes the key's lines (or, with a key without an area, only measures them).
     fn key(&self, key: &mut Key, sv: f64, si: f64) -> Result<(), crate::RenderError> {
-        let u = self.units;
-        let units = u;
-        let len = units.length_label();
-        let sae = self.frame.mirrors();
-        let u_speed = |v: f64| u.speed(v);
         let mut line =
             |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
         for (i, part) in crate::text::wrap(&self.title, 36).into_iter().enumerate() {
@@ -323,89 +352,116 @@ impl Diagram {
         }
         line(String::new(), None, false)?;
         for (k, v) in self.vehicles.iter().enumerate() {
-            line(v.label.clone(), Some(VEHICLE_COLORS[k]), true)?;
-            if v.barrier {
-                line("  its face: the crush surface".into(), None, false)?;
-                line("  it does not move".into(), None, false)?;
-                line(String::new(), None, false)?;
-                continue;
-            }
-            let o = &v.outline;
+            self.vehicle_key(key, k, v)?;
+        }
+        self.key_legend(key, sv, si)
+    }
+
+    /// Vehicle `k`'s lines of the key: its size, where its nose points, its speeds, its yaw
+    /// rate at separation and its PDOF.
+    fn vehicle_key(
+        &self,
+        key: &mut Key,
+        k: usize,
+        v: &super::DrawnVehicle,
+    ) -> Result<(), crate::RenderError> {
+        let u = self.units;
+        let len = u.length_label();
+        let sae = self.frame.mirrors();
+        let mut line =
+            |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
+        line(v.label.clone(), Some(VEHICLE_COLORS[k]), true)?;
+        if v.barrier {
+            line("  its face: the crush surface".into(), None, false)?;
+            line("  it does not move".into(), None, false)?;
+            line(String::new(), None, false)?;
+            return Ok(());
+        }
+        let o = &v.outline;
+        line(
+            format!(
+                "  {:.2} x {:.2} {len}{}",
+                o.length(),
+                o.width(),
+                if o.defaulted {
+                    " (typical for its mass)"
+                } else {
+                    ""
+                }
+            ),
+            None,
+            false,
+        )?;
+        line(
+            if sae {
+                format!(
+                    "  nose towards {} deg clockwise",
+                    crate::tables::num(pim_core::wrap_degrees(self.turned - v.heading), 1)
+                )
+            } else {
+                format!(
+                    "  nose towards {} deg",
+                    crate::tables::num(pim_core::wrap_degrees(v.heading - self.turned), 1)
+                )
+            },
+            None,
+            false,
+        )?;
+        if let Some(w) = v.contact {
             line(
                 format!(
-                    "  {:.2} x {:.2} {len}{}",
-                    o.length(),
-                    o.width(),
-                    if o.defaulted {
-                        " (typical for its mass)"
-                    } else {
-                        ""
-                    }
+                    "  contact {:.2} {}",
+                    u.speed(w[0].hypot(w[1])),
+                    u.speed_label()
                 ),
-                None,
+                Some(VEHICLE_COLORS[k]),
                 false,
             )?;
-            line(
-                if sae {
-                    format!(
-                        "  nose towards {} deg clockwise",
-                        crate::tables::num(pim_core::wrap_degrees(self.turned - v.heading), 1)
-                    )
-                } else {
-                    format!(
-                        "  nose towards {} deg",
-                        crate::tables::num(pim_core::wrap_degrees(v.heading - self.turned), 1)
-                    )
-                },
-                None,
-                false,
-            )?;
-            if let Some(w) = v.contact {
-                line(
-                    format!(
-                        "  contact {:.2} {}",
-                        u_speed(w[0].hypot(w[1])),
-                        u.speed_label()
-                    ),
-                    Some(VEHICLE_COLORS[k]),
-                    false,
-                )?;
-            }
-            if let Some(w) = v.separation {
-                line(
-                    format!(
-                        "  separation {:.2} {}",
-                        u_speed(w[0].hypot(w[1])),
-                        u.speed_label()
-                    ),
-                    Some(SEPARATION_COLORS[k]),
-                    false,
-                )?;
-            }
-            if let Some(w) = v.yaw_separation {
-                let shown = self.frame.sign() * w;
-                line(
-                    format!(
-                        "  separation yaw {} {} (arc)",
-                        crate::tables::num(u.yaw_rate(shown), 2),
-                        u.yaw_rate_label()
-                    ),
-                    Some(SEPARATION_COLORS[k]),
-                    false,
-                )?;
-            }
-            if let Some((_, pdof, clock)) = v.pdof {
-                line(
-                    format!(
-                        "  PDOF {} deg, {clock} o'clock",
-                        crate::tables::num(pdof, 0)
-                    ),
-                    Some(PDOF_COLOR),
-                    false,
-                )?;
-            }
-            line(String::new(), None, false)?;
         }
+        if let Some(w) = v.separation {
+            line(
+                format!(
+                    "  separation {:.2} {}",
+                    u.speed(w[0].hypot(w[1])),
+                    u.speed_label()
+                ),
+                Some(SEPARATION_COLORS[k]),
+                false,
+            )?;
+        }
+        if let Some(w) = v.yaw_separation {
+            let shown = self.frame.sign() * w;
+            line(
+                format!(
+                    "  separation yaw {} {} (arc)",
+                    crate::tables::num(u.yaw_rate(shown), 2),
+                    u.yaw_rate_label()
+                ),
+                Some(SEPARATION_COLORS[k]),
+                false,
+            )?;
+        }
+        if let Some((_, pdof, clock)) = v.pdof {
+            line(
+                format!(
+                    "  PDOF {} deg, {clock} o'clock",
+                    crate::tables::num(pdof, 0)
+                ),
+                Some(PDOF_COLOR),
+                false,
+            )?;
+        }
+        line(String::new(), None, false)?;
+        Ok(())
+    }
+
+    /// The key's legend: what the marks and lines show, the arrows' scales and the frame.
+    fn key_legend(&self, key: &mut Key, sv: f64, si: f64) -> Result<(), crate::RenderError> {
+        let u = self.units;
+        let len = u.length_label();
+        let sae = self.frame.mirrors();
+        let mut line =
+            |text: String, color: Option<RGBColor>, bold: bool| key.line(text, color, bold);
         line("thick edge: the front".into(), None, false)?;
         line("C impact centre (x)".into(), None, false)?;
         line("crush surface, n and t".into(), Some(SURFACE_COLOR), false)?;
@@ -459,6 +515,43 @@ impl Diagram {
         Ok(())
     }
 }
+
+/// The scale bar (1, 2, 5 ... length units, about a fifth of the width, bottom left of the
+/// extent `[x0, x1, y0, y1]`): where its label is and the label.
+fn scale_bar(
+    chart: &mut Chart,
+    [x0, x1, y0, y1]: [f64; 4],
+    len: &str,
+) -> Result<((f64, f64), String), crate::RenderError> {
+    let err = |e: &dyn std::fmt::Display| crate::err(e);
+    let span = x1 - x0;
+    let bar = [1.0, 2.0, 5.0, 10.0, 20.0, 50.0]
+        .into_iter()
+        .find(|b| *b >= 0.15 * span)
+        .unwrap_or(100.0);
+    let bx = x0 + 0.04 * span;
+    let by = y0 + 0.05 * (y1 - y0);
+    chart
+        .draw_series(LineSeries::new(
+            vec![(bx, by), (bx + bar, by)],
+            BLACK.stroke_width(4),
+        ))
+        .map_err(|e| err(&e))?;
+    let bar_label = format!("{bar} {len}");
+    chart
+        .draw_series(std::iter::once(Text::new(
+            bar_label.clone(),
+            (bx, by + 0.03 * (y1 - y0)),
+            ("sans-serif", 14).into_font().color(&BLACK),
+        )))
+        .map_err(|e| err(&e))?;
+    Ok(((bx, by + 0.03 * (y1 - y0)), bar_label))
+}
+
+/// A label of the plot: its text, where (m), its size and colour.
+type Label = (String, [f64; 2], f64, RGBColor);
+/// An arrowhead's corners (m).
+type Head = Vec<(f64, f64)>;
 
 type Chart<'a, 'b> = ChartContext<
     'a,

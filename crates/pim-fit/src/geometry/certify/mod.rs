@@ -371,55 +371,7 @@ pub(crate) fn prove(
             }
         }
         let proved: Proved = b.proved.into_iter().collect();
-        // Halve the widest side (e_m's range counts as one unit).
-        let mut widest = (0usize, -1.0);
-        for (i, g) in geometry.iter().enumerate() {
-            let w = node.hi[i] - node.lo[i];
-            if g.bounds[1] > g.bounds[0] && w > widest.1 {
-                widest = (i, w);
-            }
-        }
-        let inherited = std::sync::Arc::new(proved);
-        let em_width = node.em[1] - node.em[0];
-        if branch == MomentBranch::Free
-            && em_width > 1e-9
-            && (b.pole.is_some() || em_width > widest.1)
-        {
-            let mid = b.pole.unwrap_or(0.5 * (node.em[0] + node.em[1]));
-            for em in [[node.em[0], mid], [mid, node.em[1]]] {
-                heap.push(Node {
-                    lo: node.lo.clone(),
-                    hi: node.hi.clone(),
-                    em,
-                    inherited: inherited.clone(),
-                    bound: low,
-                    fitted: true,
-                });
-            }
-        } else {
-            let i = widest.0;
-            let mid = 0.5 * (node.lo[i] + node.hi[i]);
-            let mut left = node.hi.clone();
-            left[i] = mid;
-            let mut right = node.lo.clone();
-            right[i] = mid;
-            heap.push(Node {
-                lo: node.lo.clone(),
-                hi: left,
-                em: node.em,
-                inherited: inherited.clone(),
-                bound: low,
-                fitted: false,
-            });
-            heap.push(Node {
-                lo: right,
-                hi: node.hi.clone(),
-                em: node.em,
-                inherited,
-                bound: low,
-                fitted: false,
-            });
-        }
+        split(&mut heap, &node, (low, b.pole, proved), context);
     }
     let open_low = heap.iter().map(|n| n.bound).fold(f64::INFINITY, f64::min);
     let closed = heap.iter().all(|n| n.bound >= target(upper));
@@ -442,6 +394,65 @@ pub(crate) fn prove(
         fits,
         closed,
     })
+}
+
+/// The open box `node` (its bound `low`, the pole of e_m where its bound found one, what it
+/// proved for its children to inherit) split in two onto `heap`: e_m's range at its pole or
+/// middle where that is the widest side (counted as one unit) or has a pole, else the widest
+/// geometry side at its middle.
+fn split(
+    heap: &mut BinaryHeap<Node>,
+    node: &Node,
+    (low, pole, proved): (f64, Option<f64>, Proved),
+    context: &Context<'_>,
+) {
+    let (geometry, branch) = (context.geometry, context.branch);
+    // Halve the widest side (e_m's range counts as one unit).
+    let mut widest = (0usize, -1.0);
+    for (i, g) in geometry.iter().enumerate() {
+        let w = node.hi[i] - node.lo[i];
+        if g.bounds[1] > g.bounds[0] && w > widest.1 {
+            widest = (i, w);
+        }
+    }
+    let inherited = std::sync::Arc::new(proved);
+    let em_width = node.em[1] - node.em[0];
+    if branch == MomentBranch::Free && em_width > 1e-9 && (pole.is_some() || em_width > widest.1) {
+        let mid = pole.unwrap_or(0.5 * (node.em[0] + node.em[1]));
+        for em in [[node.em[0], mid], [mid, node.em[1]]] {
+            heap.push(Node {
+                lo: node.lo.clone(),
+                hi: node.hi.clone(),
+                em,
+                inherited: inherited.clone(),
+                bound: low,
+                fitted: true,
+            });
+        }
+    } else {
+        let i = widest.0;
+        let mid = 0.5 * (node.lo[i] + node.hi[i]);
+        let mut left = node.hi.clone();
+        left[i] = mid;
+        let mut right = node.lo.clone();
+        right[i] = mid;
+        heap.push(Node {
+            lo: node.lo.clone(),
+            hi: left,
+            em: node.em,
+            inherited: inherited.clone(),
+            bound: low,
+            fitted: false,
+        });
+        heap.push(Node {
+            lo: right,
+            hi: node.hi.clone(),
+            em: node.em,
+            inherited,
+            bound: low,
+            fitted: false,
+        });
+    }
 }
 
 #[cfg(test)]
