@@ -368,18 +368,17 @@ fn preimages(
                 .map(|r| [r.rest.x, r.rest.y, r.rest.heading])
         })
         .collect();
-    let rests: Vec<Option<[f64; 2]>> = ends.iter().map(|e| e.map(|e| [e[0], e[1]])).collect();
     let mut spent = cells.len();
     let n = GRID_SPEEDS.len();
-    let at =
-        |k: usize, i: usize, j: usize| rests[(k * GRID_DIRECTIONS + i % GRID_DIRECTIONS) * n + j];
+    let end =
+        |k: usize, i: usize, j: usize| ends[(k * GRID_DIRECTIONS + i % GRID_DIRECTIONS) * n + j];
+    let at = |k: usize, i: usize, j: usize| end(k, i, j).map(|e| [e[0], e[1]]);
     let mut starts = Vec::new();
     let mut brackets = Vec::new();
     for (k, w) in planes().enumerate() {
         for i in 0..GRID_DIRECTIONS {
-            let line: Vec<(f64, Option<[f64; 3]>)> = (0..n)
-                .map(|j| (GRID_SPEEDS[j], ends[(k * GRID_DIRECTIONS + i) * n + j]))
-                .collect();
+            let line: Vec<(f64, Option<[f64; 3]>)> =
+                (0..n).map(|j| (GRID_SPEEDS[j], end(k, i, j))).collect();
             headings::brackets_of((w, i as f64), &line, headings, &mut brackets);
             for j in 0..n - 1 {
                 let corners = [(0, 0), (1, 0), (1, 1), (0, 1)];
@@ -415,8 +414,7 @@ fn preimages(
         })
         .collect();
     // Where the rest heading passes a count's along a speed line: see `headings`.
-    let speed_of = |yaw: f64, i: f64, s: f64| state(yaw, i, s);
-    let (crossing, used) = headings::crossing_states(&q, &brackets, headings, target, &speed_of);
+    let (crossing, used) = headings::crossing_states(&q, &brackets, headings, target, &state);
     spent += used;
     let dist = (target[0] - p.start.x).hypot(target[1] - p.start.y);
     let near = headings::near_the_line(crossing, dist);
@@ -427,7 +425,7 @@ fn preimages(
             let (end, ok) = to_rest(p, t, target, &mut used);
             let miss =
                 headings[k].and_then(|h| Some((p.runout(&end).ok()?.rest.heading - h).abs()));
-            (k, ok.then_some(()).and(miss).map(|m| (m, end)), used)
+            (k, miss.filter(|_| ok).map(|m| (m, end)), used)
         })
         .collect();
     spent += at_rest.iter().map(|r| r.2).sum::<usize>();
