@@ -263,6 +263,15 @@ test("an uncertainty study runs in the background, shows its intervals and can b
     const [lo, hi] = c.split(" – ").map(Number);
     assert.ok(lo < hi, c);
   }
+  // The intervals shown are the study's reported ones: the draws' widened to the profile's.
+  for (const v of [1, 2]) {
+    const name = `vehicle${v}.speed_at_contact`;
+    const [lo, hi] = doc.intervals[name];
+    const q = doc.quantities[name];
+    const p = doc.profiles[name];
+    assert.ok(lo <= q.p05 && hi >= q.p95, name);
+    assert.ok(lo <= p.lower.speed && hi >= p.upper.speed, name);
+  }
   await page.screenshot({ path: path.join(shots, "04-study.png") });
   // A long one, cancelled while it runs: the draws finished make the answer, and it says so.
   await page.fill("#draws", "5000");

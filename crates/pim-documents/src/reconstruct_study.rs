@@ -26,6 +26,18 @@ pub struct ReconstructionStudy {
     pub sensitivity: Vec<Sensitivity>,
     /// The inputs drawn, by name.
     pub inputs: Vec<String>,
+    /// Each vehicle's 90 % profile interval of its speed at contact, by quantity
+    /// (`vehicle1.speed_at_contact`): the speeds whose best reconstruction lies within 2.71 of
+    /// the answer's chi-square (`pim_reconstruct::profile_end`). None where the pose at
+    /// contact is fitted or the study was cancelled.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub profiles: BTreeMap<String, pim_reconstruct::ProfileInterval>,
+    /// The 90 % interval reported for each speed at contact (m/s), by quantity: on each side
+    /// the wider of the draws' (`p05`, `p95`) and the profile's (`profiles`), since each
+    /// misses what the other holds (the profile, the inputs drawn that are not evidence; the
+    /// draws, how far the evidence's chi-square lets the speed go where it bends). The draws'
+    /// alone where there is no profile.
+    pub intervals: BTreeMap<String, [f64; 2]>,
     /// Quantities whose nominal value lies outside their own 90 % interval (the draws'
     /// answers are skewed away from the nominal one: a nonlinear or bounded answer, said
     /// beside the interval).

@@ -440,6 +440,13 @@ def test_reconstruct_uncertainty():
     assert u.document == cli
     q = u["vehicle2.speed_at_contact"]
     assert q.p05 <= q.p50 <= q.p95 and u.feasible_draws == 12
+    # The reported interval: the draws' widened to the profile's ends (the document's).
+    lo, hi = q.reported
+    assert [lo, hi] == cli["intervals"]["vehicle2.speed_at_contact"]
+    assert lo <= q.p05 and hi >= q.p95
+    assert lo <= cli["profiles"]["vehicle2.speed_at_contact"]["lower"]["speed"]
+    e = u["e"]
+    assert e.reported == (e.p05, e.p95)
 
 
 def test_a_scene_case_is_answered_with_its_reconstruction():

@@ -188,6 +188,7 @@ mod point;
 mod pose;
 mod pose_starts;
 mod problem;
+mod profile;
 mod refine;
 mod relax;
 mod search;
@@ -205,6 +206,10 @@ pub use pose_starts::{screened_count, screened_poses, Screened, SCREENED_POSES};
 pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
     Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,
+};
+pub use profile::{
+    profile_end, profile_interval, profile_point, profile_rise, ProfileEnd, ProfileInterval,
+    ProfilePoint, PROFILE_LEVEL,
 };
 pub use search::{redo, refined_from};
 pub use stages::{follow, reconstruct};

@@ -235,12 +235,12 @@ function speedsTable(a) {
   intervals(a);
 }
 
-// The study's 90 % intervals (5th to 95th percentile of the draws) beside the speeds, for the
-// text they were drawn from.
+// The study's 90 % intervals of the speeds at contact (the draws' widened to the profile's, as
+// the study reports them) beside the speeds, for the text they were drawn from.
 function intervals(a) {
   const st = state.study;
   const q = st && st.text === state.text && st.off === state.off.join("\n")
-    && st.report.document && st.report.document.quantities;
+    && st.report.document && st.report.document.intervals;
   if (!q || a.question !== "reconstruction") return;
   const u = a.plan.speed_metres || 1;
   const rows = $("speeds").rows;
@@ -249,7 +249,7 @@ function intervals(a) {
     const s = q[`vehicle${rows[i].dataset.vehicle}.speed_at_contact`];
     const td = rows[i].insertCell();
     td.className = "interval";
-    td.textContent = s ? `${(s.p05 / u).toFixed(2)} – ${(s.p95 / u).toFixed(2)}` : "-";
+    td.textContent = s ? `${(s[0] / u).toFixed(2)} – ${(s[1] / u).toFixed(2)}` : "-";
   }
 }
 

@@ -441,6 +441,11 @@ pub fn run_around(
         })
         .map(|(n, _)| n.clone())
         .collect();
+    let profiles = match (&pose, &cancelled) {
+        (None, None) => profiles(done, observer)?,
+        _ => BTreeMap::new(),
+    };
+    let intervals = reported_intervals(&quantities, &profiles);
     let study = ReconstructionStudy {
         units: pim_documents::records::SiUnits,
         kind: "reconstruction",
@@ -450,6 +455,8 @@ pub fn run_around(
         nominal: nominal_values,
         quantities,
         nominal_outside,
+        profiles,
+        intervals,
         samples,
         separations,
         cancelled,
@@ -486,4 +493,67 @@ fn drawn(
                 .min_by(|a, b| a.chi_square.total_cmp(&b.chi_square))
         }
     }
+}
+
+/// Each vehicle's 90 % profile interval of its speed at contact around the answer of `done`
+/// (the two vehicles in parallel; the observer sees each as a step of phase `profile`, and a
+/// vehicle the observer cancels is left out).
+///
+/// # Errors
+/// Input the search cannot use.
+fn profiles(
+    done: &crate::reconstruct::Reconstructed,
+    observer: &dyn crate::watch::Observer,
+) -> Result<BTreeMap<String, pim_reconstruct::ProfileInterval>, DocumentError> {
+    use pim_core::VehicleId;
+    use rayon::prelude::*;
+    let r = &done.input;
+    let phase = crate::watch::Phase::start(observer, "profile", 2);
+    let found: Vec<(VehicleId, Option<pim_reconstruct::ProfileInterval>)> =
+        [VehicleId::One, VehicleId::Two]
+            .par_iter()
+            .map(|&v| {
+                if phase.stopped() {
+                    return Ok((v, None));
+                }
+                let interval = pim_reconstruct::profile_interval(
+                    &r.reconstruction,
+                    &r.settings,
+                    &done.outcome,
+                    v,
+                    pim_reconstruct::PROFILE_LEVEL,
+                )?;
+                phase.step();
+                Ok((v, interval))
+            })
+            .collect::<Result<_, pim_reconstruct::ReconstructError>>()
+            .map_err(|e| DocumentError::Input(format!("the profile intervals: {e}")))?;
+    Ok(found
+        .into_iter()
+        .filter_map(|(v, p)| Some((format!("vehicle{}.speed_at_contact", v.index() + 1), p?)))
+        .collect())
+}
+
+/// [`ReconstructionStudy::intervals`]: each speed at contact's draws' interval widened, on each
+/// side, to its profile's end where the profile reached one.
+fn reported_intervals(
+    quantities: &BTreeMap<String, Summary>,
+    profiles: &BTreeMap<String, pim_reconstruct::ProfileInterval>,
+) -> BTreeMap<String, [f64; 2]> {
+    quantities
+        .iter()
+        .filter(|(name, _)| name.ends_with(".speed_at_contact"))
+        .map(|(name, q)| {
+            let (mut lo, mut hi) = (q.p05, q.p95);
+            if let Some(p) = profiles.get(name) {
+                if p.lower.reached {
+                    lo = lo.min(p.lower.speed);
+                }
+                if p.upper.reached {
+                    hi = hi.max(p.upper.speed);
+                }
+            }
+            (name.clone(), [lo, hi])
+        })
+        .collect()
 }

@@ -69,7 +69,7 @@ pub fn table(
     }
     let _ = writeln!(
         t,
-        "(speeds in {}, energy loss in %{}; the 90 % interval is p05 to p95)\n",
+        "(speeds in {}, energy loss in %{}; the draws' 90 % interval is p05 to p95)\n",
         u.speed_label(),
         if s.quantities.keys().any(|n| n.starts_with("contact ")) {
             format!(
@@ -87,6 +87,47 @@ pub fn table(
             "note: the nominal {q} lies outside its own 90 % interval: the draws' answers are \
              skewed away from it (a nonlinear or bounded answer); read the interval\n"
         );
+    }
+    if !s.intervals.is_empty() {
+        let _ = writeln!(
+            t,
+            "the speeds at contact, 90 % intervals: the draws' (p05 to p95), the profile's (where \
+             the best reconstruction's chi-square has risen {:.2} above the answer's: the \
+             evidence's alone) and the one reported (on each side the wider of the two)",
+            pim_reconstruct::profile_rise(pim_reconstruct::PROFILE_LEVEL)
+        );
+        let _ = writeln!(
+            t,
+            "{:<34} {:>21} {:>21} {:>21}",
+            "quantity", "draws", "profile", "reported"
+        );
+        let pair = |a: f64, b: f64| format!("{:.3} .. {:.3}", u.speed(a), u.speed(b));
+        for (name, [lo, hi]) in &s.intervals {
+            let draws = s
+                .quantities
+                .get(name)
+                .map_or_else(|| "-".into(), |q| pair(q.p05, q.p95));
+            let profile = s.profiles.get(name).map_or_else(
+                || "-".into(),
+                |p| {
+                    let end = |e: &pim_reconstruct::ProfileEnd, beyond: &str| {
+                        let v = format!("{:.3}", u.speed(e.speed));
+                        if e.reached {
+                            v
+                        } else {
+                            format!("{beyond}{v}")
+                        }
+                    };
+                    format!("{} .. {}", end(&p.lower, "<"), end(&p.upper, ">"))
+                },
+            );
+            let _ = writeln!(
+                t,
+                "{name:<34} {draws:>21} {profile:>21} {:>21}",
+                pair(*lo, *hi)
+            );
+        }
+        t.push('\n');
     }
     let _ = writeln!(
         t,

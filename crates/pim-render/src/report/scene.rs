@@ -98,15 +98,18 @@ fn answer(
         )]));
     }
     let spd = u.speed_label();
+    // A speed at contact's reported interval (the draws' widened to the profile's); the other
+    // phases' the draws'.
     let interval = |name: &str| {
         study
-            .and_then(|st| st.quantities.get(name))
-            .map_or_else(String::new, |q| {
-                format!(
-                    " ({} .. {})",
-                    num(u.speed(q.p05), 1),
-                    num(u.speed(q.p95), 1)
-                )
+            .and_then(|st| {
+                st.intervals
+                    .get(name)
+                    .map(|[lo, hi]| (*lo, *hi))
+                    .or_else(|| st.quantities.get(name).map(|q| (q.p05, q.p95)))
+            })
+            .map_or_else(String::new, |(lo, hi)| {
+                format!(" ({} .. {})", num(u.speed(lo), 1), num(u.speed(hi), 1))
             })
     };
     let sgn = frame.sign();
@@ -161,7 +164,9 @@ fn answer(
     s.text(match study {
         Some(st) => format!(
             "In brackets: the 90 % interval of {} refits with every measured input drawn ({} with \
-             an answer; seed {}). Turns: full turns beyond the shortest rotation to the rest \
+             an answer; seed {}), at contact widened on each side to the profile's end (the speed \
+             at which the best reconstruction's chi-square has risen 2.71 above the answer's) \
+             where that is wider. Turns: full turns beyond the shortest rotation to the rest \
              heading, {} positive.",
             st.draws,
             st.feasible_draws,

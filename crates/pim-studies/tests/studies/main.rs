@@ -10,6 +10,7 @@ mod fuzz_inputs;
 mod input_forms;
 mod playback;
 mod realistic_measured;
+mod realistic_profile;
 mod realistic_scenes;
 mod realistic_spread;
 mod scene_coverage;

@@ -396,6 +396,8 @@ pub(crate) struct Outcome {
     pub(crate) found: Option<f64>,
     pub(crate) refused: Option<String>,
     pub(crate) covered: [bool; 2],
+    /// The profile intervals hold the truth.
+    pub(crate) profiled: [bool; 2],
     pub(crate) seconds: f64,
 }
 
@@ -432,6 +434,29 @@ pub(crate) fn run_simulated(
     });
     let study = (draws > 0).then(|| studied(&case, &done, draws, seed));
     let truth_speeds = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
+    let profiled: [bool; 2] = match &study {
+        Some(Ok(study)) => std::array::from_fn(|k| {
+            let p = study
+                .profiles
+                .get(&format!("vehicle{}.speed_at_contact", k + 1));
+            if let Some(p) = p {
+                eprintln!(
+                    "profile {seed} {wheels:?} vehicle{}: truth {:.4} interval {:.4} {:.4} \
+                     (reached {} {}, refits {} {})",
+                    k + 1,
+                    truth_speeds[k],
+                    p.lower.speed,
+                    p.upper.speed,
+                    p.lower.reached,
+                    p.upper.reached,
+                    p.lower.refits,
+                    p.upper.refits
+                );
+            }
+            p.is_some_and(|p| p.lower.speed <= truth_speeds[k] && truth_speeds[k] <= p.upper.speed)
+        }),
+        _ => [false, false],
+    };
     let covered = match study {
         None => [false, false],
         Some(Ok(study)) => std::array::from_fn(|k| {
@@ -474,6 +499,7 @@ pub(crate) fn run_simulated(
         found,
         refused,
         covered,
+        profiled,
         seconds,
     })
 }
@@ -508,9 +534,8 @@ fn wheels_of(i: usize) -> [Wheels; 2] {
     [WHEELS[i % 5], WHEELS[(i / 5 + i) % 5]]
 }
 
-/// `crashes` cases from `first_seed`, `draws` draws each.
-fn sweep(crashes: usize, first_seed: u64, draws: usize) -> Vec<Outcome> {
-    use rayon::prelude::*;
+/// The seeds and wheels of the first `crashes` admissible crashes from `first_seed`.
+pub(crate) fn chosen(crashes: usize, first_seed: u64) -> Vec<(u64, [Wheels; 2])> {
     let mut chosen = Vec::new();
     let mut seed = first_seed;
     while chosen.len() < crashes {
@@ -521,6 +546,12 @@ fn sweep(crashes: usize, first_seed: u64, draws: usize) -> Vec<Outcome> {
         seed += 1;
     }
     chosen
+}
+
+/// `crashes` cases from `first_seed`, `draws` draws each.
+fn sweep(crashes: usize, first_seed: u64, draws: usize) -> Vec<Outcome> {
+    use rayon::prelude::*;
+    chosen(crashes, first_seed)
         .par_iter()
         .filter_map(|&(seed, wheels)| run_case(seed, wheels, draws))
         .collect()
@@ -556,6 +587,15 @@ pub(crate) fn check(results: &[Outcome]) -> f64 {
         .count();
     let n = 2 * results.len();
     eprintln!("coverage {covered}/{n} = {:.3}", covered as f64 / n as f64);
+    let profiled = results
+        .iter()
+        .flat_map(|r| r.profiled)
+        .filter(|c| *c)
+        .count();
+    eprintln!(
+        "profile intervals' coverage {profiled}/{n} = {:.3}",
+        profiled as f64 / n as f64
+    );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     covered as f64 / n as f64
 }
