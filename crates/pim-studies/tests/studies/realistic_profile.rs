@@ -1,6 +1,7 @@
-//! The profile of the chi-square along each contact speed on realistic crashes: the speeds
-//! whose best reconstruction lies within 2.706 of the answer's chi-square (the 90 % interval of
-//! one quantity in a least-squares fit), against the truth.
+//! The profile intervals of the speeds at contact on realistic crashes (the speeds whose best
+//! reconstruction lies within 2.71 of the answer's chi-square: the 90 % interval of one
+//! quantity of a least-squares fit), against the truth: over the sweep's crashes, and over one
+//! crash measured many times.
 use crate::realistic_scenes::{chosen, reconstructed, simulated, Wheels};
 use pim_case::case::Case;
 use pim_core::VehicleId;
@@ -20,12 +21,15 @@ fn interval(done: &pim_studies::reconstruct::Reconstructed, k: usize) -> Option<
     (p.lower.reached && p.upper.reached).then_some((p.lower.speed, p.upper.speed))
 }
 
-/// `CASES` crashes of the sweep: each contact speed's profile interval against the truth.
+/// The 200 crashes of `realistic_cases_200` (`CASES` changes the count): each speed at
+/// contact's profile interval alone holds the truth in 85-95 % (362 of 400, 0.905, each wheel
+/// state 0.89-0.91; about 35 minutes on two cores). The draws' intervals alone held 71 of 100 on
+/// the first 50.
 #[test]
 #[ignore]
 fn profile_intervals_of_realistic_crashes() {
     use rayon::prelude::*;
-    let cases = std::env::var("CASES").map_or(50, |v| v.parse().expect("a whole number"));
+    let cases = std::env::var("CASES").map_or(200, |v| v.parse().expect("a whole number"));
     let rows: Vec<[bool; 2]> = chosen(cases, 100_000)
         .par_iter()
         .filter_map(|&(seed, wheels): &(u64, [Wheels; 2])| {
@@ -54,14 +58,16 @@ fn profile_intervals_of_realistic_crashes() {
         .collect();
     let n = 2 * rows.len();
     let held = rows.iter().flatten().filter(|h| **h).count();
-    eprintln!(
-        "profile intervals holding the truth: {held}/{n} = {:.3}",
-        held as f64 / n as f64
-    );
+    let rate = held as f64 / n as f64;
+    eprintln!("profile intervals holding the truth: {held}/{n} = {rate:.3}");
+    assert_eq!(rows.len(), cases, "every crash answered");
+    assert!((0.85..=0.95).contains(&rate), "coverage {rate}");
 }
 
 /// `SEED`, `WHEELS` measured `MEASUREMENTS` times: how often each profile interval holds the
-/// truth.
+/// truth. Three crashes whose intervals missed the truth as the sweep measures them: 100168
+/// (`Abs,Abs`, 60 measurements) 55 and 54 of 60; 100263 (`Locked,Jammed`, 40) 38 and 37;
+/// 100012 (`Abs,Abs`, 40) 35 and 38: 257 of 280 in all (0.918).
 #[test]
 #[ignore]
 fn one_crash_profiled_many_times() {

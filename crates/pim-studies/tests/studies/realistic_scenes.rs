@@ -395,8 +395,11 @@ pub(crate) struct Outcome {
     pub(crate) truth: f64,
     pub(crate) found: Option<f64>,
     pub(crate) refused: Option<String>,
+    /// The reported 90 % intervals of the speeds at contact hold the truth.
     pub(crate) covered: [bool; 2],
-    /// The profile intervals hold the truth.
+    /// The draws' intervals (p05 to p95) hold it.
+    pub(crate) drawn: [bool; 2],
+    /// The profile intervals hold it.
     pub(crate) profiled: [bool; 2],
     pub(crate) seconds: f64,
 }
@@ -434,53 +437,11 @@ pub(crate) fn run_simulated(
     });
     let study = (draws > 0).then(|| studied(&case, &done, draws, seed));
     let truth_speeds = [s.contact.vehicle1.speed(), s.contact.vehicle2.speed()];
-    let profiled: [bool; 2] = match &study {
-        Some(Ok(study)) => std::array::from_fn(|k| {
-            let p = study
-                .profiles
-                .get(&format!("vehicle{}.speed_at_contact", k + 1));
-            if let Some(p) = p {
-                eprintln!(
-                    "profile {seed} {wheels:?} vehicle{}: truth {:.4} interval {:.4} {:.4} \
-                     (reached {} {}, refits {} {})",
-                    k + 1,
-                    truth_speeds[k],
-                    p.lower.speed,
-                    p.upper.speed,
-                    p.lower.reached,
-                    p.upper.reached,
-                    p.lower.refits,
-                    p.upper.refits
-                );
-            }
-            p.is_some_and(|p| p.lower.speed <= truth_speeds[k] && truth_speeds[k] <= p.upper.speed)
-        }),
-        _ => [false, false],
+    let held = match (&study, done.document.best.as_ref()) {
+        (Some(Ok(study)), Some(best)) => intervals_held(study, best, truth_speeds, (seed, wheels)),
+        _ => Held::default(),
     };
-    let covered = match study {
-        None => [false, false],
-        Some(Ok(study)) => std::array::from_fn(|k| {
-            let q = study
-                .quantities
-                .get(&format!("vehicle{}.speed_at_contact", k + 1));
-            // The answer, the truth and the draws' quantiles (m/s), for the intervals' study.
-            if let (Some(q), Some(b)) = (q, done.document.best.as_ref()) {
-                eprintln!(
-                    "interval {seed} {wheels:?} vehicle{}: answer {:.4} truth {:.4} p05 {:.4} \
-                     p50 {:.4} p95 {:.4} sd {:.4}",
-                    k + 1,
-                    b.vehicles[k].speed_at_contact,
-                    truth_speeds[k],
-                    q.p05,
-                    q.p50,
-                    q.p95,
-                    q.sd
-                );
-            }
-            q.is_some_and(|q| q.p05 <= truth_speeds[k] && truth_speeds[k] <= q.p95)
-        }),
-        Some(Err(_)) => [false, false],
-    };
+    let covered = held.reported;
     eprintln!(
         "seed {seed} {wheels:?}: truth {truth:.3}, found {found:?}, {:.2} s, run-outs {:.1?} m, \
          turns {:.2?}, covered {covered:?}{}",
@@ -499,9 +460,54 @@ pub(crate) fn run_simulated(
         found,
         refused,
         covered,
-        profiled,
+        drawn: held.drawn,
+        profiled: held.profiled,
         seconds,
     })
+}
+
+/// Which of a study's intervals of each speed at contact hold the truth.
+#[derive(Debug, Default)]
+struct Held {
+    reported: [bool; 2],
+    drawn: [bool; 2],
+    profiled: [bool; 2],
+}
+
+/// [`Held`] of `study` around the answer `best`, each vehicle's intervals printed (m/s).
+fn intervals_held(
+    study: &pim_documents::reconstruct_study::ReconstructionStudy,
+    best: &pim_documents::reconstruct_doc::BestOut,
+    truth: [f64; 2],
+    (seed, wheels): (u64, [Wheels; 2]),
+) -> Held {
+    let mut held = Held::default();
+    for k in 0..2 {
+        let name = format!("vehicle{}.speed_at_contact", k + 1);
+        let inside = |lo: f64, hi: f64| lo <= truth[k] && truth[k] <= hi;
+        let q = study.quantities.get(&name);
+        let p = study.profiles.get(&name);
+        let r = study.intervals.get(&name);
+        held.drawn[k] = q.is_some_and(|q| inside(q.p05, q.p95));
+        held.profiled[k] = p.is_some_and(|p| inside(p.lower.speed, p.upper.speed));
+        held.reported[k] = r.is_some_and(|r| inside(r[0], r[1]));
+        eprintln!(
+            "interval {seed} {wheels:?} vehicle{}: answer {:.4} truth {:.4} draws {:.4?} \
+             profile {:.4?} reported {:.4?}",
+            k + 1,
+            best.vehicles[k].speed_at_contact,
+            truth[k],
+            q.map(|q| (q.p05, q.p95)),
+            p.map(|p| (
+                p.lower.speed,
+                p.upper.speed,
+                p.lower.reached,
+                p.upper.reached
+            )),
+            r
+        );
+    }
+    held
 }
 
 /// The uncertainty study of `draws` draws around the reconstruction `done` of `case`.
@@ -587,14 +593,13 @@ pub(crate) fn check(results: &[Outcome]) -> f64 {
         .count();
     let n = 2 * results.len();
     eprintln!("coverage {covered}/{n} = {:.3}", covered as f64 / n as f64);
-    let profiled = results
-        .iter()
-        .flat_map(|r| r.profiled)
-        .filter(|c| *c)
-        .count();
+    let count = |pick: fn(&Outcome) -> [bool; 2]| {
+        results.iter().flat_map(pick).filter(|c| *c).count() as f64 / n as f64
+    };
     eprintln!(
-        "profile intervals' coverage {profiled}/{n} = {:.3}",
-        profiled as f64 / n as f64
+        "the draws' intervals alone {:.3}, the profiles' alone {:.3}",
+        count(|r| r.drawn),
+        count(|r| r.profiled)
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     covered as f64 / n as f64
