@@ -482,9 +482,9 @@ fn intervals_held(
     (seed, wheels): (u64, [Wheels; 2]),
 ) -> Held {
     let mut held = Held::default();
-    for k in 0..2 {
+    for (k, &t) in truth.iter().enumerate() {
         let name = format!("vehicle{}.speed_at_contact", k + 1);
-        let inside = |lo: f64, hi: f64| lo <= truth[k] && truth[k] <= hi;
+        let inside = |lo: f64, hi: f64| lo <= t && t <= hi;
         let q = study.quantities.get(&name);
         let p = study.profiles.get(&name);
         let r = study.intervals.get(&name);
@@ -496,7 +496,7 @@ fn intervals_held(
              profile {:.4?} reported {:.4?}",
             k + 1,
             best.vehicles[k].speed_at_contact,
-            truth[k],
+            t,
             q.map(|q| (q.p05, q.p95)),
             p.map(|p| (
                 p.lower.speed,
