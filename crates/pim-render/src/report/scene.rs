@@ -33,7 +33,9 @@ const HOW_TO_READ: [&str; 6] = [
     "When the evidence conflicts, the consistency table shows the answer with each piece left \
      out in turn: a piece without which the rest fits is the one to check.",
     "The 90 % intervals come from refitting the whole reconstruction with every measured \
-     input drawn from its standard deviation (a parametric bootstrap); they cover what those \
+     input drawn from its standard deviation (a parametric bootstrap); at contact each is \
+     widened to the speeds at which the best reconstruction's chi-square has risen 2.71 above \
+     the answer's (the profile interval) where those lie further out. They cover what those \
      standard deviations cover, not errors of the model or of inputs given without one.",
     "What is proven and what is only found is said in its own section: the impact at the \
      answer is a certified optimum; the separation state is the best one the search found.",
