@@ -1,6 +1,8 @@
 //! The structure of the workspace's source: no import cycle between the files of a crate, no
 //! source file longer than [`MAX_LINES`] outside its tests, and no function longer than
-//! [`MAX_FN_LINES`] (those longer when the limit was set may only shrink: [`LONG_FUNCTIONS`]).
+//! [`MAX_FN_LINES`] (those longer when the limit was set may only shrink: [`LONG_FUNCTIONS`]),
+//! evidence never told apart by its name, the frame never tested and the raw sections never
+//! read above pim-case, and one damped least-squares iteration ([`DAMPED_HOME`]).
 //!
 //! A file imports another when it names an item that the other defines: through `use` (the
 //! `crate::`, `self::`, `super::` and child-module paths of Rust 2018) or an inline
@@ -678,6 +680,71 @@ fn no_raw_section_is_read_above_the_case() {
         }
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// The one damped least-squares iteration: `pim_core::damped` moves Marquardt's damping; no
+/// other library code updates a damping from itself (`lambda *= 4.0`, `lambda = if lambda ==
+/// 0.0 { .. } else { lambda * 10.0 }`, `*lambda /= 3.0`): a second Levenberg-Marquardt loop
+/// implements `pim_core::damped::Damped` instead.
+const DAMPED_HOME: &str = "crates/pim-core/src/damped.rs";
+
+/// The lines of `code` that update a damping (`lambda`, `damping`) from itself.
+fn damping_updates(code: &str) -> Vec<usize> {
+    let mut found = Vec::new();
+    for (n, line) in code.lines().enumerate() {
+        let t = line.trim_start().trim_start_matches('*');
+        for name in ["lambda", "damping"] {
+            let Some(rest) = t.strip_prefix(name) else {
+                continue;
+            };
+            let rest = rest.trim_start();
+            let update = ["*=", "/=", "+=", "-="]
+                .iter()
+                .any(|op| rest.starts_with(op))
+                || rest.strip_prefix('=').is_some_and(|rhs| {
+                    !rhs.starts_with('=')
+                        && rhs.match_indices(name).any(|(i, _)| {
+                            let before = rhs[..i].chars().next_back();
+                            let after = rhs[i + name.len()..].chars().next();
+                            !before.is_some_and(ident) && !after.is_some_and(ident)
+                        })
+                });
+            if update {
+                found.push(n + 1);
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn one_damped_least_squares_loop() {
+    let mut found = Vec::new();
+    for krate in CRATES {
+        for (_, (path, _)) in crate_files(&root().join(krate)) {
+            let file = path.strip_prefix(root()).unwrap().display().to_string();
+            if file == DAMPED_HOME {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            for n in damping_updates(&code_of(&text)) {
+                found.push(format!(
+                    "{file}:{n}: a damping updated from itself: a second damped least-squares \
+                     loop (implement pim_core::damped::Damped)"
+                ));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+#[test]
+fn the_damping_rule_sees_a_second_loop() {
+    let code = code_of(
+        "fn f() {\n    lambda *= 4.0;\n    let lambda = 1e-3;\n    *lambda = (*lambda / 3.0).max(1e-9);\n    \
+         lambda = if lambda == 0.0 { 1e-3 } else { lambda * 10.0 };\n    lambdas = lambda;\n}\n",
+    );
+    assert_eq!(damping_updates(&code), [2, 4, 5]);
 }
 
 #[test]

@@ -118,6 +118,13 @@
 //! the transfer matrix of `X = R x`. The rows are those of [`equations`], evaluated once per
 //! impact. The friction sign of equation 5 is the type [`FrictionSign`].
 //!
+//! ## Damped least squares ([`damped`])
+//! The one Levenberg-Marquardt iteration of the workspace: a problem forms each damped step and
+//! evaluates its trial point ([`damped::Damped`]); [`damped::minimise`] decides which point is
+//! current, how Marquardt's `lambda` moves under rules checked once ([`damped::Rules`]), and
+//! why the iteration ended ([`damped::Termination`]). The run-out inverse, the nonlinear impact
+//! fit, a combination's refinement and the fit of the pose at contact are such problems.
+//!
 //! ## Example
 //! ```
 //! use pim_core::*;
@@ -141,6 +148,7 @@
 //! ```
 
 mod coefficients;
+pub mod damped;
 pub mod equations;
 mod error;
 mod friction;

@@ -25,6 +25,7 @@ use crate::problem::{state_vector, Combination, FitProblem, Knowledge, MomentBra
 use crate::report::{FitReport, Solution, Status};
 use crate::settings::ValidSettings;
 use crate::Result;
+use pim_core::damped::{self, Damped, Limit, Linearised, Lower, Progress, Rules, Step, Verdict};
 use serde::Serialize;
 
 /// A residual in standard deviations, `(observed - predicted) / sigma`, as a function of
@@ -252,8 +253,82 @@ fn optima(report: &FitReport) -> Vec<(MomentBranch, Solution)> {
         .collect()
 }
 
-/// The Gauss-Newton iteration from `start` on the `moment` branch (see the module's text);
-/// `None` when a term is undefined at the start.
+/// A point of the Gauss-Newton iteration: the exact fit's solution and its true cost, the
+/// problem's own evidence's share and each term's residual.
+struct At {
+    solution: Solution,
+    cost: f64,
+    linear: f64,
+    residuals: Vec<f64>,
+}
+
+/// The iteration on one moment branch as a damped least-squares problem: each step is the
+/// exact fit of the problem with the terms linearised at the current point (Marquardt's rows
+/// added with `lambda > 0`).
+struct Descent<'a> {
+    problem: &'a FitProblem,
+    unit: f64,
+    terms: &'a [&'a dyn NonlinearTerm],
+    one: ValidSettings,
+    moment: MomentBranch,
+    fits: &'a mut usize,
+}
+
+impl Damped for Descent<'_> {
+    type Point = At;
+    type Reason = ();
+    type Error = crate::FitError;
+
+    fn cost(&self, p: &At) -> f64 {
+        p.cost
+    }
+
+    fn linearise(&mut self, _: &At, _: bool) -> Result<Linearised> {
+        // Each step linearises the terms itself, with its damping rows.
+        Ok(Linearised::Ready)
+    }
+
+    fn step(&mut self, at: &At, lambda: f64) -> Result<Step<At>> {
+        let u = state_vector(&at.solution.initial, &at.solution.separation);
+        let Some((p, _)) = assemble(self.problem, self.unit, self.terms, &u, lambda) else {
+            return Ok(Step::Unavailable);
+        };
+        *self.fits += 1;
+        let trial = crate::fit(&p, &self.one)?;
+        let next = best(&trial, Some(self.moment)).and_then(|(_, t)| {
+            let v = state_vector(&t.initial, &t.separation);
+            true_cost(self.problem, self.unit, self.terms, &v).map(|c| (t, c))
+        });
+        Ok(match next {
+            Some((solution, (cost, linear, residuals))) => Step::Trial {
+                point: At {
+                    solution,
+                    cost,
+                    linear,
+                    residuals,
+                },
+                predicted: f64::NAN,
+            },
+            None => Step::Failed,
+        })
+    }
+
+    fn accepted(&mut self, from: &At, to: &At, _: &Progress) -> Verdict<()> {
+        let gain = from.cost - to.cost;
+        let u = state_vector(&from.solution.initial, &from.solution.separation);
+        let step = (state_vector(&to.solution.initial, &to.solution.separation) - u).amax();
+        if gain <= 1e-10 * (1.0 + to.cost) || step < 1e-10 {
+            Verdict::Converged
+        } else {
+            Verdict::Continue
+        }
+    }
+}
+
+/// The Gauss-Newton iteration from `start` on the `moment` branch (see the module's text):
+/// undamped until a step fails to lower the true cost, then damped from `lambda` 1e-4, ten
+/// times more after each failure (a minimum above 1e6), undamped again after a success; at
+/// most 60 steps. `None` when a term is undefined at the start.
 fn descend(
     problem: &FitProblem,
     unit: f64,
@@ -263,56 +338,45 @@ fn descend(
     start: Solution,
     fits: &mut usize,
 ) -> Result<Option<End>> {
-    let mut s = start;
-    let u0 = state_vector(&s.initial, &s.separation);
-    let Some((mut cost, mut linear, mut residuals)) = true_cost(problem, unit, terms, &u0) else {
+    let u0 = state_vector(&start.initial, &start.separation);
+    let Some((cost, linear, residuals)) = true_cost(problem, unit, terms, &u0) else {
         return Ok(None);
     };
-    let mut lambda = 0.0;
-    let mut iterations = 0;
-    let mut converged = false;
-    while iterations < 60 {
-        iterations += 1;
-        let u = state_vector(&s.initial, &s.separation);
-        let Some((p, _)) = assemble(problem, unit, terms, &u, lambda) else {
-            break;
-        };
-        let mut one = settings.clone();
-        one.0.branches = vec![moment];
-        *fits += 1;
-        let trial = crate::fit(&p, &one)?;
-        let next = best(&trial, Some(moment)).and_then(|(_, t)| {
-            let v = state_vector(&t.initial, &t.separation);
-            true_cost(problem, unit, terms, &v).map(|c| (t, c))
-        });
-        match next {
-            Some((t, (c, q, r))) if c < cost => {
-                let gain = cost - c;
-                let step = (state_vector(&t.initial, &t.separation) - u).amax();
-                s = t;
-                (cost, linear, residuals) = (c, q, r);
-                lambda = 0.0;
-                if gain <= 1e-10 * (1.0 + cost) || step < 1e-10 {
-                    converged = true;
-                    break;
-                }
-            }
-            _ => {
-                lambda = if lambda == 0.0 { 1e-4 } else { lambda * 10.0 };
-                if lambda > 1e6 {
-                    converged = true;
-                    break;
-                }
-            }
-        }
+    let mut one = settings.clone();
+    one.0.branches = vec![moment];
+    let rules = Rules {
+        start: 0.0,
+        first: 1e-4,
+        raise: 10.0,
+        lower: Lower::Reset,
+        most: 1e6,
+        tries: None,
+        limit: Limit::Trials(60),
     }
-    Ok(Some(End {
+    .checked()
+    .expect("the nonlinear fit's damping rules are in range");
+    let mut descent = Descent {
+        problem,
+        unit,
+        terms,
+        one,
         moment,
-        solution: s,
+        fits,
+    };
+    let at = At {
+        solution: start,
         cost,
         linear,
         residuals,
-        iterations,
-        converged,
+    };
+    let end = damped::minimise(&mut descent, at, &rules)?;
+    Ok(Some(End {
+        moment,
+        solution: end.point.solution,
+        cost: end.point.cost,
+        linear: end.point.linear,
+        residuals: end.point.residuals,
+        iterations: end.trials,
+        converged: end.termination.converged(),
     }))
 }

@@ -2,9 +2,9 @@
 //! combination's momentum bound, its counts of turns and its scenes' cost alone.
 
 use crate::error::NoPoint;
+use crate::impact_fit::assemble;
 use crate::point::{linearised, Lin};
 use crate::problem::{Reconstruction, Settings};
-use crate::refine::assemble;
 use pim_runout::Estimate;
 use rayon::prelude::*;
 

@@ -195,6 +195,7 @@ mod combos;
 mod error;
 mod friction_step;
 mod from;
+mod impact_fit;
 mod outcome;
 mod point;
 mod pose;

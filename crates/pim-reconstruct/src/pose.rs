@@ -9,6 +9,7 @@ use crate::problem::{Reconstruction, Settings};
 use crate::refine::refine_start;
 use crate::work::Work;
 use nalgebra::{DMatrix, DVector};
+use pim_core::damped::{self, Damped, Limit, Linearised, Progress, Rules, Step, Verdict};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -252,54 +253,34 @@ where
             reason: format!("{} offsets for {n} unknowns", start.offsets.len()),
         });
     }
-    let mut at = eval(start.offsets, start.found)?;
+    let at = eval(start.offsets, start.found)?;
     let given = start
         .jacobian
         .filter(|j| j.nrows() == at.z.len() && j.ncols() == n);
     let held = given.filter(|_| start.hold);
-    let mut lambda = 1e-3;
-    let mut iterations = 0;
-    let mut converged = false;
-    // The Jacobian: differenced at the start (or held), then updated by Broyden's rank-one
-    // rule after each accepted step; differenced again before convergence is declared on an
-    // updated one, or where an updated one finds no step that lowers the cost.
-    let mut jac: Option<DMatrix<f64>> = given.cloned();
-    let mut fresh = true;
-    let mut last = None;
-    while iterations < MAX_ITERATIONS {
-        iterations += 1;
-        let j = match jac.take() {
-            Some(j) => j,
-            None => {
-                fresh = true;
-                match jacobian(&eval, &at, unknowns) {
-                    Some(j) => j,
-                    None => break,
-                }
-            }
-        };
-        let (a, g) = normal_equations(&j, &at, unknowns);
-        let final_j = fresh || held.is_some();
-        match lm_step(&eval, &at, (&a, &g), unknowns, &mut lambda) {
-            Step::Accepted(trial) => {
-                let mut j = j;
-                if held.is_none() {
-                    broyden(&mut j, &at, &trial, unknowns);
-                    fresh = false;
-                }
-                at = *trial;
-                last = Some(j.clone());
-                jac = Some(j);
-            }
-            other if final_j => {
-                converged = matches!(other, Step::Converged);
-                last = Some(j);
-                break;
-            }
-            // On an updated Jacobian: differenced again.
-            _ => {}
-        }
+    let rules = Rules {
+        most: f64::INFINITY,
+        tries: Some(12),
+        ..Rules::classic(1e-9, Limit::Linearisations(MAX_ITERATIONS))
     }
+    .checked()
+    .expect("the pose fit's damping rules are in range");
+    let mut descent = Descent {
+        eval: &eval,
+        unknowns,
+        held: held.is_some(),
+        next: given.cloned(),
+        fresh: true,
+        current: DMatrix::zeros(0, 0),
+        normal: (DMatrix::zeros(0, 0), DVector::zeros(0)),
+        last: None,
+    };
+    let end = match damped::minimise(&mut descent, at, &rules) {
+        Ok(end) => end,
+        Err(never) => match never {},
+    };
+    let (at, iterations, converged) = (end.point, end.linearisations, end.termination.converged());
+    let last = descent.last;
     let a_last = last.as_ref().map(|j| normal_equations(j, &at, unknowns).0);
     let sigmas = match a_last.and_then(|a| a.try_inverse()) {
         Some(inv) => (0..n).map(|j| inv[(j, j)].max(0.0).sqrt()).collect(),
@@ -320,16 +301,6 @@ where
     })
 }
 
-/// What a Levenberg-Marquardt step gave.
-enum Step {
-    /// A point of lower cost.
-    Accepted(Box<At>),
-    /// The step the linearised problem predicts gains less than the tolerance.
-    Converged,
-    /// No damping found a point of lower cost.
-    Failed,
-}
-
 /// The normal equations of the data and the priors at `at` with the Jacobian `j`: `A = J^T J +
 /// diag(1/s^2)`, `g = J^T z + p / s^2`.
 fn normal_equations(
@@ -346,46 +317,99 @@ fn normal_equations(
     (a, g)
 }
 
-/// One Levenberg-Marquardt step from `at`: damped more until a point of lower cost is found
-/// (at most twelve tries), `lambda` kept for the next.
-fn lm_step<E>(
-    eval: &E,
-    at: &At,
-    (a, g): (&DMatrix<f64>, &DVector<f64>),
-    unknowns: &[PoseUnknown],
-    lambda: &mut f64,
-) -> Step
+/// The pose fit as a damped least-squares problem: the Jacobian differenced (or held, or
+/// given), updated by Broyden's rule after each accepted step, differenced again where an
+/// updated one finds no step; Marquardt's damping `A_kk (1 + lambda)`.
+struct Descent<'a, E> {
+    eval: &'a E,
+    unknowns: &'a [PoseUnknown],
+    /// The Jacobian is held through the iterations.
+    held: bool,
+    /// The Jacobian for the next linearisation (given, held or updated), if any.
+    next: Option<DMatrix<f64>>,
+    /// The Jacobian in use was differenced (or given) at its point, not updated.
+    fresh: bool,
+    /// The Jacobian in use and its normal equations.
+    current: DMatrix<f64>,
+    normal: (DMatrix<f64>, DVector<f64>),
+    /// The Jacobian of the answer (the one in use, updated after the last accepted step).
+    last: Option<DMatrix<f64>>,
+}
+
+impl<E> Damped for Descent<'_, E>
 where
     E: Fn(&[f64], &Found) -> Result<At> + Sync,
 {
-    for _ in 0..12 {
+    type Point = At;
+    type Reason = ();
+    type Error = std::convert::Infallible;
+
+    fn cost(&self, p: &At) -> f64 {
+        p.cost
+    }
+
+    fn linearise(&mut self, at: &At, exact: bool) -> std::result::Result<Linearised, Self::Error> {
+        if exact {
+            self.next = None;
+        }
+        let j = match self.next.take() {
+            Some(j) => j,
+            None => {
+                self.fresh = true;
+                match jacobian(self.eval, at, self.unknowns) {
+                    Some(j) => j,
+                    None => return Ok(Linearised::Impossible),
+                }
+            }
+        };
+        self.normal = normal_equations(&j, at, self.unknowns);
+        self.last = Some(j.clone());
+        self.current = j;
+        Ok(Linearised::Ready)
+    }
+
+    fn exact(&self) -> bool {
+        self.fresh || self.held
+    }
+
+    fn step(&mut self, at: &At, lambda: f64) -> std::result::Result<Step<At>, Self::Error> {
+        let (a, g) = &self.normal;
         let mut damped = a.clone();
-        for k in 0..unknowns.len() {
-            damped[(k, k)] *= 1.0 + *lambda;
+        for k in 0..self.unknowns.len() {
+            damped[(k, k)] *= 1.0 + lambda;
         }
         let Some(step) = damped.cholesky().map(|c| c.solve(&(-g))) else {
-            *lambda *= 4.0;
-            continue;
+            return Ok(Step::Singular);
         };
         // The gain the linearised problem predicts.
         let predicted = -(2.0 * g.dot(&step) + (step.transpose() * a * &step)[(0, 0)]);
         let small = step
             .iter()
-            .zip(unknowns)
+            .zip(self.unknowns)
             .all(|(s, u)| s.abs() < 1e-2 * u.sigma);
         if predicted < 1e-4 * (1.0 + at.cost) || small {
-            return Step::Converged;
+            return Ok(Step::Negligible);
         }
         let p: Vec<f64> = at.p.iter().zip(step.iter()).map(|(x, s)| x + s).collect();
-        match eval(&p, &at.found) {
-            Ok(trial) if trial.z.len() == at.z.len() && trial.cost < at.cost => {
-                *lambda = (*lambda / 3.0).max(1e-9);
-                return Step::Accepted(Box::new(trial));
-            }
-            _ => *lambda *= 4.0,
-        }
+        Ok(match (self.eval)(&p, &at.found) {
+            Ok(trial) if trial.z.len() == at.z.len() => Step::Trial {
+                point: trial,
+                predicted: at.cost - predicted,
+            },
+            _ => Step::Failed,
+        })
     }
-    Step::Failed
+
+    fn accepted(&mut self, from: &At, to: &At, _: &Progress) -> Verdict<()> {
+        let mut j = std::mem::replace(&mut self.current, DMatrix::zeros(0, 0));
+        if !self.held {
+            broyden(&mut j, from, to, self.unknowns);
+            self.fresh = false;
+        }
+        self.last = Some(j.clone());
+        self.next = Some(j);
+        Verdict::Continue
+    }
 }
 
 /// Broyden's rank-one update of `j` from `from` to `to`, in the priors' metric: `J += (dz - J

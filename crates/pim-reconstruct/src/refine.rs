@@ -2,251 +2,20 @@
 //! exact impact fit inside.
 
 use crate::error::NoPoint;
-use crate::friction_step::FrictionStep;
+use crate::impact_fit::{fit_once, Fitted, Step};
 use crate::point::{differentiated, linearised, velocity_of, Lin, Point};
 use crate::problem::{Reconstruction, Settings};
 use crate::work::Work;
-use pim_fit::{
-    fit, state_vector, Combination, FitProblem, MomentBranch, Solution, Status as FitStatus,
-    Vector12,
+use pim_core::damped::{
+    self, Damped, Limit, Linearised, Lower, Progress, Rules, Step as DampedStep, Termination,
+    Verdict,
 };
+use pim_fit::{state_vector, Vector12};
 use rayon::prelude::*;
-
-/// An impact fit's work in run-out evaluations (a run-out's right-hand side: 0.7 us): each
-/// branch on the convex route [`CONVEX_FIT_EVALUATIONS`], on the grid route one per operation
-/// of its search (cost evaluation, exact solve, QP solve, grid point), plus one per elementary
-/// operation of its inner problems (pim-fit's `Certificate::operations`: linear solves,
-/// active-set steps, interior-point iterations). Measured over 450 fits of ordinary and hostile
-/// scenes, an operation so counted takes 0.36 to 1.3 us whatever the problem, so the count
-/// bounds the time within a small factor on a given machine; it does not time it.
-fn fit_work(report: &pim_fit::FitReport) -> u64 {
-    let search: u64 = report
-        .branches
-        .iter()
-        .map(|b| {
-            let c = &b.certificate;
-            match c.method.route {
-                pim_fit::Route::Convex => CONVEX_FIT_EVALUATIONS,
-                pim_fit::Route::Grid => {
-                    (c.evaluations + c.exact_solves + c.qp_solves + c.grid_points) as u64
-                }
-            }
-        })
-        .sum();
-    // The operations are counted once for the whole fit (every branch).
-    search
-        + report
-            .branches
-            .first()
-            .map_or(0, |b| b.certificate.operations)
-}
-
-/// An impact fit on the convex route, in run-out evaluations.
-pub(crate) const CONVEX_FIT_EVALUATIONS: u64 = 150;
 
 /// The scenes' count of data at `p` (their residuals).
 pub(crate) fn scene_data(p: &Point) -> usize {
     p.scene.iter().map(|l| l.lin.weighted.len()).sum()
-}
-
-/// The impact fit with each scene linearised (rows in chi-square units, weight 1 each) and,
-/// with `damping`, Marquardt's rows that keep the separation state near the current one. Every
-/// weight is scaled by one factor into (0, 1]; the fit's cost over that factor is the
-/// chi-square of the linearised problem. With fitted frictions, the scenes' rows and the
-/// frictions' own rows are projected onto the complement of the frictions' columns: the
-/// linearised cost minimised over the frictions for every velocity state (exact for a linear
-/// model), and the [`FrictionStep`] that gives those frictions back.
-pub(crate) fn assemble(
-    r: &Reconstruction,
-    lins: &[Lin],
-    damping: Option<(f64, &[Lin])>,
-    at: Option<&Vector12>,
-) -> (FitProblem, f64, Option<FrictionStep>) {
-    let unit = r.unit.unwrap_or(1.0);
-    let mut problem = r.contact.clone();
-    // Chi-square weights first.
-    for w in problem.weights_mut() {
-        *w /= unit;
-    }
-    // The nonlinear evidence linearised at the current state (none before the first).
-    if let Some(u) = at {
-        problem.combinations.extend(nonlinear_rows(r, u));
-    }
-    let step = if r.frictions.is_empty() {
-        for l in lins {
-            let base = 6 + 3 * r.scene[l.vehicle].id.index();
-            let j = l.jacobian();
-            for i in 0..j.nrows() {
-                let mut row = Vector12::zeros();
-                let mut target = -l.lin.weighted[i];
-                for c in 0..3 {
-                    row[base + c] = j[(i, c)];
-                    target += j[(i, c)] * l.at[c];
-                }
-                push_row(&mut problem, row, target);
-            }
-        }
-        None
-    } else {
-        let step = FrictionStep::new(r, lins);
-        let projected = step.projected();
-        for k in 0..projected.0.nrows() {
-            let row = Vector12::from_iterator(projected.0.row(k).iter().copied());
-            push_row(&mut problem, row, row.dot(&step.at) - projected.1[k]);
-        }
-        Some(step)
-    };
-    if let Some((lambda, around)) = damping {
-        for l in around {
-            let base = 6 + 3 * r.scene[l.vehicle].id.index();
-            let j = l.jacobian();
-            let jtj = j.transpose() * j;
-            let largest = (0..3).map(|c| jtj[(c, c)]).fold(0.0, f64::max).max(1e-12);
-            for c in 0..3 {
-                let mut row = Vector12::zeros();
-                row[base + c] = 1.0;
-                problem.combinations.push(Combination {
-                    row,
-                    value: l.at[c],
-                    weight: lambda * jtj[(c, c)].max(1e-6 * largest),
-                });
-            }
-        }
-    }
-    let largest = problem.weights_mut().fold(0.0_f64, |m, w| m.max(*w));
-    let scale = if largest > 0.0 { 1.0 / largest } else { 1.0 };
-    for w in problem.weights_mut() {
-        *w = (*w * scale).max(f64::MIN_POSITIVE);
-    }
-    (problem, scale, step)
-}
-
-/// A linearised row `(row . U - target)^2` as a combination of the problem (a row that no
-/// velocity moves adds only a constant and is left out).
-fn push_row(problem: &mut FitProblem, row: Vector12, target: f64) {
-    let norm = row.norm();
-    if norm > 1e-12 {
-        problem.combinations.push(Combination {
-            row: row / norm,
-            value: target / norm,
-            weight: norm * norm,
-        });
-    }
-}
-
-/// Each piece of nonlinear evidence linearised at `u`, `z(U) ~ z(u) + g (U - u)` with `z` the
-/// residual in standard deviations and `g` by forward differences over the free components:
-/// a combination row in chi-square units.
-fn nonlinear_rows(r: &Reconstruction, u: &Vector12) -> Vec<Combination> {
-    let z = |v: &Vector12, t: &dyn crate::StateEvidence| t.residual(v).map(|(x, s)| x / s);
-    let free: Vec<usize> = (0..12)
-        .filter(|&k| !matches!(r.contact.components[k], pim_fit::Knowledge::Known { .. }))
-        .collect();
-    let mut rows = Vec::new();
-    for t in &r.nonlinear.0 {
-        let Some(z0) = z(u, t.as_ref()) else { continue };
-        let mut g = Vector12::zeros();
-        for &k in &free {
-            let h = 1e-6 * (1.0 + u[k].abs());
-            let mut v = *u;
-            v[k] += h;
-            if let Some(z1) = z(&v, t.as_ref()) {
-                g[k] = (z1 - z0) / h;
-            }
-        }
-        let norm = g.norm();
-        if norm > 1e-300 {
-            rows.push(Combination {
-                row: g / norm,
-                value: (g.dot(u) - z0) / norm,
-                weight: norm * norm,
-            });
-        }
-    }
-    rows
-}
-
-/// An impact fit's answer: its branch, solution and certificate, and the frictions that go
-/// with its velocities.
-struct Fitted {
-    branch: MomentBranch,
-    solution: Solution,
-    certificate: pim_fit::Certificate,
-    mus: Vec<f64>,
-    /// The linearised problem's chi-square at the fit (damping rows included).
-    predicted: f64,
-}
-
-/// How an impact fit of the linearised problem may move the separation state.
-#[derive(Clone, Copy)]
-enum Step<'a> {
-    /// Freely (Gauss-Newton's step).
-    Free,
-    /// Kept near the scenes' linearisation points by Marquardt's damping `lambda`.
-    Damped(f64, &'a [Lin]),
-    /// Not at all: held at the scenes' linearisation points (the impact fitted to them).
-    Held,
-}
-
-impl<'a> Step<'a> {
-    /// Marquardt's damping `lambda` about `around` (none at 0).
-    fn marquardt(lambda: f64, around: &'a [Lin]) -> Step<'a> {
-        if lambda > 0.0 {
-            Step::Damped(lambda, around)
-        } else {
-            Step::Free
-        }
-    }
-}
-
-/// One impact fit of the linearised problem: the best optimal branch, or why there is none.
-fn fit_once(
-    r: &Reconstruction,
-    settings: &Settings,
-    lins: &[Lin],
-    step: Step<'_>,
-    at: Option<&Vector12>,
-    work: &Work,
-) -> std::result::Result<Fitted, NoPoint> {
-    let damping = match step {
-        Step::Damped(lambda, around) => Some((lambda, around)),
-        Step::Free | Step::Held => None,
-    };
-    let (mut problem, scale, frictions) = assemble(r, lins, damping, at);
-    if matches!(step, Step::Held) {
-        for l in lins {
-            let base = 6 + 3 * r.scene[l.vehicle].id.index();
-            for c in 0..3 {
-                problem.components[base + c] = pim_fit::Knowledge::Known { value: l.at[c] };
-            }
-        }
-    }
-    let report = fit(&problem, &settings.fit)?;
-    work.add(fit_work(&report));
-    let best = report.best_branch().ok_or_else(|| {
-        NoPoint::NoImpact(
-            report
-                .branches
-                .iter()
-                .find_map(|b| b.reason.as_ref().map(|x| x.to_string()))
-                .unwrap_or_else(|| "no admissible impact".into()),
-        )
-    })?;
-    match (&best.status, &best.solution) {
-        (FitStatus::Optimal, Some(s)) => {
-            let mus = frictions.map_or_else(Vec::new, |st| {
-                st.frictions_at(&state_vector(&s.initial, &s.separation))
-            });
-            Ok(Fitted {
-                branch: best.moment,
-                solution: s.clone(),
-                certificate: best.certificate.clone(),
-                mus,
-                predicted: s.cost / scale,
-            })
-        }
-        _ => Err(NoPoint::Ended(best.status)),
-    }
 }
 
 /// Evaluates the true cost of a fit's answer: the contact evidence and each scene's run-out.
@@ -463,8 +232,131 @@ pub(crate) fn refine_probe(
     refine(r, settings, first, best_so_far, work)
 }
 
-/// Gauss-Newton (Levenberg-Marquardt on the separation state) for one combination of counts,
-/// on from its first point, abandoned where it stays far above `best_so_far`.
+/// Why a refinement stopped before it converged.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Ended {
+    /// Far above the best found and no longer closing the gap.
+    Abandoned,
+    /// At the rate of its steps the iterations left could not bring the chi-square below 10
+    /// per datum.
+    Hopeless,
+    /// The search's budget of work is spent.
+    Exhausted,
+}
+
+/// One combination's refinement as a damped least-squares problem: each step is the exact
+/// impact fit of the scenes linearised at the current point, with Marquardt's rows that keep
+/// the separation states near it.
+struct Refinement<'a> {
+    r: &'a Reconstruction,
+    settings: &'a Settings,
+    work: &'a Work,
+    counts: Vec<i64>,
+    /// The scenes linearised at the current point.
+    lins: Vec<Lin>,
+    best_so_far: f64,
+}
+
+impl Damped for Refinement<'_> {
+    type Point = Point;
+    type Reason = Ended;
+    type Error = std::convert::Infallible;
+
+    fn cost(&self, p: &Point) -> f64 {
+        p.total
+    }
+
+    /// Relinearised at the point accepted last: its run-outs with their derivatives (the
+    /// run-outs not simulated again). A point that cannot be differentiated ends the
+    /// refinement there.
+    fn linearise(&mut self, at: &Point, _: bool) -> Result<Linearised, Self::Error> {
+        Ok(match relinearised(self.r, self.settings, at, self.work) {
+            Ok(next) => {
+                self.lins = next;
+                Linearised::Ready
+            }
+            Err(_) => Linearised::Impossible,
+        })
+    }
+
+    fn step(&mut self, at: &Point, lambda: f64) -> Result<DampedStep<Point>, Self::Error> {
+        let damping = Step::marquardt(lambda, &self.lins);
+        let x = state_vector(&at.solution.initial, &at.solution.separation);
+        let fitted = fit_once(
+            self.r,
+            self.settings,
+            &self.lins,
+            damping,
+            Some(&x),
+            self.work,
+        );
+        let Ok(fitted) = fitted else {
+            return Ok(DampedStep::Failed);
+        };
+        let predicted = fitted.predicted;
+        Ok(
+            match evaluate(self.r, self.settings, &self.counts, fitted, self.work) {
+                Some(point) => DampedStep::Trial { point, predicted },
+                None => DampedStep::Failed,
+            },
+        )
+    }
+
+    fn observe(&mut self, _: &Progress) -> Option<Ended> {
+        self.work.exhausted().then_some(Ended::Exhausted)
+    }
+
+    fn accepted(&mut self, from: &Point, to: &Point, progress: &Progress) -> Verdict<Ended> {
+        let gain = from.total - to.total;
+        let total = to.total;
+        // The first point counts as an iteration.
+        let iterations = progress.trials + 1;
+        // A chi-square change of 1e-6 is far below any statistical meaning and near the
+        // precision of the run-outs' forward differences.
+        if gain < GAIN * (1.0 + total) || largest_step(to, from) < 1e-9 {
+            return Verdict::Converged;
+        }
+        // Far above the best found and no longer closing the gap: abandoned.
+        let excess = total - self.best_so_far - self.settings.refine_margin;
+        if excess > 0.0 && (gain < 0.01 * excess || iterations >= 8) {
+            return Verdict::Stop(Ended::Abandoned);
+        }
+        // Evidence far from every admissible impact and run-out: when, at the rate of this
+        // step, the iterations left could not bring the chi-square below 10 per datum
+        // (residuals of three standard deviations on average; the evidence is then refused
+        // whatever its last digits), the refinement stops here, not converged, instead of
+        // crawling on through long run-outs.
+        let data = self.r.contact_data() + scene_data(to);
+        let left = self.settings.max_iterations.saturating_sub(iterations) as i32;
+        let projected = total * (1.0 - (gain / total).min(1.0)).powi(left);
+        if iterations >= 4 && projected > 10.0 * data.max(1) as f64 {
+            return Verdict::Stop(Ended::Hopeless);
+        }
+        Verdict::Continue
+    }
+
+    fn failed(&mut self, at: &Point, trial: Option<&Point>, _: &Progress) -> Verdict<Ended> {
+        // A trial no worse than the current point by more than the convergence tolerance: the
+        // step is lost in the run-outs' precision, and so is anything left to gain.
+        if trial.is_some_and(|p| p.total - at.total < GAIN * (1.0 + at.total)) {
+            return Verdict::Converged;
+        }
+        // Far above the best found, and the linearisation's step fails there: the
+        // combination's scenes are not near what its linearised bound assumed.
+        if at.total > self.best_so_far + self.settings.refine_margin {
+            return Verdict::Stop(Ended::Abandoned);
+        }
+        Verdict::Continue
+    }
+}
+
+/// Gauss-Newton (Levenberg-Marquardt on the separation state, `pim_core::damped`) for one
+/// combination of counts, on from its first point, abandoned where it stays far above
+/// `best_so_far`. Undamped until a step fails; then `lambda` from 1e-3, ten times more after
+/// each failure (a minimum above 1e6), lowered by Nielsen's rule after a success (kept near
+/// what the step needed, not dropped, so that a valley the linearisation overshoots is not
+/// crossed again and again by undamped steps). At most `max_iterations` points, the first
+/// included.
 fn refine(
     r: &Reconstruction,
     settings: &Settings,
@@ -473,104 +365,44 @@ fn refine(
     work: &Work,
 ) -> Refined {
     let Probe { point, lins, .. } = first;
-    let counts: Vec<i64> = lins.iter().map(|l| l.turns).collect();
-    let mut lins = lins;
-    // `lins` are those of the point before the one accepted last (linearised again at the
-    // accepted one before the next step).
-    let mut stale = true;
-    let mut current = point;
-    let mut lambda = 0.0;
-    let mut fits = 1;
-    let mut iterations = 1;
-    let mut converged = false;
-    let mut abandoned = false;
-    while iterations < settings.max_iterations {
-        if work.exhausted() {
-            break;
-        }
-        // Relinearised at the point accepted last: its run-outs with their derivatives (the
-        // run-outs not simulated again).
-        if stale {
-            match relinearised(r, settings, &current, work) {
-                Ok(next) => lins = next,
-                // The point accepted last cannot be differentiated: the refinement ends there.
-                Err(_) => break,
-            }
-            stale = false;
-        }
-        iterations += 1;
-        let damping = Step::marquardt(lambda, &lins);
-        fits += 1;
-        let at = state_vector(&current.solution.initial, &current.solution.separation);
-        let fitted = fit_once(r, settings, &lins, damping, Some(&at), work);
-        let predicted = fitted.as_ref().map_or(f64::NAN, |f| f.predicted);
-        let trial =
-            fitted.and_then(|f| evaluate(r, settings, &counts, f, work).ok_or(NoPoint::Runout));
-        let accepted = trial.as_ref().is_ok_and(|p| p.total < current.total);
-        if accepted {
-            let p = trial.expect("accepted");
-            let gain = current.total - p.total;
-            let step = largest_step(&p, &current);
-            // Linearised at the accepted point (its derivatives added when the refinement goes
-            // on from it).
-            stale = true;
-            let total = p.total;
-            if lambda > 0.0 {
-                lambda *= nielsen(gain, gain + total - predicted);
-            }
-            current = p;
-            // A chi-square change of 1e-6 is far below any statistical meaning and near the
-            // precision of the run-outs' forward differences.
-            if gain < GAIN * (1.0 + total) || step < 1e-9 {
-                converged = true;
-                break;
-            }
-            // Far above the best found and no longer closing the gap: abandoned.
-            let excess = total - best_so_far - settings.refine_margin;
-            if excess > 0.0 && (gain < 0.01 * excess || iterations >= 8) {
-                abandoned = true;
-                break;
-            }
-            // Evidence far from every admissible impact and run-out: when, at the rate of
-            // this step, the iterations left could not bring the chi-square below 10 per
-            // datum (residuals of three standard deviations on average; the evidence is then
-            // refused whatever its last digits), the refinement stops here, not converged,
-            // instead of crawling on through long run-outs.
-            let data = r.contact_data() + scene_data(&current);
-            let left = settings.max_iterations.saturating_sub(iterations) as i32;
-            let projected = total * (1.0 - (gain / total).min(1.0)).powi(left);
-            if iterations >= 4 && projected > 10.0 * data.max(1) as f64 {
-                break;
-            }
-        } else {
-            // A trial no worse than the current point by more than the convergence tolerance:
-            // the step is lost in the run-outs' precision, and so is anything left to gain.
-            if let Ok(p) = &trial {
-                if p.total - current.total < GAIN * (1.0 + current.total) {
-                    converged = true;
-                    break;
-                }
-            }
-            // Far above the best found, and the linearisation's step fails there: the
-            // combination's scenes are not near what its linearised bound assumed.
-            if current.total > best_so_far + settings.refine_margin {
-                abandoned = true;
-                break;
-            }
-            lambda = if lambda == 0.0 { 1e-3 } else { lambda * 10.0 };
-            if lambda > 1e6 {
-                // No step lowers the cost: a (local) minimum to the run-outs' precision.
-                converged = true;
-                break;
-            }
-        }
+    if settings.max_iterations < 2 {
+        return Refined {
+            point,
+            iterations: 1,
+            converged: false,
+            abandoned: false,
+            fits: 1,
+        };
     }
+    let rules = Rules {
+        start: 0.0,
+        first: 1e-3,
+        raise: 10.0,
+        lower: Lower::Nielsen,
+        most: 1e6,
+        tries: None,
+        limit: Limit::Trials(settings.max_iterations - 1),
+    }
+    .checked()
+    .expect("the refinement's damping rules are in range");
+    let mut problem = Refinement {
+        r,
+        settings,
+        work,
+        counts: lins.iter().map(|l| l.turns).collect(),
+        lins,
+        best_so_far,
+    };
+    let end = match damped::minimise(&mut problem, point, &rules) {
+        Ok(end) => end,
+        Err(never) => match never {},
+    };
     Refined {
-        point: current,
-        iterations,
-        converged,
-        abandoned,
-        fits,
+        point: end.point,
+        iterations: 1 + end.trials,
+        converged: end.termination.converged(),
+        abandoned: end.termination == Termination::Stopped(Ended::Abandoned),
+        fits: 1 + end.trials,
     }
 }
 
@@ -604,20 +436,6 @@ fn largest_step(a: &Point, b: &Point) -> f64 {
                 .fold(0.0, f64::max)
         })
         .fold(0.0, f64::max)
-}
-
-/// Marquardt's damping after a success, the factor on `lambda`: kept near what the step needed
-/// (Nielsen's rule `max(1/3, 1 - (2 rho - 1)^3)`, `rho` the gain over the linearised fit's
-/// `predicted_gain`: down to a third where the linearisation predicted the gain well, up to
-/// twice where it did not), not dropped, so that a valley the linearisation overshoots is not
-/// crossed again and again by undamped steps.
-fn nielsen(gain: f64, predicted_gain: f64) -> f64 {
-    let rho = gain / predicted_gain;
-    if rho.is_finite() && rho > 0.0 {
-        (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0)
-    } else {
-        1.0 / 3.0
-    }
 }
 
 /// A refinement has converged when a step gains less than this times (1 + its chi-square):

@@ -2,8 +2,8 @@
 //! evidence (the impact) needs of the run-out.
 
 use super::evidence::{Evidence, Residual};
+use super::levenberg::jacobian;
 use super::problem::Problem;
-use super::search::jacobian;
 use crate::chassis::{Chassis, Motion};
 use crate::error::Result;
 use crate::simulate::{Runout, Settings};

@@ -70,6 +70,7 @@
 
 mod evidence;
 mod headings;
+mod levenberg;
 mod linear;
 mod problem;
 mod scatter;

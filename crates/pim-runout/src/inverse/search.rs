@@ -5,12 +5,13 @@ use super::evidence::{
     Alternative, Candidate, Evidence, Quantity, Residual, ALTERNATIVE_COST, MAX_ALTERNATIVES,
     MAX_SEARCH_SPEED, MAX_SEARCH_YAW_RATE,
 };
+use super::levenberg::{jacobian, levenberg, Search};
 use super::problem::Problem;
 use super::starts::{around, toward_nearest_mark, turned};
 use crate::chassis::{Motion, GRAVITY};
 use crate::error::Result;
 use crate::simulate::{End, Runout};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// The first guess of a candidate: a uniform deceleration along the line from the start to
 /// the rest (or the first mark), turning through the candidate's rotation in the same time;
@@ -96,23 +97,6 @@ pub(crate) fn bounded(theta: &mut [f64]) {
     theta[2] = theta[2].clamp(-0.95 * MAX_SEARCH_YAW_RATE, 0.95 * MAX_SEARCH_YAW_RATE);
 }
 
-/// The state of a least-squares search.
-struct Search {
-    theta: Vec<f64>,
-    r: DVector<f64>,
-    run: Runout,
-    cost: f64,
-    jac: DMatrix<f64>,
-    converged: bool,
-    iterations: usize,
-}
-
-/// An exploring search (and a quick candidate's polish) has converged when a step gains less
-/// than this times (1 + its chi-square): a change of a millionth in a chi-square is far below
-/// any statistical meaning (the whole reconstruction's refinement stops at the same gain). A
-/// precise polish goes on to the run-outs' own precision.
-pub(crate) const GAIN: f64 = 1e-6;
-
 /// `start` searched on each of the softened evidence `soft` in turn, then on `coarse` (the
 /// evidence as given, exploring run-outs), counting run-outs and iterations.
 fn softly(
@@ -131,101 +115,6 @@ fn softly(
     let s = levenberg(coarse, theta, EXPLORE_ITERATIONS, runouts, false)?;
     *iterations += s.iterations;
     Ok(s)
-}
-
-/// Levenberg-Marquardt (Marquardt's scaling) from `theta`, the Jacobian by forward
-/// differences at every point; `precise`: converged only at the run-outs' precision (a gain
-/// below 1e-7 of the cost), else at a gain of [`GAIN`].
-fn levenberg(
-    p: &Problem,
-    mut theta: Vec<f64>,
-    max_iterations: usize,
-    runouts: &mut usize,
-    precise: bool,
-) -> Result<Search> {
-    // The least gain worth a step, and the least predicted gain worth a run-out; an exploring
-    // search never goes below what the run-outs' tolerance lets the cost resolve
-    // (Problem::noise), a precise one goes on to the run-outs' own precision (the answer).
-    let least = |cost: f64, noise: f64| {
-        if precise {
-            (1e-7 * cost + 1e-14, 1e-9 * cost + 1e-22)
-        } else {
-            let (step, trial) = (GAIN * (1.0 + cost), 0.1 * GAIN * (1.0 + cost));
-            (step.max(noise), trial.max(noise))
-        }
-    };
-    let n = p.n();
-    *runouts += 1;
-    let (mut r, mut run_now) = p.weighted(&theta)?;
-    let mut cost = r.norm_squared();
-    let mut noise = p.noise(&r, &run_now);
-    let mut lambda = 1e-3;
-    let mut converged = false;
-    let mut iterations = 0;
-    let mut jac = DMatrix::zeros(r.len(), n);
-    while iterations < max_iterations {
-        iterations += 1;
-        jac = jacobian(p, &theta, &r, &run_now, runouts)?;
-        let a = jac.transpose() * &jac;
-        let g = jac.transpose() * &r;
-        if cost < 1e-24 || g.norm() < 1e-14 * (1.0 + cost) {
-            converged = true;
-            break;
-        }
-        let mut improved = false;
-        while lambda < 1e12 {
-            let mut m = a.clone();
-            for i in 0..n {
-                m[(i, i)] += lambda * a[(i, i)].max(1e-12);
-            }
-            let Some(step) = m.cholesky().map(|c| c.solve(&(-&g))) else {
-                lambda *= 4.0;
-                continue;
-            };
-            // The decrease the linear model predicts: below the least worth a run-out there is
-            // nothing left to gain.
-            let predicted = -(2.0 * g.dot(&step) + (&a * &step).dot(&step));
-            if predicted < least(cost, noise).1 {
-                break;
-            }
-            let trial: Vec<f64> = theta.iter().zip(step.iter()).map(|(t, s)| t + s).collect();
-            *runouts += 1;
-            match p.weighted(&trial) {
-                Ok((rt, run_t)) if rt.norm_squared() < cost => {
-                    let new_cost = rt.norm_squared();
-                    let small_step = step.norm() < 1e-10 * (1.0 + norm(&theta));
-                    let small_gain = cost - new_cost < least(cost, noise).0;
-                    theta = trial;
-                    r = rt;
-                    run_now = run_t;
-                    cost = new_cost;
-                    noise = p.noise(&r, &run_now);
-                    lambda = (lambda / 3.0).max(1e-12);
-                    improved = true;
-                    converged = small_step || small_gain;
-                    break;
-                }
-                _ => lambda *= 4.0,
-            }
-        }
-        if !improved {
-            // No step lowers the cost: a (local) minimum to the precision of the run-outs.
-            converged = true;
-            break;
-        }
-        if converged {
-            break;
-        }
-    }
-    Ok(Search {
-        theta,
-        r,
-        run: run_now,
-        cost,
-        jac,
-        converged,
-        iterations,
-    })
 }
 
 /// Tolerances of the run-outs that explore from each start before the best is polished.
@@ -527,47 +416,6 @@ fn alternatives_of(
         kept.push(t);
     }
     out
-}
-
-fn norm(x: &[f64]) -> f64 {
-    x.iter().map(|v| v * v).sum::<f64>().sqrt()
-}
-
-/// The Jacobian of the weighted residuals at `theta`, whose run-out is `nominal` and weighted
-/// residuals `r0`: forward differences of run-outs integrated through the nominal's accepted
-/// steps (internal numerical differentiation, the step [`INTERNAL_STEP`](super::problem::INTERNAL_STEP) of `1 + |theta_j|`);
-/// where the nominal cannot be replayed (inputs by distance), of run-outs with steps of their
-/// own, the step the square root of the run-outs' relative tolerance (which keeps their noise
-/// and the truncation error alike small). At the edge of the searched states, the backward
-/// difference.
-pub(crate) fn jacobian(
-    p: &Problem,
-    theta: &[f64],
-    r0: &DVector<f64>,
-    nominal: &Runout,
-    runouts: &mut usize,
-) -> Result<DMatrix<f64>> {
-    let n = p.n();
-    let mut jac = DMatrix::zeros(r0.len(), n);
-    let relative = p.difference_step(nominal);
-    for j in 0..n {
-        let h = relative * (1.0 + theta[j].abs());
-        let mut t = theta.to_vec();
-        t[j] += h;
-        *runouts += 1;
-        let (r1, h) = match p.stepped(&t, nominal) {
-            Ok(r1) => (r1, h),
-            Err(_) => {
-                t[j] = theta[j] - h;
-                *runouts += 1;
-                (p.stepped(&t, nominal)?, -h)
-            }
-        };
-        for i in 0..r0.len() {
-            jac[(i, j)] = (r1[i] - r0[i]) / h;
-        }
-    }
-    Ok(jac)
 }
 
 /// Standard errors of the unknowns and the directions the evidence does not determine, from
