@@ -172,6 +172,17 @@ pub fn profile_end(
     };
     let target = profile_rise(level).sqrt();
     let g0 = forward(r, best, vehicle);
+    // The speed is the forward speed's magnitude (it is the speed itself in every crash that
+    // drives forward): its lower end moves the forward speed toward zero, its upper end away,
+    // and neither crosses zero (a reversed vehicle is another answer, not a slower one) nor the
+    // search's velocity bound (past which no refit can follow the pull).
+    let bound = settings.fit.get().velocity_bound;
+    let toward = if g0 < 0.0 { -sign } else { sign };
+    let range = if g0 < 0.0 {
+        (-bound, 0.0)
+    } else {
+        (0.0, bound)
+    };
     let mut inside = Point {
         pull: g0,
         forward: g0,
@@ -188,7 +199,14 @@ pub fn profile_end(
     while refits < MAX_REFITS {
         refits += 1;
         let v = match outside {
-            None => inside.pull + sign * step,
+            None => {
+                let v = (inside.pull + toward * step).clamp(range.0, range.1);
+                if v == inside.pull {
+                    // At the edge of the range with the profile still inside: not reached.
+                    break;
+                }
+                v
+            }
             Some(o) => inside.pull + (o.pull - inside.pull) * f_in / (f_in - f_out),
         };
         let Some(p) = pulled(r, settings, nominal, (vehicle, v), best.chi_square)? else {

@@ -344,17 +344,17 @@ impl Dynamics {
         }
         let mut lifted = [false; 4];
         for _ in 0..4 {
-            let mut a = nalgebra::Matrix2::from_diagonal_element(self.mass);
-            let mut rhs = nalgebra::Vector2::zeros();
+            let mut a = [[self.mass, 0.0], [0.0, self.mass]];
+            let mut rhs = [0.0; 2];
             for i in (0..4).filter(|&i| !lifted[i]) {
                 let w = &self.wheels[i];
                 for (row, gi) in g[i].iter().enumerate() {
                     rhs[row] += w.load * gi;
-                    a[(row, 0)] -= gi * w.transfer[0];
-                    a[(row, 1)] -= gi * w.transfer[1];
+                    a[row][0] -= gi * w.transfer[0];
+                    a[row][1] -= gi * w.transfer[1];
                 }
             }
-            let Some(acc) = a.lu().solve(&rhs) else {
+            let Some(acc) = solve2(a, rhs) else {
                 return loads;
             };
             let mut again = false;
@@ -424,6 +424,31 @@ impl Dynamics {
     }
 }
 
+/// `a x = b` for a 2 x 2 `a` (rows), by Gaussian elimination with partial pivoting: the
+/// operations of nalgebra's `LU::new(a).solve(b)` one for one (the same results to the bit),
+/// without its general matrices (the run-outs solve this system at every evaluation of their
+/// forces). `None` where `a` is singular.
+fn solve2(a: [[f64; 2]; 2], b: [f64; 2]) -> Option<[f64; 2]> {
+    // The pivot: the larger of the first column (the first where they tie).
+    let ([u0, mut u1], [mut b0, mut b1]) = if a[1][0].abs() > a[0][0].abs() {
+        ([a[1], a[0]], [b[1], b[0]])
+    } else {
+        ([a[0], a[1]], b)
+    };
+    if u0[0] == 0.0 {
+        return None;
+    }
+    let l = u1[0] * (1.0 / u0[0]);
+    u1[1] -= u0[1] * l;
+    b1 -= b0 * l;
+    if u1[1] == 0.0 {
+        return None;
+    }
+    let x1 = b1 / u1[1];
+    b0 -= x1 * u0[1];
+    Some([b0 / u0[0], x1])
+}
+
 /// The tyre of a wheel with braking share `share` (none: locked) on the friction `mu`.
 fn tyre_of(share: Option<f64>, mu: f64, rolling_resistance: f64) -> Tyre {
     match share {
@@ -463,4 +488,48 @@ pub(crate) fn derivative(d: &Dynamics, y: &State) -> State {
 #[inline]
 fn speed(x: f64, y: f64) -> f64 {
     (x * x + y * y).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::solve2;
+    use proptest::prelude::*;
+
+    /// nalgebra's LU solve, the operations `solve2` repeats.
+    fn lu(a: [[f64; 2]; 2], b: [f64; 2]) -> Option<[f64; 2]> {
+        let m = nalgebra::Matrix2::new(a[0][0], a[0][1], a[1][0], a[1][1]);
+        m.lu()
+            .solve(&nalgebra::Vector2::new(b[0], b[1]))
+            .map(|x| [x[0], x[1]])
+    }
+
+    fn bits(x: Option<[f64; 2]>) -> Option<[u64; 2]> {
+        x.map(|x| x.map(f64::to_bits))
+    }
+
+    proptest! {
+        #[test]
+        fn the_2x2_solve_is_nalgebras_lu_to_the_bit(
+            a in prop::array::uniform4(-1e4..1e4f64),
+            b in prop::array::uniform2(-1e4..1e4f64),
+        ) {
+            let a = [[a[0], a[1]], [a[2], a[3]]];
+            prop_assert_eq!(bits(solve2(a, b)), bits(lu(a, b)));
+        }
+    }
+
+    #[test]
+    fn ties_and_singular_matrices_as_nalgebra() {
+        for a in [
+            [[2.0, 1.0], [-2.0, 3.0]],
+            [[0.0, 1.0], [0.0, 3.0]],
+            [[1.0, 2.0], [2.0, 4.0]],
+            [[0.0, 1.0], [1.0, 0.0]],
+            [[1500.0, -0.0], [0.0, 1500.0]],
+        ] {
+            let b = [3.0, -7.0];
+            assert_eq!(bits(solve2(a, b)), bits(lu(a, b)), "{a:?}");
+        }
+        assert!(solve2([[1.0, 2.0], [2.0, 4.0]], [1.0, 1.0]).is_none());
+    }
 }
