@@ -6,6 +6,12 @@ use crate::inertia::{from_outline, RULE};
 use crate::sections::InertiaSource;
 
 impl Case {
+    /// The spreads of the case's `[uncertainty]` as loaded (none where it has no such
+    /// section): the one place its absence is read as "nothing drawn".
+    pub fn spreads(&self) -> crate::spread::UncertaintySection {
+        self.content.uncertainty.unwrap_or_default()
+    }
+
     /// Gives each vehicle without a yaw inertia the estimate from its outline (in SI, after
     /// the units are converted; the loader has checked that such a vehicle writes its length
     /// and width) and records it as estimated.

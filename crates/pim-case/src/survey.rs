@@ -186,6 +186,11 @@ fn header(file: &str, record: &csv::StringRecord) -> Result<[usize; 5]> {
 }
 
 impl Case {
+    /// The case's `[survey]`, if it has one.
+    pub fn survey(&self) -> Option<&crate::scene_sections::SurveySection> {
+        self.content.survey.as_ref()
+    }
+
     /// Checks `[survey]` (ids given once, coordinates finite) and every piece of evidence that
     /// names a survey point: the point exists and the evidence lies on it (within
     /// [`ON_POINT`]), in the file's own units.

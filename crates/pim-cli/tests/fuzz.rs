@@ -5,7 +5,7 @@
 //! and every number it prints must read as finite), and a fit that exits 0 has an admissible
 //! best branch.
 //!
-//! Bounded in time: `PIM_FUZZ_SECONDS` (default 25) of mutations in a fixed, seeded order, so
+//! Bounded in time: `PIM_FUZZ_SECONDS` (default 10) of mutations in a fixed, seeded order, so
 //! that a run is reproducible up to where the time ends; `PIM_FUZZ_SEED` picks another order.
 //! Each failing input is written to `target/tmp/cli_fuzz_failures/` (add it to
 //! `tests/fuzz-corpus/`, which is replayed through the command first, every run).
@@ -209,7 +209,7 @@ fn mutated_example_cases_through_the_command() {
     let seconds: u64 = std::env::var("PIM_FUZZ_SECONDS")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(25);
+        .unwrap_or(10);
     let seed: u8 = std::env::var("PIM_FUZZ_SEED")
         .ok()
         .and_then(|s| s.parse().ok())

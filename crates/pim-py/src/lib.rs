@@ -267,7 +267,7 @@ fn uncertainty(
         Some(c) => pim_studies::fitcase::CostChoice::Preset(c),
         None => pim_studies::fitcase::CostChoice::Custom,
     };
-    let unc = case.content.uncertainty.unwrap_or_default();
+    let unc = case.spreads();
     let model = self::model(model)?;
     let study = crate::convert::watched(py, threads, progress, |observer| {
         pim_studies::uncertainty::run(

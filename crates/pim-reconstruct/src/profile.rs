@@ -203,6 +203,7 @@ pub fn profile_end(
                 let v = (inside.pull + toward * step).clamp(range.0, range.1);
                 if (v - inside.pull).abs() < 1e-9 {
                     // At the edge of the range with the profile still inside: not reached.
+                    refits -= 1;
                     break;
                 }
                 v

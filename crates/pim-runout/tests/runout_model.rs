@@ -421,6 +421,7 @@ fn driver_inputs_agree_with_an_independent_implementation() {
 /// The first 12 run-outs of each kind of [`driver_inputs_agree_with_an_independent_implementation`]
 /// (its 120 take 36 s on two cores, run with `--ignored`).
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn driver_inputs_agree_with_an_independent_implementation_12() {
     driver_inputs_agree(12);
 }

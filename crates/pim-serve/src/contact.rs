@@ -263,11 +263,7 @@ pub fn edit_contact(
         }
     }
     let snapped = match (&change.point, change.centre) {
-        (Some(id), Some(_)) => Some(crate::survey::survey_point(
-            &case.file,
-            case.content.survey.as_ref(),
-            id,
-        )?),
+        (Some(id), Some(_)) => Some(crate::survey::survey_point(&case.file, case.survey(), id)?),
         _ => None,
     };
     if let Some(c) = snapped.or(change.centre.map(point)) {

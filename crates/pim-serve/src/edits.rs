@@ -260,9 +260,7 @@ pub fn add_mark(
     }
     let mut on = OnFile::of(file, text, units)?;
     let p = match point {
-        Some(id) => {
-            crate::survey::survey_point(&on.case.file, on.case.content.survey.as_ref(), id)?
-        }
+        Some(id) => crate::survey::survey_point(&on.case.file, on.case.survey(), id)?,
         None => on.point(at),
     };
     let mut entries = vec![

@@ -163,7 +163,7 @@ pub(crate) fn plan(
         convention: case.written,
         units: case.written_units,
         background: case.content.background.clone(),
-        survey: case.content.survey.clone(),
+        survey: case.survey().cloned(),
     }
     .plan(&case.file, units);
     let page_angle = |a: f64| page_angle(&page, a);

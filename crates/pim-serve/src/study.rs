@@ -105,7 +105,7 @@ pub fn studied(
             serde_json::to_value(&study)
         }
         _ => {
-            let unc = case.content.uncertainty.unwrap_or_default();
+            let unc = case.spreads();
             let study = pim_studies::uncertainty::run(
                 &case,
                 &unc,

@@ -65,7 +65,7 @@ pub(crate) fn placed_on(
         edit.remove(&format!("{key}.point"));
         return Ok(None);
     };
-    let p = survey_point(&case.file, case.content.survey.as_ref(), id)?;
+    let p = survey_point(&case.file, case.survey(), id)?;
     for (axis, value) in [("x", p[0]), ("y", p[1])] {
         edit.set(&format!("{key}.{axis}"), NewValue::Written(value))
             .map_err(|e| input(&e))?;

@@ -277,7 +277,7 @@ pub(crate) fn intervals(
     draws: usize,
     seed: u64,
 ) -> pim_case::Result<BTreeMap<String, Summary>> {
-    let unc = case.content.uncertainty.unwrap_or_default();
+    let unc = case.spreads();
     crate::uncertainty::run(
         case,
         &unc,

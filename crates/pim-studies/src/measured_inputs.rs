@@ -305,7 +305,7 @@ mod tests {
     }
 
     fn inputs(c: &Case) -> Vec<crate::uncertainty::Input> {
-        let unc = c.content.uncertainty.unwrap_or_default();
+        let unc = c.spreads();
         let mut all = crate::uncertainty::inputs(c, &unc).unwrap();
         all.extend(super::measured_inputs(c).unwrap());
         all
@@ -358,7 +358,7 @@ mod tests {
         assert!(one.iter().any(|i| i.name == "vehicle2.impact_point.x"));
         assert!(!one.iter().any(|i| i.name == "vehicle2.impact_point.y"));
         let bad = case("[uncertainty.vehicle2]\nimpact_point = { x = { uniform = [4.7, 1.6] } }\n");
-        let unc = bad.content.uncertainty.unwrap_or_default();
+        let unc = bad.spreads();
         let err = crate::uncertainty::inputs(&bad, &unc)
             .err()
             .unwrap()

@@ -361,7 +361,7 @@ pub fn run_around(
     seed: u64,
     observer: &dyn crate::watch::Observer,
 ) -> Result<ReconstructionStudy, DocumentError> {
-    let unc = case.content.uncertainty.unwrap_or_default();
+    let unc = case.spreads();
     let mut all = inputs(case, &unc)?;
     all.extend(scene_inputs(case));
     all.extend(zone_inputs(case));

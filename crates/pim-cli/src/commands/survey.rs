@@ -40,7 +40,7 @@ pub fn run(a: &SurveyArgs) -> Result<ExitCode> {
     if !a.dry_run {
         let points = pim_case::case::Case::from_text(&name, &done.text)
             .ok()
-            .and_then(|c| c.content.survey)
+            .and_then(|c| c.survey().cloned())
             .map_or(0, |s| s.points.len());
         eprintln!(
             "pim: {name}: [survey] of {points} points from {source} (version {})",

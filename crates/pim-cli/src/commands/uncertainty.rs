@@ -120,7 +120,7 @@ pub fn run(a: &UncertaintyArgs) -> Result<ExitCode> {
         Some(c) => CostChoice::Preset(c),
         None => CostChoice::Custom,
     };
-    let unc = case.content.uncertainty.unwrap_or_default();
+    let unc = case.spreads();
     let (pool, bar) = super::study::pool_and_bar(a)?;
     let observer = super::study::Bar(bar.clone());
     let study = pool.install(|| {

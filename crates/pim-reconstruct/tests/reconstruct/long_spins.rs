@@ -63,6 +63,7 @@ fn sweep(crashes: usize, first_seed: u64) -> Vec<String> {
 }
 
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn long_spinning_runouts_never_cost_more_than_the_truth() {
     let failures = sweep(8, 70_000);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -72,6 +73,7 @@ fn long_spinning_runouts_never_cost_more_than_the_truth() {
 /// a wrong basin: four refused as inconsistent (chi-square 337 to 1,082 against the truth's 9
 /// to 23) and one answered at 13.05 against 11.66.
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn crashes_whose_scenes_have_several_basins() {
     let failures: Vec<String> = [80_325, 80_549, 80_787, 80_914, 81_377]
         .into_iter()

@@ -45,7 +45,7 @@ fn batch_and_uncertainty_figures_keep_their_text_apart_and_inside() {
         &std::fs::read_to_string(&case_path).unwrap(),
     )
     .unwrap();
-    let unc = case.content.uncertainty.unwrap_or_default();
+    let unc = case.spreads();
     let study = pim_studies::uncertainty::run(
         &case,
         &unc,

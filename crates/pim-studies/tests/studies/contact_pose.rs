@@ -190,6 +190,7 @@ fn pose_fitted_toward_the_truth(mut seed: u64, w: [Wheels; 2], draws: usize) -> 
 }
 
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn a_pose_stated_wrong_is_fitted_toward_the_truth() {
     let (before, after) = pose_fitted_toward_the_truth(71_005, [Wheels::Abs, Wheels::Locked], 30);
     // Toward the truth, in the priors' metric.
@@ -227,6 +228,7 @@ fn a_pose_stated_wrong_is_fitted_toward_the_truth_for_every_wheel_state() {
 /// the summary, lies below the whole fit like every row, and its speeds come back toward the
 /// example's.
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn a_prior_the_scene_contradicts_is_a_row_of_the_consistency_table() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let text =

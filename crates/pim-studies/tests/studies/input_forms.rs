@@ -456,7 +456,7 @@ fn fits_and_draws_agree(a: &Case, b: &Case) {
     let study = |c: &Case| {
         pim_studies::uncertainty::run(
             c,
-            &c.content.uncertainty.unwrap_or_default(),
+            &c.spreads(),
             pim_studies::fitcase::CostChoice::Preset(CostPreset::Q3),
             pim_fit::FitSettings::default(),
             40,

@@ -33,6 +33,7 @@ fn crashes(count: usize, first_seed: u64, draws: usize) -> Vec<crate::realistic_
 
 /// Five crashes, every wheel state on each vehicle: answered at or below the truth.
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn measured_scenes_are_answered() {
     check(&crashes(5, 120_000, 0));
 }
@@ -59,6 +60,7 @@ fn measured_scenes_40() {
 /// it answers at 10.2 with the true counts of turns (-1, -1) and 18.60 / 10.88 m/s at contact
 /// against 18.66 / 10.74.
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn a_long_steered_runout_is_answered() {
     let wheels = [Wheels::Steered, Wheels::Abs];
     let s = simulated_as(128_000, wheels, false, true).expect("an admissible crash");

@@ -405,6 +405,7 @@ fn the_written_case_is_the_simulated_collision() {
 /// chi-square; the intervals hold the truth in most (a binomial 90 % gives fewer than 17 of
 /// 24 with probability 0.2 %).
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn simulated_cases_are_answered_and_their_intervals_cover() {
     let results = sweep(12, 7_000, 40);
     assert_eq!(results.len(), 12);
@@ -427,6 +428,7 @@ fn simulated_cases_200() {
 /// linearised bounds: short, slow, spinning run-outs of 1.3 to 8 m whose scenes alone fit other
 /// counts of turns better); they are answered below the truth's chi-square.
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn cases_whose_linearisation_does_not_hold_are_answered() {
     for (seed, variant) in [(70_000, Variant::Plain), (71_222, Variant::Crush)] {
         let r = run_case(seed, variant, 4).expect("drawn");

@@ -23,7 +23,7 @@ fn study(draws: usize, observer: &dyn Observer) -> pim_studies::uncertainty::Stu
     let case = case();
     pim_studies::uncertainty::run(
         &case,
-        &case.content.uncertainty.unwrap_or_default(),
+        &case.spreads(),
         pim_studies::fitcase::CostChoice::Preset(pim_fit::CostPreset::Q2),
         pim_fit::FitSettings::default(),
         draws,

@@ -26,6 +26,7 @@ fn verge(sigma: Option<f64>) -> Case {
 /// seed): the verge's friction is among the inputs drawn (the centre of its prior), and the
 /// 90 % interval of the SUV's speed at separation is wider with it.
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn a_zones_friction_is_drawn_by_the_study() {
     let width = |case: &Case| {
         let done = pim_studies::reconstruct::reconstruct(
@@ -87,6 +88,7 @@ fn a_zones_friction_is_drawn_by_the_study() {
 /// hold the truth, and the same case without its zone does not answer as well (its wheels on
 /// the road's friction throughout cannot reach the rest the verge let them reach).
 #[test]
+#[ignore = "long: tests/long runs it"]
 fn a_run_out_onto_a_verge_is_answered_on_the_verges_friction() {
     for wheels in VERGE_WHEELS {
         let (seed, s) = (95_000..)
