@@ -3,7 +3,30 @@
 
 use crate::case::Case;
 use crate::inertia::{from_outline, RULE};
-use crate::sections::InertiaSource;
+use crate::sections::{InertiaSource, VehicleSection};
+
+impl VehicleSection {
+    /// The vehicle's outline about its CG, m: its length and width as given, each left out
+    /// estimated from its mass ([`pim_core::outline::typical_dimensions`]), its CG halfway
+    /// along where `cg_to_front` is left out; and whether the length or the width was
+    /// estimated. The one place these defaults are applied.
+    pub fn outline(&self) -> (pim_core::outline::Outline, bool) {
+        let (length, width) = match (self.length, self.width) {
+            (Some(l), Some(w)) => (l, w),
+            (l, w) => {
+                let (tl, tw) = pim_core::outline::typical_dimensions(self.mass);
+                (l.unwrap_or(tl), w.unwrap_or(tw))
+            }
+        };
+        let front = self.cg_to_front.unwrap_or(length / 2.0);
+        let outline = pim_core::outline::Outline {
+            cg_to_front: front,
+            cg_to_rear: length - front,
+            width,
+        };
+        (outline, self.length.is_none() || self.width.is_none())
+    }
+}
 
 impl Case {
     /// The spreads of the case's `[uncertainty]` as loaded (none where it has no such

@@ -21,6 +21,7 @@
 //!
 //! Bad input is an [`InputError`] whose message names the file, line and field.
 
+mod asks;
 pub mod case;
 mod checks;
 pub mod contact_pose;

@@ -160,15 +160,9 @@ impl Case {
             }
             // The impact centre against the outline (in SI, the vehicle's own frame).
             let (x, y) = impact_point_cartesian(v.d(), v.phi());
-            let (length, width) = match (v.length, v.width) {
-                (Some(l), Some(w)) => (l, w),
-                (l, w) => {
-                    let (tl, tw) = pim_core::outline::typical_dimensions(v.mass);
-                    (l.unwrap_or(tl), w.unwrap_or(tw))
-                }
-            };
-            let front = v.cg_to_front.unwrap_or(length / 2.0);
-            let rear = length - front;
+            let (o, _) = v.outline();
+            let (front, rear, width) = (o.cg_to_front, o.cg_to_rear, o.width);
+            let length = front + rear;
             let outside = (x - front).max(-rear - x).max(y.abs() - width / 2.0);
             if outside > CRUSH_MARGIN {
                 let field = if v.impact_point.is_some() {

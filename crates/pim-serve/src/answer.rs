@@ -186,11 +186,7 @@ pub fn answer_without(
         }
         // A case that gives its coefficients and nothing to fit is solved, as `pim solve`
         // solves it (`pim fit` refuses it).
-        _ if case.content.coefficients.is_some()
-            && case.content.estimates.is_none()
-            && case.content.known.is_none()
-            && case.content.observations.is_empty() =>
-        {
+        Question::Solve => {
             let solved = pim_studies::documents::solve(&case, &pim_core::SolveOptions::default())
                 .map_err(|e| input(&e))?;
             let table = pim_render::solved::solved_table(&title, &solved, units, case.written);
@@ -213,7 +209,7 @@ pub fn answer_without(
                 None,
             ))
         }
-        _ => fit_answer(&case, &title, units, branches),
+        Question::Impact => fit_answer(&case, &title, units, branches),
     }
 }
 

@@ -29,7 +29,7 @@ pub fn check_text(file: &str, text: &str) -> Result<Case, crate::documents::Docu
                 pim_fit::MomentBranch::ALL.to_vec(),
             )?;
         }
-        crate::question::Question::Impact => {
+        crate::question::Question::Impact | crate::question::Question::Solve => {
             if crate::fitcase::is_fit_case(&case) {
                 crate::fitcase::problem(&case, crate::fitcase::CostChoice::Custom)?;
                 crate::fitcase::settings(

@@ -3,7 +3,8 @@
 //! A case with scene evidence (`[scene]` rest positions or marks) asks for its whole
 //! reconstruction: the scene, the impact and the pre-impact evidence in one fit. With a cost
 //! preset (`--cost`, `cost=`) the same case asks for the fit of its contact estimates alone.
-//! Every other case asks for the fit of its impact. `pim fit`, `pim uncertainty`, `pim report`,
+//! A case that gives its coefficients and nothing to fit asks for a solve. Every other case
+//! asks for the fit of its impact. `pim fit`, `pim uncertainty`, `pim report`,
 //! `pim batch` and the Python package all decide through [`Question::of`], and show the notes
 //! it gives.
 
@@ -17,6 +18,9 @@ pub enum Question {
     Impact,
     /// The whole reconstruction ([`crate::reconstruct`], [`crate::consistency::answer`]).
     Reconstruction,
+    /// The solve of the six equations from the case's coefficients and a state
+    /// ([`crate::documents::solve`]): a case with its coefficients and nothing to fit.
+    Solve,
 }
 
 /// A question and what a face says of it.
@@ -41,6 +45,8 @@ impl Question {
                 }
             }
             Question::Reconstruction
+        } else if !scene && case.asks_only_a_solve() {
+            Question::Solve
         } else {
             if scene {
                 notes.push(format!(
@@ -56,12 +62,38 @@ impl Question {
 }
 
 /// True when the case's `[scene]` gives evidence (a rest position or a mark) for a vehicle:
-/// `pim fit` then reconstructs.
+/// `pim fit` then reconstructs ([`Case::has_scene_evidence`]).
 pub fn has_scene_evidence(case: &Case) -> bool {
-    case.content.scene.as_ref().is_some_and(|s| {
-        [&s.vehicle1, &s.vehicle2]
-            .into_iter()
-            .flatten()
-            .any(|v| v.rest.is_some() || !v.rest_tyres.is_empty() || !v.marks.is_empty())
-    })
+    case.has_scene_evidence()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Question, Question::*};
+    use pim_case::case::Case;
+
+    fn example(name: &str) -> Case {
+        let path = format!("{}/../../examples/cases/{name}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        Case::from_text(&path, &text).unwrap()
+    }
+
+    /// Each question decided by the case: coefficients and nothing to fit a solve, estimates a
+    /// fit, scene evidence a reconstruction (its estimates alone with a cost preset).
+    #[test]
+    fn every_question_is_decided_from_the_case() {
+        for (name, cost, asked) in [
+            ("side_impact.toml", None, Solve),
+            ("ricsac7_us.toml", None, Solve),
+            ("ricsac7_fit.toml", None, Impact),
+            ("reconstruction_us.toml", None, Reconstruction),
+            (
+                "reconstruction_us.toml",
+                Some(pim_fit::CostPreset::Q2),
+                Impact,
+            ),
+        ] {
+            assert_eq!(Question::of(&example(name), cost).question, asked, "{name}");
+        }
+    }
 }

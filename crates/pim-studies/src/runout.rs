@@ -88,7 +88,7 @@ fn separation(
     }
     let wanted = source.or(if c.final_.is_some() {
         Some(Source::Final)
-    } else if c.coefficients.is_some() && c.initial.is_some() {
+    } else if case.solvable() {
         Some(Source::Solve)
     } else {
         None

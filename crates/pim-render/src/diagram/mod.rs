@@ -353,8 +353,7 @@ pub fn case_diagram(
     options: &pim_core::SolveOptions,
 ) -> Result<Diagram, pim_studies::documents::DocumentError> {
     let impact = case.impact()?;
-    let c = &case.content;
-    let solved = if c.coefficients.is_some() && (c.initial.is_some() || c.final_.is_some()) {
+    let solved = if case.solvable() {
         Some(pim_studies::documents::solve(case, options)?.report)
     } else {
         None

@@ -17,32 +17,17 @@ impl Outline {
     /// The case's outline, or the default of its mass class enlarged (if needed) to reach the
     /// impact centre at `point` (body frame, m).
     pub fn of(v: &VehicleSection, point: [f64; 2]) -> Self {
-        match (v.length, v.width) {
-            (Some(length), Some(width)) => {
-                let front = v.cg_to_front.unwrap_or(length / 2.0);
-                Outline {
-                    body: pim_core::outline::Outline {
-                        cg_to_front: front,
-                        cg_to_rear: length - front,
-                        width,
-                    },
-                    defaulted: false,
-                }
-            }
-            (length, width) => {
-                let (l, w) = pim_core::outline::typical_dimensions(v.mass);
-                let length = length.unwrap_or(l);
-                let width = width.unwrap_or(w);
-                let front = v.cg_to_front.unwrap_or(length / 2.0);
-                Outline {
-                    body: pim_core::outline::Outline {
-                        cg_to_front: front.max(point[0]),
-                        cg_to_rear: (length - front).max(-point[0]),
-                        width: width.max(2.0 * point[1].abs()),
-                    },
-                    defaulted: true,
-                }
-            }
+        let (body, defaulted) = v.outline();
+        if !defaulted {
+            return Outline { body, defaulted };
+        }
+        Outline {
+            body: pim_core::outline::Outline {
+                cg_to_front: body.cg_to_front.max(point[0]),
+                cg_to_rear: body.cg_to_rear.max(-point[0]),
+                width: body.width.max(2.0 * point[1].abs()),
+            },
+            defaulted,
         }
     }
 

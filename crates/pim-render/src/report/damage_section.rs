@@ -142,12 +142,8 @@ fn capitalised(t: &str) -> String {
 
 /// The outline of vehicle `k` about its CG: (CG to front, CG to rear, width), m.
 fn outline(case: &Case, k: usize) -> (f64, f64, f64) {
-    let v = case.content.vehicle(k);
-    let (l, w) = pim_core::outline::typical_dimensions(v.mass);
-    let length = v.length.unwrap_or(l);
-    let width = v.width.unwrap_or(w);
-    let front = v.cg_to_front.unwrap_or(length / 2.0);
-    (front, length - front, width)
+    let (o, _) = case.content.vehicle(k).outline();
+    (o.cg_to_front, o.cg_to_rear, o.width)
 }
 
 /// The crushed face's points in the body frame (x forward, y left): the measured points from
