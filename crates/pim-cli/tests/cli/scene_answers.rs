@@ -69,6 +69,25 @@ fn every_command_gives_the_unbounded_example_its_reconstruction() {
     let cases = scene_examples(|p| p.ends_with(UNBOUNDED));
     assert_eq!(cases.len(), 1, "{cases:?}");
     every_command_agrees(&cases, "batch_unbounded");
+    // Vehicle 1's speed has no evidence of its own: its profile rises on neither side, and its
+    // ends stop, not reached, at zero forward speed and at the search's velocity bound
+    // (100 m/s), never beyond (they once walked to 12,989 m/s).
+    let u = json(&pim_ok(&[
+        "uncertainty",
+        &cases[0],
+        "--draws",
+        "1",
+        "--format",
+        "json",
+    ]));
+    let p = &u["profiles"]["vehicle1.speed_at_contact"];
+    for end in ["lower", "upper"] {
+        assert_eq!(p[end]["reached"], false, "{p}");
+        let speed = num(&p[end]["speed"]);
+        assert!((-1e-6..=100.0 + 1e-6).contains(&speed), "{p}");
+    }
+    assert!(num(&p["lower"]["speed"]) < 1e-6, "{p}");
+    assert!(num(&p["upper"]["speed"]) > 100.0 - 1e-6, "{p}");
 }
 
 /// `pim fit`, `pim report`, `pim uncertainty` and `pim batch` of `scene_cases` give each the
