@@ -166,7 +166,7 @@ fn scene_record(name: &str, text: &str) -> serde_json::Value {
         Ok(c) => c,
         Err(e) => return failed(e.to_string()),
     };
-    if !pim_studies::reconstruct::has_scene_evidence(&case) {
+    if !case.has_scene_evidence() {
         return failed(format!(
             "{name}: no scene evidence ([scene] rest positions or marks): not a reconstruction"
         ));

@@ -197,19 +197,18 @@ pub fn profile_end(
     let mut step = FIRST_STEP;
     let mut refits = 0;
     while refits < MAX_REFITS {
-        refits += 1;
         let v = match outside {
             None => {
                 let v = (inside.pull + toward * step).clamp(range.0, range.1);
                 if (v - inside.pull).abs() < 1e-9 {
                     // At the edge of the range with the profile still inside: not reached.
-                    refits -= 1;
                     break;
                 }
                 v
             }
             Some(o) => inside.pull + (o.pull - inside.pull) * f_in / (f_in - f_out),
         };
+        refits += 1;
         let Some(p) = pulled(r, settings, nominal, (vehicle, v), best.chi_square)? else {
             step *= 0.5;
             continue;

@@ -35,7 +35,7 @@ pub struct Asked {
 impl Question {
     /// The question `case` asks with the cost preset `cost` (`None`: the case's own cost).
     pub fn of(case: &Case, cost: Option<CostPreset>) -> Asked {
-        let scene = has_scene_evidence(case);
+        let scene = case.has_scene_evidence();
         let mut notes = Vec::new();
         let question = if scene && cost.is_none() {
             if let Ok(impact) = case.impact() {
@@ -59,12 +59,6 @@ impl Question {
         };
         Asked { question, notes }
     }
-}
-
-/// True when the case's `[scene]` gives evidence (a rest position or a mark) for a vehicle:
-/// `pim fit` then reconstructs ([`Case::has_scene_evidence`]).
-pub fn has_scene_evidence(case: &Case) -> bool {
-    case.has_scene_evidence()
 }
 
 #[cfg(test)]

@@ -15,8 +15,6 @@ use pim_reconstruct::{
     ContactTerm, Contradiction, Earlier, EvidenceTerm, Outcome, Reconstruction, Tried,
 };
 
-pub use crate::question::has_scene_evidence;
-
 pub use crate::reconstruct_input::{
     case_reconstruction, skid_lengths, CaseReconstruction, How, Reconstructed,
 };
