@@ -579,88 +579,34 @@ const ABOVE_THE_CASE: [&str; 7] = [
     "crates/pim-py",
 ];
 
-/// Each file above pim-case that still reads the case's raw sections (`case.content`), with
-/// its count of reads when the rule was set: a count may only shrink (a file that reads fewer
-/// must say so here; one that reads none leaves the list). A new read of a raw section above
-/// pim-case fails: the value belongs in the resolved case, read once with its default and its
-/// range. `PIM_RAW_READS=1 cargo test --release --test structure -- --nocapture` prints the
-/// list as it stands.
-const RAW_READS: &[(&str, usize)] = &[
-    ("crates/pim-studies/src/batch.rs", 2),
-    ("crates/pim-studies/src/check.rs", 1),
-    ("crates/pim-studies/src/consistency.rs", 1),
-    ("crates/pim-studies/src/damage_draws.rs", 2),
-    ("crates/pim-studies/src/documents.rs", 1),
-    ("crates/pim-studies/src/fitcase.rs", 9),
-    ("crates/pim-studies/src/measured_inputs.rs", 4),
-    ("crates/pim-studies/src/pieces.rs", 3),
-    ("crates/pim-studies/src/reconstruct_friction.rs", 1),
-    ("crates/pim-studies/src/reconstruct_input.rs", 6),
-    ("crates/pim-studies/src/reconstruct_pose.rs", 1),
-    ("crates/pim-studies/src/reconstruct_study.rs", 12),
-    ("crates/pim-studies/src/runout.rs", 1),
-    ("crates/pim-studies/src/tolerances.rs", 2),
-    ("crates/pim-studies/src/uncertainty.rs", 9),
-    ("crates/pim-render/src/diagram/mod.rs", 3),
-    ("crates/pim-render/src/momentum.rs", 2),
-    ("crates/pim-render/src/report/build.rs", 4),
-    ("crates/pim-render/src/report/damage_section.rs", 2),
-    ("crates/pim-render/src/report/make.rs", 1),
-    ("crates/pim-render/src/speed_history.rs", 1),
-    ("crates/pim-render/src/text.rs", 1),
-    ("crates/pim-serve/src/contact.rs", 1),
-    ("crates/pim-serve/src/edits.rs", 2),
-    ("crates/pim-serve/src/plan.rs", 4),
-    ("crates/pim-serve/src/study.rs", 1),
-];
-
+/// The crates above pim-case take the case resolved, never its raw sections
+/// (`case.content`): a value read there belongs in pim-case, read once with its default and
+/// its range (an accessor of `Case`, a resolved section such as `pre_impact_vehicles`, the
+/// inputs a study draws in `pim_case::drawn`, the evidence's pieces in `pim_case::pieces`).
 #[test]
 fn no_raw_section_is_read_above_the_case() {
-    let mut counts: Vec<(String, usize)> = Vec::new();
+    let mut found = Vec::new();
     for krate in ABOVE_THE_CASE {
         for (_, (path, _)) in crate_files(&root().join(krate)) {
             let text = std::fs::read_to_string(&path).unwrap();
             let code = code_of(before_tests(&text));
-            let n = code
-                .match_indices(".content")
-                .filter(|(i, _)| {
-                    !code[i + ".content".len()..]
+            for (n, line) in code.lines().enumerate() {
+                let reads = line.match_indices(".content").any(|(i, _)| {
+                    !line[i + ".content".len()..]
                         .starts_with(|c: char| c.is_alphanumeric() || c == '_')
-                })
-                .count();
-            if n > 0 {
-                let file = path.strip_prefix(root()).unwrap().display().to_string();
-                counts.push((file, n));
+                });
+                if reads {
+                    found.push(format!(
+                        "{}:{}: `{}`: read the case resolved (pim-case), not its raw sections",
+                        path.strip_prefix(root()).unwrap().display(),
+                        n + 1,
+                        line.trim()
+                    ));
+                }
             }
         }
     }
-    if std::env::var("PIM_RAW_READS").is_ok() {
-        for (f, n) in &counts {
-            println!("    (\"{f}\", {n}),");
-        }
-    }
-    let mut wrong = Vec::new();
-    for (file, n) in &counts {
-        match RAW_READS.iter().find(|(f, _)| f == file) {
-            None => wrong.push(format!(
-                "{file}: {n} reads of the raw sections, none allowed"
-            )),
-            Some((_, allowed)) if n > allowed => wrong.push(format!(
-                "{file}: {n} reads of the raw sections, at most {allowed} allowed"
-            )),
-            Some((_, allowed)) if n < allowed => wrong.push(format!(
-                "{file}: {n} reads of the raw sections, {allowed} listed: lower the count in \
-                 RAW_READS"
-            )),
-            _ => {}
-        }
-    }
-    for (f, _) in RAW_READS {
-        if !counts.iter().any(|(file, _)| file == f) {
-            wrong.push(format!("{f}: reads no raw section: leave RAW_READS"));
-        }
-    }
-    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    assert!(found.is_empty(), "{}", found.join("\n"));
 }
 
 /// The one damped least-squares iteration: `pim_core::damped` moves Marquardt's damping; no

@@ -23,6 +23,17 @@ impl Case {
         c.coefficients.is_some() && (c.initial.is_some() || c.final_.is_some())
     }
 
+    /// True when the case states the separation velocities (`[final]`).
+    pub fn states_final(&self) -> bool {
+        self.content.final_.is_some()
+    }
+
+    /// True when the case gives the vehicles' damage (`[damage]`): the crush energy is
+    /// evidence of the fit.
+    pub fn has_damage(&self) -> bool {
+        self.content.damage.is_some()
+    }
+
     /// True when the case gives its coefficients and nothing to fit (no estimates, known
     /// components or observations): it asks for a solve, as `pim solve` answers it (and `pim
     /// fit` refuses it).

@@ -199,6 +199,17 @@ impl Case {
         out
     }
 
+    /// The case with its pose at contact moved by `offsets` (as [`Case::with_contact`]) and held
+    /// there: its `[contact_sigma]` dropped, the pose no longer fitted.
+    ///
+    /// # Errors
+    /// A located error where the case's impact cannot be formed.
+    pub fn with_contact_held(&self, unknowns: &[ContactUnknown], offsets: &[f64]) -> Result<Case> {
+        let mut out = self.with_contact(unknowns, offsets)?;
+        out.content.contact_sigma = None;
+        Ok(out)
+    }
+
     /// The case with its pose at contact moved by `offsets` (one per unknown, m and rad, the
     /// natural frame): each vehicle's heading, CG or impact point, the impact centre and the
     /// crush angle, as [`crate::contact_pose`] says. All zeros give the case as it is.

@@ -21,22 +21,28 @@
 //!
 //! Bad input is an [`InputError`] whose message names the file, line and field.
 
+mod about;
 mod asks;
 pub mod case;
 mod checks;
 pub mod contact_pose;
 mod contact_sigma;
 pub mod damage;
+pub mod drawn;
 pub mod edit;
 pub mod edr;
 mod error;
 mod estimated;
+pub mod fit_sections;
 mod forms;
+pub mod frictions;
 pub mod inertia;
 pub mod input;
 pub mod motion;
 pub mod parse;
+pub mod pieces;
 pub mod plausibility;
+pub mod pre_impact;
 pub mod ranges;
 pub mod reference;
 pub mod ricsac;
@@ -48,6 +54,7 @@ pub mod sections;
 pub mod spread;
 pub mod survey;
 pub mod templates;
+pub mod tolerances;
 pub mod tyres;
 pub mod units;
 

@@ -50,6 +50,15 @@ pub struct ZoneSection {
     pub corners: Vec<[f64; 2]>,
 }
 
+impl ZoneSection {
+    /// Its name for the tables: its own, else `zone N` for the `k`-th zone (N from 1).
+    pub fn display_name(&self, k: usize) -> String {
+        self.name
+            .clone()
+            .unwrap_or_else(|| format!("zone {}", k + 1))
+    }
+}
+
 /// What a wheel does, as written: `"locked"`, `"rolling"`, or a braking share.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(untagged)]

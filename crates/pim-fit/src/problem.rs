@@ -174,6 +174,16 @@ pub enum ObservationKind {
 }
 
 impl ObservationKind {
+    /// Its name as a case file writes it (`speed_along_heading`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            ObservationKind::DeltaVLongitudinal => "delta_v_longitudinal",
+            ObservationKind::DeltaVLateral => "delta_v_lateral",
+            ObservationKind::SpeedAlongHeading => "speed_along_heading",
+            ObservationKind::LateralVelocity => "lateral_velocity",
+        }
+    }
+
     /// Whether the observed quantity lies across the vehicle (its sign follows the side the
     /// lateral axis points to, and changes with a mirrored frame).
     pub fn is_lateral(self) -> bool {

@@ -146,7 +146,7 @@ fn batch_plan(
         e_max,
         self::moment_form(moment_form)?,
     )
-    .map_err(input_error)?
+    .map_err(|e| input_error(e.to_string()))?
     .with_models(&models);
     match conditions {
         "corrected" => Ok(plan),

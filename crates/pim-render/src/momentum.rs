@@ -128,7 +128,7 @@ pub fn figure(
 /// a barrier).
 fn arrows_of(case: &Case, [initial, separation]: [&Velocities; 2], u: UnitSystem) -> Vec<Arrow> {
     let barrier = case.is_barrier();
-    let masses = [case.content.vehicle1.mass, case.content.vehicle2.mass];
+    let masses = case.vehicles().map(|v| v.mass);
     let k = u.impulse(1.0);
     // Drawn in the natural frame (the picture of the plan view); an SAE case's y ticks read
     // SAE's y, which points the other way.

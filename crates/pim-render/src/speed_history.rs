@@ -18,7 +18,7 @@
 
 use crate::{err, svg_figure, Figure};
 use pim_case::case::Case;
-use pim_case::scene_sections::PreImpactVehicleSection;
+use pim_case::pre_impact::PreImpactVehicle;
 use pim_case::units::UnitSystem;
 use pim_core::VehicleId;
 use pim_studies::reconstruct::Reconstructed;
@@ -57,11 +57,14 @@ pub fn figure(
     let Some(best) = done.outcome.best.as_ref() else {
         return Ok(None);
     };
-    let written = case.written_units.speed.to_si();
-    let shown: Vec<(VehicleId, &PreImpactVehicleSection)> = [VehicleId::One, VehicleId::Two]
+    let pre_impact = case
+        .pre_impact_vehicles()
+        .map_err(pim_studies::documents::DocumentError::from)?;
+    let shown: Vec<(VehicleId, PreImpactVehicle)> = [VehicleId::One, VehicleId::Two]
         .into_iter()
-        .filter_map(|id| case.content.pre_impact(id.index()).map(|p| (id, p)))
-        .filter(|(_, p)| !p.edr.is_empty() || !p.edr_history.is_empty())
+        .zip(pre_impact)
+        .filter_map(|(id, p)| p.map(|p| (id, p)))
+        .filter(|(_, p)| !p.edr.is_empty() || !p.history.is_empty())
         .collect();
     if shown.is_empty() {
         return Ok(None);
@@ -82,7 +85,7 @@ pub fn figure(
             }
             for (area, (id, p)) in panels.split_evenly((shown.len(), 1)).iter().zip(&shown) {
                 let lead = pim_studies::playback::lead_in(done, best, *id);
-                panel(area, *id, p, &lead, u, written)?;
+                panel(area, *id, p, &lead, u)?;
             }
             Ok(())
         },
@@ -90,18 +93,16 @@ pub fn figure(
     Ok(Some(figure))
 }
 
-/// Vehicle `id`'s panel: its EDR `p` (speeds in the file's unit, `written` m/s each) and the
-/// answer's lead-in `lead`, speeds in `u`.
+/// Vehicle `id`'s panel: its EDR `p` and the answer's lead-in `lead`, speeds in `u`.
 fn panel(
     area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
     id: VehicleId,
-    p: &PreImpactVehicleSection,
+    p: &PreImpactVehicle,
     lead: &pim_studies::playback::LeadIn,
     u: UnitSystem,
-    written: f64,
 ) -> Result<(), crate::RenderError> {
     let label = u.speed_label();
-    let speed = |file: f64| u.speed(file * written);
+    let speed = |si: f64| u.speed(si);
     let (earliest, history, records) = answer_lines(p, lead);
     let lines: Vec<&[(f64, f64)]> = std::iter::once(history.as_slice())
         .chain(records.iter().map(|r| r.as_slice()))
@@ -111,7 +112,7 @@ fn panel(
         .flat_map(|l| l.iter())
         .map(|p| u.speed(p.1))
         .collect();
-    ys.extend(p.edr_history.iter().map(|r| speed(r.speed)));
+    ys.extend(p.history.iter().map(|r| speed(r.speed)));
     ys.extend(
         p.edr
             .iter()
@@ -140,7 +141,7 @@ fn panel(
         .draw()
         .map_err(err)?;
     let pedal: Vec<(f64, f64)> = p
-        .edr_history
+        .history
         .iter()
         .filter_map(|r| r.accelerator.map(|a| (-r.time, a)))
         .collect();
@@ -176,7 +177,7 @@ fn panel(
         )))
         .map_err(err)?;
     chart
-        .draw_series(p.edr_history.iter().map(|r| {
+        .draw_series(p.history.iter().map(|r| {
             let at = (-r.time, speed(r.speed));
             if r.brake == Some(true) {
                 Circle::new(at, 4, ON.filled())
@@ -211,9 +212,9 @@ type Lines = (f64, Vec<(f64, f64)>, Vec<[(f64, f64); 2]>);
 /// its speed at contact held over the approach the motion plays back: without a skid the
 /// answer says nothing earlier) and the speed it gives each record (`vc + a t`, the record's
 /// own deceleration): `(tau, speed m/s)` points.
-fn answer_lines(p: &PreImpactVehicleSection, lead: &pim_studies::playback::LeadIn) -> Lines {
+fn answer_lines(p: &PreImpactVehicle, lead: &pim_studies::playback::LeadIn) -> Lines {
     let earliest = p
-        .edr_history
+        .history
         .iter()
         .map(|r| r.time)
         .chain(p.edr.iter().map(|e| e.time))

@@ -24,12 +24,11 @@ pub fn wrap(text: &str, width: usize) -> Vec<String> {
 /// The title of a case's tables and drawings: the file, its title and the vehicles'
 /// descriptions.
 pub fn case_title(case: &pim_case::case::Case) -> String {
-    let c = &case.content;
-    let mut t = match &c.title {
+    let mut t = match case.title() {
         Some(t) => format!("{} ({t})", case.file),
         None => case.file.clone(),
     };
-    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
+    if let Some((a, b)) = case.descriptions() {
         t.push_str(&format!("\nvehicle1: {a}; vehicle2: {b}"));
     }
     t

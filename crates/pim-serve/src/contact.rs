@@ -221,7 +221,7 @@ pub fn edit_contact(
             return Err(refuse(format!("vehicle {k}: the vehicles are 1 and 2")));
         }
         let name = format!("vehicle{k}");
-        if case.content.vehicle(usize::from(k - 1)).barrier {
+        if case.vehicle(usize::from(k - 1)).barrier {
             return Err(refuse(format!("{name} is a barrier: it does not move")));
         }
         let heading = num(&edit, &format!("{name}.heading")).unwrap_or(0.0);

@@ -74,16 +74,8 @@ pub fn move_onto(
     }
     let input = |e: &dyn std::fmt::Display| AnswerError::Input(e.to_string());
     let case = Case::from_text(file, text).map_err(|e| input(&e))?;
-    let scene = case.content.scene.as_ref().and_then(|s| {
-        if vehicle == 1 {
-            &s.vehicle1
-        } else {
-            &s.vehicle2
-        }
-        .as_ref()
-    });
-    match scene {
-        Some(s) if !s.rest_tyres.is_empty() => {
+    match case.rest_tyres_written(usize::from(vehicle) - 1) {
+        tyres if !tyres.is_empty() => {
             if point.is_some() {
                 return Err(AnswerError::Input(format!(
                     "{file}: vehicle {vehicle}'s rest is given by its tyre points: place each \
@@ -132,22 +124,9 @@ fn move_tyres(
     let per_unit =
         pim_case::edit::Quantity::Length.si_per_unit(&edit.units().map_err(|e| input(&e))?);
     let delta = [(x - cx) / per_unit, (y - flip * cy) / per_unit];
-    let tyres = case
-        .content
-        .scene
-        .as_ref()
-        .and_then(|s| {
-            if vehicle == 1 {
-                &s.vehicle1
-            } else {
-                &s.vehicle2
-            }
-            .as_ref()
-        })
-        .map(|s| s.rest_tyres.clone())
-        .unwrap_or_default();
+    let tyres = case.rest_tyres_written(usize::from(vehicle) - 1);
     for (i, t) in tyres.iter().enumerate() {
-        for (axis, value, d) in [("x", t.x, delta[0]), ("y", t.y, delta[1])] {
+        for (axis, value, d) in [("x", t.0, delta[0]), ("y", t.1, delta[1])] {
             let path = format!("scene.vehicle{vehicle}.rest_tyres.{i}.{axis}");
             let written = hundredth(value + d);
             edit.set(&path, pim_case::edit::NewValue::Written(written))

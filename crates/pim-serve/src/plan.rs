@@ -162,7 +162,7 @@ pub(crate) fn plan(
     let mut out = Sketch {
         convention: case.written,
         units: case.written_units,
-        background: case.content.background.clone(),
+        background: case.background().cloned(),
         survey: case.survey().cloned(),
     }
     .plan(&case.file, units);
@@ -223,8 +223,8 @@ impl Sketch {
                 Sketch {
                     convention: case.written,
                     units: case.written_units,
-                    background: case.content.background,
-                    survey: case.content.survey,
+                    background: case.background().cloned(),
+                    survey: case.survey().cloned(),
                 },
                 true,
             )),
@@ -360,6 +360,11 @@ fn plan_runouts(
             .collect()
     };
     let damage = pim_case::damage::Damage::of(case).ok().flatten();
+    // Each vehicle's skid before the impact, m.
+    let skids = case
+        .pre_impact_vehicles()
+        .map(|p| p.map(|v| v.and_then(|v| v.skid).map(|s| s.distance)))
+        .unwrap_or_default();
     for (k, (input, run)) in r.inputs.iter().zip(&r.runouts).enumerate() {
         let crush = damage
             .as_ref()
@@ -430,16 +435,7 @@ fn plan_runouts(
             traces,
             cg: on_page(run.start.x, run.start.y),
             heading: page_angle(run.start.heading),
-            skid: case
-                .content
-                .pre_impact
-                .as_ref()
-                .and_then(|p| match input.id {
-                    pim_core::VehicleId::One => p.vehicle1.as_ref(),
-                    pim_core::VehicleId::Two => p.vehicle2.as_ref(),
-                })
-                .and_then(|p| p.skid)
-                .map(|l| units.length(l * case.written_units.length.to_si())),
+            skid: skids[input.id.index()].map(|l| units.length(l)),
             damage: crush,
         });
     }

@@ -89,15 +89,13 @@ pub fn studied(
             let frictions = study.samples.get("road_friction");
             for (i, sep) in study.separations.iter().take(BAND_DRAWS).enumerate() {
                 let mut drawn = case.clone();
-                if let Some(r) = drawn.content.runout.as_mut() {
-                    if let Some(mu) = frictions.and_then(|f| f.get(i)) {
-                        r.friction = Some(*mu);
-                    }
-                    for (k, z) in r.zones.iter_mut().enumerate() {
-                        let fitted = study.samples.get(&format!("zone{}_friction", k + 1));
-                        if let Some(mu) = fitted.and_then(|f| f.get(i)) {
-                            z.friction = *mu;
-                        }
+                if let Some(mu) = frictions.and_then(|f| f.get(i)) {
+                    drawn.set_road_friction(*mu);
+                }
+                for z in case.zone_frictions() {
+                    let fitted = study.samples.get(&format!("zone{}_friction", z.zone + 1));
+                    if let Some(mu) = fitted.and_then(|f| f.get(i)) {
+                        drawn.set_zone_friction(z.zone, *mu);
                     }
                 }
                 bands.extend(crate::answer::paths(&drawn, *sep, units).unwrap_or_default());

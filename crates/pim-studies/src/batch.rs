@@ -28,6 +28,20 @@ pub struct BatchPlan {
     pub case_e_max: Option<f64>,
 }
 
+/// A batch plan that cannot be made.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    /// e's upper bound gives no range of e the fit accepts.
+    #[error("e_max {e_max}: {source}")]
+    EMax {
+        /// The upper bound asked for.
+        e_max: f64,
+        /// Why the fit refuses it.
+        #[source]
+        source: pim_fit::FitError,
+    },
+}
+
 impl BatchPlan {
     /// The settings a case of the batch starts from (its `[bounds]` then apply, see
     /// [`crate::fitcase::settings_from`]): the plan's branches and moment form.
@@ -42,8 +56,7 @@ impl BatchPlan {
     /// `--e-max`, when given, where the file's `[bounds]` does not set e.
     pub fn apply_to_case_file(&self, case: &mut pim_case::case::Case) {
         if let Some(hi) = self.case_e_max {
-            let b = case.content.bounds.get_or_insert_with(Default::default);
-            b.e.get_or_insert([0.0, hi]);
+            case.bound_e_unless_set(hi);
         }
     }
 
@@ -51,11 +64,7 @@ impl BatchPlan {
     /// bounds, e and mu of the plan), so that its draws search what its fit searched.
     pub fn apply_to_data_case(&self, case: &mut pim_case::case::Case) {
         let s = &self.settings;
-        let b = case.content.bounds.get_or_insert_with(Default::default);
-        b.e = Some(s.e);
-        b.mu = Some(s.mu);
-        b.velocity = Some(s.velocity_bound);
-        b.yaw_rate = Some(s.yaw_rate_bound);
+        case.state_bounds(s.e, s.mu, s.velocity_bound, s.yaw_rate_bound);
     }
 
     /// Vossou & Koulocheris (2018)'s conditions: Brach's 1983 moment equation, mu in
@@ -78,7 +87,7 @@ impl BatchPlan {
         branches: &[MomentBranch],
         e_max: f64,
         moment_form: pim_core::MomentForm,
-    ) -> std::result::Result<Self, String> {
+    ) -> std::result::Result<Self, PlanError> {
         let settings = FitSettings {
             e: [0.0, e_max],
             moment_form,
@@ -87,7 +96,7 @@ impl BatchPlan {
         settings
             .clone()
             .check()
-            .map_err(|e| format!("e_max {e_max}: {e}"))?;
+            .map_err(|source| PlanError::EMax { e_max, source })?;
         fn unique<T: Copy + PartialEq>(v: &[T]) -> Vec<T> {
             let mut out: Vec<T> = Vec::new();
             for x in v {

@@ -43,12 +43,14 @@ pub fn add_intervals(r: &mut CaseRecord, text: &str, plan: &BatchPlan, draws: us
     if r.reconstruction.is_none() {
         return crate::case_records::add_intervals(r, text, plan, draws, seed);
     }
-    let study = Case::from_text(&r.file, text)
-        .map_err(|e| e.message)
-        .and_then(|mut case| {
+    // The record says why, in the document's words.
+    let study = match Case::from_text(&r.file, text) {
+        Err(e) => Err(e.message),
+        Ok(mut case) => {
             plan.apply_to_case_file(&mut case);
-            intervals(&case, plan, draws, seed)
-        });
+            intervals(&case, plan, draws, seed).map_err(|e| e.to_string())
+        }
+    };
     match study {
         Ok(s) => r.intervals = Some(s),
         Err(e) => r.intervals_error = Some(e),
@@ -121,7 +123,10 @@ pub fn intervals(
     plan: &BatchPlan,
     draws: usize,
     seed: u64,
-) -> Result<std::collections::BTreeMap<String, crate::intervals::Summary>, String> {
+) -> Result<
+    std::collections::BTreeMap<String, crate::intervals::Summary>,
+    crate::documents::DocumentError,
+> {
     let settings = plan.case_settings();
     let (study, _) = crate::reconstruct_study::run(
         case,
@@ -131,8 +136,7 @@ pub fn intervals(
         draws,
         seed,
         &crate::watch::Unwatched,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     Ok(study
         .quantities
         .into_iter()

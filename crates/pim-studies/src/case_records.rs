@@ -63,7 +63,7 @@ pub fn fit_case_text(
         Err(e) => return failed(e.message),
     };
     let notes = match cost {
-        CostChoice::Preset(p) => crate::documents::ignored_weights(&case, p),
+        CostChoice::Preset(p) => crate::fitcase::ignored_weights(&case, p),
         CostChoice::Custom => Vec::new(),
     };
     let unit = match crate::fitcase::sigma_unit(&case) {

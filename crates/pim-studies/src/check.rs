@@ -39,7 +39,7 @@ pub fn check_text(file: &str, text: &str) -> Result<Case, crate::documents::Docu
                     pim_fit::MomentBranch::ALL.to_vec(),
                 )?;
             }
-            if case.content.runout.is_some() {
+            if case.has_runout() {
                 case.scene_inputs()?;
             }
         }

@@ -75,8 +75,7 @@ fn left_out_row(
     }
     // Any other piece: the pose held where the whole answer put it, its priors' share added
     // (a pose fit per row would cost the table ten times the answer).
-    let mut posed = case.with_contact(&case.contact_unknowns()?, &pose.offsets)?;
-    posed.content.contact_sigma = None;
+    let posed = case.with_contact_held(&case.contact_unknowns()?, &pose.offsets)?;
     let mut d = left_out_at(&posed, how, whole)?;
     if let Some(b) = d.best.as_mut() {
         b.chi_square += pose.prior_chi_square;

@@ -139,7 +139,7 @@ pub fn fit(
     let mut report = fitcase::fit(case, &problem, &settings)?;
     let unit = fitcase::sigma_unit(case)?;
     if let Some(preset) = cost {
-        report.notes.extend(ignored_weights(case, preset));
+        report.notes.extend(fitcase::ignored_weights(case, preset));
     }
     let damage = crate::damage_fit::fit_damage(case, &problem, &report, &settings, unit)?;
     let notes = report.notes.clone();
@@ -170,31 +170,4 @@ pub fn fit(
         report,
         document,
     })
-}
-
-/// The weights and standard deviations a case gives for components that the cost function
-/// holds fixed at their estimates, which therefore have no effect (said, not ignored in silence).
-pub(crate) fn ignored_weights(case: &Case, preset: CostPreset) -> Vec<String> {
-    let c = &case.content;
-    let mut out = Vec::new();
-    for (section, given) in [("weights", c.weights), ("sigma", c.sigma)] {
-        let Some(given) = given else { continue };
-        let fixed: Vec<&str> = given
-            .components()
-            .iter()
-            .enumerate()
-            .filter(|(k, w)| w.is_some() && preset.holds_fixed(*k))
-            .map(|(k, _)| pim_fit::COMPONENT_NAMES[k])
-            .collect();
-        if !fixed.is_empty() {
-            out.push(format!(
-                "{}: [{section}] of {} has no effect: cost {} holds these components fixed at \
-                 their estimates",
-                case.file,
-                fixed.join(", "),
-                preset.name()
-            ));
-        }
-    }
-    out
 }

@@ -4,7 +4,6 @@
 //! degrees, like every other document).
 
 use crate::documents::DocumentError;
-use crate::fitcase::{self};
 use crate::runout::{MotionOut, PoseOut};
 use pim_case::case::Case;
 pub use pim_documents::reconstruct_doc::{
@@ -282,10 +281,9 @@ fn best_out(input: &CaseReconstruction, b: &pim_reconstruct::Found) -> BestOut {
                 certificate: b.certificate.clone(),
                 geometry: None,
             };
-            let bounds = input.bounds;
             pim_documents::records::BranchRecord::new(&branch)
                 .with_bounds(&branch, input.settings.fit.get(), &|x| {
-                    fitcase::bound_in(bounds.as_ref(), x)
+                    input.set_bounds.contains(&x)
                 })
                 .bounds_reached
         },

@@ -17,16 +17,13 @@ pub(crate) fn frictions_of(
     scene: &[SceneVehicle],
     skids_on_road: [bool; 2],
 ) -> Vec<pim_reconstruct::RoadFriction> {
-    let Some(runout) = &case.content.runout else {
-        return Vec::new();
-    };
-    let mut out = road_frictions(runout, scene, skids_on_road);
+    let mut out = road_frictions(case, scene, skids_on_road);
     if !scene.is_empty() {
-        for (k, z) in runout.zones.iter().enumerate() {
-            if let Some(sigma) = z.friction_sigma {
+        for z in case.zone_frictions() {
+            if let Some(sigma) = z.sigma {
                 out.push(pim_reconstruct::RoadFriction {
-                    name: format!("{} friction", zone_name(z, k)),
-                    zone: Some(k),
+                    name: format!("{} friction", z.name),
+                    zone: Some(z.zone),
                     value: z.friction,
                     sigma,
                     vehicles: (0..scene.len()).collect(),
@@ -38,28 +35,16 @@ pub(crate) fn frictions_of(
     out
 }
 
-/// A zone's name for the tables: its own, else `zone N` (from 1).
-pub(crate) fn zone_name(z: &pim_case::scene_sections::ZoneSection, k: usize) -> String {
-    z.name.clone().unwrap_or_else(|| format!("zone {}", k + 1))
-}
-
 /// The road's fitted frictions (`[runout] friction_sigma`), as [`frictions_of`] gives them.
 fn road_frictions(
-    runout: &pim_case::scene_sections::RunoutSection,
+    case: &Case,
     scene: &[SceneVehicle],
     skids_on_road: [bool; 2],
 ) -> Vec<pim_reconstruct::RoadFriction> {
-    let Some(sigma) = runout.friction_sigma else {
+    let Some(sigma) = case.road_friction_sigma() else {
         return Vec::new();
     };
-    let own = |id: VehicleId| {
-        let v = if id == VehicleId::One {
-            &runout.vehicle1
-        } else {
-            &runout.vehicle2
-        };
-        v.as_ref().is_some_and(|v| v.friction.is_some())
-    };
+    let own = |id: VehicleId| case.runs_on_own_surface(id.index());
     let mut out: Vec<pim_reconstruct::RoadFriction> = Vec::new();
     let shared: Vec<usize> = (0..scene.len()).filter(|&i| !own(scene[i].id)).collect();
     if let Some(&first) = shared.first() {

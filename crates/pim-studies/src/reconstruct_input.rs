@@ -4,12 +4,11 @@
 use crate::documents::DocumentError;
 use crate::fitcase::{self, CostChoice};
 use pim_case::case::Case;
-use pim_case::scene_sections::PreImpactVehicleSection;
+use pim_case::pre_impact::PreImpactSkid;
 use pim_core::VehicleId;
 use pim_documents::reconstruct_doc::ReconstructionOut;
 use pim_fit::{FitProblem, Knowledge, MomentBranch, Observation, ObservationKind};
 use pim_reconstruct::{Outcome, Reconstruction, SceneVehicle, Settings, Skid};
-use pim_runout::GRAVITY;
 
 /// A case's reconstruction and how to search it.
 #[derive(Debug, Clone)]
@@ -25,75 +24,8 @@ pub struct CaseReconstruction {
     /// Each EDR speed's vehicle (1 or 2) and record, in the order they follow the case's
     /// observations.
     pub(crate) edr_records: Vec<(u8, usize)>,
-    /// The case's `[bounds]` (who set a bound the answer reaches).
-    pub(crate) bounds: Option<pim_case::sections::BoundsSection>,
-}
-
-/// Checks vehicle `k`'s (0 or 1) EDR table (`edr_history`): each row's time and speed as a
-/// record's, its accelerator a percentage.
-fn check_history(
-    case: &Case,
-    k: usize,
-    p: &PreImpactVehicleSection,
-    speed: f64,
-) -> Result<(), DocumentError> {
-    for (i, r) in p.edr_history.iter().enumerate() {
-        let place = format!("pre_impact.vehicle{}.edr_history[{i}]", k + 1);
-        let row = pim_case::scene_sections::EdrWritten {
-            speed: r.speed,
-            time: r.time,
-            deceleration: 0.0,
-            sigma: 1.0,
-        };
-        check_edr(case, &place, &row, speed)?;
-        if let Some(a) = r.accelerator.filter(|a| !(0.0..=100.0).contains(a)) {
-            return Err(case
-                .error_at(&place, format!("accelerator {a}: a percentage, 0 to 100"))
-                .into());
-        }
-    }
-    Ok(())
-}
-
-/// Checks an EDR record (`place` its path in the file): its speed (in the file's unit, `speed`
-/// m/s each), time, deceleration and sigma.
-fn check_edr(
-    case: &Case,
-    place: &str,
-    e: &pim_case::scene_sections::EdrWritten,
-    speed: f64,
-) -> Result<(), DocumentError> {
-    let ok = |x: f64, lo: f64, hi: f64| x.is_finite() && x >= lo && x <= hi;
-    if !ok(e.speed * speed, 0.0, pim_core::MAX_SPEED.min(150.0)) {
-        return Err(case
-            .error_at(place, format!("speed {}: from 0 to 150 m/s", e.speed))
-            .into());
-    }
-    if !ok(e.time, 0.0, 30.0) {
-        return Err(case
-            .error_at(
-                place,
-                format!("time {}: seconds before contact, 0 to 30", e.time),
-            )
-            .into());
-    }
-    if !ok(e.deceleration, -1.5, 1.5) {
-        return Err(case
-            .error_at(
-                place,
-                format!("deceleration {}: in g, from -1.5 to 1.5", e.deceleration),
-            )
-            .into());
-    }
-    if !(e.sigma.is_finite() && e.sigma * speed >= fitcase::SIGMA_MIN) {
-        return Err(case
-            .error_at(
-                place,
-                format!("sigma {}: a standard deviation above 0", e.sigma),
-            )
-            .into());
-    }
-    Ok(())
+    /// The search bounds the case's `[bounds]` sets (who set a bound the answer reaches).
+    pub(crate) set_bounds: Vec<pim_fit::SearchBound>,
 }
 
 /// The reconstruction of a case: its own estimates and observations (`[sigma]` required when it
@@ -108,12 +40,12 @@ pub fn case_reconstruction(
     moment_form: pim_core::MomentForm,
     branches: Vec<MomentBranch>,
 ) -> Result<CaseReconstruction, DocumentError> {
-    let c = &case.content;
     let impact = case.impact()?;
     refuse_geometry_bounds(case)?;
     let unit = fitcase::sigma_unit(case)?;
     let mut contact = contact_problem(case, unit, impact)?;
-    let mut labels = observation_labels(case);
+    let mut labels = fitcase::observation_labels(case);
+    let case_observations = labels.len();
     let (edr, edr_records, skids) = pre_impact(case, &mut labels)?;
     // The unit of the weights: the case's, or the smallest EDR variance.
     let unit = unit.or_else(|| edr.iter().map(|(_, _, s)| s * s).min_by(f64::total_cmp));
@@ -154,12 +86,9 @@ pub fn case_reconstruction(
         nonlinear.0.push(std::sync::Arc::new(c));
     }
     // A skid whose friction is not stated apart brakes on the road of the run-outs.
-    let stated_apart = |k| {
-        case.content
-            .pre_impact(k)
-            .is_some_and(|p| p.friction.is_some())
-    };
-    let skids_on_road = [0, 1].map(|k| skids[k].is_some() && !stated_apart(k));
+    let skids_on_road = case
+        .pre_impact_vehicles()?
+        .map(|p| p.and_then(|p| p.skid).is_some_and(|s| !s.friction_stated));
     let frictions = crate::reconstruct_friction::frictions_of(case, &scene, skids_on_road);
     let reconstruction = Reconstruction {
         contact,
@@ -176,9 +105,9 @@ pub fn case_reconstruction(
         reconstruction,
         settings,
         labels,
-        case_observations: c.observations.len(),
+        case_observations,
         edr_records,
-        bounds: c.bounds,
+        set_bounds: fitcase::set_bounds(case),
     })
 }
 
@@ -213,9 +142,8 @@ fn contact_problem(
     unit: Option<f64>,
     impact: pim_core::Impact,
 ) -> Result<FitProblem, DocumentError> {
-    let c = &case.content;
     Ok(if fitcase::is_fit_case(case) {
-        if unit.is_none() && (c.estimates.is_some() || !c.observations.is_empty()) {
+        if unit.is_none() && fitcase::has_weighed_evidence(case) {
             return Err(DocumentError::Input(format!(
                 "{}: a fit of the scene needs standard deviations: give [sigma] for the \
                  estimates and `sigma` on each observation (the scene's evidence has them, so \
@@ -234,65 +162,26 @@ fn contact_problem(
     })
 }
 
-/// The case's observations as the tables name them.
-fn observation_labels(case: &Case) -> Vec<String> {
-    case.content
-        .observations
-        .iter()
-        .enumerate()
-        .map(|(i, o)| match &o.name {
-            Some(n) => format!(
-                "{n} ({} of vehicle{})",
-                crate::residuals::kind_name(o.kind),
-                o.vehicle
-            ),
-            None => format!(
-                "observation {} ({} of vehicle{})",
-                i + 1,
-                crate::residuals::kind_name(o.kind),
-                o.vehicle
-            ),
-        })
-        .collect()
-}
-
 /// The EDR speeds (vehicle, speed along the heading at contact, its standard deviation; each
 /// labelled in `labels`), where each came from (vehicle number, record) and each vehicle's
 /// skid.
 fn pre_impact(case: &Case, labels: &mut Vec<String>) -> Result<PreImpact, DocumentError> {
-    let speed = case.written_units.speed.to_si();
-    let road = case
-        .content
-        .runout
-        .as_ref()
-        .and_then(|r| r.friction)
-        .unwrap_or(pim_runout::DEFAULT_FRICTION);
-    // EDR speeds: each the speed along the heading at contact, v - a t.
     let mut edr = Vec::new();
     let mut edr_records = Vec::new();
     let mut skids = [None, None];
-    for (k, id) in [VehicleId::One, VehicleId::Two].into_iter().enumerate() {
-        let Some(p) = case.content.pre_impact(k) else {
-            continue;
-        };
-        let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
-        if id == VehicleId::Two && case.is_barrier() {
-            let place = format!("pre_impact.vehicle{}", k + 1);
-            return Err(case.error_at(&place, "a barrier does not move").into());
-        }
-        check_history(case, k, p, speed)?;
-        for (i, e) in p.edr.iter().enumerate() {
-            check_edr(case, &at(&format!("edr[{i}]")), e, speed)?;
-            let value = e.speed * speed - e.deceleration * GRAVITY * e.time;
-            edr.push((id, value, e.sigma * speed));
-            edr_records.push((k as u8 + 1, i));
+    for (k, p) in case.pre_impact_vehicles()?.into_iter().enumerate() {
+        let Some(p) = p else { continue };
+        let id = VehicleId::from_index(k);
+        for e in &p.edr {
+            edr.push((id, e.at_contact(), e.sigma));
+            edr_records.push((k as u8 + 1, e.record));
             labels.push(format!(
                 "vehicle{} EDR speed {:.1} s before contact",
                 k + 1,
                 e.time
             ));
         }
-        skids[k] = skid_of(case, k, p, road)?;
+        skids[k] = p.skid.map(|s| skid_of(case, k, s)).transpose()?;
     }
     Ok((edr, edr_records, skids))
 }
@@ -304,32 +193,13 @@ type PreImpact = (
     [Option<Skid>; 2],
 );
 
-/// Vehicle `k`'s skid before the impact (`pre_impact` section `p`; on the road's friction
-/// `road` unless it states its own), checked.
-fn skid_of(
-    case: &Case,
-    k: usize,
-    p: &PreImpactVehicleSection,
-    road: f64,
-) -> Result<Option<Skid>, DocumentError> {
-    let at = |f: &str| format!("pre_impact.vehicle{}.{f}", k + 1);
-    let length = case.written_units.length.to_si();
-    let Some(d) = p.skid else {
-        if p.braking.is_some() || p.grade.is_some() || p.friction.is_some() {
-            return Err(case
-                .error_at(
-                    &format!("pre_impact.vehicle{}", k + 1),
-                    "braking, grade and friction describe a skid: give its length, `skid`",
-                )
-                .into());
-        }
-        return Ok(None);
-    };
+/// Vehicle `k`'s skid before the impact, checked as a skid the reconstruction takes.
+fn skid_of(case: &Case, k: usize, s: PreImpactSkid) -> Result<Skid, DocumentError> {
     let skid = Skid {
-        distance: d * length,
-        braking: p.braking.unwrap_or(1.0),
-        grade: (p.grade.unwrap_or(0.0) / 100.0).atan(),
-        friction: p.friction.unwrap_or(road),
+        distance: s.distance,
+        braking: s.braking,
+        grade: s.grade,
+        friction: s.friction,
     };
     skid.check().map_err(|e| {
         let field = match &e {
@@ -337,9 +207,12 @@ fn skid_of(
             _ => "skid",
         };
         let field = if field == "distance" { "skid" } else { field };
-        DocumentError::from(case.error_at(&at(field), e.to_string()))
+        DocumentError::from(case.error_at(
+            &format!("pre_impact.vehicle{}.{field}", k + 1),
+            e.to_string(),
+        ))
     })?;
-    Ok(Some(skid))
+    Ok(skid)
 }
 
 /// Each vehicle's braking before the impact: its length, m (for the plan view).

@@ -416,41 +416,40 @@ impl<'a> StudyPose<'a> {
         let Some(fit) = done.pose.as_ref().filter(|_| !unknowns.is_empty()) else {
             return Ok(None);
         };
-        if let Some(unc) = &case.content.uncertainty {
-            for (k, v) in [unc.vehicle1, unc.vehicle2].iter().enumerate() {
-                let drawn = [
-                    ("heading", v.heading.is_some()),
-                    ("impact_point", v.impact_point.is_some()),
-                    ("d", v.d.is_some()),
-                    ("phi", v.phi.is_some()),
-                ];
-                let posed = unknowns.iter().any(|u| u.input.vehicle() == Some(k));
-                if let Some((key, _)) = drawn.iter().find(|(_, d)| *d).filter(|_| posed) {
-                    return Err(case
-                        .error_at(
-                            &format!("uncertainty.vehicle{}.{key}", k + 1),
-                            format!(
-                                "vehicle{}'s pose at contact is fitted ([contact_sigma]) and \
-                                 its prior drawn by the study: leave out this spread",
-                                k + 1
-                            ),
-                        )
-                        .into());
-                }
-            }
-            if unc.impact.crush_angle.is_some()
-                && unknowns
-                    .iter()
-                    .any(|u| u.input == pim_case::contact_pose::PoseInput::CrushAngle)
-            {
+        let unc = case.spreads();
+        for (k, v) in [unc.vehicle1, unc.vehicle2].iter().enumerate() {
+            let drawn = [
+                ("heading", v.heading.is_some()),
+                ("impact_point", v.impact_point.is_some()),
+                ("d", v.d.is_some()),
+                ("phi", v.phi.is_some()),
+            ];
+            let posed = unknowns.iter().any(|u| u.input.vehicle() == Some(k));
+            if let Some((key, _)) = drawn.iter().find(|(_, d)| *d).filter(|_| posed) {
                 return Err(case
                     .error_at(
-                        "uncertainty.impact.crush_angle",
-                        "the crush angle is fitted ([contact_sigma]) and its prior drawn by the \
-                         study: leave out this spread",
+                        &format!("uncertainty.vehicle{}.{key}", k + 1),
+                        format!(
+                            "vehicle{}'s pose at contact is fitted ([contact_sigma]) and \
+                             its prior drawn by the study: leave out this spread",
+                            k + 1
+                        ),
                     )
                     .into());
             }
+        }
+        if unc.impact.crush_angle.is_some()
+            && unknowns
+                .iter()
+                .any(|u| u.input == pim_case::contact_pose::PoseInput::CrushAngle)
+        {
+            return Err(case
+                .error_at(
+                    "uncertainty.impact.crush_angle",
+                    "the crush angle is fitted ([contact_sigma]) and its prior drawn by the \
+                     study: leave out this spread",
+                )
+                .into());
         }
         let stated = case.contact_values(&unknowns)?;
         let priors = priors_of(&unknowns);

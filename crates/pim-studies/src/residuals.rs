@@ -9,7 +9,7 @@
 
 use pim_case::case::Case;
 pub use pim_documents::residuals::Residual;
-use pim_fit::{FitProblem, Knowledge, ObservationKind, COMPONENT_NAMES};
+use pim_fit::{FitProblem, Knowledge, COMPONENT_NAMES};
 
 /// The residual table of a fitted solution of `problem` (the problem built from `case`, whose
 /// observations it names); `unit` is the weight of one standard deviation when the case gives
@@ -57,7 +57,7 @@ pub fn residuals(
         let fitted = o.row(&problem.impact).dot(&u);
         push(
             case.observation_label(i),
-            kind_name(o.kind).into(),
+            o.kind.name().into(),
             false,
             o.kind.is_lateral(),
             o.value,
@@ -66,15 +66,4 @@ pub fn residuals(
         );
     }
     out
-}
-
-/// An observation kind as the case file writes it.
-/// The name of an observation's kind as case files write it (`speed_along_heading`, ...).
-pub fn kind_name(k: ObservationKind) -> &'static str {
-    match k {
-        ObservationKind::DeltaVLongitudinal => "delta_v_longitudinal",
-        ObservationKind::DeltaVLateral => "delta_v_lateral",
-        ObservationKind::SpeedAlongHeading => "speed_along_heading",
-        ObservationKind::LateralVelocity => "lateral_velocity",
-    }
 }

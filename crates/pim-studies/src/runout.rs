@@ -75,7 +75,6 @@ fn separation(
     case: &Case,
     source: Option<Source>,
 ) -> Result<Option<(Velocities, Source)>, DocumentError> {
-    let c = &case.content;
     if case.is_motion() {
         return match source {
             None | Some(Source::Start) => Ok(None),
@@ -86,7 +85,7 @@ fn separation(
             ))),
         };
     }
-    let wanted = source.or(if c.final_.is_some() {
+    let wanted = source.or(if case.states_final() {
         Some(Source::Final)
     } else if case.solvable() {
         Some(Source::Solve)
@@ -96,7 +95,7 @@ fn separation(
     match wanted {
         None | Some(Source::Scene) => Ok(None),
         Some(Source::Final) => {
-            if c.final_.is_none() {
+            if !case.states_final() {
                 return Err(DocumentError::Input(format!(
                     "{}: --from final needs [final]",
                     case.file

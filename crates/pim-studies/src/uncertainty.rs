@@ -22,7 +22,7 @@ use rand::SeedableRng;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
-pub use crate::tolerances::Tolerances;
+pub use pim_case::tolerances::Tolerances;
 
 /// The random stream of draw `i`: SplitMix64 of the seed and the index.
 pub(crate) fn stream(seed: u64, i: u64) -> rand::rngs::StdRng {
@@ -45,66 +45,7 @@ pub struct DrawResult {
     pub bounds: Vec<pim_fit::SearchBound>,
 }
 
-pub(crate) use crate::damage_draws::Apply;
-
-/// A perturbable input: its name and how to read and write it in a case.
-pub(crate) struct Input {
-    pub(crate) name: String,
-    pub(crate) spread: Spread,
-    pub(crate) apply: Apply,
-    pub(crate) nominal: f64,
-}
-
-/// The draws of vehicle `id`'s impact point, each coordinate by its own spread (`p`), in the
-/// vehicle's body axes; a draw moves the impact centre on the vehicle.
-///
-/// # Errors
-/// A located error for a spread that is no spread (a range upside down, a sigma not above 0).
-fn impact_point_inputs(
-    case: &Case,
-    id: usize,
-    p: pim_case::spread::PointSpread,
-) -> Result<Vec<Input>> {
-    let name = ["vehicle1", "vehicle2"][id];
-    let v = if id == 0 {
-        &case.content.vehicle1
-    } else {
-        &case.content.vehicle2
-    };
-    let (x0, y0) = pim_core::impact_point_cartesian(v.d(), v.phi());
-    // A range of y is written in the file's frame (SAE: to the right); the point is held in
-    // the natural frame (to the left).
-    let sae = case.written.mirrors();
-    let y = p.y.map(|sp| match sp {
-        Spread::Uniform { uniform: [a, b] } if sae => Spread::Uniform { uniform: [-b, -a] },
-        other => other,
-    });
-    let mut out = Vec::new();
-    for (axis, spread, nominal) in [("x", p.x, x0), ("y", y, y0)] {
-        let Some(spread) = spread else { continue };
-        spread.check_own().map_err(|why| {
-            case.error_at(&format!("uncertainty.{name}.impact_point.{axis}"), why)
-        })?;
-        out.push(Input {
-            name: format!("{name}.impact_point.{axis}"),
-            spread,
-            nominal,
-            apply: Box::new(move |case: &mut Case, value| {
-                let v = case.content.vehicle_mut(id);
-                let (mut x, mut y) = pim_core::impact_point_cartesian(v.d(), v.phi());
-                if axis == "x" {
-                    x = value
-                } else {
-                    y = value
-                }
-                let (d, phi) = pim_core::impact_point_polar(x, y);
-                v.d = Some(d);
-                v.phi = Some(phi);
-            }),
-        });
-    }
-    Ok(out)
-}
+pub(crate) use pim_case::drawn::{fit_inputs as inputs, Input};
 
 /// The draws of a study, in parallel and watched: draw `i` perturbs a copy of `case` by every
 /// input from its own random stream (`seed`, `i`), so the result is the same for any thread
@@ -143,120 +84,6 @@ pub(crate) fn draw_each<T: Send>(
     (results, phase.cancelled())
 }
 
-pub(crate) fn inputs(case: &Case, unc: &UncertaintySection) -> Result<Vec<Input>> {
-    let mut out: Vec<Input> = Vec::new();
-    let c = &case.content;
-    let est = c.estimates.unwrap_or_default().components();
-    let sig = c.sigma.unwrap_or_default().components();
-    for k in 0..12 {
-        if let (Some(v), Some(s)) = (est[k], sig[k]) {
-            out.push(Input {
-                name: format!("estimate {}", pim_fit::COMPONENT_NAMES[k]),
-                spread: Spread::Normal(s),
-                nominal: v,
-                apply: Box::new(move |case: &mut Case, x| set_estimate(case, k, x)),
-            });
-        }
-    }
-    for (i, o) in c.observations.iter().enumerate() {
-        if let Some(s) = o.sigma {
-            out.push(Input {
-                name: case.observation_label(i),
-                spread: Spread::Normal(s),
-                nominal: o.value,
-                apply: Box::new(move |case: &mut Case, x| case.content.observations[i].value = x),
-            });
-        }
-    }
-    if case.is_barrier() && unc.vehicle2 != VehicleSpread::default() {
-        return Err(InputError::new(
-            &case.file,
-            "[uncertainty] vehicle2: vehicle 2 is a fixed barrier; it has no mass, inertia, \
-             heading or impact centre to be uncertain (the barrier face's angle is [uncertainty] \
-             impact.crush_angle)",
-        ));
-    }
-    for (id, spread) in [(0usize, unc.vehicle1), (1, unc.vehicle2)] {
-        let name = ["vehicle1", "vehicle2"][id];
-        let v = if id == 0 { &c.vehicle1 } else { &c.vehicle2 };
-        type Setter = fn(&mut pim_case::case::VehicleSection, f64);
-        let fields: [(&str, Option<Spread>, f64, Setter); 5] = [
-            ("mass", spread.mass, v.mass, |s, x| s.mass = x),
-            ("yaw_inertia", spread.yaw_inertia, v.yaw_inertia, |s, x| {
-                s.yaw_inertia = x
-            }),
-            ("heading", spread.heading, v.heading, |s, x| s.heading = x),
-            ("d", spread.d, v.d(), |s, x| s.d = Some(x)),
-            ("phi", spread.phi, v.phi(), |s, x| s.phi = Some(x)),
-        ];
-        for (field, sp, nominal, set) in fields {
-            if let Some(sp) = sp {
-                let positive = !matches!(field, "heading" | "phi");
-                sp.check_against(&format!("{name}.{field}"), nominal, positive)
-                    .map_err(|why| case.error_at(&format!("uncertainty.{name}.{field}"), why))?;
-                out.push(Input {
-                    name: format!("{name}.{field}"),
-                    spread: sp,
-                    nominal,
-                    apply: Box::new(move |case: &mut Case, x| set(case.content.vehicle_mut(id), x)),
-                });
-            }
-        }
-        if let Some(p) = spread.impact_point {
-            if spread.d.is_some() || spread.phi.is_some() {
-                return Err(InputError::new(
-                    &case.file,
-                    format!("[uncertainty] {name}: give impact_point or d / phi, not both"),
-                ));
-            }
-            out.extend(impact_point_inputs(case, id, p)?);
-        }
-    }
-    out.extend(
-        crate::damage_draws::inputs(case)
-            .into_iter()
-            .map(|d| Input {
-                name: d.name,
-                spread: Spread::Normal(d.sd),
-                nominal: d.nominal,
-                apply: d.apply,
-            }),
-    );
-    if let Some(sp) = unc.impact.crush_angle {
-        sp.check_against("impact.crush_angle", c.impact.crush_angle, false)
-            .map_err(|why| case.error_at("uncertainty.impact.crush_angle", why))?;
-        out.push(Input {
-            name: "impact.crush_angle".into(),
-            spread: sp,
-            nominal: c.impact.crush_angle,
-            apply: Box::new(|case: &mut Case, x| case.content.impact.crush_angle = x),
-        });
-    }
-    Ok(out)
-}
-
-fn set_estimate(case: &mut Case, k: usize, x: f64) {
-    let Some(est) = case.content.estimates.as_mut() else {
-        return;
-    };
-    let state = if k < 6 {
-        est.initial.as_mut()
-    } else {
-        est.final_.as_mut()
-    };
-    let Some(state) = state else { return };
-    let v = if k % 6 < 3 {
-        &mut state.vehicle1
-    } else {
-        &mut state.vehicle2
-    };
-    match k % 3 {
-        0 => v.vx = Some(x),
-        1 => v.vy = Some(x),
-        _ => v.omega = Some(x),
-    }
-}
-
 /// Fits one version of the case; the best branch's quantities (those of the fit with the crush
 /// energy as evidence, when the case's damage is evidence).
 fn fit_once(
@@ -278,7 +105,7 @@ fn answer_of(
     report: &pim_fit::FitReport,
     settings: &pim_fit::ValidSettings,
 ) -> Option<DrawResult> {
-    if case.content.damage.is_some() {
+    if case.has_damage() {
         let unit = fitcase::sigma_unit(case).ok()?;
         let damage = crate::damage_fit::fit_damage(case, problem, report, settings, unit).ok()?;
         if let Some(f) = damage.and_then(|d| d.with_energy) {

@@ -19,8 +19,12 @@ pub fn plan(a: &BatchArgs) -> Result<batch::BatchPlan, Failure> {
     };
     let branches: Vec<pim_fit::MomentBranch> = unique(&a.branch);
     let e_max = a.e_max.unwrap_or(pim_fit::DEFAULT_E_RANGE[1]);
-    let mut plan = batch::BatchPlan::new(&costs, &branches, e_max, a.moment_form)
-        .map_err(|e| Failure::Input(format!("--{}", e.replacen('_', "-", 1))))?;
+    let mut plan =
+        batch::BatchPlan::new(&costs, &branches, e_max, a.moment_form).map_err(|e| match e {
+            batch::PlanError::EMax { e_max, source } => {
+                Failure::Input(format!("--e-max {e_max}: {source}"))
+            }
+        })?;
     if a.conditions == crate::args::Conditions::V18 {
         plan = plan.with_v18_conditions();
     }

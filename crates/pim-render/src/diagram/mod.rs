@@ -331,19 +331,9 @@ pub fn diagram(
     contact: Option<&Velocities>,
     solved: Option<Solved>,
 ) -> Diagram {
-    let title = match &case.content.title {
-        Some(t) => t.clone(),
-        None => case.file.clone(),
-    };
-    Diagram::new(
-        &title,
-        impact,
-        [&case.content.vehicle1, &case.content.vehicle2],
-        contact,
-        solved,
-    )
-    .labelled(UnitSystem::of(&case.written_units), case.written)
-    .centred(case.impact_centre())
+    Diagram::new(&case.heading(), impact, case.vehicles(), contact, solved)
+        .labelled(UnitSystem::of(&case.written_units), case.written)
+        .centred(case.impact_centre())
 }
 
 /// The diagram of `pim draw`: the case at contact, solved with `options` when it has

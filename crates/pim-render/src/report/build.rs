@@ -292,14 +292,9 @@ fn geometry(s: &mut Section, g: &pim_fit::GeometryEstimate, u: UnitSystem, cost:
 
 /// Title, what was done, and how to read the report.
 pub(super) fn header(case: &Case, what: &str, u: UnitSystem) -> Document {
-    let title = case
-        .content
-        .title
-        .clone()
-        .unwrap_or_else(|| case.file.clone());
-    let c = &case.content;
+    let title = case.heading();
     let mut subtitle = vec![format!("{what} of {}.", case.file)];
-    if let (Some(a), Some(b)) = (&c.vehicle1.description, &c.vehicle2.description) {
+    if let Some((a, b)) = case.descriptions() {
         subtitle.push(format!("Vehicle 1: {a}; vehicle 2: {b}."));
     }
     subtitle.push(format!(
@@ -433,7 +428,7 @@ fn method(fit: Option<(&str, &Fitted)>) -> Section {
 /// The inputs as given: the file, verbatim, and its units and frame.
 pub(super) fn inputs(case: &Case, u: UnitSystem) -> Section {
     let mut s = Section::new("Inputs as given");
-    let v = [&case.content.vehicle1, &case.content.vehicle2];
+    let v = case.vehicles();
     let mut t = Table::new(&["", "vehicle 1", "vehicle 2"]);
     t.row(vec![
         "description".into(),

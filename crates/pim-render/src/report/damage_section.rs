@@ -142,7 +142,7 @@ fn capitalised(t: &str) -> String {
 
 /// The outline of vehicle `k` about its CG: (CG to front, CG to rear, width), m.
 fn outline(case: &Case, k: usize) -> (f64, f64, f64) {
-    let (o, _) = case.content.vehicle(k).outline();
+    let (o, _) = case.vehicle(k).outline();
     (o.cg_to_front, o.cg_to_rear, o.width)
 }
 
@@ -174,28 +174,18 @@ fn profile_points(
 fn profiles_figure(case: &Case, a: &Assessment) -> Result<Figure, crate::RenderError> {
     let damaged: Vec<usize> = (0..2).filter(|&k| a.vehicles[k].is_some()).collect();
     let panels = damaged.len().max(1) as u32;
+    // Each centre of damage in SI and the natural frame, as the case resolves it.
+    let stated =
+        pim_case::damage::Damage::of(case).map_err(pim_studies::documents::DocumentError::from)?;
     let offsets: Vec<f64> = damaged
         .iter()
         .map(|&k| {
-            case.content
-                .damage
+            stated
                 .as_ref()
-                .and_then(|d| {
-                    if k == 0 {
-                        d.vehicle1.as_ref()
-                    } else {
-                        d.vehicle2.as_ref()
-                    }
-                })
-                .and_then(|v| v.offset)
-                .unwrap_or(0.0)
+                .and_then(|d| d.vehicles[k].as_ref())
+                .map_or(0.0, |v| v.offset)
         })
         .collect();
-    let crush_unit = case
-        .written_units
-        .crush
-        .map_or(case.written_units.length.to_si(), |c| c.to_si());
-    let sae = case.written.mirrors();
     svg_figure("damage.svg", (420 * panels, 470), |root| {
         let areas = root.split_evenly((1, panels as usize));
         for ((area, &k), offset) in areas.iter().zip(&damaged).zip(&offsets) {
@@ -235,11 +225,7 @@ fn profiles_figure(case: &Case, a: &Assessment) -> Result<Figure, crate::RenderE
                     BLACK.stroke_width(2),
                 )))
                 .map_err(err)?;
-            // The offset as written, in the natural frame.
-            let mut off = offset * crush_unit;
-            if sae && matches!(v.side, Side::Front | Side::Rear) {
-                off = -off;
-            }
+            let off = *offset;
             let crushed = profile_points(v.side, &v.depths, v.width, off, o);
             let face: Vec<(f64, f64)> =
                 profile_points(v.side, &vec![0.0; v.depths.len()], v.width, off, o);

@@ -86,7 +86,6 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
     let units = o
         .units
         .unwrap_or_else(|| UnitSystem::of(&case.written_units));
-    let c = &case.content;
     let asked = pim_studies::question::Question::of(case, o.cost);
     if !o.solve && asked.question == pim_studies::question::Question::Reconstruction {
         return reconstruction(case, o, units);
@@ -111,12 +110,12 @@ pub fn make(case: &Case, o: &Options) -> Result<Made, DocumentError> {
         pim_core::MomentForm::Corrected,
         o.model.branches(&pim_fit::MomentBranch::ALL),
     )?;
-    let uncertain = c.sigma.is_some() || c.uncertainty.is_some();
+    let uncertain = case.is_uncertain();
     let draws = o.draws.unwrap_or(if uncertain { DEFAULT_DRAWS } else { 0 });
     let study = if draws > 0 && fitted.report.best.is_some() {
         let s = pim_studies::uncertainty::run(
             case,
-            &c.uncertainty.unwrap_or_default(),
+            &case.spreads(),
             o.cost.map_or(CostChoice::Custom, CostChoice::Preset),
             pim_fit::FitSettings {
                 model: o.model,

@@ -1,10 +1,10 @@
 //! The tolerances file of `pim batch DATA.csv --draws N --tolerances FILE`: the standard
 //! deviations applied to every test of a data file, checked before the batch runs.
 
-use crate::fitcase;
-use pim_case::case::Case;
-use pim_case::spread::{Spread, UncertaintySection};
-use pim_case::{InputError, Result};
+use crate::case::Case;
+use crate::fit_sections as fitcase;
+use crate::spread::{Spread, UncertaintySection};
+use crate::{InputError, Result};
 use serde::Deserialize;
 
 /// A tolerances file: the standard deviations that `pim batch DATA.csv --draws N --tolerances
@@ -17,10 +17,10 @@ use serde::Deserialize;
 pub struct Tolerances {
     /// Units of the file's numbers (default SI).
     #[serde(default)]
-    pub units: pim_case::units::UnitsSection,
+    pub units: crate::units::UnitsSection,
     /// Standard deviations of the measured velocities.
     #[serde(default)]
-    pub sigma: Option<pim_case::case::PartialStates>,
+    pub sigma: Option<crate::case::PartialStates>,
     /// Standard deviations of the inputs the fit takes as exact.
     #[serde(default)]
     pub uncertainty: Option<UncertaintySection>,
@@ -29,7 +29,7 @@ pub struct Tolerances {
 impl Tolerances {
     /// Parses and checks a tolerances file; the result is in SI.
     pub fn from_text(file: &str, text: &str) -> Result<Self> {
-        let mut t: Tolerances = pim_case::case::parse_toml(file, text)?;
+        let mut t: Tolerances = crate::case::parse_toml(file, text)?;
         if t.sigma.is_none() && t.uncertainty.is_none() {
             return Err(InputError::new(
                 file,
@@ -50,7 +50,7 @@ impl Tolerances {
             for (what, sp) in all {
                 match sp {
                     Some(Spread::Uniform { .. }) => {
-                        return Err(pim_case::case::error_at(
+                        return Err(crate::case::error_at(
                             file,
                             text,
                             &format!("uncertainty.{what}"),
@@ -60,7 +60,7 @@ impl Tolerances {
                         ))
                     }
                     Some(sp) => sp.check_own().map_err(|why| {
-                        pim_case::case::error_at(file, text, &format!("uncertainty.{what}"), why)
+                        crate::case::error_at(file, text, &format!("uncertainty.{what}"), why)
                     })?,
                     None => {}
                 }
@@ -76,14 +76,14 @@ impl Tolerances {
                     continue;
                 };
                 if !(si.is_finite() && *si >= fitcase::SIGMA_MIN) {
-                    return Err(pim_case::case::error_at(
+                    return Err(crate::case::error_at(
                         file,
                         text,
                         &format!("sigma.{}", pim_fit::COMPONENT_NAMES[k]),
                         format!(
                             "{}: a standard deviation must be a number of at least {} (m/s or \
                              rad/s, in SI)",
-                            pim_case::ranges::short(w),
+                            crate::ranges::short(w),
                             fitcase::SIGMA_MIN
                         ),
                     ));

@@ -6,11 +6,11 @@
 //! and applied to the field it names; a spread whose field the case does not give is refused
 //! with its place, never dropped.
 
-use crate::uncertainty::Input;
-use pim_case::case::Case;
-use pim_case::scene_sections::{PreImpactVehicleSection, RunoutVehicleSection};
-use pim_case::spread::{Spread, VehicleSpread};
-use pim_case::Result;
+use super::input::Input;
+use crate::case::Case;
+use crate::scene_sections::{PreImpactVehicleSection, RunoutVehicleSection};
+use crate::spread::{Spread, VehicleSpread};
+use crate::Result;
 
 fn pre_impact(c: &mut Case, k: usize) -> Option<&mut PreImpactVehicleSection> {
     let p = c.content.pre_impact.as_mut()?;
@@ -42,7 +42,7 @@ struct Field {
 ///
 /// # Errors
 /// A located error for a spread of a field the case does not give.
-pub(crate) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
+pub(super) fn measured_inputs(case: &Case) -> Result<Vec<Input>> {
     let Some(unc) = case.content.uncertainty else {
         return Ok(Vec::new());
     };
@@ -221,7 +221,7 @@ fn runout_fields(v: &VehicleSpread) -> [Field; 6] {
 /// # Errors
 /// A located error: a probability not above 0, probabilities that do not leave the stated
 /// wheels some, or an alternative that is no wheel state.
-pub(crate) fn wheel_alternatives(case: &Case) -> Result<Vec<Input>> {
+pub(super) fn wheel_alternatives(case: &Case) -> Result<Vec<Input>> {
     let mut out = Vec::new();
     for k in 0..2 {
         let mut probe = case.clone();
@@ -288,8 +288,8 @@ pub(crate) fn wheel_alternatives(case: &Case) -> Result<Vec<Input>> {
 
 #[cfg(test)]
 mod tests {
-    use pim_case::case::Case;
-    use pim_case::spread::Spread;
+    use crate::case::Case;
+    use crate::spread::Spread;
 
     const FOOT: f64 = 0.3048;
 
@@ -304,9 +304,9 @@ mod tests {
         Case::from_text(path, &format!("{}{spreads}", &text[..at])).unwrap()
     }
 
-    fn inputs(c: &Case) -> Vec<crate::uncertainty::Input> {
+    fn inputs(c: &Case) -> Vec<crate::drawn::Input> {
         let unc = c.spreads();
-        let mut all = crate::uncertainty::inputs(c, &unc).unwrap();
+        let mut all = crate::drawn::fit_inputs(c, &unc).unwrap();
         all.extend(super::measured_inputs(c).unwrap());
         all
     }
@@ -359,7 +359,7 @@ mod tests {
         assert!(!one.iter().any(|i| i.name == "vehicle2.impact_point.y"));
         let bad = case("[uncertainty.vehicle2]\nimpact_point = { x = { uniform = [4.7, 1.6] } }\n");
         let unc = bad.spreads();
-        let err = crate::uncertainty::inputs(&bad, &unc)
+        let err = crate::drawn::fit_inputs(&bad, &unc)
             .err()
             .unwrap()
             .to_string();

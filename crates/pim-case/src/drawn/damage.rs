@@ -1,23 +1,13 @@
 //! The damage's inputs of an uncertainty study: each stiffness coefficient, damage width and
 //! crush depth with a standard deviation is drawn (in the case file's own units).
 
-use pim_case::case::Case;
-
-/// Writes a drawn value into a copy of the case.
-pub(crate) type Apply = Box<dyn Fn(&mut Case, f64) + Sync + Send>;
-
-/// A drawn input of the damage: its name, standard deviation and nominal value (the file's
-/// units), and how a drawn value is written into a copy of the case.
-pub(crate) struct Drawn {
-    pub(crate) name: String,
-    pub(crate) sd: f64,
-    pub(crate) nominal: f64,
-    pub(crate) apply: Apply,
-}
+use super::input::Input;
+use crate::case::Case;
+use crate::spread::Spread;
 
 /// The drawn inputs of a case's `[damage]` (none without one).
-pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
-    let mut out: Vec<Drawn> = Vec::new();
+pub(super) fn inputs(case: &Case) -> Vec<Input> {
+    let mut out: Vec<Input> = Vec::new();
     let Some(d) = &case.content.damage else {
         return out;
     };
@@ -28,7 +18,7 @@ pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
             };
             // Crush and stiffness are drawn in the file's own units, kept where they can be:
             // A and depths at least 0, B and the width above 0.
-            type Set = fn(&mut pim_case::sections::DamageVehicleSection, f64, f64);
+            type Set = fn(&mut crate::sections::DamageVehicleSection, f64, f64);
             let fields: [(&str, Option<f64>, Option<f64>, Set); 3] = [
                 ("a", v.a, v.a_sigma, |s, x, _| s.a = Some(x.max(0.0))),
                 ("b", v.b, v.b_sigma, |s, x, n| s.b = Some(x.max(1e-6 * n))),
@@ -39,9 +29,9 @@ pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
             for (field, nominal, sd, set) in fields {
                 if let (Some(nominal), Some(sd)) = (nominal, sd) {
                     if sd > 0.0 {
-                        out.push(Drawn {
+                        out.push(Input {
                             name: format!("damage.{name}.{field}"),
-                            sd,
+                            spread: Spread::Normal(sd),
                             nominal,
                             apply: Box::new(move |case: &mut Case, x| {
                                 if let Some(s) = damage_vehicle_mut(case, k) {
@@ -55,9 +45,9 @@ pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
             if let (Some(depths), Some(sd)) = (&v.depths, v.depth_sigma) {
                 if sd > 0.0 {
                     for (i, &nominal) in depths.iter().enumerate() {
-                        out.push(Drawn {
+                        out.push(Input {
                             name: format!("damage.{name}.C{}", i + 1),
-                            sd,
+                            spread: Spread::Normal(sd),
                             nominal,
                             apply: Box::new(move |case: &mut Case, x| {
                                 if let Some(c) = damage_vehicle_mut(case, k)
@@ -79,7 +69,7 @@ pub(crate) fn inputs(case: &Case) -> Vec<Drawn> {
 fn damage_vehicle_mut(
     case: &mut Case,
     k: usize,
-) -> Option<&mut pim_case::sections::DamageVehicleSection> {
+) -> Option<&mut crate::sections::DamageVehicleSection> {
     let d = case.content.damage.as_mut()?;
     if k == 0 {
         d.vehicle1.as_mut()
