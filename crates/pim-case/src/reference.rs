@@ -31,20 +31,41 @@ pub fn vossou_table(cost: pim_fit::CostPreset) -> &'static str {
     }
 }
 
+/// Why a reference table cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReferenceError {
+    /// The CSV itself (its reader's message).
+    #[error(transparent)]
+    Csv(#[from] csv::Error),
+    /// A cell that should hold a number (row and column from 1).
+    #[error("row {row}: column {column}: not a number: {cell:?}")]
+    NotANumber {
+        /// Its row, from 1.
+        row: usize,
+        /// Its column, from 1.
+        column: usize,
+        /// What it holds.
+        cell: String,
+    },
+}
+
 /// The costs Vossou & Koulocheris (2018) print for one cost function: per test, the sum of the
 /// squares of the errors in one of their Tables 4-6 (`data/reference/vossou2018_table*.csv`:
 /// a `test` column and one column per fitted component, errors in m/s and rad/s).
-pub fn parse_vossou(text: &str) -> Result<Vec<(u32, f64)>, String> {
+pub fn parse_vossou(text: &str) -> Result<Vec<(u32, f64)>, ReferenceError> {
     let mut rdr = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .from_reader(text.as_bytes());
     let mut out = Vec::new();
     for (i, row) in rdr.records().enumerate() {
-        let row = row.map_err(|e| e.to_string())?;
-        let number = |j: usize| -> Result<f64, String> {
+        let row = row?;
+        let number = |j: usize| -> Result<f64, ReferenceError> {
             let cell = row.get(j).unwrap_or("").trim();
-            cell.parse::<f64>()
-                .map_err(|_| format!("row {}: column {}: not a number: {cell:?}", i + 1, j + 1))
+            cell.parse::<f64>().map_err(|_| ReferenceError::NotANumber {
+                row: i + 1,
+                column: j + 1,
+                cell: cell.to_string(),
+            })
         };
         let test = number(0)?;
         let cost = (1..row.len())

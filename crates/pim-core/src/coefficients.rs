@@ -107,9 +107,9 @@ impl MomentForm {
 }
 
 impl std::str::FromStr for MomentForm {
-    type Err = String;
+    type Err = crate::names::UnknownName;
     /// By [`MomentForm::name`]; the error lists the accepted names.
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
+    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
         crate::names::parse_name(s, &Self::ALL, Self::name)
     }
 }

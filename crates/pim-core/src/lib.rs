@@ -181,7 +181,7 @@ pub use model::{
     SideBasis, Vehicle, VehicleVelocity, Velocities, MAX_ANGLE, MAX_DISTANCE, MAX_INERTIA,
     MAX_MASS, MAX_SPEED, MAX_YAW_RATE, NO_SLIDING_TOL,
 };
-pub use names::parse_name;
+pub use names::{parse_name, UnknownName};
 pub use point_mass::{solve_point_mass, PointMassImpact, PointMassSolution};
 pub use report::{
     pdof, residuals, vehicle_results, Admissibility, ContactPoints, DeltaV, Energy, ImpactReport,

@@ -453,17 +453,17 @@ impl MomentBranch {
 }
 
 impl std::str::FromStr for CostPreset {
-    type Err = String;
+    type Err = pim_core::UnknownName;
     /// By [`CostPreset::name`]; the error lists the accepted names.
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
+    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
         pim_core::parse_name(s, &Self::ALL, Self::name)
     }
 }
 
 impl std::str::FromStr for MomentBranch {
-    type Err = String;
+    type Err = pim_core::UnknownName;
     /// By [`MomentBranch::name`]; the error lists the accepted names.
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
+    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
         pim_core::parse_name(s, &Self::ALL, Self::name)
     }
 }

@@ -331,9 +331,9 @@ impl FitSettings {
 }
 
 impl std::str::FromStr for FitModel {
-    type Err = String;
+    type Err = pim_core::UnknownName;
     /// By [`FitModel::name`]; the error lists the accepted names.
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
+    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
         pim_core::parse_name(s, &Self::ALL, Self::name)
     }
 }

@@ -161,7 +161,10 @@ fn case_text(py: Python<'_>, case: &Bound<'_, PyAny>) -> PyResult<(String, Strin
 
 /// A named choice of the library (moment form, cost function, branch, model), read by the
 /// library's own names; `field` names the argument in the error.
-pub(crate) fn named<T: std::str::FromStr<Err = String>>(field: &str, name: &str) -> PyResult<T> {
+pub(crate) fn named<T: std::str::FromStr<Err = pim_core::UnknownName>>(
+    field: &str,
+    name: &str,
+) -> PyResult<T> {
     name.parse()
         .map_err(|e| input_error(format!("{field}: {e}")))
 }
