@@ -3,76 +3,14 @@
 
 use crate::combos::{counts_first, Combos};
 use crate::error::{NoPoint, Result};
+pub(crate) use crate::looks::Look;
+use crate::looks::{candidates, steered};
 use crate::outcome::{Contradiction, Found, Outcome, Status, Tried, TriedCounts};
 use crate::point::Point;
 use crate::problem::{Reconstruction, Settings};
 use crate::refine::{probe, refine_probe, FarFirst, Probe, RefineEnd, Refined};
-use pim_runout::{Estimate, EstimateSettings};
+use pim_runout::Estimate;
 use rayon::prelude::*;
-
-/// Tolerance of the run-outs of the first search's scene-alone candidates.
-const CANDIDATE_TOLERANCE: f64 = 1e-6;
-
-/// The candidates of one scene vehicle from the run-out inverse.
-fn candidates(
-    r: &Reconstruction,
-    settings: &Settings,
-    vehicle: usize,
-    scatter: bool,
-    earlier: Option<&Outcome>,
-) -> Result<Estimate> {
-    let s = &r.scene[vehicle];
-    // The road friction is held at its value in the reconstruction (its spread is drawn by an
-    // uncertainty study), so the scene alone is searched with it held too.
-    let evidence = pim_runout::Evidence {
-        friction_sigma: None,
-        ..s.evidence.clone()
-    };
-    // The candidates are starts of the refinement, which runs at full precision: the first
-    // search's quick look searches them on run-outs of tolerance CANDIDATE_TOLERANCE; the
-    // second, thorough one at the run-outs' own precision. A long steered or rolling run-out's
-    // rest moves by tens of standard deviations per m/s, and its scene polished on run-outs of
-    // 1e-6 can miss an exact solution the same search finds at 1e-10 (a braked, steered
-    // vehicle's 68 m run-out: its true count's candidate at 10,130 against 0.20).
-    let es = EstimateSettings {
-        turns: settings.turns,
-        runout: if scatter {
-            settings.runout
-        } else {
-            settings.runout.no_finer_than(CANDIDATE_TOLERANCE)
-        },
-        scatter,
-        // The first search looks quickly; the second (where the first answer fits worse than
-        // its median) from every start and the scatter.
-        quick: !scatter,
-        starts: earlier.map_or_else(Vec::new, |e| answers_of(e, vehicle)),
-        ..EstimateSettings::default()
-    };
-    Ok(pim_runout::estimate(&s.chassis, &s.pose, &evidence, &es)?)
-}
-
-/// At most this many of an earlier search's refined combinations give the scenes' inverse
-/// starts from the impact's side (the lowest).
-const ANSWER_STARTS: usize = 3;
-
-/// Scene vehicle `v`'s separation states where an earlier search's lowest refinements ended,
-/// with their counts of turns: starts of the scene's inverse from the impact's side.
-fn answers_of(earlier: &Outcome, v: usize) -> Vec<(Option<i64>, [f64; 3])> {
-    let mut refined: Vec<(f64, &TriedCounts)> = earlier
-        .tried
-        .iter()
-        .filter_map(|t| match (&t.state, &t.end) {
-            (Tried::Refined { cost, .. }, Some(_)) => Some((*cost, t)),
-            _ => None,
-        })
-        .collect();
-    refined.sort_by(|a, b| a.0.total_cmp(&b.0));
-    refined
-        .iter()
-        .take(ANSWER_STARTS)
-        .filter_map(|(_, t)| Some((t.counts[v], *t.end.as_ref()?.velocities.get(v)?)))
-        .collect()
-}
 
 /// A refusal says what was searched: it rests on a search, not a proof.
 pub(crate) fn searched(r: &Reconstruction, mut out: Outcome) -> Outcome {
@@ -186,17 +124,23 @@ impl Fates {
 /// A search's best point: its combination, the point, iterations, converged.
 type Best = Option<(usize, Point, usize, bool)>;
 
-/// One search: the scenes' candidates (from a scatter too, with `scatter`), the bounds, the
-/// refinements.
+/// One search: the scenes' candidates (from a scatter too, unless `look` is quick), the
+/// bounds, the refinements.
 pub(crate) fn search(
     r: &Reconstruction,
     settings: &Settings,
-    (scatter, earlier): (bool, Option<&Outcome>),
+    (look, earlier): (Look, Option<&Outcome>),
     work: &crate::work::Work,
 ) -> Result<Outcome> {
+    let scatter = look != Look::Quick;
     let estimates: Vec<Estimate> = (0..r.scene.len())
         .into_par_iter()
-        .map(|i| candidates(r, settings, i, scatter, earlier))
+        .map(|i| match (look, earlier) {
+            // The fine look searches again only the steered vehicles' scenes (see
+            // `stages::looked_finely`); the others keep the search before's candidates.
+            (Look::Fine, Some(e)) if !steered(&r.scene[i]) => Ok(e.estimates[i].clone()),
+            _ => candidates(r, settings, i, (scatter, look == Look::Fine), earlier),
+        })
         .collect::<Result<_>>()?;
     // 1. Each combination's bound: the linearised problem under the momentum balance alone.
     let combos = Combos::new(r, settings, &estimates);

@@ -1,11 +1,11 @@
 //! The stages of a reconstruction: the first search, the second from the scatter, the
-//! continuation before a refusal (see the crate docs, steps 1 to 5).
+//! continuation before a refusal and its last look (see the crate docs, steps 1 to 6).
 
 use crate::error::Result;
 use crate::outcome::{Found, Outcome, Status, Tried};
 use crate::problem::{Reconstruction, Settings};
 use crate::refine::refine_start;
-use crate::search::{answered, refined_from, search, searched};
+use crate::search::{answered, refined_from, search, searched, Look};
 
 /// Reconstructs the collision: see the crate docs.
 ///
@@ -24,7 +24,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     // slow) must not leave the second, from the scatter, nothing; where the first answer
     // fits, the second is not needed.
     let work = crate::work::Work::new(settings.refine_work / 2);
-    let first = search(r, settings, (false, None), &work)?;
+    let first = search(r, settings, (Look::Quick, None), &work)?;
     let fits_well = first.best.as_ref().is_some_and(|b| {
         pim_fit::ChiSquare::p_value_of(b.degrees_of_freedom, b.chi_square)
             .is_some_and(|p| p >= settings.scatter_below_p)
@@ -40,7 +40,7 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     let limit = (spent + spent.max(settings.refine_work / 2)).min(settings.refine_work);
     let work = crate::work::Work::new(limit);
     work.add(spent);
-    let second = search(r, settings, (true, Some(&first)), &work)?;
+    let second = search(r, settings, (Look::Scatter, Some(&first)), &work)?;
     let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
     let (runouts, fits, work) = (
         first.runouts + second.runouts,
@@ -60,7 +60,47 @@ pub(crate) fn unsaid(r: &Reconstruction, settings: &Settings) -> Result<Outcome>
     if out.status == Status::Inconsistent {
         continue_best(r, settings, &mut out);
     }
+    if out.status == Status::Inconsistent {
+        out = looked_finely(r, settings, out)?;
+    }
     Ok(out)
+}
+
+/// A refusal's last look: each steered vehicle's scene searched once more from a scatter whose
+/// grid is mapped at every quarter rad/s of yaw rate, from where the searches' lowest
+/// refinements ended too, the other scenes' candidates kept. Steered wheels hold a car rolling
+/// on a curve of radius `R = L / tan(delta)` (wheelbase `L`, steer angle `delta`), so its yaw
+/// rate stays near `v / R`: where the distance to the rest fixes the speed, the states that
+/// reach the rest have nearly one yaw rate, and their branch of the rest curve can be a closed
+/// loop between two whole yaw rates that the scatter's planes never cross (a car turned once
+/// around by its wheels on a 76 m run-out, whose states reaching its rest all lie between -1
+/// and 0 rad/s). The search has a budget of its own
+/// (half the whole budget again: it runs only where the answer would be refused). The lower
+/// answer is kept, and the continuation runs on it where it is still refused.
+fn looked_finely(r: &Reconstruction, settings: &Settings, mut out: Outcome) -> Result<Outcome> {
+    if !r.scene.iter().any(crate::looks::steered) {
+        return Ok(out);
+    }
+    let work = crate::work::Work::new(settings.refine_work / 2);
+    let mut fine = search(r, settings, (Look::Fine, Some(&out)), &work)?;
+    let cost = |o: &Outcome| o.best.as_ref().map_or(f64::INFINITY, |b| b.chi_square);
+    if cost(&fine) >= cost(&out) {
+        out.runouts += fine.runouts;
+        out.fits += fine.fits;
+        out.work += work.spent();
+        return Ok(out);
+    }
+    // The continuation spends what the fine search left of its own budget.
+    fine.work = work.spent();
+    if fine.status == Status::Inconsistent {
+        continue_best(r, settings, &mut fine);
+    }
+    fine.work += out.work;
+    fine.runouts += out.runouts;
+    fine.fits += out.fits;
+    fine.first_work = out.first_work;
+    fine.scattered = true;
+    Ok(fine)
 }
 
 /// The scene's standard deviations widened `k` times (rest positions, headings and marks).

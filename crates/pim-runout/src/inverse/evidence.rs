@@ -132,10 +132,18 @@ pub struct EstimateSettings {
     /// alternatives (mixed with them, they crowded out the basin of a crash's truth).
     #[serde(default)]
     pub starts: Vec<(Option<i64>, [f64; 3])>,
+    /// With the scatter: its grid of CG velocities mapped at every quarter of a rad/s of yaw
+    /// rate instead of every whole one (four times the grid's 4,032 run-outs). A branch of the
+    /// rest curve that is a closed loop between two whole yaw rates (a steered car turned
+    /// once around by its wheels, reaching its rest only between -1 and 0 rad/s) crosses no
+    /// whole one: the finer grid finds it. For a last look before a refusal.
+    #[serde(default)]
+    pub fine: bool,
 }
 
 impl Default for EstimateSettings {
-    /// Turns -3 to 3, 100 iterations, the default run-out settings, no scatter, every start.
+    /// Turns -3 to 3, 100 iterations, the default run-out settings, no scatter, every start,
+    /// the scatter's grid at whole yaw rates.
     fn default() -> Self {
         EstimateSettings {
             turns: (-3, 3),
@@ -144,6 +152,7 @@ impl Default for EstimateSettings {
             scatter: false,
             quick: false,
             starts: Vec::new(),
+            fine: false,
         }
     }
 }

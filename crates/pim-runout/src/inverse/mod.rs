@@ -152,7 +152,7 @@ pub fn estimate(
         .map(|k| nearest.map(|h| h + TAU * k.unwrap_or(0) as f64))
         .collect();
     let scatter = if settings.scatter {
-        scatter::scatter(&problem_of(middle), &headings)
+        scatter::scatter(&problem_of(middle), &headings, settings.fine)
     } else {
         vec![(Vec::new(), 0); counts.len()]
     };

@@ -63,7 +63,11 @@ const IN_ALL: usize = 12;
 /// For each count (one per heading of `headings`): its lowest scatter points by the softened
 /// cost ([`Evidence::softened`](super::evidence::Evidence::softened); distinct yaw rates or directions) and the run-outs the scatter spent on
 /// it.
-pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<f64>>, usize)> {
+pub(crate) fn scatter(
+    base: &Problem,
+    headings: &[Option<f64>],
+    fine: bool,
+) -> Vec<(Vec<Vec<f64>>, usize)> {
     let mut out: Vec<(Vec<Vec<f64>>, usize)> = vec![(Vec::new(), 0); headings.len()];
     if headings.is_empty() {
         return out;
@@ -89,7 +93,7 @@ pub(crate) fn scatter(base: &Problem, headings: &[Option<f64>]) -> Vec<(Vec<Vec<
                 ..problem(None)
             };
             let (x, y) = rest.cg();
-            let (branches, spent, found) = rest_curve(&path, &guess, [x, y], headings);
+            let (branches, spent, found) = rest_curve(&path, &guess, [x, y], (headings, fine));
             guess_runouts += spent;
             seeds = found;
             branches
@@ -248,7 +252,7 @@ fn rest_curve(
     p: &Problem,
     guess: &[f64],
     target: [f64; 2],
-    headings: &[Option<f64>],
+    (headings, fine): (&[Option<f64>], bool),
 ) -> (Vec<Vec<Vec<f64>>>, usize, Vec<Counted>) {
     // A branch of the guess's is followed over every yaw rate; another is given up after
     // GIVE_UP yaw rates in a row where Newton's method does not reach the rest (each such
@@ -295,7 +299,7 @@ fn rest_curve(
         .collect();
     // Then the branches no seed lies on: every state of the planes' grids that reaches the
     // rest and lies on no branch followed so far, followed in turn.
-    let (found, mut spent, seeds) = preimages(p, guess, target, headings);
+    let (found, mut spent, seeds) = preimages(p, guess, target, (headings, fine));
     let on_a_branch = |t: &Vec<f64>| {
         runs.iter().flat_map(|r| &r.0).any(|q| {
             (q[2] - t[2]).abs() < 1e-9
@@ -315,9 +319,11 @@ fn rest_curve(
 }
 
 /// The yaw rates (rad/s) at which the plane of CG velocities is mapped for [`preimages`]:
-/// -10 to 10 in steps of 1 (the rest curve's range).
-fn planes() -> impl Iterator<Item = f64> {
-    (0..21).map(|i| -CURVE_LIMIT + f64::from(i))
+/// -10 to 10 (the rest curve's range) in steps of 1, or of 0.25 where `fine`
+/// ([`super::EstimateSettings::fine`]).
+fn planes(fine: bool) -> impl Iterator<Item = f64> {
+    let per_unit: u32 = if fine { 4 } else { 1 };
+    (0..=20 * per_unit).map(move |i| -CURVE_LIMIT + f64::from(i) / f64::from(per_unit))
 }
 /// The polar grid of each plane: directions all round, speeds as multiples of the first
 /// guess's (geometric).
@@ -337,7 +343,7 @@ fn preimages(
     p: &Problem,
     guess: &[f64],
     target: [f64; 2],
-    headings: &[Option<f64>],
+    (headings, fine): (&[Option<f64>], bool),
 ) -> (Vec<Vec<f64>>, usize, Vec<Counted>) {
     let speed = guess[0].hypot(guess[1]).max(1.0);
     let angle = guess[1].atan2(guess[0]);
@@ -349,7 +355,7 @@ fn preimages(
         t[2] = yaw;
         t
     };
-    let cells: Vec<(f64, usize, usize)> = planes()
+    let cells: Vec<(f64, usize, usize)> = planes(fine)
         .flat_map(|w| {
             (0..GRID_DIRECTIONS).flat_map(move |i| (0..GRID_SPEEDS.len()).map(move |j| (w, i, j)))
         })
@@ -375,11 +381,15 @@ fn preimages(
     let at = |k: usize, i: usize, j: usize| end(k, i, j).map(|e| [e[0], e[1]]);
     let mut starts = Vec::new();
     let mut brackets = Vec::new();
-    for (k, w) in planes().enumerate() {
+    for (k, w) in planes(fine).enumerate() {
         for i in 0..GRID_DIRECTIONS {
             let line: Vec<(f64, Option<[f64; 3]>)> =
                 (0..n).map(|j| (GRID_SPEEDS[j], end(k, i, j))).collect();
-            headings::brackets_of((w, i as f64), &line, headings, &mut brackets);
+            // The heading brackets at the whole yaw rates only (the finer planes are for the
+            // cells' images, where a closed branch shows).
+            if w.fract() == 0.0 {
+                headings::brackets_of((w, i as f64), &line, headings, &mut brackets);
+            }
             for j in 0..n - 1 {
                 let corners = [(0, 0), (1, 0), (1, 1), (0, 1)];
                 let pts: Vec<Option<[f64; 2]>> =
@@ -609,7 +619,8 @@ mod tests {
             };
             // A first guess pointing the other way, at half the speed.
             let guess = [-0.5 * t[0], -0.5 * t[1], 0.0];
-            let (found, spent, _) = preimages(&p, &guess, [truth.rest.x, truth.rest.y], &[]);
+            let (found, spent, _) =
+                preimages(&p, &guess, [truth.rest.x, truth.rest.y], (&[], false));
             assert!(spent >= 21 * GRID_DIRECTIONS * GRID_SPEEDS.len());
             let near = found
                 .iter()

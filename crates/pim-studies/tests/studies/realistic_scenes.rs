@@ -646,6 +646,19 @@ fn the_impacts_starts_do_not_crowd_out_the_scenes_own() {
     check(&results);
 }
 
+/// Crash 100788 of the full sweep (the sedan locked 16.5 m; the SUV steered, rolling 76 m and
+/// turning once around): the SUV's states that reach its rest all have yaw rates between -1
+/// and 0 rad/s (its steered wheels hold its yaw rate near v tan(delta) / L), a closed branch of
+/// the rest curve that the scatter's planes at whole yaw rates never cross. Refused at 11,834
+/// (the truth's chi-square 24.8) until the last look before a refusal maps the steered scene's
+/// grid at every quarter rad/s: answered at 6.61.
+#[test]
+#[ignore = "long: tests/long runs it"]
+fn a_car_steered_once_around_is_found_by_the_last_look() {
+    let r = run_case(100_788, [Wheels::Locked, Wheels::Steered], 0).expect("an admissible crash");
+    check(&[r]);
+}
+
 /// Crash 100285 written exactly (its measurements without noise): the SUV steered 50 m with no
 /// marks, so its rest is three equations in its three unknowns, met exactly by at least five
 /// states of count 0. With three alternatives kept per count the truth's was dropped and the
