@@ -90,7 +90,7 @@ fn looked_finely(r: &Reconstruction, settings: &Settings, mut out: Outcome) -> R
         out.work += work.spent();
         return Ok(out);
     }
-    // The continuation spends what the fine search left of its own budget.
+    // The continuation spends what a whole budget of work has left after the fine search.
     fine.work = work.spent();
     if fine.status == Status::Inconsistent {
         continue_best(r, settings, &mut fine);
