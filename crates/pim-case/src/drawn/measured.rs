@@ -203,9 +203,9 @@ fn runout_fields(v: &VehicleSpread) -> [Field; 6] {
             // At least a trace (a rolling wheel must stop), at most half the road's
             // friction (the chassis refuses one at or above the friction).
             set: |c, k, x| {
-                let road = c.content.runout.as_ref().and_then(|r| r.friction);
+                let road = c.road_friction();
                 if let Some(r) = runout(c, k) {
-                    let mu = r.friction.or(road).unwrap_or(pim_runout::DEFAULT_FRICTION);
+                    let mu = r.friction.unwrap_or(road);
                     r.rolling_resistance = Some(x.clamp(1e-4, 0.5 * mu));
                 }
             },
