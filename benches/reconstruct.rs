@@ -1,6 +1,8 @@
 //! The three phases in one fit (pim-reconstruct): the example `reconstruction_us.toml` (two cars,
 //! rest positions and headings, a mark each, a skid and an EDR speed) reconstructed from its
-//! case, and 20 draws of its uncertainty study.
+//! case, and 20 draws of its uncertainty study; and a realistic simulated crash
+//! (`benches/data/realistic_100102.toml`: an ABS-braked sedan, an SUV rolling 98 m on steered
+//! wheels), whose whole search is the benchmark of a realistic scene.
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 use criterion::{criterion_group, criterion_main, Criterion};
 use pim_case::case::Case;
@@ -8,24 +10,32 @@ use pim_core::MomentForm;
 use pim_fit::{FitModel, MomentBranch};
 use std::hint::black_box;
 
-fn case() -> Case {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/examples/cases/reconstruction_us.toml"
-    );
+fn case_at(path: &str) -> Case {
     let text = std::fs::read_to_string(path).unwrap();
     Case::from_text(path, &text).unwrap()
 }
 
-fn reconstruction(c: &mut Criterion) {
-    let case = case();
-    let input = pim_studies::reconstruct::case_reconstruction(
-        &case,
+fn case() -> Case {
+    case_at(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/cases/reconstruction_us.toml"
+    ))
+}
+
+/// The case's reconstruction as `pim fit` runs it (PIM, both moment branches).
+fn input_of(case: &Case) -> pim_studies::reconstruct::CaseReconstruction {
+    pim_studies::reconstruct::case_reconstruction(
+        case,
         FitModel::Pim,
         MomentForm::Corrected,
         MomentBranch::ALL.to_vec(),
     )
-    .unwrap();
+    .unwrap()
+}
+
+fn reconstruction(c: &mut Criterion) {
+    let case = case();
+    let input = input_of(&case);
     let mut g = c.benchmark_group("reconstruct");
     g.sample_size(10);
     g.bench_function("reconstruction_us, whole search", |b| {
@@ -62,5 +72,24 @@ fn reconstruction(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, reconstruction);
+/// The whole search of a realistic crash: seconds per iteration, so ten samples of one
+/// iteration each.
+fn realistic(c: &mut Criterion) {
+    let case = case_at(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/benches/data/realistic_100102.toml"
+    ));
+    let input = input_of(&case);
+    let mut g = c.benchmark_group("realistic");
+    g.sample_size(10)
+        .measurement_time(std::time::Duration::from_secs(90));
+    g.bench_function("crash 100102 (ABS / steered 98 m), whole search", |b| {
+        b.iter(|| {
+            pim_reconstruct::reconstruct(black_box(&input.reconstruction), &input.settings).unwrap()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, reconstruction, realistic);
 criterion_main!(benches);
