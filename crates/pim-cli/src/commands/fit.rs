@@ -112,8 +112,10 @@ pub fn run(a: &FitArgs) -> Result<ExitCode> {
 
 /// `pim fit` of a case with scene evidence: the three phases in one fit.
 fn reconstruction(a: &FitArgs, case: &pim_case::case::Case, warnings: usize) -> Result<ExitCode> {
-    // The consistency table of a conflicting scene takes seconds: its rows on a bar.
+    // The search of a realistic scene takes seconds: a spinner while it runs; the consistency
+    // table of a conflicting scene too: its rows on a bar.
     let bar = super::study::Bar::on_terminal(a.format == crate::args::Format::Table);
+    bar.searching("reconstructing: each scene's run-outs searched, then the impact refined");
     let earlier = match &a.from {
         Some(path) => {
             let text = std::fs::read_to_string(path)

@@ -213,6 +213,7 @@ pub fn write_reconstruction(
 pub fn run(a: &UncertaintyArgs, case: &Case, warnings: usize) -> Result<ExitCode> {
     let (pool, bar) = super::study::pool_and_bar(a)?;
     let observer = super::study::Bar(bar.clone());
+    observer.searching("the nominal reconstruction: each scene's run-outs searched");
     let (study, done) = pool
         .install(|| {
             reconstruct_study::run(

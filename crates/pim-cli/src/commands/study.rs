@@ -20,12 +20,34 @@ impl Bar {
             },
         )
     }
+
+    /// Until the first phase with steps begins: a spinner saying `what` is being done, with the
+    /// time it has taken (a search that cannot count its steps ahead: a realistic scene's
+    /// takes seconds).
+    pub fn searching(&self, what: &str) {
+        if self.0.is_hidden() {
+            return;
+        }
+        if let Ok(style) = indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})") {
+            self.0.set_style(style);
+        }
+        self.0.set_message(what.to_string());
+        // No length: the first phase's steps give it, and the bar's style with it.
+        self.0.set_length(0);
+        self.0
+            .enable_steady_tick(std::time::Duration::from_millis(120));
+    }
 }
 
 impl pim_studies::watch::Observer for Bar {
     fn progress(&self, done: u64, total: u64, phase: &str) {
         if self.0.length() != Some(total) {
             self.0.set_length(total);
+            if let Ok(style) =
+                indicatif::ProgressStyle::with_template("{msg} {wide_bar} {pos}/{len} ({elapsed})")
+            {
+                self.0.set_style(style);
+            }
         }
         self.0.set_position(done);
         self.0.set_message(phase.to_string());
