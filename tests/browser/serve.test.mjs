@@ -70,6 +70,17 @@ function raw(method, pathname, { host, cookie, body } = {}) {
 // Nothing in flight: no case being opened, no answer, none waiting, no drag, no move of a rest.
 const idle = () => page.waitForFunction(() => window.pim && !window.pim.opening && !window.pim.busy
   && !window.pim.pending && !window.pim.dragging && !window.pim.moves);
+// The study's status line matches `re` (within `timeout` ms); else the failure says what the
+// line said instead.
+async function studySays(re, timeout = 60000) {
+  try {
+    await page.waitForFunction((src) => new RegExp(src).test(document.getElementById("study-status").textContent), re.source, { timeout });
+  } catch (e) {
+    const said = await page.textContent("#study-status");
+    const report = await page.evaluate(() => JSON.stringify(window.pim.study && window.pim.study.report && { state: window.pim.study.report.state, done: window.pim.study.report.done, total: window.pim.study.report.total }));
+    throw new Error(`the study's status never matched ${re}: it says "${said}" (report ${report}); ${e.message}`);
+  }
+}
 const speeds = () => page.$$eval("#speeds tr[data-vehicle] td.contact", (tds) => tds.map((t) => +t.textContent));
 
 // The example open with its text as the project has it (an earlier test saved a moved rest):
@@ -247,9 +258,10 @@ test("the page works under its own content policy, and an image's script never r
 
 test("an uncertainty study runs in the background, shows its intervals and can be cancelled", async () => {
   // A short study to its end: its document is the command's for the same draws and seed.
+  await idle();
   await page.fill("#draws", "20");
   await page.click("#study-start");
-  await page.waitForFunction(() => /draws feasible/.test(document.getElementById("study-status").textContent), null, { timeout: 60000 });
+  await studySays(/draws feasible/);
   const doc = await page.evaluate(() => window.pim.study.report.document);
   const cli = JSON.parse(execFileSync(pimBin, ["uncertainty", path.join(dir, CASE), "--draws", "20", "--format", "json"], { encoding: "utf8" }));
   assert.deepEqual(doc, cli);
@@ -281,7 +293,7 @@ test("an uncertainty study runs in the background, shows its intervals and can b
     return r && r.total === 5000 && r.done >= 3;
   }, null, { timeout: 60000 });
   await page.click("#study-cancel");
-  await page.waitForFunction(() => /cancelled after/.test(document.getElementById("study-status").textContent), null, { timeout: 60000 });
+  await studySays(/cancelled after/);
   const cancelled = await page.evaluate(() => window.pim.study.report.document.cancelled);
   assert.ok(cancelled.done >= 3 && cancelled.done < 5000, JSON.stringify(cancelled));
   assert.equal(cancelled.asked, 5000);
