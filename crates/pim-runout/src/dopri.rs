@@ -14,13 +14,8 @@
 //! that the difference quotient differentiates one smooth discrete map (a perturbed run-out with
 //! its own step control differs from the nominal by the two step sequences' errors, which the
 //! difference step divides). A replayed step costs six evaluations and no error control.
-//!
-//! Where the steps are held by stability rather than accuracy and [`Control::implicit`] allows
-//! it, the integration goes on with the linearly implicit method of `rosenbrock.rs` (its own
-//! step control below), and a replay takes the same method from the same time.
 
 use crate::forces::State;
-use crate::rosenbrock;
 
 /// The Butcher tableau of Dormand-Prince 5(4): row `i` of `A` gives stage `i + 2` (the last row
 /// is the 5th-order solution's weights).
@@ -74,15 +69,7 @@ pub(crate) struct Control {
     pub(crate) h_max: f64,
     /// The most steps (accepted or not) before the integration gives up.
     pub(crate) max_steps: u32,
-    /// Whether a stretch that Dormand-Prince finds stiff is integrated on by the linearly
-    /// implicit method (`rosenbrock.rs`): for the rest of the integration, from the step
-    /// after which the stability of the last [`STIFF_STEPS`] accepted steps bound their size.
-    pub(crate) implicit: bool,
 }
-
-/// Accepted steps in a row whose size stability bounds (`h |lambda| > 3.25`, Hairer and
-/// Wanner's test of DOPRI5) before the integration turns linearly implicit.
-pub(crate) const STIFF_STEPS: u32 = 10;
 
 /// Why an integration gave up, and where.
 #[derive(Debug, Clone, Copy)]
@@ -91,23 +78,19 @@ pub(crate) enum Failure {
     Underflow { t: f64 },
 }
 
-/// One step of size `h` from `(t, y)` whose rate there is `k0`: the 5th-order solution, the
-/// seven stages (the last one is the rate at the solution) and the sixth stage's point.
+/// One step of size `h` from `(t, y)` whose rate there is `k0`: the 5th-order solution and the
+/// seven stages (the last one is the rate at the solution).
 fn stages(
     f: &impl Fn(f64, &State) -> State,
     t: f64,
     y: &State,
     k0: &State,
     h: f64,
-) -> (State, [State; 7], State) {
+) -> (State, [State; 7]) {
     let mut k = [State::zeros(); 7];
     k[0] = *k0;
     let mut next = *y;
-    let mut sixth = *y;
     for s in 1..7 {
-        if s == 6 {
-            sixth = next;
-        }
         next = *y;
         for (j, kj) in k.iter().enumerate().take(s) {
             let a = A[s - 1][j];
@@ -117,19 +100,7 @@ fn stages(
         }
         k[s] = f(t + h * C[s], &next);
     }
-    (next, k, sixth)
-}
-
-/// Hairer and Wanner's estimate of `h |lambda|` for an accepted step: the rates' difference
-/// over the states' between the solution and the sixth stage's point (the same time).
-fn h_lambda(next: &State, k: &[State; 7], sixth: &State, h: f64) -> f64 {
-    let num = (k[6] - k[5]).norm_squared();
-    let den = (next - sixth).norm_squared();
-    if den > 0.0 {
-        h.abs() * (num / den).sqrt()
-    } else {
-        0.0
-    }
+    (next, k)
 }
 
 /// The error of a step, scaled by the tolerances (accept at most 1).
@@ -226,15 +197,14 @@ impl Controller {
 
 /// Integrates `y' = f(t, y)` from `(t0, y0)` towards `end` (forwards), calling `solout` at every
 /// accepted step with its time, state and rate (the start is not reported); `solout` returning
-/// `true` ends the integration there. Returns the evaluations of `f` and the time from which
-/// the integration was linearly implicit, if it turned so ([`Control::implicit`]).
+/// `true` ends the integration there. Returns the evaluations of `f`.
 pub(crate) fn integrate(
     f: impl Fn(f64, &State) -> State,
     (t0, end): (f64, f64),
     y0: State,
     c: &Control,
     mut solout: impl FnMut(f64, &State, &State) -> bool,
-) -> Result<(u32, Option<f64>), Failure> {
+) -> Result<u32, Failure> {
     let mut evaluations = 2;
     let mut h = first_step(&f, t0, &y0, end, c);
     let mut k0 = f(t0, &y0);
@@ -247,8 +217,6 @@ pub(crate) fn integrate(
     };
     let mut steps = 0;
     let mut last = false;
-    // Accepted steps in a row bounded by stability, and since the last such step.
-    let (mut stiff, mut not_stiff) = (0, 0);
     while !last {
         if steps > c.max_steps {
             return Err(Failure::MaxSteps { t, steps });
@@ -261,7 +229,7 @@ pub(crate) fn integrate(
             last = true;
         }
         steps += 1;
-        let (next, k, sixth) = stages(&f, t, &y, &k0, h);
+        let (next, k) = stages(&f, t, &y, &k0, h);
         evaluations += 6;
         let err = error(&y, &next, &k, h, c);
         let (ok, h_new) = control.accept(err, h);
@@ -273,106 +241,25 @@ pub(crate) fn integrate(
                 last = true;
             }
             if last {
-                return Ok((evaluations, None));
-            }
-            if c.implicit {
-                if h_lambda(&y, &k, &sixth, h) > 3.25 {
-                    (stiff, not_stiff) = (stiff + 1, 0);
-                } else {
-                    not_stiff += 1;
-                    if not_stiff == 6 {
-                        stiff = 0;
-                    }
-                }
-                if stiff >= STIFF_STEPS {
-                    let more = integrate_implicitly(
-                        &f,
-                        (t, end),
-                        (y, k0, h_new),
-                        (c, steps),
-                        &mut solout,
-                    )?;
-                    return Ok((evaluations + more, Some(t)));
-                }
+                return Ok(evaluations);
             }
         } else {
             last = false;
         }
         h = h_new;
     }
-    Ok((evaluations, None))
-}
-
-/// Integrates on from `(t, y)` (rate `f0`) towards `end` with first step `h`, as
-/// [`crate::dopri::integrate`] does (the same tolerances, `solout` at every accepted step), the
-/// step size from the error of the embedded solution of order 2 (exponent 1/3, safety 0.9,
-/// factors 0.2 to 6). The Jacobian is evaluated once per accepted step (a rejected step is
-/// tried again with it). Returns the evaluations.
-fn integrate_implicitly(
-    f: &impl Fn(f64, &State) -> State,
-    (mut t, end): (f64, f64),
-    (mut y, mut f0, mut h): (State, State, f64),
-    (c, mut steps): (&Control, u32),
-    solout: &mut impl FnMut(f64, &State, &State) -> bool,
-) -> Result<u32, Failure> {
-    let mut evaluations = 4;
-    let mut cols = rosenbrock::columns(f, t, &y, &f0);
-    loop {
-        if steps > c.max_steps {
-            return Err(Failure::MaxSteps { t, steps });
-        }
-        if 0.1 * h.abs() <= f64::EPSILON * t.abs() {
-            return Err(Failure::Underflow { t });
-        }
-        let mut last = false;
-        if t + 1.01 * h - end > 0.0 {
-            h = end - t;
-            last = true;
-        }
-        steps += 1;
-        let (next, f_next, e) = rosenbrock::step(f, (t, &y, &f0), h, &cols);
-        evaluations += rosenbrock::STEP_EVALUATIONS;
-        let mut err = 0.0;
-        for i in 0..8 {
-            let sc = c.atol + y[i].abs().max(next[i].abs()) * c.rtol;
-            err += (e[i] / sc) * (e[i] / sc);
-        }
-        let err = (err / 8.0).sqrt();
-        let fac = if err > 0.0 {
-            0.9 * err.powf(-1.0 / 3.0)
-        } else {
-            6.0
-        };
-        if err <= 1.0 && err.is_finite() {
-            t += h;
-            y = next;
-            f0 = f_next;
-            if solout(t, &y, &f0) || last {
-                return Ok(evaluations);
-            }
-            h = (h * fac.clamp(0.2, 6.0)).min(c.h_max);
-            cols = rosenbrock::columns(f, t, &y, &f0);
-            evaluations += 4;
-        } else {
-            h *= if err.is_finite() {
-                fac.clamp(0.2, 1.0)
-            } else {
-                0.2
-            };
-        }
-    }
+    Ok(evaluations)
 }
 
 /// The steps of an integration replayed from `y0` through the accepted times `times` (the first
 /// is the start), with `restart(t)` telling where the rate must be evaluated afresh (a piece of
-/// the integration started there, after a kink of the inputs), linearly implicit from the time
-/// `implicit` on (where the nominal turned so); `each` sees every step's time, state and rate,
-/// the start's included. Returns the evaluations of `f`.
+/// the integration started there, after a kink of the inputs); `each` sees every step's time,
+/// state and rate, the start's included. Returns the evaluations of `f`.
 pub(crate) fn replay(
     f: impl Fn(f64, &State) -> State,
     times: &[f64],
     y0: State,
-    (restart, implicit): (impl Fn(f64) -> bool, Option<f64>),
+    restart: impl Fn(f64) -> bool,
     mut each: impl FnMut(f64, &State, &State),
 ) -> u32 {
     let Some(&t0) = times.first() else {
@@ -388,16 +275,10 @@ pub(crate) fn replay(
             k0 = f(t, &y);
             evaluations += 1;
         }
-        if implicit.is_some_and(|from| t >= from) {
-            let cols = rosenbrock::columns(&f, t, &y, &k0);
-            let (next, rate, _) = rosenbrock::step(&f, (t, &y, &k0), next_t - t, &cols);
-            evaluations += 4 + rosenbrock::STEP_EVALUATIONS;
-            (y, k0) = (next, rate);
-        } else {
-            let (next, k, _) = stages(&f, t, &y, &k0, next_t - t);
-            evaluations += 6;
-            (y, k0) = (next, k[6]);
-        }
+        let (next, k) = stages(&f, t, &y, &k0, next_t - t);
+        evaluations += 6;
+        y = next;
+        k0 = k[6];
         each(next_t, &y, &k0);
     }
     evaluations

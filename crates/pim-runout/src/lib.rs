@@ -61,17 +61,7 @@
 //!
 //! **Integration and the stop.** Dormand-Prince 5(4) with adaptive steps (Hairer and Wanner's
 //! DOPRI5 step control, as the `ode_solvers` crate implements it, to the last bit; see
-//! `dopri.rs` for why it is the crate's own), tolerances 1e-10. At coarser tolerances (1e-8 and
-//! above: [`simulate::IMPLICIT_TOLERANCE`], the quick run-outs of a search) a stretch where
-//! Dormand-Prince's steps are held by stability rather than accuracy (ten accepted steps in a
-//! row with `h |lambda| > 3.25`, Hairer and Wanner's test) is integrated on to the end by the
-//! L-stable Rosenbrock-W method ROS34PW2 (see `rosenbrock.rs`). That stretch is a rolling car's
-//! last metres: its tyres' lateral force per unit of slip velocity grows as `1 / v`, so its
-//! lateral and yaw motions decay with a time constant `v alpha_s / (mu g)` that the explicit
-//! method must step below, however smooth the motion. The implicit steps follow the slow motion
-//! with steps set by the accuracy alone: a free-rolling car's run-out at 1e-6 takes about a
-//! quarter of the evaluations, and ends as close to the exact rest as Dormand-Prince's. The
-//! stop is an event checked at every accepted step: once every
+//! `dopri.rs` for why it is the crate's own), tolerances 1e-10. The stop is an event checked at every accepted step: once every
 //! contact patch is slower than the rest speed (2 cm/s, twice the band above), the last
 //! millimetres are taken at the current deceleration in closed form: the kinetic energy `K`
 //! goes at the power `P`, so a uniform deceleration ends after `tau = 2 K / P` having covered
@@ -90,7 +80,6 @@ mod dopri;
 pub mod error;
 mod forces;
 pub mod inverse;
-mod rosenbrock;
 pub mod simulate;
 pub mod zones;
 

@@ -119,18 +119,7 @@ pub struct Runout {
     #[serde(skip)]
     #[schemars(skip)]
     pub(crate) integrated: Option<usize>,
-    /// The time from which the integration was linearly implicit (its stiff last stretch at a
-    /// coarse tolerance: [`IMPLICIT_TOLERANCE`]), if it was.
-    #[serde(skip)]
-    #[schemars(skip)]
-    pub(crate) implicit_from: Option<f64>,
 }
-
-/// Run-outs integrated to a relative tolerance of at least this integrate a stretch that
-/// Dormand-Prince finds stiff (a rolling car's last metres: see `rosenbrock.rs`) with the
-/// linearly implicit method; finer ones (the default 1e-10, every answer's own run-outs) are
-/// Dormand-Prince's throughout.
-pub const IMPLICIT_TOLERANCE: f64 = 1e-8;
 
 /// Full turns of a rotation `r` (rad) beyond the shortest rotation between its ends, which lies
 /// in (-pi, pi]: `r = shortest + 2 pi turns`.
@@ -247,18 +236,14 @@ fn piece(
     dynamics: &Dynamics,
     settings: &Settings,
     (t0, end, y): (f64, f64, State),
-    (target, implicit): (Option<f64>, bool),
+    target: Option<f64>,
     (log, stopped, fired): (&mut Vec<(f64, State, State)>, &mut bool, &mut bool),
-) -> Result<(u32, Option<f64>)> {
-    // Linearly implicit only on the last piece (no input ahead: the dynamics no longer depend
-    // on the time).
-    let last_piece = end >= settings.time_limit && target.is_none();
+) -> Result<u32> {
     let control = Control {
         rtol: settings.rtol,
         atol: settings.atol,
         h_max: settings.time_limit,
         max_steps: 2_000_000,
-        implicit: implicit && last_piece,
     };
     let rest_speed = settings.rest_speed;
     let outcome = integrate(
@@ -281,7 +266,7 @@ fn piece(
         },
     );
     match outcome {
-        Ok(done) => Ok(done),
+        Ok(evaluations) => Ok(evaluations),
         Err(failure) => {
             let (time, reason) = match failure {
                 Failure::MaxSteps { t, steps } => (t, format!("more than {steps} steps")),
@@ -347,26 +332,10 @@ pub fn simulate(chassis: &Chassis, start: &Motion, settings: &Settings) -> Resul
 
 /// The run-out with prepared dynamics (the inverse calls it many times for one vehicle).
 pub(crate) fn run(dynamics: &Dynamics, start: &Motion, settings: &Settings) -> Result<Runout> {
-    run_with(
-        dynamics,
-        start,
-        settings,
-        settings.rtol >= IMPLICIT_TOLERANCE,
-    )
-}
-
-/// [`run`], its stiff last stretch linearly implicit or not (`implicit`).
-fn run_with(
-    dynamics: &Dynamics,
-    start: &Motion,
-    settings: &Settings,
-    implicit: bool,
-) -> Result<Runout> {
     let y0 = initial_state(start);
     let mut log = vec![(0.0, y0, State::zeros())];
     let mut stopped = dynamics.fastest_patch(&y0) < settings.rest_speed;
     let mut evaluations = 1;
-    let mut implicit_from = None;
     // Inputs by distance start when the path reaches their distance: their starts are found as
     // the run goes, and the dynamics hold the inputs started so far.
     let triggers = dynamics.distance_triggers();
@@ -377,7 +346,23 @@ fn run_with(
     };
     // Piece by piece between the driver inputs' kinks (one piece without inputs).
     let limit = settings.time_limit;
-    log[0].2 = start_rates(dynamics, triggers.as_deref(), &y0);
+    {
+        // The start's rates under the inputs that start at once.
+        let mut now = starts.clone();
+        if let Some(tr) = &triggers {
+            while let Some(&(at, distance)) = tr.get(now.len()) {
+                if at > 0.0 || distance.is_some_and(|d| d > 0.0) {
+                    break;
+                }
+                now.push(0.0);
+            }
+        }
+        let at_start = match triggers {
+            Some(_) => std::borrow::Cow::Owned(dynamics.with_starts(&now)),
+            None => std::borrow::Cow::Borrowed(dynamics),
+        };
+        log[0].2 = derivative(&at_start.at_time(0.0), &y0);
+    }
     while let Some(&(t0, y, _)) = log.last() {
         if stopped || t0 >= limit {
             break;
@@ -405,15 +390,13 @@ fn run_with(
             end = end.min(k);
         }
         let mut fired = false;
-        let (spent, implicit) = piece(
+        evaluations += piece(
             &current,
             settings,
             (t0, end, y),
-            (target, implicit),
+            target,
             (&mut log, &mut stopped, &mut fired),
         )?;
-        evaluations += spent;
-        implicit_from = implicit_from.or(implicit);
         if fired {
             // The distance was reached within the last step: where, on the cubic through the
             // step's ends (distance and speed); the step is then integrated again up to there.
@@ -443,10 +426,9 @@ fn run_with(
                         &current,
                         settings,
                         (ta, t, ya),
-                        (None, false),
+                        None,
                         (&mut log, &mut stopped, &mut again),
-                    )?
-                    .0;
+                    )?;
                 }
             }
             let t_start = log.last().map_or(t, |l| l.0);
@@ -455,7 +437,7 @@ fn run_with(
         }
     }
     let integrated = triggers.is_none().then_some(log.len());
-    let mut out = finish(
+    Ok(finish(
         &current,
         start,
         settings,
@@ -463,28 +445,7 @@ fn run_with(
         stopped,
         evaluations,
         integrated,
-    );
-    out.implicit_from = implicit_from;
-    Ok(out)
-}
-
-/// The rates at the start under the inputs that start at once (`triggers`: each input's
-/// earliest time and distance, when some input starts by distance).
-fn start_rates(dynamics: &Dynamics, triggers: Option<&[(f64, Option<f64>)]>, y0: &State) -> State {
-    let mut now = Vec::new();
-    if let Some(tr) = triggers {
-        while let Some(&(at, distance)) = tr.get(now.len()) {
-            if at > 0.0 || distance.is_some_and(|d| d > 0.0) {
-                break;
-            }
-            now.push(0.0);
-        }
-    }
-    let at_start = match triggers {
-        Some(_) => std::borrow::Cow::Owned(dynamics.with_starts(&now)),
-        None => std::borrow::Cow::Borrowed(dynamics),
-    };
-    derivative(&at_start.at_time(0.0), y0)
+    ))
 }
 
 /// The run-out from the logged steps: the last millimetres in closed form when the motion
@@ -551,7 +512,6 @@ fn finish(
         steps,
         evaluations,
         integrated,
-        implicit_from: None,
     }
 }
 
@@ -576,13 +536,10 @@ pub(crate) fn replay(
         |t, y| derivative(&dynamics.at_time(t), y),
         &times,
         initial_state(start),
-        (
-            |t| kinks.iter().any(|&k| (k - t).abs() <= KINK_GAP),
-            nominal.implicit_from,
-        ),
+        |t| kinks.iter().any(|&k| (k - t).abs() <= KINK_GAP),
         |t, y, dy| log.push((t, *y, *dy)),
     );
-    let mut out = finish(
+    Some(finish(
         dynamics,
         start,
         settings,
@@ -590,9 +547,7 @@ pub(crate) fn replay(
         nominal.end == End::Rest,
         evaluations,
         Some(n),
-    );
-    out.implicit_from = nominal.implicit_from;
-    Some(out)
+    ))
 }
 
 /// The integrated state at separation: position, heading, velocities, no work, no distance.
@@ -756,132 +711,6 @@ mod replay_tests {
             assert!(
                 (ind - central).abs() < 1e-3 * (1.0 + central.abs()),
                 "{ind} against {central}"
-            );
-        }
-    }
-
-    /// A free-rolling car (rolling resistance 0.015, CG 0.55 m high) spinning away at 8 m/s.
-    fn rolling() -> (Dynamics, Motion) {
-        let mut c = Chassis::new(1600.0, 2800.0, 2.7, 1.2, 1.55, WheelState::Rolling);
-        c.cg_height = Some(0.55);
-        c.rolling_resistance = 0.015;
-        let m = Motion {
-            vx: 6.0,
-            vy: -5.3,
-            yaw_rate: 2.0,
-            ..start(0.0)
-        };
-        (Dynamics::new(&c), m)
-    }
-
-    /// At a coarse tolerance the rolling car's stiff last stretch turns linearly implicit: it
-    /// ends as close to the rest of a run-out integrated to 1e-12 as Dormand-Prince alone does
-    /// at the same tolerance, with a fraction of the evaluations.
-    #[test]
-    fn a_stiff_last_stretch_turns_implicit_as_accurate_for_less() {
-        let (dynamics, m) = rolling();
-        let tight = Settings {
-            rtol: 1e-12,
-            atol: 1e-12,
-            ..Settings::default()
-        };
-        let truth = run(&dynamics, &m, &tight).unwrap();
-        assert!(truth.implicit_from.is_none());
-        let coarse = Settings::default().no_finer_than(1e-6);
-        let hybrid = run(&dynamics, &m, &coarse).unwrap();
-        let explicit = super::run_with(&dynamics, &m, &coarse, false).unwrap();
-        let from = hybrid.implicit_from.expect("the tail is stiff");
-        assert!(explicit.implicit_from.is_none());
-        let off = |r: &super::Runout| {
-            (r.rest.x - truth.rest.x).hypot(r.rest.y - truth.rest.y)
-                + 10.0 * (r.rest.heading - truth.rest.heading).abs()
-        };
-        let (e_hybrid, e_explicit) = (off(&hybrid), off(&explicit));
-        assert!(
-            e_hybrid < 1e-2 && e_hybrid < 1.1 * e_explicit,
-            "{e_hybrid} {e_explicit}"
-        );
-        let speed_then = hybrid.at(from);
-        assert!(speed_then.vx.hypot(speed_then.vy) < 3.0, "{from}");
-        let ratio = f64::from(hybrid.evaluations) / f64::from(explicit.evaluations);
-        assert!(
-            ratio < 0.5,
-            "{} against {}",
-            hybrid.evaluations,
-            explicit.evaluations
-        );
-    }
-
-    /// Through implicit steps too, a replay from its own start is the run-out itself (to the
-    /// 1e-10 a Jacobian by differences allows: see `rosenbrock.rs`), and replayed differences
-    /// are as close to the derivative of the rest as Dormand-Prince's own replays at the same
-    /// tolerance (both differentiate a run-out integrated to 1e-6).
-    #[test]
-    fn implicit_steps_replay_and_differentiate() {
-        let (dynamics, m) = rolling();
-        let coarse = Settings::default().no_finer_than(1e-6);
-        let nominal = run(&dynamics, &m, &coarse).unwrap();
-        assert!(nominal.implicit_from.is_some());
-        let again = replay(&dynamics, &m, &coarse, &nominal).unwrap();
-        for (a, b) in [
-            (again.rest.x, nominal.rest.x),
-            (again.rest.y, nominal.rest.y),
-            (again.rest.heading, nominal.rest.heading),
-        ] {
-            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{a} against {b}");
-        }
-        let explicit = super::run_with(&dynamics, &m, &coarse, false).unwrap();
-        let h = 1e-4;
-        let up = Motion { vx: m.vx + h, ..m };
-        let ind = |n: &super::Runout| {
-            let r = replay(&dynamics, &up, &coarse, n).unwrap();
-            [
-                (r.rest.x - n.rest.x) / h,
-                (r.rest.y - n.rest.y) / h,
-                (r.rest.heading - n.rest.heading) / h,
-            ]
-        };
-        let tight = Settings {
-            rtol: 1e-12,
-            atol: 1e-12,
-            ..Settings::default()
-        };
-        let wide = 1e-2;
-        let plus = run(
-            &dynamics,
-            &Motion {
-                vx: m.vx + wide,
-                ..m
-            },
-            &tight,
-        )
-        .unwrap();
-        let minus = run(
-            &dynamics,
-            &Motion {
-                vx: m.vx - wide,
-                ..m
-            },
-            &tight,
-        )
-        .unwrap();
-        let central = [
-            (plus.rest.x - minus.rest.x) / (2.0 * wide),
-            (plus.rest.y - minus.rest.y) / (2.0 * wide),
-            (plus.rest.heading - minus.rest.heading) / (2.0 * wide),
-        ];
-        let (hybrid, dopri) = (ind(&nominal), ind(&explicit));
-        for k in 0..3 {
-            let (e_h, e_d) = (
-                (hybrid[k] - central[k]).abs(),
-                (dopri[k] - central[k]).abs(),
-            );
-            assert!(
-                e_h < 0.06 * (1.0 + central[k].abs()) && e_h < 1.1 * e_d + 1e-3,
-                "{k}: {} (Dormand-Prince {}) against {}",
-                hybrid[k],
-                dopri[k],
-                central[k]
             );
         }
     }
