@@ -221,7 +221,7 @@ pub struct ReconstructionOut {
     /// answer is the same on every machine.
     pub work: u64,
     /// The work of the first search alone: `work` without that of the second search from a
-    /// scatter of separation states, when the first answer fit worse than its median.
+    /// scatter of separation states, when the first answer fit poorly.
     pub first_search_work: u64,
     /// How the answer was found.
     pub method: String,

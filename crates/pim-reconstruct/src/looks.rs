@@ -53,8 +53,8 @@ pub(crate) fn candidates(
             settings.runout.no_finer_than(CANDIDATE_TOLERANCE)
         },
         scatter,
-        // The first search looks quickly; the second (where the first answer fits worse than
-        // its median) from every start and the scatter.
+        // The first search looks quickly; the second (where the first answer fits poorly)
+        // from every start and the scatter.
         quick: !scatter,
         starts: earlier.map_or_else(Vec::new, |e| answers_of(e, vehicle)),
         fine,

@@ -28,9 +28,7 @@ pub enum Status {
 /// 4.9 sigma).
 pub const INCONSISTENT_P: f64 = 1e-6;
 
-/// Below this probability a found reconstruction fits poorly (its evidence is looked at piece
-/// by piece: the consistency table).
-pub const POOR_FIT_P: f64 = 0.05;
+pub use crate::problem::POOR_FIT_P;
 
 /// One vehicle's scene against the reconstruction.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]

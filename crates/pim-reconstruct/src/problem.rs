@@ -426,9 +426,14 @@ pub struct ContactResidual {
 /// core: the budget bounds a reconstruction to about 10 s).
 pub const REFINE_WORK: u64 = 12_000_000;
 
+/// Below this probability a found reconstruction fits poorly (its evidence is looked at piece
+/// by piece: the consistency table).
+pub const POOR_FIT_P: f64 = 0.05;
+
 /// The chi-square's probability below which a first search's answer is searched again from a
-/// scatter: its median. See the crate docs (*What is proven and what is the best found*).
-pub const SCATTER_BELOW_P: f64 = 0.5;
+/// scatter: where it fits poorly ([`POOR_FIT_P`]). See the crate docs (*What is proven and what
+/// is the best found*).
+pub const SCATTER_BELOW_P: f64 = POOR_FIT_P;
 
 /// How a reconstruction searches.
 #[derive(Debug, Clone)]
@@ -455,7 +460,7 @@ pub struct Settings {
     /// bound of the time spent on evidence whose impact fits or run-outs are very slow.
     pub refine_work: u64,
     /// An answer whose chi-square's probability lies below this is searched again from a
-    /// scatter of separation states ([`SCATTER_BELOW_P`], its median; 0: never).
+    /// scatter of separation states ([`SCATTER_BELOW_P`]; 0: never; above 1: always).
     pub scatter_below_p: f64,
 }
 

@@ -36,7 +36,7 @@ pub fn reconstruct(
     reconstruct_searching(case, how, true, &Earlier::default())
 }
 
-/// As [`reconstruct`]; without `second_search` an answer that fits worse than its median is
+/// As [`reconstruct`]; without `second_search` an answer that fits poorly is
 /// not searched again (a row of the consistency table); with `earlier` (an earlier answer's
 /// states and frictions, [`crate::earlier::earlier_states`]) also refined from them, the lower
 /// answer kept.
@@ -385,8 +385,8 @@ fn method_of(outcome: &Outcome, counts: &[CountsOut]) -> String {
     );
     if outcome.scattered {
         method.push_str(
-            "; the first search's answer fit worse than its median, so every scene was searched \
-             again with each count also explored from the separation states whose run-outs end at \
+            "; the first search's answer fit poorly, so every scene was searched again with \
+             each count also explored from the separation states whose run-outs end at \
              the rest position (one per yaw rate from -10 to 10 rad/s), and the lower answer kept",
         );
     }
