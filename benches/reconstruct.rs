@@ -1,8 +1,10 @@
 //! The three phases in one fit (pim-reconstruct): the example `reconstruction_us.toml` (two cars,
 //! rest positions and headings, a mark each, a skid and an EDR speed) reconstructed from its
-//! case, and 20 draws of its uncertainty study; and a realistic simulated crash
-//! (`benches/data/realistic_100102.toml`: an ABS-braked sedan, an SUV rolling 98 m on steered
-//! wheels), whose whole search is the benchmark of a realistic scene.
+//! case, and 20 draws of its uncertainty study; and two realistic simulated crashes, whose whole
+//! searches are the benchmarks of a realistic scene: `benches/data/realistic_100732.toml` (a
+//! small car free rolling 98 m, the other on steered wheels; the median of the realistic
+//! sweep's 200 by time) and `benches/data/realistic_100102.toml` (an ABS-braked sedan, an SUV
+//! rolling 98 m on steered wheels; its first search ends in a wrong basin).
 #![allow(missing_docs)] // criterion_group! generates undocumented items
 use criterion::{criterion_group, criterion_main, Criterion};
 use pim_case::case::Case;
@@ -72,22 +74,36 @@ fn reconstruction(c: &mut Criterion) {
     g.finish();
 }
 
-/// The whole search of a realistic crash: seconds per iteration, so ten samples of one
-/// iteration each.
+/// The whole search of two realistic crashes: the median of the 200 of the realistic sweep
+/// (its first search answers), and one whose first search ends in a wrong basin, so that the
+/// second, from the scatter, runs. Up to seconds per iteration, so ten samples of one iteration
+/// each.
 fn realistic(c: &mut Criterion) {
-    let case = case_at(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/benches/data/realistic_100102.toml"
-    ));
-    let input = input_of(&case);
     let mut g = c.benchmark_group("realistic");
     g.sample_size(10)
         .measurement_time(std::time::Duration::from_secs(90));
-    g.bench_function("crash 100102 (ABS / steered 98 m), whole search", |b| {
-        b.iter(|| {
-            pim_reconstruct::reconstruct(black_box(&input.reconstruction), &input.settings).unwrap()
-        })
-    });
+    for (file, name) in [
+        (
+            "realistic_100732.toml",
+            "crash 100732 (rolling 98 m / steered 31 m), whole search",
+        ),
+        (
+            "realistic_100102.toml",
+            "crash 100102 (ABS / steered 98 m), whole search",
+        ),
+    ] {
+        let case = case_at(&format!(
+            "{}/benches/data/{file}",
+            env!("CARGO_MANIFEST_DIR")
+        ));
+        let input = input_of(&case);
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                pim_reconstruct::reconstruct(black_box(&input.reconstruction), &input.settings)
+                    .unwrap()
+            })
+        });
+    }
     g.finish();
 }
 
