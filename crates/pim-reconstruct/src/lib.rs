@@ -232,13 +232,13 @@ pub use error::{ReconstructError, Result};
 pub use from::{reconstruct_from, refine_earlier, Earlier, EarlierState};
 pub use outcome::{
     Contradiction, EvidenceTerm, Found, Outcome, Phases, SceneFit, Status, Tried, TriedCounts,
-    INCONSISTENT_P, POOR_FIT_P,
+    INCONSISTENT_P,
 };
 pub use pose::{fit_pose, refit, residual_z, PoseFit, PoseStart, PoseUnknown};
 pub use pose_starts::{screened_count, screened_poses, Screened, SCREENED_POSES};
 pub use problem::{
     ContactResidual, ContactTerm, NonlinearEvidence, Reconstruction, RoadFriction, SceneVehicle,
-    Settings, Skid, StateEvidence, REFINE_WORK, SCATTER_BELOW_P,
+    Settings, Skid, StateEvidence, POOR_FIT_P, REFINE_WORK, SCATTER_BELOW_P,
 };
 pub use profile::{
     profile_end, profile_interval, profile_point, profile_rise, ProfileEnd, ProfileInterval,

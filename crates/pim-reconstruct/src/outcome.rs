@@ -2,7 +2,7 @@
 //! every combination of counts of turns compared.
 
 use crate::point::Point;
-use crate::problem::{ContactTerm, Reconstruction, Skid};
+use crate::problem::{ContactTerm, Reconstruction, Skid, POOR_FIT_P};
 use pim_core::VehicleId;
 use pim_fit::{Certificate, Knowledge, MomentBranch, Solution};
 use pim_runout::{Estimate, Residual, Runout};
@@ -27,8 +27,6 @@ pub enum Status {
 /// not a fit (with one degree of freedom: a chi-square above 23.9, a single residual beyond
 /// 4.9 sigma).
 pub const INCONSISTENT_P: f64 = 1e-6;
-
-pub use crate::problem::POOR_FIT_P;
 
 /// One vehicle's scene against the reconstruction.
 #[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
